@@ -1,0 +1,838 @@
+//! Analysis: one problem from model to results on disk. Finds the coupling pairs,
+//! numbers the DOFs, runs the incremental solver, recovers stresses, and writes each
+//! converged increment (VTU + PVD series, pairs CSV, JSON summary) as soon as it
+//! converges, so results survive a later failure; pictures at the end.
+
+use crate::assembly::{self, DofMap};
+use crate::coupling::{Interface, PairState, element as cfe, search};
+use crate::error::{Error, Result};
+use crate::fem::recovery::{self, PartStress};
+use crate::model::{Model, Scheme};
+use crate::output::report::{self, PairRow};
+use crate::output::{png, vtu};
+use crate::solve::nonlinear::{IncrementResult, SolveTimings, Solver};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Seconds spent in each phase of a run.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Timings {
+    /// Reading the problem and meshing the parts.
+    pub meshing: f64,
+    /// Pair search and DOF numbering.
+    pub pair_search: f64,
+    /// Linear-algebra phases of the solution.
+    #[serde(flatten)]
+    pub solve: SolveTimings,
+    /// Stress recovery.
+    pub stress_recovery: f64,
+    /// Writing files (VTU, CSV, JSON, PNG).
+    pub output: f64,
+    /// Wall time of the whole run.
+    pub total: f64,
+}
+
+/// A model with its coupling pairs found and its DOFs numbered: ready to solve.
+pub struct Analysis {
+    /// The model.
+    pub model: Model,
+    /// Interfaces with their coupling elements.
+    pub interfaces: Vec<Interface>,
+    /// DOF numbering.
+    pub dofs: DofMap,
+    /// Phase timings so far.
+    pub timings: Timings,
+}
+
+/// Summary of one part.
+#[derive(Debug, Clone, Serialize)]
+pub struct PartSummary {
+    /// Part name.
+    pub name: String,
+    /// Number of nodes.
+    pub nodes: usize,
+    /// Number of elements.
+    pub elements: usize,
+}
+
+/// A pair kept bonded to settle an active-set cycle.
+#[derive(Debug, Clone, Serialize)]
+pub struct SettledPair {
+    /// Coupling node.
+    pub node: usize,
+    /// Its position.
+    pub x: f64,
+    /// Its position.
+    pub y: f64,
+    /// Normal force on the node part (negative: tension).
+    pub force_n: f64,
+}
+
+/// Summary of one interface at the last converged increment.
+#[derive(Debug, Clone, Serialize)]
+pub struct InterfaceSummary {
+    /// Interface name.
+    pub name: String,
+    /// Host part.
+    pub host: String,
+    /// Node part.
+    pub node_part: String,
+    /// `rigid` or `contact`.
+    pub law: crate::coupling::Law,
+    /// Normal penalty.
+    pub c_n: f64,
+    /// Tangential penalty.
+    pub c_s: f64,
+    /// Number of coupling pairs.
+    pub pairs: usize,
+    /// Bonded pairs.
+    pub bonded: usize,
+    /// Open pairs.
+    pub open: usize,
+    /// Pairs kept bonded to settle a cycle, with their forces.
+    pub settled: Vec<SettledPair>,
+    /// Largest penetration (−[[u_n]]) among bonded pairs.
+    pub max_penetration: f64,
+    /// Total normal force on the node part.
+    pub total_force_n: f64,
+    /// Largest distance of a coupling node from its host edge.
+    pub max_projection_distance: f64,
+}
+
+/// The maximum displacement magnitude and where it occurs.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct MaxDisplacement {
+    /// |u|.
+    pub value: f64,
+    /// Reference position x.
+    pub x: f64,
+    /// Reference position y.
+    pub y: f64,
+    /// Part name.
+    pub part: String,
+    /// Node of the part.
+    pub node: usize,
+}
+
+/// The total reaction of one support.
+#[derive(Debug, Clone, Serialize)]
+pub struct Reaction {
+    /// Support label.
+    pub support: String,
+    /// Reaction force x.
+    pub fx: f64,
+    /// Reaction force y.
+    pub fy: f64,
+}
+
+/// The JSON summary of a run (`summary.json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// `running`, `completed` or `failed`.
+    pub status: String,
+    /// Error message when failed.
+    pub error: Option<String>,
+    /// Title.
+    pub title: String,
+    /// Problem file.
+    pub problem: PathBuf,
+    /// Refinement factor of the structured meshes.
+    pub refine: usize,
+    /// `active-set` or `implex`.
+    pub scheme: Scheme,
+    /// Number of unknowns (free DOFs).
+    pub unknowns: usize,
+    /// Nonzeros of the lower triangle of K.
+    pub matrix_nonzeros: usize,
+    /// Nonzeros of the Cholesky factor.
+    pub factor_nonzeros: usize,
+    /// Parts.
+    pub parts: Vec<PartSummary>,
+    /// Interfaces at the last converged increment.
+    pub interfaces: Vec<InterfaceSummary>,
+    /// Increments requested.
+    pub increments: usize,
+    /// Increments converged.
+    pub converged_increments: usize,
+    /// Linear solves per converged increment.
+    pub iterations: Vec<usize>,
+    /// Largest displacement at the last converged increment.
+    pub max_displacement: MaxDisplacement,
+    /// Reactions per support at the last converged increment.
+    pub reactions: Vec<Reaction>,
+    /// Applied load (sum of nodal forces) at the last converged increment.
+    pub applied: [f64; 2],
+    /// |Σ reactions + Σ loads| / |Σ loads| (0 when no load).
+    pub equilibrium_error: f64,
+    /// Out-of-balance force at free DOFs relative to the largest force.
+    pub residual: f64,
+    /// Peak resident memory of the process (bytes; Linux).
+    pub peak_memory_bytes: Option<u64>,
+    /// Seconds per phase.
+    pub timings: Timings,
+}
+
+impl Analysis {
+    /// Reads and meshes the problem file, then prepares the analysis.
+    pub fn from_file(path: &Path, refine: usize) -> Result<Analysis> {
+        let t = Instant::now();
+        let model = Model::from_file(path, refine)?;
+        let meshing = t.elapsed().as_secs_f64();
+        let mut a = Analysis::new(model)?;
+        a.timings.meshing = meshing;
+        Ok(a)
+    }
+
+    /// Finds the coupling pairs of every interface and numbers the DOFs.
+    pub fn new(model: Model) -> Result<Analysis> {
+        let t = Instant::now();
+        let mut interfaces = Vec::with_capacity(model.interfaces.len());
+        for def in &model.interfaces {
+            let host = &model.parts[def.host];
+            let node_part = &model.parts[def.node_part];
+            let elements = search::find_pairs(
+                &def.name,
+                &host.mesh,
+                &node_part.mesh,
+                &def.nodes,
+                def.tolerance,
+            )?;
+            let max_projection_distance = elements.iter().map(|c| c.distance).fold(0.0, f64::max);
+            interfaces.push(Interface {
+                name: def.name.clone(),
+                host: def.host,
+                node_part: def.node_part,
+                law: def.law,
+                c_n: def.c_n,
+                c_s: def.c_s,
+                elements,
+                max_projection_distance,
+            });
+        }
+        let dofs = DofMap::new(&model.parts, &model.supports);
+        let timings = Timings {
+            pair_search: t.elapsed().as_secs_f64(),
+            ..Default::default()
+        };
+        Ok(Analysis {
+            model,
+            interfaces,
+            dofs,
+            timings,
+        })
+    }
+
+    /// A human-readable description of the prepared model (for `cfe check`).
+    pub fn describe(&self) -> String {
+        let mut s = format!(
+            "{} ({})\n  unknowns: {}\n",
+            self.model.title,
+            self.model.source.display(),
+            self.dofs.n_eq
+        );
+        for p in &self.model.parts {
+            s += &format!(
+                "  part '{}': {} nodes, {} T3 elements, E = {}, nu = {}, t = {}\n",
+                p.name,
+                p.mesh.nodes.len(),
+                p.mesh.triangles.len(),
+                p.material.young,
+                p.material.poisson,
+                p.material.thickness
+            );
+        }
+        for i in &self.interfaces {
+            s += &format!(
+                "  interface '{}': host '{}', nodes '{}', law {:?}, {} pairs, c_n = {:e}, c_s = {:e}, max projection distance {:e}\n",
+                i.name,
+                self.model.parts[i.host].name,
+                self.model.parts[i.node_part].name,
+                i.law,
+                i.elements.len(),
+                i.c_n,
+                i.c_s,
+                i.max_projection_distance
+            );
+        }
+        for sup in &self.model.supports {
+            s += &format!(
+                "  support '{}': {} nodes, fix x: {}, fix y: {}\n",
+                sup.name,
+                sup.nodes.len(),
+                sup.fix[0],
+                sup.fix[1]
+            );
+        }
+        for l in &self.model.loads {
+            s += &format!(
+                "  load '{}': resultant ({}, {}) on {} nodal forces\n",
+                l.name,
+                l.resultant[0],
+                l.resultant[1],
+                l.nodal.len()
+            );
+        }
+        s
+    }
+
+    /// Solves all increments and writes the results into `out`. `progress` is called
+    /// after each converged increment. On failure the converged increments stay on
+    /// disk and `summary.json` records the error.
+    pub fn run(
+        &mut self,
+        out: &Path,
+        progress: &mut dyn FnMut(&IncrementResult),
+    ) -> Result<Summary> {
+        let start = Instant::now();
+        let vtu_dir = out.join("vtu");
+        std::fs::create_dir_all(&vtu_dir).map_err(|e| Error::output(&vtu_dir, e))?;
+        let f_ext = assembly::external_force(&self.model.loads, &self.dofs);
+        let mut summary = self.empty_summary();
+        let mut pvd: Vec<vtu::PvdEntry> = Vec::new();
+        let mut output_time = 0.0;
+        let mut recovery_time = 0.0;
+
+        let result = {
+            let this = &*self;
+            let mut solver = match Solver::new(
+                &this.model.parts,
+                &this.interfaces,
+                &this.dofs,
+                f_ext,
+                &this.model.settings,
+            ) {
+                Ok(s) => s,
+                Err(e) => {
+                    summary.status = "failed".into();
+                    summary.error = Some(e.to_string());
+                    report::write_json(&out.join("summary.json"), &summary)?;
+                    return Err(e);
+                }
+            };
+            summary.matrix_nonzeros = solver.matrix_nnz();
+            summary.factor_nonzeros = solver.factor_nnz();
+            let r = solver.run(|inc| {
+                let t = Instant::now();
+                let stresses = this.recover(&inc.u);
+                recovery_time += t.elapsed().as_secs_f64();
+                let t = Instant::now();
+                let rows = this.pair_rows(inc);
+                let parts_file = format!("parts_{:04}.vtu", inc.index);
+                let pairs_file = format!("pairs_{:04}.vtu", inc.index);
+                this.write_parts_vtu(&vtu_dir.join(&parts_file), inc, &stresses)?;
+                this.write_pairs_vtu(&vtu_dir.join(&pairs_file), inc, &rows)?;
+                pvd.push(vtu::PvdEntry {
+                    time: inc.lambda,
+                    part: 0,
+                    file: format!("vtu/{parts_file}"),
+                });
+                pvd.push(vtu::PvdEntry {
+                    time: inc.lambda,
+                    part: 1,
+                    file: format!("vtu/{pairs_file}"),
+                });
+                vtu::write_pvd(&out.join("results.pvd"), &pvd)?;
+                report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
+                this.fill_summary(&mut summary, inc, &rows);
+                report::write_json(&out.join("summary.json"), &summary)?;
+                output_time += t.elapsed().as_secs_f64();
+                progress(inc);
+                Ok(())
+            });
+            self_timings_merge(&mut summary.timings, &solver.timings);
+            r
+        };
+        let inc = match result {
+            Ok(inc) => inc,
+            Err(e) => {
+                summary.status = "failed".into();
+                summary.error = Some(e.to_string());
+                summary.timings.total =
+                    start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
+                summary.peak_memory_bytes = peak_memory_bytes();
+                report::write_json(&out.join("summary.json"), &summary)?;
+                return Err(e);
+            }
+        };
+        let t = Instant::now();
+        let stresses = self.recover(&inc.u);
+        recovery_time += t.elapsed().as_secs_f64();
+        self.write_pictures(out, &inc, &stresses)?;
+        output_time += t.elapsed().as_secs_f64();
+        summary.status = "completed".into();
+        summary.timings.meshing = self.timings.meshing;
+        summary.timings.pair_search = self.timings.pair_search;
+        summary.timings.stress_recovery = recovery_time;
+        summary.timings.output = output_time;
+        summary.timings.total =
+            start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
+        summary.peak_memory_bytes = peak_memory_bytes();
+        report::write_json(&out.join("summary.json"), &summary)?;
+        self.timings = summary.timings.clone();
+        Ok(summary)
+    }
+
+    fn empty_summary(&self) -> Summary {
+        Summary {
+            status: "running".into(),
+            error: None,
+            title: self.model.title.clone(),
+            problem: self.model.source.clone(),
+            refine: self.model.refine,
+            scheme: self.model.settings.scheme,
+            unknowns: self.dofs.n_eq,
+            matrix_nonzeros: 0,
+            factor_nonzeros: 0,
+            parts: self
+                .model
+                .parts
+                .iter()
+                .map(|p| PartSummary {
+                    name: p.name.clone(),
+                    nodes: p.mesh.nodes.len(),
+                    elements: p.mesh.triangles.len(),
+                })
+                .collect(),
+            interfaces: Vec::new(),
+            increments: self.model.settings.increments,
+            converged_increments: 0,
+            iterations: Vec::new(),
+            max_displacement: MaxDisplacement::default(),
+            reactions: Vec::new(),
+            applied: [0.0; 2],
+            equilibrium_error: 0.0,
+            residual: 0.0,
+            peak_memory_bytes: None,
+            timings: Timings {
+                meshing: self.timings.meshing,
+                pair_search: self.timings.pair_search,
+                ..Default::default()
+            },
+        }
+    }
+
+    /// Stresses of every part for displacements `u` (all DOFs).
+    pub fn recover(&self, u: &[f64]) -> Vec<PartStress> {
+        self.model
+            .parts
+            .iter()
+            .enumerate()
+            .map(|(p, part)| {
+                let s = 2 * self.dofs.node_offset[p];
+                recovery::recover(part, &u[s..s + 2 * part.mesh.nodes.len()])
+            })
+            .collect()
+    }
+
+    /// One row per coupling pair: state, jumps and forces on the node part.
+    pub fn pair_rows(&self, inc: &IncrementResult) -> Vec<PairRow> {
+        let mut rows = Vec::new();
+        for (i, iface) in self.interfaces.iter().enumerate() {
+            for (k, c) in iface.elements.iter().enumerate() {
+                let state = inc.states[i][k];
+                let d = self.dofs.cfe_dofs(iface, c).map(|j| inc.u[j]);
+                let (_, f) =
+                    cfe::internal_force(&c.shape, c.normal, iface.c_n, iface.c_s, state, &d);
+                let jump = cfe::local_jump(c.normal, cfe::jump(&c.shape, &d));
+                rows.push(PairRow {
+                    interface: iface.name.clone(),
+                    node: c.node,
+                    x: c.position[0],
+                    y: c.position[1],
+                    host_element: c.host_element,
+                    state: state.as_str(),
+                    gap_n: jump[0],
+                    slip_s: jump[1],
+                    // Force on the node part is −f; `+ 0.0` turns −0 into 0 for open pairs.
+                    force_n: -f[0] + 0.0,
+                    force_s: -f[1] + 0.0,
+                    settled: inc.settled.contains(&(i, k)),
+                });
+            }
+        }
+        rows
+    }
+
+    fn fill_summary(&self, s: &mut Summary, inc: &IncrementResult, rows: &[PairRow]) {
+        s.converged_increments = inc.index;
+        s.iterations.push(inc.iterations);
+        s.residual = inc.residual;
+        s.interfaces = self
+            .interfaces
+            .iter()
+            .map(|iface| {
+                let mine: Vec<&PairRow> =
+                    rows.iter().filter(|r| r.interface == iface.name).collect();
+                let bonded = mine
+                    .iter()
+                    .filter(|r| r.state == PairState::Bonded.as_str())
+                    .count();
+                InterfaceSummary {
+                    name: iface.name.clone(),
+                    host: self.model.parts[iface.host].name.clone(),
+                    node_part: self.model.parts[iface.node_part].name.clone(),
+                    law: iface.law,
+                    c_n: iface.c_n,
+                    c_s: iface.c_s,
+                    pairs: mine.len(),
+                    bonded,
+                    open: mine.len() - bonded,
+                    settled: mine
+                        .iter()
+                        .filter(|r| r.settled)
+                        .map(|r| SettledPair {
+                            node: r.node,
+                            x: r.x,
+                            y: r.y,
+                            force_n: r.force_n,
+                        })
+                        .collect(),
+                    max_penetration: mine
+                        .iter()
+                        .filter(|r| r.state == "bonded")
+                        .map(|r| -r.gap_n)
+                        .fold(0.0, f64::max),
+                    total_force_n: mine.iter().map(|r| r.force_n).sum(),
+                    max_projection_distance: iface.max_projection_distance,
+                }
+            })
+            .collect();
+        // Maximum displacement.
+        let mut best = (0.0, 0usize);
+        for g in 0..self.dofs.n_nodes() {
+            let m = inc.u[2 * g].hypot(inc.u[2 * g + 1]);
+            if m > best.0 {
+                best = (m, g);
+            }
+        }
+        let (p, n) = self.dofs.locate(best.1);
+        let x = self.model.parts[p].mesh.nodes[n];
+        s.max_displacement = MaxDisplacement {
+            value: best.0,
+            x: x[0],
+            y: x[1],
+            part: self.model.parts[p].name.clone(),
+            node: n,
+        };
+        // Reactions per support.
+        let mut r = vec![[0.0; 2]; self.model.supports.len()];
+        for (d, sup) in self.dofs.support_of.iter().enumerate() {
+            if let Some(k) = sup {
+                r[*k][d % 2] += inc.f_int[d] - inc.f_ext[d];
+            }
+        }
+        s.reactions = self
+            .model
+            .supports
+            .iter()
+            .zip(&r)
+            .map(|(sup, r)| Reaction {
+                support: sup.name.clone(),
+                fx: r[0],
+                fy: r[1],
+            })
+            .collect();
+        let mut applied = [0.0; 2];
+        for (d, f) in inc.f_ext.iter().enumerate() {
+            applied[d % 2] += f;
+        }
+        s.applied = applied;
+        let total: [f64; 2] =
+            std::array::from_fn(|c| applied[c] + r.iter().map(|r| r[c]).sum::<f64>());
+        let scale = applied[0].hypot(applied[1]);
+        s.equilibrium_error = if scale > 0.0 {
+            total[0].hypot(total[1]) / scale
+        } else {
+            0.0
+        };
+    }
+
+    fn global_points(&self) -> Vec<[f64; 2]> {
+        self.model
+            .parts
+            .iter()
+            .flat_map(|p| p.mesh.nodes.iter().copied())
+            .collect()
+    }
+
+    fn global_triangles(&self) -> Vec<[usize; 3]> {
+        self.model
+            .parts
+            .iter()
+            .enumerate()
+            .flat_map(|(p, part)| {
+                let o = self.dofs.node_offset[p];
+                part.mesh.triangles.iter().map(move |t| t.map(|n| n + o))
+            })
+            .collect()
+    }
+
+    fn write_parts_vtu(
+        &self,
+        path: &Path,
+        inc: &IncrementResult,
+        stresses: &[PartStress],
+    ) -> Result<()> {
+        let points = self.global_points();
+        let tris = self.global_triangles();
+        let connectivity: Vec<usize> = tris.iter().flatten().copied().collect();
+        let offsets: Vec<usize> = (1..=tris.len()).map(|i| 3 * i).collect();
+        let kinds: Vec<vtu::CellKind> = tris.iter().map(|_| vtu::CellKind::Triangle).collect();
+        let mut nodal: [Vec<f64>; 4] = Default::default();
+        let mut cell: [Vec<f64>; 4] = Default::default();
+        let mut part_point = Vec::with_capacity(points.len());
+        let mut part_cell = Vec::with_capacity(tris.len());
+        for (p, (part, s)) in self.model.parts.iter().zip(stresses).enumerate() {
+            for v in &s.nodal {
+                for c in 0..3 {
+                    nodal[c].push(v[c]);
+                }
+                nodal[3].push(part.material.von_mises(*v));
+                part_point.push(p as i32);
+            }
+            for v in &s.element {
+                for c in 0..3 {
+                    cell[c].push(v[c]);
+                }
+                cell[3].push(part.material.von_mises(*v));
+                part_cell.push(p as i32);
+            }
+        }
+        let names = ["sigma_xx", "sigma_yy", "sigma_xy", "von_mises"];
+        let mut point_data = vec![vtu::DataArray {
+            name: "displacement",
+            components: 2,
+            values: vtu::Values::F64(&inc.u),
+        }];
+        for (name, v) in names.iter().zip(&nodal) {
+            point_data.push(vtu::DataArray {
+                name,
+                components: 1,
+                values: vtu::Values::F64(v),
+            });
+        }
+        point_data.push(vtu::DataArray {
+            name: "part_id",
+            components: 1,
+            values: vtu::Values::I32(&part_point),
+        });
+        let mut cell_data: Vec<vtu::DataArray> = names
+            .iter()
+            .zip(&cell)
+            .map(|(name, v)| vtu::DataArray {
+                name,
+                components: 1,
+                values: vtu::Values::F64(v),
+            })
+            .collect();
+        cell_data.push(vtu::DataArray {
+            name: "part_id",
+            components: 1,
+            values: vtu::Values::I32(&part_cell),
+        });
+        vtu::write_vtu(
+            path,
+            &vtu::Grid {
+                points: &points,
+                connectivity: &connectivity,
+                offsets: &offsets,
+                kinds: &kinds,
+                point_data: &point_data,
+                cell_data: &cell_data,
+                field_data: &[("TIME", inc.lambda)],
+            },
+        )
+    }
+
+    fn write_pairs_vtu(&self, path: &Path, inc: &IncrementResult, rows: &[PairRow]) -> Result<()> {
+        let points: Vec<[f64; 2]> = rows.iter().map(|r| [r.x, r.y]).collect();
+        let connectivity: Vec<usize> = (0..rows.len()).collect();
+        let offsets: Vec<usize> = (1..=rows.len()).collect();
+        let kinds: Vec<vtu::CellKind> = rows.iter().map(|_| vtu::CellKind::Vertex).collect();
+        let bonded: Vec<i32> = rows.iter().map(|r| (r.state == "bonded") as i32).collect();
+        let settled: Vec<i32> = rows.iter().map(|r| r.settled as i32).collect();
+        let col = |f: fn(&PairRow) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
+        let (gap, slip, fn_, fs) = (
+            col(|r| r.gap_n),
+            col(|r| r.slip_s),
+            col(|r| r.force_n),
+            col(|r| r.force_s),
+        );
+        let mut normal = Vec::with_capacity(2 * rows.len());
+        let mut iface_id = Vec::with_capacity(rows.len());
+        let mut disp = Vec::with_capacity(2 * rows.len());
+        for (i, iface) in self.interfaces.iter().enumerate() {
+            for c in &iface.elements {
+                normal.extend_from_slice(&c.normal);
+                iface_id.push(i as i32);
+                let g = self.dofs.node(iface.node_part, c.node);
+                disp.extend_from_slice(&inc.u[2 * g..2 * g + 2]);
+            }
+        }
+        let point_data = [
+            vtu::DataArray {
+                name: "displacement",
+                components: 2,
+                values: vtu::Values::F64(&disp),
+            },
+            vtu::DataArray {
+                name: "bonded",
+                components: 1,
+                values: vtu::Values::I32(&bonded),
+            },
+            vtu::DataArray {
+                name: "settled",
+                components: 1,
+                values: vtu::Values::I32(&settled),
+            },
+            vtu::DataArray {
+                name: "gap_n",
+                components: 1,
+                values: vtu::Values::F64(&gap),
+            },
+            vtu::DataArray {
+                name: "slip_s",
+                components: 1,
+                values: vtu::Values::F64(&slip),
+            },
+            vtu::DataArray {
+                name: "force_n",
+                components: 1,
+                values: vtu::Values::F64(&fn_),
+            },
+            vtu::DataArray {
+                name: "force_s",
+                components: 1,
+                values: vtu::Values::F64(&fs),
+            },
+            vtu::DataArray {
+                name: "normal",
+                components: 2,
+                values: vtu::Values::F64(&normal),
+            },
+            vtu::DataArray {
+                name: "interface_id",
+                components: 1,
+                values: vtu::Values::I32(&iface_id),
+            },
+        ];
+        vtu::write_vtu(
+            path,
+            &vtu::Grid {
+                points: &points,
+                connectivity: &connectivity,
+                offsets: &offsets,
+                kinds: &kinds,
+                point_data: &point_data,
+                cell_data: &[],
+                field_data: &[("TIME", inc.lambda)],
+            },
+        )
+    }
+
+    fn write_pictures(
+        &self,
+        out: &Path,
+        inc: &IncrementResult,
+        stresses: &[PartStress],
+    ) -> Result<()> {
+        let points = self.global_points();
+        let tris = self.global_triangles();
+        let syy: Vec<f64> = stresses
+            .iter()
+            .flat_map(|s| s.nodal.iter().map(|v| v[1]))
+            .collect();
+        let rows = self.pair_rows(inc);
+        let markers: Vec<png::PairMarker> = rows
+            .iter()
+            .map(|r| png::PairMarker {
+                at: [r.x, r.y],
+                bonded: r.state == "bonded",
+            })
+            .collect();
+        let units = &self.model.units;
+        let title = format!("{}: σyy", self.model.title);
+        png::render_field(
+            &out.join("sigma_yy.png"),
+            &png::PlotMesh {
+                points: &points,
+                triangles: &tris,
+            },
+            &syy,
+            &markers,
+            &png::PlotLabels {
+                title: &title,
+                colorbar: &format!("σyy [{}]", units.stress),
+                axis_unit: &units.length,
+            },
+        )?;
+        // Deformed shape, magnified so the largest displacement is 5 % of the model size.
+        let umax = (0..points.len())
+            .map(|g| inc.u[2 * g].hypot(inc.u[2 * g + 1]))
+            .fold(0.0, f64::max);
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in &points {
+            for c in 0..2 {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+        }
+        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        let scale = if umax > 0.0 { 0.05 * size / umax } else { 0.0 };
+        let deformed: Vec<[f64; 2]> = points
+            .iter()
+            .enumerate()
+            .map(|(g, p)| [p[0] + scale * inc.u[2 * g], p[1] + scale * inc.u[2 * g + 1]])
+            .collect();
+        let magnitude: Vec<f64> = (0..points.len())
+            .map(|g| inc.u[2 * g].hypot(inc.u[2 * g + 1]))
+            .collect();
+        let deformed_markers: Vec<png::PairMarker> = self
+            .interfaces
+            .iter()
+            .flat_map(|iface| {
+                iface
+                    .elements
+                    .iter()
+                    .map(move |c| self.dofs.node(iface.node_part, c.node))
+            })
+            .zip(&rows)
+            .map(|(g, r)| png::PairMarker {
+                at: deformed[g],
+                bonded: r.state == "bonded",
+            })
+            .collect();
+        let title = format!(
+            "{}: total displacement, deformed ×{:.3}",
+            self.model.title, scale
+        );
+        png::render_isolines(
+            &out.join("displacement.png"),
+            &png::PlotMesh {
+                points: &deformed,
+                triangles: &tris,
+            },
+            &magnitude,
+            12,
+            &deformed_markers,
+            &png::PlotLabels {
+                title: &title,
+                colorbar: &format!("|u| [{}]", units.length),
+                axis_unit: &units.length,
+            },
+        )
+    }
+}
+
+fn self_timings_merge(t: &mut Timings, s: &SolveTimings) {
+    t.solve = s.clone();
+}
+
+/// Peak resident set size of this process in bytes (Linux `VmHWM`), if known.
+pub fn peak_memory_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}

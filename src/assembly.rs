@@ -1,0 +1,331 @@
+//! Assembly: numbers the degrees of freedom of all parts (Dirichlet DOFs eliminated),
+//! builds the sparsity pattern of the global stiffness once — including every coupling
+//! element's couplings, so a pair changing state changes values, never the pattern —
+//! and fills the lower triangle of K, the internal force vector and the external loads.
+
+use crate::coupling::{CouplingElement, Interface, PairState, element as cfe};
+use crate::fem::t3;
+use crate::model::{Load, Part, Support};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+
+/// Marks a DOF that is prescribed (eliminated from the system).
+pub const FIXED: usize = usize::MAX;
+
+/// Numbering of nodes and degrees of freedom across parts: global node
+/// `g = node_offset[part] + local`, DOFs `2g` (x) and `2g + 1` (y).
+#[derive(Debug, Clone)]
+pub struct DofMap {
+    /// First global node of each part (length parts + 1).
+    pub node_offset: Vec<usize>,
+    /// Equation number of each DOF, or [`FIXED`].
+    pub eq: Vec<usize>,
+    /// Number of equations (free DOFs): the unknowns.
+    pub n_eq: usize,
+    /// Prescribed value of each DOF at full load (0 where free).
+    pub prescribed: Vec<f64>,
+    /// For each DOF, the index of the support that fixes it (first one wins).
+    pub support_of: Vec<Option<usize>>,
+}
+
+impl DofMap {
+    /// Numbers the DOFs of `parts`, eliminating those fixed by `supports`.
+    pub fn new(parts: &[Part], supports: &[Support]) -> DofMap {
+        let mut node_offset = Vec::with_capacity(parts.len() + 1);
+        let mut n = 0;
+        for p in parts {
+            node_offset.push(n);
+            n += p.mesh.nodes.len();
+        }
+        node_offset.push(n);
+        let mut prescribed = vec![0.0; 2 * n];
+        let mut support_of = vec![None; 2 * n];
+        for (s, sup) in supports.iter().enumerate() {
+            for &node in &sup.nodes {
+                let g = node_offset[sup.part] + node;
+                for c in 0..2 {
+                    if sup.fix[c] && support_of[2 * g + c].is_none() {
+                        support_of[2 * g + c] = Some(s);
+                        prescribed[2 * g + c] = sup.value[c];
+                    }
+                }
+            }
+        }
+        let mut eq = vec![FIXED; 2 * n];
+        let mut n_eq = 0;
+        for (d, e) in eq.iter_mut().enumerate() {
+            if support_of[d].is_none() {
+                *e = n_eq;
+                n_eq += 1;
+            }
+        }
+        DofMap {
+            node_offset,
+            eq,
+            n_eq,
+            prescribed,
+            support_of,
+        }
+    }
+
+    /// Number of global nodes.
+    pub fn n_nodes(&self) -> usize {
+        *self.node_offset.last().unwrap_or(&0)
+    }
+
+    /// Global node of `node` in `part`.
+    pub fn node(&self, part: usize, node: usize) -> usize {
+        self.node_offset[part] + node
+    }
+
+    /// The part and local node of a global node.
+    pub fn locate(&self, g: usize) -> (usize, usize) {
+        let p = self.node_offset.partition_point(|&o| o <= g) - 1;
+        (p, g - self.node_offset[p])
+    }
+
+    /// The global DOFs of a coupling element: host nodes, then the coupling node.
+    pub fn cfe_dofs(&self, iface: &Interface, c: &CouplingElement) -> [usize; 8] {
+        let g = [
+            self.node(iface.host, c.host_nodes[0]),
+            self.node(iface.host, c.host_nodes[1]),
+            self.node(iface.host, c.host_nodes[2]),
+            self.node(iface.node_part, c.node),
+        ];
+        std::array::from_fn(|i| 2 * g[i / 2] + i % 2)
+    }
+
+    /// The global DOFs of triangle `e` of `part`.
+    pub fn t3_dofs(&self, parts: &[Part], part: usize, e: usize) -> [usize; 6] {
+        let tri = parts[part].mesh.triangles[e];
+        std::array::from_fn(|i| 2 * self.node(part, tri[i / 2]) + i % 2)
+    }
+}
+
+/// The global stiffness matrix K (lower triangle, compressed sparse columns over the
+/// free DOFs) with a fixed pattern. `base` holds the parts' contribution, assembled
+/// once; [`Stiffness::assemble`] adds the coupling elements for a set of pair states.
+#[derive(Debug, Clone)]
+pub struct Stiffness {
+    /// Column pointers (length n_eq + 1).
+    pub col_ptr: Vec<usize>,
+    /// Row indices, sorted within each column, all ≥ the column.
+    pub row_idx: Vec<usize>,
+    /// The parts' contribution to the values.
+    pub base: Vec<f64>,
+    /// Current values: base + coupling elements.
+    pub values: Vec<f64>,
+}
+
+impl Stiffness {
+    /// Builds the pattern from every part element and every coupling element, and
+    /// assembles the parts' stiffness.
+    pub fn new(parts: &[Part], interfaces: &[Interface], dofs: &DofMap) -> Stiffness {
+        let n_nodes = dofs.n_nodes();
+        // Node adjacency (CSR), two passes: count, fill; then sort and dedup per row.
+        let mut count = vec![0usize; n_nodes + 1];
+        let each_element = |f: &mut dyn FnMut(&[usize])| {
+            for (p, part) in parts.iter().enumerate() {
+                for tri in &part.mesh.triangles {
+                    f(&tri.map(|n| dofs.node(p, n)));
+                }
+            }
+            for iface in interfaces {
+                for c in &iface.elements {
+                    let h = c.host_nodes.map(|n| dofs.node(iface.host, n));
+                    f(&[h[0], h[1], h[2], dofs.node(iface.node_part, c.node)]);
+                }
+            }
+        };
+        each_element(&mut |nodes| {
+            for &a in nodes {
+                count[a + 1] += nodes.len();
+            }
+        });
+        for i in 0..n_nodes {
+            count[i + 1] += count[i];
+        }
+        let mut adj = vec![0usize; count[n_nodes]];
+        let mut fill = count.clone();
+        each_element(&mut |nodes| {
+            for &a in nodes {
+                for &b in nodes {
+                    adj[fill[a]] = b;
+                    fill[a] += 1;
+                }
+            }
+        });
+        let mut nbr_ptr = vec![0usize; n_nodes + 1];
+        let mut nbr = Vec::with_capacity(adj.len() / 2);
+        for a in 0..n_nodes {
+            let row = &mut adj[count[a]..count[a + 1]];
+            row.sort_unstable();
+            let mut last = usize::MAX;
+            for &b in row.iter() {
+                if b != last {
+                    nbr.push(b);
+                    last = b;
+                }
+            }
+            nbr_ptr[a + 1] = nbr.len();
+        }
+        drop(adj);
+        // DOF-level lower-triangular CSC over equations. Equation numbers increase with
+        // DOF index, so rows come out sorted.
+        let mut col_ptr = Vec::with_capacity(dofs.n_eq + 1);
+        col_ptr.push(0);
+        let mut row_idx = Vec::with_capacity(nbr.len() * 2);
+        for a in 0..n_nodes {
+            for ca in 0..2 {
+                let j = dofs.eq[2 * a + ca];
+                if j == FIXED {
+                    continue;
+                }
+                for &b in &nbr[nbr_ptr[a]..nbr_ptr[a + 1]] {
+                    for cb in 0..2 {
+                        let i = dofs.eq[2 * b + cb];
+                        if i != FIXED && i >= j {
+                            row_idx.push(i);
+                        }
+                    }
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        let nnz = row_idx.len();
+        let mut k = Stiffness {
+            col_ptr,
+            row_idx,
+            base: vec![0.0; nnz],
+            values: vec![0.0; nnz],
+        };
+        let mut base = std::mem::take(&mut k.base);
+        for (p, part) in parts.iter().enumerate() {
+            let d = part.material.d_matrix();
+            for e in 0..part.mesh.triangles.len() {
+                let x = part.mesh.triangles[e].map(|n| part.mesh.nodes[n]);
+                let ke = t3::stiffness(&x, &d, part.material.thickness);
+                let g = dofs.t3_dofs(parts, p, e);
+                k.scatter(&mut base, dofs, &g, |a, b| ke[a][b]);
+            }
+        }
+        k.base = base;
+        k
+    }
+
+    /// Number of equations.
+    pub fn n(&self) -> usize {
+        self.col_ptr.len() - 1
+    }
+
+    /// Position of entry (row i, column j), i ≥ j, in the value array.
+    fn position(&self, i: usize, j: usize) -> usize {
+        let (s, e) = (self.col_ptr[j], self.col_ptr[j + 1]);
+        s + self.row_idx[s..e]
+            .binary_search(&i)
+            .expect("entry is in the sparsity pattern")
+    }
+
+    /// Adds an element matrix (given by `k(a, b)` over local DOFs `g`) into `values`,
+    /// lower triangle, free DOFs only.
+    fn scatter(
+        &self,
+        values: &mut [f64],
+        dofs: &DofMap,
+        g: &[usize],
+        k: impl Fn(usize, usize) -> f64,
+    ) {
+        for (b, &gb) in g.iter().enumerate() {
+            let j = dofs.eq[gb];
+            if j == FIXED {
+                continue;
+            }
+            for (a, &ga) in g.iter().enumerate() {
+                let i = dofs.eq[ga];
+                if i == FIXED || i < j {
+                    continue;
+                }
+                let pos = self.position(i, j);
+                values[pos] += k(a, b);
+            }
+        }
+    }
+
+    /// Sets `values` = parts + the coupling elements in their `states`
+    /// (`states[i][k]` for pair k of interface i).
+    pub fn assemble(&mut self, interfaces: &[Interface], states: &[Vec<PairState>], dofs: &DofMap) {
+        let mut values = std::mem::take(&mut self.values);
+        values.copy_from_slice(&self.base);
+        for (iface, st) in interfaces.iter().zip(states) {
+            for (c, &s) in iface.elements.iter().zip(st) {
+                if s == PairState::Open {
+                    continue;
+                }
+                let ke = cfe::stiffness(&c.shape, c.normal, iface.c_n, iface.c_s, s);
+                self.scatter(&mut values, dofs, &dofs.cfe_dofs(iface, c), |a, b| ke[a][b]);
+            }
+        }
+        self.values = values;
+    }
+
+    /// The current matrix as a faer sparse view (lower triangle).
+    pub fn matrix(&self) -> SparseColMatRef<'_, usize, f64> {
+        let n = self.n();
+        let symbolic =
+            SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
+        SparseColMatRef::new(symbolic, &self.values)
+    }
+}
+
+/// The internal force vector over all DOFs, `F_int = Σ_parts K_e u_e + Σ_CFE B_eᵀ Rᵀ f`
+/// (seed eq. 1), for the full displacement vector `u` (free and prescribed DOFs).
+pub fn internal_force(
+    parts: &[Part],
+    interfaces: &[Interface],
+    states: &[Vec<PairState>],
+    dofs: &DofMap,
+    u: &[f64],
+) -> Vec<f64> {
+    let mut f = vec![0.0; u.len()];
+    for (p, part) in parts.iter().enumerate() {
+        let d = part.material.d_matrix();
+        for e in 0..part.mesh.triangles.len() {
+            let x = part.mesh.triangles[e].map(|n| part.mesh.nodes[n]);
+            let ke = t3::stiffness(&x, &d, part.material.thickness);
+            let g = dofs.t3_dofs(parts, p, e);
+            let fe = t3::mul(&ke, &g.map(|i| u[i]));
+            for (a, &ga) in g.iter().enumerate() {
+                f[ga] += fe[a];
+            }
+        }
+    }
+    for (iface, st) in interfaces.iter().zip(states) {
+        for (c, &s) in iface.elements.iter().zip(st) {
+            let g = dofs.cfe_dofs(iface, c);
+            let (fe, _) = cfe::internal_force(
+                &c.shape,
+                c.normal,
+                iface.c_n,
+                iface.c_s,
+                s,
+                &g.map(|i| u[i]),
+            );
+            for (a, &ga) in g.iter().enumerate() {
+                f[ga] += fe[a];
+            }
+        }
+    }
+    f
+}
+
+/// The external force vector over all DOFs at full load.
+pub fn external_force(loads: &[Load], dofs: &DofMap) -> Vec<f64> {
+    let mut f = vec![0.0; 2 * dofs.n_nodes()];
+    for load in loads {
+        for &(n, v) in &load.nodal {
+            let g = dofs.node(load.part, n);
+            f[2 * g] += v[0];
+            f[2 * g + 1] += v[1];
+        }
+    }
+    f
+}

@@ -1,0 +1,123 @@
+//! `cfe` command line: a thin layer over the library.
+
+use anyhow::Context;
+use cfe::analysis::Analysis;
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+
+/// Contact between independently meshed parts, by coupling finite elements.
+#[derive(Parser)]
+#[command(version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Solve a problem and write the results (VTU series, pairs.csv, summary.json, PNGs).
+    Run {
+        /// The problem file (TOML).
+        problem: PathBuf,
+        /// Output folder (default: results/<problem stem>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Multiply every structured part's cell counts by K.
+        #[arg(long, default_value_t = 1, value_name = "K")]
+        refine: usize,
+    },
+    /// Read the problem, mesh it and find the coupling pairs, without solving.
+    Check {
+        /// The problem file (TOML).
+        problem: PathBuf,
+        /// Multiply every structured part's cell counts by K.
+        #[arg(long, default_value_t = 1, value_name = "K")]
+        refine: usize,
+    },
+}
+
+fn main() {
+    if let Err(e) = run(Cli::parse()) {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Check { problem, refine } => {
+            let a = Analysis::from_file(&problem, refine)?;
+            print!("{}", a.describe());
+            Ok(())
+        }
+        Command::Run {
+            problem,
+            out,
+            refine,
+        } => {
+            let out = out.unwrap_or_else(|| {
+                let stem = problem
+                    .file_stem()
+                    .map(|s| s.to_os_string())
+                    .unwrap_or_else(|| "problem".into());
+                PathBuf::from("results").join(stem)
+            });
+            let mut a = Analysis::from_file(&problem, refine)?;
+            eprint!("{}", a.describe());
+            let bar = ProgressBar::new(a.model.settings.increments as u64);
+            bar.set_style(
+                ProgressStyle::with_template(
+                    "{spinner} increment {pos}/{len} [{bar:30}] {elapsed} {msg}",
+                )
+                .expect("valid template")
+                .progress_chars("=> "),
+            );
+            let summary = a
+                .run(&out, &mut |inc| {
+                    bar.set_message(format!(
+                        "λ = {:.3}, {} iteration(s)",
+                        inc.lambda, inc.iterations
+                    ));
+                    bar.inc(1);
+                })
+                .with_context(|| {
+                    format!("run failed; converged increments are in {}", out.display())
+                });
+            bar.finish_and_clear();
+            let summary = summary?;
+            println!("results in {}", out.display());
+            println!(
+                "  {} unknowns, {} increments, iterations per increment {:?}",
+                summary.unknowns, summary.converged_increments, summary.iterations
+            );
+            for i in &summary.interfaces {
+                println!(
+                    "  interface '{}': {} pairs, {} bonded, {} open{}",
+                    i.name,
+                    i.pairs,
+                    i.bonded,
+                    i.open,
+                    if i.settled.is_empty() {
+                        String::new()
+                    } else {
+                        format!(", {} kept bonded to settle a cycle", i.settled.len())
+                    }
+                );
+            }
+            let m = &summary.max_displacement;
+            println!(
+                "  max |u| = {:e} at ({}, {}) in part '{}'",
+                m.value, m.x, m.y, m.part
+            );
+            for r in &summary.reactions {
+                println!("  reaction '{}': ({:e}, {:e})", r.support, r.fx, r.fy);
+            }
+            println!(
+                "  equilibrium error {:.2e}, total {:.3} s",
+                summary.equilibrium_error, summary.timings.total
+            );
+            Ok(())
+        }
+    }
+}

@@ -1,0 +1,657 @@
+//! Model: reads a problem file (TOML), checks it, meshes its parts and resolves every
+//! selection (supports, loads, interface boundaries) into nodes and nodal values.
+//! Errors name the file, the line and the key at fault.
+//!
+//! The problem-file reference is in README.md; `examples/` holds complete files.
+
+use crate::coupling::Law;
+use crate::error::{Error, Result};
+use crate::fem::{Material, PlaneKind, loads};
+use crate::mesh::Mesh;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+/// Default relative geometric tolerance of the pair search (× local edge length).
+pub const DEFAULT_PAIR_TOLERANCE: f64 = 1e-4;
+/// Default coupling penalty as a multiple of the stiffer part's E·t.
+pub const DEFAULT_PENALTY_FACTOR: f64 = 1e5;
+
+// ---------------------------------------------------------------- file schema
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ProblemFile {
+    title: Option<String>,
+    #[serde(default)]
+    units: Units,
+    #[serde(default = "default_plane")]
+    plane: PlaneKind,
+    materials: BTreeMap<String, MaterialSpec>,
+    #[serde(rename = "part")]
+    parts: Vec<PartSpec>,
+    #[serde(rename = "interface", default)]
+    interfaces: Vec<InterfaceSpec>,
+    #[serde(rename = "support", default)]
+    supports: Vec<SupportSpec>,
+    #[serde(rename = "load", default)]
+    loads: Vec<LoadSpec>,
+    #[serde(default)]
+    analysis: Settings,
+}
+
+fn default_plane() -> PlaneKind {
+    PlaneKind::Stress
+}
+
+/// Unit names, used only to label outputs (cfe itself is unit-agnostic).
+#[derive(Debug, Clone, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Units {
+    /// Length unit (default `mm`).
+    pub length: String,
+    /// Force unit (default `N`).
+    pub force: String,
+    /// Stress unit (default `MPa`).
+    pub stress: String,
+}
+
+impl Default for Units {
+    fn default() -> Self {
+        Units {
+            length: "mm".into(),
+            force: "N".into(),
+            stress: "MPa".into(),
+        }
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialSpec {
+    #[serde(rename = "E")]
+    young: f64,
+    nu: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PartSpec {
+    name: Spanned<String>,
+    material: Spanned<String>,
+    #[serde(default = "one")]
+    thickness: f64,
+    rectangle: Option<RectangleSpec>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RectangleSpec {
+    x: [f64; 2],
+    y: [f64; 2],
+    cells: [usize; 2],
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct InterfaceSpec {
+    name: Option<String>,
+    host: Spanned<String>,
+    nodes: Spanned<String>,
+    boundary: Spanned<String>,
+    #[serde(default = "default_law")]
+    law: Law,
+    c_n: Option<f64>,
+    c_s: Option<f64>,
+    tolerance: Option<f64>,
+}
+
+fn default_law() -> Law {
+    Law::Contact
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum Component {
+    X,
+    Y,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SupportSpec {
+    part: Spanned<String>,
+    boundary: Option<Spanned<String>>,
+    at: Option<[f64; 2]>,
+    fix: Vec<Component>,
+    #[serde(default)]
+    value: [f64; 2],
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LoadSpec {
+    part: Spanned<String>,
+    boundary: Option<Spanned<String>>,
+    from: Option<[f64; 2]>,
+    to: Option<[f64; 2]>,
+    at: Option<[f64; 2]>,
+    force: [f64; 2],
+}
+
+/// The nonlinear scheme for contact interfaces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scheme {
+    /// Iterate within each increment until no pair changes state (default).
+    ActiveSet,
+    /// The seed's scheme: states lagged by one increment, one solve per increment.
+    Implex,
+}
+
+/// Analysis settings (`[analysis]`).
+#[derive(Debug, Clone, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Settings {
+    /// Number of load increments (the load grows linearly to its full value).
+    pub increments: usize,
+    /// `active-set` or `implex`.
+    pub scheme: Scheme,
+    /// Iteration limit per increment (active-set).
+    pub max_iterations: usize,
+    /// A pair opens when [[u_n]] exceeds this fraction of the largest displacement
+    /// magnitude among its four nodes.
+    pub gap_tolerance: f64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            increments: 10,
+            scheme: Scheme::ActiveSet,
+            max_iterations: 50,
+            gap_tolerance: 1e-9,
+        }
+    }
+}
+
+// ---------------------------------------------------------------- resolved model
+
+/// A part: its mesh and material.
+#[derive(Debug, Clone)]
+pub struct Part {
+    /// Name from the problem file.
+    pub name: String,
+    /// The part's mesh.
+    pub mesh: Mesh,
+    /// Material, 2D idealisation and thickness.
+    pub material: Material,
+}
+
+/// An interface as defined in the problem file, with its parts resolved.
+#[derive(Debug, Clone)]
+pub struct InterfaceDef {
+    /// Name (default `host/nodes`).
+    pub name: String,
+    /// Index of the host part.
+    pub host: usize,
+    /// Index of the node part.
+    pub node_part: usize,
+    /// Coupling nodes: the nodes of the node part's named boundary.
+    pub nodes: Vec<usize>,
+    /// Name of that boundary.
+    pub boundary: String,
+    /// `rigid` or `contact`.
+    pub law: Law,
+    /// Normal penalty.
+    pub c_n: f64,
+    /// Tangential penalty.
+    pub c_s: f64,
+    /// Relative geometric tolerance of the pair search.
+    pub tolerance: f64,
+}
+
+/// A Dirichlet condition on a set of nodes of one part.
+#[derive(Debug, Clone)]
+pub struct Support {
+    /// Label, e.g. `base/bottom`.
+    pub name: String,
+    /// Part index.
+    pub part: usize,
+    /// Nodes of the part.
+    pub nodes: Vec<usize>,
+    /// Which components are fixed (x, y).
+    pub fix: [bool; 2],
+    /// Prescribed values of the fixed components at full load.
+    pub value: [f64; 2],
+}
+
+/// An external load resolved to nodal forces at full load.
+#[derive(Debug, Clone)]
+pub struct Load {
+    /// Label, e.g. `plate/top`.
+    pub name: String,
+    /// Part index.
+    pub part: usize,
+    /// Nodal forces (node of the part, force).
+    pub nodal: Vec<(usize, [f64; 2])>,
+    /// The resultant the user asked for.
+    pub resultant: [f64; 2],
+}
+
+/// A checked, meshed model ready for analysis.
+#[derive(Debug, Clone)]
+pub struct Model {
+    /// Title (default: the file stem).
+    pub title: String,
+    /// The problem file it came from.
+    pub source: PathBuf,
+    /// Unit labels.
+    pub units: Units,
+    /// Parts in file order.
+    pub parts: Vec<Part>,
+    /// Interfaces in file order.
+    pub interfaces: Vec<InterfaceDef>,
+    /// Dirichlet conditions.
+    pub supports: Vec<Support>,
+    /// External loads.
+    pub loads: Vec<Load>,
+    /// Analysis settings.
+    pub settings: Settings,
+    /// Refinement factor applied to the structured meshes.
+    pub refine: usize,
+}
+
+impl Model {
+    /// Reads, checks and meshes the problem file at `path`; `refine` multiplies every
+    /// structured part's cell counts (1 = as written).
+    pub fn from_file(path: &Path, refine: usize) -> Result<Model> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::ReadInput {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Model::from_str(&text, path, refine)
+    }
+
+    /// Reads, checks and meshes a problem given as text; `path` is used in messages
+    /// and for the default title.
+    pub fn from_str(text: &str, path: &Path, refine: usize) -> Result<Model> {
+        let file: ProblemFile = toml::from_str(text).map_err(|e| Error::Parse {
+            path: path.to_path_buf(),
+            message: e.to_string().trim_end().to_string(),
+        })?;
+        if refine == 0 {
+            return Err(Error::Model(
+                "the refinement factor must be at least 1".into(),
+            ));
+        }
+        Builder { text, path }.build(file, refine)
+    }
+}
+
+struct Builder<'a> {
+    text: &'a str,
+    path: &'a Path,
+}
+
+impl Builder<'_> {
+    /// "file:line" for a spanned value.
+    fn at<T>(&self, s: &Spanned<T>) -> String {
+        let line = self.text[..s.span().start.min(self.text.len())]
+            .matches('\n')
+            .count()
+            + 1;
+        format!("{}:{line}", self.path.display())
+    }
+
+    fn err<T>(&self, s: &Spanned<T>, msg: impl std::fmt::Display) -> Error {
+        Error::Parse {
+            path: self.path.to_path_buf(),
+            message: format!(
+                "line {}: {msg}",
+                self.at(s).rsplit(':').next().unwrap_or("?")
+            ),
+        }
+    }
+
+    fn part_index(&self, parts: &[Part], name: &Spanned<String>, key: &str) -> Result<usize> {
+        parts
+            .iter()
+            .position(|p| &p.name == name.get_ref())
+            .ok_or_else(|| {
+                let known: Vec<&str> = parts.iter().map(|p| p.name.as_str()).collect();
+                self.err(
+                    name,
+                    format!(
+                        "`{key}` names part '{}', which is not defined (parts: {})",
+                        name.get_ref(),
+                        known.join(", ")
+                    ),
+                )
+            })
+    }
+
+    fn boundary<'m>(
+        &self,
+        part: &'m Part,
+        name: &Spanned<String>,
+    ) -> Result<&'m Vec<crate::mesh::BoundaryEdge>> {
+        part.mesh.boundaries.get(name.get_ref()).ok_or_else(|| {
+            let known: Vec<&str> = part.mesh.boundaries.keys().map(|s| s.as_str()).collect();
+            self.err(
+                name,
+                format!(
+                    "part '{}' has no boundary named '{}' (it has: {})",
+                    part.name,
+                    name.get_ref(),
+                    known.join(", ")
+                ),
+            )
+        })
+    }
+
+    fn node_at(
+        &self,
+        part: &Part,
+        at: [f64; 2],
+        span: &Spanned<String>,
+        what: &str,
+    ) -> Result<usize> {
+        let h = part.mesh.max_edge_length();
+        let (best, d) = part
+            .mesh
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (i, crate::mesh::dist(*p, at)))
+            .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+        if d > 1e-6 * h {
+            return Err(self.err(
+                span,
+                format!(
+                    "{what} at ({}, {}) matches no node of part '{}' (nearest node {best} is {d:.3e} away)",
+                    at[0], at[1], part.name
+                ),
+            ));
+        }
+        Ok(best)
+    }
+
+    fn build(&self, file: ProblemFile, refine: usize) -> Result<Model> {
+        let ProblemFile {
+            title,
+            units,
+            plane,
+            materials,
+            parts: part_specs,
+            interfaces: iface_specs,
+            supports: support_specs,
+            loads: load_specs,
+            analysis,
+        } = file;
+        if part_specs.is_empty() {
+            return Err(Error::Model("the problem defines no [[part]]".into()));
+        }
+        // Parts.
+        let mut parts: Vec<Part> = Vec::with_capacity(part_specs.len());
+        for spec in &part_specs {
+            let name = spec.name.get_ref().clone();
+            if parts.iter().any(|p| p.name == name) {
+                return Err(self.err(&spec.name, format!("part '{name}' is defined twice")));
+            }
+            let m = materials.get(spec.material.get_ref()).ok_or_else(|| {
+                self.err(
+                    &spec.material,
+                    format!(
+                        "part '{name}' uses material '{}', which is not in [materials] (defined: {})",
+                        spec.material.get_ref(),
+                        materials.keys().cloned().collect::<Vec<_>>().join(", ")
+                    ),
+                )
+            })?;
+            let material = Material::new(m.young, m.nu, plane, spec.thickness, &name)?;
+            let Some(r) = &spec.rectangle else {
+                return Err(self.err(
+                    &spec.name,
+                    format!("part '{name}' has no mesh: give `rectangle = {{ x = [x0, x1], y = [y0, y1], cells = [nx, ny] }}`"),
+                ));
+            };
+            if !(r.x[1] > r.x[0] && r.y[1] > r.y[0]) || r.cells[0] == 0 || r.cells[1] == 0 {
+                return Err(self.err(
+                    &spec.name,
+                    format!("part '{name}': rectangle needs x0 < x1, y0 < y1 and at least one cell each way (got x = {:?}, y = {:?}, cells = {:?})", r.x, r.y, r.cells),
+                ));
+            }
+            let mesh = Mesh::rectangle(r.x, r.y, [r.cells[0] * refine, r.cells[1] * refine]);
+            mesh.validate(&name)?;
+            parts.push(Part {
+                name,
+                mesh,
+                material,
+            });
+        }
+
+        // Interfaces.
+        let mut interfaces = Vec::with_capacity(iface_specs.len());
+        let mut claimed: BTreeMap<(usize, usize), String> = BTreeMap::new();
+        for spec in &iface_specs {
+            let host = self.part_index(&parts, &spec.host, "host")?;
+            let node_part = self.part_index(&parts, &spec.nodes, "nodes")?;
+            let name = spec
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("{}/{}", parts[host].name, parts[node_part].name));
+            if host == node_part {
+                return Err(self.err(
+                    &spec.host,
+                    format!("interface '{name}': host and node part are the same part"),
+                ));
+            }
+            self.boundary(&parts[node_part], &spec.boundary)?;
+            let nodes = parts[node_part]
+                .mesh
+                .boundary_nodes(spec.boundary.get_ref())
+                .unwrap_or_default();
+            for &n in &nodes {
+                if let Some(other) = claimed.insert((node_part, n), name.clone()) {
+                    return Err(self.err(
+                        &spec.boundary,
+                        format!(
+                            "node {n} of part '{}' is claimed by interfaces '{other}' and '{name}'",
+                            parts[node_part].name
+                        ),
+                    ));
+                }
+            }
+            let default_c = DEFAULT_PENALTY_FACTOR
+                * parts[host]
+                    .material
+                    .stiffness_scale()
+                    .max(parts[node_part].material.stiffness_scale());
+            let c_n = spec.c_n.unwrap_or(default_c);
+            let c_s = spec.c_s.unwrap_or(c_n);
+            let tolerance = spec.tolerance.unwrap_or(DEFAULT_PAIR_TOLERANCE);
+            for (key, v) in [("c_n", c_n), ("c_s", c_s), ("tolerance", tolerance)] {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(self.err(
+                        &spec.host,
+                        format!("interface '{name}': `{key}` = {v} must be positive and finite"),
+                    ));
+                }
+            }
+            interfaces.push(InterfaceDef {
+                name,
+                host,
+                node_part,
+                nodes,
+                boundary: spec.boundary.get_ref().clone(),
+                law: spec.law,
+                c_n,
+                c_s,
+                tolerance,
+            });
+        }
+
+        // Supports.
+        let mut supports = Vec::with_capacity(support_specs.len());
+        for spec in &support_specs {
+            let p = self.part_index(&parts, &spec.part, "part")?;
+            let part = &parts[p];
+            let (name, nodes) = match (&spec.boundary, spec.at) {
+                (Some(b), None) => {
+                    self.boundary(part, b)?;
+                    (
+                        format!("{}/{}", part.name, b.get_ref()),
+                        part.mesh.boundary_nodes(b.get_ref()).unwrap_or_default(),
+                    )
+                }
+                (None, Some(at)) => (
+                    format!("{}@({},{})", part.name, at[0], at[1]),
+                    vec![self.node_at(part, at, &spec.part, "support")?],
+                ),
+                _ => {
+                    return Err(self.err(
+                        &spec.part,
+                        "a [[support]] needs exactly one of `boundary` or `at`",
+                    ));
+                }
+            };
+            if spec.fix.is_empty() {
+                return Err(self.err(
+                    &spec.part,
+                    format!(
+                        "support '{name}': `fix` is empty; give [\"x\"], [\"y\"] or [\"x\", \"y\"]"
+                    ),
+                ));
+            }
+            if !spec.value.iter().all(|v| v.is_finite()) {
+                return Err(self.err(
+                    &spec.part,
+                    format!("support '{name}': `value` must be finite"),
+                ));
+            }
+            supports.push(Support {
+                name,
+                part: p,
+                nodes,
+                fix: [
+                    spec.fix.contains(&Component::X),
+                    spec.fix.contains(&Component::Y),
+                ],
+                value: spec.value,
+            });
+        }
+
+        // Loads.
+        let mut loads_out = Vec::with_capacity(load_specs.len());
+        for spec in &load_specs {
+            let p = self.part_index(&parts, &spec.part, "part")?;
+            let part = &parts[p];
+            if !spec.force.iter().all(|v| v.is_finite()) {
+                return Err(self.err(&spec.part, "load `force` must be finite"));
+            }
+            let edges_of =
+                |edges: &[crate::mesh::BoundaryEdge]| -> Vec<([usize; 2], [[f64; 2]; 2])> {
+                    edges
+                        .iter()
+                        .map(|e| (e.nodes, e.nodes.map(|n| part.mesh.nodes[n])))
+                        .collect()
+                };
+            let load = match (&spec.boundary, spec.from, spec.to, spec.at) {
+                (None, None, None, Some(at)) => {
+                    let n = self.node_at(part, at, &spec.part, "point load")?;
+                    Load {
+                        name: format!("{}@({},{})", part.name, at[0], at[1]),
+                        part: p,
+                        nodal: vec![(n, spec.force)],
+                        resultant: spec.force,
+                    }
+                }
+                (Some(b), None, None, None) => {
+                    let edges = edges_of(self.boundary(part, b)?);
+                    Load {
+                        name: format!("{}/{}", part.name, b.get_ref()),
+                        part: p,
+                        nodal: loads::chain_forces(&edges, spec.force),
+                        resultant: spec.force,
+                    }
+                }
+                (b, Some(from), Some(to), None) => {
+                    let seg_len = crate::mesh::dist(from, to);
+                    if seg_len <= 0.0 || seg_len.is_nan() {
+                        return Err(self.err(&spec.part, "load segment has `from` equal to `to`"));
+                    }
+                    let edges = match b {
+                        Some(b) => edges_of(self.boundary(part, b)?),
+                        None => edges_of(&part.mesh.boundary_edges()),
+                    };
+                    let tol = 1e-6 * part.mesh.max_edge_length();
+                    let (nodal, covered) = loads::segment_forces(&edges, from, to, spec.force, tol);
+                    if (covered - seg_len).abs() > 1e-6 * seg_len {
+                        return Err(self.err(
+                            &spec.part,
+                            format!(
+                                "load segment ({}, {})–({}, {}) lies on the boundary of part '{}' over {covered:.6} of its length {seg_len:.6}: the whole segment must lie on the part's boundary",
+                                from[0], from[1], to[0], to[1], part.name
+                            ),
+                        ));
+                    }
+                    Load {
+                        name: format!(
+                            "{}[({},{})-({},{})]",
+                            part.name, from[0], from[1], to[0], to[1]
+                        ),
+                        part: p,
+                        nodal,
+                        resultant: spec.force,
+                    }
+                }
+                _ => {
+                    return Err(self.err(
+                        &spec.part,
+                        "a [[load]] needs `at` (point load), `boundary` (whole boundary), or `from` and `to` (segment, optionally with `boundary`)",
+                    ));
+                }
+            };
+            loads_out.push(load);
+        }
+
+        if analysis.increments == 0 {
+            return Err(Error::Model(
+                "[analysis] increments must be at least 1".into(),
+            ));
+        }
+        if analysis.max_iterations == 0 {
+            return Err(Error::Model(
+                "[analysis] max_iterations must be at least 1".into(),
+            ));
+        }
+        if !(analysis.gap_tolerance.is_finite() && analysis.gap_tolerance >= 0.0) {
+            return Err(Error::Model(
+                "[analysis] gap_tolerance must be finite and non-negative".into(),
+            ));
+        }
+        let title = title.unwrap_or_else(|| {
+            self.path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "problem".into())
+        });
+        Ok(Model {
+            title,
+            source: self.path.to_path_buf(),
+            units,
+            parts,
+            interfaces,
+            supports,
+            loads: loads_out,
+            settings: analysis,
+            refine,
+        })
+    }
+}

@@ -1,0 +1,715 @@
+//! PNG pictures of a field on the parts, made for reports: a smoothly shaded colour
+//! map (or isolines) with part outlines, equal axis scaling, axes in the model's
+//! length unit, a title and a colour bar. Drawn with plotters on an in-memory RGB
+//! buffer (font bundled, no system libraries) and encoded to PNG.
+//!
+//! The field is rasterised per pixel (linear interpolation inside each triangle),
+//! so the cost is O(triangles + pixels): a picture of a million-element model costs
+//! little more than one of a thousand.
+
+use super::write_atomic;
+use crate::error::{Error, Result};
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::Once;
+
+/// What to draw: node coordinates (already deformed if the caller wants a deformed
+/// picture) and triangles as node-index triples.
+pub struct PlotMesh<'a> {
+    /// Node coordinates.
+    pub points: &'a [[f64; 2]],
+    /// Triangles (indices into `points`).
+    pub triangles: &'a [[usize; 3]],
+}
+
+/// Labels of one picture.
+pub struct PlotLabels<'a> {
+    /// Title above the plot.
+    pub title: &'a str,
+    /// Colour-bar label, e.g. `σyy [MPa]`.
+    pub colorbar: &'a str,
+    /// Length unit for the axes, e.g. `mm` (axes read `x [mm]`, `y [mm]`).
+    pub axis_unit: &'a str,
+}
+
+/// A coupling pair marker: filled when bonded, hollow when open.
+pub struct PairMarker {
+    /// Position.
+    pub at: [f64; 2],
+    /// Bonded (filled) or open (hollow).
+    pub bonded: bool,
+}
+
+const WIDTH: u32 = 1600;
+const FONT: &str = "sans-serif";
+static FONT_ONCE: Once = Once::new();
+
+fn register_font() {
+    FONT_ONCE.call_once(|| {
+        // The bundled DejaVu Sans (see assets/fonts/DejaVuSans-LICENSE.txt).
+        let bytes: &'static [u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+        let _ = plotters::style::register_font(FONT, FontStyle::Normal, bytes);
+    });
+}
+
+/// Smoothly shaded colour map of `nodal` (one value per point) with part outlines,
+/// pair markers, axes, title and colour bar.
+pub fn render_field(
+    path: &Path,
+    mesh: &PlotMesh,
+    nodal: &[f64],
+    markers: &[PairMarker],
+    labels: &PlotLabels,
+) -> Result<()> {
+    render(path, mesh, nodal, markers, labels, Style::Field)
+}
+
+/// Isolines of `nodal` at `levels` evenly spaced values strictly inside its range,
+/// each coloured by its level against the colour bar, over a light-grey fill of the
+/// parts, with part outlines and pair markers.
+pub fn render_isolines(
+    path: &Path,
+    mesh: &PlotMesh,
+    nodal: &[f64],
+    levels: usize,
+    markers: &[PairMarker],
+    labels: &PlotLabels,
+) -> Result<()> {
+    render(
+        path,
+        mesh,
+        nodal,
+        markers,
+        labels,
+        Style::Isolines(levels.max(1)),
+    )
+}
+
+#[derive(Clone, Copy)]
+enum Style {
+    Field,
+    Isolines(usize),
+}
+
+/// The "turbo" colour map (Mikhailov, Google 2019; polynomial approximation) at
+/// t ∈ [0, 1]: dark blue → cyan → green → yellow → red.
+pub fn turbo(t: f64) -> [u8; 3] {
+    let x = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let poly = |c: [f64; 6]| c[0] + x * (c[1] + x * (c[2] + x * (c[3] + x * (c[4] + x * c[5]))));
+    let r = poly([
+        0.13572138,
+        4.61539260,
+        -42.66032258,
+        132.13108234,
+        -152.94239396,
+        59.28637943,
+    ]);
+    let g = poly([
+        0.09140261,
+        2.19418839,
+        4.84296658,
+        -14.18503333,
+        4.27729857,
+        2.82956604,
+    ]);
+    let b = poly([
+        0.10667330,
+        12.64194608,
+        -60.58204836,
+        110.36276771,
+        -89.90310912,
+        27.34824973,
+    ]);
+    [r, g, b].map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+}
+
+/// Maps model coordinates to pixels (equal scale in x and y, y up).
+#[derive(Clone, Copy, Debug)]
+struct Transform {
+    x0: f64,
+    y1: f64,
+    scale: f64,
+    left: f64,
+    top: f64,
+}
+
+impl Transform {
+    fn px(&self, p: [f64; 2]) -> [f64; 2] {
+        [
+            self.left + (p[0] - self.x0) * self.scale,
+            self.top + (self.y1 - p[1]) * self.scale,
+        ]
+    }
+}
+
+/// Fills the triangles into an RGB buffer of `width` × `height` pixels, clipped to
+/// `clip` = [x0, y0, x1, y1) in pixels, colouring each covered pixel centre by the
+/// linear interpolation of the vertex values mapped through `colour`. A triangle
+/// smaller than a pixel still paints the pixel of its centroid.
+pub fn rasterize(
+    buf: &mut [u8],
+    width: usize,
+    clip: [usize; 4],
+    tris: impl Iterator<Item = ([[f64; 2]; 3], [f64; 3])>,
+    colour: impl Fn(f64) -> [u8; 3],
+) {
+    let mut put = |x: usize, y: usize, c: [u8; 3]| {
+        let i = 3 * (y * width + x);
+        buf[i..i + 3].copy_from_slice(&c);
+    };
+    for (p, v) in tris {
+        let xmin = p.iter().map(|q| q[0]).fold(f64::INFINITY, f64::min);
+        let xmax = p.iter().map(|q| q[0]).fold(f64::NEG_INFINITY, f64::max);
+        let ymin = p.iter().map(|q| q[1]).fold(f64::INFINITY, f64::min);
+        let ymax = p.iter().map(|q| q[1]).fold(f64::NEG_INFINITY, f64::max);
+        let det =
+            (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+        let ix0 = (xmin.floor().max(clip[0] as f64)) as usize;
+        let iy0 = (ymin.floor().max(clip[1] as f64)) as usize;
+        let ix1 = (xmax.ceil().min(clip[2] as f64)).max(ix0 as f64) as usize;
+        let iy1 = (ymax.ceil().min(clip[3] as f64)).max(iy0 as f64) as usize;
+        let mut painted = false;
+        if det.abs() > 1e-12 {
+            for y in iy0..iy1 {
+                let cy = y as f64 + 0.5;
+                for x in ix0..ix1 {
+                    let cx = x as f64 + 0.5;
+                    let l1 = ((cx - p[0][0]) * (p[2][1] - p[0][1])
+                        - (p[2][0] - p[0][0]) * (cy - p[0][1]))
+                        / det;
+                    let l2 = ((p[1][0] - p[0][0]) * (cy - p[0][1])
+                        - (cx - p[0][0]) * (p[1][1] - p[0][1]))
+                        / det;
+                    let l0 = 1.0 - l1 - l2;
+                    const E: f64 = -1e-9;
+                    if l0 >= E && l1 >= E && l2 >= E {
+                        put(x, y, colour(l0 * v[0] + l1 * v[1] + l2 * v[2]));
+                        painted = true;
+                    }
+                }
+            }
+        }
+        if !painted {
+            let c = [
+                (p[0][0] + p[1][0] + p[2][0]) / 3.0,
+                (p[0][1] + p[1][1] + p[2][1]) / 3.0,
+            ];
+            if c[0] >= clip[0] as f64
+                && c[1] >= clip[1] as f64
+                && c[0] < clip[2] as f64
+                && c[1] < clip[3] as f64
+            {
+                put(
+                    c[0] as usize,
+                    c[1] as usize,
+                    colour((v[0] + v[1] + v[2]) / 3.0),
+                );
+            }
+        }
+    }
+}
+
+/// The segment where the linear field with vertex values `v` over triangle `p`
+/// crosses `level`, if it does. A vertex exactly at the level counts as above it,
+/// so every crossing gives exactly two points or none.
+pub fn isoline_segment(p: &[[f64; 2]; 3], v: &[f64; 3], level: f64) -> Option<[[f64; 2]; 2]> {
+    let above = v.map(|x| x >= level);
+    let mut pts = [[0.0; 2]; 2];
+    let mut n = 0;
+    for k in 0..3 {
+        let (a, b) = (k, (k + 1) % 3);
+        if above[a] != above[b] {
+            let t = (level - v[a]) / (v[b] - v[a]);
+            pts[n] = [
+                p[a][0] + t * (p[b][0] - p[a][0]),
+                p[a][1] + t * (p[b][1] - p[a][1]),
+            ];
+            n += 1;
+        }
+    }
+    (n == 2).then_some(pts)
+}
+
+/// Edges used by exactly one triangle: the outlines of the parts.
+fn outline_edges(triangles: &[[usize; 3]]) -> Vec<[usize; 2]> {
+    let mut count: HashMap<(usize, usize), u32> = HashMap::with_capacity(3 * triangles.len() / 2);
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    let mut edges: Vec<[usize; 2]> = count
+        .into_iter()
+        .filter(|(_, c)| *c == 1)
+        .map(|((a, b), _)| [a, b])
+        .collect();
+    edges.sort_unstable();
+    edges
+}
+
+fn validate(path: &Path, mesh: &PlotMesh, nodal: &[f64]) -> Result<()> {
+    let bad = |m: String| Err(Error::output(path, m));
+    if mesh.triangles.is_empty() || mesh.points.is_empty() {
+        return bad("nothing to draw: the mesh is empty".into());
+    }
+    if nodal.len() != mesh.points.len() {
+        return bad(format!(
+            "{} nodal values for {} points",
+            nodal.len(),
+            mesh.points.len()
+        ));
+    }
+    if let Some(t) = mesh
+        .triangles
+        .iter()
+        .find(|t| t.iter().any(|&n| n >= mesh.points.len()))
+    {
+        return bad(format!(
+            "triangle {t:?} refers to a point beyond the {} given",
+            mesh.points.len()
+        ));
+    }
+    if mesh
+        .points
+        .iter()
+        .flatten()
+        .chain(nodal)
+        .any(|v| !v.is_finite())
+    {
+        return bad("a coordinate or value is not finite".into());
+    }
+    Ok(())
+}
+
+fn nice_ticks_label(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else if v.abs() >= 1e4 || v.abs() < 1e-2 {
+        format!("{v:.2e}")
+    } else {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
+
+fn render(
+    path: &Path,
+    mesh: &PlotMesh,
+    nodal: &[f64],
+    markers: &[PairMarker],
+    labels: &PlotLabels,
+    style: Style,
+) -> Result<()> {
+    validate(path, mesh, nodal)?;
+    register_font();
+    let err = |e: &dyn std::fmt::Display| Error::output(path, e);
+
+    // Model bounds with a small pad.
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in mesh.points {
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-300);
+    let pad = 0.03 * span;
+    let (mut x0, mut x1, mut y0, mut y1) = (lo[0] - pad, hi[0] + pad, lo[1] - pad, hi[1] + pad);
+
+    // Layout: plot area, colour bar strip on the right, equal scaling.
+    const LEFT: u32 = 110;
+    const RIGHT: u32 = 230;
+    const TOP: u32 = 70;
+    const BOTTOM: u32 = 80;
+    let plot_w = WIDTH - LEFT - RIGHT;
+    let plot_h = ((plot_w as f64) * (y1 - y0) / (x1 - x0))
+        .round()
+        .clamp(360.0, 1000.0) as u32;
+    let height = plot_h + TOP + BOTTOM;
+    // Widen the shorter range so that one unit is the same number of pixels both ways.
+    let scale = (plot_w as f64 / (x1 - x0)).min(plot_h as f64 / (y1 - y0));
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let (hw, hh) = (0.5 * plot_w as f64 / scale, 0.5 * plot_h as f64 / scale);
+    (x0, x1, y0, y1) = (cx - hw, cx + hw, cy - hh, cy + hh);
+    let tf = Transform {
+        x0,
+        y1,
+        scale,
+        left: LEFT as f64,
+        top: TOP as f64,
+    };
+
+    let (data_min, data_max) = nodal
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    // Colour range: the 0.5–99.5 % quantiles of the nodal values, so that a stress
+    // singularity at a corner does not wash out the rest; the true extremes are
+    // printed beside the colour bar when they fall outside.
+    let (vmin, vmax) = match style {
+        Style::Field => robust_range(nodal),
+        Style::Isolines(_) => (data_min, data_max),
+    };
+    let range = if vmax > vmin { vmax - vmin } else { 1.0 };
+    let norm = |v: f64| (v - vmin) / range;
+
+    let mut buf = vec![255u8; (WIDTH * height * 3) as usize];
+    // 1. Frame, axes, title, colour bar.
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (WIDTH, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| err(&e))?;
+        // Axes are drawn in pixels around the plot box, with the equal-scale transform.
+        let text = |size: f64| TextStyle::from((FONT, size).into_font()).color(&BLACK);
+        root.draw(&Text::new(
+            labels.title.to_string(),
+            (LEFT as i32, 22),
+            text(28.0),
+        ))
+        .map_err(|e| err(&e))?;
+        let (pl, pt, pr, pb) = (
+            LEFT as i32,
+            TOP as i32,
+            (LEFT + plot_w) as i32,
+            (TOP + plot_h) as i32,
+        );
+        root.draw(&Rectangle::new(
+            [(pl - 1, pt - 1), (pr, pb)],
+            BLACK.stroke_width(1),
+        ))
+        .map_err(|e| err(&e))?;
+        // Axis ticks: about 8 along x, matching spacing along y.
+        let step = nice_step((x1 - x0) / 8.0);
+        let tick_font = text(18.0);
+        let mut t = (x0 / step).ceil() * step;
+        while t <= x1 {
+            let px = tf.px([t, y0])[0].round() as i32;
+            root.draw(&PathElement::new(vec![(px, pb), (px, pb + 6)], BLACK))
+                .map_err(|e| err(&e))?;
+            let label = nice_ticks_label(t);
+            let w = 5 * label.len() as i32;
+            root.draw(&Text::new(label, (px - w, pb + 10), tick_font.clone()))
+                .map_err(|e| err(&e))?;
+            t += step;
+        }
+        let mut t = (y0 / step).ceil() * step;
+        while t <= y1 {
+            let py = tf.px([x0, t])[1].round() as i32;
+            root.draw(&PathElement::new(vec![(pl - 6, py), (pl, py)], BLACK))
+                .map_err(|e| err(&e))?;
+            let label = nice_ticks_label(t);
+            let w = 10 * label.len() as i32;
+            root.draw(&Text::new(label, (pl - 12 - w, py - 9), tick_font.clone()))
+                .map_err(|e| err(&e))?;
+            t += step;
+        }
+        root.draw(&Text::new(
+            format!("x [{}]", labels.axis_unit),
+            (LEFT as i32 + plot_w as i32 / 2 - 30, pb + 40),
+            text(22.0),
+        ))
+        .map_err(|e| err(&e))?;
+        root.draw(&Text::new(
+            format!("y [{}]", labels.axis_unit),
+            (12, pt + plot_h as i32 / 2 + 30),
+            text(22.0).transform(FontTransform::Rotate270),
+        ))
+        .map_err(|e| err(&e))?;
+        // Colour bar.
+        let (bl, br) = (pr + 40, pr + 70);
+        let n = (pb - pt).max(1);
+        for k in 0..n {
+            let c = turbo(1.0 - k as f64 / (n - 1).max(1) as f64);
+            root.draw(&Rectangle::new(
+                [(bl, pt + k), (br, pt + k + 1)],
+                RGBColor(c[0], c[1], c[2]).filled(),
+            ))
+            .map_err(|e| err(&e))?;
+        }
+        root.draw(&Rectangle::new([(bl, pt), (br, pb)], BLACK.stroke_width(1)))
+            .map_err(|e| err(&e))?;
+        for k in 0..=5 {
+            let f = k as f64 / 5.0;
+            let v = vmin + f * (vmax - vmin);
+            let py = pb - (f * (pb - pt) as f64).round() as i32;
+            root.draw(&PathElement::new(vec![(br, py), (br + 6, py)], BLACK))
+                .map_err(|e| err(&e))?;
+            let label = format_value(if vmax > vmin { v } else { vmin }, vmax - vmin);
+            root.draw(&Text::new(label, (br + 10, py - 9), tick_font.clone()))
+                .map_err(|e| err(&e))?;
+        }
+        root.draw(&Text::new(
+            labels.colorbar.to_string(),
+            (bl - 10, pt - 52),
+            text(22.0),
+        ))
+        .map_err(|e| err(&e))?;
+        if data_max > vmax {
+            let label = format!("max {}", format_value(data_max, vmax - vmin));
+            root.draw(&Text::new(label, (bl - 10, pt - 26), text(16.0)))
+                .map_err(|e| err(&e))?;
+        }
+        if data_min < vmin {
+            let label = format!("min {}", format_value(data_min, vmax - vmin));
+            root.draw(&Text::new(label, (bl - 10, pb + 10), text(16.0)))
+                .map_err(|e| err(&e))?;
+        }
+        root.present().map_err(|e| err(&e))?;
+    }
+
+    // 2. The field (or the grey parts under the isolines).
+    let clip = [
+        LEFT as usize,
+        TOP as usize,
+        (LEFT + plot_w) as usize,
+        (TOP + plot_h) as usize,
+    ];
+    let px_tris = mesh
+        .triangles
+        .iter()
+        .map(|t| (t.map(|n| tf.px(mesh.points[n])), t.map(|n| nodal[n])));
+    match style {
+        Style::Field => rasterize(&mut buf, WIDTH as usize, clip, px_tris, |v| turbo(norm(v))),
+        Style::Isolines(_) => {
+            rasterize(&mut buf, WIDTH as usize, clip, px_tris, |_| [232, 232, 232])
+        }
+    }
+
+    // 3. Isolines, outlines, markers.
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (WIDTH, height)).into_drawing_area();
+        let inside = |p: [f64; 2]| {
+            p[0] >= clip[0] as f64
+                && p[0] <= clip[2] as f64
+                && p[1] >= clip[1] as f64
+                && p[1] <= clip[3] as f64
+        };
+        let ip = |p: [f64; 2]| (p[0].round() as i32, p[1].round() as i32);
+        if let Style::Isolines(levels) = style
+            && vmax > vmin
+        {
+            for k in 1..=levels {
+                let level = vmin + (vmax - vmin) * k as f64 / (levels + 1) as f64;
+                let c = turbo(norm(level));
+                let colour = RGBColor(c[0], c[1], c[2]).stroke_width(2);
+                for t in mesh.triangles {
+                    let p = t.map(|n| tf.px(mesh.points[n]));
+                    if let Some([a, b]) = isoline_segment(&p, &t.map(|n| nodal[n]), level)
+                        && inside(a)
+                        && inside(b)
+                    {
+                        root.draw(&PathElement::new(vec![ip(a), ip(b)], colour))
+                            .map_err(|e| err(&e))?;
+                    }
+                }
+            }
+        }
+        for [a, b] in outline_edges(mesh.triangles) {
+            let (pa, pb) = (tf.px(mesh.points[a]), tf.px(mesh.points[b]));
+            if inside(pa) && inside(pb) {
+                root.draw(&PathElement::new(
+                    vec![ip(pa), ip(pb)],
+                    BLACK.stroke_width(1),
+                ))
+                .map_err(|e| err(&e))?;
+            }
+        }
+        // Marker size from the spacing of consecutive markers (pairs come in order
+        // along each interface), so dense interfaces stay readable.
+        let mut gaps: Vec<f64> = markers
+            .windows(2)
+            .map(|w| crate::mesh::dist(w[0].at, w[1].at) * tf.scale)
+            .filter(|d| *d > 0.0)
+            .collect();
+        let radius = if gaps.is_empty() {
+            4
+        } else {
+            let mid = gaps.len() / 2;
+            let (_, median, _) = gaps.select_nth_unstable_by(mid, f64::total_cmp);
+            (0.3 * *median).clamp(2.0, 5.0).round() as i32
+        };
+        for m in markers {
+            let p = tf.px(m.at);
+            if !inside(p) {
+                continue;
+            }
+            let style = if m.bonded {
+                BLACK.filled()
+            } else {
+                BLACK.stroke_width(1)
+            };
+            root.draw(&Circle::new(ip(p), radius, style))
+                .map_err(|e| err(&e))?;
+        }
+        root.present().map_err(|e| err(&e))?;
+    }
+
+    // 4. Encode and write atomically.
+    let mut png = Vec::new();
+    {
+        use image::ImageEncoder;
+        image::codecs::png::PngEncoder::new(&mut png)
+            .write_image(&buf, WIDTH, height, image::ColorType::Rgb8)
+            .map_err(|e| err(&e))?;
+    }
+    write_atomic(path, |w| w.write_all(&png))
+}
+
+/// The 0.5 % and 99.5 % quantiles of `values` (the full range for small sets).
+fn robust_range(values: &[f64]) -> (f64, f64) {
+    let mut v = values.to_vec();
+    let n = v.len();
+    let k = n / 200;
+    let (_, lo, _) = v.select_nth_unstable_by(k, f64::total_cmp);
+    let lo = *lo;
+    let (_, hi, _) = v.select_nth_unstable_by(n - 1 - k, f64::total_cmp);
+    (lo, *hi)
+}
+
+/// A value printed with about four significant digits relative to `span` (the
+/// colour range), in plain notation unless it is very large or very small.
+fn format_value(v: f64, span: f64) -> String {
+    let mag = v.abs().max(span.abs());
+    if mag == 0.0 {
+        return "0".into();
+    }
+    if !(1e-3..1e5).contains(&mag) {
+        return format!("{v:.3e}");
+    }
+    let decimals = (3 - mag.log10().floor() as i32).max(0) as usize;
+    format!("{v:.decimals$}")
+}
+
+/// A "nice" tick step (1, 2 or 5 × 10ⁿ) close to `raw`.
+fn nice_step(raw: f64) -> f64 {
+    let e = raw.log10().floor();
+    let base = 10f64.powf(e);
+    let m = raw / base;
+    base * if m < 1.5 {
+        1.0
+    } else if m < 3.5 {
+        2.0
+    } else if m < 7.5 {
+        5.0
+    } else {
+        10.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The turbo map runs from blue through green to red.
+    #[test]
+    fn turbo_endpoints() {
+        let (a, m, b) = (turbo(0.15), turbo(0.5), turbo(0.9));
+        assert!(a[2] > a[0] && a[2] > a[1], "{a:?}");
+        assert!(m[1] > m[0] && m[1] > m[2], "{m:?}");
+        assert!(b[0] > b[1] && b[0] > b[2], "{b:?}");
+    }
+
+    /// Marching triangles gives the exact crossing segment of a linear field:
+    /// v = x on the unit right triangle crosses 0.25 at x = 0.25.
+    #[test]
+    fn isoline_of_linear_field() {
+        let p = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        let [a, b] = isoline_segment(&p, &[0.0, 1.0, 0.0], 0.25).unwrap();
+        for q in [a, b] {
+            assert!((q[0] - 0.25).abs() < 1e-15);
+        }
+        assert!((a[1] - b[1]).abs() > 0.7);
+        assert!(isoline_segment(&p, &[0.0, 1.0, 0.0], 2.0).is_none());
+    }
+
+    /// The rasteriser fills a square (two triangles) with a linear field whose
+    /// colours vary monotonically along x (red channel of a grey ramp), and leaves
+    /// pixels outside untouched.
+    #[test]
+    fn rasterizer_interpolates_linearly() {
+        let (w, h) = (20usize, 10usize);
+        let mut buf = vec![7u8; w * h * 3];
+        let p = [[2.0, 2.0], [12.0, 2.0], [12.0, 8.0], [2.0, 8.0]];
+        let v = [0.0, 1.0, 1.0, 0.0];
+        let tris = [[0, 1, 2], [0, 2, 3]]
+            .into_iter()
+            .map(|t: [usize; 3]| (t.map(|n| p[n]), t.map(|n| v[n])));
+        rasterize(&mut buf, w, [0, 0, w, h], tris, |x| {
+            let g = (x * 250.0).round() as u8;
+            [g, g, g]
+        });
+        let at = |x: usize, y: usize| buf[3 * (y * w + x)];
+        let row: Vec<u8> = (2..12).map(|x| at(x, 5)).collect();
+        assert!(row.windows(2).all(|r| r[1] > r[0]), "{row:?}");
+        assert_eq!(at(15, 5), 7);
+        assert_eq!(at(5, 0), 7);
+    }
+
+    /// A two-triangle square renders to a valid PNG of the expected width.
+    #[test]
+    fn writes_a_png() {
+        let points = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let triangles = [[0, 1, 2], [0, 2, 3]];
+        let mesh = PlotMesh {
+            points: &points,
+            triangles: &triangles,
+        };
+        let labels = PlotLabels {
+            title: "t",
+            colorbar: "v [MPa]",
+            axis_unit: "mm",
+        };
+        let dir = std::env::temp_dir().join(format!("cfe-png-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("a.png");
+        let markers = [PairMarker {
+            at: [0.5, 0.0],
+            bonded: true,
+        }];
+        render_field(&path, &mesh, &[0.0, 1.0, 2.0, 3.0], &markers, &labels).unwrap();
+        render_isolines(
+            &dir.join("b.png"),
+            &mesh,
+            &[0.0, 1.0, 2.0, 3.0],
+            5,
+            &markers,
+            &labels,
+        )
+        .unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+        let width = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+        assert_eq!(width, WIDTH);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Bad input is an error, not a panic.
+    #[test]
+    fn bad_input_is_an_error() {
+        let points = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]];
+        let labels = PlotLabels {
+            title: "t",
+            colorbar: "v",
+            axis_unit: "mm",
+        };
+        let p = Path::new("/nonexistent/x.png");
+        let ok = PlotMesh {
+            points: &points,
+            triangles: &[[0, 1, 2]],
+        };
+        assert!(render_field(p, &ok, &[0.0, 1.0], &[], &labels).is_err());
+        assert!(render_field(p, &ok, &[0.0, f64::NAN, 1.0], &[], &labels).is_err());
+        let bad = PlotMesh {
+            points: &points,
+            triangles: &[[0, 1, 5]],
+        };
+        assert!(render_field(p, &bad, &[0.0, 1.0, 2.0], &[], &labels).is_err());
+    }
+}

@@ -1,0 +1,1096 @@
+//! output::vtu — writes VTK XML UnstructuredGrid files (.vtu) for ParaView and the
+//! .pvd collection that makes a time series of them.
+//!
+//! A .vtu is a short XML header followed by one `<AppendedData encoding="raw">`
+//! block holding every array as raw little-endian binary, each preceded by its byte
+//! count as a UInt64 (`header_type="UInt64"`). The header gives each array's
+//! `offset` into that block, so the sizes are computed first and the data is then
+//! streamed to the file in fixed-size chunks: no copy of the mesh, no text per value,
+//! so it scales to millions of points. Everything is validated before a byte is
+//! written, and the file is written atomically (see [`super::write_atomic`]).
+//!
+//! Types written: point coordinates Float64 (3 components, z = 0), connectivity and
+//! offsets Int64, cell types UInt8, data arrays Float64 or Int32, field data Float64.
+
+use super::write_atomic;
+use crate::error::{Error, Result};
+use std::collections::HashSet;
+use std::io::{self, Write};
+use std::path::Path;
+
+/// VTK cell types used by cfe. The discriminant is the VTK cell type number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum CellKind {
+    /// A single point (VTK_VERTEX = 1), 1 node.
+    Vertex = 1,
+    /// A straight segment (VTK_LINE = 3), 2 nodes.
+    Line = 3,
+    /// A linear triangle (VTK_TRIANGLE = 5), 3 nodes counter-clockwise.
+    Triangle = 5,
+    /// A bilinear quadrilateral (VTK_QUAD = 9), 4 nodes in order around it.
+    Quad = 9,
+}
+
+impl CellKind {
+    /// The VTK cell type number written to the `types` array.
+    pub fn vtk_type(self) -> u8 {
+        self as u8
+    }
+
+    /// How many nodes a cell of this kind has in the connectivity.
+    pub fn node_count(self) -> usize {
+        match self {
+            CellKind::Vertex => 1,
+            CellKind::Line => 2,
+            CellKind::Triangle => 3,
+            CellKind::Quad => 4,
+        }
+    }
+}
+
+/// Values of one data array, tuple after tuple (all components of the first point
+/// or cell, then all of the second, ...).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Values<'a> {
+    /// Written as Float64.
+    F64(&'a [f64]),
+    /// Written as Int32.
+    I32(&'a [i32]),
+}
+
+impl Values<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Values::F64(v) => v.len(),
+            Values::I32(v) => v.len(),
+        }
+    }
+}
+
+/// One named data array with `components` values per point or cell (1, 2, 3, 6 ...).
+/// A 2-component array is written padded to 3 components (z = 0) so ParaView treats
+/// it as a vector (Warp By Vector works).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DataArray<'a> {
+    /// Name shown in ParaView; must be non-empty, unique within its point or cell
+    /// data, and free of control characters. It is XML-escaped when written.
+    pub name: &'a str,
+    /// Values per point or cell, at least 1.
+    pub components: usize,
+    /// The values: `components` × (number of points or cells) of them.
+    pub values: Values<'a>,
+}
+
+/// A mesh of mixed cells in the plane (z = 0 is written).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Grid<'a> {
+    /// Point coordinates (x, y).
+    pub points: &'a [[f64; 2]],
+    /// Point indices of all cells, one cell after the other.
+    pub connectivity: &'a [usize],
+    /// End offset of each cell in `connectivity`, VTK style: cell `i` is
+    /// `connectivity[offsets[i - 1]..offsets[i]]` (from 0 for the first cell).
+    pub offsets: &'a [usize],
+    /// Kind of each cell; as many as `offsets`.
+    pub kinds: &'a [CellKind],
+    /// Arrays with one tuple per point.
+    pub point_data: &'a [DataArray<'a>],
+    /// Arrays with one tuple per cell.
+    pub cell_data: &'a [DataArray<'a>],
+    /// Single numbers for the whole dataset, e.g. `("TIME", λ)`.
+    pub field_data: &'a [(&'a str, f64)],
+}
+
+/// Writes `grid` as a binary VTK XML UnstructuredGrid file at `path`, atomically.
+///
+/// Returns [`Error::Output`] without touching `path` if the grid is inconsistent:
+/// offsets not increasing or not ending at `connectivity.len()`, a cell whose node
+/// count does not fit its kind, `kinds` and `offsets` of different lengths, a
+/// connectivity index that is not a point, an array whose length is not
+/// points × components (or cells × components), or a bad or repeated array name.
+pub fn write_vtu(path: &Path, grid: &Grid) -> Result<()> {
+    validate(grid).map_err(|message| Error::output(path, message))?;
+    let arrays = layout(grid);
+    write_atomic(path, |w| write_file(w, grid, &arrays))
+}
+
+/// One dataset of a .pvd series.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PvdEntry {
+    /// Time (or load factor) of the dataset; must be finite.
+    pub time: f64,
+    /// Part number, for several datasets at one time.
+    pub part: usize,
+    /// Path of the .vtu file relative to the .pvd; XML-escaped when written.
+    pub file: String,
+}
+
+/// Writes a ParaView collection (.pvd) listing `entries` at `path`, atomically, so
+/// ParaView opens them as one time series.
+///
+/// Returns [`Error::Output`] without touching `path` if a time is not finite or a
+/// file name is empty or contains control characters.
+pub fn write_pvd(path: &Path, entries: &[PvdEntry]) -> Result<()> {
+    for (i, e) in entries.iter().enumerate() {
+        if !e.time.is_finite() {
+            return Err(Error::output(
+                path,
+                format!("pvd entry {i} ({}): time {} is not finite", e.file, e.time),
+            ));
+        }
+        check_name(&e.file).map_err(|m| Error::output(path, format!("pvd entry {i}: file {m}")))?;
+    }
+    write_atomic(path, |w| {
+        w.write_all(
+            b"<?xml version=\"1.0\"?>\n\
+              <VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  \
+              <Collection>\n",
+        )?;
+        for e in entries {
+            writeln!(
+                w,
+                "    <DataSet timestep=\"{:?}\" group=\"\" part=\"{}\" file=\"{}\"/>",
+                e.time,
+                e.part,
+                escape(&e.file)
+            )?;
+        }
+        w.write_all(b"  </Collection>\n</VTKFile>\n")
+    })
+}
+
+// ---------------------------------------------------------------------------------
+// Validation
+
+/// Checks everything `write_vtu` relies on; the message says what is wrong where.
+fn validate(grid: &Grid) -> std::result::Result<(), String> {
+    let n_points = grid.points.len();
+    let n_cells = grid.offsets.len();
+    if grid.kinds.len() != n_cells {
+        return Err(format!(
+            "{} cell kinds for {} cell offsets: need one kind per cell",
+            grid.kinds.len(),
+            n_cells
+        ));
+    }
+    let mut start = 0;
+    for (i, (&end, &kind)) in grid.offsets.iter().zip(grid.kinds).enumerate() {
+        if end <= start {
+            return Err(format!(
+                "offsets are not increasing: offsets[{i}] = {end} after {start}"
+            ));
+        }
+        if end > grid.connectivity.len() {
+            return Err(format!(
+                "offsets[{i}] = {end} is past the end of the connectivity ({} entries)",
+                grid.connectivity.len()
+            ));
+        }
+        if end - start != kind.node_count() {
+            return Err(format!(
+                "cell {i} is a {kind:?} with {} nodes, expected {}",
+                end - start,
+                kind.node_count()
+            ));
+        }
+        start = end;
+    }
+    if start != grid.connectivity.len() {
+        return Err(format!(
+            "offsets end at {start} but the connectivity has {} entries",
+            grid.connectivity.len()
+        ));
+    }
+    if let Some((i, &p)) = grid
+        .connectivity
+        .iter()
+        .enumerate()
+        .find(|&(_, &p)| p >= n_points)
+    {
+        return Err(format!(
+            "connectivity[{i}] = {p} is not a point (there are {n_points} points)"
+        ));
+    }
+    check_arrays("point", grid.point_data, n_points)?;
+    check_arrays("cell", grid.cell_data, n_cells)?;
+    let mut seen = HashSet::new();
+    for (name, _) in grid.field_data {
+        check_name(name).map_err(|m| format!("field data name {m}"))?;
+        if !seen.insert(*name) {
+            return Err(format!("field data '{name}' is given twice"));
+        }
+    }
+    Ok(())
+}
+
+/// Checks names, component counts and lengths of point or cell data arrays.
+fn check_arrays(
+    what: &str,
+    arrays: &[DataArray],
+    tuples: usize,
+) -> std::result::Result<(), String> {
+    let mut seen = HashSet::new();
+    for a in arrays {
+        check_name(a.name).map_err(|m| format!("{what} data name {m}"))?;
+        if !seen.insert(a.name) {
+            return Err(format!("{what} data '{}' is given twice", a.name));
+        }
+        if a.components == 0 {
+            return Err(format!("{what} data '{}' has 0 components", a.name));
+        }
+        if tuples.checked_mul(a.components) != Some(a.values.len()) {
+            return Err(format!(
+                "{what} data '{}' has {} values, expected {tuples} {what}s × {} components",
+                a.name,
+                a.values.len(),
+                a.components
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A name must be non-empty and have no control characters (XML 1.0 cannot hold most
+/// of them, and an attribute would turn the rest into spaces).
+fn check_name(name: &str) -> std::result::Result<(), String> {
+    if name.is_empty() {
+        return Err("is empty".into());
+    }
+    if name.chars().any(char::is_control) {
+        return Err(format!("{name:?} contains a control character"));
+    }
+    Ok(())
+}
+
+/// Escapes the characters that cannot stand literally in an XML attribute value.
+fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+// ---------------------------------------------------------------------------------
+// Layout: what goes into the appended block, in which order, at which offset.
+
+/// Where an array's `<DataArray>` element goes in the XML header.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Section {
+    Field,
+    Point,
+    Cell,
+    Points,
+    Cells,
+}
+
+/// The data of one appended block.
+enum Payload<'a> {
+    /// Points written as (x, y, 0) Float64.
+    Points(&'a [[f64; 2]]),
+    /// Connectivity or offsets written as Int64.
+    Indices(&'a [usize]),
+    /// Cell types written as UInt8.
+    Types(&'a [CellKind]),
+    /// A data array; 2 components are padded to 3.
+    Data {
+        values: Values<'a>,
+        components: usize,
+    },
+}
+
+impl Payload<'_> {
+    /// Number of payload bytes (not counting the UInt64 size before them).
+    fn byte_len(&self) -> u64 {
+        let n = match self {
+            Payload::Points(p) => p.len() * 24,
+            Payload::Indices(i) => i.len() * 8,
+            Payload::Types(t) => t.len(),
+            Payload::Data { values, components } => {
+                let scalar = match values {
+                    Values::F64(_) => 8,
+                    Values::I32(_) => 4,
+                };
+                values.len() / components * written_components(*components) * scalar
+            }
+        };
+        n as u64
+    }
+
+    /// Streams the payload bytes.
+    fn write(&self, out: &mut Chunked) -> io::Result<()> {
+        match self {
+            Payload::Points(points) => {
+                for p in *points {
+                    out.put(&p[0].to_le_bytes())?;
+                    out.put(&p[1].to_le_bytes())?;
+                    out.put(&0f64.to_le_bytes())?;
+                }
+                Ok(())
+            }
+            Payload::Indices(indices) => {
+                for &i in *indices {
+                    out.put(&(i as i64).to_le_bytes())?;
+                }
+                Ok(())
+            }
+            Payload::Types(kinds) => {
+                for &k in *kinds {
+                    out.put(&[k.vtk_type()])?;
+                }
+                Ok(())
+            }
+            Payload::Data { values, components } => match values {
+                Values::F64(v) => put_padded(out, v, *components, f64::to_le_bytes),
+                Values::I32(v) => put_padded(out, v, *components, i32::to_le_bytes),
+            },
+        }
+    }
+}
+
+/// Writes `values` as little-endian bytes, padding 2-component tuples with a zero.
+fn put_padded<T: Copy + Default, const N: usize>(
+    out: &mut Chunked,
+    values: &[T],
+    components: usize,
+    bytes: fn(T) -> [u8; N],
+) -> io::Result<()> {
+    if components == 2 {
+        let zero = bytes(T::default());
+        for pair in values.chunks_exact(2) {
+            out.put(&bytes(pair[0]))?;
+            out.put(&bytes(pair[1]))?;
+            out.put(&zero)?;
+        }
+    } else {
+        for &v in values {
+            out.put(&bytes(v))?;
+        }
+    }
+    Ok(())
+}
+
+/// Components as written: 2 becomes 3 (a vector with z = 0).
+fn written_components(components: usize) -> usize {
+    if components == 2 { 3 } else { components }
+}
+
+/// One `<DataArray>` of the header and its appended block.
+struct Array<'a> {
+    section: Section,
+    /// Already XML-escaped.
+    name: String,
+    vtk_type: &'static str,
+    /// Written as NumberOfComponents when not 1.
+    components: usize,
+    /// Written as NumberOfTuples (field data needs it).
+    tuples: Option<usize>,
+    /// RangeMin / RangeMax as text, when there is a finite value.
+    range: Option<(String, String)>,
+    payload: Payload<'a>,
+}
+
+/// Lists every array in the order the blocks are written.
+fn layout<'a>(grid: &Grid<'a>) -> Vec<Array<'a>> {
+    let mut arrays = Vec::new();
+    for (name, value) in grid.field_data {
+        arrays.push(Array {
+            section: Section::Field,
+            name: escape(name),
+            vtk_type: "Float64",
+            components: 1,
+            tuples: Some(1),
+            range: None,
+            payload: Payload::Data {
+                values: Values::F64(std::slice::from_ref(value)),
+                components: 1,
+            },
+        });
+    }
+    for (section, data) in [
+        (Section::Point, grid.point_data),
+        (Section::Cell, grid.cell_data),
+    ] {
+        for a in data {
+            arrays.push(Array {
+                section,
+                name: escape(a.name),
+                vtk_type: match a.values {
+                    Values::F64(_) => "Float64",
+                    Values::I32(_) => "Int32",
+                },
+                components: written_components(a.components),
+                tuples: None,
+                range: range(a.values, a.components),
+                payload: Payload::Data {
+                    values: a.values,
+                    components: a.components,
+                },
+            });
+        }
+    }
+    arrays.push(Array {
+        section: Section::Points,
+        name: "Points".into(),
+        vtk_type: "Float64",
+        components: 3,
+        tuples: None,
+        range: None,
+        payload: Payload::Points(grid.points),
+    });
+    for (name, vtk_type, payload) in [
+        ("connectivity", "Int64", Payload::Indices(grid.connectivity)),
+        ("offsets", "Int64", Payload::Indices(grid.offsets)),
+        ("types", "UInt8", Payload::Types(grid.kinds)),
+    ] {
+        arrays.push(Array {
+            section: Section::Cells,
+            name: name.into(),
+            vtk_type,
+            components: 1,
+            tuples: None,
+            range: None,
+            payload,
+        });
+    }
+    arrays
+}
+
+/// The range ParaView expects in RangeMin / RangeMax: of the values for one
+/// component, of the tuple magnitudes for several. Non-finite values are skipped;
+/// `None` if nothing finite is left.
+fn range(values: Values, components: usize) -> Option<(String, String)> {
+    if let (Values::I32(v), 1) = (values, components) {
+        let min = v.iter().min()?;
+        let max = v.iter().max()?;
+        return Some((min.to_string(), max.to_string()));
+    }
+    let mut min = f64::INFINITY;
+    let mut max = f64::NEG_INFINITY;
+    let mut add = |x: f64| {
+        if x.is_finite() {
+            min = min.min(x);
+            max = max.max(x);
+        }
+    };
+    match (values, components) {
+        (Values::F64(v), 1) => v.iter().for_each(|&x| add(x)),
+        (Values::F64(v), c) => v
+            .chunks_exact(c)
+            .for_each(|t| add(t.iter().map(|x| x * x).sum::<f64>().sqrt())),
+        (Values::I32(v), c) => v.chunks_exact(c).for_each(|t| {
+            add(t
+                .iter()
+                .map(|&x| f64::from(x) * f64::from(x))
+                .sum::<f64>()
+                .sqrt())
+        }),
+    }
+    (min <= max).then(|| (format!("{min:?}"), format!("{max:?}")))
+}
+
+// ---------------------------------------------------------------------------------
+// Writing
+
+/// Size of the chunks handed to the writer.
+const CHUNK: usize = 1 << 16;
+
+/// Collects small pieces of binary data into chunks before handing them to the
+/// (dynamically dispatched) writer.
+struct Chunked<'w> {
+    w: &'w mut dyn Write,
+    buf: Vec<u8>,
+}
+
+impl Chunked<'_> {
+    #[inline]
+    fn put(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.buf.extend_from_slice(bytes);
+        if self.buf.len() >= CHUNK {
+            self.flush_chunk()?;
+        }
+        Ok(())
+    }
+
+    fn flush_chunk(&mut self) -> io::Result<()> {
+        self.w.write_all(&self.buf)?;
+        self.buf.clear();
+        Ok(())
+    }
+}
+
+/// Writes the XML header, the appended block and the closing tags.
+fn write_file(w: &mut dyn Write, grid: &Grid, arrays: &[Array]) -> io::Result<()> {
+    let mut offsets = Vec::with_capacity(arrays.len());
+    let mut offset = 0u64;
+    for a in arrays {
+        offsets.push(offset);
+        offset += 8 + a.payload.byte_len();
+    }
+
+    w.write_all(
+        b"<?xml version=\"1.0\"?>\n\
+          <VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" \
+          header_type=\"UInt64\">\n  <UnstructuredGrid>\n",
+    )?;
+    let section = |w: &mut dyn Write, s: Section, tag: &str, indent: &str| -> io::Result<()> {
+        if !arrays.iter().any(|a| a.section == s) {
+            return Ok(());
+        }
+        writeln!(w, "{indent}<{tag}>")?;
+        for (a, off) in arrays.iter().zip(&offsets).filter(|(a, _)| a.section == s) {
+            write!(
+                w,
+                "{indent}  <DataArray type=\"{}\" Name=\"{}\"",
+                a.vtk_type, a.name
+            )?;
+            if a.components != 1 {
+                write!(w, " NumberOfComponents=\"{}\"", a.components)?;
+            }
+            if let Some(n) = a.tuples {
+                write!(w, " NumberOfTuples=\"{n}\"")?;
+            }
+            write!(w, " format=\"appended\"")?;
+            if let Some((min, max)) = &a.range {
+                write!(w, " RangeMin=\"{min}\" RangeMax=\"{max}\"")?;
+            }
+            writeln!(w, " offset=\"{off}\"/>")?;
+        }
+        writeln!(w, "{indent}</{tag}>")
+    };
+    section(w, Section::Field, "FieldData", "    ")?;
+    writeln!(
+        w,
+        "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
+        grid.points.len(),
+        grid.offsets.len()
+    )?;
+    section(w, Section::Point, "PointData", "      ")?;
+    section(w, Section::Cell, "CellData", "      ")?;
+    section(w, Section::Points, "Points", "      ")?;
+    section(w, Section::Cells, "Cells", "      ")?;
+    w.write_all(b"    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n_")?;
+
+    let mut out = Chunked {
+        w,
+        buf: Vec::with_capacity(CHUNK + 64),
+    };
+    for a in arrays {
+        out.put(&a.payload.byte_len().to_le_bytes())?;
+        a.payload.write(&mut out)?;
+    }
+    out.flush_chunk()?;
+    out.w.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashMap;
+    use std::path::PathBuf;
+
+    /// A fresh scratch directory for one test.
+    fn scratch(test: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("cfe_vtu_{}_{test}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// Undoes `escape`.
+    fn unescape(s: &str) -> String {
+        s.replace("&lt;", "<")
+            .replace("&gt;", ">")
+            .replace("&quot;", "\"")
+            .replace("&apos;", "'")
+            .replace("&amp;", "&")
+    }
+
+    /// Attributes of every `<tag ...>` element in `xml`, values unescaped.
+    fn elements(xml: &str, tag: &str) -> Vec<HashMap<String, String>> {
+        let open = format!("<{tag} ");
+        let mut found = Vec::new();
+        let mut rest = xml;
+        while let Some(start) = rest.find(&open) {
+            let after = &rest[start + open.len()..];
+            let end = after.find('>').expect("unclosed element");
+            let mut attrs = HashMap::new();
+            let mut body = after[..end].trim_end_matches('/').trim();
+            while !body.is_empty() {
+                let eq = body.find("=\"").expect("attribute without value");
+                let key = body[..eq].trim().to_string();
+                let value_end = body[eq + 2..].find('"').expect("unterminated value");
+                let value = unescape(&body[eq + 2..eq + 2 + value_end]);
+                assert!(attrs.insert(key, value).is_none(), "repeated attribute");
+                body = body[eq + 2 + value_end + 1..].trim_start();
+            }
+            found.push(attrs);
+            rest = &after[end..];
+        }
+        found
+    }
+
+    /// The part of `xml` between `<tag>` and `</tag>`, or "" if there is none.
+    fn section<'x>(xml: &'x str, tag: &str) -> &'x str {
+        let Some(start) = xml.find(&format!("<{tag}>")) else {
+            return "";
+        };
+        let end = xml.find(&format!("</{tag}>")).expect("unclosed section");
+        &xml[start..end]
+    }
+
+    /// A .vtu read back: XML header and appended bytes (after the `_`).
+    struct Vtu {
+        header: String,
+        appended: Vec<u8>,
+    }
+
+    impl Vtu {
+        fn read(path: &Path) -> Vtu {
+            let bytes = std::fs::read(path).unwrap();
+            let marker = b"<AppendedData encoding=\"raw\">";
+            let at = bytes
+                .windows(marker.len())
+                .position(|w| w == marker)
+                .expect("no appended data");
+            let header = String::from_utf8(bytes[..at].to_vec()).unwrap();
+            let underscore = at + bytes[at..].iter().position(|&b| b == b'_').unwrap();
+            let tail = b"\n  </AppendedData>\n</VTKFile>\n";
+            assert!(bytes.ends_with(tail), "bad file end");
+            let appended = bytes[underscore + 1..bytes.len() - tail.len()].to_vec();
+            Vtu { header, appended }
+        }
+
+        /// The `<DataArray>` elements of one section.
+        fn arrays(&self, tag: &str) -> Vec<HashMap<String, String>> {
+            elements(section(&self.header, tag), "DataArray")
+        }
+
+        /// The single array called `name` in section `tag`.
+        fn array(&self, tag: &str, name: &str) -> HashMap<String, String> {
+            let mut found: Vec<_> = self
+                .arrays(tag)
+                .into_iter()
+                .filter(|a| a["Name"] == name)
+                .collect();
+            assert_eq!(found.len(), 1, "array {name} in {tag}");
+            found.pop().unwrap()
+        }
+
+        /// The payload of an array: UInt64 size at `offset`, then the bytes.
+        fn payload(&self, array: &HashMap<String, String>) -> &[u8] {
+            assert_eq!(array["format"], "appended");
+            let offset: usize = array["offset"].parse().unwrap();
+            let size = u64::from_le_bytes(self.appended[offset..offset + 8].try_into().unwrap());
+            &self.appended[offset + 8..offset + 8 + size as usize]
+        }
+
+        fn f64s(&self, tag: &str, name: &str) -> Vec<f64> {
+            let a = self.array(tag, name);
+            assert_eq!(a["type"], "Float64");
+            let p = self.payload(&a);
+            p.chunks_exact(8)
+                .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+                .collect()
+        }
+
+        fn i32s(&self, tag: &str, name: &str) -> Vec<i32> {
+            let a = self.array(tag, name);
+            assert_eq!(a["type"], "Int32");
+            let p = self.payload(&a);
+            p.chunks_exact(4)
+                .map(|c| i32::from_le_bytes(c.try_into().unwrap()))
+                .collect()
+        }
+
+        fn i64s(&self, tag: &str, name: &str) -> Vec<i64> {
+            let a = self.array(tag, name);
+            assert_eq!(a["type"], "Int64");
+            let p = self.payload(&a);
+            p.chunks_exact(8)
+                .map(|c| i64::from_le_bytes(c.try_into().unwrap()))
+                .collect()
+        }
+
+        fn u8s(&self, tag: &str, name: &str) -> Vec<u8> {
+            let a = self.array(tag, name);
+            assert_eq!(a["type"], "UInt8");
+            self.payload(&a).to_vec()
+        }
+
+        /// Checks that the blocks of all arrays tile the appended data exactly.
+        fn check_tiling(&self) {
+            let all = elements(&self.header, "DataArray");
+            let mut blocks: Vec<(usize, usize)> = all
+                .iter()
+                .map(|a| {
+                    let off: usize = a["offset"].parse().unwrap();
+                    (off, 8 + self.payload(a).len())
+                })
+                .collect();
+            blocks.sort();
+            let mut at = 0;
+            for (off, len) in blocks {
+                assert_eq!(off, at, "gap or overlap in appended data");
+                at += len;
+            }
+            assert_eq!(at, self.appended.len(), "junk after the last block");
+        }
+    }
+
+    const VECTOR: [f64; 8] = [
+        0.1,
+        -1e-300,
+        f64::MAX,
+        1.0 / 3.0,
+        -0.0,
+        2.5,
+        f64::MIN_POSITIVE,
+        -7.0,
+    ];
+    const SCALAR: [f64; 4] = [1.0, -2.0, 0.3, 4e10];
+    const CELL_IDS: [i32; 2] = [i32::MIN, 7];
+
+    /// Writes the 2-triangle sample grid with a point vector, a point scalar with an
+    /// awkward name, a cell i32 array and a TIME field.
+    fn write_sample(path: &Path) -> Result<()> {
+        let points = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0 / 3.0]];
+        let point_data = [
+            DataArray {
+                name: "displacement",
+                components: 2,
+                values: Values::F64(&VECTOR),
+            },
+            DataArray {
+                name: "p<&>\"'",
+                components: 1,
+                values: Values::F64(&SCALAR),
+            },
+        ];
+        let cell_data = [DataArray {
+            name: "part",
+            components: 1,
+            values: Values::I32(&CELL_IDS),
+        }];
+        write_vtu(
+            path,
+            &Grid {
+                points: &points,
+                connectivity: &[0, 1, 2, 0, 2, 3],
+                offsets: &[3, 6],
+                kinds: &[CellKind::Triangle, CellKind::Triangle],
+                point_data: &point_data,
+                cell_data: &cell_data,
+                field_data: &[("TIME", 0.25)],
+            },
+        )
+    }
+
+    /// Every value of the sample grid round-trips bit for bit, and the 2-component
+    /// vector is written as 3 components with z = 0.
+    #[test]
+    fn two_triangles_round_trip() {
+        let dir = scratch("round_trip");
+        let path = dir.join("sample.vtu");
+        write_sample(&path).unwrap();
+        let vtu = Vtu::read(&path);
+        vtu.check_tiling();
+
+        let file = elements(&vtu.header, "VTKFile").pop().unwrap();
+        assert_eq!(file["type"], "UnstructuredGrid");
+        assert_eq!(file["header_type"], "UInt64");
+        assert_eq!(file["byte_order"], "LittleEndian");
+        let piece = elements(&vtu.header, "Piece").pop().unwrap();
+        assert_eq!(piece["NumberOfPoints"], "4");
+        assert_eq!(piece["NumberOfCells"], "2");
+
+        let points = vtu.f64s("Points", "Points");
+        assert_eq!(vtu.array("Points", "Points")["NumberOfComponents"], "3");
+        let expected = [
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            0.0,
+            1.0,
+            1.0,
+            0.0,
+            0.0,
+            1.0 / 3.0,
+            0.0,
+        ];
+        assert_eq!(bits(&points), bits(&expected));
+        assert_eq!(vtu.i64s("Cells", "connectivity"), [0, 1, 2, 0, 2, 3]);
+        assert_eq!(vtu.i64s("Cells", "offsets"), [3, 6]);
+        assert_eq!(vtu.u8s("Cells", "types"), [5, 5]);
+
+        let vector = vtu.f64s("PointData", "displacement");
+        assert_eq!(
+            vtu.array("PointData", "displacement")["NumberOfComponents"],
+            "3"
+        );
+        let padded: Vec<f64> = VECTOR.chunks(2).flat_map(|p| [p[0], p[1], 0.0]).collect();
+        assert_eq!(bits(&vector), bits(&padded));
+
+        let scalar = vtu.array("PointData", "p<&>\"'");
+        assert!(!scalar.contains_key("NumberOfComponents"));
+        assert_eq!(scalar["RangeMin"].parse::<f64>().unwrap(), -2.0);
+        assert_eq!(scalar["RangeMax"].parse::<f64>().unwrap(), 4e10);
+        assert_eq!(bits(&vtu.f64s("PointData", "p<&>\"'")), bits(&SCALAR));
+        assert!(vtu.header.contains("Name=\"p&lt;&amp;&gt;&quot;&apos;\""));
+
+        assert_eq!(vtu.i32s("CellData", "part"), CELL_IDS);
+        let part = vtu.array("CellData", "part");
+        assert_eq!(part["RangeMin"], i32::MIN.to_string());
+        assert_eq!(part["RangeMax"], "7");
+
+        let time = vtu.array("FieldData", "TIME");
+        assert_eq!(time["NumberOfTuples"], "1");
+        assert_eq!(vtu.f64s("FieldData", "TIME"), [0.25]);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// Vertex, line, triangle and quad cells are written with VTK types 1, 3, 5, 9,
+    /// and a grid without data arrays has no empty data sections.
+    #[test]
+    fn mixed_cells_and_no_data() {
+        let dir = scratch("mixed");
+        let path = dir.join("mixed.vtu");
+        let points = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [2.0, 0.0]];
+        let grid = Grid {
+            points: &points,
+            connectivity: &[4, 1, 4, 0, 1, 2, 0, 1, 2, 3],
+            offsets: &[1, 3, 6, 10],
+            kinds: &[
+                CellKind::Vertex,
+                CellKind::Line,
+                CellKind::Triangle,
+                CellKind::Quad,
+            ],
+            point_data: &[],
+            cell_data: &[],
+            field_data: &[],
+        };
+        write_vtu(&path, &grid).unwrap();
+        let vtu = Vtu::read(&path);
+        vtu.check_tiling();
+        assert_eq!(vtu.u8s("Cells", "types"), [1, 3, 5, 9]);
+        assert_eq!(vtu.i64s("Cells", "offsets"), [1, 3, 6, 10]);
+        assert_eq!(
+            vtu.i64s("Cells", "connectivity"),
+            [4, 1, 4, 0, 1, 2, 0, 1, 2, 3]
+        );
+        for tag in ["PointData", "CellData", "FieldData"] {
+            assert!(!vtu.header.contains(tag), "{tag} written without arrays");
+        }
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// Inconsistent grids give an output error naming the file, and no file is written.
+    #[test]
+    fn bad_grids_are_errors() {
+        let dir = scratch("bad");
+        let path = dir.join("bad.vtu");
+        let points = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]];
+        let ok = Grid {
+            points: &points,
+            connectivity: &[0, 1, 2],
+            offsets: &[3],
+            kinds: &[CellKind::Triangle],
+            point_data: &[],
+            cell_data: &[],
+            field_data: &[],
+        };
+        let short = [DataArray {
+            name: "u",
+            components: 2,
+            values: Values::F64(&[0.0; 5]),
+        }];
+        let cells_long = [DataArray {
+            name: "id",
+            components: 1,
+            values: Values::I32(&[1, 2]),
+        }];
+        let zero_comps = [DataArray {
+            name: "z",
+            components: 0,
+            values: Values::F64(&[]),
+        }];
+        let twice = [
+            DataArray {
+                name: "a",
+                components: 1,
+                values: Values::I32(&[1]),
+            },
+            DataArray {
+                name: "a",
+                components: 1,
+                values: Values::I32(&[1]),
+            },
+        ];
+        let cases: Vec<(&str, Grid)> = vec![
+            (
+                "point data length",
+                Grid {
+                    point_data: &short,
+                    ..ok
+                },
+            ),
+            (
+                "cell data length",
+                Grid {
+                    cell_data: &cells_long,
+                    ..ok
+                },
+            ),
+            (
+                "zero components",
+                Grid {
+                    point_data: &zero_comps,
+                    ..ok
+                },
+            ),
+            (
+                "repeated name",
+                Grid {
+                    cell_data: &twice,
+                    ..ok
+                },
+            ),
+            ("kinds/offsets", Grid { kinds: &[], ..ok }),
+            (
+                "offsets short",
+                Grid {
+                    offsets: &[2],
+                    kinds: &[CellKind::Line],
+                    ..ok
+                },
+            ),
+            (
+                "offsets past end",
+                Grid {
+                    offsets: &[4],
+                    ..ok
+                },
+            ),
+            (
+                "offsets not increasing",
+                Grid {
+                    connectivity: &[0, 1, 2, 0, 1, 2],
+                    offsets: &[3, 3, 6],
+                    kinds: &[CellKind::Triangle; 3],
+                    ..ok
+                },
+            ),
+            (
+                "first offset 0",
+                Grid {
+                    offsets: &[0, 3],
+                    kinds: &[CellKind::Triangle; 2],
+                    ..ok
+                },
+            ),
+            (
+                "kind size",
+                Grid {
+                    kinds: &[CellKind::Quad],
+                    ..ok
+                },
+            ),
+            (
+                "connectivity range",
+                Grid {
+                    connectivity: &[0, 1, 3],
+                    ..ok
+                },
+            ),
+            (
+                "field name",
+                Grid {
+                    field_data: &[("a\nb", 1.0)],
+                    ..ok
+                },
+            ),
+            (
+                "empty name",
+                Grid {
+                    field_data: &[("", 1.0)],
+                    ..ok
+                },
+            ),
+        ];
+        for (what, grid) in cases {
+            match write_vtu(&path, &grid) {
+                Err(Error::Output { path: p, message }) => {
+                    assert_eq!(p, path, "{what}");
+                    assert!(!message.is_empty(), "{what}");
+                }
+                other => panic!("{what}: expected an output error, got {other:?}"),
+            }
+            assert!(!path.exists(), "{what}: file written");
+        }
+        write_vtu(&path, &ok).unwrap();
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// The .pvd lists every entry with its time, part and XML-escaped file, and a
+    /// non-finite time is an error.
+    #[test]
+    fn pvd_lists_entries() {
+        let dir = scratch("pvd");
+        let path = dir.join("series.pvd");
+        let entries = vec![
+            PvdEntry {
+                time: 0.0,
+                part: 0,
+                file: "step_0000/plate.vtu".into(),
+            },
+            PvdEntry {
+                time: 1.0 / 3.0,
+                part: 1,
+                file: "a&b <\"x'>.vtu".into(),
+            },
+            PvdEntry {
+                time: 1e-12,
+                part: 0,
+                file: "tiny.vtu".into(),
+            },
+        ];
+        write_pvd(&path, &entries).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let file = elements(&text, "VTKFile").pop().unwrap();
+        assert_eq!(file["type"], "Collection");
+        assert!(text.contains("<Collection>") && text.contains("</Collection>"));
+        let sets = elements(&text, "DataSet");
+        assert_eq!(sets.len(), entries.len());
+        for (set, e) in sets.iter().zip(&entries) {
+            assert_eq!(set["timestep"].parse::<f64>().unwrap(), e.time);
+            assert_eq!(set["part"].parse::<usize>().unwrap(), e.part);
+            assert_eq!(set["file"], e.file);
+        }
+        assert!(text.contains("file=\"a&amp;b &lt;&quot;x&apos;&gt;.vtu\""));
+
+        let bad = [PvdEntry {
+            time: f64::NAN,
+            part: 0,
+            file: "x.vtu".into(),
+        }];
+        let other = dir.join("bad.pvd");
+        assert!(matches!(write_pvd(&other, &bad), Err(Error::Output { .. })));
+        assert!(!other.exists());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}

@@ -1,0 +1,7 @@
+//! Solve: the sparse Cholesky solver (symbolic analysis once, numeric factorization
+//! per state), the support check that turns a singular system into a clear error,
+//! and the incremental contact schemes (`active-set`, `implex`).
+
+pub mod linear;
+pub mod nonlinear;
+pub mod support;

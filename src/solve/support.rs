@@ -1,0 +1,135 @@
+//! Support check: is every part held against rigid-body motion by its Dirichlet
+//! conditions and its bonded coupling pairs? Each part is treated as a rigid body
+//! with three motions (two translations, one rotation); every fixed DOF and every
+//! bonded pair is a constraint row on those motions. The assembly is supported when
+//! the constraint rows have full rank; otherwise the null space names the parts that
+//! can move freely. This turns a singular stiffness into an error a user can act on.
+
+use crate::assembly::DofMap;
+use crate::coupling::{Interface, PairState};
+use crate::error::{Error, Result};
+use crate::model::Part;
+use faer::{Mat, Side};
+
+/// Checks that the parts cannot move as rigid bodies under the supports and the
+/// bonded pairs in `states`. Returns an error naming every part that can.
+pub fn check(
+    parts: &[Part],
+    interfaces: &[Interface],
+    states: &[Vec<PairState>],
+    dofs: &DofMap,
+) -> Result<()> {
+    let np = parts.len();
+    // Per-part centre and size, so the rotation column is scaled like the others.
+    let frames: Vec<([f64; 2], f64)> = parts
+        .iter()
+        .map(|p| {
+            let n = p.mesh.nodes.len() as f64;
+            let c = p
+                .mesh
+                .nodes
+                .iter()
+                .fold([0.0, 0.0], |a, x| [a[0] + x[0] / n, a[1] + x[1] / n]);
+            let size = p
+                .mesh
+                .nodes
+                .iter()
+                .map(|x| crate::mesh::dist(*x, c))
+                .fold(0.0, f64::max)
+                .max(1e-300);
+            (c, size)
+        })
+        .collect();
+    // Rigid-body row of part `p` for a motion component along `d` at point `x`.
+    let row = |p: usize, x: [f64; 2], d: [f64; 2]| -> [f64; 3] {
+        let (c, s) = frames[p];
+        let (rx, ry) = ((x[0] - c[0]) / s, (x[1] - c[1]) / s);
+        [d[0], d[1], -ry * d[0] + rx * d[1]]
+    };
+    let mut g = Mat::<f64>::zeros(3 * np, 3 * np);
+    let mut add = |entries: &[(usize, f64)]| {
+        for &(i, a) in entries {
+            for &(j, b) in entries {
+                g[(i, j)] += a * b;
+            }
+        }
+    };
+    const AXES: [[f64; 2]; 2] = [[1.0, 0.0], [0.0, 1.0]];
+    for (p, part) in parts.iter().enumerate() {
+        for (n, x) in part.mesh.nodes.iter().enumerate() {
+            let gn = dofs.node(p, n);
+            for (c, axis) in AXES.iter().enumerate() {
+                if dofs.support_of[2 * gn + c].is_some() {
+                    let r = row(p, *x, *axis);
+                    add(&[(3 * p, r[0]), (3 * p + 1, r[1]), (3 * p + 2, r[2])]);
+                }
+            }
+        }
+    }
+    for (iface, st) in interfaces.iter().zip(states) {
+        let (h, q) = (iface.host, iface.node_part);
+        for (c, &s) in iface.elements.iter().zip(st) {
+            if s != PairState::Bonded {
+                continue;
+            }
+            for axis in AXES {
+                let (rh, rq) = (row(h, c.position, axis), row(q, c.position, axis));
+                add(&[
+                    (3 * q, rq[0]),
+                    (3 * q + 1, rq[1]),
+                    (3 * q + 2, rq[2]),
+                    (3 * h, -rh[0]),
+                    (3 * h + 1, -rh[1]),
+                    (3 * h + 2, -rh[2]),
+                ]);
+            }
+        }
+    }
+    let eig = g
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|e| Error::Singular(format!("support check failed: {e:?}")))?;
+    let s = eig.S();
+    let u = eig.U();
+    let lmax = (0..3 * np).map(|i| s[i].abs()).fold(1.0, f64::max);
+    let mut free = vec![false; np];
+    for k in 0..3 * np {
+        if s[k] > 1e-10 * lmax {
+            continue;
+        }
+        for (p, f) in free.iter_mut().enumerate() {
+            let w: f64 = (0..3).map(|c| u[(3 * p + c, k)].powi(2)).sum();
+            if w > 1e-6 {
+                *f = true;
+            }
+        }
+    }
+    let names: Vec<String> = (0..np)
+        .filter(|&p| free[p])
+        .map(|p| {
+            let pairs: usize = interfaces
+                .iter()
+                .zip(states)
+                .filter(|(i, _)| i.host == p || i.node_part == p)
+                .map(|(_, st)| st.len())
+                .sum();
+            let open: usize = interfaces
+                .iter()
+                .zip(states)
+                .filter(|(i, _)| i.host == p || i.node_part == p)
+                .map(|(_, st)| st.iter().filter(|&&s| s == PairState::Open).count())
+                .sum();
+            format!(
+                "'{}' ({open} of its {pairs} coupling pairs open)",
+                parts[p].name
+            )
+        })
+        .collect();
+    if names.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::Singular(format!(
+            "part(s) {} left without support: they can move as rigid bodies. Add a [[support]], or check that the loads press the parts together",
+            names.join(", ")
+        )))
+    }
+}

@@ -1,0 +1,47 @@
+//! Shared helpers of the integration tests: build a model from text and solve it
+//! without writing files.
+#![allow(dead_code)]
+
+use cfe::analysis::Analysis;
+use cfe::model::Model;
+use cfe::solve::nonlinear::{IncrementResult, Solver};
+use std::path::Path;
+
+/// Prepares an analysis from problem text.
+pub fn analysis(text: &str) -> Analysis {
+    let model = Model::from_str(text, Path::new("test.toml"), 1).expect("valid problem");
+    Analysis::new(model).expect("pairs found")
+}
+
+/// Solves every increment in memory and returns them all.
+pub fn solve(a: &Analysis) -> Vec<IncrementResult> {
+    let f = cfe::assembly::external_force(&a.model.loads, &a.dofs);
+    let mut solver =
+        Solver::new(&a.model.parts, &a.interfaces, &a.dofs, f, &a.model.settings).expect("solver");
+    let mut all = Vec::new();
+    solver
+        .run(|inc| {
+            all.push(inc.clone());
+            Ok(())
+        })
+        .expect("converges");
+    all
+}
+
+/// Displacement (x, y) of the node of `part` at `at`.
+pub fn displacement_at(a: &Analysis, inc: &IncrementResult, part: &str, at: [f64; 2]) -> [f64; 2] {
+    let p = a
+        .model
+        .parts
+        .iter()
+        .position(|q| q.name == part)
+        .expect("part");
+    let n = a.model.parts[p]
+        .mesh
+        .nodes
+        .iter()
+        .position(|x| (x[0] - at[0]).abs() < 1e-9 && (x[1] - at[1]).abs() < 1e-9)
+        .expect("node at point");
+    let g = a.dofs.node(p, n);
+    [inc.u[2 * g], inc.u[2 * g + 1]]
+}

@@ -1,0 +1,190 @@
+//! Bad input and failing analyses give errors a user can act on (which part, node,
+//! key or line), never a panic; converged increments stay on disk after a failure.
+
+mod common;
+
+use cfe::analysis::Analysis;
+use cfe::model::Model;
+use std::path::Path;
+
+const BASE: &str = r#"
+[materials.steel]
+E = 210000.0
+nu = 0.31
+
+[[part]]
+name = "base"
+material = "steel"
+rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [20, 12] }
+
+[[part]]
+name = "plate"
+material = "steel"
+rectangle = { x = [30.0, 170.0], y = [120.0, 135.0], cells = [28, 6] }
+
+[[interface]]
+host = "base"
+nodes = "plate"
+boundary = "bottom"
+
+[[support]]
+part = "base"
+boundary = "bottom"
+fix = ["x", "y"]
+"#;
+
+const LOAD_DOWN: &str = r#"
+[[load]]
+part = "plate"
+boundary = "top"
+from = [86.0, 135.0]
+to = [114.0, 135.0]
+force = [0.0, -1500.0]
+"#;
+
+fn parse(text: &str) -> Result<Model, String> {
+    Model::from_str(text, Path::new("bad.toml"), 1).map_err(|e| e.to_string())
+}
+
+/// An unknown key is an error naming the key, the file and the line.
+#[test]
+fn unknown_key_names_key_file_and_line() {
+    let text = BASE.replace("nu = 0.31", "nu = 0.31\npoisson = 0.3");
+    let e = parse(&text).unwrap_err();
+    assert!(
+        e.contains("bad.toml") && e.contains("poisson") && e.contains("line 5"),
+        "{e}"
+    );
+}
+
+/// A missing key is an error naming it.
+#[test]
+fn missing_key_is_named() {
+    let e = parse(&BASE.replace("nu = 0.31\n", "")).unwrap_err();
+    assert!(e.contains("nu"), "{e}");
+}
+
+/// References to undefined parts or boundaries name the line and the alternatives.
+#[test]
+fn undefined_part_and_boundary() {
+    let e = parse(&BASE.replace("nodes = \"plate\"", "nodes = \"plat\"")).unwrap_err();
+    assert!(
+        e.contains("'plat'") && e.contains("line 18") && e.contains("base, plate"),
+        "{e}"
+    );
+    let e = parse(&BASE.replace(
+        "boundary = \"bottom\"\n\n[[support]]",
+        "boundary = \"botom\"\n\n[[support]]",
+    ))
+    .unwrap_err();
+    assert!(e.contains("botom") && e.contains("left, right, top"), "{e}");
+}
+
+/// Invalid material constants are errors naming the part.
+#[test]
+fn invalid_material() {
+    let e = parse(&BASE.replace("nu = 0.31", "nu = 0.7")).unwrap_err();
+    assert!(e.contains("Poisson") && e.contains("base"), "{e}");
+}
+
+/// A load segment that is not on the part's boundary, and a point that matches no
+/// node, are errors rather than silently lost loads.
+#[test]
+fn selections_that_match_nothing() {
+    let text = format!(
+        "{BASE}{}",
+        LOAD_DOWN.replace("[114.0, 135.0]", "[114.0, 130.0]")
+    );
+    let e = parse(&text).unwrap_err();
+    assert!(e.contains("must lie on the part's boundary"), "{e}");
+    let text =
+        format!("{BASE}[[load]]\npart = \"plate\"\nat = [31.0, 135.0]\nforce = [0.0, 1.0]\n");
+    let e = parse(&text).unwrap_err();
+    assert!(e.contains("matches no node"), "{e}");
+}
+
+/// Coupling nodes that lie in no host element are listed with coordinates.
+#[test]
+fn coupling_nodes_outside_the_host() {
+    let text = BASE.replace("x = [30.0, 170.0]", "x = [150.0, 290.0]")
+        + LOAD_DOWN
+            .replace("86.0", "206.0")
+            .replace("114.0", "234.0")
+            .as_str();
+    let model = parse(&text).unwrap();
+    let e = Analysis::new(model).err().expect("orphans").to_string();
+    assert!(
+        e.contains("lie in no host element")
+            && e.contains("(210, 120)")
+            && e.contains("(290, 120)"),
+        "{e}"
+    );
+}
+
+/// A plate pulled off its base (uniformly, over its whole top) is left without support: with implex the first
+/// increment (all bonded) converges and is written; the second opens every pair
+/// and fails with an error naming the plate; increment 1 stays on disk and the
+/// summary records the failure.
+#[test]
+fn unsupported_part_fails_cleanly_and_keeps_results() {
+    let pull = "[[load]]\npart = \"plate\"\nboundary = \"top\"\nforce = [0.0, 1500.0]\n";
+    let text = format!("{BASE}{pull}[analysis]\nscheme = \"implex\"\nincrements = 3\n");
+    let mut a = Analysis::new(parse(&text).unwrap()).unwrap();
+    let out = std::env::temp_dir().join(format!("cfe-test-unsupported-{}", std::process::id()));
+    let e = a.run(&out, &mut |_| {}).expect_err("must fail").to_string();
+    assert!(
+        e.contains("'plate'")
+            && e.contains("without support")
+            && e.contains("29 of its 29 coupling pairs open"),
+        "{e}"
+    );
+    assert!(out.join("vtu/parts_0001.vtu").is_file());
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(
+        summary.contains("\"failed\"") && summary.contains("\"converged_increments\": 1"),
+        "{summary}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The same pull with active-set fails in the first increment, also naming the plate.
+#[test]
+fn unsupported_part_active_set() {
+    let text = format!("{BASE}{}", LOAD_DOWN.replace("-1500.0", "1500.0"));
+    let a = Analysis::new(parse(&text).unwrap()).unwrap();
+    let f = cfe::assembly::external_force(&a.model.loads, &a.dofs);
+    let mut s = cfe::solve::nonlinear::Solver::new(
+        &a.model.parts,
+        &a.interfaces,
+        &a.dofs,
+        f,
+        &a.model.settings,
+    )
+    .unwrap();
+    let e = s.run(|_| Ok(())).err().unwrap().to_string();
+    assert!(
+        e.contains("'plate'") && e.contains("without support"),
+        "{e}"
+    );
+}
+
+/// A model with no support at all is singular, named part by part.
+#[test]
+fn no_support_at_all() {
+    let text = BASE.replace(
+        "[[support]]\npart = \"base\"\nboundary = \"bottom\"\nfix = [\"x\", \"y\"]\n",
+        "",
+    ) + LOAD_DOWN;
+    let a = Analysis::new(parse(&text).unwrap()).unwrap();
+    let f = cfe::assembly::external_force(&a.model.loads, &a.dofs);
+    let mut s = cfe::solve::nonlinear::Solver::new(
+        &a.model.parts,
+        &a.interfaces,
+        &a.dofs,
+        f,
+        &a.model.settings,
+    )
+    .unwrap();
+    let e = s.run(|_| Ok(())).err().unwrap().to_string();
+    assert!(e.contains("'base'") && e.contains("'plate'"), "{e}");
+}

@@ -1,0 +1,227 @@
+//! The seed's two examples (Tosati et al. 2016, §3.1–3.2, reconstructed in SPEC §4),
+//! run end to end: counts, equilibrium, the contact conditions at every pair, the
+//! state pattern SPEC §4 describes, and the two schemes.
+
+mod common;
+
+use cfe::analysis::Analysis;
+use cfe::coupling::PairState;
+use cfe::model::{Model, Scheme};
+use std::path::Path;
+
+fn example(name: &str) -> Model {
+    Model::from_file(
+        &Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("examples")
+            .join(name),
+        1,
+    )
+    .unwrap()
+}
+
+/// Bonded (true) / open (false) per pair of interface `i`.
+fn pattern(states: &[Vec<PairState>], i: usize) -> Vec<bool> {
+    states[i].iter().map(|&s| s == PairState::Bonded).collect()
+}
+
+/// Checks the contact conditions of a converged increment: no bonded pair
+/// penetrates by more than 1e-4 of the largest displacement, every open pair has
+/// gap_n > 0 and carries no force.
+fn check_contact_conditions(a: &Analysis, inc: &cfe::solve::nonlinear::IncrementResult) {
+    let umax = inc
+        .u
+        .chunks(2)
+        .map(|d| d[0].hypot(d[1]))
+        .fold(0.0, f64::max);
+    for row in a.pair_rows(inc) {
+        if row.state == "bonded" {
+            assert!(
+                -row.gap_n <= 1e-4 * umax,
+                "bonded pair at x = {} penetrates by {:e}",
+                row.x,
+                -row.gap_n
+            );
+        } else {
+            assert!(
+                row.gap_n > 0.0,
+                "open pair at x = {} has gap {:e}",
+                row.x,
+                row.gap_n
+            );
+            assert!(
+                row.force_n == 0.0 && row.force_s == 0.0,
+                "open pair at x = {} carries force",
+                row.x
+            );
+        }
+    }
+}
+
+/// Bonded pairs form one contiguous run.
+fn contiguous(p: &[bool]) -> bool {
+    let first = p.iter().position(|&b| b);
+    let last = p.iter().rposition(|&b| b);
+    match (first, last) {
+        (Some(f), Some(l)) => p[f..=l].iter().all(|&b| b),
+        _ => true,
+    }
+}
+
+/// Plate on a base: 480 + 336 elements and 29 pairs; reactions balance the 1500 N
+/// load to 1e-8; contact conditions hold; the plate is bonded over a central zone
+/// that contains the whole loaded segment and open over several nodes at each end;
+/// all outputs are written.
+#[test]
+fn plate_on_base() {
+    let mut a = Analysis::new(example("plate_on_base.toml")).unwrap();
+    assert_eq!(a.model.parts[0].mesh.triangles.len(), 480);
+    assert_eq!(a.model.parts[1].mesh.triangles.len(), 336);
+    assert_eq!(a.interfaces[0].elements.len(), 29);
+    let out = std::env::temp_dir().join(format!("cfe-test-plate-{}", std::process::id()));
+    let summary = a.run(&out, &mut |_| {}).unwrap();
+    assert!(
+        summary.equilibrium_error < 1e-8,
+        "equilibrium error {:e}",
+        summary.equilibrium_error
+    );
+    assert!((summary.reactions[0].fy - 1500.0).abs() < 1e-8 * 1500.0);
+    for f in [
+        "summary.json",
+        "pairs.csv",
+        "results.pvd",
+        "sigma_yy.png",
+        "displacement.png",
+        "vtu/parts_0010.vtu",
+        "vtu/pairs_0010.vtu",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let csv = std::fs::read_to_string(out.join("pairs.csv")).unwrap();
+    assert_eq!(
+        csv.lines().next().unwrap(),
+        "interface,node,x,y,host_element,state,gap_n,slip_s,force_n,force_s"
+    );
+    assert_eq!(csv.lines().count(), 30);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    for key in [
+        "parts",
+        "interfaces",
+        "increments",
+        "iterations",
+        "max_displacement",
+        "reactions",
+        "timings",
+    ] {
+        assert!(json.get(key).is_some(), "summary.json lacks {key}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+
+    let incs = common::solve(&a);
+    let last = incs.last().unwrap();
+    check_contact_conditions(&a, last);
+    let p = pattern(&last.states, 0);
+    let xs: Vec<f64> = a.interfaces[0]
+        .elements
+        .iter()
+        .map(|c| c.position[0])
+        .collect();
+    assert!(contiguous(&p), "bonded zone not contiguous: {p:?}");
+    for (x, &b) in xs.iter().zip(&p) {
+        if (86.0..=114.0).contains(x) {
+            assert!(b, "pair under the load at x = {x} is open");
+        }
+    }
+    assert!(
+        p[..3].iter().all(|&b| !b) && p[p.len() - 3..].iter().all(|&b| !b),
+        "ends not open: {p:?}"
+    );
+}
+
+/// Bar in a bearing: 1920 + 540 elements and 16 + 16 pairs; reactions balance the
+/// 100 N load to 1e-8; contact conditions hold; the bar presses on the upper block
+/// at its right corner and on the lower block at its left corner, each bonded zone
+/// contiguous, with the opposite ends open.
+#[test]
+fn bar_in_bearing() {
+    let a = Analysis::new(example("bar_in_bearing.toml")).unwrap();
+    let elements: usize = a.model.parts.iter().map(|p| p.mesh.triangles.len()).sum();
+    assert_eq!(
+        (a.model.parts[0].mesh.triangles.len(), elements - 1920),
+        (1920, 540)
+    );
+    assert_eq!(
+        (
+            a.interfaces[0].elements.len(),
+            a.interfaces[1].elements.len()
+        ),
+        (16, 16)
+    );
+    let incs = common::solve(&a);
+    let last = incs.last().unwrap();
+    check_contact_conditions(&a, last);
+    let mut fy = 100.0;
+    let mut fx = 0.0;
+    for d in 0..last.u.len() {
+        if a.dofs.support_of[d].is_some() {
+            let r = last.f_int[d] - last.f_ext[d];
+            if d % 2 == 0 { fx += r } else { fy += r }
+        }
+    }
+    assert!(
+        fx.hypot(fy) < 1e-8 * 100.0,
+        "reactions do not balance the load: ({fx:e}, {fy:e})"
+    );
+    for (i, corner_bonded_at) in [(0usize, 255.0), (1, 225.0)] {
+        let p = pattern(&last.states, i);
+        let xs: Vec<f64> = a.interfaces[i]
+            .elements
+            .iter()
+            .map(|c| c.position[0])
+            .collect();
+        assert!(contiguous(&p), "interface {i}: {p:?}");
+        let at = |x: f64| p[xs.iter().position(|&v| (v - x).abs() < 1e-9).unwrap()];
+        let other = if corner_bonded_at == 255.0 {
+            225.0
+        } else {
+            255.0
+        };
+        assert!(at(corner_bonded_at) && !at(other), "interface {i}: {p:?}");
+    }
+}
+
+/// Under proportional load the contact pattern does not depend on the load level:
+/// `active-set` finds the final pattern in the first increment (and needs one solve
+/// per later increment), and `implex`, lagging states by one increment, reaches the
+/// same pattern after a few increments and keeps it.
+#[test]
+fn schemes_reach_the_same_pattern() {
+    for name in ["plate_on_base.toml", "bar_in_bearing.toml"] {
+        let a = Analysis::new(example(name)).unwrap();
+        let active = common::solve(&a);
+        let last = active.last().unwrap();
+        assert_eq!(
+            active[0].states, last.states,
+            "{name}: active-set pattern changed after increment 1"
+        );
+        assert!(active[1..].iter().all(|inc| inc.iterations == 1));
+
+        let mut model = example(name);
+        model.settings.scheme = Scheme::Implex;
+        model.settings.increments = 20;
+        let b = Analysis::new(model).unwrap();
+        let implex = common::solve(&b);
+        let reached = implex.iter().position(|inc| inc.states == last.states);
+        println!("{name}: implex reaches the active-set pattern at increment {reached:?}");
+        let k = reached.expect("implex never reaches the active-set pattern");
+        assert!(k < 10, "{name}: implex needs {} increments", k + 1);
+        assert!(
+            implex[k..].iter().all(|inc| inc.states == last.states),
+            "{name}: implex leaves the pattern"
+        );
+        // Same pattern, same secant system: the same displacements.
+        let (ua, ub) = (&last.u, &implex.last().unwrap().u);
+        let umax = ua.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(ua.iter().zip(ub).all(|(x, y)| (x - y).abs() < 1e-9 * umax));
+    }
+}
