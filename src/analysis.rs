@@ -244,11 +244,11 @@ impl Analysis {
         }
         for i in &self.interfaces {
             s += &format!(
-                "  interface '{}': host '{}', nodes '{}', law {:?}, {} pairs, c_n = {:e}, c_s = {:e}, max projection distance {:e}\n",
+                "  interface '{}': host '{}', nodes '{}', law {}, {} pairs, c_n = {:e}, c_s = {:e}, max projection distance {:e}\n",
                 i.name,
                 self.model.parts[i.host].name,
                 self.model.parts[i.node_part].name,
-                i.law,
+                i.law.as_str(),
                 i.elements.len(),
                 i.c_n,
                 i.c_s,
@@ -340,7 +340,7 @@ impl Analysis {
                 progress(inc);
                 Ok(())
             });
-            self_timings_merge(&mut summary.timings, &solver.timings);
+            summary.timings.solve = solver.timings.clone();
             r
         };
         let inc = match result {
@@ -779,7 +779,11 @@ impl Analysis {
             }
         }
         let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
-        let scale = if umax > 0.0 { 0.05 * size / umax } else { 0.0 };
+        let scale = if umax > 0.0 {
+            nice_floor(0.05 * size / umax)
+        } else {
+            0.0
+        };
         let deformed: Vec<[f64; 2]> = points
             .iter()
             .enumerate()
@@ -825,8 +829,17 @@ impl Analysis {
     }
 }
 
-fn self_timings_merge(t: &mut Timings, s: &SolveTimings) {
-    t.solve = s.clone();
+/// The largest 1, 2 or 5 × 10ⁿ not above `x` (a readable magnification factor).
+fn nice_floor(x: f64) -> f64 {
+    let base = 10f64.powf(x.log10().floor());
+    let m = x / base;
+    base * if m >= 5.0 {
+        5.0
+    } else if m >= 2.0 {
+        2.0
+    } else {
+        1.0
+    }
 }
 
 /// Peak resident set size of this process in bytes (Linux `VmHWM`), if known.

@@ -42,6 +42,14 @@ impl PairState {
 }
 
 impl Law {
+    /// Lower-case name as in the problem file (`rigid`, `contact`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Law::Rigid => "rigid",
+            Law::Contact => "contact",
+        }
+    }
+
     /// The state the law assigns to a normal jump `gap_n` = [[u_n]]: open only when
     /// the pair separates by more than `tolerance` (≥ 0). A rigid law is always bonded.
     pub fn state(self, gap_n: f64, tolerance: f64) -> PairState {
