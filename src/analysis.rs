@@ -22,6 +22,8 @@ pub struct Timings {
     pub meshing: f64,
     /// Pair search and DOF numbering.
     pub pair_search: f64,
+    /// Solving the problem on 4× coarser meshes for the active-set's starting pattern.
+    pub coarse_start: f64,
     /// Linear-algebra phases of the solution.
     #[serde(flatten)]
     pub solve: SolveTimings,
@@ -155,8 +157,16 @@ pub struct Summary {
     pub increments: usize,
     /// Increments converged.
     pub converged_increments: usize,
-    /// Linear solves per converged increment.
+    /// Active-set iterations (state checks) per converged increment.
     pub iterations: Vec<usize>,
+    /// How each iteration was solved, per increment: a factorization, a reuse of the
+    /// current one, a low-rank update, or (method null) the scaled solution of the
+    /// same states at another load factor; and how many pairs changed state.
+    pub iteration_history: Vec<Vec<crate::solve::nonlinear::Iteration>>,
+    /// Numeric factorizations performed.
+    pub factorizations: usize,
+    /// Low-rank updates performed instead of factorizations.
+    pub low_rank_updates: usize,
     /// Largest displacement at the last converged increment.
     pub max_displacement: MaxDisplacement,
     /// Reactions per support at the last converged increment.
@@ -310,6 +320,11 @@ impl Analysis {
                     return Err(e);
                 }
             };
+            let t = Instant::now();
+            if let Some(states) = this.coarse_states() {
+                solver.set_initial_states(states);
+            }
+            summary.timings.coarse_start = t.elapsed().as_secs_f64();
             summary.matrix_nonzeros = solver.matrix_nnz();
             summary.factor_nonzeros = solver.factor_nnz();
             let r = solver.run(|inc| {
@@ -341,6 +356,7 @@ impl Analysis {
                 Ok(())
             });
             summary.timings.solve = solver.timings.clone();
+            (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
             r
         };
         let inc = match result {
@@ -373,6 +389,60 @@ impl Analysis {
         Ok(summary)
     }
 
+    /// For a refined model solved by `active-set`: the final pair states of the same
+    /// problem on meshes 4 × coarser (solved the same way, recursively), mapped to
+    /// this model's pairs by position — a start close to the final pattern, so the
+    /// iteration needs few, small state changes. `None` when no coarser level exists.
+    pub fn coarse_states(&self) -> Option<Vec<Vec<PairState>>> {
+        let m = &self.model;
+        if m.refine < 4 || m.settings.scheme != Scheme::ActiveSet || self.interfaces.is_empty() {
+            return None;
+        }
+        let coarse = Analysis::new(m.with_refine(m.refine / 4).ok()?).ok()?;
+        let f = assembly::external_force(&coarse.model.loads, &coarse.dofs);
+        let settings = crate::model::Settings {
+            increments: 1,
+            ..m.settings.clone()
+        };
+        let mut solver = Solver::new(
+            &coarse.model.parts,
+            &coarse.interfaces,
+            &coarse.dofs,
+            f,
+            &settings,
+        )
+        .ok()?;
+        if let Some(s) = coarse.coarse_states() {
+            solver.set_initial_states(s);
+        }
+        let last = solver.run(|_| Ok(())).ok()?;
+        // Each fine pair takes the state of the nearest coarse pair of its interface.
+        let states = self
+            .interfaces
+            .iter()
+            .zip(&coarse.interfaces)
+            .zip(&last.states)
+            .map(|((fine, coarse), cs)| {
+                let tree = rstar::RTree::bulk_load(
+                    coarse
+                        .elements
+                        .iter()
+                        .enumerate()
+                        .map(|(k, c)| rstar::primitives::GeomWithData::new(c.position, k))
+                        .collect(),
+                );
+                fine.elements
+                    .iter()
+                    .map(|c| {
+                        tree.nearest_neighbor(c.position)
+                            .map_or(PairState::Bonded, |n| cs[n.data])
+                    })
+                    .collect()
+            })
+            .collect();
+        Some(states)
+    }
+
     fn empty_summary(&self) -> Summary {
         Summary {
             status: "running".into(),
@@ -398,6 +468,9 @@ impl Analysis {
             increments: self.model.settings.increments,
             converged_increments: 0,
             iterations: Vec::new(),
+            iteration_history: Vec::new(),
+            factorizations: 0,
+            low_rank_updates: 0,
             max_displacement: MaxDisplacement::default(),
             reactions: Vec::new(),
             applied: [0.0; 2],
@@ -457,6 +530,7 @@ impl Analysis {
     fn fill_summary(&self, s: &mut Summary, inc: &IncrementResult, rows: &[PairRow]) {
         s.converged_increments = inc.index;
         s.iterations.push(inc.iterations);
+        s.iteration_history.push(inc.history.clone());
         s.residual = inc.residual;
         s.interfaces = self
             .interfaces

@@ -101,27 +101,23 @@ impl DofMap {
     }
 }
 
-/// The global stiffness matrix K (lower triangle, compressed sparse columns over the
-/// free DOFs) with a fixed pattern. `base` holds the parts' contribution, assembled
-/// once; [`Stiffness::assemble`] adds the coupling elements for a set of pair states.
+/// The node adjacency graph of the whole model (CSR, each row sorted, self
+/// included): two nodes are adjacent when an element — a part element or a coupling
+/// element — contains both. It gives the sparsity pattern and the fill-reducing
+/// ordering.
 #[derive(Debug, Clone)]
-pub struct Stiffness {
-    /// Column pointers (length n_eq + 1).
-    pub col_ptr: Vec<usize>,
-    /// Row indices, sorted within each column, all ≥ the column.
-    pub row_idx: Vec<usize>,
-    /// The parts' contribution to the values.
-    pub base: Vec<f64>,
-    /// Current values: base + coupling elements.
-    pub values: Vec<f64>,
+pub struct NodeGraph {
+    /// Row pointers (length nodes + 1).
+    pub ptr: Vec<usize>,
+    /// Neighbours of each node, sorted.
+    pub adj: Vec<usize>,
 }
 
-impl Stiffness {
-    /// Builds the pattern from every part element and every coupling element, and
-    /// assembles the parts' stiffness.
-    pub fn new(parts: &[Part], interfaces: &[Interface], dofs: &DofMap) -> Stiffness {
+impl NodeGraph {
+    /// The graph of all part elements and all coupling elements (whatever their state).
+    pub fn new(parts: &[Part], interfaces: &[Interface], dofs: &DofMap) -> NodeGraph {
         let n_nodes = dofs.n_nodes();
-        // Node adjacency (CSR), two passes: count, fill; then sort and dedup per row.
+        // Two passes (count, fill), then sort and dedup each row.
         let mut count = vec![0usize; n_nodes + 1];
         let each_element = |f: &mut dyn FnMut(&[usize])| {
             for (p, part) in parts.iter().enumerate() {
@@ -154,21 +150,50 @@ impl Stiffness {
                 }
             }
         });
-        let mut nbr_ptr = vec![0usize; n_nodes + 1];
-        let mut nbr = Vec::with_capacity(adj.len() / 2);
+        let mut ptr = vec![0usize; n_nodes + 1];
+        let mut out = Vec::with_capacity(adj.len() / 2);
         for a in 0..n_nodes {
             let row = &mut adj[count[a]..count[a + 1]];
             row.sort_unstable();
             let mut last = usize::MAX;
             for &b in row.iter() {
                 if b != last {
-                    nbr.push(b);
+                    out.push(b);
                     last = b;
                 }
             }
-            nbr_ptr[a + 1] = nbr.len();
+            ptr[a + 1] = out.len();
         }
-        drop(adj);
+        NodeGraph { ptr, adj: out }
+    }
+
+    /// The neighbours of node `a` (including itself).
+    pub fn neighbours(&self, a: usize) -> &[usize] {
+        &self.adj[self.ptr[a]..self.ptr[a + 1]]
+    }
+}
+
+/// The global stiffness matrix K (lower triangle, compressed sparse columns over the
+/// free DOFs) with a fixed pattern. `base` holds the parts' contribution, assembled
+/// once; [`Stiffness::assemble`] adds the coupling elements for a set of pair states.
+#[derive(Debug, Clone)]
+pub struct Stiffness {
+    /// Column pointers (length n_eq + 1).
+    pub col_ptr: Vec<usize>,
+    /// Row indices, sorted within each column, all ≥ the column.
+    pub row_idx: Vec<usize>,
+    /// The parts' contribution to the values.
+    pub base: Vec<f64>,
+    /// Current values: base + coupling elements.
+    pub values: Vec<f64>,
+}
+
+impl Stiffness {
+    /// Builds the pattern from the node graph of every part element and every
+    /// coupling element, and assembles the parts' stiffness.
+    pub fn new(parts: &[Part], dofs: &DofMap, graph: &NodeGraph) -> Stiffness {
+        let n_nodes = dofs.n_nodes();
+        let (nbr_ptr, nbr) = (&graph.ptr, &graph.adj);
         // DOF-level lower-triangular CSC over equations. Equation numbers increase with
         // DOF index, so rows come out sorted.
         let mut col_ptr = Vec::with_capacity(dofs.n_eq + 1);

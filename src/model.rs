@@ -265,6 +265,8 @@ pub struct Model {
     pub settings: Settings,
     /// Refinement factor applied to the structured meshes.
     pub refine: usize,
+    /// The problem text, so the same problem can be rebuilt at another refinement.
+    pub text: String,
 }
 
 impl Model {
@@ -276,6 +278,11 @@ impl Model {
             source,
         })?;
         Model::from_str(&text, path, refine)
+    }
+
+    /// The same problem with the structured meshes refined `refine` times instead.
+    pub fn with_refine(&self, refine: usize) -> Result<Model> {
+        Model::from_str(&self.text, &self.source, refine)
     }
 
     /// Reads, checks and meshes a problem given as text; `path` is used in messages
@@ -652,6 +659,7 @@ impl Builder<'_> {
             loads: loads_out,
             settings: analysis,
             refine,
+            text: self.text.to_string(),
         })
     }
 }

@@ -18,18 +18,42 @@ pub struct CholeskySolver {
     symbolic: SymbolicCholesky<usize>,
     factor: Vec<f64>,
     scratch: MemBuffer,
+    scratch_req: StackReq,
+    scratch_bytes: usize,
     factorized: bool,
     /// Number of numeric factorizations performed.
     pub factorizations: usize,
 }
 
 impl CholeskySolver {
-    /// Symbolic analysis of the lower-triangular pattern of `k`.
-    pub fn new(k: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
+    /// Symbolic analysis of the lower-triangular pattern of `k`, with the
+    /// elimination order `order` (`order[k]` = equation eliminated k-th), or AMD.
+    pub fn new(k: SparseColMatRef<'_, usize, f64>, order: Option<&[usize]>) -> Result<Self> {
+        let inverse: Vec<usize> = match order {
+            Some(o) => {
+                let mut inv = vec![usize::MAX; o.len()];
+                for (new, &old) in o.iter().enumerate() {
+                    inv[old] = new;
+                }
+                if o.len() != k.nrows() || inv.contains(&usize::MAX) {
+                    return Err(Error::Singular(
+                        "the elimination order is not a permutation".into(),
+                    ));
+                }
+                inv
+            }
+            None => Vec::new(),
+        };
+        let ordering = match order {
+            Some(o) => {
+                SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(o, &inverse, o.len()))
+            }
+            None => SymmetricOrdering::Amd,
+        };
         let symbolic = factorize_symbolic_cholesky(
             k.symbolic(),
             Side::Lower,
-            SymmetricOrdering::Amd,
+            ordering,
             CholeskySymbolicParams::default(),
         )
         .map_err(|e| Error::Singular(format!("symbolic analysis failed: {e:?}")))?;
@@ -42,6 +66,8 @@ impl CholeskySolver {
             factor: vec![0.0; symbolic.len_val()],
             symbolic,
             scratch: MemBuffer::new(req),
+            scratch_req: req,
+            scratch_bytes: req.size_bytes(),
             factorized: false,
             factorizations: 0,
         })
@@ -90,14 +116,29 @@ impl CholeskySolver {
 
     /// Solves K x = b in place (after a successful [`CholeskySolver::factorize`]).
     pub fn solve_in_place(&mut self, b: &mut [f64]) {
-        assert!(self.factorized, "solve before a successful factorization");
         let n = b.len();
+        self.solve_columns(b, n, 1);
+    }
+
+    /// Solves K X = B in place for `ncols` right-hand sides stored column-major in
+    /// `b` (each of length `n`).
+    pub fn solve_columns(&mut self, b: &mut [f64], n: usize, ncols: usize) {
+        assert!(self.factorized, "solve before a successful factorization");
+        if ncols == 0 {
+            return;
+        }
+        let par = Par::rayon(0);
+        let req = self.symbolic.solve_in_place_scratch::<f64>(ncols, par);
+        if req.size_bytes() > self.scratch_bytes {
+            self.scratch = MemBuffer::new(req.or(self.scratch_req));
+            self.scratch_bytes = req.size_bytes().max(self.scratch_bytes);
+        }
         let stack = MemStack::new(&mut self.scratch);
-        let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
+        let rhs = MatMut::from_column_major_slice_mut(&mut b[..n * ncols], n, ncols);
         LltRef::new(&self.symbolic, &self.factor).solve_in_place_with_conj(
             Conj::No,
             rhs,
-            Par::rayon(0),
+            par,
             stack,
         );
     }
@@ -134,7 +175,7 @@ mod tests {
                 })
                 .collect();
             let k = SparseColMatRef::new(sym, &vals);
-            let mut s = CholeskySolver::new(k).unwrap();
+            let mut s = CholeskySolver::new(k, None).unwrap();
             s.factorize(k).unwrap();
             let x: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
             let mut b: Vec<f64> = (0..n)
@@ -159,7 +200,7 @@ mod tests {
         let sym = SymbolicSparseColMatRef::new_checked(2, 2, &col_ptr, None, &row);
         let vals = [1.0, -1.0];
         let k = SparseColMatRef::new(sym, &vals);
-        let mut s = CholeskySolver::new(k).unwrap();
+        let mut s = CholeskySolver::new(k, None).unwrap();
         assert!(s.factorize(k).is_err());
     }
 }

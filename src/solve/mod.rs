@@ -4,4 +4,6 @@
 
 pub mod linear;
 pub mod nonlinear;
+pub mod ordering;
 pub mod support;
+pub mod system;

@@ -7,13 +7,21 @@
 //!   until no state changes. A cycle (a state pattern seen before in the same
 //!   increment) is settled by keeping the flipping pairs bonded — no
 //!   interpenetration, a small tensile force — and iterating on; those pairs are
-//!   reported as *settled*.
+//!   reported as *settled* and stay bonded in the following increments (the loads
+//!   are proportional, so the same cycle would recur at every load level).
 //! - `implex` (the seed's): the states of increment n come from [[u_n]] of increment
 //!   n − 1 (all bonded before the first); one solve per increment.
+//!
+//! Linear solves go through [`ContactSystem`], which refactorizes or corrects the
+//! current factorization by a low-rank update, whichever costs less. A state set
+//! already solved at another load factor is not solved again: with proportional
+//! loads its solution scales with λ exactly.
 
 use super::linear::CholeskySolver;
+use super::ordering;
 use super::support;
-use crate::assembly::{self, DofMap, FIXED, Stiffness};
+use super::system::{ContactSystem, Method};
+use crate::assembly::{self, DofMap, FIXED, NodeGraph, Stiffness};
 use crate::coupling::{Interface, PairState, element as cfe};
 use crate::error::{Error, Result};
 use crate::model::{Part, Scheme, Settings};
@@ -23,16 +31,26 @@ use std::time::Instant;
 /// Seconds spent in each phase of the solution.
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct SolveTimings {
-    /// Sparsity pattern and symbolic factorization (once).
+    /// Node graph, ordering, sparsity pattern and symbolic factorization (once).
     pub pattern_and_symbolic: f64,
     /// Assembly of K values and right-hand sides.
     pub assembly: f64,
     /// Numeric factorizations.
     pub factorization: f64,
-    /// Triangular solves.
+    /// Triangular solves, including low-rank update columns.
     pub solve: f64,
     /// State updates, support checks, internal forces.
     pub contact_update: f64,
+}
+
+/// One linear solve of an increment.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Iteration {
+    /// How the system was solved (or `None` when the solution of the same states
+    /// at another load factor was scaled).
+    pub method: Option<Method>,
+    /// Pairs whose state the law changed after this solve.
+    pub changed: usize,
 }
 
 /// The converged result of one increment.
@@ -44,6 +62,8 @@ pub struct IncrementResult {
     pub lambda: f64,
     /// Linear solves in this increment.
     pub iterations: usize,
+    /// What each solve did.
+    pub history: Vec<Iteration>,
     /// Displacements of all DOFs.
     pub u: Vec<f64>,
     /// Pair states used in the final solve, per interface.
@@ -58,6 +78,14 @@ pub struct IncrementResult {
     pub residual: f64,
 }
 
+/// The solution of one state set, kept to answer the same states at another λ.
+struct Solved {
+    states: Vec<Vec<PairState>>,
+    lambda: f64,
+    u: Vec<f64>,
+    f_int: Vec<f64>,
+}
+
 /// The incremental solver for one model.
 pub struct Solver<'a> {
     parts: &'a [Part],
@@ -65,14 +93,19 @@ pub struct Solver<'a> {
     dofs: &'a DofMap,
     settings: &'a Settings,
     f_ext: Vec<f64>,
-    k: Stiffness,
-    chol: CholeskySolver,
+    system: ContactSystem,
+    last: Option<Solved>,
+    initial: Option<Vec<Vec<PairState>>>,
     /// Phase timings.
     pub timings: SolveTimings,
 }
 
+/// Out-of-balance tolerance above which a low-rank solution is redone by factorization.
+const UPDATE_RESIDUAL_LIMIT: f64 = 1e-8;
+
 impl<'a> Solver<'a> {
-    /// Builds the fixed sparsity pattern and the symbolic factorization.
+    /// Builds the node graph, the nested-dissection ordering, the fixed sparsity
+    /// pattern and the symbolic factorization.
     pub fn new(
         parts: &'a [Part],
         interfaces: &'a [Interface],
@@ -86,8 +119,15 @@ impl<'a> Solver<'a> {
             ));
         }
         let t = Instant::now();
-        let k = Stiffness::new(parts, interfaces, dofs);
-        let chol = CholeskySolver::new(k.matrix())?;
+        let graph = NodeGraph::new(parts, interfaces, dofs);
+        let coords: Vec<[f64; 2]> = parts
+            .iter()
+            .flat_map(|p| p.mesh.nodes.iter().copied())
+            .collect();
+        let order = ordering::nested_dissection(&coords, &graph, dofs);
+        let k = Stiffness::new(parts, dofs, &graph);
+        drop(graph);
+        let chol = CholeskySolver::new(k.matrix(), Some(&order))?;
         let timings = SolveTimings {
             pattern_and_symbolic: t.elapsed().as_secs_f64(),
             ..Default::default()
@@ -98,20 +138,40 @@ impl<'a> Solver<'a> {
             dofs,
             settings,
             f_ext,
-            k,
-            chol,
+            system: ContactSystem::new(k, chol),
+            last: None,
+            initial: None,
             timings,
         })
     }
 
     /// Number of nonzeros in the lower triangle of K.
     pub fn matrix_nnz(&self) -> usize {
-        self.k.row_idx.len()
+        self.system.k.row_idx.len()
     }
 
     /// Number of nonzeros of the Cholesky factor.
     pub fn factor_nnz(&self) -> usize {
-        self.chol.factor_nnz()
+        self.system.factor_nnz()
+    }
+
+    /// Numeric factorizations and low-rank updates performed so far.
+    pub fn solve_counts(&self) -> (usize, usize) {
+        (self.system.factorizations, self.system.updates)
+    }
+
+    /// Starts the `active-set` iteration of the first increment from these states
+    /// instead of all bonded (e.g. the pattern found on a coarser mesh). The converged
+    /// result does not depend on it; the number of iterations does.
+    pub fn set_initial_states(&mut self, states: Vec<Vec<PairState>>) {
+        if states.len() == self.interfaces.len()
+            && states
+                .iter()
+                .zip(self.interfaces)
+                .all(|(s, i)| s.len() == i.elements.len())
+        {
+            self.initial = Some(states);
+        }
     }
 
     /// Runs all increments; `on_increment` receives each converged increment (to
@@ -121,30 +181,42 @@ impl<'a> Solver<'a> {
         mut on_increment: impl FnMut(&IncrementResult) -> Result<()>,
     ) -> Result<IncrementResult> {
         let n_inc = self.settings.increments;
-        let mut states: Vec<Vec<PairState>> = self
+        let all_bonded: Vec<Vec<PairState>> = self
             .interfaces
             .iter()
             .map(|i| vec![PairState::Bonded; i.elements.len()])
             .collect();
+        let mut states = match (self.settings.scheme, self.initial.take()) {
+            (Scheme::ActiveSet, Some(s)) => s,
+            _ => all_bonded,
+        };
+        let mut locked: HashSet<(usize, usize)> = HashSet::new();
         let mut last = None;
         for inc in 1..=n_inc {
             let lambda = inc as f64 / n_inc as f64;
             let result = match self.settings.scheme {
-                Scheme::ActiveSet => self.active_set_increment(inc, lambda, states.clone())?,
+                Scheme::ActiveSet => {
+                    let r = self.active_set_increment(inc, lambda, states.clone(), &mut locked)?;
+                    states = r.states.clone();
+                    r
+                }
                 Scheme::Implex => {
-                    let (u, f_int) = self.solve_states(lambda, &states, inc)?;
-                    let r = self.finish(inc, lambda, 1, u, f_int, states.clone(), Vec::new());
+                    let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
                     // States for the next increment from this increment's jumps.
-                    states = self.states_from(&r.u, &states, &HashSet::new());
+                    let next = self.states_from(&u, &HashSet::new());
+                    let changed = count_changes(&next, &states);
+                    let history = vec![Iteration { method, changed }];
+                    let r = self.finish(inc, lambda, history, u, f_int, states, Vec::new());
+                    states = next;
                     r
                 }
             };
-            if self.settings.scheme == Scheme::ActiveSet {
-                states = result.states.clone();
-            }
             on_increment(&result)?;
             last = Some(result);
         }
+        let t = &mut self.timings;
+        t.factorization = self.system.factor_seconds;
+        t.solve = self.system.solve_seconds;
         Ok(last.expect("at least one increment"))
     }
 
@@ -153,20 +225,18 @@ impl<'a> Solver<'a> {
         inc: usize,
         lambda: f64,
         mut states: Vec<Vec<PairState>>,
+        locked: &mut HashSet<(usize, usize)>,
     ) -> Result<IncrementResult> {
-        let mut history: Vec<Vec<Vec<PairState>>> = vec![states.clone()];
-        let mut locked: HashSet<(usize, usize)> = HashSet::new();
-        for it in 1..=self.settings.max_iterations {
-            let (u, f_int) = self.solve_states(lambda, &states, inc)?;
-            let mut next = self.states_from(&u, &states, &locked);
-            if next == states {
-                let mut settled: Vec<_> = locked.into_iter().collect();
-                settled.sort_unstable();
-                return Ok(self.finish(inc, lambda, it, u, f_int, states, settled));
-            }
-            if let Some(pos) = history.iter().position(|h| *h == next) {
+        let mut seen: Vec<Vec<Vec<PairState>>> = vec![states.clone()];
+        let mut history = Vec::new();
+        for _ in 1..=self.settings.max_iterations {
+            let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
+            let mut next = self.states_from(&u, locked);
+            if let Some(pos) = seen.iter().position(|h| *h == next)
+                && next != states
+            {
                 // A cycle: every pair whose state differs somewhere along it flips.
-                let cycle = &history[pos..];
+                let cycle = &seen[pos..];
                 for (i, st) in next.iter().enumerate() {
                     for (k, &s) in st.iter().enumerate() {
                         if cycle.iter().any(|h| h[i][k] != s) {
@@ -174,16 +244,20 @@ impl<'a> Solver<'a> {
                         }
                     }
                 }
-                for &(i, k) in &locked {
+                for &(i, k) in locked.iter() {
                     next[i][k] = PairState::Bonded;
                 }
-                if next == states {
-                    let mut settled: Vec<_> = locked.into_iter().collect();
-                    settled.sort_unstable();
-                    return Ok(self.finish(inc, lambda, it, u, f_int, states, settled));
-                }
             }
-            history.push(next.clone());
+            history.push(Iteration {
+                method,
+                changed: count_changes(&next, &states),
+            });
+            if next == states {
+                let mut settled: Vec<_> = locked.iter().copied().collect();
+                settled.sort_unstable();
+                return Ok(self.finish(inc, lambda, history, u, f_int, states, settled));
+            }
+            seen.push(next.clone());
             states = next;
         }
         let open: usize = states
@@ -199,12 +273,7 @@ impl<'a> Solver<'a> {
     }
 
     /// The pair states the law assigns to displacements `u`; `locked` pairs stay bonded.
-    fn states_from(
-        &self,
-        u: &[f64],
-        _prev: &[Vec<PairState>],
-        locked: &HashSet<(usize, usize)>,
-    ) -> Vec<Vec<PairState>> {
+    fn states_from(&self, u: &[f64], locked: &HashSet<(usize, usize)>) -> Vec<Vec<PairState>> {
         self.interfaces
             .iter()
             .enumerate()
@@ -236,28 +305,37 @@ impl<'a> Solver<'a> {
         self.settings.gap_tolerance * scale
     }
 
-    /// One linear solve at load factor `lambda` with the given states. Returns the
-    /// displacements of all DOFs and the internal force.
+    /// Displacements (all DOFs), internal force and solve method for the given
+    /// states at load factor `lambda`.
     fn solve_states(
         &mut self,
         lambda: f64,
         states: &[Vec<PairState>],
         inc: usize,
-    ) -> Result<(Vec<f64>, Vec<f64>)> {
+    ) -> Result<(Vec<f64>, Vec<f64>, Option<Method>)> {
+        if let Some(s) = &self.last
+            && s.states == states
+            && s.lambda != 0.0
+        {
+            // Loads and prescribed values are proportional: same states, scaled solution.
+            let f = lambda / s.lambda;
+            let u = s.u.iter().map(|v| f * v).collect();
+            let f_int = s.f_int.iter().map(|v| f * v).collect();
+            return Ok((u, f_int, None));
+        }
         let t = Instant::now();
         support::check(self.parts, self.interfaces, states, self.dofs)?;
         self.timings.contact_update += t.elapsed().as_secs_f64();
 
         let t = Instant::now();
-        self.k.assemble(self.interfaces, states, self.dofs);
         let mut u: Vec<f64> = self.dofs.prescribed.iter().map(|v| lambda * v).collect();
-        let mut rhs = vec![0.0; self.dofs.n_eq];
         let has_prescribed = u.iter().any(|&v| v != 0.0);
         let f_p = if has_prescribed {
             assembly::internal_force(self.parts, self.interfaces, states, self.dofs, &u)
         } else {
             Vec::new()
         };
+        let mut rhs = vec![0.0; self.dofs.n_eq];
         for (d, &e) in self.dofs.eq.iter().enumerate() {
             if e != FIXED {
                 rhs[e] = lambda * self.f_ext[d] - if has_prescribed { f_p[d] } else { 0.0 };
@@ -265,36 +343,72 @@ impl<'a> Solver<'a> {
         }
         self.timings.assembly += t.elapsed().as_secs_f64();
 
-        let t = Instant::now();
-        if let Err(eq) = self.chol.factorize(self.k.matrix()) {
-            let d = self.dofs.eq.iter().position(|&e| e == eq).unwrap_or(0);
-            let (p, n) = self.dofs.locate(d / 2);
-            return Err(Error::Singular(format!(
-                "increment {inc}: the stiffness matrix is not positive definite (pivot at part '{}', node {n}, {} displacement); check for a mechanism or an unsupported part",
-                self.parts[p].name,
-                if d % 2 == 0 { "x" } else { "y" }
-            )));
+        let mut refactored = false;
+        loop {
+            let mut x = rhs.clone();
+            let method = self
+                .system
+                .solve(self.interfaces, self.dofs, states, &mut x)
+                .map_err(|eq| self.pivot_error(eq, inc))?;
+            for (d, &e) in self.dofs.eq.iter().enumerate() {
+                if e != FIXED {
+                    u[d] = x[e];
+                }
+            }
+            if u.iter().any(|v| !v.is_finite()) {
+                return Err(Error::Singular(format!(
+                    "increment {inc}: the solution is not finite"
+                )));
+            }
+            let t = Instant::now();
+            let f_int =
+                assembly::internal_force(self.parts, self.interfaces, states, self.dofs, &u);
+            self.timings.contact_update += t.elapsed().as_secs_f64();
+            let residual = self.residual(lambda, &f_int);
+            if residual > UPDATE_RESIDUAL_LIMIT
+                && matches!(method, Method::LowRank { .. })
+                && !refactored
+            {
+                // The update lost accuracy: solve again with a fresh factorization.
+                self.system.invalidate();
+                refactored = true;
+                continue;
+            }
+            self.last = Some(Solved {
+                states: states.to_vec(),
+                lambda,
+                u: u.clone(),
+                f_int: f_int.clone(),
+            });
+            return Ok((u, f_int, Some(method)));
         }
-        self.timings.factorization += t.elapsed().as_secs_f64();
+    }
 
-        let t = Instant::now();
-        self.chol.solve_in_place(&mut rhs);
+    fn pivot_error(&self, eq: usize, inc: usize) -> Error {
+        let d = self.dofs.eq.iter().position(|&e| e == eq).unwrap_or(0);
+        let (p, n) = self.dofs.locate(d / 2);
+        Error::Singular(format!(
+            "increment {inc}: the stiffness matrix is not positive definite (pivot at part '{}', node {n}, {} displacement); check for a mechanism or an unsupported part",
+            self.parts[p].name,
+            if d % 2 == 0 { "x" } else { "y" }
+        ))
+    }
+
+    /// Largest out-of-balance force at free DOFs relative to the largest external
+    /// force or reaction.
+    fn residual(&self, lambda: f64, f_int: &[f64]) -> f64 {
+        let mut scale: f64 = 0.0;
+        let mut res: f64 = 0.0;
         for (d, &e) in self.dofs.eq.iter().enumerate() {
-            if e != FIXED {
-                u[d] = rhs[e];
+            let r = f_int[d] - lambda * self.f_ext[d];
+            if e == FIXED {
+                scale = scale.max(r.abs());
+            } else {
+                scale = scale.max((lambda * self.f_ext[d]).abs());
+                res = res.max(r.abs());
             }
         }
-        self.timings.solve += t.elapsed().as_secs_f64();
-
-        let t = Instant::now();
-        let f_int = assembly::internal_force(self.parts, self.interfaces, states, self.dofs, &u);
-        self.timings.contact_update += t.elapsed().as_secs_f64();
-        if u.iter().any(|v| !v.is_finite()) {
-            return Err(Error::Singular(format!(
-                "increment {inc}: the solution is not finite"
-            )));
-        }
-        Ok((u, f_int))
+        if scale > 0.0 { res / scale } else { res }
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -302,32 +416,32 @@ impl<'a> Solver<'a> {
         &self,
         index: usize,
         lambda: f64,
-        iterations: usize,
+        history: Vec<Iteration>,
         u: Vec<f64>,
         f_int: Vec<f64>,
         states: Vec<Vec<PairState>>,
         settled: Vec<(usize, usize)>,
     ) -> IncrementResult {
         let f_ext: Vec<f64> = self.f_ext.iter().map(|f| lambda * f).collect();
-        let mut scale: f64 = f_ext.iter().fold(0.0, |a, f| a.max(f.abs()));
-        let mut res: f64 = 0.0;
-        for (d, &e) in self.dofs.eq.iter().enumerate() {
-            if e == FIXED {
-                scale = scale.max((f_int[d] - f_ext[d]).abs());
-            } else {
-                res = res.max((f_int[d] - f_ext[d]).abs());
-            }
-        }
+        let residual = self.residual(lambda, &f_int);
         IncrementResult {
             index,
             lambda,
-            iterations,
+            iterations: history.len(),
+            history,
             u,
             states,
             settled,
             f_int,
             f_ext,
-            residual: if scale > 0.0 { res / scale } else { res },
+            residual,
         }
     }
+}
+
+fn count_changes(a: &[Vec<PairState>], b: &[Vec<PairState>]) -> usize {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| x.iter().zip(y).filter(|(p, q)| p != q).count())
+        .sum()
 }

@@ -1,0 +1,164 @@
+//! Fill-reducing ordering of the equations by geometric nested dissection.
+//!
+//! The nodes are split recursively by the median of their coordinate along the
+//! longer side of their bounding box; the nodes of the lower half that touch the
+//! upper half (in the node graph) form the separator. Each half is ordered first,
+//! the separator last, so eliminating a half never fills in the other. On 2D meshes
+//! this gives factors with O(n log n) nonzeros and O(n^1.5) work, and it beats
+//! minimum degree (AMD) at large n. Coupling elements are edges of the node graph,
+//! so coupled parts are separated consistently.
+
+use crate::assembly::{DofMap, FIXED, NodeGraph};
+
+/// Subsets at or below this size are not split further.
+const LEAF: usize = 16;
+
+/// The elimination order of the equations: `order[k]` is the equation eliminated
+/// k-th. `coords` are the global node coordinates.
+pub fn nested_dissection(coords: &[[f64; 2]], graph: &NodeGraph, dofs: &DofMap) -> Vec<usize> {
+    let n = coords.len();
+    let mut nodes: Vec<usize> = (0..n).collect();
+    let mut stamp = vec![0u32; n];
+    let mut counter = 0u32;
+    let mut node_order = Vec::with_capacity(n);
+    dissect(
+        &mut nodes,
+        coords,
+        graph,
+        &mut stamp,
+        &mut counter,
+        &mut node_order,
+    );
+    let mut order = Vec::with_capacity(dofs.n_eq);
+    for g in node_order {
+        for c in 0..2 {
+            let e = dofs.eq[2 * g + c];
+            if e != FIXED {
+                order.push(e);
+            }
+        }
+    }
+    order
+}
+
+fn dissect(
+    nodes: &mut [usize],
+    coords: &[[f64; 2]],
+    graph: &NodeGraph,
+    stamp: &mut [u32],
+    counter: &mut u32,
+    out: &mut Vec<usize>,
+) {
+    if nodes.len() <= LEAF {
+        out.extend_from_slice(nodes);
+        return;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for &a in nodes.iter() {
+        for c in 0..2 {
+            lo[c] = lo[c].min(coords[a][c]);
+            hi[c] = hi[c].max(coords[a][c]);
+        }
+    }
+    let axis = if hi[0] - lo[0] >= hi[1] - lo[1] { 0 } else { 1 };
+    // Split at the median coordinate, keeping nodes with equal coordinates together
+    // (a straight separator on structured meshes).
+    let half = nodes.len() / 2;
+    nodes.select_nth_unstable_by(half, |&a, &b| coords[a][axis].total_cmp(&coords[b][axis]));
+    let m = coords[nodes[half]][axis];
+    let mut mid = partition(nodes, |a| coords[a][axis] < m);
+    if mid == 0 {
+        mid = partition(nodes, |a| coords[a][axis] <= m);
+    }
+    if mid == 0 || mid == nodes.len() {
+        out.extend_from_slice(nodes);
+        return;
+    }
+    *counter += 1;
+    let mark = *counter;
+    for &a in &nodes[mid..] {
+        stamp[a] = mark;
+    }
+    // Separator: lower-half nodes with a neighbour in the upper half; move them to
+    // the end of the lower half.
+    let (lower, upper) = nodes.split_at_mut(mid);
+    let mut keep = 0;
+    for i in 0..lower.len() {
+        let a = lower[i];
+        let touches = graph.neighbours(a).iter().any(|&b| stamp[b] == mark);
+        if !touches {
+            lower.swap(keep, i);
+            keep += 1;
+        }
+    }
+    let (inner, separator) = lower.split_at_mut(keep);
+    if inner.is_empty() || upper.is_empty() {
+        // Degenerate split (e.g. all nodes share the coordinate): stop here.
+        out.extend_from_slice(inner);
+        out.extend_from_slice(upper);
+        out.extend_from_slice(separator);
+        return;
+    }
+    dissect(inner, coords, graph, stamp, counter, out);
+    dissect(upper, coords, graph, stamp, counter, out);
+    out.extend_from_slice(separator);
+}
+
+/// Moves the items satisfying `pred` to the front; returns their count.
+fn partition(items: &mut [usize], pred: impl Fn(usize) -> bool) -> usize {
+    let mut k = 0;
+    for i in 0..items.len() {
+        if pred(items[i]) {
+            items.swap(k, i);
+            k += 1;
+        }
+    }
+    k
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assembly::NodeGraph;
+    use crate::fem::{Material, PlaneKind};
+    use crate::mesh::Mesh;
+    use crate::model::Part;
+
+    /// The ordering is a permutation of all equations, and on a 40 × 40 grid its
+    /// Cholesky factor has far fewer nonzeros than the natural order and no more
+    /// than 1.3 × those of AMD.
+    #[test]
+    fn permutation_with_low_fill() {
+        let parts = vec![Part {
+            name: "p".into(),
+            mesh: Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [40, 40]),
+            material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
+        }];
+        let supports = vec![crate::model::Support {
+            name: "s".into(),
+            part: 0,
+            nodes: parts[0].mesh.boundary_nodes("bottom").unwrap(),
+            fix: [true, true],
+            value: [0.0, 0.0],
+        }];
+        let dofs = DofMap::new(&parts, &supports);
+        let graph = NodeGraph::new(&parts, &[], &dofs);
+        let order = nested_dissection(&parts[0].mesh.nodes, &graph, &dofs);
+        let mut seen = vec![false; dofs.n_eq];
+        for &e in &order {
+            assert!(!seen[e]);
+            seen[e] = true;
+        }
+        assert!(seen.iter().all(|&s| s));
+        let k = crate::assembly::Stiffness::new(&parts, &dofs, &graph);
+        let nnz = |o: Option<&[usize]>| {
+            crate::solve::linear::CholeskySolver::new(k.matrix(), o)
+                .unwrap()
+                .factor_nnz()
+        };
+        let natural: Vec<usize> = (0..dofs.n_eq).collect();
+        let (nd, amd, nat) = (nnz(Some(&order)), nnz(None), nnz(Some(&natural)));
+        assert!(nd < nat / 2, "nd {nd}, natural {nat}");
+        assert!((nd as f64) < 1.3 * amd as f64, "nd {nd}, amd {amd}");
+    }
+}
