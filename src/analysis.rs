@@ -29,8 +29,10 @@ pub struct Timings {
     pub solve: SolveTimings,
     /// Stress recovery.
     pub stress_recovery: f64,
-    /// Writing files (VTU, CSV, JSON, PNG).
+    /// Writing the per-increment files (VTU, PVD, CSV, JSON).
     pub output: f64,
+    /// Rendering the PNG pictures.
+    pub pictures: f64,
     /// Wall time of the whole run.
     pub total: f64,
 }
@@ -303,6 +305,7 @@ impl Analysis {
         let mut output_time = 0.0;
         let mut recovery_time = 0.0;
 
+        let grid = self.parts_grid();
         let result = {
             let this = &*self;
             let mut solver = match Solver::new(
@@ -335,7 +338,7 @@ impl Analysis {
                 let rows = this.pair_rows(inc);
                 let parts_file = format!("parts_{:04}.vtu", inc.index);
                 let pairs_file = format!("pairs_{:04}.vtu", inc.index);
-                this.write_parts_vtu(&vtu_dir.join(&parts_file), inc, &stresses)?;
+                this.write_parts_vtu(&vtu_dir.join(&parts_file), &grid, inc, &stresses)?;
                 this.write_pairs_vtu(&vtu_dir.join(&pairs_file), inc, &rows)?;
                 pvd.push(vtu::PvdEntry {
                     time: inc.lambda,
@@ -375,7 +378,7 @@ impl Analysis {
         let stresses = self.recover(&inc.u);
         recovery_time += t.elapsed().as_secs_f64();
         self.write_pictures(out, &inc, &stresses)?;
-        output_time += t.elapsed().as_secs_f64();
+        summary.timings.pictures = t.elapsed().as_secs_f64();
         summary.status = "completed".into();
         summary.timings.meshing = self.timings.meshing;
         summary.timings.pair_search = self.timings.pair_search;
@@ -642,35 +645,49 @@ impl Analysis {
             .collect()
     }
 
+    /// The parts' geometry for the VTU files, built once per run.
+    fn parts_grid(&self) -> PartsGrid {
+        let tris = self.global_triangles();
+        let mut part_point = Vec::with_capacity(self.dofs.n_nodes());
+        let mut part_cell = Vec::with_capacity(tris.len());
+        for (p, part) in self.model.parts.iter().enumerate() {
+            part_point.extend(std::iter::repeat_n(p as i32, part.mesh.nodes.len()));
+            part_cell.extend(std::iter::repeat_n(p as i32, part.mesh.triangles.len()));
+        }
+        PartsGrid {
+            points: self.global_points(),
+            connectivity: tris.iter().flatten().copied().collect(),
+            offsets: (1..=tris.len()).map(|i| 3 * i).collect(),
+            kinds: vec![vtu::CellKind::Triangle; tris.len()],
+            part_point,
+            part_cell,
+        }
+    }
+
     fn write_parts_vtu(
         &self,
         path: &Path,
+        grid: &PartsGrid,
         inc: &IncrementResult,
         stresses: &[PartStress],
     ) -> Result<()> {
-        let points = self.global_points();
-        let tris = self.global_triangles();
-        let connectivity: Vec<usize> = tris.iter().flatten().copied().collect();
-        let offsets: Vec<usize> = (1..=tris.len()).map(|i| 3 * i).collect();
-        let kinds: Vec<vtu::CellKind> = tris.iter().map(|_| vtu::CellKind::Triangle).collect();
-        let mut nodal: [Vec<f64>; 4] = Default::default();
-        let mut cell: [Vec<f64>; 4] = Default::default();
-        let mut part_point = Vec::with_capacity(points.len());
-        let mut part_cell = Vec::with_capacity(tris.len());
-        for (p, (part, s)) in self.model.parts.iter().zip(stresses).enumerate() {
+        let (points, connectivity, offsets, kinds) =
+            (&grid.points, &grid.connectivity, &grid.offsets, &grid.kinds);
+        let (part_point, part_cell) = (&grid.part_point, &grid.part_cell);
+        let mut nodal: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(points.len()));
+        let mut cell: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(part_cell.len()));
+        for (part, s) in self.model.parts.iter().zip(stresses) {
             for v in &s.nodal {
                 for c in 0..3 {
                     nodal[c].push(v[c]);
                 }
                 nodal[3].push(part.material.von_mises(*v));
-                part_point.push(p as i32);
             }
             for v in &s.element {
                 for c in 0..3 {
                     cell[c].push(v[c]);
                 }
                 cell[3].push(part.material.von_mises(*v));
-                part_cell.push(p as i32);
             }
         }
         let names = ["sigma_xx", "sigma_yy", "sigma_xy", "von_mises"];
@@ -689,7 +706,7 @@ impl Analysis {
         point_data.push(vtu::DataArray {
             name: "part_id",
             components: 1,
-            values: vtu::Values::I32(&part_point),
+            values: vtu::Values::I32(part_point),
         });
         let mut cell_data: Vec<vtu::DataArray> = names
             .iter()
@@ -703,15 +720,15 @@ impl Analysis {
         cell_data.push(vtu::DataArray {
             name: "part_id",
             components: 1,
-            values: vtu::Values::I32(&part_cell),
+            values: vtu::Values::I32(part_cell),
         });
         vtu::write_vtu(
             path,
             &vtu::Grid {
-                points: &points,
-                connectivity: &connectivity,
-                offsets: &offsets,
-                kinds: &kinds,
+                points,
+                connectivity,
+                offsets,
+                kinds,
                 point_data: &point_data,
                 cell_data: &cell_data,
                 field_data: &[("TIME", inc.lambda)],
@@ -914,6 +931,16 @@ fn nice_floor(x: f64) -> f64 {
     } else {
         1.0
     }
+}
+
+/// The parts' points and cells as written to every VTU of a run.
+struct PartsGrid {
+    points: Vec<[f64; 2]>,
+    connectivity: Vec<usize>,
+    offsets: Vec<usize>,
+    kinds: Vec<vtu::CellKind>,
+    part_point: Vec<i32>,
+    part_cell: Vec<i32>,
 }
 
 /// Peak resident set size of this process in bytes (Linux `VmHWM`), if known.

@@ -27,7 +27,9 @@ pub fn write_atomic(
         let mut w = BufWriter::with_capacity(1 << 20, file);
         fill(&mut w)?;
         w.flush()?;
-        w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        // No fsync: the rename makes the file appear whole or not at all if cfe
+        // stops; durability against power loss is left to the operating system.
+        drop(w.into_inner().map_err(|e| e.into_error())?);
         std::fs::rename(&tmp, path)
     })();
     result.map_err(|e| {

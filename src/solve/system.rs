@@ -142,51 +142,55 @@ impl ContactSystem {
         if cost_update >= self.t_factor || memory > self.budget {
             return self.refactor_and_solve(interfaces, dofs, states, rhs);
         }
-        // New correction columns and their solves.
+        // New correction columns, solved in one blocked solve together with the
+        // right-hand side (y = K₀⁻¹ b).
         let t = Instant::now();
-        if !new.is_empty() {
-            let first = self.columns.len();
-            for &(i, k) in &new {
-                let iface = &interfaces[i];
-                let c = &iface.elements[k];
-                // Bonding a pair adds c_k w wᵀ; opening it removes it.
-                let sign = if states[i][k] == PairState::Bonded {
-                    1.0
-                } else {
-                    -1.0
+        let first = self.columns.len();
+        for &(i, k) in &new {
+            let iface = &interfaces[i];
+            let c = &iface.elements[k];
+            // Bonding a pair adds c_k w wᵀ; opening it removes it.
+            let sign = if states[i][k] == PairState::Bonded {
+                1.0
+            } else {
+                -1.0
+            };
+            let r = rotation(c.normal);
+            let b = [-c.shape[0], -c.shape[1], -c.shape[2], 1.0];
+            let g = dofs.cfe_dofs(iface, c);
+            self.cached.insert((i, k), self.columns.len());
+            for (row, ck) in [(0, iface.c_n), (1, iface.c_s)] {
+                let mut col = Column {
+                    eq: Vec::with_capacity(8),
+                    w: Vec::with_capacity(8),
+                    weight: sign * ck,
                 };
-                let r = rotation(c.normal);
-                let b = [-c.shape[0], -c.shape[1], -c.shape[2], 1.0];
-                let g = dofs.cfe_dofs(iface, c);
-                self.cached.insert((i, k), self.columns.len());
-                for (row, ck) in [(0, iface.c_n), (1, iface.c_s)] {
-                    let mut col = Column {
-                        eq: Vec::with_capacity(8),
-                        w: Vec::with_capacity(8),
-                        weight: sign * ck,
-                    };
-                    for (p, &gp) in g.iter().enumerate() {
-                        let e = dofs.eq[gp];
-                        if e != FIXED {
-                            col.eq.push(e);
-                            col.w.push(b[p / 2] * r[row][p % 2]);
-                        }
+                for (p, &gp) in g.iter().enumerate() {
+                    let e = dofs.eq[gp];
+                    if e != FIXED {
+                        col.eq.push(e);
+                        col.w.push(b[p / 2] * r[row][p % 2]);
                     }
-                    self.columns.push(col);
                 }
+                self.columns.push(col);
             }
-            let added = self.columns.len() - first;
-            let start = self.z.len();
-            self.z.resize(start + added * n, 0.0);
-            for (j, col) in self.columns[first..].iter().enumerate() {
-                for (&e, &w) in col.eq.iter().zip(&col.w) {
-                    self.z[start + j * n + e] = w;
-                }
-            }
-            let ts = Instant::now();
-            self.chol.solve_columns(&mut self.z[start..], n, added);
-            self.t_column = ts.elapsed().as_secs_f64() / added as f64;
         }
+        let added = self.columns.len() - first;
+        let start = self.z.len();
+        self.z.resize(start + (added + 1) * n, 0.0);
+        for (j, col) in self.columns[first..].iter().enumerate() {
+            for (&e, &w) in col.eq.iter().zip(&col.w) {
+                self.z[start + j * n + e] = w;
+            }
+        }
+        self.z[start + added * n..].copy_from_slice(rhs);
+        let ts = Instant::now();
+        self.chol.solve_columns(&mut self.z[start..], n, added + 1);
+        if added > 0 {
+            self.t_column = ts.elapsed().as_secs_f64() / (added + 1) as f64;
+        }
+        rhs.copy_from_slice(&self.z[start + added * n..]);
+        self.z.truncate(start + added * n);
         // Woodbury on the columns of the flipped pairs.
         let idx: Vec<usize> = flips
             .iter()
@@ -196,7 +200,6 @@ impl ContactSystem {
             })
             .collect();
         let r = idx.len();
-        self.chol.solve_in_place(rhs); // y = K₀⁻¹ b
         let mut m = faer::Mat::<f64>::zeros(r, r);
         let mut t_vec = faer::Mat::<f64>::zeros(r, 1);
         for (a, &ca) in idx.iter().enumerate() {
