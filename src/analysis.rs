@@ -169,6 +169,8 @@ pub struct Summary {
     pub factorizations: usize,
     /// Low-rank updates performed instead of factorizations.
     pub low_rank_updates: usize,
+    /// Seconds of the first numeric factorization.
+    pub first_factorization_seconds: Option<f64>,
     /// Largest displacement at the last converged increment.
     pub max_displacement: MaxDisplacement,
     /// Reactions per support at the last converged increment.
@@ -233,6 +235,17 @@ impl Analysis {
             dofs,
             timings,
         })
+    }
+
+    /// Makes every interface follow `law` (e.g. to compare tied and contact runs of
+    /// the same model).
+    pub fn override_law(&mut self, law: crate::coupling::Law) {
+        for def in &mut self.model.interfaces {
+            def.law = law;
+        }
+        for iface in &mut self.interfaces {
+            iface.law = law;
+        }
     }
 
     /// A human-readable description of the prepared model (for `cfe check`).
@@ -360,6 +373,7 @@ impl Analysis {
             });
             summary.timings.solve = solver.timings.clone();
             (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
+            summary.first_factorization_seconds = solver.first_factorization_seconds();
             r
         };
         let inc = match result {
@@ -398,10 +412,21 @@ impl Analysis {
     /// iteration needs few, small state changes. `None` when no coarser level exists.
     pub fn coarse_states(&self) -> Option<Vec<Vec<PairState>>> {
         let m = &self.model;
-        if m.refine < 4 || m.settings.scheme != Scheme::ActiveSet || self.interfaces.is_empty() {
+        let contact = self
+            .interfaces
+            .iter()
+            .any(|i| i.law == crate::coupling::Law::Contact);
+        if m.refine < 4 || m.settings.scheme != Scheme::ActiveSet || !contact {
             return None;
         }
-        let coarse = Analysis::new(m.with_refine(m.refine / 4).ok()?).ok()?;
+        let mut coarse = Analysis::new(m.with_refine(m.refine / 4).ok()?).ok()?;
+        if coarse.interfaces.len() != self.interfaces.len() {
+            return None;
+        }
+        // Same laws as this model (they may have been overridden after reading).
+        for (c, i) in coarse.interfaces.iter_mut().zip(&self.interfaces) {
+            c.law = i.law;
+        }
         let f = assembly::external_force(&coarse.model.loads, &coarse.dofs);
         let settings = crate::model::Settings {
             increments: 1,
@@ -474,6 +499,7 @@ impl Analysis {
             iteration_history: Vec::new(),
             factorizations: 0,
             low_rank_updates: 0,
+            first_factorization_seconds: None,
             max_displacement: MaxDisplacement::default(),
             reactions: Vec::new(),
             applied: [0.0; 2],

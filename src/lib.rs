@@ -11,10 +11,11 @@
 //! [`fem`] (materials, element routines) → [`coupling`] (pair search, CFEs, laws) →
 //! [`assembly`] (DOF map, sparse pattern, global K and F) → [`solve`] (sparse
 //! Cholesky, contact schemes) → [`output`] (VTU, CSV, JSON, PNG).
-//! [`analysis`] strings them together for one problem.
+//! [`analysis`] strings them together for one problem; [`bench`] measures it at scale.
 
 pub mod analysis;
 pub mod assembly;
+pub mod bench;
 pub mod coupling;
 pub mod error;
 pub mod fem;

@@ -26,6 +26,22 @@ enum Command {
         /// Multiply every structured part's cell counts by K.
         #[arg(long, default_value_t = 1, value_name = "K")]
         refine: usize,
+        /// Make every interface follow this law (rigid or contact) instead of the file's.
+        #[arg(long, value_parser = ["rigid", "contact"])]
+        law: Option<String>,
+    },
+    /// Benchmark: run a problem with the rigid and the contact law at growing
+    /// refinement and write benchmarks.md and benchmarks.png.
+    Bench {
+        /// The problem file (default: the seed's plate on a base).
+        #[arg(long, default_value = "examples/plate_on_base.toml")]
+        problem: PathBuf,
+        /// Refine until about this many unknowns.
+        #[arg(long, default_value_t = 4_200_000)]
+        max_unknowns: usize,
+        /// Where to write the report.
+        #[arg(long, default_value = "docs")]
+        out: PathBuf,
     },
     /// Read the problem, mesh it and find the coupling pairs, without solving.
     Check {
@@ -51,10 +67,23 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             print!("{}", a.describe());
             Ok(())
         }
+        Command::Bench {
+            problem,
+            max_unknowns,
+            out,
+        } => {
+            let exe = std::env::current_exe().context("cannot locate the cfe executable")?;
+            cfe::bench::run(&exe, &problem, max_unknowns, &out, &mut |line| {
+                println!("{line}")
+            })?;
+            println!("wrote {}", out.join("benchmarks.md").display());
+            Ok(())
+        }
         Command::Run {
             problem,
             out,
             refine,
+            law,
         } => {
             let out = out.unwrap_or_else(|| {
                 let stem = problem
@@ -64,6 +93,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 PathBuf::from("results").join(stem)
             });
             let mut a = Analysis::from_file(&problem, refine)?;
+            match law.as_deref() {
+                Some("rigid") => a.override_law(cfe::coupling::Law::Rigid),
+                Some("contact") => a.override_law(cfe::coupling::Law::Contact),
+                _ => {}
+            }
             eprint!("{}", a.describe());
             let bar = ProgressBar::new(a.model.settings.increments as u64);
             bar.set_style(

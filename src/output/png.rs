@@ -46,7 +46,8 @@ const WIDTH: u32 = 1600;
 const FONT: &str = "sans-serif";
 static FONT_ONCE: Once = Once::new();
 
-fn register_font() {
+/// Registers the bundled font with plotters (once).
+pub(crate) fn register_font() {
     FONT_ONCE.call_once(|| {
         // The bundled DejaVu Sans (see assets/fonts/DejaVuSans-LICENSE.txt).
         let bytes: &'static [u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");

@@ -51,6 +51,8 @@ pub struct Iteration {
     pub method: Option<Method>,
     /// Pairs whose state the law changed after this solve.
     pub changed: usize,
+    /// Seconds spent on this iteration (solve, internal forces, state update).
+    pub seconds: f64,
 }
 
 /// The converged result of one increment.
@@ -155,6 +157,11 @@ impl<'a> Solver<'a> {
         self.system.factor_nnz()
     }
 
+    /// Seconds of the first numeric factorization (None before it).
+    pub fn first_factorization_seconds(&self) -> Option<f64> {
+        self.system.first_factor_seconds
+    }
+
     /// Numeric factorizations and low-rank updates performed so far.
     pub fn solve_counts(&self) -> (usize, usize) {
         (self.system.factorizations, self.system.updates)
@@ -201,11 +208,17 @@ impl<'a> Solver<'a> {
                     r
                 }
                 Scheme::Implex => {
+                    let t = Instant::now();
                     let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
                     // States for the next increment from this increment's jumps.
                     let next = self.states_from(&u, &HashSet::new());
                     let changed = count_changes(&next, &states);
-                    let history = vec![Iteration { method, changed }];
+                    let seconds = t.elapsed().as_secs_f64();
+                    let history = vec![Iteration {
+                        method,
+                        changed,
+                        seconds,
+                    }];
                     let r = self.finish(inc, lambda, history, u, f_int, states, Vec::new());
                     states = next;
                     r
@@ -230,6 +243,7 @@ impl<'a> Solver<'a> {
         let mut seen: Vec<Vec<Vec<PairState>>> = vec![states.clone()];
         let mut history = Vec::new();
         for _ in 1..=self.settings.max_iterations {
+            let t = Instant::now();
             let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
             let mut next = self.states_from(&u, locked);
             if let Some(pos) = seen.iter().position(|h| *h == next)
@@ -251,6 +265,7 @@ impl<'a> Solver<'a> {
             history.push(Iteration {
                 method,
                 changed: count_changes(&next, &states),
+                seconds: t.elapsed().as_secs_f64(),
             });
             if next == states {
                 let mut settled: Vec<_> = locked.iter().copied().collect();

@@ -63,6 +63,8 @@ pub struct ContactSystem {
     pub updates: usize,
     /// Seconds in numeric factorizations.
     pub factor_seconds: f64,
+    /// Seconds of the first numeric factorization.
+    pub first_factor_seconds: Option<f64>,
     /// Seconds in solves (including update columns).
     pub solve_seconds: f64,
 }
@@ -84,6 +86,7 @@ impl ContactSystem {
             factorizations: 0,
             updates: 0,
             factor_seconds: 0.0,
+            first_factor_seconds: None,
             solve_seconds: 0.0,
         }
     }
@@ -239,6 +242,7 @@ impl ContactSystem {
         self.chol.factorize(self.k.matrix())?;
         self.t_factor = t.elapsed().as_secs_f64();
         self.factor_seconds += self.t_factor;
+        self.first_factor_seconds.get_or_insert(self.t_factor);
         self.factorizations += 1;
         self.base = Some(states.to_vec());
         let t = Instant::now();

@@ -1,0 +1,378 @@
+//! Benchmark: runs a problem (by default the seed's plate on a base) with the
+//! `rigid` and the `contact` law at refinements K = 1, 2, 4, … up to a number of
+//! unknowns, each run in its own process (so peak memory is that run's), and
+//! writes `benchmarks.md` with the phase timings and a log–log picture of time and
+//! memory against unknowns.
+
+use crate::error::{Error, Result};
+use plotters::prelude::*;
+use serde_json::Value;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// One benchmark run: its law, refinement and the summary it wrote.
+pub struct Case {
+    /// `rigid` or `contact`.
+    pub law: &'static str,
+    /// Refinement factor.
+    pub refine: usize,
+    /// The run's `summary.json`.
+    pub summary: Value,
+}
+
+/// The refinement factors to run: 1, 2, 4, … doubling while within
+/// `max_unknowns`, then the factor that reaches it (replacing the last doubling when
+/// within 25 % of it; unknowns grow as K² in 2D).
+pub fn refinements(unknowns_at_1: usize, max_unknowns: usize) -> Vec<usize> {
+    let mut ks = vec![1usize];
+    while unknowns_at_1 * (2 * ks.last().unwrap()).pow(2) <= max_unknowns {
+        ks.push(ks.last().unwrap() * 2);
+    }
+    let last = *ks.last().unwrap();
+    let reach = ((max_unknowns as f64 / unknowns_at_1 as f64).sqrt()).ceil() as usize;
+    if reach > last {
+        if reach as f64 <= 1.25 * last as f64 && ks.len() > 1 {
+            *ks.last_mut().unwrap() = reach;
+        } else {
+            ks.push(reach);
+        }
+    }
+    ks
+}
+
+/// Runs the benchmark with the `cfe` executable `exe` and writes the report into
+/// `out` (`benchmarks.md`, `benchmarks.png`). `progress` receives one line per run.
+pub fn run(
+    exe: &Path,
+    problem: &Path,
+    max_unknowns: usize,
+    out: &Path,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Vec<Case>> {
+    std::fs::create_dir_all(out).map_err(|e| Error::output(out, e))?;
+    let scratch = std::env::temp_dir().join(format!("cfe-bench-{}", std::process::id()));
+    let run_one = |law: &'static str, refine: usize| -> Result<Case> {
+        let dir = scratch.join(format!("{law}-{refine}"));
+        let status = Command::new(exe)
+            .arg("run")
+            .arg(problem)
+            .args(["--refine", &refine.to_string(), "--law", law, "--out"])
+            .arg(&dir)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .map_err(|e| Error::output(exe, format!("cannot start the benchmark run: {e}")))?;
+        let summary_path = dir.join("summary.json");
+        let text =
+            std::fs::read_to_string(&summary_path).map_err(|e| Error::output(&summary_path, e))?;
+        let summary: Value =
+            serde_json::from_str(&text).map_err(|e| Error::output(&summary_path, e))?;
+        let _ = std::fs::remove_dir_all(&dir);
+        if !status.success() {
+            return Err(Error::output(
+                problem,
+                format!(
+                    "benchmark run {law} K={refine} failed: {}",
+                    summary["error"]
+                ),
+            ));
+        }
+        Ok(Case {
+            law,
+            refine,
+            summary,
+        })
+    };
+    let first = run_one("contact", 1)?;
+    let n1 = first.summary["unknowns"].as_u64().unwrap_or(1) as usize;
+    let ks = refinements(n1, max_unknowns);
+    let mut cases = Vec::new();
+    for law in ["rigid", "contact"] {
+        for &k in &ks {
+            let case = run_one(law, k)?;
+            progress(&format!(
+                "{law:>7} K = {k:>3}: {:>9} unknowns, {:>8.2} s, {:>7.0} MiB",
+                case.summary["unknowns"],
+                case.summary["timings"]["total"].as_f64().unwrap_or(0.0),
+                case.summary["peak_memory_bytes"].as_f64().unwrap_or(0.0) / 1048576.0
+            ));
+            cases.push(case);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    plot(&out.join("benchmarks.png"), &cases)?;
+    let md = report(problem, &cases);
+    super::output::write_atomic(&out.join("benchmarks.md"), |w| w.write_all(md.as_bytes()))?;
+    Ok(cases)
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or(0.0)
+}
+
+fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
+    let mem = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .next()
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|k| k.parse::<f64>().ok())
+        })
+        .map(|kb| format!("{:.0} GiB", kb / 1048576.0))
+        .unwrap_or_else(|| "unknown memory".into());
+    format!("{cpu}, {cores} cores, {mem}")
+}
+
+fn commit() -> String {
+    Command::new("git")
+        .args(["rev-parse", "--short", "HEAD"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+fn report(problem: &Path, cases: &[Case]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Benchmark: {} refined\n", problem.display());
+    let _ = writeln!(
+        s,
+        "Generated by `cargo run --release -- bench` (see README). Machine: {}. Commit `{}`. Each row is one `cfe run --refine K --law LAW` in its own process, 10 load increments, all outputs written (a VTU per increment, CSV, JSON, two PNGs). Times in seconds.\n",
+        machine(),
+        commit()
+    );
+    let _ = writeln!(
+        s,
+        "Phases: *mesh* meshing, *pairs* pair search and DOF numbering, *coarse* solving the 4× coarser model for the active-set's starting pattern, *symbolic* node graph + nested-dissection ordering + sparsity pattern + symbolic factorization, *asm* assembly of values and right-hand sides, *# fact* and *# upd* the numbers of numeric factorizations and of low-rank updates, *fact* the seconds in numeric factorizations, *1st fact* the first of them, *solve* triangular solves including low-rank update columns, *later it.* the slowest active-set iteration after the first (and its ratio to the first factorization), *update* state updates, support checks and internal forces, *stress* stress recovery, *output* VTU/CSV/JSON of all increments, *png* the two pictures.\n"
+    );
+    for law in ["rigid", "contact"] {
+        let _ = writeln!(s, "## `{law}` law\n");
+        let _ = writeln!(
+            s,
+            "| K | unknowns | pairs | open | iterations | # fact | # upd | mesh | pairs | coarse | symbolic | asm | 1st fact | fact | solve | later it. | update | stress | output | png | **total** | peak MiB |"
+        );
+        let _ = writeln!(s, "|{}", "---|".repeat(22));
+        for c in cases.iter().filter(|c| c.law == law) {
+            let m = &c.summary;
+            let t = &m["timings"];
+            let pairs: u64 = m["interfaces"]
+                .as_array()
+                .map(|a| a.iter().map(|i| i["pairs"].as_u64().unwrap_or(0)).sum())
+                .unwrap_or(0);
+            let open: u64 = m["interfaces"]
+                .as_array()
+                .map(|a| a.iter().map(|i| i["open"].as_u64().unwrap_or(0)).sum())
+                .unwrap_or(0);
+            let history = m["iteration_history"]
+                .as_array()
+                .cloned()
+                .unwrap_or_default();
+            let its: Vec<String> = history
+                .iter()
+                .map(|h| h.as_array().map_or(0, |a| a.len()).to_string())
+                .collect();
+            let first_fact = f(&m["first_factorization_seconds"]);
+            let later = history
+                .iter()
+                .flat_map(|h| h.as_array().cloned().unwrap_or_default())
+                .skip(1)
+                .map(|it| f(&it["seconds"]))
+                .fold(0.0, f64::max);
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} ({:.2}×) | {:.2} | {:.2} | {:.2} | {:.2} | **{:.2}** | {:.0} |",
+                c.refine,
+                m["unknowns"],
+                pairs,
+                open,
+                its.join(" "),
+                m["factorizations"],
+                m["low_rank_updates"],
+                f(&t["meshing"]),
+                f(&t["pair_search"]),
+                f(&t["coarse_start"]),
+                f(&t["pattern_and_symbolic"]),
+                f(&t["assembly"]),
+                first_fact,
+                f(&t["factorization"]),
+                f(&t["solve"]),
+                later,
+                if first_fact > 0.0 {
+                    later / first_fact
+                } else {
+                    0.0
+                },
+                f(&t["contact_update"]),
+                f(&t["stress_recovery"]),
+                f(&t["output"]),
+                f(&t["pictures"]),
+                f(&t["total"]),
+                f(&m["peak_memory_bytes"]) / 1048576.0
+            );
+        }
+        let _ = writeln!(s);
+    }
+    // Convergence of the scaled runs: load-point displacement and contact-zone ends.
+    let _ = writeln!(s, "## Convergence of the contact runs\n");
+    let _ = writeln!(
+        s,
+        "| K | unknowns | max displacement | at x | bonded pairs | open pairs |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    for c in cases.iter().filter(|c| c.law == "contact") {
+        let m = &c.summary;
+        let bonded: u64 = m["interfaces"]
+            .as_array()
+            .map(|a| a.iter().map(|i| i["bonded"].as_u64().unwrap_or(0)).sum())
+            .unwrap_or(0);
+        let open: u64 = m["interfaces"]
+            .as_array()
+            .map(|a| a.iter().map(|i| i["open"].as_u64().unwrap_or(0)).sum())
+            .unwrap_or(0);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.6e} | {} | {} | {} |",
+            c.refine,
+            m["unknowns"],
+            f(&m["max_displacement"]["value"]),
+            m["max_displacement"]["x"],
+            bonded,
+            open
+        );
+    }
+    let _ = writeln!(s, "\n![time and memory against unknowns](benchmarks.png)\n");
+    s
+}
+
+fn plot(path: &PathBuf, cases: &[Case]) -> Result<()> {
+    crate::output::png::register_font();
+    let err = |e: &dyn std::fmt::Display| Error::output(path, e);
+    let (w, h) = (1400u32, 600u32);
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| err(&e))?;
+        let (left, right) = root.split_horizontally(w / 2);
+        let series = |law: &str, key: fn(&Value) -> f64| -> Vec<(f64, f64)> {
+            cases
+                .iter()
+                .filter(|c| c.law == law)
+                .map(|c| (f(&c.summary["unknowns"]), key(&c.summary)))
+                .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+                .collect()
+        };
+        fn total(m: &Value) -> f64 {
+            f(&m["timings"]["total"])
+        }
+        fn memory(m: &Value) -> f64 {
+            f(&m["peak_memory_bytes"]) / 1048576.0
+        }
+        type Key = fn(&Value) -> f64;
+        let panels = [
+            (&left, "run time", "seconds", total as Key),
+            (&right, "peak memory", "MiB", memory as Key),
+        ];
+        for (area, title, unit, key) in panels {
+            let all: Vec<(f64, f64)> = ["rigid", "contact"]
+                .iter()
+                .flat_map(|l| series(l, key))
+                .collect();
+            if all.is_empty() {
+                continue;
+            }
+            let (x0, x1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+                (a.min(p.0), b.max(p.0))
+            });
+            let (y0, y1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+                (a.min(p.1), b.max(p.1))
+            });
+            let mut chart = ChartBuilder::on(area)
+                .caption(title, ("sans-serif", 26))
+                .margin(20)
+                .x_label_area_size(50)
+                .y_label_area_size(70)
+                .build_cartesian_2d(
+                    (x0 * 0.7..x1 * 1.4).log_scale(),
+                    (y0 * 0.7..y1 * 1.4).log_scale(),
+                )
+                .map_err(|e| err(&e))?;
+            chart
+                .configure_mesh()
+                .x_desc("unknowns")
+                .y_desc(unit)
+                .label_style(("sans-serif", 16))
+                .draw()
+                .map_err(|e| err(&e))?;
+            for (law, colour) in [("rigid", BLUE), ("contact", RED)] {
+                let pts = series(law, key);
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2)))
+                    .map_err(|e| err(&e))?
+                    .label(law)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                    });
+                chart
+                    .draw_series(pts.iter().map(|&p| Circle::new(p, 4, colour.filled())))
+                    .map_err(|e| err(&e))?;
+            }
+            // Reference slope n^1.5 through the first contact point.
+            if let Some(&(xa, ya)) = series("contact", key).first() {
+                let line: Vec<(f64, f64)> = [xa, x1]
+                    .iter()
+                    .map(|&x| (x, ya * (x / xa).powf(1.5)))
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(line, BLACK.stroke_width(1)))
+                    .map_err(|e| err(&e))?
+                    .label("n^1.5")
+                    .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+            }
+            chart
+                .configure_series_labels()
+                .border_style(BLACK)
+                .background_style(WHITE)
+                .label_font(("sans-serif", 16))
+                .position(SeriesLabelPosition::UpperLeft)
+                .draw()
+                .map_err(|e| err(&e))?;
+        }
+        root.present().map_err(|e| err(&e))?;
+    }
+    let mut png = Vec::new();
+    {
+        use image::ImageEncoder;
+        image::codecs::png::PngEncoder::new(&mut png)
+            .write_image(&buf, w, h, image::ColorType::Rgb8)
+            .map_err(|e| err(&e))?;
+    }
+    super::output::write_atomic(path, |wr| wr.write_all(&png))
+}
+
+#[cfg(test)]
+mod tests {
+    /// Refinements double up to the target and end with the factor that reaches it.
+    #[test]
+    fn refinement_sequence() {
+        assert_eq!(
+            super::refinements(910, 4_000_000),
+            vec![1, 2, 4, 8, 16, 32, 67]
+        );
+        assert_eq!(super::refinements(910, 100_000), vec![1, 2, 4, 8, 11]);
+        assert_eq!(super::refinements(910, 910), vec![1]);
+    }
+}
