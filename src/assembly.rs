@@ -310,19 +310,39 @@ pub fn internal_force(
     dofs: &DofMap,
     u: &[f64],
 ) -> Vec<f64> {
-    let mut f = vec![0.0; u.len()];
-    for (p, part) in parts.iter().enumerate() {
-        let d = part.material.d_matrix();
-        for e in 0..part.mesh.triangles.len() {
-            let x = part.mesh.triangles[e].map(|n| part.mesh.nodes[n]);
-            let ke = t3::stiffness(&x, &d, part.material.thickness);
-            let g = dofs.t3_dofs(parts, p, e);
-            let fe = t3::mul(&ke, &g.map(|i| u[i]));
-            for (a, &ga) in g.iter().enumerate() {
-                f[ga] += fe[a];
+    use rayon::prelude::*;
+    // Part elements in one chunk per thread, each summed into its own vector.
+    let elements: Vec<(usize, usize)> = parts
+        .iter()
+        .enumerate()
+        .flat_map(|(p, part)| (0..part.mesh.triangles.len()).map(move |e| (p, e)))
+        .collect();
+    let threads = rayon::current_num_threads().max(1);
+    let chunk = elements.len().div_ceil(threads).max(1);
+    let materials: Vec<[[f64; 3]; 3]> = parts.iter().map(|p| p.material.d_matrix()).collect();
+    let mut f = elements
+        .par_chunks(chunk)
+        .map(|chunk| {
+            let mut f = vec![0.0; u.len()];
+            for &(p, e) in chunk {
+                let part = &parts[p];
+                let x = part.mesh.triangles[e].map(|n| part.mesh.nodes[n]);
+                let ke = t3::stiffness(&x, &materials[p], part.material.thickness);
+                let g = dofs.t3_dofs(parts, p, e);
+                let fe = t3::mul(&ke, &g.map(|i| u[i]));
+                for (a, &ga) in g.iter().enumerate() {
+                    f[ga] += fe[a];
+                }
             }
-        }
-    }
+            f
+        })
+        .reduce_with(|mut a, b| {
+            for (x, y) in a.iter_mut().zip(&b) {
+                *x += y;
+            }
+            a
+        })
+        .unwrap_or_else(|| vec![0.0; u.len()]);
     for (iface, st) in interfaces.iter().zip(states) {
         for (c, &s) in iface.elements.iter().zip(st) {
             let g = dofs.cfe_dofs(iface, c);

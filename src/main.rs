@@ -37,7 +37,7 @@ enum Command {
         #[arg(long, default_value = "examples/plate_on_base.toml")]
         problem: PathBuf,
         /// Refine until about this many unknowns.
-        #[arg(long, default_value_t = 4_200_000)]
+        #[arg(long, default_value_t = 4_000_000)]
         max_unknowns: usize,
         /// Where to write the report.
         #[arg(long, default_value = "docs")]

@@ -21,9 +21,10 @@ pub fn recover(part: &Part, u: &[f64]) -> PartStress {
     let mesh = &part.mesh;
     let mut nodal = vec![[0.0; 3]; mesh.nodes.len()];
     let mut weight = vec![0.0; mesh.nodes.len()];
+    use rayon::prelude::*;
     let element: Vec<[f64; 3]> = mesh
         .triangles
-        .iter()
+        .par_iter()
         .map(|tri| {
             let x = tri.map(|n| mesh.nodes[n]);
             let ue: [f64; 6] = std::array::from_fn(|i| u[2 * tri[i / 2] + i % 2]);

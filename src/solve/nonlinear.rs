@@ -5,8 +5,9 @@
 //!
 //! - `active-set`: solve, recompute every pair's state from the new [[u_n]], repeat
 //!   until no state changes. A cycle (a state pattern seen before in the same
-//!   increment) is settled by keeping the flipping pairs bonded — no
-//!   interpenetration, a small tensile force — and iterating on; those pairs are
+//!   increment, or a pair about to change state for the second time in it) is
+//!   settled by keeping the flipping pairs bonded — no interpenetration, a small
+//!   tensile force — and iterating on; those pairs are
 //!   reported as *settled* and stay bonded in the following increments (the loads
 //!   are proportional, so the same cycle would recur at every load level).
 //! - `implex` (the seed's): the states of increment n come from [[u_n]] of increment
@@ -241,6 +242,8 @@ impl<'a> Solver<'a> {
         locked: &mut HashSet<(usize, usize)>,
     ) -> Result<IncrementResult> {
         let mut seen: Vec<Vec<Vec<PairState>>> = vec![states.clone()];
+        let mut flips: std::collections::HashMap<(usize, usize), u32> =
+            std::collections::HashMap::new();
         let mut history = Vec::new();
         for _ in 1..=self.settings.max_iterations {
             let t = Instant::now();
@@ -260,6 +263,21 @@ impl<'a> Solver<'a> {
                 }
                 for &(i, k) in locked.iter() {
                     next[i][k] = PairState::Bonded;
+                }
+            }
+            // A pair about to change state a second time in this increment returns to
+            // a state it already had: it oscillates (a cycle of its own, whatever the
+            // other pairs do). Settle it at once.
+            for (i, (n, s)) in next.iter_mut().zip(&states).enumerate() {
+                for (k, (nk, sk)) in n.iter_mut().zip(s).enumerate() {
+                    if nk != sk {
+                        let count = flips.entry((i, k)).or_insert(0u32);
+                        *count += 1;
+                        if *count >= 2 {
+                            locked.insert((i, k));
+                            *nk = PairState::Bonded;
+                        }
+                    }
                 }
             }
             history.push(Iteration {
