@@ -102,6 +102,9 @@ pub struct InterfaceSummary {
     pub total_force_n: f64,
     /// Largest distance of a coupling node from its host edge.
     pub max_projection_distance: f64,
+    /// Positions of the first and the last bonded pair along the interface (the
+    /// ends of the contact zone); `null` when no pair is bonded.
+    pub bonded_extent: Option<[[f64; 2]; 2]>,
 }
 
 /// The maximum displacement magnitude and where it occurs.
@@ -319,8 +322,12 @@ impl Analysis {
         let mut recovery_time = 0.0;
 
         let grid = self.parts_grid();
-        let result = {
+        // The large parts VTU of each increment is written by a background thread
+        // (at most two in flight) while the next increment is solved and the small
+        // files are written; all writers are joined before returning.
+        let result = std::thread::scope(|scope| -> Result<IncrementResult> {
             let this = &*self;
+            let grid = &grid;
             let mut solver = match Solver::new(
                 &this.model.parts,
                 &this.interfaces,
@@ -343,6 +350,14 @@ impl Analysis {
             summary.timings.coarse_start = t.elapsed().as_secs_f64();
             summary.matrix_nonzeros = solver.matrix_nnz();
             summary.factor_nonzeros = solver.factor_nnz();
+            let mut writers: std::collections::VecDeque<
+                std::thread::ScopedJoinHandle<'_, Result<()>>,
+            > = std::collections::VecDeque::new();
+            let join = |h: std::thread::ScopedJoinHandle<'_, Result<()>>| -> Result<()> {
+                h.join().unwrap_or_else(|_| {
+                    Err(Error::output(&vtu_dir, "a VTU writer thread panicked"))
+                })
+            };
             let r = solver.run(|inc| {
                 let t = Instant::now();
                 let stresses = this.recover(&inc.u);
@@ -351,7 +366,13 @@ impl Analysis {
                 let rows = this.pair_rows(inc);
                 let parts_file = format!("parts_{:04}.vtu", inc.index);
                 let pairs_file = format!("pairs_{:04}.vtu", inc.index);
-                this.write_parts_vtu(&vtu_dir.join(&parts_file), &grid, inc, &stresses)?;
+                if writers.len() >= 2 {
+                    join(writers.pop_front().expect("two writers"))?;
+                }
+                let (path, lambda, u) = (vtu_dir.join(&parts_file), inc.lambda, inc.u.clone());
+                writers.push_back(
+                    scope.spawn(move || this.write_parts_vtu(&path, grid, lambda, &u, &stresses)),
+                );
                 this.write_pairs_vtu(&vtu_dir.join(&pairs_file), inc, &rows)?;
                 pvd.push(vtu::PvdEntry {
                     time: inc.lambda,
@@ -371,11 +392,18 @@ impl Analysis {
                 progress(inc);
                 Ok(())
             });
+            let t = Instant::now();
+            let mut written = Ok(());
+            for h in writers {
+                written = written.and(join(h));
+            }
+            output_time += t.elapsed().as_secs_f64();
             summary.timings.solve = solver.timings.clone();
             (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
             summary.first_factorization_seconds = solver.first_factorization_seconds();
-            r
-        };
+            let r = r?;
+            written.map(|_| r)
+        });
         let inc = match result {
             Ok(inc) => inc,
             Err(e) => {
@@ -598,6 +626,14 @@ impl Analysis {
                         .fold(0.0, f64::max),
                     total_force_n: mine.iter().map(|r| r.force_n).sum(),
                     max_projection_distance: iface.max_projection_distance,
+                    bonded_extent: {
+                        let bonded: Vec<&&PairRow> =
+                            mine.iter().filter(|r| r.state == "bonded").collect();
+                        match (bonded.first(), bonded.last()) {
+                            (Some(a), Some(b)) => Some([[a.x, a.y], [b.x, b.y]]),
+                            _ => None,
+                        }
+                    },
                 }
             })
             .collect();
@@ -694,7 +730,8 @@ impl Analysis {
         &self,
         path: &Path,
         grid: &PartsGrid,
-        inc: &IncrementResult,
+        lambda: f64,
+        u: &[f64],
         stresses: &[PartStress],
     ) -> Result<()> {
         let (points, connectivity, offsets, kinds) =
@@ -720,7 +757,7 @@ impl Analysis {
         let mut point_data = vec![vtu::DataArray {
             name: "displacement",
             components: 2,
-            values: vtu::Values::F64(&inc.u),
+            values: vtu::Values::F64(u),
         }];
         for (name, v) in names.iter().zip(&nodal) {
             point_data.push(vtu::DataArray {
@@ -757,7 +794,7 @@ impl Analysis {
                 kinds,
                 point_data: &point_data,
                 cell_data: &cell_data,
-                field_data: &[("TIME", inc.lambda)],
+                field_data: &[("TIME", lambda)],
             },
         )
     }
@@ -856,6 +893,7 @@ impl Analysis {
     ) -> Result<()> {
         let points = self.global_points();
         let tris = self.global_triangles();
+        let outline = png::outline_edges(&tris);
         let syy: Vec<f64> = stresses
             .iter()
             .flat_map(|s| s.nodal.iter().map(|v| v[1]))
@@ -875,6 +913,7 @@ impl Analysis {
             &png::PlotMesh {
                 points: &points,
                 triangles: &tris,
+                outline: Some(&outline),
             },
             &syy,
             &markers,
@@ -933,6 +972,7 @@ impl Analysis {
             &png::PlotMesh {
                 points: &deformed,
                 triangles: &tris,
+                outline: Some(&outline),
             },
             &magnitude,
             12,

@@ -23,7 +23,8 @@ pub struct Case {
 
 /// The refinement factors to run: 1, 2, 4, … doubling while within
 /// `max_unknowns`, then the factor that reaches it (replacing the last doubling when
-/// within 25 % of it). `unknowns(K)` predicts the unknowns at refinement K.
+/// within 25 % of it), plus the first with a million unknowns. `unknowns(K)`
+/// predicts the unknowns at refinement K.
 pub fn refinements(unknowns: impl Fn(usize) -> f64, max_unknowns: usize) -> Vec<usize> {
     let max = max_unknowns as f64;
     let mut ks = vec![1usize];
@@ -41,6 +42,16 @@ pub fn refinements(unknowns: impl Fn(usize) -> f64, max_unknowns: usize) -> Vec<
         } else {
             ks.push(reach);
         }
+    }
+    // The first refinement with a million unknowns, a reference size.
+    if max >= 1e6 {
+        let mut k = 1;
+        while unknowns(k) < 1e6 {
+            k += 1;
+        }
+        ks.push(k);
+        ks.sort_unstable();
+        ks.dedup();
     }
     ks
 }
@@ -246,9 +257,13 @@ fn report(problem: &Path, cases: &[Case]) -> String {
     let _ = writeln!(s, "## Convergence of the contact runs\n");
     let _ = writeln!(
         s,
-        "| K | unknowns | max displacement | at x | bonded pairs | open pairs |"
+        "The load-point displacement (the largest displacement, at the middle of the loaded segment) and the ends of the contact zone (the first and last bonded pair along each interface) as the meshes are refined. Differences between successive rows give the observed convergence.\n"
     );
-    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    let _ = writeln!(
+        s,
+        "| K | unknowns | max displacement | at x | bonded pairs | open pairs | contact zone (x from – to) |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|");
     for c in cases.iter().filter(|c| c.law == "contact") {
         let m = &c.summary;
         let bonded: u64 = m["interfaces"]
@@ -259,15 +274,27 @@ fn report(problem: &Path, cases: &[Case]) -> String {
             .as_array()
             .map(|a| a.iter().map(|i| i["open"].as_u64().unwrap_or(0)).sum())
             .unwrap_or(0);
+        let zones: Vec<String> = m["interfaces"]
+            .as_array()
+            .map(|a| {
+                a.iter()
+                    .map(|i| {
+                        let e = &i["bonded_extent"];
+                        format!("{:.3} – {:.3}", f(&e[0][0]), f(&e[1][0]))
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
         let _ = writeln!(
             s,
-            "| {} | {} | {:.6e} | {} | {} | {} |",
+            "| {} | {} | {:.6e} | {} | {} | {} | {} |",
             c.refine,
             m["unknowns"],
             f(&m["max_displacement"]["value"]),
             m["max_displacement"]["x"],
             bonded,
-            open
+            open,
+            zones.join("; ")
         );
     }
     let _ = writeln!(s, "\n![time and memory against unknowns](benchmarks.png)\n");

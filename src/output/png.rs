@@ -11,7 +11,6 @@ use super::write_atomic;
 use crate::error::{Error, Result};
 use plotters::prelude::*;
 use plotters::style::FontStyle;
-use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Once;
 
@@ -22,6 +21,8 @@ pub struct PlotMesh<'a> {
     pub points: &'a [[f64; 2]],
     /// Triangles (indices into `points`).
     pub triangles: &'a [[usize; 3]],
+    /// The outline edges ([`outline_edges`] of the triangles), if already known.
+    pub outline: Option<&'a [[usize; 2]]>,
 }
 
 /// Labels of one picture.
@@ -237,22 +238,28 @@ pub fn isoline_segment(p: &[[f64; 2]; 3], v: &[f64; 3], level: f64) -> Option<[[
     (n == 2).then_some(pts)
 }
 
-/// Edges used by exactly one triangle: the outlines of the parts.
-fn outline_edges(triangles: &[[usize; 3]]) -> Vec<[usize; 2]> {
-    let mut count: HashMap<(usize, usize), u32> = HashMap::with_capacity(3 * triangles.len() / 2);
-    for t in triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-        }
-    }
-    let mut edges: Vec<[usize; 2]> = count
-        .into_iter()
-        .filter(|(_, c)| *c == 1)
-        .map(|((a, b), _)| [a, b])
+/// Edges used by exactly one triangle (the outlines of the parts), sorted.
+pub fn outline_edges(triangles: &[[usize; 3]]) -> Vec<[usize; 2]> {
+    use rayon::prelude::*;
+    // Sort all edges (as sorted node pairs) and keep those that occur once.
+    let mut edges: Vec<(usize, usize)> = triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]))))
         .collect();
-    edges.sort_unstable();
-    edges
+    edges.par_sort_unstable();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i + 1;
+        while j < edges.len() && edges[j] == edges[i] {
+            j += 1;
+        }
+        if j - i == 1 {
+            out.push([edges[i].0, edges[i].1]);
+        }
+        i = j;
+    }
+    out
 }
 
 fn validate(path: &Path, mesh: &PlotMesh, nodal: &[f64]) -> Result<()> {
@@ -512,7 +519,15 @@ fn render(
                 }
             }
         }
-        for [a, b] in outline_edges(mesh.triangles) {
+        let computed;
+        let outline = match mesh.outline {
+            Some(o) => o,
+            None => {
+                computed = outline_edges(mesh.triangles);
+                &computed
+            }
+        };
+        for &[a, b] in outline {
             let (pa, pb) = (tf.px(mesh.points[a]), tf.px(mesh.points[b]));
             if inside(pa) && inside(pb) {
                 root.draw(&PathElement::new(
@@ -661,6 +676,7 @@ mod tests {
         let mesh = PlotMesh {
             points: &points,
             triangles: &triangles,
+            outline: None,
         };
         let labels = PlotLabels {
             title: "t",
@@ -691,6 +707,13 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
     }
 
+    /// The outline of a two-triangle square is its four sides, not the diagonal.
+    #[test]
+    fn outline_of_a_square() {
+        let edges = outline_edges(&[[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(edges, vec![[0, 1], [0, 3], [1, 2], [2, 3]]);
+    }
+
     /// Bad input is an error, not a panic.
     #[test]
     fn bad_input_is_an_error() {
@@ -704,12 +727,14 @@ mod tests {
         let ok = PlotMesh {
             points: &points,
             triangles: &[[0, 1, 2]],
+            outline: None,
         };
         assert!(render_field(p, &ok, &[0.0, 1.0], &[], &labels).is_err());
         assert!(render_field(p, &ok, &[0.0, f64::NAN, 1.0], &[], &labels).is_err());
         let bad = PlotMesh {
             points: &points,
             triangles: &[[0, 1, 5]],
+            outline: None,
         };
         assert!(render_field(p, &bad, &[0.0, 1.0, 2.0], &[], &labels).is_err());
     }
