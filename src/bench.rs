@@ -416,7 +416,7 @@ mod tests {
         assert_eq!((n(1), n(2)), (910.0, 3450.0));
         assert_eq!(
             super::refinements(&n, 4_000_000),
-            vec![1, 2, 4, 8, 16, 32, 70]
+            vec![1, 2, 4, 8, 16, 32, 35, 70]
         );
         assert_eq!(super::refinements(&n, 910), vec![1]);
     }
