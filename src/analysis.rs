@@ -322,6 +322,8 @@ impl Analysis {
         let mut recovery_time = 0.0;
 
         let grid = self.parts_grid();
+        // The stresses of the last converged increment, kept for the pictures.
+        let mut last_stresses: Option<std::sync::Arc<Vec<PartStress>>> = None;
         // The large parts VTU of each increment is written by a background thread
         // (at most two in flight) while the next increment is solved and the small
         // files are written; all writers are joined before returning.
@@ -370,6 +372,8 @@ impl Analysis {
                     join(writers.pop_front().expect("two writers"))?;
                 }
                 let (path, lambda, u) = (vtu_dir.join(&parts_file), inc.lambda, inc.u.clone());
+                let stresses = std::sync::Arc::new(stresses);
+                last_stresses = Some(std::sync::Arc::clone(&stresses));
                 writers.push_back(
                     scope.spawn(move || this.write_parts_vtu(&path, grid, lambda, &u, &stresses)),
                 );
@@ -417,8 +421,10 @@ impl Analysis {
             }
         };
         let t = Instant::now();
-        let stresses = self.recover(&inc.u);
-        recovery_time += t.elapsed().as_secs_f64();
+        let stresses = match last_stresses.take() {
+            Some(s) => s,
+            None => std::sync::Arc::new(self.recover(&inc.u)),
+        };
         self.write_pictures(out, &inc, &stresses)?;
         summary.timings.pictures = t.elapsed().as_secs_f64();
         summary.status = "completed".into();
@@ -908,81 +914,88 @@ impl Analysis {
             .collect();
         let units = &self.model.units;
         let title = format!("{}: σyy", self.model.title);
-        png::render_field(
-            &out.join("sigma_yy.png"),
-            &png::PlotMesh {
-                points: &points,
-                triangles: &tris,
-                outline: Some(&outline),
-            },
-            &syy,
-            &markers,
-            &png::PlotLabels {
-                title: &title,
-                colorbar: &format!("σyy [{}]", units.stress),
-                axis_unit: &units.length,
-            },
-        )?;
-        // Deformed shape, magnified so the largest displacement is 5 % of the model size.
-        let umax = (0..points.len())
-            .map(|g| inc.u[2 * g].hypot(inc.u[2 * g + 1]))
-            .fold(0.0, f64::max);
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in &points {
-            for c in 0..2 {
-                lo[c] = lo[c].min(p[c]);
-                hi[c] = hi[c].max(p[c]);
-            }
-        }
-        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
-        let scale = if umax > 0.0 {
-            nice_floor(0.05 * size / umax)
-        } else {
-            0.0
+        // The two pictures are drawn in parallel.
+        let field = || {
+            png::render_field(
+                &out.join("sigma_yy.png"),
+                &png::PlotMesh {
+                    points: &points,
+                    triangles: &tris,
+                    outline: Some(&outline),
+                },
+                &syy,
+                &markers,
+                &png::PlotLabels {
+                    title: &title,
+                    colorbar: &format!("σyy [{}]", units.stress),
+                    axis_unit: &units.length,
+                },
+            )
         };
-        let deformed: Vec<[f64; 2]> = points
-            .iter()
-            .enumerate()
-            .map(|(g, p)| [p[0] + scale * inc.u[2 * g], p[1] + scale * inc.u[2 * g + 1]])
-            .collect();
-        let magnitude: Vec<f64> = (0..points.len())
-            .map(|g| inc.u[2 * g].hypot(inc.u[2 * g + 1]))
-            .collect();
-        let deformed_markers: Vec<png::PairMarker> = self
-            .interfaces
-            .iter()
-            .flat_map(|iface| {
-                iface
-                    .elements
-                    .iter()
-                    .map(move |c| self.dofs.node(iface.node_part, c.node))
-            })
-            .zip(&rows)
-            .map(|(g, r)| png::PairMarker {
-                at: deformed[g],
-                bonded: r.state == "bonded",
-            })
-            .collect();
-        let title = format!(
-            "{}: total displacement, deformed ×{:.3}",
-            self.model.title, scale
-        );
-        png::render_isolines(
-            &out.join("displacement.png"),
-            &png::PlotMesh {
-                points: &deformed,
-                triangles: &tris,
-                outline: Some(&outline),
-            },
-            &magnitude,
-            12,
-            &deformed_markers,
-            &png::PlotLabels {
-                title: &title,
-                colorbar: &format!("|u| [{}]", units.length),
-                axis_unit: &units.length,
-            },
-        )
+        let isolines = || {
+            // Deformed shape, magnified so the largest displacement is 5 % of the model size.
+            let umax = (0..points.len())
+                .map(|g| inc.u[2 * g].hypot(inc.u[2 * g + 1]))
+                .fold(0.0, f64::max);
+            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+            for p in &points {
+                for c in 0..2 {
+                    lo[c] = lo[c].min(p[c]);
+                    hi[c] = hi[c].max(p[c]);
+                }
+            }
+            let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+            let scale = if umax > 0.0 {
+                nice_floor(0.05 * size / umax)
+            } else {
+                0.0
+            };
+            let deformed: Vec<[f64; 2]> = points
+                .iter()
+                .enumerate()
+                .map(|(g, p)| [p[0] + scale * inc.u[2 * g], p[1] + scale * inc.u[2 * g + 1]])
+                .collect();
+            let magnitude: Vec<f64> = (0..points.len())
+                .map(|g| inc.u[2 * g].hypot(inc.u[2 * g + 1]))
+                .collect();
+            let deformed_markers: Vec<png::PairMarker> = self
+                .interfaces
+                .iter()
+                .flat_map(|iface| {
+                    iface
+                        .elements
+                        .iter()
+                        .map(move |c| self.dofs.node(iface.node_part, c.node))
+                })
+                .zip(&rows)
+                .map(|(g, r)| png::PairMarker {
+                    at: deformed[g],
+                    bonded: r.state == "bonded",
+                })
+                .collect();
+            let title = format!(
+                "{}: total displacement, deformed ×{scale}",
+                self.model.title
+            );
+            png::render_isolines(
+                &out.join("displacement.png"),
+                &png::PlotMesh {
+                    points: &deformed,
+                    triangles: &tris,
+                    outline: Some(&outline),
+                },
+                &magnitude,
+                12,
+                &deformed_markers,
+                &png::PlotLabels {
+                    title: &title,
+                    colorbar: &format!("|u| [{}]", units.length),
+                    axis_unit: &units.length,
+                },
+            )
+        };
+        let (a, b) = rayon::join(field, isolines);
+        a.and(b)
     }
 }
 

@@ -42,6 +42,9 @@ enum Command {
         /// Where to write the report.
         #[arg(long, default_value = "docs")]
         out: PathBuf,
+        /// Only regenerate benchmarks.md and benchmarks.png from OUT/benchmarks.json.
+        #[arg(long)]
+        report_only: bool,
     },
     /// Read the problem, mesh it and find the coupling pairs, without solving.
     Check {
@@ -71,7 +74,18 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             problem,
             max_unknowns,
             out,
+            report_only,
         } => {
+            if report_only {
+                let path = out.join("benchmarks.json");
+                let text = std::fs::read_to_string(&path)
+                    .with_context(|| format!("cannot read {}", path.display()))?;
+                let raw: serde_json::Value = serde_json::from_str(&text)
+                    .with_context(|| format!("{} is not valid JSON", path.display()))?;
+                cfe::bench::write_report(&out, &raw)?;
+                println!("wrote {}", out.join("benchmarks.md").display());
+                return Ok(());
+            }
             let exe = std::env::current_exe().context("cannot locate the cfe executable")?;
             cfe::bench::run(&exe, &problem, max_unknowns, &out, &mut |line| {
                 println!("{line}")
