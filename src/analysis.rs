@@ -934,9 +934,10 @@ impl Analysis {
         };
         let isolines = || {
             // Deformed shape, magnified so the largest displacement is 5 % of the model size.
-            let umax = (0..points.len())
+            let magnitude: Vec<f64> = (0..points.len())
                 .map(|g| inc.u[2 * g].hypot(inc.u[2 * g + 1]))
-                .fold(0.0, f64::max);
+                .collect();
+            let umax = magnitude.iter().copied().fold(0.0, f64::max);
             let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
             for p in &points {
                 for c in 0..2 {
@@ -954,9 +955,6 @@ impl Analysis {
                 .iter()
                 .enumerate()
                 .map(|(g, p)| [p[0] + scale * inc.u[2 * g], p[1] + scale * inc.u[2 * g + 1]])
-                .collect();
-            let magnitude: Vec<f64> = (0..points.len())
-                .map(|g| inc.u[2 * g].hypot(inc.u[2 * g + 1]))
                 .collect();
             let deformed_markers: Vec<png::PairMarker> = self
                 .interfaces

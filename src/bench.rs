@@ -493,11 +493,13 @@ fn plot(path: &PathBuf, cases: &[Case]) -> Result<()> {
             f(&m["peak_memory_bytes"]) / 1048576.0
         }
         type Key = fn(&Value) -> f64;
+        // Each panel with a reference slope: n^1.5 (2D factorization work) for time,
+        // n (linear) for memory.
         let panels = [
-            (&left, "run time", "seconds", total as Key),
-            (&right, "peak memory", "MiB", memory as Key),
+            (&left, "run time", "seconds", total as Key, 1.5),
+            (&right, "peak memory", "MiB", memory as Key, 1.0),
         ];
-        for (area, title, unit, key) in panels {
+        for (area, title, unit, key, slope) in panels {
             let all: Vec<(f64, f64)> = ["rigid", "contact"]
                 .iter()
                 .flat_map(|l| series(l, key))
@@ -541,16 +543,20 @@ fn plot(path: &PathBuf, cases: &[Case]) -> Result<()> {
                     .draw_series(pts.iter().map(|&p| Circle::new(p, 4, colour.filled())))
                     .map_err(|e| err(&e))?;
             }
-            // Reference slope n^1.5 through the first contact point.
-            if let Some(&(xa, ya)) = series("contact", key).first() {
-                let line: Vec<(f64, f64)> = [xa, x1]
+            // Reference slope through the largest contact run.
+            if let Some(&(xa, ya)) = series("contact", key).last() {
+                let line: Vec<(f64, f64)> = [x0, xa]
                     .iter()
-                    .map(|&x| (x, ya * (x / xa).powf(1.5)))
+                    .map(|&x| (x, ya * (x / xa).powf(slope)))
                     .collect();
                 chart
                     .draw_series(LineSeries::new(line, BLACK.stroke_width(1)))
                     .map_err(|e| err(&e))?
-                    .label("n^1.5")
+                    .label(if slope == 1.0 {
+                        "n".to_string()
+                    } else {
+                        format!("n^{slope}")
+                    })
                     .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
             }
             chart
@@ -564,14 +570,7 @@ fn plot(path: &PathBuf, cases: &[Case]) -> Result<()> {
         }
         root.present().map_err(|e| err(&e))?;
     }
-    let mut png = Vec::new();
-    {
-        use image::ImageEncoder;
-        image::codecs::png::PngEncoder::new(&mut png)
-            .write_image(&buf, w, h, image::ColorType::Rgb8)
-            .map_err(|e| err(&e))?;
-    }
-    super::output::write_atomic(path, |wr| wr.write_all(&png))
+    crate::output::png::write_rgb(path, &buf, w, h)
 }
 
 #[cfg(test)]

@@ -568,13 +568,16 @@ fn render(
     }
 
     // 4. Encode and write atomically.
+    write_rgb(path, &buf, WIDTH, height)
+}
+
+/// Encodes an RGB buffer of `width` × `height` pixels as PNG and writes it atomically.
+pub(crate) fn write_rgb(path: &Path, buf: &[u8], width: u32, height: u32) -> Result<()> {
+    use image::ImageEncoder;
     let mut png = Vec::new();
-    {
-        use image::ImageEncoder;
-        image::codecs::png::PngEncoder::new(&mut png)
-            .write_image(&buf, WIDTH, height, image::ColorType::Rgb8)
-            .map_err(|e| err(&e))?;
-    }
+    image::codecs::png::PngEncoder::new(&mut png)
+        .write_image(buf, width, height, image::ColorType::Rgb8)
+        .map_err(|e| Error::output(path, e))?;
     write_atomic(path, |w| w.write_all(&png))
 }
 
