@@ -31,6 +31,17 @@ pub enum Method {
     },
 }
 
+/// When to use a low-rank update instead of a new factorization.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UpdatePolicy {
+    /// Whichever the cost model says is cheaper (default).
+    Auto,
+    /// Always update when the cached columns fit in memory (for tests and studies).
+    Always,
+    /// Always refactorize.
+    Never,
+}
+
 /// One column of the correction: the free equations and values of `w_k`, and its
 /// weight ±c_k.
 struct Column {
@@ -57,6 +68,8 @@ pub struct ContactSystem {
     t_column: f64,
     /// Largest memory for cached columns (bytes).
     budget: usize,
+    /// When to update instead of refactorizing.
+    pub policy: UpdatePolicy,
     /// Numeric factorizations so far.
     pub factorizations: usize,
     /// Low-rank updates so far.
@@ -83,6 +96,7 @@ impl ContactSystem {
             t_factor: f64::INFINITY,
             t_column: 0.0,
             budget: (1usize << 30).max(64 * 8 * n),
+            policy: UpdatePolicy::Auto,
             factorizations: 0,
             updates: 0,
             factor_seconds: 0.0,
@@ -142,7 +156,12 @@ impl ContactSystem {
             .collect();
         let cost_update = (2 * new.len() + 1) as f64 * self.t_column.max(1e-9);
         let memory = (self.columns.len() + 2 * new.len()) * n * 8;
-        if cost_update >= self.t_factor || memory > self.budget {
+        let cheaper = match self.policy {
+            UpdatePolicy::Auto => cost_update < self.t_factor,
+            UpdatePolicy::Always => true,
+            UpdatePolicy::Never => false,
+        };
+        if !cheaper || memory > self.budget {
             return self.refactor_and_solve(interfaces, dofs, states, rhs);
         }
         // New correction columns, solved in one blocked solve together with the
