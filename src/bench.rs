@@ -5,7 +5,6 @@
 //! memory against unknowns.
 
 use crate::error::{Error, Result};
-use plotters::prelude::*;
 use serde_json::Value;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -469,108 +468,62 @@ fn targets(s: &mut String, cases: &[Case]) {
     let _ = writeln!(s);
 }
 
-fn plot(path: &PathBuf, cases: &[Case]) -> Result<()> {
-    crate::output::png::register_font();
-    let err = |e: &dyn std::fmt::Display| Error::output(path, e);
-    let (w, h) = (1400u32, 600u32);
-    let mut buf = vec![255u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| err(&e))?;
-        let (left, right) = root.split_horizontally(w / 2);
-        let series = |law: &str, key: fn(&Value) -> f64| -> Vec<(f64, f64)> {
-            cases
+fn plot(path: &Path, cases: &[Case]) -> Result<()> {
+    use crate::output::chart::{Axes, Series};
+    let curve = |law: &str, key: fn(&Value) -> f64| Series {
+        name: law.to_string(),
+        points: cases
+            .iter()
+            .filter(|c| c.law == law)
+            .map(|c| (f(&c.summary["unknowns"]), key(&c.summary)))
+            .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+            .collect(),
+        reference: false,
+    };
+    // A reference slope (n^p) through the largest contact run.
+    let reference = |key: fn(&Value) -> f64, p: f64, name: &str| {
+        let pts = curve("contact", key).points;
+        let x0 = pts.first().map_or(1.0, |q| q.0);
+        let (xa, ya) = pts.last().copied().unwrap_or((1.0, 1.0));
+        Series {
+            name: name.to_string(),
+            points: [x0, xa]
                 .iter()
-                .filter(|c| c.law == law)
-                .map(|c| (f(&c.summary["unknowns"]), key(&c.summary)))
-                .filter(|p| p.0 > 0.0 && p.1 > 0.0)
-                .collect()
-        };
-        fn total(m: &Value) -> f64 {
-            f(&m["timings"]["total"])
+                .map(|&x| (x, ya * (x / xa).powf(p)))
+                .collect(),
+            reference: true,
         }
-        fn memory(m: &Value) -> f64 {
-            f(&m["peak_memory_bytes"]) / 1048576.0
-        }
-        type Key = fn(&Value) -> f64;
-        // Each panel with a reference slope: n^1.5 (2D factorization work) for time,
-        // n (linear) for memory.
-        let panels = [
-            (&left, "run time", "seconds", total as Key, 1.5),
-            (&right, "peak memory", "MiB", memory as Key, 1.0),
-        ];
-        for (area, title, unit, key, slope) in panels {
-            let all: Vec<(f64, f64)> = ["rigid", "contact"]
-                .iter()
-                .flat_map(|l| series(l, key))
-                .collect();
-            if all.is_empty() {
-                continue;
-            }
-            let (x0, x1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
-                (a.min(p.0), b.max(p.0))
-            });
-            let (y0, y1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
-                (a.min(p.1), b.max(p.1))
-            });
-            let mut chart = ChartBuilder::on(area)
-                .caption(title, ("sans-serif", 26))
-                .margin(20)
-                .x_label_area_size(50)
-                .y_label_area_size(70)
-                .build_cartesian_2d(
-                    (x0 * 0.7..x1 * 1.4).log_scale(),
-                    (y0 * 0.7..y1 * 1.4).log_scale(),
-                )
-                .map_err(|e| err(&e))?;
-            chart
-                .configure_mesh()
-                .x_desc("unknowns")
-                .y_desc(unit)
-                .label_style(("sans-serif", 16))
-                .draw()
-                .map_err(|e| err(&e))?;
-            for (law, colour) in [("rigid", BLUE), ("contact", RED)] {
-                let pts = series(law, key);
-                chart
-                    .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2)))
-                    .map_err(|e| err(&e))?
-                    .label(law)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                    });
-                chart
-                    .draw_series(pts.iter().map(|&p| Circle::new(p, 4, colour.filled())))
-                    .map_err(|e| err(&e))?;
-            }
-            // Reference slope through the largest contact run.
-            if let Some(&(xa, ya)) = series("contact", key).last() {
-                let line: Vec<(f64, f64)> = [x0, xa]
-                    .iter()
-                    .map(|&x| (x, ya * (x / xa).powf(slope)))
-                    .collect();
-                chart
-                    .draw_series(LineSeries::new(line, BLACK.stroke_width(1)))
-                    .map_err(|e| err(&e))?
-                    .label(if slope == 1.0 {
-                        "n".to_string()
-                    } else {
-                        format!("n^{slope}")
-                    })
-                    .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
-            }
-            chart
-                .configure_series_labels()
-                .border_style(BLACK)
-                .background_style(WHITE)
-                .label_font(("sans-serif", 16))
-                .position(SeriesLabelPosition::UpperLeft)
-                .draw()
-                .map_err(|e| err(&e))?;
-        }
-        root.present().map_err(|e| err(&e))?;
+    };
+    fn total(m: &Value) -> f64 {
+        f(&m["timings"]["total"])
     }
-    crate::output::png::write_rgb(path, &buf, w, h)
+    fn memory(m: &Value) -> f64 {
+        f(&m["peak_memory_bytes"]) / 1048576.0
+    }
+    let time = [
+        curve("rigid", total),
+        curve("contact", total),
+        reference(total, 1.5, "n^1.5"),
+    ];
+    let mem = [
+        curve("rigid", memory),
+        curve("contact", memory),
+        reference(memory, 1.0, "n"),
+    ];
+    let log = |title, y| Axes {
+        title,
+        x: "unknowns",
+        y,
+        log_x: true,
+        log_y: true,
+    };
+    crate::output::chart::side_by_side(
+        path,
+        [
+            (&log("run time", "seconds"), &time[..]),
+            (&log("peak memory", "MiB"), &mem[..]),
+        ],
+    )
 }
 
 #[cfg(test)]

@@ -23,5 +23,6 @@ pub mod mesh;
 pub mod model;
 pub mod output;
 pub mod solve;
+pub mod verification;
 
 pub use error::{Error, Result};

@@ -46,6 +46,16 @@ enum Command {
         #[arg(long)]
         report_only: bool,
     },
+    /// Verification: run the cases against closed-form and conforming references and
+    /// write verification.md with its pictures.
+    Verify {
+        /// Where to write the report.
+        #[arg(long, default_value = "docs")]
+        out: PathBuf,
+        /// The reduced versions of the cases (as run by the tests).
+        #[arg(long)]
+        quick: bool,
+    },
     /// Read the problem, mesh it and find the coupling pairs, without solving.
     Check {
         /// The problem file (TOML).
@@ -68,6 +78,15 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Check { problem, refine } => {
             let a = Analysis::from_file(&problem, refine)?;
             print!("{}", a.describe());
+            Ok(())
+        }
+        Command::Verify { out, quick } => {
+            let cases = cfe::verification::run_all(quick, &mut |name| eprintln!("running {name}"))?;
+            cfe::verification::write_report(&out, &cases, quick)?;
+            for c in &cases {
+                println!("{} {}", if c.passed { "pass" } else { "FAIL" }, c.title);
+            }
+            println!("wrote {}", out.join("verification.md").display());
             Ok(())
         }
         Command::Bench {

@@ -2,6 +2,7 @@
 //! PNG pictures) into a results folder. Every file is written atomically: to a
 //! temporary name first, then renamed, so a crash never leaves a half-written file.
 
+pub mod chart;
 pub mod png;
 pub mod report;
 pub mod vtu;
