@@ -14,78 +14,7 @@
 //! (Its end conditions differ slightly from a fully clamped end; the difference
 //! vanishes as L/D grows and is below 1 % here.)
 
-mod common;
-
-fn tied(host: [usize; 2], fine: [usize; 2]) -> String {
-    format!(
-        r#"
-[materials.steel]
-E = 210000.0
-nu = 0.31
-[[part]]
-name = "coarse"
-material = "steel"
-rectangle = {{ x = [0.0, 50.0], y = [-5.0, 5.0], cells = [{}, {}] }}
-[[part]]
-name = "fine"
-material = "steel"
-rectangle = {{ x = [50.0, 100.0], y = [-5.0, 5.0], cells = [{}, {}] }}
-[[interface]]
-host = "coarse"
-nodes = "fine"
-boundary = "left"
-law = "rigid"
-[[support]]
-part = "coarse"
-boundary = "left"
-fix = ["x", "y"]
-[[load]]
-part = "fine"
-boundary = "right"
-force = [0.0, -1.0]
-[analysis]
-increments = 1
-"#,
-        host[0], host[1], fine[0], fine[1]
-    )
-}
-
-fn conforming(cells: [usize; 2]) -> String {
-    format!(
-        r#"
-[materials.steel]
-E = 210000.0
-nu = 0.31
-[[part]]
-name = "beam"
-material = "steel"
-rectangle = {{ x = [0.0, 100.0], y = [-5.0, 5.0], cells = [{}, {}] }}
-[[support]]
-part = "beam"
-boundary = "left"
-fix = ["x", "y"]
-[[load]]
-part = "beam"
-boundary = "right"
-force = [0.0, -1.0]
-[analysis]
-increments = 1
-"#,
-        cells[0], cells[1]
-    )
-}
-
-fn tip(text: &str, part: &str) -> f64 {
-    let a = common::analysis(text);
-    let inc = common::solve(&a).pop().unwrap();
-    -common::displacement_at(&a, &inc, part, [100.0, 0.0])[1]
-}
-
-fn timoshenko_goodier() -> f64 {
-    let (e, nu, p, l, d) = (210000.0f64, 0.31f64, 1.0f64, 100.0f64, 10.0f64);
-    let i = d.powi(3) / 12.0;
-    p * l.powi(3) / (3.0 * e * i) + (4.0 + 5.0 * nu) * p * d * d * l / (24.0 * e * i)
-}
+use cfe::verification::cantilever::{conforming, tied, timoshenko_goodier, tip};
 
 /// The tied model's tip deflection lies between the conforming meshes of its two
 /// element sizes (the interface adds no stiffness or flexibility beyond the bulk
@@ -97,9 +26,9 @@ fn tied_cantilever_matches_conforming_and_closed_form() {
     let exact = timoshenko_goodier();
     let mut errors = Vec::new();
     for k in [1usize, 2, 4] {
-        let tied = tip(&tied([20 * k, 4 * k], [30 * k, 6 * k]), "fine");
-        let coarse = tip(&conforming([40 * k, 4 * k]), "beam");
-        let fine = tip(&conforming([60 * k, 6 * k]), "beam");
+        let tied = tip(&tied([20 * k, 4 * k], [30 * k, 6 * k], None), "fine").unwrap();
+        let coarse = tip(&conforming([40 * k, 4 * k]), "beam").unwrap();
+        let fine = tip(&conforming([60 * k, 6 * k]), "beam").unwrap();
         println!(
             "K={k}: tied {tied:.6e}, conforming h {coarse:.6e}, conforming 2h/3 {fine:.6e}, closed form {exact:.6e}"
         );

@@ -45,15 +45,17 @@ fn draw<DB: DrawingBackend>(
     axes: &Axes,
     series: &[Series],
 ) -> std::result::Result<(), String> {
+    // Finite points, positive on logarithmic axes.
+    let drawable = |p: &(f64, f64)| {
+        p.0.is_finite()
+            && p.1.is_finite()
+            && (!axes.log_x || p.0 > 0.0)
+            && (!axes.log_y || p.1 > 0.0)
+    };
     let pts: Vec<(f64, f64)> = series
         .iter()
         .flat_map(|s| s.points.iter().copied())
-        .filter(|p| {
-            p.0.is_finite()
-                && p.1.is_finite()
-                && (!axes.log_x || p.0 > 0.0)
-                && (!axes.log_y || p.1 > 0.0)
-        })
+        .filter(drawable)
         .collect();
     if pts.is_empty() {
         return Err("no finite points to draw".into());
@@ -103,17 +105,7 @@ fn draw<DB: DrawingBackend>(
                 } else {
                     PALETTE[i % PALETTE.len()]
                 };
-                let data: Vec<(f64, f64)> = s
-                    .points
-                    .iter()
-                    .copied()
-                    .filter(|p| {
-                        p.0.is_finite()
-                            && p.1.is_finite()
-                            && (!axes.log_x || p.0 > 0.0)
-                            && (!axes.log_y || p.1 > 0.0)
-                    })
-                    .collect();
+                let data: Vec<(f64, f64)> = s.points.iter().copied().filter(drawable).collect();
                 let style = if s.reference {
                     colour.stroke_width(1)
                 } else {
