@@ -174,11 +174,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             }
             let m = &summary.max_displacement;
             println!(
-                "  max |u| = {:e} at ({}, {}) in part '{}'",
+                "  max |u| = {:.6e} at ({}, {}) in part '{}'",
                 m.value, m.x, m.y, m.part
             );
             for r in &summary.reactions {
-                println!("  reaction '{}': ({:e}, {:e})", r.support, r.fx, r.fy);
+                println!("  reaction '{}': ({:.6e}, {:.6e})", r.support, r.fx, r.fy);
             }
             println!(
                 "  equilibrium error {:.2e}, total {:.3} s",
