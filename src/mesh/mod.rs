@@ -1,6 +1,9 @@
 //! Mesh: the nodes, linear triangles (T3) and named boundaries of one part, the
 //! built-in structured rectangle mesher, and the geometric checks (inverted or
-//! degenerate elements) every mesh passes before it is used.
+//! degenerate elements) every mesh passes before it is used. [`gmsh`] reads Gmsh
+//! meshes.
+
+pub mod gmsh;
 
 use crate::error::{Error, Result};
 use std::collections::{BTreeMap, HashMap};
