@@ -15,7 +15,7 @@ use toml::Spanned;
 
 /// Default relative geometric tolerance of the pair search (× local edge length).
 pub const DEFAULT_PAIR_TOLERANCE: f64 = 1e-4;
-/// Default coupling penalty as a multiple of the stiffer part's E·t.
+/// Default coupling penalty as a multiple of the softer part's E·t.
 pub const DEFAULT_PENALTY_FACTOR: f64 = 1e5;
 
 // ---------------------------------------------------------------- file schema
@@ -475,11 +475,15 @@ impl Builder<'_> {
                     ));
                 }
             }
+            // The tie's compliance 1/c acts in series with the softer part's local
+            // compliance ~ 1/(E·t): its relative error is E·t/c of the softer part.
+            // Scaling by the stiffer part would make c needlessly large (round-off)
+            // when the materials differ by orders of magnitude.
             let default_c = DEFAULT_PENALTY_FACTOR
                 * parts[host]
                     .material
                     .stiffness_scale()
-                    .max(parts[node_part].material.stiffness_scale());
+                    .min(parts[node_part].material.stiffness_scale());
             let c_n = spec.c_n.unwrap_or(default_c);
             let c_s = spec.c_s.unwrap_or(c_n);
             let tolerance = spec.tolerance.unwrap_or(DEFAULT_PAIR_TOLERANCE);

@@ -44,3 +44,10 @@ fn penalty() {
 fn seed_examples() {
     check(seed::schemes_and_refinement(true));
 }
+
+/// A rigid flat punch bonded to a block: pair pressures follow the closed-form
+/// bonded-punch distribution over the central part of the punch.
+#[test]
+fn bonded_punch() {
+    check(cfe::verification::punch::bonded_punch(true));
+}

@@ -245,7 +245,12 @@ impl GmshMesh {
             };
             if found.is_empty() {
                 let curve = match g {
-                    Group::Name(n) if self.physical_names.iter().any(|p| p.dim != 2 && &p.name == n) => {
+                    Group::Name(n)
+                        if self
+                            .physical_names
+                            .iter()
+                            .any(|p| p.dim != 2 && &p.name == n) =>
+                    {
                         format!(" ('{n}' is not a surface)")
                     }
                     _ => String::new(),
@@ -655,10 +660,7 @@ impl<'a> Parser<'a> {
         self.skip_whitespace();
         let first = self.token("$MeshFormat").ok();
         if first != Some("$MeshFormat") {
-            return Err(self.err_at(
-                0,
-                "not a Gmsh MSH file: it does not start with $MeshFormat",
-            ));
+            return Err(self.err_at(0, "not a Gmsh MSH file: it does not start with $MeshFormat"));
         }
         self.section = "$MeshFormat";
         self.mesh_format()?;
@@ -710,7 +712,10 @@ impl<'a> Parser<'a> {
             self.end_section()?;
         }
         self.section = "";
-        for (present, name) in [(self.seen_nodes, "$Nodes"), (self.seen_elements, "$Elements")] {
+        for (present, name) in [
+            (self.seen_nodes, "$Nodes"),
+            (self.seen_elements, "$Elements"),
+        ] {
             if !present {
                 return Err(Error::Parse {
                     path: self.path.to_path_buf(),
@@ -812,9 +817,7 @@ impl<'a> Parser<'a> {
                 };
             }
             t => {
-                return Err(self.err(format!(
-                    "file type {t} is not 0 (ASCII) or 1 (binary)"
-                )));
+                return Err(self.err(format!("file type {t} is not 0 (ASCII) or 1 (binary)")));
             }
         }
         self.end_section()
@@ -921,11 +924,7 @@ impl<'a> Parser<'a> {
                 0
             };
             for tag in tags {
-                let xyz = [
-                    self.float("x")?,
-                    self.float("y")?,
-                    self.float("z")?,
-                ];
+                let xyz = [self.float("x")?, self.float("y")?, self.float("z")?];
                 for _ in 0..extra {
                     self.float("a parametric coordinate")?;
                 }

@@ -6,6 +6,7 @@
 
 pub mod cantilever;
 pub mod patch;
+pub mod punch;
 pub mod seed;
 
 use crate::analysis::Analysis;
@@ -110,11 +111,12 @@ pub fn displacement_at(
 pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>> {
     let mut cases = Vec::new();
     type CaseFn = fn(bool) -> Result<Case>;
-    let all: [(&str, CaseFn); 6] = [
+    let all: [(&str, CaseFn); 7] = [
         ("patch tests", patch::constant_stress),
         ("contact patch test", patch::contact_patch),
         ("tied cantilever", cantilever::convergence),
         ("penalty study", cantilever::penalty_study),
+        ("bonded punch", punch::bonded_punch),
         ("host choice", patch::host_choice),
         ("seed examples", seed::schemes_and_refinement),
     ];
