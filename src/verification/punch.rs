@@ -34,11 +34,10 @@ pub fn pressure(x: f64, a: f64, p: f64, nu: f64) -> f64 {
 }
 
 /// Case 4: pair pressures of the bonded punch against the closed form.
-pub fn bonded_punch(quick: bool) -> Result<Case> {
+pub fn bonded_punch(_quick: bool) -> Result<Case> {
     let (a, p, nu) = (5.0, 100.0, 0.31);
     // The quick version is the full one: coarser meshes miss the 5 % bound (7.7 % at
     // half this resolution), and this one solves in about a second.
-    let _ = quick;
     let k = 2;
     let text = format!(
         r#"
