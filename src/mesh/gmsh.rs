@@ -1148,12 +1148,10 @@ impl<'a> Parser<'a> {
         }
         let size = dist(lo, hi);
         let tol = 1e-9 * size.max(first[2].abs()).max(f64::MIN_POSITIVE);
-        if let Some((i, c)) = self
-            .coords
-            .iter()
-            .enumerate()
-            .find(|(_, c)| !((c[2] - first[2]).abs() <= tol))
-        {
+        if let Some((i, c)) = self.coords.iter().enumerate().find(|(_, c)| {
+            let dz = (c[2] - first[2]).abs();
+            dz.is_nan() || dz > tol
+        }) {
             return Err(Error::Parse {
                 path: self.path.to_path_buf(),
                 message: format!(
