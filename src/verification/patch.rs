@@ -239,6 +239,7 @@ increments = 2
     let mut worst: f64 = 0.0;
     let mut all_bonded = true;
     let mut total = 0.0;
+    let (mut fe_pts, mut ref_pts) = (Vec::new(), Vec::new());
     for (r, c) in rows.iter().zip(&a.interfaces[0].elements) {
         let trib = if r.x < 1e-9 || r.x > 1.0 - 1e-9 {
             h / 2.0
@@ -252,6 +253,8 @@ increments = 2
         total += fy;
         let d = (fy - expected).abs() / expected;
         worst = worst.max(d);
+        fe_pts.push((r.x, fy / trib));
+        ref_pts.push((r.x, p));
         all_bonded &= r.state == "bonded";
         table.rows.push(vec![
             format!("{:.4}", r.x),
@@ -268,7 +271,17 @@ increments = 2
         setup: "A unit block (3 × 3 cells) hosts a unit block on top (6 × 6 cells) through a contact interface (c_n = 1e6 E·t); 5 N pushes uniformly on the top; the bottom is held vertically, two nodes horizontally.".into(),
         reference: "Uniform compression: σyy = −5 everywhere, every pair bonded, each pair carrying the pressure times its tributary length (the consistent nodal force of a uniform traction), and the pair forces summing to the load.".into(),
         tables: vec![table],
-        plots: Vec::new(),
+        plots: vec![Plot {
+            file: "contact_patch.png".into(),
+            title: "Contact patch test: pressure at the pairs".into(),
+            x: "x".into(),
+            y: "vertical pair force / tributary length".into(),
+            log: (false, false),
+            series: vec![
+                Series { name: "cfe".into(), points: fe_pts, reference: false },
+                Series { name: "uniform pressure p = 5".into(), points: ref_pts, reference: true },
+            ],
+        }],
         verdict: format!(
             "All {} pairs bonded: {}; pair forces match p × tributary length to {} (penalty error); total {} N for 5 N.",
             rows.len(),
@@ -294,6 +307,7 @@ pub fn host_choice(quick: bool) -> Result<Case> {
         rows: Vec::new(),
     };
     let mut coarse_better = true;
+    let (mut good_pts, mut bad_pts) = (Vec::new(), Vec::new());
     for &(c, f) in ratios {
         // The lower square hosts: coarse in the first run, fine in the second.
         let good = stress_error(c, f, 1e6 * ET)?;
@@ -302,13 +316,27 @@ pub fn host_choice(quick: bool) -> Result<Case> {
         table
             .rows
             .push(vec![format!("{c}:{f}"), sci(good), sci(bad)]);
+        good_pts.push((f as f64 / c as f64, good));
+        bad_pts.push((f as f64 / c as f64, bad));
     }
+    good_pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    bad_pts.sort_by(|a, b| a.0.total_cmp(&b.0));
     Ok(Case {
         title: "Choice of host: mesh-ratio reversal".into(),
         setup: "The patch test of case 1 with the coarse part as host (its elements take every fine boundary node as a coupling node), and reversed: the fine part hosts and only the coarse part's boundary nodes couple.".into(),
         reference: "The exact constant stress state, as in case 1.".into(),
         tables: vec![table],
-        plots: Vec::new(),
+        plots: vec![Plot {
+            file: "host_choice.png".into(),
+            title: "Patch test error: coarse host against fine host".into(),
+            x: "fine / coarse cells per side".into(),
+            y: "max stress error / |σ|".into(),
+            log: (false, true),
+            series: vec![
+                Series { name: "coarse part hosts".into(), points: good_pts, reference: false },
+                Series { name: "fine part hosts".into(), points: bad_pts, reference: false },
+            ],
+        }],
         verdict: if coarse_better {
             "The coarse part must host: reversed, the fine part's interface nodes between coarse nodes are tied to nothing, the faces can open or interpenetrate between them, and the stress error grows by orders of magnitude.".into()
         } else {

@@ -12,8 +12,9 @@
 //! ```
 //!
 //! Reference (Abramov 1937; Mossakovskii 1954; K. L. Johnson, *Contact Mechanics*,
-//! 1985, §2.8 and §5.?): a rigid flat punch of half-width a in complete adhesion with
-//! an elastic half-plane carries the pressure
+//! Cambridge University Press, 1985, the flat punch with complete adhesion): a rigid
+//! flat punch of half-width a in complete adhesion with an elastic half-plane carries
+//! the pressure
 //!
 //! `p(x) = P cosh(πβ) cos(β ln((a + x)/(a − x))) / (π √(a² − x²))`,
 //! `β = ln(κ) / (2π)`, κ = (3 − ν)/(1 + ν) in plane stress (3 − 4ν in plane strain).
