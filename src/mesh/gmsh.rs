@@ -1187,3 +1187,251 @@ fn merge_duplicates<const N: usize>(elements: Vec<Element<N>>) -> Vec<Element<N>
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit square in MSH 2.2 ASCII: nodes 7, 8, 9, 10 (sparse tags), triangle 1
+    /// counter-clockwise, triangle 2 clockwise, line 3 the bottom (physical curve 5,
+    /// no name), line 4 the top ("top"), surface "sq" (physical 1).
+    const SQUARE_22: &str = "$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$PhysicalNames
+2
+1 6 \"top\"
+2 1 \"sq\"
+$EndPhysicalNames
+$Nodes
+4
+7 0 0 0
+8 1 0 0
+9 1 1 0
+10 0 1 0
+$EndNodes
+$Elements
+4
+3 1 2 5 1 7 8
+4 1 2 6 2 9 10
+1 2 2 1 1 7 8 9
+2 2 2 1 1 7 10 9
+$EndElements
+";
+
+    fn parse(text: &str) -> Result<GmshMesh> {
+        GmshMesh::parse(text.as_bytes(), Path::new("x.msh"))
+    }
+
+    fn message(text: &str) -> String {
+        parse(text).unwrap_err().to_string()
+    }
+
+    /// MSH 2.2 ASCII: sparse node tags map to compact indices, physical tags and
+    /// names are kept, elements keep the file's node order.
+    #[test]
+    fn reads_ascii_22() {
+        let m = parse(SQUARE_22).unwrap();
+        assert_eq!(m.version, MshVersion::V22);
+        assert_eq!(m.node_tags, vec![7, 8, 9, 10]);
+        assert_eq!(m.nodes[2], [1.0, 1.0]);
+        assert_eq!(m.triangles.len(), 2);
+        assert_eq!(m.triangles[1].nodes, [0, 3, 2]);
+        assert_eq!(m.triangles[1].physical, vec![1]);
+        assert_eq!(m.lines[0].physical, vec![5]);
+        assert_eq!(m.name(2, 1), Some("sq"));
+        assert_eq!(m.physical_groups(1), vec![(5, None), (6, Some("top"))]);
+    }
+
+    /// A clockwise triangle is flipped: every triangle of the part mesh is
+    /// counter-clockwise and the mesh passes validation.
+    #[test]
+    fn clockwise_triangles_are_flipped() {
+        let m = parse(SQUARE_22).unwrap();
+        let mesh = m.part_mesh("p", None).unwrap();
+        mesh.validate("p").unwrap();
+        assert!((0..2).all(|e| mesh.triangle_area(e) > 0.0));
+        assert!((mesh.triangle_area(1) - 0.5).abs() < 1e-15);
+    }
+
+    /// Physical curves become boundaries oriented counter-clockwise w.r.t. the part
+    /// (the top line, written left to right, runs right to left); an unnamed curve
+    /// is named by its number.
+    #[test]
+    fn physical_curves_become_oriented_boundaries() {
+        let mesh = parse(SQUARE_22).unwrap().part_mesh("p", None).unwrap();
+        assert_eq!(mesh.boundaries.keys().collect::<Vec<_>>(), vec!["5", "top"]);
+        let top = &mesh.boundaries["top"];
+        assert_eq!(top.len(), 1);
+        assert_eq!(
+            top[0].nodes.map(|n| mesh.nodes[n]),
+            [[1.0, 1.0], [0.0, 1.0]]
+        );
+        assert_eq!(top[0].element, 1);
+        let bottom = &mesh.boundaries["5"];
+        assert_eq!(
+            bottom[0].nodes.map(|n| mesh.nodes[n]),
+            [[0.0, 0.0], [1.0, 0.0]]
+        );
+    }
+
+    /// An unsupported element type names the type, its description, the file and
+    /// the line.
+    #[test]
+    fn unsupported_element_type_is_named() {
+        let text = SQUARE_22.replace("2 2 2 1 1 7 10 9", "2 9 2 1 1 7 8 9 10 7 8");
+        let e = message(&text);
+        assert!(
+            e.contains("element type 9 (6-node triangle) in file x.msh is not supported")
+                && e.contains("3-node triangles and 4-node quadrilaterals")
+                && e.contains("line 21"),
+            "{e}"
+        );
+    }
+
+    /// Versions other than 4.1 and 2.2 are refused with the supported ones named.
+    #[test]
+    fn unsupported_version_is_an_error() {
+        for v in ["4.0", "3.0", "2.1"] {
+            let e = message(&SQUARE_22.replace("2.2 0 8", &format!("{v} 0 8")));
+            assert!(
+                e.contains(&format!("MSH version {v} is not supported"))
+                    && e.contains("4.1 and 2.2"),
+                "{e}"
+            );
+        }
+    }
+
+    /// Missing $Nodes or $Elements, or a file that is not MSH, are errors naming
+    /// what is missing.
+    #[test]
+    fn missing_sections_are_errors() {
+        let start = SQUARE_22.find("$Elements").unwrap();
+        let e = message(&SQUARE_22[..start]);
+        assert!(
+            e.contains("x.msh") && e.contains("no $Elements section"),
+            "{e}"
+        );
+        let nodes = SQUARE_22.find("$Nodes").unwrap();
+        let e = message(&format!("{}{}", &SQUARE_22[..nodes], &SQUARE_22[start..]));
+        assert!(e.contains("$Elements comes before $Nodes"), "{e}");
+        let e = message("solid cube\n");
+        assert!(e.contains("not a Gmsh MSH file"), "{e}");
+        let e = message(&SQUARE_22.replace("$EndNodes", "$EndNode"));
+        assert!(e.contains("expected $EndNodes"), "{e}");
+    }
+
+    /// An element that refers to an undefined node names the element and the node.
+    #[test]
+    fn undefined_node_is_an_error() {
+        let e = message(&SQUARE_22.replace("1 2 2 1 1 7 8 9", "1 2 2 1 1 7 8 99"));
+        assert!(
+            e.contains("element 1 (3-node triangle) refers to node 99") && e.contains("line 20"),
+            "{e}"
+        );
+    }
+
+    /// A mesh that is not in one plane z = const is refused; a plane z = 3 is fine.
+    #[test]
+    fn non_planar_mesh_is_an_error() {
+        let e = message(&SQUARE_22.replace("9 1 1 0", "9 1 1 0.5"));
+        assert!(
+            e.contains("not planar") && e.contains("node 9 has z = 0.5"),
+            "{e}"
+        );
+        let text = SQUARE_22
+            .replace(" 0 0\n", " 0 3\n")
+            .replace(" 1 0\n", " 1 3\n");
+        parse(&text).unwrap();
+    }
+
+    /// A part from a physical surface that does not exist lists the available ones
+    /// and says when the name is a curve's.
+    #[test]
+    fn unknown_surface_lists_available_ones() {
+        let m = parse(SQUARE_22).unwrap();
+        let e = m
+            .part_mesh("p", Some(&[Group::Name("plate".into())]))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("part 'p'")
+                && e.contains("no physical surface 'plate'")
+                && e.contains("'sq' (1)"),
+            "{e}"
+        );
+        let e = m
+            .part_mesh("p", Some(&[Group::Name("top".into())]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("'top' is not a surface"), "{e}");
+        let e = m
+            .part_mesh("p", Some(&[Group::Tag(4)]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no physical surface 4"), "{e}");
+        // By number, or by the number written as a name.
+        for g in [
+            Group::Tag(1),
+            Group::Name("1".into()),
+            Group::Name("sq".into()),
+        ] {
+            assert_eq!(m.part_mesh("p", Some(&[g])).unwrap().triangles.len(), 2);
+        }
+    }
+
+    /// A degenerate (zero-area) triangle is refused with its Gmsh element tag.
+    #[test]
+    fn degenerate_triangle_names_its_tag() {
+        let text = SQUARE_22.replace("10 0 1 0", "10 0.5 0.5 0");
+        let e = parse(&text)
+            .unwrap()
+            .part_mesh("p", None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("element 2 of file x.msh is degenerate"), "{e}");
+    }
+
+    /// Sections cfe does not read are skipped, with or without content.
+    #[test]
+    fn unknown_sections_are_skipped() {
+        let text = SQUARE_22.replace(
+            "$Nodes",
+            "$Periodic\n1\n1 1 2\n$EndPeriodic\n$Comments\n$EndComments\n$Nodes",
+        );
+        assert_eq!(parse(&text).unwrap(), {
+            let mut m = parse(SQUARE_22).unwrap();
+            m.path = PathBuf::from("x.msh");
+            m
+        });
+        let e = message(&format!("{SQUARE_22}$Foo\n1 2 3\n"));
+        assert!(e.contains("section $Foo has no $EndFoo"), "{e}");
+    }
+
+    /// Edges are ordered along their chain whatever the input order; a closed
+    /// loop is kept whole; duplicates are dropped.
+    #[test]
+    fn chain_order_follows_the_curve() {
+        let e = |a, b| BoundaryEdge {
+            nodes: [a, b],
+            element: 0,
+        };
+        let out = chain_order(vec![e(2, 3), e(0, 1), e(3, 4), e(1, 2), e(0, 1)]);
+        assert_eq!(out, vec![e(0, 1), e(1, 2), e(2, 3), e(3, 4)]);
+        let out = chain_order(vec![e(5, 6), e(7, 5), e(6, 7)]);
+        assert_eq!(out, vec![e(5, 6), e(6, 7), e(7, 5)]);
+    }
+
+    /// MSH 2.2 repeats an element once per physical group; the reader merges the
+    /// copies into one element with both groups.
+    #[test]
+    fn repeated_22_elements_are_merged() {
+        let text = SQUARE_22
+            .replace("$Elements\n4\n", "$Elements\n5\n")
+            .replace("4 1 2 6 2 9 10\n", "4 1 2 6 2 9 10\n11 1 2 8 2 10 9\n");
+        let m = parse(&text).unwrap();
+        assert_eq!(m.lines.len(), 2);
+        assert_eq!(m.lines[1].tag, 4);
+        assert_eq!(m.lines[1].physical, vec![6, 8]);
+    }
+}
