@@ -8,9 +8,11 @@ use crate::coupling::Law;
 use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, loads};
 use crate::mesh::Mesh;
+use crate::mesh::gmsh::{GmshMesh, Group};
 use serde::Deserialize;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use toml::Spanned;
 
 /// Default relative geometric tolerance of the pair search (× local edge length).
@@ -83,6 +85,7 @@ struct PartSpec {
     #[serde(default = "one")]
     thickness: f64,
     rectangle: Option<RectangleSpec>,
+    gmsh: Option<Spanned<GmshSpec>>,
 }
 
 fn one() -> f64 {
@@ -95,6 +98,41 @@ struct RectangleSpec {
     x: [f64; 2],
     y: [f64; 2],
     cells: [usize; 2],
+}
+
+/// `gmsh = { file = "plate.msh", surfaces = ["plate"] }`: a part meshed in Gmsh.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GmshSpec {
+    /// The .msh file, relative to the problem file's folder.
+    file: String,
+    /// Physical surfaces (names or numbers) whose elements make the part; default all.
+    surfaces: Option<Vec<GroupSpec>>,
+}
+
+/// A physical group given by name (string) or number (integer).
+#[derive(Debug, Clone)]
+struct GroupSpec(Group);
+
+impl<'de> Deserialize<'de> for GroupSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = GroupSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a physical surface name (string) or number (integer)")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> std::result::Result<GroupSpec, E> {
+                Ok(GroupSpec(Group::Name(v.to_string())))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<GroupSpec, E> {
+                i32::try_from(v)
+                    .map(|t| GroupSpec(Group::Tag(t)))
+                    .map_err(|_| E::custom(format!("physical tag {v} is out of range")))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
 }
 
 #[derive(Debug, Deserialize)]
@@ -389,6 +427,48 @@ impl Builder<'_> {
         Ok(best)
     }
 
+    /// The mesh of part `name` from a Gmsh file; `files` caches the files already
+    /// read, so a file shared by several parts is read once.
+    fn gmsh_mesh(
+        &self,
+        name: &str,
+        spec: &Spanned<GmshSpec>,
+        refine: usize,
+        files: &mut HashMap<PathBuf, Rc<GmshMesh>>,
+    ) -> Result<Mesh> {
+        let g = spec.get_ref();
+        if refine > 1 {
+            return Err(self.err(
+                spec,
+                format!("part '{name}' is meshed in Gmsh: --refine applies to structured (`rectangle`) meshes only; refine the mesh in Gmsh instead"),
+            ));
+        }
+        let path = self.path.parent().unwrap_or(Path::new("")).join(&g.file);
+        let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
+        let mesh = match files.get(&key) {
+            Some(m) => Rc::clone(m),
+            None => {
+                let data = std::fs::read(&path).map_err(|e| {
+                    self.err(
+                        spec,
+                        format!(
+                            "part '{name}': cannot read Gmsh file {}: {e}",
+                            path.display()
+                        ),
+                    )
+                })?;
+                let m = Rc::new(GmshMesh::parse(&data, &path)?);
+                files.insert(key, Rc::clone(&m));
+                m
+            }
+        };
+        let surfaces: Option<Vec<Group>> = g
+            .surfaces
+            .as_ref()
+            .map(|s| s.iter().map(|GroupSpec(g)| g.clone()).collect());
+        mesh.part_mesh(name, surfaces.as_deref())
+    }
+
     fn build(&self, file: ProblemFile, refine: usize) -> Result<Model> {
         let ProblemFile {
             title,
@@ -406,6 +486,7 @@ impl Builder<'_> {
         }
         // Parts.
         let mut parts: Vec<Part> = Vec::with_capacity(part_specs.len());
+        let mut gmsh_files = HashMap::new();
         for spec in &part_specs {
             let name = spec.name.get_ref().clone();
             if parts.iter().any(|p| p.name == name) {
@@ -422,19 +503,30 @@ impl Builder<'_> {
                 )
             })?;
             let material = Material::new(m.young, m.nu, plane, spec.thickness, &name)?;
-            let Some(r) = &spec.rectangle else {
-                return Err(self.err(
-                    &spec.name,
-                    format!("part '{name}' has no mesh: give `rectangle = {{ x = [x0, x1], y = [y0, y1], cells = [nx, ny] }}`"),
-                ));
+            let mesh = match (&spec.rectangle, &spec.gmsh) {
+                (Some(r), None) => {
+                    if !(r.x[1] > r.x[0] && r.y[1] > r.y[0]) || r.cells[0] == 0 || r.cells[1] == 0 {
+                        return Err(self.err(
+                            &spec.name,
+                            format!("part '{name}': rectangle needs x0 < x1, y0 < y1 and at least one cell each way (got x = {:?}, y = {:?}, cells = {:?})", r.x, r.y, r.cells),
+                        ));
+                    }
+                    Mesh::rectangle(r.x, r.y, [r.cells[0] * refine, r.cells[1] * refine])
+                }
+                (None, Some(g)) => self.gmsh_mesh(&name, g, refine, &mut gmsh_files)?,
+                (None, None) => {
+                    return Err(self.err(
+                        &spec.name,
+                        format!("part '{name}' has no mesh: give `rectangle = {{ x = [x0, x1], y = [y0, y1], cells = [nx, ny] }}` or `gmsh = {{ file = \"part.msh\" }}`"),
+                    ));
+                }
+                (Some(_), Some(_)) => {
+                    return Err(self.err(
+                        &spec.name,
+                        format!("part '{name}' has both `rectangle` and `gmsh`: give exactly one"),
+                    ));
+                }
             };
-            if !(r.x[1] > r.x[0] && r.y[1] > r.y[0]) || r.cells[0] == 0 || r.cells[1] == 0 {
-                return Err(self.err(
-                    &spec.name,
-                    format!("part '{name}': rectangle needs x0 < x1, y0 < y1 and at least one cell each way (got x = {:?}, y = {:?}, cells = {:?})", r.x, r.y, r.cells),
-                ));
-            }
-            let mesh = Mesh::rectangle(r.x, r.y, [r.cells[0] * refine, r.cells[1] * refine]);
             mesh.validate(&name)?;
             parts.push(Part {
                 name,

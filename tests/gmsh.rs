@@ -1,0 +1,477 @@
+//! Gmsh input: the small meshes in tests/data/gmsh (written by make_msh.py, by hand,
+//! and make_reference.py, by Gmsh) read the same from every format, become part
+//! meshes with oriented named boundaries, and solve like the built-in meshes.
+
+mod common;
+
+use cfe::analysis::Analysis;
+use cfe::coupling::PairState;
+use cfe::mesh::Mesh;
+use cfe::mesh::gmsh::{GmshMesh, Group, MshVersion};
+use cfe::model::Model;
+use cfe::solve::nonlinear::IncrementResult;
+use std::path::{Path, PathBuf};
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/gmsh")
+        .join(name)
+}
+
+fn read(name: &str) -> GmshMesh {
+    GmshMesh::read(&data(name)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A problem given as text, as if it were a file in tests/data/gmsh.
+fn model(text: &str) -> cfe::Result<Model> {
+    Model::from_str(text, &data("inline.toml"), 1)
+}
+
+fn name(g: &str) -> Group {
+    Group::Name(g.into())
+}
+
+/// Compares two meshes exactly: nodes, triangles and boundaries.
+fn assert_same_mesh(a: &Mesh, b: &Mesh, what: &str) {
+    assert_eq!(a.nodes, b.nodes, "{what}: nodes");
+    assert_eq!(a.triangles, b.triangles, "{what}: triangles");
+    assert_eq!(a.boundaries, b.boundaries, "{what}: boundaries");
+}
+
+/// A boundary as a list of (start, end) points.
+fn segments(m: &Mesh, boundary: &str) -> Vec<[[f64; 2]; 2]> {
+    m.boundaries[boundary]
+        .iter()
+        .map(|e| e.nodes.map(|n| m.nodes[n]))
+        .collect()
+}
+
+const SQUARES: [&str; 5] = [
+    "square_41.msh",
+    "square_41_bin.msh",
+    "square_41_bin_be.msh",
+    "square_22.msh",
+    "square_22_bin.msh",
+];
+
+/// The same geometry in MSH 4.1 and 2.2, ASCII and binary (little- and big-endian,
+/// 8- and 4-byte size_t) reads to identical nodes, elements, physical groups and
+/// part meshes.
+#[test]
+fn all_formats_give_identical_meshes() {
+    let reference = read(SQUARES[0]);
+    assert_eq!(reference.version, MshVersion::V41);
+    assert!(!reference.binary);
+    for file in &SQUARES[1..] {
+        let m = read(file);
+        assert_eq!(m.binary, file.contains("bin"), "{file}");
+        assert_eq!(m.node_tags, reference.node_tags, "{file}");
+        assert_eq!(m.nodes, reference.nodes, "{file}");
+        assert_eq!(m.lines, reference.lines, "{file}");
+        assert_eq!(m.triangles, reference.triangles, "{file}");
+        assert_eq!(m.quads, reference.quads, "{file}");
+        assert_eq!(m.physical_names, reference.physical_names, "{file}");
+        for surfaces in [None, Some(vec![name("left")]), Some(vec![Group::Tag(2)])] {
+            let s = surfaces.as_deref();
+            assert_same_mesh(
+                &m.part_mesh("p", s).unwrap(),
+                &reference.part_mesh("p", s).unwrap(),
+                &format!("{file} {surfaces:?}"),
+            );
+        }
+    }
+    // And the reference itself is what make_msh.py describes.
+    assert_eq!(reference.node_tags, vec![1, 2, 3, 40, 5, 60, 100]);
+    assert_eq!(reference.nodes[3], [2.0, 1.0]);
+    assert_eq!(reference.triangles.len(), 6);
+    assert_eq!(reference.lines.len(), 7);
+    assert_eq!(reference.lines[2].physical, vec![13, 15]);
+}
+
+/// Two parts from one shared file: each keeps only its own nodes, gets the
+/// physical curves that lie on its boundary, oriented counter-clockwise with respect
+/// to itself (so the shared "interface" curve runs up for the left square and down
+/// for the right one); a curve inside the selection is no boundary.
+#[test]
+fn shared_file_parts_and_oriented_boundaries() {
+    let m = read("square_41.msh");
+    let left = m.part_mesh("left", Some(&[name("left")])).unwrap();
+    let right = m.part_mesh("right", Some(&[name("right")])).unwrap();
+    left.validate("left").unwrap();
+    right.validate("right").unwrap();
+    assert_eq!((left.nodes.len(), left.triangles.len()), (5, 4));
+    assert_eq!((right.nodes.len(), right.triangles.len()), (4, 2));
+    // Nodes keep the file's order: tags 1, 2, 5, 60, 100 for the left square.
+    assert_eq!(
+        left.nodes,
+        vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]]
+    );
+    let names = |m: &Mesh| m.boundaries.keys().cloned().collect::<Vec<_>>();
+    assert_eq!(names(&left), ["bottom", "interface", "sides", "top"]);
+    assert_eq!(names(&right), ["13", "bottom", "interface", "sides", "top"]);
+    assert_eq!(segments(&left, "interface"), [[[1.0, 0.0], [1.0, 1.0]]]);
+    assert_eq!(segments(&right, "interface"), [[[1.0, 1.0], [1.0, 0.0]]]);
+    // Line 204 is written from (1,1) to (2,1); on the part it runs right to left.
+    assert_eq!(segments(&right, "top"), [[[2.0, 1.0], [1.0, 1.0]]]);
+    assert_eq!(segments(&left, "sides"), [[[0.0, 1.0], [0.0, 0.0]]]);
+    assert_eq!(segments(&right, "13"), segments(&right, "sides"));
+    // The whole file: "interface" is interior; "bottom" is a chain of two edges.
+    let all = m.part_mesh("all", None).unwrap();
+    assert_eq!(names(&all), ["13", "bottom", "sides", "top"]);
+    assert_eq!(
+        segments(&all, "bottom"),
+        [[[0.0, 0.0], [1.0, 0.0]], [[1.0, 0.0], [2.0, 0.0]]]
+    );
+    assert_eq!(
+        segments(&all, "top"),
+        [[[2.0, 1.0], [1.0, 1.0]], [[1.0, 1.0], [0.0, 1.0]]]
+    );
+    // Every boundary edge is one of the mesh's free edges, with its owner.
+    for mesh in [&left, &right, &all] {
+        let free = mesh.boundary_edges();
+        for e in mesh.boundaries.values().flatten() {
+            assert!(free.contains(e), "{e:?} is not a free edge");
+        }
+    }
+}
+
+/// Quadrilaterals are read (binary 4.1 and ASCII 2.2) into their own list, and a
+/// part that contains any is refused with the count, the file and the remedy;
+/// a part without them is built as usual.
+#[test]
+fn quadrilaterals_are_read_and_refused() {
+    for file in ["quads_41_bin.msh", "quads_22.msh"] {
+        let m = read(file);
+        assert_eq!(m.quads.len(), 1, "{file}");
+        assert_eq!(
+            m.quads[0].nodes.map(|n| m.nodes[n]),
+            [[1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0]]
+        );
+        assert_eq!(m.quads[0].physical, vec![2]);
+        assert_eq!(m.triangles.len(), 4);
+        for surfaces in [Some(vec![name("right")]), None] {
+            let e = m
+                .part_mesh("plate", surfaces.as_deref())
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("part 'plate'")
+                    && e.contains(file)
+                    && e.contains("contains 1 4-node quadrilaterals")
+                    && e.contains("Q4 elements are not supported yet")
+                    && e.contains("Mesh.RecombineAll = 0"),
+                "{e}"
+            );
+        }
+        let left = m.part_mesh("left", Some(&[name("left")])).unwrap();
+        assert_eq!(left.triangles.len(), 4);
+    }
+}
+
+/// Every truncation of a binary file before the end of its $Elements section is an
+/// error naming the file, never a panic; later cuts (in the skipped section after
+/// it) either fail or read the same mesh.
+#[test]
+fn truncated_binary_files_are_errors() {
+    for file in [
+        "square_41_bin.msh",
+        "square_22_bin.msh",
+        "square_41_bin_be.msh",
+    ] {
+        let bytes = std::fs::read(data(file)).unwrap();
+        let full = GmshMesh::parse(&bytes, Path::new(file)).unwrap();
+        let end = bytes
+            .windows(12)
+            .position(|w| w == b"$EndElements")
+            .unwrap()
+            + 12;
+        for len in 0..bytes.len() {
+            match GmshMesh::parse(&bytes[..len], Path::new(file)) {
+                Err(e) => assert!(e.to_string().contains(file), "{e}"),
+                Ok(m) => assert!(len >= end && m == full, "{file} cut at {len} parsed"),
+            }
+        }
+    }
+}
+
+/// The seed's plate on a base from one Gmsh file (transfinite meshes, cells split
+/// along the rising diagonal) gives exactly the built-in structured meshes: the same
+/// triangles and the same named boundaries, up to node numbering and round-off.
+#[test]
+fn gmsh_plate_on_base_matches_the_structured_meshes() {
+    let m = read("plate_on_base_41.msh");
+    let cases = [
+        (
+            "base",
+            Mesh::rectangle([0.0, 200.0], [0.0, 120.0], [20, 12]),
+        ),
+        (
+            "plate",
+            Mesh::rectangle([30.0, 170.0], [120.0, 135.0], [28, 6]),
+        ),
+    ];
+    let key = |p: [f64; 2]| ((p[0] * 1e6).round() as i64, (p[1] * 1e6).round() as i64);
+    for (part, structured) in cases {
+        let g = m.part_mesh(part, Some(&[name(part)])).unwrap();
+        g.validate(part).unwrap();
+        assert_eq!(g.nodes.len(), structured.nodes.len());
+        let triangles = |mesh: &Mesh| {
+            let mut t: Vec<_> = mesh
+                .triangles
+                .iter()
+                .map(|tri| {
+                    let mut k = tri.map(|n| key(mesh.nodes[n]));
+                    k.sort();
+                    k
+                })
+                .collect();
+            t.sort();
+            t
+        };
+        assert_eq!(triangles(&g), triangles(&structured), "{part}");
+        for side in ["bottom", "right", "top", "left"] {
+            let edges = |mesh: &Mesh| {
+                let mut e: Vec<_> = mesh.boundaries[side]
+                    .iter()
+                    .map(|e| e.nodes.map(|n| key(mesh.nodes[n])))
+                    .collect();
+                e.sort();
+                e
+            };
+            assert_eq!(edges(&g), edges(&structured), "{part} {side}");
+        }
+    }
+}
+
+/// Gmsh's own binary and MSH 2.2 output of the plate on a base reads to the same
+/// meshes as its MSH 4.1 ASCII output (nodes to the 16 digits Gmsh prints in ASCII).
+#[test]
+fn gmsh_written_formats_agree() {
+    let reference = read("plate_on_base_41.msh");
+    for file in [
+        "plate_on_base_41_bin.msh",
+        "plate_on_base_22.msh",
+        "plate_on_base_22_bin.msh",
+    ] {
+        let m = read(file);
+        for part in ["base", "plate"] {
+            let a = m.part_mesh(part, Some(&[name(part)])).unwrap();
+            let b = reference.part_mesh(part, Some(&[name(part)])).unwrap();
+            assert_eq!(a.nodes.len(), b.nodes.len(), "{file} {part}");
+            for (p, q) in a.nodes.iter().zip(&b.nodes) {
+                assert!(
+                    cfe::mesh::dist(*p, *q) < 1e-12 * 200.0,
+                    "{file} {part}: {p:?} {q:?}"
+                );
+            }
+            assert_eq!(a.triangles, b.triangles, "{file} {part}: triangles");
+            assert_eq!(a.boundaries, b.boundaries, "{file} {part}: boundaries");
+        }
+    }
+}
+
+/// Σ (F_int − F_ext) over the nodes of support `s`: its reaction.
+fn reaction(a: &Analysis, inc: &IncrementResult, s: usize) -> [f64; 2] {
+    let support = &a.model.supports[s];
+    let mut r = [0.0; 2];
+    for &n in &support.nodes {
+        let g = a.dofs.node(support.part, n);
+        for (k, rk) in r.iter_mut().enumerate() {
+            *rk += inc.f_int[2 * g + k] - inc.f_ext[2 * g + k];
+        }
+    }
+    r
+}
+
+/// (x, bonded, force_n) per pair, sorted by x.
+fn pairs_by_x(a: &Analysis, inc: &IncrementResult) -> Vec<(f64, bool, f64)> {
+    let mut rows: Vec<_> = a
+        .pair_rows(inc)
+        .into_iter()
+        .map(|r| (r.x, r.state == "bonded", r.force_n))
+        .collect();
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+    rows
+}
+
+/// The plate on a base with both parts from the shared Gmsh file (physical
+/// surfaces select the parts, physical curves name the interface, support and load
+/// boundaries) solves like examples/plate_on_base.toml: 29 pairs with the same
+/// states and forces, the same reactions and displacements.
+#[test]
+fn gmsh_plate_on_base_solves_like_the_structured_one() {
+    let gmsh = Analysis::new(Model::from_file(&data("plate_on_base.toml"), 1).unwrap()).unwrap();
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/plate_on_base.toml");
+    let structured = Analysis::new(Model::from_file(&example, 1).unwrap()).unwrap();
+    assert_eq!(gmsh.interfaces[0].elements.len(), 29);
+    let (g, s) = (common::solve(&gmsh), common::solve(&structured));
+    let (g, s) = (g.last().unwrap(), s.last().unwrap());
+    let (rg, rs) = (reaction(&gmsh, g, 0), reaction(&structured, s, 0));
+    assert!((rg[1] - 1500.0).abs() < 1e-8 * 1500.0, "{rg:?}");
+    assert!((rg[0] - rs[0]).abs() < 1e-8 * 1500.0 && (rg[1] - rs[1]).abs() < 1e-8 * 1500.0);
+    let (pg, ps) = (pairs_by_x(&gmsh, g), pairs_by_x(&structured, s));
+    let fmax = ps.iter().map(|p| p.2.abs()).fold(0.0, f64::max);
+    for (a, b) in pg.iter().zip(&ps) {
+        assert!((a.0 - b.0).abs() < 1e-9, "{a:?} {b:?}");
+        assert_eq!(a.1, b.1, "state at x = {}", a.0);
+        assert!(
+            (a.2 - b.2).abs() < 1e-6 * fmax,
+            "force at x = {}: {a:?} {b:?}",
+            a.0
+        );
+    }
+    assert_eq!(pg.iter().filter(|p| !p.1).count(), 11);
+    let top = [100.0, 135.0];
+    let (ug, us) = (
+        common::displacement_at(&gmsh, g, "plate", top),
+        common::displacement_at(&structured, s, "plate", top),
+    );
+    assert!((ug[1] - us[1]).abs() < 1e-7 * us[1].abs(), "{ug:?} {us:?}");
+}
+
+/// An unstructured (Delaunay) Gmsh mesh of the plate on a base: one pair per node of
+/// the plate's bottom, the reactions balance the load, bonded pairs form one run
+/// that covers the loaded zone and the ends lift off.
+#[test]
+fn unstructured_gmsh_plate_on_base_solves() {
+    let text = std::fs::read_to_string(data("plate_on_base.toml"))
+        .unwrap()
+        .replace("plate_on_base_41.msh", "plate_on_base_free.msh");
+    let a = Analysis::new(model(&text).unwrap()).unwrap();
+    let plate = &a.model.parts[1].mesh;
+    let bottom = plate.boundary_nodes("bottom").unwrap();
+    assert!(bottom.len() > 29, "{} bottom nodes", bottom.len());
+    assert_eq!(a.interfaces[0].elements.len(), bottom.len());
+    let incs = common::solve(&a);
+    let last = incs.last().unwrap();
+    let r = reaction(&a, last, 0);
+    assert!(
+        r[0].abs() < 1e-8 * 1500.0 && (r[1] - 1500.0).abs() < 1e-8 * 1500.0,
+        "{r:?}"
+    );
+    let pairs = pairs_by_x(&a, last);
+    let bonded: Vec<bool> = pairs.iter().map(|p| p.1).collect();
+    let first = bonded.iter().position(|&b| b).unwrap();
+    let end = bonded.iter().rposition(|&b| b).unwrap();
+    assert!(bonded[first..=end].iter().all(|&b| b), "{bonded:?}");
+    assert!(pairs[first].0 < 86.0 && pairs[end].0 > 114.0);
+    assert!(!bonded[0] && !bonded[bonded.len() - 1]);
+    assert!(last.states[0].contains(&PairState::Open));
+}
+
+const SQUARES_PROBLEM: &str = r#"
+[materials.m]
+E = 1000.0
+nu = 0.25
+
+[[part]]
+name = "left"
+material = "m"
+gmsh = { file = "square_41_bin.msh", surfaces = ["left"] }
+
+[[part]]
+name = "right"
+material = "m"
+gmsh = { file = "square_22.msh", surfaces = [2] }
+
+[[interface]]
+host = "left"
+nodes = "right"
+boundary = "interface"
+law = "rigid"
+
+[[support]]
+part = "left"
+boundary = "sides"
+fix = ["x"]
+
+[[support]]
+part = "left"
+at = [0.0, 0.0]
+fix = ["y"]
+
+[[load]]
+part = "right"
+boundary = "13"
+force = [1.0, 0.0]
+"#;
+
+/// Physical curve names (and an unnamed curve's number) work as the boundaries of
+/// interfaces, supports and loads, and surfaces are chosen by name or number: the
+/// two squares tied across "interface" and pulled on curve 13 are in uniform
+/// tension σxx = 1 (u = (2e-3, -2.5e-4) at (2, 1) with E = 1000, ν = 0.25).
+#[test]
+fn physical_curves_name_problem_boundaries() {
+    let a = Analysis::new(model(SQUARES_PROBLEM).unwrap()).unwrap();
+    assert_eq!(a.interfaces[0].elements.len(), 2);
+    let last = common::solve(&a).pop().unwrap();
+    let u = common::displacement_at(&a, &last, "right", [2.0, 1.0]);
+    assert!(
+        (u[0] - 2e-3).abs() < 1e-8 && (u[1] + 2.5e-4).abs() < 1e-8,
+        "{u:?}"
+    );
+    let r = reaction(&a, &last, 0);
+    assert!((r[0] + 1.0).abs() < 1e-9, "{r:?}");
+}
+
+/// Problem-file errors for Gmsh parts: both or neither of `rectangle` and `gmsh`,
+/// --refine on a Gmsh part, a missing file, an unknown surface (listing the file's
+/// surfaces), an unknown boundary (listing the part's physical curves), a bad
+/// `surfaces` entry, and an unknown key in `gmsh`.
+#[test]
+fn problem_file_errors_for_gmsh_parts() {
+    let err = |text: &str| model(text).unwrap_err().to_string();
+    let both = SQUARES_PROBLEM.replacen(
+        "gmsh = { file",
+        "rectangle = { x = [0.0, 1.0], y = [0.0, 1.0], cells = [1, 1] }\ngmsh = { file",
+        1,
+    );
+    let e = err(&both);
+    assert!(
+        e.contains("both `rectangle` and `gmsh`") && e.contains("line 7"),
+        "{e}"
+    );
+    let neither = SQUARES_PROBLEM.replacen(
+        "gmsh = { file = \"square_41_bin.msh\", surfaces = [\"left\"] }\n",
+        "",
+        1,
+    );
+    let e = err(&neither);
+    assert!(
+        e.contains("part 'left' has no mesh") && e.contains("gmsh = {"),
+        "{e}"
+    );
+    let e = Model::from_str(SQUARES_PROBLEM, &data("inline.toml"), 2)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("part 'left' is meshed in Gmsh") && e.contains("--refine"),
+        "{e}"
+    );
+    let e = err(&SQUARES_PROBLEM.replace("square_22.msh", "nowhere.msh"));
+    assert!(
+        e.contains("part 'right': cannot read Gmsh file") && e.contains("nowhere.msh"),
+        "{e}"
+    );
+    let e = err(&SQUARES_PROBLEM.replace("[\"left\"]", "[\"lft\"]"));
+    assert!(
+        e.contains("part 'left'")
+            && e.contains("no physical surface 'lft'")
+            && e.contains("'left' (1), 'right' (2)"),
+        "{e}"
+    );
+    let e = err(&SQUARES_PROBLEM.replace("boundary = \"13\"", "boundary = \"14\""));
+    assert!(
+        e.contains("no boundary named '14'") && e.contains("13, bottom, interface, sides, top"),
+        "{e}"
+    );
+    let e = err(&SQUARES_PROBLEM.replace("surfaces = [2]", "surfaces = [2.5]"));
+    assert!(
+        e.contains("physical surface name (string) or number (integer)"),
+        "{e}"
+    );
+    let e = err(&SQUARES_PROBLEM.replace("surfaces = [2]", "surface = [2]"));
+    assert!(e.contains("surface"), "{e}");
+    let e = err(&SQUARES_PROBLEM.replace("square_22.msh", "quads_22.msh"));
+    assert!(e.contains("Q4 elements are not supported yet"), "{e}");
+}
