@@ -282,6 +282,12 @@ impl GmshMesh {
             message,
         };
         let selected = match surfaces {
+            Some([]) => {
+                return Err(err(format!(
+                    "no physical surface of file {} is selected: list some, or leave `surfaces` out to take them all",
+                    self.file_name()
+                )));
+            }
             Some(groups) => Some(self.resolve_surfaces(groups).map_err(err)?),
             None => None,
         };
@@ -1370,6 +1376,11 @@ $EndElements
             .unwrap_err()
             .to_string();
         assert!(e.contains("no physical surface 4"), "{e}");
+        let e = m.part_mesh("p", Some(&[])).unwrap_err().to_string();
+        assert!(
+            e.contains("no physical surface of file x.msh is selected"),
+            "{e}"
+        );
         // By number, or by the number written as a name.
         for g in [
             Group::Tag(1),
