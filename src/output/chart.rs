@@ -39,7 +39,92 @@ const PALETTE: [RGBColor; 6] = [
     RGBColor(23, 190, 207),
 ];
 
-/// Draws `series` into a `width` × `height` area of `root`.
+/// A tick label: at most four significant decimals without trailing zeros, and
+/// `1e-7`-style outside [1e-3, 1e5).
+fn tick_label(v: f64) -> String {
+    tick_label_step(v, 0.0)
+}
+
+/// A tick label on an axis whose ticks are `step` apart (0: unknown): enough
+/// decimals to tell neighbouring ticks apart, trailing zeros removed.
+fn tick_label_step(v: f64, step: f64) -> String {
+    let a = v.abs();
+    if a < 1e-12 * step.max(f64::MIN_POSITIVE) || a == 0.0 {
+        return "0".into();
+    }
+    if !(1e-3..1e5).contains(&a) && (step == 0.0 || step >= 1e-3 * a) {
+        let s = format!("{v:.1e}");
+        return s.replace(".0e", "e");
+    }
+    let mut decimals = (3 - a.log10().floor() as i32).clamp(0, 6);
+    if step > 0.0 {
+        decimals = decimals.max(1 - step.log10().floor() as i32).clamp(0, 12);
+    }
+    let decimals = decimals as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// Labelled (bold) and unlabelled (light) grid values of a logarithmic axis over
+/// [lo, hi]: mantissas 1…9 × 10^k, fewer labelled as the axis spans more decades.
+fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
+    let decades = (hi / lo).log10();
+    let (e0, e1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let within = |v: &f64| *v >= lo * (1.0 - 1e-12) && *v <= hi * (1.0 + 1e-12);
+    let at = |mantissas: &[i32], every: i32| -> Vec<f64> {
+        (e0..=e1)
+            .filter(|e| (e - e0) % every == 0)
+            .flat_map(|e| mantissas.iter().map(move |&m| m as f64 * 10f64.powi(e)))
+            .filter(within)
+            .collect()
+    };
+    let mut bold = if decades <= 1.2 {
+        at(&[1, 2, 3, 4, 5, 6, 8], 1)
+    } else if decades <= 3.5 {
+        at(&[1, 2, 5], 1)
+    } else {
+        at(&[1], if decades > 9.0 { 2 } else { 1 })
+    };
+    if bold.len() < 2 {
+        bold = at(&[1, 2, 3, 4, 5, 6, 7, 8, 9], 1);
+    }
+    let light = if decades <= 6.0 {
+        at(&[1, 2, 3, 4, 5, 6, 7, 8, 9], 1)
+    } else {
+        at(&[1], 1)
+    };
+    (bold, light)
+}
+
+/// The corner of the plotting area (in drawing fractions, y up) with the fewest
+/// points near it, for the legend.
+fn legend_corner(points: &[(f64, f64)]) -> SeriesLabelPosition {
+    let corners = [
+        (SeriesLabelPosition::LowerRight, (0.6, 1.0), (0.0, 0.35)),
+        (SeriesLabelPosition::UpperRight, (0.6, 1.0), (0.65, 1.0)),
+        (SeriesLabelPosition::LowerLeft, (0.0, 0.4), (0.0, 0.35)),
+        (SeriesLabelPosition::UpperLeft, (0.0, 0.4), (0.65, 1.0)),
+        (SeriesLabelPosition::UpperMiddle, (0.3, 0.7), (0.65, 1.0)),
+        (SeriesLabelPosition::LowerMiddle, (0.3, 0.7), (0.0, 0.35)),
+    ];
+    let mut best = (usize::MAX, SeriesLabelPosition::LowerRight);
+    for (pos, (x0, x1), (y0, y1)) in corners {
+        let n = points
+            .iter()
+            .filter(|p| (x0..=x1).contains(&p.0) && (y0..=y1).contains(&p.1))
+            .count();
+        if n < best.0 {
+            best = (n, pos);
+        }
+    }
+    best.1
+}
+
+/// Draws `series` into the drawing area `area`.
 fn draw<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     axes: &Axes,
@@ -72,8 +157,9 @@ fn draw<DB: DrawingBackend>(
         });
     let widen = |lo: &mut f64, hi: &mut f64, log: bool| {
         if log {
-            *lo *= 0.7;
-            *hi *= 1.4;
+            let f = (*hi / *lo).powf(0.05).max(1.15);
+            *lo /= f;
+            *hi *= f;
         } else {
             let pad = 0.05 * (*hi - *lo).abs().max(1e-12 * hi.abs().max(1.0));
             *lo -= pad;
@@ -82,7 +168,70 @@ fn draw<DB: DrawingBackend>(
     };
     widen(&mut x0, &mut x1, axes.log_x);
     widen(&mut y0, &mut y1, axes.log_y);
+    // Where the points fall in the plotting area, for the legend's corner.
+    let frac = |v: f64, lo: f64, hi: f64, log: bool| {
+        if log {
+            (v / lo).ln() / (hi / lo).ln()
+        } else {
+            (v - lo) / (hi - lo)
+        }
+    };
+    let mut placed: Vec<(f64, f64)> = pts
+        .iter()
+        .map(|p| (frac(p.0, x0, x1, axes.log_x), frac(p.1, y0, y1, axes.log_y)))
+        .collect();
+    // Lines between points also hide a legend: sample the segments.
+    for s in series {
+        let d: Vec<(f64, f64)> = s.points.iter().copied().filter(drawable).collect();
+        for w in d.windows(2) {
+            let a = (
+                frac(w[0].0, x0, x1, axes.log_x),
+                frac(w[0].1, y0, y1, axes.log_y),
+            );
+            let b = (
+                frac(w[1].0, x0, x1, axes.log_x),
+                frac(w[1].1, y0, y1, axes.log_y),
+            );
+            for i in 1..10 {
+                let t = i as f64 / 10.0;
+                placed.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
+            }
+        }
+    }
+    let corner = legend_corner(&placed);
     let e = |e: &dyn std::fmt::Display| e.to_string();
+    let x_step = (x1 - x0) / 10.0;
+    let y_step = (y1 - y0) / 10.0;
+    let x_fmt = |v: &f64| {
+        if axes.log_x {
+            tick_label(*v)
+        } else {
+            tick_label_step(*v, x_step)
+        }
+    };
+    let y_fmt = |v: &f64| {
+        if axes.log_y {
+            tick_label(*v)
+        } else {
+            tick_label_step(*v, y_step)
+        }
+    };
+    let (xb, xl) = log_ticks(x0, x1);
+    let (yb, yl) = log_ticks(y0, y1);
+    let n_x = if axes.log_x { xb.len() + 1 } else { 10 };
+    let n_y = if axes.log_y { yb.len() + 1 } else { 10 };
+    let log_x = || {
+        (x0..x1)
+            .log_scale()
+            .with_key_points(xb.clone())
+            .with_light_points(xl.clone())
+    };
+    let log_y = || {
+        (y0..y1)
+            .log_scale()
+            .with_key_points(yb.clone())
+            .with_light_points(yl.clone())
+    };
     macro_rules! plot_with {
         ($xr:expr, $yr:expr) => {{
             let mut chart = ChartBuilder::on(area)
@@ -96,6 +245,10 @@ fn draw<DB: DrawingBackend>(
                 .configure_mesh()
                 .x_desc(axes.x)
                 .y_desc(axes.y)
+                .x_labels(n_x)
+                .y_labels(n_y)
+                .x_label_formatter(&x_fmt)
+                .y_label_formatter(&y_fmt)
                 .label_style(("sans-serif", 15))
                 .draw()
                 .map_err(|x| e(&x))?;
@@ -125,17 +278,17 @@ fn draw<DB: DrawingBackend>(
             chart
                 .configure_series_labels()
                 .border_style(BLACK)
-                .background_style(WHITE)
+                .background_style(WHITE.mix(0.9))
                 .label_font(("sans-serif", 15))
-                .position(SeriesLabelPosition::LowerRight)
+                .position(corner)
                 .draw()
                 .map_err(|x| e(&x))?;
         }};
     }
     match (axes.log_x, axes.log_y) {
-        (true, true) => plot_with!((x0..x1).log_scale(), (y0..y1).log_scale()),
-        (true, false) => plot_with!((x0..x1).log_scale(), y0..y1),
-        (false, true) => plot_with!(x0..x1, (y0..y1).log_scale()),
+        (true, true) => plot_with!(log_x(), log_y()),
+        (true, false) => plot_with!(log_x(), y0..y1),
+        (false, true) => plot_with!(x0..x1, log_y()),
         (false, false) => plot_with!(x0..x1, y0..y1),
     }
     Ok(())
@@ -209,6 +362,15 @@ mod tests {
             reference: false,
         }];
         assert!(line_chart(&dir.join("d.png"), &axes, &empty).is_err());
+        assert_eq!(tick_label(0.7000000000001), "0.7");
+        assert_eq!(tick_label(1e-7), "1e-7");
+        assert_eq!(tick_label(250.0), "250");
+        assert_eq!(tick_label_step(5.0000002, 1e-7), "5.0000002");
+        assert_eq!(log_ticks(1.5, 9.0).0, vec![2.0, 3.0, 4.0, 5.0, 6.0, 8.0]);
+        assert_eq!(
+            log_ticks(1.0, 100.0).0,
+            vec![1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0]
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -1,39 +1,167 @@
 //! The tied cantilever (plane stress, L = 100, D = 10, t = 1, E = 210000, ν = 0.31,
-//! 1 N end shear, clamped end) split at mid-span into a coarse host and a finer
-//! node part, against the Timoshenko–Goodier closed form and conforming meshes.
+//! 1 N end shear) split at mid-span into a coarse host and a finer node part,
+//! against the Timoshenko–Goodier closed form and conforming meshes.
 //!
 //! ```text
-//!   |▒ host (h) ▒▒▒▒▒▒▒▒▒▒▒▒|░ node part (h / r) ░░░|  ↓ P = 1 N (uniform on x = 100)
-//!   x = 0 (clamped)        x = 50 (tied)          x = 100
+//!   |▒ host (h) ▒▒▒▒▒▒▒▒▒▒▒▒|░ node part (h / r) ░░░|  ↓ P = 1 N on x = 100
+//!   x = 0                  x = 50 (tied)          x = 100
 //! ```
 //!
 //! Reference: S. P. Timoshenko, J. N. Goodier, *Theory of Elasticity*, 3rd ed.
-//! (1970), §21: v(L) = P L³ / (3 E I) + (4 + 5ν) P D² L / (24 E I), I = t D³ / 12.
-//! (Its end conditions differ slightly from a fully clamped end.)
+//! (McGraw-Hill, 1970), §21 "Bending of a cantilever loaded at the end". With the
+//! support at x = 0, the load P (in +y) at x = L, y ∈ [−D/2, D/2], I = t D³/12, t = 1:
+//!
+//! ```text
+//!   σxx = −P (L − x) y / I,   σyy = 0,   σxy = P (D²/4 − y²) / (2 I)
+//!   ux  = −P y / (6 E I) · [ (6L − 3x) x + (2 + ν)(y² − D²/4) ]
+//!   uy  =  P / (6 E I) · [ 3ν y² (L − x) + (4 + 5ν) D² x / 4 + (3L − x) x² ]
+//! ```
+//!
+//! (the form of A. Augarde, A. Deeks, *Finite Elements in Analysis and Design* 44
+//! (2008) 595–601, with their origin moved to the support). One checks directly
+//! that the strains of u are D⁻¹σ in plane stress, that σ is in equilibrium, that
+//! the faces y = ±D/2 are free and that the shear on x = L sums to P. The field is
+//! exact for a beam whose end x = 0 follows u(0, y) and whose end x = L carries the
+//! parabolic shear: the *exact end conditions*. A fully clamped end differs from
+//! them near x = 0 (the clamp also stops the section's warping), which changes the
+//! tip deflection by a few tenths of a per cent.
+//!
+//! Tip deflection: v(L) = P L³/(3 E I) + (4 + 5ν) P D² L/(24 E I).
 
-use super::{Case, Plot, Table, displacement_at, orders, prepare, sci, solve};
+use super::{Case, Plot, Table, displacement_at, energy_density, orders, prepare, sci, solve};
+use crate::analysis::Analysis;
 use crate::error::Result;
 use crate::output::chart::Series;
+use crate::solve::nonlinear::IncrementResult;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
 
 const E: f64 = 210000.0;
 const NU: f64 = 0.31;
+const L: f64 = 100.0;
+const D: f64 = 10.0;
+/// End force (downwards).
+const P: f64 = -1.0;
 
-/// Tip deflection of the Timoshenko–Goodier cantilever.
-pub fn timoshenko_goodier() -> f64 {
-    let (p, l, d) = (1.0f64, 100.0f64, 10.0f64);
-    let i = d.powi(3) / 12.0;
-    p * l.powi(3) / (3.0 * E * i) + (4.0 + 5.0 * NU) * p * d * d * l / (24.0 * E * i)
+fn inertia() -> f64 {
+    D.powi(3) / 12.0
 }
 
-/// The split cantilever: host cells `host` on [0, 50], node-part cells `fine` on
-/// [50, 100], tie penalty `c` (None: default).
+/// Tip deflection of the Timoshenko–Goodier cantilever (downwards positive).
+pub fn timoshenko_goodier() -> f64 {
+    -tg_displacement(L, 0.0)[1]
+}
+
+/// The Timoshenko–Goodier displacement at (x, y).
+pub fn tg_displacement(x: f64, y: f64) -> [f64; 2] {
+    let i = inertia();
+    let ux =
+        -P * y / (6.0 * E * i) * ((6.0 * L - 3.0 * x) * x + (2.0 + NU) * (y * y - D * D / 4.0));
+    let uy = P / (6.0 * E * i)
+        * (3.0 * NU * y * y * (L - x) + (4.0 + 5.0 * NU) * D * D * x / 4.0 + (3.0 * L - x) * x * x);
+    [ux, uy]
+}
+
+/// The Timoshenko–Goodier stress (σxx, σyy, σxy) at (x, y).
+pub fn tg_stress(x: f64, y: f64) -> [f64; 3] {
+    let i = inertia();
+    [
+        -P * (L - x) * y / i,
+        0.0,
+        P * (D * D / 4.0 - y * y) / (2.0 * i),
+    ]
+}
+
+/// End conditions of the cantilever problems.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ends {
+    /// x = 0 fully clamped, the load spread uniformly over x = L (the problem as a
+    /// user would set it up).
+    Clamped,
+    /// x = 0 follows the Timoshenko–Goodier displacement node by node, x = L carries
+    /// the consistent nodal forces of the parabolic shear: the closed form is exact.
+    Exact,
+}
+
+/// Supports of the end x = 0 of `part` meshed with `ny` cells over the depth.
+fn support_text(part: &str, ny: usize, ends: Ends) -> String {
+    match ends {
+        Ends::Clamped => {
+            format!("[[support]]\npart = \"{part}\"\nboundary = \"left\"\nfix = [\"x\", \"y\"]\n")
+        }
+        Ends::Exact => {
+            let mut s = String::new();
+            for j in 0..=ny {
+                let y = -D / 2.0 + D * j as f64 / ny as f64;
+                let u = tg_displacement(0.0, y);
+                let _ = writeln!(
+                    s,
+                    "[[support]]\npart = \"{part}\"\nat = [0.0, {y:e}]\nfix = [\"x\", \"y\"]\nvalue = [{:e}, {:e}]",
+                    u[0], u[1]
+                );
+            }
+            s
+        }
+    }
+}
+
+/// Loads of the end x = L of `part` meshed with `ny` cells over the depth.
+fn load_text(part: &str, ny: usize, ends: Ends) -> String {
+    match ends {
+        Ends::Clamped => {
+            format!("[[load]]\npart = \"{part}\"\nboundary = \"right\"\nforce = [0.0, {P:e}]\n")
+        }
+        Ends::Exact => {
+            // Consistent nodal forces ∫ σxy(L, y) N_j dy: 2-point Gauss per edge is
+            // exact (quadratic traction × linear shape function).
+            let dy = D / ny as f64;
+            let mut f = vec![0.0; ny + 1];
+            let g = 0.5 / 3f64.sqrt();
+            for j in 0..ny {
+                for xi in [0.5 - g, 0.5 + g] {
+                    let t = tg_stress(L, -D / 2.0 + dy * (j as f64 + xi))[2];
+                    f[j] += 0.5 * dy * t * (1.0 - xi);
+                    f[j + 1] += 0.5 * dy * t * xi;
+                }
+            }
+            let mut s = String::new();
+            for (j, fj) in f.iter().enumerate() {
+                let y = -D / 2.0 + dy * j as f64;
+                let _ = writeln!(
+                    s,
+                    "[[load]]\npart = \"{part}\"\nat = [{L:e}, {y:e}]\nforce = [0.0, {fj:e}]"
+                );
+            }
+            s
+        }
+    }
+}
+
+const HEAD: &str = "[materials.steel]\nE = 210000.0\nnu = 0.31\n[analysis]\nincrements = 1\n";
+
+/// The split cantilever, clamped: host cells `host` on [0, 50], node-part cells
+/// `fine` on [50, 100], tie penalty `c` (None: default).
 pub fn tied(host: [usize; 2], fine: [usize; 2], c: Option<f64>) -> String {
+    tied_with(host, fine, c, Ends::Clamped, false)
+}
+
+/// The split cantilever with the given end conditions; `fine_hosts` reverses the
+/// roles (the fine right half hosts, the coarse left half's nodes couple).
+pub fn tied_with(
+    host: [usize; 2],
+    fine: [usize; 2],
+    c: Option<f64>,
+    ends: Ends,
+    fine_hosts: bool,
+) -> String {
     let c = c.map_or(String::new(), |c| format!("c_n = {c:e}\n"));
+    let (h, n, b) = if fine_hosts {
+        ("fine", "coarse", "right")
+    } else {
+        ("coarse", "fine", "left")
+    };
     format!(
-        r#"
-[materials.steel]
-E = {E}
-nu = {NU}
+        r#"{HEAD}
 [[part]]
 name = "coarse"
 material = "steel"
@@ -43,212 +171,382 @@ name = "fine"
 material = "steel"
 rectangle = {{ x = [50.0, 100.0], y = [-5.0, 5.0], cells = [{}, {}] }}
 [[interface]]
-host = "coarse"
-nodes = "fine"
-boundary = "left"
+host = "{h}"
+nodes = "{n}"
+boundary = "{b}"
 law = "rigid"
 {c}
-[[support]]
-part = "coarse"
-boundary = "left"
-fix = ["x", "y"]
-[[load]]
-part = "fine"
-boundary = "right"
-force = [0.0, -1.0]
-[analysis]
-increments = 1
-"#,
-        host[0], host[1], fine[0], fine[1]
+{}
+{}"#,
+        host[0],
+        host[1],
+        fine[0],
+        fine[1],
+        support_text("coarse", host[1], ends),
+        load_text("fine", fine[1], ends)
     )
 }
 
-/// The same cantilever meshed conformingly with `cells`.
+/// The same cantilever meshed conformingly with `cells`, clamped.
 pub fn conforming(cells: [usize; 2]) -> String {
+    conforming_with(cells, Ends::Clamped)
+}
+
+/// The cantilever meshed conformingly with `cells` and the given end conditions.
+pub fn conforming_with(cells: [usize; 2], ends: Ends) -> String {
     format!(
-        r#"
-[materials.steel]
-E = {E}
-nu = {NU}
+        r#"{HEAD}
 [[part]]
 name = "beam"
 material = "steel"
 rectangle = {{ x = [0.0, 100.0], y = [-5.0, 5.0], cells = [{}, {}] }}
-[[support]]
-part = "beam"
-boundary = "left"
-fix = ["x", "y"]
-[[load]]
-part = "beam"
-boundary = "right"
-force = [0.0, -1.0]
-[analysis]
-increments = 1
-"#,
-        cells[0], cells[1]
+{}
+{}"#,
+        cells[0],
+        cells[1],
+        support_text("beam", cells[1], ends),
+        load_text("beam", cells[1], ends)
     )
 }
 
 /// Tip deflection (downwards positive) of a cantilever problem.
 pub fn tip(text: &str, part: &str) -> Result<f64> {
-    Ok(tip_and_compliance(text, part)?.0)
+    Ok(measure(text, part)?.tip)
 }
 
-/// Tip deflection and compliance `C = F·u` (twice the strain energy) of a
-/// cantilever problem.
-pub fn tip_and_compliance(text: &str, part: &str) -> Result<(f64, f64)> {
+/// What is measured on one cantilever run.
+#[derive(Debug, Clone, Copy)]
+pub struct Measured {
+    /// Tip deflection at (L, 0), downwards positive.
+    pub tip: f64,
+    /// Squared energy norm of σ_h − σ_TG over x < 50 (t = 1).
+    pub left: f64,
+    /// The same over x > 50.
+    pub right: f64,
+}
+
+impl Measured {
+    /// Energy-norm error relative to the energy norm of the exact solution.
+    pub fn energy_error(&self) -> f64 {
+        ((self.left + self.right) / exact_energy()).sqrt()
+    }
+}
+
+/// Squared energy norm of the exact stress over the beam, ∫ σᵀ D⁻¹ σ t dA
+/// = P² L³/(3 E I) + (1+ν) P² L D⁵/(60 E I²) (t = 1).
+pub fn exact_energy() -> f64 {
+    let i = inertia();
+    P * P * L.powi(3) / (3.0 * E * i) + (1.0 + NU) * P * P * L * D.powi(5) / (60.0 * E * i * i)
+}
+
+/// Solves a cantilever problem and measures its tip deflection and its energy-norm
+/// error against the Timoshenko–Goodier stress.
+pub fn measure(text: &str, tip_part: &str) -> Result<Measured> {
     let a = prepare(text)?;
     let inc = solve(&a)?.pop().expect("one increment");
-    let c = inc.f_ext.iter().zip(&inc.u).map(|(f, u)| f * u).sum();
-    Ok((-displacement_at(&a, &inc, part, [100.0, 0.0])?[1], c))
+    let tip = -displacement_at(&a, &inc, tip_part, [L, 0.0])?[1];
+    let (left, right) = energy_error_split(&a, &inc);
+    Ok(Measured { tip, left, right })
 }
 
-/// Case 2: tip deflection of the tied cantilever for mesh ratios 1:1 … 1:8 under
-/// refinement, against the closed form and the conforming meshes of both sizes.
+/// 6-point Dunavant rule (degree 4) on a triangle: barycentric points and weights.
+const DUNAVANT4: [([f64; 3], f64); 6] = [
+    (
+        [0.445948490915965, 0.445948490915965, 0.108103018168070],
+        0.223381589678011,
+    ),
+    (
+        [0.445948490915965, 0.108103018168070, 0.445948490915965],
+        0.223381589678011,
+    ),
+    (
+        [0.108103018168070, 0.445948490915965, 0.445948490915965],
+        0.223381589678011,
+    ),
+    (
+        [0.091576213509771, 0.091576213509771, 0.816847572980459],
+        0.109951743655322,
+    ),
+    (
+        [0.091576213509771, 0.816847572980459, 0.091576213509771],
+        0.109951743655322,
+    ),
+    (
+        [0.816847572980459, 0.091576213509771, 0.091576213509771],
+        0.109951743655322,
+    ),
+];
+
+/// ∫ (σ_h − σ_TG)ᵀ D⁻¹ (σ_h − σ_TG) t dA over the elements left and right of x = 50.
+/// The integrand is a polynomial of degree 4 per element (σ_h constant, σ_TG
+/// quadratic), integrated exactly.
+fn energy_error_split(a: &Analysis, inc: &IncrementResult) -> (f64, f64) {
+    let stresses = a.recover(&inc.u);
+    let (mut left, mut right) = (0.0, 0.0);
+    for (part, s) in a.model.parts.iter().zip(&stresses) {
+        let m = &part.mesh;
+        for (e, tri) in m.triangles.iter().enumerate() {
+            let x = tri.map(|n| m.nodes[n]);
+            let area = m.triangle_area(e);
+            let mut sum = 0.0;
+            for (b, w) in DUNAVANT4 {
+                let px = b[0] * x[0][0] + b[1] * x[1][0] + b[2] * x[2][0];
+                let py = b[0] * x[0][1] + b[1] * x[1][1] + b[2] * x[2][1];
+                let ex = tg_stress(px, py);
+                let d = [0, 1, 2].map(|k| s.element[e][k] - ex[k]);
+                sum += w * energy_density(&part.material, d);
+            }
+            let v = sum * area * part.material.thickness;
+            if (x[0][0] + x[1][0] + x[2][0]) / 3.0 < 50.0 {
+                left += v;
+            } else {
+                right += v;
+            }
+        }
+    }
+    (left, right)
+}
+
+/// Conforming runs, memoised by cell count (several ratios share them).
+struct Conforming {
+    ends: Ends,
+    runs: BTreeMap<usize, Measured>,
+}
+
+impl Conforming {
+    fn get(&mut self, nx: usize) -> Result<Measured> {
+        if let Some(m) = self.runs.get(&nx) {
+            return Ok(*m);
+        }
+        let m = measure(&conforming_with([nx, nx / 10], self.ends), "beam")?;
+        self.runs.insert(nx, m);
+        Ok(m)
+    }
+}
+
+/// Case 2: the tied cantilever for mesh ratios 1:1 … 1:8 under refinement: tip
+/// deflection against the closed form (clamped, as a user would model it, and with
+/// the exact end conditions), energy-norm error against the exact stress, and both
+/// against conforming meshes of the two element sizes.
 pub fn convergence(quick: bool) -> Result<Case> {
     let exact = timoshenko_goodier();
-    let ratios: &[usize] = if quick { &[1, 2] } else { &[1, 2, 4, 8] };
+    let ratios: &[usize] = if quick { &[1, 4] } else { &[1, 2, 4, 8] };
+    // k = 1 (two elements through the depth) is pre-asymptotic; the quick run
+    // starts at k = 2.
     let levels: &[usize] = if quick { &[2, 4] } else { &[1, 2, 4, 8] };
-    let mut tables = Vec::new();
-    let mut series = Vec::new();
-    let mut bracketed = true;
-    let mut rates_ok = true;
-    let mut last_orders = Vec::new();
-    let mut energy_orders = Vec::new();
+    let hs: Vec<f64> = levels.iter().map(|&k| 5.0 / k as f64).collect();
+
+    // (i) Exact end conditions.
+    let mut conf = Conforming {
+        ends: Ends::Exact,
+        runs: BTreeMap::new(),
+    };
+    let mut table = Table {
+        caption: format!(
+            "(i) Exact end conditions. Host cells 10k × 2k on [0, 50] (size h = 5/k), node part r times finer on [50, 100]. Tip deflection error against the closed form v(L) = {}; energy-norm error ‖σ_h − σ_TG‖_E / ‖σ_TG‖_E; and the energy-norm error *predicted* for an interface that adds nothing: √(e²_left(conforming h) + e²_right(conforming h/r)), the conforming meshes' errors over the half each part covers.",
+            sci(exact)
+        ),
+        header: [
+            "ratio",
+            "k",
+            "h",
+            "tied tip error",
+            "order",
+            "energy-norm error",
+            "order",
+            "predicted from conforming halves",
+            "tied / predicted",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows: Vec::new(),
+    };
+    let mut tip_series = Vec::new();
+    let mut energy_series = Vec::new();
+    let mut tip_ok = true;
     let mut energy_ok = true;
-    // Reference compliance: a conforming mesh finer than every host (h = 5/32; 5/16 quick).
-    let reference_cells = if quick { [320, 32] } else { [640, 64] };
-    let (_, c_ref) = tip_and_compliance(&conforming(reference_cells), "beam")?;
-    // Conforming reference at the host's size, per level.
-    let conf: Vec<f64> = levels
-        .iter()
-        .map(|&k| tip(&conforming([20 * k, 2 * k]), "beam"))
-        .collect::<Result<_>>()?;
+    let mut no_extra = true;
+    let mut worst_ratio: f64 = 1.0;
+    let mut finest = Vec::new();
     for &r in ratios {
-        let mut t = Table {
-            caption: format!(
-                "Mesh ratio 1:{r} (host cells 10k × 2k on [0, 50], node part 10k·{r} × 2k·{r} on [50, 100]); closed form v = {}.",
-                sci(exact)
-            ),
-            header: vec![
-                "k".into(),
-                "host h".into(),
-                "tied tip".into(),
-                "conforming (host h) tip".into(),
-                "conforming (h/r) tip".into(),
-                "error vs closed form".into(),
-                "order".into(),
-                "energy-norm error".into(),
-                "order".into(),
-            ],
-            rows: Vec::new(),
-        };
-        let mut errors = Vec::new();
-        let mut energy = Vec::new();
-        let mut pts = Vec::new();
+        let mut tips = Vec::new();
+        let mut energies = Vec::new();
+        let first = table.rows.len();
         for (i, &k) in levels.iter().enumerate() {
-            let (tied_tip, c) = tip_and_compliance(
+            let m = measure(
+                &tied_with(
+                    [10 * k, 2 * k],
+                    [10 * k * r, 2 * k * r],
+                    None,
+                    Ends::Exact,
+                    false,
+                ),
+                "fine",
+            )?;
+            let coarse = conf.get(20 * k)?;
+            let fine = conf.get(20 * k * r)?;
+            let predicted = ((coarse.left + fine.right) / exact_energy()).sqrt();
+            let e_tip = (m.tip - exact) / exact;
+            let e_en = m.energy_error();
+            let ratio = e_en / predicted;
+            worst_ratio = if (ratio - 1.0).abs() > (worst_ratio - 1.0).abs() {
+                ratio
+            } else {
+                worst_ratio
+            };
+            no_extra &= (ratio - 1.0).abs() < 0.02;
+            tips.push(e_tip);
+            energies.push(e_en);
+            table.rows.push(vec![
+                format!("1:{r}"),
+                k.to_string(),
+                format!("{:.3}", hs[i]),
+                sci(e_tip),
+                String::new(),
+                sci(e_en),
+                String::new(),
+                sci(predicted),
+                format!("{ratio:.4}"),
+            ]);
+        }
+        for (i, (o1, o2)) in orders(&tips).into_iter().zip(orders(&energies)).enumerate() {
+            table.rows[first + i][4] = o1;
+            table.rows[first + i][6] = o2;
+        }
+        if let ([.., t1, t2], [.., e1, e2]) = (tips.as_slice(), energies.as_slice()) {
+            let (ot, oe) = ((t1 / t2).abs().log2(), (e1 / e2).log2());
+            tip_ok &= ot > 1.7;
+            energy_ok &= (0.85..1.2).contains(&oe);
+            finest.push(format!("1:{r} {ot:.2} / {oe:.2}"));
+        }
+        tip_series.push(Series {
+            name: format!("tied 1:{r}"),
+            points: hs.iter().zip(&tips).map(|(&h, e)| (h, e.abs())).collect(),
+            reference: false,
+        });
+        energy_series.push(Series {
+            name: format!("tied 1:{r}"),
+            points: hs.iter().copied().zip(energies.iter().copied()).collect(),
+            reference: false,
+        });
+    }
+    let conf_h: Vec<Measured> = levels
+        .iter()
+        .map(|&k| conf.get(20 * k))
+        .collect::<Result<_>>()?;
+    tip_series.push(Series {
+        name: "conforming, size h".into(),
+        points: hs
+            .iter()
+            .zip(&conf_h)
+            .map(|(&h, m)| (h, ((m.tip - exact) / exact).abs()))
+            .collect(),
+        reference: false,
+    });
+    energy_series.push(Series {
+        name: "conforming, size h".into(),
+        points: hs
+            .iter()
+            .zip(&conf_h)
+            .map(|(&h, m)| (h, m.energy_error()))
+            .collect(),
+        reference: false,
+    });
+    let (h0, h1) = (hs[0], hs[hs.len() - 1]);
+    let t0 = tip_series[0].points[0].1;
+    tip_series.push(Series {
+        name: "slope 2".into(),
+        points: vec![(h0, t0 * 1.5), (h1, t0 * 1.5 * (h1 / h0).powi(2))],
+        reference: true,
+    });
+    let e0 = energy_series[0].points[0].1;
+    energy_series.push(Series {
+        name: "slope 1".into(),
+        points: vec![(h0, e0 * 1.3), (h1, e0 * 1.3 * h1 / h0)],
+        reference: true,
+    });
+
+    // (ii) Clamped end, as a user would set it up: tip only.
+    let mut clamped = Conforming {
+        ends: Ends::Clamped,
+        runs: BTreeMap::new(),
+    };
+    let mut table_c = Table {
+        caption: "(ii) Fully clamped end, load spread uniformly over x = 100 (the problem as specified): tip deflection of the tied models and of conforming meshes with the host's size h and with the node part's size h/r.".into(),
+        header: std::iter::once("k".to_string())
+            .chain(std::iter::once("conforming h".to_string()))
+            .chain(ratios.iter().map(|r| format!("tied 1:{r}")))
+            .chain(std::iter::once(format!("conforming h/{}", ratios[ratios.len() - 1])))
+            .collect(),
+        rows: Vec::new(),
+    };
+    let mut bracketed = true;
+    for &k in levels {
+        let coarse = clamped.get(20 * k)?.tip;
+        let mut row = vec![k.to_string(), sci(coarse)];
+        for &r in ratios {
+            let t = tip(
                 &tied([10 * k, 2 * k], [10 * k * r, 2 * k * r], None),
                 "fine",
             )?;
-            // ‖u_ref − u_h‖_E / ‖u_ref‖_E ≈ √(|C_ref − C_h| / C_ref) (Galerkin orthogonality).
-            let e_energy = ((c_ref - c).abs() / c_ref).sqrt();
-            energy.push(e_energy);
-            let fine_conf = tip(&conforming([20 * k * r, 2 * k * r]), "beam")?;
-            // The tie adds neither stiffness nor flexibility: the tied tip lies between
-            // the conforming meshes of its two element sizes (equal to them at 1:1 up to
-            // the penalty).
-            bracketed &= tied_tip >= conf[i] * (1.0 - 1e-4) && tied_tip <= fine_conf * (1.0 + 1e-4);
-            let e = (exact - tied_tip) / exact;
-            errors.push(e);
-            let h = 5.0 / k as f64;
-            pts.push((h, e.abs()));
-            t.rows.push(vec![
-                k.to_string(),
-                format!("{h:.3}"),
-                sci(tied_tip),
-                sci(conf[i]),
-                sci(fine_conf),
-                sci(e),
-                String::new(),
-                sci(e_energy),
-                String::new(),
-            ]);
+            let fine = clamped.get(20 * k * r)?.tip;
+            bracketed &= t >= coarse * (1.0 - 1e-6) && t <= fine * (1.0 + 1e-6);
+            row.push(sci(t));
         }
-        for ((row, o), oe) in t.rows.iter_mut().zip(orders(&errors)).zip(orders(&energy)) {
-            row[6] = o;
-            row[8] = oe;
-        }
-        if let [.., a, b] = energy.as_slice() {
-            let order = (a / b).log2();
-            energy_ok &= order > 0.8;
-            energy_orders.push(format!("1:{r} {order:.2}"));
-        }
-        if let [.., a, b] = errors.as_slice() {
-            let order = (a / b).abs().log2();
-            rates_ok &= order > 1.5;
-            last_orders.push(format!("1:{r} {order:.2}"));
-        }
-        series.push(Series {
-            name: format!("tied 1:{r}"),
-            points: pts,
-            reference: false,
-        });
-        tables.push(t);
+        row.push(sci(clamped.get(20 * k * ratios[ratios.len() - 1])?.tip));
+        table_c.rows.push(row);
     }
-    let conf_pts: Vec<(f64, f64)> = levels
+    let (finest_nx, best_clamped) = clamped
+        .runs
         .iter()
-        .zip(&conf)
-        .map(|(&k, c)| (5.0 / k as f64, ((exact - c) / exact).abs()))
-        .collect();
-    series.push(Series {
-        name: "conforming (host h)".into(),
-        points: conf_pts,
-        reference: false,
-    });
-    let h0 = 5.0;
-    let e0 = series[0].points[0].1;
-    series.push(Series {
-        name: "h²".into(),
-        points: levels
-            .iter()
-            .map(|&k| (h0 / k as f64, e0 / (k * k) as f64))
-            .collect(),
-        reference: true,
-    });
+        .next_back()
+        .map_or((0, f64::NAN), |(n, m)| (*n, m.tip));
+    let end_effect = (best_clamped - exact) / exact;
+
     Ok(Case {
         title: "Tied non-matching cantilever".into(),
-        setup: "Plane stress cantilever L = 100, D = 10, t = 1, E = 210000, ν = 0.31, fully clamped at x = 0, 1 N shear spread uniformly over x = 100. Split at x = 50: the left half (host) with cells of size h = 5/k, the right half r times finer, tied with the default penalty. Refinement levels k; mesh ratios 1:r.".into(),
+        setup: "Plane stress cantilever L = 100, D = 10, t = 1, E = 210000, ν = 0.31, 1 N downward shear at x = 100. Split at x = 50: the left half (host) with square cells of size h = 5/k split into two T3 each, the right half r times finer, tied with the rigid law and the default penalty. Mesh ratios 1:r, refinement levels k. (i) with the exact end conditions of the closed form (each node of x = 0 prescribed to the Timoshenko–Goodier displacement, the parabolic shear on x = 100 as consistent nodal forces), so the closed form is the exact solution of the discrete problem's continuum; (ii) fully clamped at x = 0 with the load spread uniformly, as a user would model it.\n\n```text\n  |▒ host (h) ▒▒▒▒▒▒▒▒▒▒▒▒|░ node part (h / r) ░░░|  ↓ P = 1 N on x = 100\n  x = 0                  x = 50 (tied)          x = 100\n```".into(),
         reference: format!(
-            "Timoshenko–Goodier closed form v(L) = P L³/(3EI) + (4+5ν) P D² L/(24 E I) = {} (Theory of Elasticity, §21); conforming meshes of the whole beam with the host's and the node part's element sizes; and, for the energy-norm error ‖u_ref − u_h‖_E / ‖u_ref‖_E ≈ √(|C_ref − C_h| / C_ref) with C = F·u the compliance (exact for Galerkin approximations), a conforming mesh finer than every host.",
+            "Timoshenko & Goodier, *Theory of Elasticity*, 3rd ed., 1970, §21: σxx = −P(L−x)y/I, σyy = 0, σxy = P(D²/4 − y²)/(2I); ux = −Py/(6EI)·[(6L−3x)x + (2+ν)(y² − D²/4)], uy = P/(6EI)·[3νy²(L−x) + (4+5ν)D²x/4 + (3L−x)x²] (support at x = 0, P in +y at x = L; the form of Augarde & Deeks, Finite Elements in Analysis and Design 44 (2008) 595); tip deflection v(L) = PL³/(3EI) + (4+5ν)PD²L/(24EI) = {}. Energy norm ‖σ‖²_E = ∫ σᵀ D⁻¹ σ t dA, integrated exactly per element (6-point degree-4 rule); ‖σ_TG‖²_E = P²L³/(3EI) + (1+ν)P²LD⁵/(60EI²). Linear triangles converge at order 1 in the energy norm and order 2 in the tip deflection.",
             sci(exact)
         ),
-        tables,
-        plots: vec![Plot {
-            file: "cantilever_convergence.png".into(),
-            title: "Tied cantilever: tip deflection error".into(),
-            x: "host element size h".into(),
-            y: "|error| / closed form".into(),
-            log: (true, true),
-            series,
-        }],
+        tables: vec![table, table_c],
+        plots: vec![
+            Plot {
+                file: "cantilever_convergence.png".into(),
+                title: "Tied cantilever (exact ends): tip deflection error".into(),
+                x: "host element size h".into(),
+                y: "|tip error| / closed form".into(),
+                log: (true, true),
+                series: tip_series,
+            },
+            Plot {
+                file: "cantilever_energy.png".into(),
+                title: "Tied cantilever (exact ends): energy-norm error".into(),
+                x: "host element size h".into(),
+                y: "‖σh − σTG‖E / ‖σTG‖E".into(),
+                log: (true, true),
+                series: energy_series,
+            },
+        ],
         verdict: format!(
-            "The tied tip deflection lies between the conforming meshes of its two element sizes at every level and ratio ({}), and converges to the closed form at about second order ({}; finest levels: {}): the interface adds no error beyond the bulk discretization. The energy-norm error against a fine conforming mesh ({} cells) falls at about first order, as it must for linear elements (finest levels: {}). (The remaining tip difference at the finest levels includes the clamped-versus-Timoshenko end condition, below 0.5 %.)",
+            "With the exact end conditions the tied tip deflection converges to the closed form at order 2 and the energy-norm error at order 1, as linear triangles must (finest orders, tip / energy: {}); the tied energy-norm error equals that predicted from conforming meshes of the two halves' sizes to within {:.2} % at every ratio and level (worst tied / predicted = {:.4}): the interface adds no error beyond the bulk discretization. Clamped: the tied tip deflection lies between the conforming meshes of its two element sizes at every level and ratio ({}); on the finest conforming mesh ({} × {} cells) the clamped tip differs from the closed form by {}, the clamp's end effect plus that mesh's own error.",
+            finest.join(", "),
+            100.0 * (worst_ratio - 1.0).abs(),
+            worst_ratio,
             if bracketed { "bracketed" } else { "NOT always bracketed" },
-            if rates_ok { "observed order > 1.5" } else { "observed order below 1.5" },
-            last_orders.join(", "),
-            format_args!("{} × {}", reference_cells[0], reference_cells[1]),
-            energy_orders.join(", ")
+            finest_nx,
+            finest_nx / 10,
+            sci(end_effect)
         ),
-        passed: bracketed && rates_ok && energy_ok,
+        passed: tip_ok && energy_ok && no_extra && bracketed,
     })
 }
 
 /// Case 3: the penalty. Matching meshes (1:1) tied with c from 1e2 to 1e12 × E·t
 /// against the same mesh without an interface: the only difference is the penalty's.
 pub fn penalty_study(quick: bool) -> Result<Case> {
-    let k = 2;
-    let reference = tip(&conforming([20 * k, 2 * k]), "beam")?;
+    let levels: &[usize] = if quick { &[2] } else { &[2, 8] };
     let factors: &[f64] = if quick {
         &[1e2, 1e5, 1e8]
     } else {
@@ -256,55 +554,215 @@ pub fn penalty_study(quick: bool) -> Result<Case> {
     };
     let et = E;
     let mut table = Table {
+        caption: "Tip deflection of the tied 1:1 clamped cantilever against the same mesh without an interface: relative difference, and the largest out-of-balance force of the solve relative to the load (the solver's own round-off check).".into(),
+        header: std::iter::once("c / (E·t)".to_string())
+            .chain(levels.iter().flat_map(|k| {
+                [format!("k = {k}: tip difference"), format!("k = {k}: residual")]
+            }))
+            .collect(),
+        rows: factors.iter().map(|f| vec![format!("{f:.0e}")]).collect(),
+    };
+    let mut series = Vec::new();
+    let mut falls = true;
+    let mut default_errs = Vec::new();
+    let mut best = Vec::new();
+    for &k in levels {
+        let reference = tip(&conforming([20 * k, 2 * k]), "beam")?;
+        let mut pts = Vec::new();
+        for (i, &f) in factors.iter().enumerate() {
+            let a = prepare(&tied([10 * k, 2 * k], [10 * k, 2 * k], Some(f * et)))?;
+            let inc = solve(&a)?.pop().expect("one increment");
+            let t = -displacement_at(&a, &inc, "fine", [L, 0.0])?[1];
+            let d = ((t - reference) / reference).abs();
+            pts.push((f, d.max(1e-17)));
+            table.rows[i].push(sci(d));
+            table.rows[i].push(sci(inc.residual));
+        }
+        let at = |f: f64| pts.iter().find(|p| p.0 == f).map_or(f64::NAN, |p| p.1);
+        falls &= at(1e2) / at(1e5) > 100.0;
+        let (fb, eb) = pts
+            .iter()
+            .fold((0.0, f64::INFINITY), |b, p| if p.1 < b.1 { *p } else { b });
+        best.push(format!("k = {k}: {} at {fb:.0e}", sci(eb)));
+        let t = tip(&tied([10 * k, 2 * k], [10 * k, 2 * k], None), "fine")?;
+        default_errs.push(((t - reference) / reference).abs());
+        series.push(Series {
+            name: format!("tied 1:1, k = {k}"),
+            points: pts,
+            reference: false,
+        });
+    }
+    let x_max = factors[factors.len() - 1];
+    let y0 = series[0].points[0].1;
+    series.push(Series {
+        name: "slope −1 (penalty error ∝ E·t/c)".into(),
+        points: vec![(1e2, y0), (x_max, y0 * 1e2 / x_max)],
+        reference: true,
+    });
+    let default = crate::model::DEFAULT_PENALTY_FACTOR;
+    let default_err = default_errs.iter().copied().fold(0.0, f64::max);
+
+    // Dissimilar parts: the node part 10⁴ times stiffer than the host. No
+    // conforming mesh exists; the reference is the tie's own limit, the result at
+    // c = 1e6 × the softer E·t (converged to about 1e-9 by the 1/c trend).
+    let ratio = 1e4;
+    let limit = tip(&tied_dissimilar(ratio, Some(1e6 * et)), "fine")?;
+    let soft_factors: &[f64] = if quick {
+        &[1e5, 1e9]
+    } else {
+        &[1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9]
+    };
+    let mut table_d = Table {
         caption: format!(
-            "Tip deflection of the tied 1:1 cantilever (k = {k}) against the conforming mesh ({}).",
-            sci(reference)
+            "Dissimilar parts: the same cantilever (k = 2, 1:1) with the node part {ratio:.0e} times stiffer than the host. Tip deflection against the tie's limit (the result at c = 1e6 × the softer part's E·t) and the solve's out-of-balance force, for c in multiples of the softer part's E·t. The default, {default:.0e} × the softer part's E·t, is the 1e5 row; {default:.0e} × the stiffer part's would be the 1e9 row."
         ),
-        header: vec![
-            "c / (E·t)".into(),
-            "tied tip".into(),
-            "relative difference".into(),
-        ],
+        header: [
+            "c / (E·t of the softer part)",
+            "tip difference to the limit",
+            "residual",
+        ]
+        .map(String::from)
+        .to_vec(),
         rows: Vec::new(),
     };
-    let mut pts = Vec::new();
-    for &f in factors {
-        let t = tip(
-            &tied([10 * k, 2 * k], [10 * k, 2 * k], Some(f * et)),
-            "fine",
-        )?;
-        let d = ((t - reference) / reference).abs();
-        pts.push((f, d.max(1e-17)));
-        table.rows.push(vec![format!("{f:.0e}"), sci(t), sci(d)]);
+    let mut at_soft = Vec::new();
+    for &f in soft_factors {
+        let a = prepare(&tied_dissimilar(ratio, Some(f * et)))?;
+        let inc = solve(&a)?.pop().expect("one increment");
+        let t = -displacement_at(&a, &inc, "fine", [L, 0.0])?[1];
+        let d = ((t - limit) / limit).abs();
+        at_soft.push((f, d, inc.residual));
+        table_d
+            .rows
+            .push(vec![format!("{f:.0e}"), sci(d), sci(inc.residual)]);
     }
-    let at = |f: f64| {
-        pts.iter()
-            .find(|p| p.0 == f)
-            .map(|p| p.1)
-            .unwrap_or(f64::NAN)
-    };
-    let default = crate::model::DEFAULT_PENALTY_FACTOR;
-    let default_err = ((tip(&tied([10 * k, 2 * k], [10 * k, 2 * k], None), "fine")? - reference)
-        / reference)
-        .abs();
-    let falls = at(1e2) / at(1e5) > 100.0;
+    let default_dissimilar = ((tip(&tied_dissimilar(ratio, None), "fine")? - limit) / limit).abs();
+    let stiff_scaled = at_soft
+        .iter()
+        .find(|p| p.0 == 1e9)
+        .map_or(f64::NAN, |p| p.1);
     Ok(Case {
         title: "Penalty study".into(),
-        setup: format!("The cantilever of case 2 at level k = {k} with matching meshes on both sides of the cut (1:1), tied with c from {:.0e} to {:.0e} × E·t.", factors[0], factors[factors.len() - 1]),
-        reference: "The same beam meshed as one part (no interface): with matching meshes an exact tie would reproduce it exactly, so the difference is the penalty's error alone.".into(),
-        tables: vec![table],
+        setup: format!("The clamped cantilever of case 2 with matching meshes on both sides of the cut (1:1) at levels k = {}, tied with c from {:.0e} to {:.0e} × E·t.", levels.iter().map(|k| k.to_string()).collect::<Vec<_>>().join(" and "), factors[0], x_max),
+        reference: "The same beam meshed as one part (no interface): with matching meshes an exact tie reproduces it exactly, so the difference is the penalty's error alone, O(E·t/c), plus round-off.".into(),
+        tables: vec![table, table_d],
         plots: vec![Plot {
             file: "penalty.png".into(),
             title: "Tip deflection error of the tie against the penalty".into(),
             x: "c / (E·t)".into(),
             y: "relative difference to the conforming mesh".into(),
             log: (true, true),
-            series: vec![Series { name: "tied 1:1".into(), points: pts, reference: false }],
+            series,
         }],
         verdict: format!(
-            "The error falls as 1/c until round-off in the penalised system takes over at about 1e7–1e8 E·t. The default c = {default:.0e} × E·t gives {} here: well below discretization errors and far from the round-off regime, so it is kept.",
-            sci(default_err)
+            "The error falls as 1/c until round-off in the penalised system takes over (smallest difference {}); beyond it the error grows about tenfold per decade of c, and the crossover moves to smaller c as the mesh is refined (the condition number grows as 1/h²). The default c = {default:.0e} × E·t gives at most {}: several orders below the discretization error (case 2) and at or below the round-off crossover, which moves towards it as meshes grow — so it is kept, and should not be raised. With dissimilar parts the tie acts in series with the softer part, so the softer part's E·t is the scale: the default (1e5 × the softer E·t) is {} off the tie's limit, while 1e5 × the stiffer part's E·t (1e9 × the softer) would be {} off with a residual of {} — why the default takes the softer part's E·t.",
+            best.join(", "),
+            sci(default_err),
+            sci(default_dissimilar),
+            sci(stiff_scaled),
+            sci(at_soft.iter().find(|p| p.0 == 1e9).map_or(f64::NAN, |p| p.2))
         ),
-        passed: falls && default_err < 1e-4,
+        passed: falls && default_err < 1e-5 && default_dissimilar < 1e-5,
     })
+}
+
+/// The clamped split cantilever (k = 2, 1:1) with a node part `ratio` times
+/// stiffer than the host, tied with `c` (None: the default).
+pub fn tied_dissimilar(ratio: f64, c: Option<f64>) -> String {
+    tied([20, 4], [20, 4], c)
+        .replacen(
+            "[analysis]",
+            &format!(
+                "[materials.stiff]\nE = {:e}\nnu = 0.31\n[analysis]",
+                E * ratio
+            ),
+            1,
+        )
+        .replace(
+            "name = \"fine\"\nmaterial = \"steel\"",
+            "name = \"fine\"\nmaterial = \"stiff\"",
+        )
+}
+
+/// Reversed roles on the cantilever: tip deflection and energy-norm error with the
+/// coarse part hosting and with the fine part hosting (exact end conditions).
+pub fn reversed_cantilever(k: usize, r: usize) -> Result<(Measured, Measured)> {
+    let good = measure(
+        &tied_with(
+            [10 * k, 2 * k],
+            [10 * k * r, 2 * k * r],
+            None,
+            Ends::Exact,
+            false,
+        ),
+        "fine",
+    )?;
+    let bad = measure(
+        &tied_with(
+            [10 * k, 2 * k],
+            [10 * k * r, 2 * k * r],
+            None,
+            Ends::Exact,
+            true,
+        ),
+        "fine",
+    )?;
+    Ok((good, bad))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::material::{Material, PlaneKind};
+
+    /// The closed form is a plane-stress elasticity solution: strains of u equal
+    /// D⁻¹σ (central differences), and the shear on x = L sums to P.
+    #[test]
+    fn timoshenko_goodier_is_consistent() {
+        let m = Material::new(E, NU, PlaneKind::Stress, 1.0, "t").unwrap();
+        let d = m.d_matrix();
+        let h = 1e-4;
+        for &(x, y) in &[(10.0, 2.0), (50.0, -4.0), (90.0, 3.3)] {
+            let g = |dx: f64, dy: f64| tg_displacement(x + dx, y + dy);
+            let exx = (g(h, 0.0)[0] - g(-h, 0.0)[0]) / (2.0 * h);
+            let eyy = (g(0.0, h)[1] - g(0.0, -h)[1]) / (2.0 * h);
+            let gxy = (g(0.0, h)[0] - g(0.0, -h)[0] + g(h, 0.0)[1] - g(-h, 0.0)[1]) / (2.0 * h);
+            let s = tg_stress(x, y);
+            for (r, row) in d.iter().enumerate() {
+                let from_strain = row[0] * exx + row[1] * eyy + row[2] * gxy;
+                assert!(
+                    (from_strain - s[r]).abs() < 1e-6 * (1.0 + s[r].abs()),
+                    "{r}: {from_strain} vs {}",
+                    s[r]
+                );
+            }
+        }
+        let n = 1000;
+        let shear: f64 = (0..n)
+            .map(|j| tg_stress(L, -D / 2.0 + D * (j as f64 + 0.5) / n as f64)[2] * D / n as f64)
+            .sum();
+        assert!((shear - P).abs() < 1e-6);
+    }
+
+    /// The closed-form energy norm of the exact stress equals its exact integration
+    /// over a mesh of the beam.
+    #[test]
+    fn exact_energy_matches_quadrature() {
+        let mesh = crate::mesh::Mesh::rectangle([0.0, L], [-D / 2.0, D / 2.0], [10, 2]);
+        let m = Material::new(E, NU, PlaneKind::Stress, 1.0, "t").unwrap();
+        let mut sum = 0.0;
+        for (e, tri) in mesh.triangles.iter().enumerate() {
+            let x = tri.map(|n| mesh.nodes[n]);
+            for (b, w) in DUNAVANT4 {
+                let px = b[0] * x[0][0] + b[1] * x[1][0] + b[2] * x[2][0];
+                let py = b[0] * x[0][1] + b[1] * x[1][1] + b[2] * x[2][1];
+                sum += w * mesh.triangle_area(e) * energy_density(&m, tg_stress(px, py));
+            }
+        }
+        assert!(
+            (sum - exact_energy()).abs() < 1e-10 * exact_energy(),
+            "{sum} vs {}",
+            exact_energy()
+        );
+    }
 }

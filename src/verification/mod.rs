@@ -69,11 +69,19 @@ pub fn prepare(text: &str) -> Result<Analysis> {
     Analysis::new(Model::from_str(text, Path::new("verification.toml"), 1)?)
 }
 
-/// Solves a prepared problem in memory; returns every increment.
+/// Solves a prepared problem in memory as `cfe run` does (a refined model starts
+/// from its coarser model's pattern); returns every increment.
 pub fn solve(a: &Analysis) -> Result<Vec<IncrementResult>> {
+    solve_with(a, true)
+}
+
+/// Solves a prepared problem in memory, starting the contact iteration from the
+/// coarser model's pattern (`coarse_start`, as `cfe run` does for K ≥ 4) or from
+/// all pairs bonded; returns every increment.
+pub fn solve_with(a: &Analysis, coarse_start: bool) -> Result<Vec<IncrementResult>> {
     let f = crate::assembly::external_force(&a.model.loads, &a.dofs);
     let mut solver = Solver::new(&a.model.parts, &a.interfaces, &a.dofs, f, &a.model.settings)?;
-    if let Some(states) = a.coarse_states() {
+    if coarse_start && let Some(states) = a.coarse_states() {
         solver.set_initial_states(states);
     }
     let mut all = Vec::new();
@@ -177,6 +185,29 @@ pub fn write_report(out: &Path, cases: &[Case], quick: bool) -> Result<()> {
     crate::output::write_atomic(&out.join("verification.md"), |w| w.write_all(s.as_bytes()))
 }
 
+/// The complementary energy density σᵀ D⁻¹ σ of a stress (σxx, σyy, σxy) in `m`
+/// (per unit volume; multiply by t dA).
+pub fn energy_density(m: &crate::fem::material::Material, s: [f64; 3]) -> f64 {
+    let d = m.d_matrix();
+    // D⁻¹ by cofactors (D is symmetric positive definite).
+    let det = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1])
+        - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0])
+        + d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
+    let c = |i: usize, j: usize| {
+        let (r0, r1) = ((i + 1) % 3, (i + 2) % 3);
+        let (c0, c1) = ((j + 1) % 3, (j + 2) % 3);
+        d[r0][c0] * d[r1][c1] - d[r0][c1] * d[r1][c0]
+    };
+    let mut e = 0.0;
+    for i in 0..3 {
+        for j in 0..3 {
+            // (D⁻¹)_ij = cofactor_ji / det
+            e += s[i] * c(j, i) / det * s[j];
+        }
+    }
+    e
+}
+
 /// Formats a number in scientific notation with 3 significant digits.
 pub fn sci(v: f64) -> String {
     format!("{v:.3e}")
@@ -191,4 +222,23 @@ pub fn orders(errors: &[f64]) -> Vec<String> {
                 .map(|w| format!("{:.2}", (w[0] / w[1]).abs().log2())),
         )
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::material::{Material, PlaneKind};
+
+    /// σᵀD⁻¹σ: uniaxial stress gives σ²/E, pure shear τ²/G, in plane stress and
+    /// plane strain (where uniaxial in-plane stress gives (1 − ν²)σ²/E).
+    #[test]
+    fn energy_density_matches_hand_values() {
+        let (e, nu) = (200.0, 0.25);
+        let g = e / (2.0 * (1.0 + nu));
+        let ps = Material::new(e, nu, PlaneKind::Stress, 1.0, "t").unwrap();
+        let pe = Material::new(e, nu, PlaneKind::Strain, 1.0, "t").unwrap();
+        assert!((energy_density(&ps, [2.0, 0.0, 0.0]) - 4.0 / e).abs() < 1e-14);
+        assert!((energy_density(&ps, [0.0, 0.0, 3.0]) - 9.0 / g).abs() < 1e-14);
+        assert!((energy_density(&pe, [2.0, 0.0, 0.0]) - 4.0 * (1.0 - nu * nu) / e).abs() < 1e-14);
+    }
 }

@@ -82,14 +82,31 @@ increments = 1
 
 /// Largest deviation of any element stress from σ, relative to |σ|.
 pub fn stress_error(host_cells: usize, node_cells: usize, c: f64) -> Result<f64> {
+    Ok(stress_errors(host_cells, node_cells, c)?.0)
+}
+
+/// The largest deviation of any element stress from σ and the root-mean-square
+/// deviation over the whole patch (area-weighted), both relative to |σ|.
+pub fn stress_errors(host_cells: usize, node_cells: usize, c: f64) -> Result<(f64, f64)> {
     let a = prepare(&problem(host_cells, node_cells, SIGMA, c))?;
     let inc = solve(&a)?.pop().expect("one increment");
+    Ok(errors_of(&a, &inc.u))
+}
+
+/// (largest, RMS) element stress error of a solved patch test, relative to |σ|.
+fn errors_of(a: &crate::analysis::Analysis, u: &[f64]) -> (f64, f64) {
     let norm = SIGMA.iter().map(|v| v * v).sum::<f64>().sqrt();
-    Ok(a.recover(&inc.u)
-        .iter()
-        .flat_map(|s| s.element.iter())
-        .map(|s| (0..3).map(|k| (s[k] - SIGMA[k]).abs()).fold(0.0, f64::max) / norm)
-        .fold(0.0, f64::max))
+    let (mut max, mut sq, mut area) = (0.0f64, 0.0, 0.0);
+    for (part, st) in a.model.parts.iter().zip(a.recover(u)) {
+        for (e, s) in st.element.iter().enumerate() {
+            let d = [0, 1, 2].map(|k| s[k] - SIGMA[k]);
+            max = max.max(d.iter().fold(0.0f64, |m, v| m.max(v.abs())) / norm);
+            let ae = part.mesh.triangle_area(e);
+            sq += ae * d.iter().map(|v| v * v).sum::<f64>();
+            area += ae;
+        }
+    }
+    (max, (sq / area).sqrt() / norm)
 }
 
 /// Case 1: constant stress through a tied interface, (a) with host vertices at
@@ -144,25 +161,51 @@ pub fn constant_stress(quick: bool) -> Result<Case> {
     let scales: &[usize] = if quick { &[1, 2] } else { &[1, 2, 4, 8] };
     let pairs = [(2, 3), (1, 3), (3, 7)];
     let mut table_b = Table {
-        caption: "(b) Non-matching meshes (host : node cells per side, both scaled by the refinement): largest element stress error / |σ| (it sits at the interface), c = 1e6 E·t.".into(),
+        caption: "(b) Non-matching meshes (host : node cells per side, both scaled by the refinement), c = 1e6 E·t: the largest element stress error / |σ| (it sits in the elements along the interface) and the root-mean-square error over the patch.".into(),
         header: std::iter::once("refinement".to_string())
-            .chain(pairs.iter().map(|&(h, n)| {
-                if n % h == 0 { format!("{h}:{n} (vertices coincide)") } else { format!("{h}:{n}") }
+            .chain(pairs.iter().flat_map(|&(h, n)| {
+                let name = if n % h == 0 { format!("{h}:{n} (vertices coincide)") } else { format!("{h}:{n}") };
+                [format!("{name} max"), format!("{name} RMS")]
             }))
             .collect(),
         rows: Vec::new(),
     };
     let mut bounded = true;
+    let mut rms: Vec<Vec<f64>> = vec![Vec::new(); pairs.len()];
+    let mut maxes: Vec<Vec<f64>> = vec![Vec::new(); pairs.len()];
     for &k in scales {
         let mut row = vec![format!("×{k}")];
-        for &(h, n) in &pairs {
-            let e = stress_error(h * k, n * k, 1e6 * ET)?;
+        for (i, &(h, n)) in pairs.iter().enumerate() {
+            let (e, r) = stress_errors(h * k, n * k, 1e6 * ET)?;
             bounded &= e < 0.1;
             row.push(sci(e));
+            row.push(sci(r));
+            rms[i].push(r);
+            maxes[i].push(e);
         }
         table_b.rows.push(row);
     }
-    let passed = scaling_ok && floor < 1e-6 && bounded;
+    // The error lives in one layer of elements along the interface: its RMS over
+    // the patch falls as √h when the maximum stays put.
+    let mut rms_orders = Vec::new();
+    let mut rms_ok = true;
+    for (i, &(h, n)) in pairs.iter().enumerate() {
+        if n % h == 0 {
+            continue;
+        }
+        if let [.., a, b] = rms[i].as_slice() {
+            let o = (a / b).log2();
+            rms_ok &= o > 0.4;
+            rms_orders.push(format!("{h}:{n} {o:.2}"));
+        }
+    }
+    let max_change = pairs
+        .iter()
+        .enumerate()
+        .filter(|(_, (h, n))| n % h != 0)
+        .map(|(i, _)| maxes[i][maxes[i].len() - 1] / maxes[i][0])
+        .fold(0.0, f64::max);
+    let passed = scaling_ok && floor < 1e-6 && bounded && rms_ok;
     Ok(Case {
         title: "Constant-stress patch tests through a tied interface".into(),
         setup: "Two unit squares of E = 1000, ν = 0.3, plane stress, t = 1, tied (rigid law) along y = 1; the lower one hosts. Every outer edge carries the traction σ·n of σ = (σxx, σyy, σxy) = (1, 2, 0.5) (tension and shear together); three DOFs hold the rigid-body motion.".into(),
@@ -177,9 +220,11 @@ pub fn constant_stress(quick: bool) -> Result<Case> {
             series: curves,
         }],
         verdict: format!(
-            "With coincident vertices the error falls as 1/c ({}) to a floor of {} set by round-off in the penalised system — the constant state is reproduced up to the penalty's own error, not to machine round-off. Non-matching meshes leave a bounded error of a few per cent at the interface that does not shrink with refinement: node-to-element coupling cannot transfer a constant traction exactly there.",
+            "With coincident vertices the error falls as 1/c ({}) to a floor of {} set by round-off in the penalised system — the constant state is reproduced up to the penalty's own error, not to machine round-off. Truly non-matching meshes fail the patch test in the strict sense: the largest error, a few per cent in the elements along the interface, does not shrink with refinement (finest / coarsest ≤ {:.2}) — node-to-element coupling cannot transfer a constant traction exactly when coupling nodes fall inside host edges — but it stays confined to one layer of elements, so its RMS over the body falls at order ½ ({}).",
             if scaling_ok { "×100 stiffer → ×100 smaller" } else { "NOT as 1/c" },
-            sci(floor)
+            sci(floor),
+            max_change,
+            rms_orders.join(", ")
         ),
         passed,
     })
@@ -239,7 +284,7 @@ increments = 2
     let mut worst: f64 = 0.0;
     let mut all_bonded = true;
     let mut total = 0.0;
-    let (mut fe_pts, mut ref_pts) = (Vec::new(), Vec::new());
+    let mut fe_pts = Vec::new();
     for (r, c) in rows.iter().zip(&a.interfaces[0].elements) {
         let trib = if r.x < 1e-9 || r.x > 1.0 - 1e-9 {
             h / 2.0
@@ -253,8 +298,7 @@ increments = 2
         total += fy;
         let d = (fy - expected).abs() / expected;
         worst = worst.max(d);
-        fe_pts.push((r.x, fy / trib));
-        ref_pts.push((r.x, p));
+        fe_pts.push((r.x, d));
         all_bonded &= r.state == "bonded";
         table.rows.push(vec![
             format!("{:.4}", r.x),
@@ -273,13 +317,12 @@ increments = 2
         tables: vec![table],
         plots: vec![Plot {
             file: "contact_patch.png".into(),
-            title: "Contact patch test: pressure at the pairs".into(),
+            title: "Contact patch test: pair forces against p × tributary length".into(),
             x: "x".into(),
-            y: "vertical pair force / tributary length".into(),
-            log: (false, false),
+            y: "relative difference".into(),
+            log: (false, true),
             series: vec![
-                Series { name: "cfe".into(), points: fe_pts, reference: false },
-                Series { name: "uniform pressure p = 5".into(), points: ref_pts, reference: true },
+                Series { name: "cfe, c = 1e6 E·t".into(), points: fe_pts, reference: false },
             ],
         }],
         verdict: format!(
@@ -293,39 +336,111 @@ increments = 2
     })
 }
 
+/// Largest distance between the two displaced faces along y = 1 (each face's nodes
+/// against the other face interpolated linearly), relative to the largest
+/// displacement on the faces: how far the faces open or interpenetrate between
+/// tied points.
+fn face_mismatch(a: &crate::analysis::Analysis, u: &[f64]) -> f64 {
+    let face = |p: usize| {
+        let m = &a.model.parts[p].mesh;
+        let mut f: Vec<(f64, [f64; 2])> = (0..m.nodes.len())
+            .filter(|&n| (m.nodes[n][1] - 1.0).abs() < 1e-12)
+            .map(|n| {
+                let g = a.dofs.node(p, n);
+                (m.nodes[n][0], [u[2 * g], u[2 * g + 1]])
+            })
+            .collect();
+        f.sort_by(|x, y| x.0.total_cmp(&y.0));
+        f
+    };
+    let (f0, f1) = (face(0), face(1));
+    let at = |f: &[(f64, [f64; 2])], x: f64| {
+        let i = f.partition_point(|q| q.0 < x).clamp(1, f.len() - 1);
+        let (a, b) = (f[i - 1], f[i]);
+        let t = (x - a.0) / (b.0 - a.0);
+        [0, 1].map(|k| a.1[k] + t * (b.1[k] - a.1[k]))
+    };
+    let mut worst = 0.0f64;
+    let mut scale = 0.0f64;
+    for (this, other) in [(&f0, &f1), (&f1, &f0)] {
+        for &(x, v) in this.iter() {
+            let w = at(other, x);
+            worst = worst.max((v[0] - w[0]).hypot(v[1] - w[1]));
+            scale = scale.max(v[0].hypot(v[1]));
+        }
+    }
+    worst / scale
+}
+
 /// Which part should host: the coarse one (its elements tie every fine node), or
 /// the fine one (only the coarse nodes are tied; fine nodes in between are free).
 pub fn host_choice(quick: bool) -> Result<Case> {
     let ratios: &[(usize, usize)] = if quick {
         &[(2, 4)]
     } else {
-        &[(2, 4), (2, 6), (3, 7)]
+        &[(2, 4), (2, 6), (3, 7), (2, 8)]
     };
     let mut table = Table {
-        caption: "Largest element stress error / |σ| in the constant-stress patch test (c = 1e6 E·t), coarse part hosting versus fine part hosting.".into(),
-        header: vec!["coarse : fine cells".into(), "coarse hosts".into(), "fine hosts".into()],
+        caption: "Constant-stress patch test (c = 1e6 E·t), coarse part hosting versus fine part hosting: largest element stress error / |σ|, and the largest gap or overlap between the two displaced faces relative to their largest displacement.".into(),
+        header: ["coarse : fine cells", "coarse hosts: stress error", "fine hosts: stress error", "coarse hosts: face mismatch", "fine hosts: face mismatch"].map(String::from).to_vec(),
         rows: Vec::new(),
     };
     let mut coarse_better = true;
     let (mut good_pts, mut bad_pts) = (Vec::new(), Vec::new());
+    let run = |host: usize, node: usize| -> Result<(f64, f64)> {
+        let a = prepare(&problem(host, node, SIGMA, 1e6 * ET))?;
+        let inc = solve(&a)?.pop().expect("one increment");
+        Ok((errors_of(&a, &inc.u).0, face_mismatch(&a, &inc.u)))
+    };
     for &(c, f) in ratios {
         // The lower square hosts: coarse in the first run, fine in the second.
-        let good = stress_error(c, f, 1e6 * ET)?;
-        let bad = stress_error(f, c, 1e6 * ET)?;
-        coarse_better &= good < bad;
-        table
-            .rows
-            .push(vec![format!("{c}:{f}"), sci(good), sci(bad)]);
+        let (good, gm) = run(c, f)?;
+        let (bad, bm) = run(f, c)?;
+        coarse_better &= good < bad && gm < bm;
+        table.rows.push(vec![
+            format!("{c}:{f}"),
+            sci(good),
+            sci(bad),
+            sci(gm),
+            sci(bm),
+        ]);
         good_pts.push((f as f64 / c as f64, good));
         bad_pts.push((f as f64 / c as f64, bad));
     }
     good_pts.sort_by(|a, b| a.0.total_cmp(&b.0));
     bad_pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+
+    // The cantilever of case 2 (exact end conditions), roles reversed.
+    let cases: &[(usize, usize)] = if quick {
+        &[(1, 4)]
+    } else {
+        &[(1, 2), (1, 4), (2, 4), (1, 8)]
+    };
+    let mut table_c = Table {
+        caption: "The tied cantilever of case 2 (exact end conditions), host cells 10k × 2k, node part r times finer: tip deflection error and energy-norm error against Timoshenko–Goodier, coarse half hosting versus fine half hosting.".into(),
+        header: ["k", "ratio", "coarse hosts: tip error", "fine hosts: tip error", "coarse hosts: energy-norm error", "fine hosts: energy-norm error"].map(String::from).to_vec(),
+        rows: Vec::new(),
+    };
+    let exact = super::cantilever::timoshenko_goodier();
+    let mut beam_ok = true;
+    for &(k, r) in cases {
+        let (good, bad) = super::cantilever::reversed_cantilever(k, r)?;
+        let (tg, tb) = ((good.tip - exact) / exact, (bad.tip - exact) / exact);
+        beam_ok &= good.energy_error() < bad.energy_error();
+        table_c.rows.push(vec![
+            k.to_string(),
+            format!("1:{r}"),
+            sci(tg),
+            sci(tb),
+            sci(good.energy_error()),
+            sci(bad.energy_error()),
+        ]);
+    }
     Ok(Case {
         title: "Choice of host: mesh-ratio reversal".into(),
-        setup: "The patch test of case 1 with the coarse part as host (its elements take every fine boundary node as a coupling node), and reversed: the fine part hosts and only the coarse part's boundary nodes couple.".into(),
-        reference: "The exact constant stress state, as in case 1.".into(),
-        tables: vec![table],
+        setup: "The patch test of case 1 and the cantilever of case 2, each run twice: with the coarse part as host (its elements take every fine boundary node as a coupling node) and reversed (the fine part hosts and only the coarse part's boundary nodes couple).\n\n```text\n  coarse hosts:   fine   o--o--o--o--o      every fine node tied to the coarse edge below\n                         |  |  |  |  |\n                  coarse *-----------*\n\n  fine hosts:     coarse *-----------*      only the coarse nodes are tied;\n                         |           |      the fine nodes in between are free\n                  fine   o--o--o--o--o      to open or overlap the coarse edge\n```".into(),
+        reference: "The exact constant stress state (patch test) and the Timoshenko–Goodier solution (cantilever).".into(),
+        tables: vec![table, table_c],
         plots: vec![Plot {
             file: "host_choice.png".into(),
             title: "Patch test error: coarse host against fine host".into(),
@@ -337,11 +452,11 @@ pub fn host_choice(quick: bool) -> Result<Case> {
                 Series { name: "fine part hosts".into(), points: bad_pts, reference: false },
             ],
         }],
-        verdict: if coarse_better {
-            "The coarse part must host: reversed, the fine part's interface nodes between coarse nodes are tied to nothing, the faces can open or interpenetrate between them, and the stress error grows by orders of magnitude.".into()
+        verdict: if coarse_better && beam_ok {
+            "The coarse part must host. A CFE ties one coupling node to one host edge; with the coarse part hosting, every fine node is tied and the fine face follows the coarse edge (face mismatch at the penalty's level). Reversed, only the coarse nodes are tied: the fine face between them is free to open or overlap the coarse edge (face mismatch of a few per cent of the displacement), the traction passes through a few nodes, and the stress error grows by several orders of magnitude in the patch test (from the penalty's 1e-7 to order 1 where vertices coincide) and the energy-norm error grows in the cantilever. There the reversed tie even makes the tip deflection look better: the loose tie adds flexibility that happens to offset the stiffness error of linear triangles, a coincidence the energy norm exposes.".into()
         } else {
-            "Unexpected: the reversed coupling was not worse.".into()
+            format!("Unexpected: the reversed coupling was not worse (patch test worse: {coarse_better}, cantilever worse: {beam_ok}).")
         },
-        passed: coarse_better,
+        passed: coarse_better && beam_ok,
     })
 }
