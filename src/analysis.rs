@@ -7,6 +7,7 @@ use crate::assembly::{self, DofMap};
 use crate::coupling::{Interface, PairState, element as cfe, search};
 use crate::error::{Error, Result};
 use crate::fem::recovery::{self, PartStress};
+use crate::mesh::Element;
 use crate::model::{Model, Scheme};
 use crate::output::report::{self, PairRow};
 use crate::output::{png, vtu};
@@ -58,6 +59,10 @@ pub struct PartSummary {
     pub nodes: usize,
     /// Number of elements.
     pub elements: usize,
+    /// Of which linear triangles.
+    pub t3: usize,
+    /// Of which bilinear quadrilaterals.
+    pub q4: usize,
 }
 
 /// A pair kept bonded to settle an active-set cycle.
@@ -201,8 +206,12 @@ impl Analysis {
         Ok(a)
     }
 
-    /// Finds the coupling pairs of every interface and numbers the DOFs.
-    pub fn new(model: Model) -> Result<Analysis> {
+    /// Finds the coupling pairs of every interface, moves each coupling node onto
+    /// its host edge (its projection there: a no-op for faces that already
+    /// coincide, a small adjustment for a curved face meshed apart), and numbers
+    /// the DOFs. Interfaces are taken in file order, each seeing the nodes the
+    /// earlier ones moved.
+    pub fn new(mut model: Model) -> Result<Analysis> {
         let t = Instant::now();
         let mut interfaces = Vec::with_capacity(model.interfaces.len());
         for def in &model.interfaces {
@@ -216,6 +225,18 @@ impl Analysis {
                 def.tolerance,
             )?;
             let max_projection_distance = elements.iter().map(|c| c.distance).fold(0.0, f64::max);
+            if max_projection_distance > 0.0 {
+                let part = &mut model.parts[def.node_part];
+                for c in &elements {
+                    part.mesh.nodes[c.node] = c.position;
+                }
+                part.mesh.validate(&part.name).map_err(|e| Error::Coupling {
+                    interface: def.name.clone(),
+                    message: format!(
+                        "moving the coupling nodes onto the host edges (by up to {max_projection_distance:e}) spoils the node part's mesh: {e}; lower `tolerance` or mesh the faces closer together"
+                    ),
+                })?;
+            }
             interfaces.push(Interface {
                 name: def.name.clone(),
                 host: def.host,
@@ -261,10 +282,10 @@ impl Analysis {
         );
         for p in &self.model.parts {
             s += &format!(
-                "  part '{}': {} nodes, {} T3 elements, E = {}, nu = {}, t = {}\n",
+                "  part '{}': {} nodes, {} elements, E = {}, nu = {}, t = {}\n",
                 p.name,
                 p.mesh.nodes.len(),
-                p.mesh.triangles.len(),
+                p.mesh.describe_elements(),
                 p.material.young,
                 p.material.poisson,
                 p.material.thickness
@@ -520,10 +541,15 @@ impl Analysis {
                 .model
                 .parts
                 .iter()
-                .map(|p| PartSummary {
-                    name: p.name.clone(),
-                    nodes: p.mesh.nodes.len(),
-                    elements: p.mesh.triangles.len(),
+                .map(|p| {
+                    let (t3, q4) = p.mesh.counts();
+                    PartSummary {
+                        name: p.name.clone(),
+                        nodes: p.mesh.nodes.len(),
+                        elements: t3 + q4,
+                        t3,
+                        q4,
+                    }
                 })
                 .collect(),
             interfaces: Vec::new(),
@@ -567,7 +593,12 @@ impl Analysis {
         for (i, iface) in self.interfaces.iter().enumerate() {
             for (k, c) in iface.elements.iter().enumerate() {
                 let state = inc.states[i][k];
-                let d = self.dofs.cfe_dofs(iface, c).map(|j| inc.u[j]);
+                let d: Vec<f64> = self
+                    .dofs
+                    .cfe_dofs(iface, c)
+                    .iter()
+                    .map(|&j| inc.u[j])
+                    .collect();
                 let (_, f) =
                     cfe::internal_force(&c.shape, c.normal, iface.c_n, iface.c_s, state, &d);
                 let jump = cfe::local_jump(c.normal, cfe::jump(&c.shape, &d));
@@ -701,32 +732,51 @@ impl Analysis {
             .collect()
     }
 
-    fn global_triangles(&self) -> Vec<[usize; 3]> {
-        self.model
-            .parts
-            .iter()
-            .enumerate()
-            .flat_map(|(p, part)| {
-                let o = self.dofs.node_offset[p];
-                part.mesh.triangles.iter().map(move |t| t.map(|n| n + o))
-            })
-            .collect()
+    /// Every element as triangles in global node numbers, for the pictures: a Q4
+    /// is split along its diagonal 1–3 (the picture interpolates linearly).
+    fn plot_triangles(&self) -> Vec<[usize; 3]> {
+        let mut out = Vec::new();
+        for (p, part) in self.model.parts.iter().enumerate() {
+            let o = self.dofs.node_offset[p];
+            for el in &part.mesh.elements {
+                match *el {
+                    Element::T3(t) => out.push(t.map(|n| n + o)),
+                    Element::Q4([a, b, c, d]) => {
+                        out.push([a + o, b + o, c + o]);
+                        out.push([a + o, c + o, d + o]);
+                    }
+                }
+            }
+        }
+        out
     }
 
     /// The parts' geometry for the VTU files, built once per run.
     fn parts_grid(&self) -> PartsGrid {
-        let tris = self.global_triangles();
+        let n_cells: usize = self.model.parts.iter().map(|p| p.mesh.elements.len()).sum();
         let mut part_point = Vec::with_capacity(self.dofs.n_nodes());
-        let mut part_cell = Vec::with_capacity(tris.len());
+        let mut part_cell = Vec::with_capacity(n_cells);
+        let mut connectivity = Vec::with_capacity(4 * n_cells);
+        let mut offsets = Vec::with_capacity(n_cells);
+        let mut kinds = Vec::with_capacity(n_cells);
         for (p, part) in self.model.parts.iter().enumerate() {
+            let o = self.dofs.node_offset[p];
             part_point.extend(std::iter::repeat_n(p as i32, part.mesh.nodes.len()));
-            part_cell.extend(std::iter::repeat_n(p as i32, part.mesh.triangles.len()));
+            part_cell.extend(std::iter::repeat_n(p as i32, part.mesh.elements.len()));
+            for el in &part.mesh.elements {
+                connectivity.extend(el.nodes().iter().map(|n| n + o));
+                offsets.push(connectivity.len());
+                kinds.push(match el {
+                    Element::T3(_) => vtu::CellKind::Triangle,
+                    Element::Q4(_) => vtu::CellKind::Quad,
+                });
+            }
         }
         PartsGrid {
             points: self.global_points(),
-            connectivity: tris.iter().flatten().copied().collect(),
-            offsets: (1..=tris.len()).map(|i| 3 * i).collect(),
-            kinds: vec![vtu::CellKind::Triangle; tris.len()],
+            connectivity,
+            offsets,
+            kinds,
             part_point,
             part_cell,
         }
@@ -898,7 +948,7 @@ impl Analysis {
         stresses: &[PartStress],
     ) -> Result<()> {
         let points = self.global_points();
-        let tris = self.global_triangles();
+        let tris = self.plot_triangles();
         let outline = png::outline_edges(&tris);
         let syy: Vec<f64> = stresses
             .iter()

@@ -4,7 +4,7 @@
 //! and fills the lower triangle of K, the internal force vector and the external loads.
 
 use crate::coupling::{CouplingElement, Interface, PairState, element as cfe};
-use crate::fem::t3;
+use crate::fem::element::{self, MAX_DOFS};
 use crate::model::{Load, Part, Support};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 
@@ -83,21 +83,40 @@ impl DofMap {
         (p, g - self.node_offset[p])
     }
 
-    /// The global DOFs of a coupling element: host nodes, then the coupling node.
-    pub fn cfe_dofs(&self, iface: &Interface, c: &CouplingElement) -> [usize; 8] {
-        let g = [
-            self.node(iface.host, c.host_nodes[0]),
-            self.node(iface.host, c.host_nodes[1]),
-            self.node(iface.host, c.host_nodes[2]),
-            self.node(iface.node_part, c.node),
-        ];
-        std::array::from_fn(|i| 2 * g[i / 2] + i % 2)
+    /// The global nodes of a coupling element: host nodes, then the coupling node.
+    pub fn cfe_nodes(&self, iface: &Interface, c: &CouplingElement) -> Vec<usize> {
+        c.host_nodes
+            .iter()
+            .map(|&n| self.node(iface.host, n))
+            .chain([self.node(iface.node_part, c.node)])
+            .collect()
     }
 
-    /// The global DOFs of triangle `e` of `part`.
-    pub fn t3_dofs(&self, parts: &[Part], part: usize, e: usize) -> [usize; 6] {
-        let tri = parts[part].mesh.triangles[e];
-        std::array::from_fn(|i| 2 * self.node(part, tri[i / 2]) + i % 2)
+    /// The global DOFs of a coupling element: host nodes, then the coupling node
+    /// (2 (n + 1) of them).
+    pub fn cfe_dofs(&self, iface: &Interface, c: &CouplingElement) -> Vec<usize> {
+        self.cfe_nodes(iface, c)
+            .iter()
+            .flat_map(|&g| [2 * g, 2 * g + 1])
+            .collect()
+    }
+
+    /// The global DOFs of element `e` of `part` (the first 2n entries, n its node
+    /// count) and their number.
+    pub fn element_dofs(
+        &self,
+        parts: &[Part],
+        part: usize,
+        e: usize,
+    ) -> ([usize; MAX_DOFS], usize) {
+        let nodes = parts[part].mesh.elements[e].nodes();
+        let mut g = [0; MAX_DOFS];
+        for (a, &n) in nodes.iter().enumerate() {
+            let gn = self.node(part, n);
+            g[2 * a] = 2 * gn;
+            g[2 * a + 1] = 2 * gn + 1;
+        }
+        (g, 2 * nodes.len())
     }
 }
 
@@ -120,15 +139,24 @@ impl NodeGraph {
         // Two passes (count, fill), then sort and dedup each row.
         let mut count = vec![0usize; n_nodes + 1];
         let each_element = |f: &mut dyn FnMut(&[usize])| {
+            let mut g = [0usize; cfe::MAX_NODES];
             for (p, part) in parts.iter().enumerate() {
-                for tri in &part.mesh.triangles {
-                    f(&tri.map(|n| dofs.node(p, n)));
+                for el in &part.mesh.elements {
+                    let nodes = el.nodes();
+                    for (gi, &n) in g.iter_mut().zip(nodes) {
+                        *gi = dofs.node(p, n);
+                    }
+                    f(&g[..nodes.len()]);
                 }
             }
             for iface in interfaces {
                 for c in &iface.elements {
-                    let h = c.host_nodes.map(|n| dofs.node(iface.host, n));
-                    f(&[h[0], h[1], h[2], dofs.node(iface.node_part, c.node)]);
+                    let n = c.host_nodes.len();
+                    for (gi, &h) in g.iter_mut().zip(&c.host_nodes) {
+                        *gi = dofs.node(iface.host, h);
+                    }
+                    g[n] = dofs.node(iface.node_part, c.node);
+                    f(&g[..=n]);
                 }
             }
         };
@@ -226,11 +254,11 @@ impl Stiffness {
         let mut base = std::mem::take(&mut k.base);
         for (p, part) in parts.iter().enumerate() {
             let d = part.material.d_matrix();
-            for e in 0..part.mesh.triangles.len() {
-                let x = part.mesh.triangles[e].map(|n| part.mesh.nodes[n]);
-                let ke = t3::stiffness(&x, &d, part.material.thickness);
-                let g = dofs.t3_dofs(parts, p, e);
-                k.scatter(&mut base, dofs, &g, |a, b| ke[a][b]);
+            for (e, el) in part.mesh.elements.iter().enumerate() {
+                let x = element::coordinates(&part.mesh, el);
+                let ke = element::stiffness(el, &x, &d, part.material.thickness);
+                let (g, n) = dofs.element_dofs(parts, p, e);
+                k.scatter(&mut base, dofs, &g[..n], |a, b| ke[a][b]);
             }
         }
         k.base = base;
@@ -286,7 +314,9 @@ impl Stiffness {
                     continue;
                 }
                 let ke = cfe::stiffness(&c.shape, c.normal, iface.c_n, iface.c_s, s);
-                self.scatter(&mut values, dofs, &dofs.cfe_dofs(iface, c), |a, b| ke[a][b]);
+                self.scatter(&mut values, dofs, &dofs.cfe_dofs(iface, c), |a, b| {
+                    ke.get(a, b)
+                });
             }
         }
         self.values = values;
@@ -315,7 +345,7 @@ pub fn internal_force(
     let elements: Vec<(usize, usize)> = parts
         .iter()
         .enumerate()
-        .flat_map(|(p, part)| (0..part.mesh.triangles.len()).map(move |e| (p, e)))
+        .flat_map(|(p, part)| (0..part.mesh.elements.len()).map(move |e| (p, e)))
         .collect();
     let threads = rayon::current_num_threads().max(1);
     let chunk = elements.len().div_ceil(threads).max(1);
@@ -326,11 +356,14 @@ pub fn internal_force(
             let mut f = vec![0.0; u.len()];
             for &(p, e) in chunk {
                 let part = &parts[p];
-                let x = part.mesh.triangles[e].map(|n| part.mesh.nodes[n]);
-                let ke = t3::stiffness(&x, &materials[p], part.material.thickness);
-                let g = dofs.t3_dofs(parts, p, e);
-                let fe = t3::mul(&ke, &g.map(|i| u[i]));
-                for (a, &ga) in g.iter().enumerate() {
+                let el = &part.mesh.elements[e];
+                let x = element::coordinates(&part.mesh, el);
+                let ke = element::stiffness(el, &x, &materials[p], part.material.thickness);
+                let (g, n) = dofs.element_dofs(parts, p, e);
+                let ue: [f64; MAX_DOFS] =
+                    std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
+                let fe = element::mul(&ke, &ue, n);
+                for (a, &ga) in g[..n].iter().enumerate() {
                     f[ga] += fe[a];
                 }
             }
@@ -346,14 +379,8 @@ pub fn internal_force(
     for (iface, st) in interfaces.iter().zip(states) {
         for (c, &s) in iface.elements.iter().zip(st) {
             let g = dofs.cfe_dofs(iface, c);
-            let (fe, _) = cfe::internal_force(
-                &c.shape,
-                c.normal,
-                iface.c_n,
-                iface.c_s,
-                s,
-                &g.map(|i| u[i]),
-            );
+            let d: Vec<f64> = g.iter().map(|&i| u[i]).collect();
+            let (fe, _) = cfe::internal_force(&c.shape, c.normal, iface.c_n, iface.c_s, s, &d);
             for (a, &ga) in g.iter().enumerate() {
                 f[ga] += fe[a];
             }

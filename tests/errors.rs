@@ -114,7 +114,7 @@ fn coupling_nodes_outside_the_host() {
     let model = parse(&text).unwrap();
     let e = Analysis::new(model).err().expect("orphans").to_string();
     assert!(
-        e.contains("lie in no host element")
+        e.contains("lie on no host boundary edge within the tolerance")
             && e.contains("(210, 120)")
             && e.contains("(290, 120)"),
         "{e}"

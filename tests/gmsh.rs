@@ -6,8 +6,8 @@ mod common;
 
 use cfe::analysis::Analysis;
 use cfe::coupling::PairState;
-use cfe::mesh::Mesh;
 use cfe::mesh::gmsh::{GmshMesh, Group, MshVersion};
+use cfe::mesh::{ElementKind, Mesh};
 use cfe::model::Model;
 use cfe::solve::nonlinear::IncrementResult;
 use std::path::{Path, PathBuf};
@@ -31,10 +31,10 @@ fn name(g: &str) -> Group {
     Group::Name(g.into())
 }
 
-/// Compares two meshes exactly: nodes, triangles and boundaries.
+/// Compares two meshes exactly: nodes, elements and boundaries.
 fn assert_same_mesh(a: &Mesh, b: &Mesh, what: &str) {
     assert_eq!(a.nodes, b.nodes, "{what}: nodes");
-    assert_eq!(a.triangles, b.triangles, "{what}: triangles");
+    assert_eq!(a.elements, b.elements, "{what}: elements");
     assert_eq!(a.boundaries, b.boundaries, "{what}: boundaries");
 }
 
@@ -99,8 +99,8 @@ fn shared_file_parts_and_oriented_boundaries() {
     let right = m.part_mesh("right", Some(&[name("right")])).unwrap();
     left.validate("left").unwrap();
     right.validate("right").unwrap();
-    assert_eq!((left.nodes.len(), left.triangles.len()), (5, 4));
-    assert_eq!((right.nodes.len(), right.triangles.len()), (4, 2));
+    assert_eq!((left.nodes.len(), left.elements.len()), (5, 4));
+    assert_eq!((right.nodes.len(), right.elements.len()), (4, 2));
     // Nodes keep the file's order: tags 1, 2, 5, 60, 100 for the left square.
     assert_eq!(
         left.nodes,
@@ -135,11 +135,11 @@ fn shared_file_parts_and_oriented_boundaries() {
     }
 }
 
-/// Quadrilaterals are read (binary 4.1 and ASCII 2.2) into their own list, and a
-/// part that contains any is refused with the count, the file and the remedy;
-/// a part without them is built as usual.
+/// Quadrilaterals are read (binary 4.1 and ASCII 2.2) into their own list and
+/// become Q4 elements, counter-clockwise, alone or mixed with the file's
+/// triangles in one part.
 #[test]
-fn quadrilaterals_are_read_and_refused() {
+fn quadrilaterals_are_read_as_q4() {
     for file in ["quads_41_bin.msh", "quads_22.msh"] {
         let m = read(file);
         assert_eq!(m.quads.len(), 1, "{file}");
@@ -149,22 +149,17 @@ fn quadrilaterals_are_read_and_refused() {
         );
         assert_eq!(m.quads[0].physical, vec![2]);
         assert_eq!(m.triangles.len(), 4);
-        for surfaces in [Some(vec![name("right")]), None] {
-            let e = m
-                .part_mesh("plate", surfaces.as_deref())
-                .unwrap_err()
-                .to_string();
-            assert!(
-                e.contains("part 'plate'")
-                    && e.contains(file)
-                    && e.contains("contains 1 4-node quadrilaterals")
-                    && e.contains("Q4 elements are not supported yet")
-                    && e.contains("Mesh.RecombineAll = 0"),
-                "{e}"
-            );
-        }
+        let right = m.part_mesh("right", Some(&[name("right")])).unwrap();
+        right.validate("right").unwrap();
+        assert_eq!(right.counts(), (0, 1), "{file}");
+        assert!(right.element_area(0) > 0.0);
+        let both = m.part_mesh("plate", None).unwrap();
+        both.validate("plate").unwrap();
+        assert_eq!(both.counts(), (4, 1), "{file}");
+        let area: f64 = (0..both.elements.len()).map(|e| both.element_area(e)).sum();
+        assert!((area - 2.0).abs() < 1e-14, "{file}: {area}");
         let left = m.part_mesh("left", Some(&[name("left")])).unwrap();
-        assert_eq!(left.triangles.len(), 4);
+        assert_eq!(left.counts(), (4, 0));
     }
 }
 
@@ -203,11 +198,11 @@ fn gmsh_plate_on_base_matches_the_structured_meshes() {
     let cases = [
         (
             "base",
-            Mesh::rectangle([0.0, 200.0], [0.0, 120.0], [20, 12]),
+            Mesh::rectangle([0.0, 200.0], [0.0, 120.0], [20, 12], ElementKind::T3),
         ),
         (
             "plate",
-            Mesh::rectangle([30.0, 170.0], [120.0, 135.0], [28, 6]),
+            Mesh::rectangle([30.0, 170.0], [120.0, 135.0], [28, 6], ElementKind::T3),
         ),
     ];
     let key = |p: [f64; 2]| ((p[0] * 1e6).round() as i64, (p[1] * 1e6).round() as i64);
@@ -217,10 +212,10 @@ fn gmsh_plate_on_base_matches_the_structured_meshes() {
         assert_eq!(g.nodes.len(), structured.nodes.len());
         let triangles = |mesh: &Mesh| {
             let mut t: Vec<_> = mesh
-                .triangles
+                .elements
                 .iter()
-                .map(|tri| {
-                    let mut k = tri.map(|n| key(mesh.nodes[n]));
+                .map(|el| {
+                    let mut k: Vec<_> = el.nodes().iter().map(|&n| key(mesh.nodes[n])).collect();
                     k.sort();
                     k
                 })
@@ -264,7 +259,7 @@ fn gmsh_written_formats_agree() {
                     "{file} {part}: {p:?} {q:?}"
                 );
             }
-            assert_eq!(a.triangles, b.triangles, "{file} {part}: triangles");
+            assert_eq!(a.elements, b.elements, "{file} {part}: elements");
             assert_eq!(a.boundaries, b.boundaries, "{file} {part}: boundaries");
         }
     }
@@ -428,7 +423,7 @@ fn problem_file_errors_for_gmsh_parts() {
     );
     let e = err(&both);
     assert!(
-        e.contains("both `rectangle` and `gmsh`") && e.contains("line 7"),
+        e.contains("more than one of `rectangle`, `annulus` and `gmsh`") && e.contains("line 7"),
         "{e}"
     );
     let neither = SQUARES_PROBLEM.replacen(
@@ -472,6 +467,4 @@ fn problem_file_errors_for_gmsh_parts() {
     );
     let e = err(&SQUARES_PROBLEM.replace("surfaces = [2]", "surface = [2]"));
     assert!(e.contains("surface"), "{e}");
-    let e = err(&SQUARES_PROBLEM.replace("square_22.msh", "quads_22.msh"));
-    assert!(e.contains("Q4 elements are not supported yet"), "{e}");
 }

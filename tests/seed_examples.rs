@@ -74,8 +74,8 @@ fn contiguous(p: &[bool]) -> bool {
 #[test]
 fn plate_on_base() {
     let mut a = Analysis::new(example("plate_on_base.toml")).unwrap();
-    assert_eq!(a.model.parts[0].mesh.triangles.len(), 480);
-    assert_eq!(a.model.parts[1].mesh.triangles.len(), 336);
+    assert_eq!(a.model.parts[0].mesh.elements.len(), 480);
+    assert_eq!(a.model.parts[1].mesh.elements.len(), 336);
     assert_eq!(a.interfaces[0].elements.len(), 29);
     let out = std::env::temp_dir().join(format!("cfe-test-plate-{}", std::process::id()));
     let summary = a.run(&out, &mut |_| {}).unwrap();
@@ -145,9 +145,9 @@ fn plate_on_base() {
 #[test]
 fn bar_in_bearing() {
     let a = Analysis::new(example("bar_in_bearing.toml")).unwrap();
-    let elements: usize = a.model.parts.iter().map(|p| p.mesh.triangles.len()).sum();
+    let elements: usize = a.model.parts.iter().map(|p| p.mesh.elements.len()).sum();
     assert_eq!(
-        (a.model.parts[0].mesh.triangles.len(), elements - 1920),
+        (a.model.parts[0].mesh.elements.len(), elements - 1920),
         (1920, 540)
     );
     assert_eq!(

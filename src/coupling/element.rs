@@ -1,15 +1,21 @@
-//! The coupling finite element (CFE) "T4": the host element's 3 nodes plus the
-//! coupling node (SPEC §2, seed eqs. 3–16).
+//! The coupling finite element (CFE): the host element's nodes plus the coupling
+//! node — 4 nodes ("T4") on a T3 host, 5 nodes on a Q4 host (SPEC §2, seed eqs. 3–16).
 //!
-//! Kinematics: `[[U]] = D₄ − Σᵢ N̄ᵢ(X_C) Dᵢ = B_e D_e`, `B_e = [−N̄₁I −N̄₂I −N̄₃I I]` (2×8).
+//! Kinematics: `[[U]] = D_c − Σᵢ N̄ᵢ(X_C) Dᵢ = B_e D_e`,
+//! `B_e = [−N̄₁I … −N̄ₙI I]` (2 × 2(n+1), n = 3 or 4 host nodes).
 //! Local frame: `R = [[n₁ n₂], [s₁ s₂]]`, s = n turned +90°, `[[u]] = R [[U]]`.
 //! Law: `c = diag(c_n, c_s)`, `C = Rᵀ c R`; internal force `F_e = B_eᵀ Rᵀ f` and
-//! stiffness `K_e = B_eᵀ (1 − D̂) C B_e` (8×8, symmetric).
+//! stiffness `K_e = B_eᵀ (1 − D̂) C B_e` (symmetric).
 //!
-//! Element DOFs are ordered `[u₁ v₁ u₂ v₂ u₃ v₃ u₄ v₄]`: host nodes, then the
-//! coupling node.
+//! Element DOFs are ordered `[u₁ v₁ … uₙ vₙ u_c v_c]`: host nodes, then the coupling
+//! node.
 
 use super::law::{PairState, local_force};
+
+/// Most nodes a CFE has: a Q4 host's 4 plus the coupling node.
+pub const MAX_NODES: usize = 5;
+/// Most DOFs a CFE has.
+pub const MAX_DOFS: usize = 2 * MAX_NODES;
 
 /// One coupling pair: a coupling node of the node part and the host element that
 /// contains it, with everything the CFE needs, computed once in the reference
@@ -20,16 +26,27 @@ pub struct CouplingElement {
     pub node: usize,
     /// The host element (index in the host part's mesh).
     pub host_element: usize,
-    /// The host element's nodes (indices in the host part's mesh).
-    pub host_nodes: [usize; 3],
-    /// Host shape functions at the coupling node, N̄ᵢ(X_C) (they sum to 1).
-    pub shape: [f64; 3],
+    /// The host element's nodes (indices in the host part's mesh): 3 for a T3 host,
+    /// 4 for a Q4 host.
+    pub host_nodes: Vec<usize>,
+    /// Host shape functions at the coupling node, N̄ᵢ(X_C), one per host node (they
+    /// sum to 1).
+    pub shape: Vec<f64>,
     /// Unit outward normal n of the host boundary at the coupling node.
     pub normal: [f64; 2],
-    /// Reference position X_C of the coupling node.
+    /// Reference position X_C of the coupling node: its projection on the host
+    /// edge, where the node part's node is placed.
     pub position: [f64; 2],
-    /// Distance from the coupling node to the host edge it was projected on.
+    /// Distance from the coupling node, as meshed, to the host edge it was
+    /// projected on (how far it was moved).
     pub distance: f64,
+}
+
+impl CouplingElement {
+    /// Number of DOFs of the CFE: 2 × (host nodes + 1).
+    pub fn n_dofs(&self) -> usize {
+        2 * (self.host_nodes.len() + 1)
+    }
 }
 
 /// The rotation `R = [[n₁, n₂], [s₁, s₂]]` with `s = n` turned +90° (s = (−n₂, n₁)).
@@ -37,9 +54,12 @@ pub fn rotation(n: [f64; 2]) -> [[f64; 2]; 2] {
     [[n[0], n[1]], [-n[1], n[0]]]
 }
 
-/// The global jump `[[U]] = D₄ − Σ N̄ᵢ Dᵢ` for element displacements `d` (8 values).
-pub fn jump(shape: &[f64; 3], d: &[f64; 8]) -> [f64; 2] {
-    std::array::from_fn(|c| d[6 + c] - (0..3).map(|i| shape[i] * d[2 * i + c]).sum::<f64>())
+/// The global jump `[[U]] = D_c − Σ N̄ᵢ Dᵢ` for element displacements `d`
+/// (2 (n + 1) values: host nodes, then the coupling node).
+pub fn jump(shape: &[f64], d: &[f64]) -> [f64; 2] {
+    let n = shape.len();
+    debug_assert_eq!(d.len(), 2 * (n + 1));
+    std::array::from_fn(|c| d[2 * n + c] - (0..n).map(|i| shape[i] * d[2 * i + c]).sum::<f64>())
 }
 
 /// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_s]])`.
@@ -51,41 +71,77 @@ pub fn local_jump(normal: [f64; 2], jump: [f64; 2]) -> [f64; 2] {
     ]
 }
 
-/// The coefficients `b` of `B_e` per node: `B_e = [b₁I b₂I b₃I b₄I]` with
-/// `b = (−N̄₁, −N̄₂, −N̄₃, 1)`.
-fn b_coefficients(shape: &[f64; 3]) -> [f64; 4] {
-    [-shape[0], -shape[1], -shape[2], 1.0]
+/// The coefficients `b` of `B_e` per node, `B_e = [b₁I … b_{n+1}I]` with
+/// `b = (−N̄₁, …, −N̄ₙ, 1)`; entries past n + 1 are zero.
+pub fn b_coefficients(shape: &[f64]) -> [f64; MAX_NODES] {
+    let mut b = [0.0; MAX_NODES];
+    for (bi, s) in b.iter_mut().zip(shape) {
+        *bi = -s;
+    }
+    b[shape.len()] = 1.0;
+    b
 }
 
-/// CFE stiffness `K_e = B_eᵀ (1 − D̂) C B_e`, `C = Rᵀ c R` (8×8, symmetric, positive
-/// semidefinite). Since `B_e = b ⊗ I`, `K_e[2a+i][2b+j] = (1 − D̂) b_a b_b C_ij`.
+/// A CFE stiffness `K_e = B_eᵀ (1 − D̂) C B_e` in factored form: since
+/// `B_e = b ⊗ I`, `K_e[2a+i][2b+j] = b_a b_b C_ij` with `C = (1 − D̂) Rᵀ c R`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CfeStiffness {
+    /// `b = (−N̄₁, …, −N̄ₙ, 1)` (zero past the element's nodes).
+    pub b: [f64; MAX_NODES],
+    /// `(1 − D̂) Rᵀ c R` (2×2, symmetric).
+    pub c: [[f64; 2]; 2],
+    /// Number of DOFs, 2 (n + 1).
+    pub dofs: usize,
+}
+
+impl CfeStiffness {
+    /// Entry (p, q), p, q < `dofs`.
+    pub fn get(&self, p: usize, q: usize) -> f64 {
+        self.b[p / 2] * self.b[q / 2] * self.c[p % 2][q % 2]
+    }
+
+    /// `K_e d` for element displacements `d`.
+    pub fn mul(&self, d: &[f64]) -> [f64; MAX_DOFS] {
+        let mut out = [0.0; MAX_DOFS];
+        for (p, o) in out.iter_mut().enumerate().take(self.dofs) {
+            *o = (0..self.dofs).map(|q| self.get(p, q) * d[q]).sum();
+        }
+        out
+    }
+}
+
+/// CFE stiffness `K_e = B_eᵀ (1 − D̂) C B_e`, `C = Rᵀ c R` (symmetric, positive
+/// semidefinite; zero for an open pair).
 pub fn stiffness(
-    shape: &[f64; 3],
+    shape: &[f64],
     normal: [f64; 2],
     c_n: f64,
     c_s: f64,
     state: PairState,
-) -> [[f64; 8]; 8] {
+) -> CfeStiffness {
     let r = rotation(normal);
     let k = 1.0 - state.d_hat();
-    let c: [[f64; 2]; 2] = std::array::from_fn(|i| {
-        std::array::from_fn(|j| k * (c_n * r[0][i] * r[0][j] + c_s * r[1][i] * r[1][j]))
-    });
-    let b = b_coefficients(shape);
-    std::array::from_fn(|p| std::array::from_fn(|q| b[p / 2] * b[q / 2] * c[p % 2][q % 2]))
+    CfeStiffness {
+        b: b_coefficients(shape),
+        c: std::array::from_fn(|i| {
+            std::array::from_fn(|j| k * (c_n * r[0][i] * r[0][j] + c_s * r[1][i] * r[1][j]))
+        }),
+        dofs: 2 * (shape.len() + 1),
+    }
 }
 
 /// CFE internal force `F_e = B_eᵀ Rᵀ f` with `f = (1 − D̂) c [[u]]`, for element
-/// displacements `d`. Also returns the local force `f` (the force the host side
-/// exerts on the pair, in (n, s)).
+/// displacements `d` (the first 2 (n + 1) entries of the result are the element's).
+/// Also returns the local force `f` (the force the host side exerts on the pair,
+/// in (n, s)).
 pub fn internal_force(
-    shape: &[f64; 3],
+    shape: &[f64],
     normal: [f64; 2],
     c_n: f64,
     c_s: f64,
     state: PairState,
-    d: &[f64; 8],
-) -> ([f64; 8], [f64; 2]) {
+    d: &[f64],
+) -> ([f64; MAX_DOFS], [f64; 2]) {
     let u = local_jump(normal, jump(shape, d));
     let f = local_force(state, c_n, c_s, u);
     let r = rotation(normal);
@@ -94,75 +150,118 @@ pub fn internal_force(
         r[0][1] * f[0] + r[1][1] * f[1],
     ];
     let b = b_coefficients(shape);
-    (std::array::from_fn(|p| b[p / 2] * g[p % 2]), f)
+    let mut out = [0.0; MAX_DOFS];
+    for (p, o) in out.iter_mut().enumerate().take(2 * (shape.len() + 1)) {
+        *o = b[p / 2] * g[p % 2];
+    }
+    (out, f)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    const SHAPE: [f64; 3] = [0.3, 0.7, 0.0];
     fn normal() -> [f64; 2] {
         let a: f64 = 0.4;
         [a.cos(), a.sin()]
     }
 
-    /// K_e is symmetric and positive semidefinite (xᵀKx ≥ 0 for many x), and an
-    /// open pair has zero stiffness.
+    /// The two kinds of host: a T3 with the coupling node on its edge 1–2, and a
+    /// distorted Q4 with the node at natural coordinates (0.3, −1) (on its edge 1–2)
+    /// and, to exercise all four shape functions, at an interior point (0.3, 0.2):
+    /// (host corners, shape functions there, coupling-node position Σ N̄ᵢ Xᵢ).
+    type Host = (Vec<[f64; 2]>, Vec<f64>, [f64; 2]);
+
+    fn hosts() -> Vec<Host> {
+        let t3 = vec![[0.0, 0.0], [10.0, 1.0], [3.0, 8.0]];
+        let q4 = vec![[0.0, 0.0], [10.0, 1.0], [11.0, 9.0], [-1.0, 7.0]];
+        let q4_shape = |xi: f64, eta: f64| -> Vec<f64> {
+            [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                .iter()
+                .map(|(a, b)| 0.25 * (1.0 + a * xi) * (1.0 + b * eta))
+                .collect()
+        };
+        let at = |x: &[[f64; 2]], n: &[f64]| -> [f64; 2] {
+            std::array::from_fn(|c| x.iter().zip(n).map(|(p, w)| w * p[c]).sum())
+        };
+        let mut out = Vec::new();
+        for (x, n) in [
+            (t3.clone(), vec![0.3, 0.7, 0.0]),
+            (q4.clone(), q4_shape(0.3, -1.0)),
+            (q4.clone(), q4_shape(0.3, 0.2)),
+        ] {
+            let c = at(&x, &n);
+            out.push((x, n, c));
+        }
+        out
+    }
+
+    fn dense(k: &CfeStiffness) -> Vec<Vec<f64>> {
+        (0..k.dofs)
+            .map(|p| (0..k.dofs).map(|q| k.get(p, q)).collect())
+            .collect()
+    }
+
+    /// K_e is symmetric and positive semidefinite (xᵀKx ≥ 0 for many x), of the
+    /// size 2 (n + 1), and an open pair has zero stiffness — for T3 and Q4 hosts.
     #[test]
     fn stiffness_symmetric_psd() {
-        let k = stiffness(&SHAPE, normal(), 1e9, 5e8, PairState::Bonded);
-        for (i, row) in k.iter().enumerate() {
-            for (j, v) in row.iter().enumerate() {
-                assert_eq!(*v, k[j][i], "K[{i}][{j}] != K[{j}][{i}]");
+        for (_, shape, _) in hosts() {
+            let ks = stiffness(&shape, normal(), 1e9, 5e8, PairState::Bonded);
+            assert_eq!(ks.dofs, 2 * (shape.len() + 1));
+            let k = dense(&ks);
+            for (i, row) in k.iter().enumerate() {
+                for (j, v) in row.iter().enumerate() {
+                    assert_eq!(*v, k[j][i], "K[{i}][{j}] != K[{j}][{i}]");
+                }
             }
+            let mut seed = 12345u64;
+            for _ in 0..200 {
+                let x: Vec<f64> = (0..ks.dofs)
+                    .map(|_| {
+                        seed = seed
+                            .wrapping_mul(6364136223846793005)
+                            .wrapping_add(1442695040888963407);
+                        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+                    })
+                    .collect();
+                let e: f64 = (0..ks.dofs)
+                    .map(|i| (0..ks.dofs).map(|j| x[i] * k[i][j] * x[j]).sum::<f64>())
+                    .sum();
+                assert!(e >= -1e-6);
+            }
+            let open = stiffness(&shape, normal(), 1e9, 5e8, PairState::Open);
+            assert!(dense(&open).iter().flatten().all(|&v| v == 0.0));
         }
-        let mut seed = 12345u64;
-        for _ in 0..200 {
-            let x: [f64; 8] = std::array::from_fn(|_| {
-                seed = seed
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            });
-            let e: f64 = (0..8)
-                .map(|i| (0..8).map(|j| x[i] * k[i][j] * x[j]).sum::<f64>())
-                .sum();
-            assert!(e >= -1e-6);
-        }
-        let open = stiffness(&SHAPE, normal(), 1e9, 5e8, PairState::Open);
-        assert!(open.iter().flatten().all(|&v| v == 0.0));
     }
 
     /// A rigid translation and an infinitesimal rigid rotation of host and coupling
-    /// node together produce no jump and no energy: K_e d = 0 (coupling node on the
-    /// host edge, X_C = Σ N̄ᵢ Xᵢ).
+    /// node together produce no jump and no energy: K_e d = 0 (coupling node at
+    /// X_C = Σ N̄ᵢ Xᵢ), for the 4-node CFE on a T3 and the 5-node CFE on a Q4.
     #[test]
     fn rigid_body_motion_has_zero_energy() {
-        let x = [[0.0, 0.0], [10.0, 1.0], [3.0, 8.0]];
-        let xc = [
-            SHAPE.iter().zip(&x).map(|(n, p)| n * p[0]).sum::<f64>(),
-            SHAPE.iter().zip(&x).map(|(n, p)| n * p[1]).sum::<f64>(),
-        ];
-        let pts = [x[0], x[1], x[2], xc];
-        let k = stiffness(&SHAPE, normal(), 1e9, 1e9, PairState::Bonded);
-        let modes: [[f64; 8]; 3] = [
-            std::array::from_fn(|i| if i % 2 == 0 { 1.0 } else { 0.0 }),
-            std::array::from_fn(|i| if i % 2 == 1 { 1.0 } else { 0.0 }),
-            std::array::from_fn(|i| {
-                if i % 2 == 0 {
-                    -pts[i / 2][1]
-                } else {
-                    pts[i / 2][0]
-                }
-            }),
-        ];
-        for d in modes {
-            assert!(jump(&SHAPE, &d).iter().all(|v| v.abs() < 1e-12));
-            let kd: Vec<f64> = (0..8)
-                .map(|i| (0..8).map(|j| k[i][j] * d[j]).sum())
-                .collect();
-            assert!(kd.iter().all(|v| v.abs() < 1e-9 * 1e9), "{kd:?}");
+        for (x, shape, xc) in hosts() {
+            let pts: Vec<[f64; 2]> = x.iter().copied().chain([xc]).collect();
+            let m = 2 * pts.len();
+            let k = stiffness(&shape, normal(), 1e9, 1e9, PairState::Bonded);
+            let modes: [Vec<f64>; 3] = [
+                (0..m).map(|i| if i % 2 == 0 { 1.0 } else { 0.0 }).collect(),
+                (0..m).map(|i| if i % 2 == 1 { 1.0 } else { 0.0 }).collect(),
+                (0..m)
+                    .map(|i| {
+                        if i % 2 == 0 {
+                            -pts[i / 2][1]
+                        } else {
+                            pts[i / 2][0]
+                        }
+                    })
+                    .collect(),
+            ];
+            for d in modes {
+                assert!(jump(&shape, &d).iter().all(|v| v.abs() < 1e-12));
+                let kd = k.mul(&d);
+                assert!(kd.iter().all(|v| v.abs() < 1e-9 * 1e9), "{kd:?}");
+            }
         }
     }
 
@@ -170,15 +269,20 @@ mod tests {
     /// and its node-by-node sum vanishes (the CFE is self-equilibrated).
     #[test]
     fn internal_force_is_k_times_d_and_balanced() {
-        let d = [0.1, -0.2, 0.05, 0.3, -0.1, 0.0, 0.7, -0.4];
-        let k = stiffness(&SHAPE, normal(), 2.0, 3.0, PairState::Bonded);
-        let (f, _) = internal_force(&SHAPE, normal(), 2.0, 3.0, PairState::Bonded, &d);
-        for i in 0..8 {
-            let kd: f64 = (0..8).map(|j| k[i][j] * d[j]).sum();
-            assert!((kd - f[i]).abs() < 1e-12);
+        for (_, shape, _) in hosts() {
+            let m = 2 * (shape.len() + 1);
+            let d: Vec<f64> = (0..m).map(|i| ((i * 7) % 5) as f64 * 0.1 - 0.2).collect();
+            let k = stiffness(&shape, normal(), 2.0, 3.0, PairState::Bonded);
+            let (f, _) = internal_force(&shape, normal(), 2.0, 3.0, PairState::Bonded, &d);
+            let kd = k.mul(&d);
+            for i in 0..m {
+                assert!((kd[i] - f[i]).abs() < 1e-12);
+            }
+            assert!(f[m..].iter().all(|&v| v == 0.0));
+            for c in 0..2 {
+                assert!((0..m / 2).map(|a| f[2 * a + c]).sum::<f64>().abs() < 1e-12);
+            }
         }
-        assert!((f[0] + f[2] + f[4] + f[6]).abs() < 1e-12);
-        assert!((f[1] + f[3] + f[5] + f[7]).abs() < 1e-12);
     }
 
     /// The local frame: a coupling node pushed along −n has [[u_n]] < 0 and

@@ -1,23 +1,35 @@
 //! Pair search: for each coupling node of the node part, the host element whose
-//! boundary edge contains it, through an R-tree over the host's boundary edges
-//! (O(n log n), no all-pairs loop). Also gives the host's outward normal there.
+//! boundary edge it lies on, through an R-tree over the host's boundary edges
+//! (O(n log n), no all-pairs loop). A node near but off the host boundary — a fine
+//! curved face against a coarse polygonal one — is projected on its nearest host
+//! edge when within the tolerance; the host's outward normal there and the host
+//! shape functions at the projection make the coupling element.
 
 use super::element::CouplingElement;
 use crate::error::{Error, Result};
-use crate::mesh::{BoundaryEdge, Mesh, dist};
+use crate::fem::q4;
+use crate::mesh::{BoundaryEdge, Element, Mesh, dist};
 use rstar::{RTree, primitives::GeomWithData, primitives::Line};
 use std::collections::HashMap;
 
+/// A coupling node closer than this fraction of the host edge's length to one of
+/// the edge's ends is *at* that host vertex: it takes the vertex's averaged normal.
+pub const VERTEX_TOLERANCE: f64 = 1e-6;
+
 /// Finds one coupling element per node in `nodes` (indices into `node_mesh`).
 ///
-/// A node couples to the host boundary edge nearest to it, provided its distance is
-/// at most `tolerance × (length of that edge)`. Among edges at the same distance (a
-/// node at a host vertex, or on an edge shared by two elements) the one of the
-/// lowest host element index is taken, so the assignment is deterministic. The
-/// node's natural coordinates come from its projection on that edge, and the normal
-/// is the edge's outward normal, or at a host vertex the normalised average of the
-/// normals of the boundary edges that meet there. Nodes that lie in no host element
-/// are an error listing them with their coordinates.
+/// A node couples to the host boundary edge nearest to it, provided its distance
+/// is at most `tolerance × (length of that edge)`; it is then projected on that
+/// edge, and the projection is the coupling position X_C (the caller moves the
+/// node there, as established codes adjust tied nodes onto the master surface).
+/// Among edges at the same distance (a node at a host vertex, or on an edge shared
+/// by two elements) the one of the lowest host element index is taken, so the
+/// assignment is deterministic. The host shape functions at X_C come from the host
+/// element's natural coordinates there: barycentric for a T3, Newton's inverse
+/// bilinear map for a Q4. The normal is the edge's outward normal, or at a host
+/// vertex the normalised average of the normals of the boundary edges that meet
+/// there. Nodes farther than the tolerance from every host edge are an error
+/// listing them with their coordinates and distances.
 pub fn find_pairs(
     interface: &str,
     host: &Mesh,
@@ -58,7 +70,7 @@ pub fn find_pairs(
     let mut orphans = Vec::new();
     for &node in nodes {
         let p = node_mesh.nodes[node];
-        // (distance, element, edge index, ξ)
+        // (distance, element, edge index, ξ along the edge)
         let mut best: Option<(f64, usize, usize, f64)> = None;
         for cand in tree.locate_within_distance(p, radius * radius) {
             let edge = &edges[cand.data];
@@ -72,8 +84,7 @@ pub fn find_pairs(
             best = match best {
                 None => Some(key),
                 Some(cur) => {
-                    let same =
-                        (d - cur.0).abs() <= 1e-12 * len.max(1e-300) + 1e-3 * tolerance * len;
+                    let same = (d - cur.0).abs() <= 1e-12 * len.max(1e-300);
                     if (same && (edge.element, cand.data) < (cur.1, cur.2)) || (!same && d < cur.0)
                     {
                         Some(key)
@@ -84,38 +95,44 @@ pub fn find_pairs(
             };
         }
         let Some((d, element, edge_index, xi)) = best else {
-            orphans.push((node, p));
+            let nearest = tree.nearest_neighbor(p).map(|c| {
+                let [a, b] = segment(&edges[c.data]);
+                let (_, d) = project(p, a, b);
+                (d, dist(a, b))
+            });
+            orphans.push((node, p, nearest));
             continue;
         };
         let edge = &edges[edge_index];
-        let tri = host.triangles[element];
-        let mut shape = [0.0; 3];
-        for (k, &v) in tri.iter().enumerate() {
-            if v == edge.nodes[0] {
-                shape[k] = 1.0 - xi;
-            } else if v == edge.nodes[1] {
-                shape[k] = xi;
-            }
-        }
-        let len = dist(host.nodes[edge.nodes[0]], host.nodes[edge.nodes[1]]);
-        let at_vertex = if xi * len <= tolerance * len {
+        let [a, b] = segment(edge);
+        let position = [a[0] + xi * (b[0] - a[0]), a[1] + xi * (b[1] - a[1])];
+        let host_element = &host.elements[element];
+        let corners = host.coordinates(element);
+        let shape = shape_at(host_element, &corners, position).ok_or_else(|| Error::Coupling {
+            interface: interface.to_string(),
+            message: format!(
+                "the inverse map of host element {element} (corners {corners:?}) does not converge at coupling node {node} ({}, {})",
+                p[0], p[1]
+            ),
+        })?;
+        let at_vertex = if xi <= VERTEX_TOLERANCE {
             Some(edge.nodes[0])
-        } else if (1.0 - xi) * len <= tolerance * len {
+        } else if 1.0 - xi <= VERTEX_TOLERANCE {
             Some(edge.nodes[1])
         } else {
             None
         };
         let normal = match at_vertex {
             Some(v) => normalised_average(&vertex_normals[&v]),
-            None => edge_normal(segment(edge)),
+            None => edge_normal([a, b]),
         };
         pairs.push(CouplingElement {
             node,
             host_element: element,
-            host_nodes: tri,
+            host_nodes: host_element.nodes().to_vec(),
             shape,
             normal,
-            position: p,
+            position,
             distance: d,
         });
     }
@@ -123,12 +140,20 @@ pub fn find_pairs(
         let list: Vec<String> = orphans
             .iter()
             .take(20)
-            .map(|(n, p)| format!("node {n} at ({}, {})", p[0], p[1]))
+            .map(|(n, p, near)| match near {
+                Some((d, len)) => format!(
+                    "node {n} at ({}, {}) (nearest host edge {d:.4e} away, {:.3} × its length {len:.4e})",
+                    p[0],
+                    p[1],
+                    d / len
+                ),
+                None => format!("node {n} at ({}, {})", p[0], p[1]),
+            })
             .collect();
         return Err(Error::Coupling {
             interface: interface.to_string(),
             message: format!(
-                "{} coupling node(s) lie in no host element (none within tolerance {} × edge length of the host boundary): {}{}",
+                "{} coupling node(s) lie on no host boundary edge within the tolerance {} × edge length: {}{} — check that the interface's boundary faces the host, or raise `tolerance` if the faces are meshed apart (curved faces: about (edge length)² / (8 × radius))",
                 orphans.len(),
                 tolerance,
                 list.join(", "),
@@ -137,6 +162,26 @@ pub fn find_pairs(
         });
     }
     Ok(pairs)
+}
+
+/// The shape functions of host element `element` (corner coordinates `x`) at the
+/// point `p` of its boundary: barycentric coordinates for a T3; for a Q4 the
+/// bilinear shape functions at the natural coordinates found by Newton's inverse
+/// map. `None` when the inverse map does not converge.
+pub fn shape_at(element: &Element, x: &[[f64; 2]], p: [f64; 2]) -> Option<Vec<f64>> {
+    match element {
+        Element::T3(_) => {
+            let [a, b, c] = [x[0], x[1], x[2]];
+            let two_a = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+            let l1 = ((b[0] - p[0]) * (c[1] - p[1]) - (c[0] - p[0]) * (b[1] - p[1])) / two_a;
+            let l2 = ((c[0] - p[0]) * (a[1] - p[1]) - (a[0] - p[0]) * (c[1] - p[1])) / two_a;
+            Some(vec![l1, l2, 1.0 - l1 - l2])
+        }
+        Element::Q4(_) => {
+            let x4 = [x[0], x[1], x[2], x[3]];
+            q4::natural_coordinates(&x4, p).map(|xi| q4::shape(xi).to_vec())
+        }
+    }
 }
 
 /// Projection of `p` on segment `a`–`b`: the clamped parameter ξ ∈ [0, 1] and the distance.
@@ -169,48 +214,65 @@ fn normalised_average(normals: &[[f64; 2]]) -> [f64; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::ElementKind;
 
-    /// The seed's plate on its base: the plate's 29 bottom nodes each find a base
-    /// element whose top edge contains them, with shape functions that reproduce
-    /// the node's position, the normal +y, and nodes at base vertices assigned to
-    /// the lower-numbered element.
+    /// The seed's plate on its base, with a T3 base and with a Q4 base: the plate's
+    /// 29 bottom nodes each find a base element whose top edge contains them, with
+    /// shape functions that reproduce the node's position (for the Q4 through
+    /// Newton's inverse map: the two nodes off the edge get 0), the normal +y, and
+    /// nodes at base vertices assigned to the lower-numbered element.
     #[test]
     fn plate_on_base_pairs() {
-        let base = Mesh::rectangle([0.0, 200.0], [0.0, 120.0], [20, 12]);
-        let plate = Mesh::rectangle([30.0, 170.0], [120.0, 135.0], [28, 6]);
-        let nodes = plate.boundary_nodes("bottom").unwrap();
-        let pairs = find_pairs("i", &base, &plate, &nodes, 1e-4).unwrap();
-        assert_eq!(pairs.len(), 29);
-        for p in &pairs {
-            let x: [f64; 2] = std::array::from_fn(|c| {
-                (0..3)
-                    .map(|i| p.shape[i] * base.nodes[p.host_nodes[i]][c])
-                    .sum::<f64>()
-            });
-            assert!(dist(x, p.position) < 1e-12);
-            assert!((p.normal[1] - 1.0).abs() < 1e-12);
-            assert!((p.shape.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+        let plate = Mesh::rectangle([30.0, 170.0], [120.0, 135.0], [28, 6], ElementKind::T3);
+        for (kind, at30_element) in [
+            (ElementKind::T3, 2 * (11 * 20 + 2) + 1),
+            (ElementKind::Q4, 11 * 20 + 2),
+        ] {
+            let base = Mesh::rectangle([0.0, 200.0], [0.0, 120.0], [20, 12], kind);
+            let nodes = plate.boundary_nodes("bottom").unwrap();
+            let pairs = find_pairs("i", &base, &plate, &nodes, 1e-4).unwrap();
+            assert_eq!(pairs.len(), 29);
+            for p in &pairs {
+                assert_eq!(p.shape.len(), p.host_nodes.len());
+                let x: [f64; 2] = std::array::from_fn(|c| {
+                    (0..p.shape.len())
+                        .map(|i| p.shape[i] * base.nodes[p.host_nodes[i]][c])
+                        .sum::<f64>()
+                });
+                assert!(dist(x, p.position) < 1e-12);
+                assert!((p.normal[1] - 1.0).abs() < 1e-12);
+                assert!((p.shape.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+                for (i, &n) in p.host_nodes.iter().enumerate() {
+                    if base.nodes[n][1] < 119.0 {
+                        assert!(p.shape[i].abs() < 1e-13, "{kind:?}: {:?}", p.shape);
+                    }
+                }
+            }
+            // x = 30 is a base vertex shared by the top edges of cells 2 and 3 of
+            // the top row.
+            let at30 = pairs
+                .iter()
+                .find(|p| (p.position[0] - 30.0).abs() < 1e-9)
+                .unwrap();
+            assert_eq!(at30.host_element, at30_element, "{kind:?}");
         }
-        // x = 30 is a base vertex shared by the top edges of cells 2 and 3 of the top row.
-        let at30 = pairs
-            .iter()
-            .find(|p| (p.position[0] - 30.0).abs() < 1e-9)
-            .unwrap();
-        assert_eq!(at30.host_element, 2 * (11 * 20 + 2) + 1);
     }
 
     /// A node that is off the host boundary is an error that lists it with its
-    /// coordinates.
+    /// coordinates and its distance to the nearest host edge.
     #[test]
     fn orphan_nodes_are_listed() {
-        let base = Mesh::rectangle([0.0, 10.0], [0.0, 10.0], [2, 2]);
-        let other = Mesh::rectangle([20.0, 30.0], [10.0, 12.0], [1, 1]);
+        let base = Mesh::rectangle([0.0, 10.0], [0.0, 10.0], [2, 2], ElementKind::T3);
+        let other = Mesh::rectangle([20.0, 30.0], [10.0, 12.0], [1, 1], ElementKind::T3);
         let nodes = other.boundary_nodes("bottom").unwrap();
         let e = find_pairs("gap", &base, &other, &nodes, 1e-4)
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("gap") && e.contains("(20, 10)") && e.contains("(30, 10)"),
+            e.contains("gap")
+                && e.contains("(20, 10)")
+                && e.contains("(30, 10)")
+                && e.contains("nearest host edge 1.0000e1 away"),
             "{e}"
         );
     }
@@ -218,13 +280,72 @@ mod tests {
     /// At a host corner the normal is the normalised average of the two edges' normals.
     #[test]
     fn corner_normal_is_averaged() {
-        let host = Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [1, 1]);
-        let probe = Mesh {
-            nodes: vec![[1.0, 1.0]],
+        for kind in [ElementKind::T3, ElementKind::Q4] {
+            let host = Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [1, 1], kind);
+            let probe = Mesh {
+                nodes: vec![[1.0, 1.0]],
+                ..Default::default()
+            };
+            let p = &find_pairs("c", &host, &probe, &[0], 1e-6).unwrap()[0];
+            let h = 0.5f64.sqrt();
+            assert!((p.normal[0] - h).abs() < 1e-12 && (p.normal[1] - h).abs() < 1e-12);
+        }
+    }
+
+    /// A fine circular face against a coarse polygonal host (a disk of radius R cut
+    /// into n triangles): every node on the circle is projected on its nearest
+    /// chord, at most the sagitta h²/(8R) (h the chord) away — exactly that at a
+    /// chord's midpoint — lands on the chord, and takes the chord's normal; with a
+    /// tolerance below the sagitta's share of the chord the midpoint nodes are
+    /// rejected and listed.
+    #[test]
+    fn curved_face_projects_on_chords() {
+        let (r, n) = (20.0f64, 12usize);
+        let at = |t: f64| [r * t.cos(), r * t.sin()];
+        let step = std::f64::consts::TAU / n as f64;
+        let mut host = Mesh {
+            nodes: (0..n).map(|k| at(k as f64 * step)).collect(),
             ..Default::default()
         };
-        let p = &find_pairs("c", &host, &probe, &[0], 1e-6).unwrap()[0];
-        let h = 0.5f64.sqrt();
-        assert!((p.normal[0] - h).abs() < 1e-12 && (p.normal[1] - h).abs() < 1e-12);
+        host.nodes.push([0.0, 0.0]);
+        host.elements = (0..n).map(|k| Element::T3([n, k, (k + 1) % n])).collect();
+        host.validate("disk").unwrap();
+        // Four fine nodes per chord.
+        let probe = Mesh {
+            nodes: (0..4 * n).map(|k| at(k as f64 * step / 4.0)).collect(),
+            ..Default::default()
+        };
+        let all: Vec<usize> = (0..4 * n).collect();
+        let chord = 2.0 * r * (step / 2.0).sin();
+        let sagitta = r * (1.0 - (step / 2.0).cos());
+        assert!((sagitta - chord * chord / (8.0 * r)).abs() < 0.02 * sagitta);
+        let pairs = find_pairs("arc", &host, &probe, &all, 0.1).unwrap();
+        let largest = pairs.iter().map(|p| p.distance).fold(0.0, f64::max);
+        assert!(
+            (largest - sagitta).abs() < 1e-12 * r,
+            "{largest} vs {sagitta}"
+        );
+        for p in &pairs {
+            // On the chord: at distance R cos(step/2) from the centre along the
+            // chord's normal, which points outwards at the chord's mid-angle.
+            let k = p.host_element as f64;
+            let mid = (k + 0.5) * step;
+            let vertex = (p.node % 4) == 0;
+            if !vertex {
+                assert!((p.normal[0] - mid.cos()).abs() < 1e-12);
+                assert!((p.normal[1] - mid.sin()).abs() < 1e-12);
+                let along_normal = p.position[0] * mid.cos() + p.position[1] * mid.sin();
+                assert!((along_normal - r * (step / 2.0).cos()).abs() < 1e-12 * r);
+            } else {
+                // At a vertex: the average of the two chords' normals, radial.
+                let t = p.node as f64 * step / 4.0;
+                assert!((p.normal[0] - t.cos()).abs() < 1e-12);
+                assert!(p.distance < 1e-12 * r);
+            }
+        }
+        let e = find_pairs("arc", &host, &probe, &all, 0.85 * sagitta / chord)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(&format!("{} coupling node(s)", n)), "{e}");
     }
 }

@@ -1,6 +1,7 @@
 //! Consistent nodal forces of external loads: a resultant force spread uniformly
 //! (constant traction) over a boundary segment, integrated exactly over whole and
-//! partial edges with the edges' linear shape functions.
+//! partial edges with the edges' linear shape functions, and a uniform pressure
+//! (normal traction) over a boundary.
 
 /// Nodal forces of a uniform traction whose resultant is `force`, spread over the
 /// part of `edges` (node coordinate pairs with their node indices) that lies on the
@@ -70,6 +71,21 @@ pub fn chain_forces(
         .collect()
 }
 
+/// Nodal forces of a uniform pressure `p` (force per unit length of boundary,
+/// positive pushing into the part) over `edges`, counter-clockwise with respect
+/// to the part (the outward normal n is the edge direction turned −90°): the
+/// traction −p n integrated exactly over each straight edge, half to each end,
+/// `f_a = f_b = −p n L / 2 = −(p / 2) (y_b − y_a, −(x_b − x_a))`.
+pub fn pressure_forces(edges: &[([usize; 2], [[f64; 2]; 2])], p: f64) -> Vec<(usize, [f64; 2])> {
+    edges
+        .iter()
+        .flat_map(|&(nodes, [a, b])| {
+            let f = [-0.5 * p * (b[1] - a[1]), 0.5 * p * (b[0] - a[0])];
+            [(nodes[0], f), (nodes[1], f)]
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,6 +108,27 @@ mod tests {
         let moment: f64 = nodal.iter().enumerate().map(|(i, v)| v * i as f64).sum();
         assert!((moment + 2.0 * 1.5).abs() < 1e-14);
         assert!((nodal[0] + 0.125).abs() < 1e-14);
+    }
+
+    /// A pressure on a closed polygon (a unit square, counter-clockwise) has no
+    /// resultant, and on one side gives p × length against the outward normal,
+    /// split equally between its two nodes.
+    #[test]
+    fn pressure_is_normal_and_self_balanced_on_a_closed_boundary() {
+        let x = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let edges: Vec<_> = (0..4)
+            .map(|i| ([i, (i + 1) % 4], [x[i], x[(i + 1) % 4]]))
+            .collect();
+        let f = pressure_forces(&edges, 3.0);
+        let total = f
+            .iter()
+            .fold([0.0, 0.0], |s, (_, v)| [s[0] + v[0], s[1] + v[1]]);
+        assert!(total[0].abs() < 1e-15 && total[1].abs() < 1e-15);
+        // The bottom edge (outward normal −y) is pushed up: 1.5 at each end.
+        assert_eq!(f[0], (0, [0.0, 1.5]));
+        assert_eq!(f[1], (1, [0.0, 1.5]));
+        // The right edge (outward normal +x) is pushed to −x.
+        assert_eq!(f[2], (1, [-1.5, 0.0]));
     }
 
     /// Reversed edge orientation and reversed segment give the same nodal forces.

@@ -1,8 +1,12 @@
-//! Finite elements of the parts: the linear elastic material law and the element
-//! routines (stiffness, internal force, stress) as small pure functions.
+//! Finite elements of the parts: the linear elastic material law, the element
+//! routines (stiffness, internal force, stress) of the linear triangle [`t3`] and
+//! the bilinear quadrilateral [`q4`] as small pure functions, and the
+//! [`element`] provider that dispatches between them for mixed meshes.
 
+pub mod element;
 pub mod loads;
 pub mod material;
+pub mod q4;
 pub mod recovery;
 pub mod t3;
 

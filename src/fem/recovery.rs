@@ -1,8 +1,10 @@
-//! Stress recovery: constant element stresses of the T3 elements and nodal stresses
-//! averaged (area-weighted) over the elements around each node, within one part
-//! only — never across parts, whose meshes are independent.
+//! Stress recovery: element stresses (constant in a T3, the Gauss-point mean in a
+//! Q4) and nodal stresses averaged (area-weighted) over the elements around each
+//! node from each element's corner values (a Q4's extrapolated from its Gauss
+//! points), within one part only — never across parts, whose meshes are
+//! independent.
 
-use super::t3;
+use super::element;
 use crate::model::Part;
 
 /// Stresses of one part: per element and averaged per node, (σxx, σyy, σxy).
@@ -22,20 +24,19 @@ pub fn recover(part: &Part, u: &[f64]) -> PartStress {
     let mut nodal = vec![[0.0; 3]; mesh.nodes.len()];
     let mut weight = vec![0.0; mesh.nodes.len()];
     use rayon::prelude::*;
-    let element: Vec<[f64; 3]> = mesh
-        .triangles
+    let per_element: Vec<element::ElementStress> = mesh
+        .elements
         .par_iter()
-        .map(|tri| {
-            let x = tri.map(|n| mesh.nodes[n]);
-            let ue: [f64; 6] = std::array::from_fn(|i| u[2 * tri[i / 2] + i % 2]);
-            t3::stress(&x, &d, &ue)
+        .map(|el| {
+            let x = element::coordinates(mesh, el);
+            element::stresses(el, &x, &d, &element::gather(el, u))
         })
         .collect();
-    for (e, tri) in mesh.triangles.iter().enumerate() {
-        let a = mesh.triangle_area(e);
-        for &n in tri {
-            for c in 0..3 {
-                nodal[n][c] += a * element[e][c];
+    for (e, el) in mesh.elements.iter().enumerate() {
+        let a = mesh.element_area(e);
+        for (k, &n) in el.nodes().iter().enumerate() {
+            for (v, s) in nodal[n].iter_mut().zip(&per_element[e].corners[k]) {
+                *v += a * s;
             }
             weight[n] += a;
         }
@@ -47,5 +48,8 @@ pub fn recover(part: &Part, u: &[f64]) -> PartStress {
             }
         }
     }
-    PartStress { element, nodal }
+    PartStress {
+        element: per_element.iter().map(|s| s.element).collect(),
+        nodal,
+    }
 }

@@ -306,21 +306,23 @@ impl GmshMesh {
             ),
             None => String::new(),
         };
-        let quads = self.quads.iter().filter(|q| picks(&q.physical)).count();
-        if quads > 0 {
-            return Err(err(format!(
-                "file {} contains {quads} 4-node quadrilaterals{scope}; Q4 elements are not supported yet — mesh with triangles (Mesh.RecombineAll = 0)",
-                self.file_name()
-            )));
-        }
-        let chosen: Vec<&Element<3>> = self
+        // The chosen elements, in file order within each type: triangles, then
+        // quadrilaterals.
+        let chosen: Vec<(u64, &[usize])> = self
             .triangles
             .iter()
             .filter(|t| picks(&t.physical))
+            .map(|t| (t.tag, &t.nodes[..]))
+            .chain(
+                self.quads
+                    .iter()
+                    .filter(|q| picks(&q.physical))
+                    .map(|q| (q.tag, &q.nodes[..])),
+            )
             .collect();
         if chosen.is_empty() {
             return Err(err(format!(
-                "file {} has no 3-node triangles{scope}",
+                "file {} has no 3-node triangles or 4-node quadrilaterals{scope}",
                 self.file_name()
             )));
         }
@@ -328,8 +330,8 @@ impl GmshMesh {
         // Nodes used by the chosen elements, renumbered in file order.
         const UNUSED: usize = usize::MAX;
         let mut local = vec![UNUSED; self.nodes.len()];
-        for t in &chosen {
-            for &n in &t.nodes {
+        for (_, nodes) in &chosen {
+            for &n in nodes.iter() {
                 local[n] = 0;
             }
         }
@@ -341,30 +343,37 @@ impl GmshMesh {
             }
         }
 
-        // Triangles, counter-clockwise.
-        let mut triangles = Vec::with_capacity(chosen.len());
-        for t in &chosen {
-            let mut tri = t.nodes.map(|n| local[n]);
-            let [a, b, c] = tri.map(|n| nodes[n]);
-            let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
-            let h = dist(a, b).max(dist(b, c)).max(dist(c, a));
+        // Elements, counter-clockwise (a clockwise one is reversed).
+        let mut elements = Vec::with_capacity(chosen.len());
+        for (tag, file_nodes) in &chosen {
+            let mut el: Vec<usize> = file_nodes.iter().map(|&n| local[n]).collect();
+            let x: Vec<[f64; 2]> = el.iter().map(|&n| nodes[n]).collect();
+            let area = super::polygon_area(x.iter().copied());
+            let h = (0..x.len())
+                .map(|k| dist(x[k], x[(k + 1) % x.len()]))
+                .fold(0.0, f64::max);
             if area.abs() <= 1e-10 * h * h {
                 return Err(err(format!(
-                    "element {} of file {} is degenerate: nodes {:?} at {:?}, area {area:e}",
-                    t.tag,
+                    "element {tag} of file {} is degenerate: nodes {:?} at {x:?}, area {area:e}",
                     self.file_name(),
-                    t.nodes.map(|n| self.node_tags[n]),
-                    [a, b, c]
+                    file_nodes
+                        .iter()
+                        .map(|&n| self.node_tags[n])
+                        .collect::<Vec<_>>(),
                 )));
             }
             if area < 0.0 {
-                tri.swap(1, 2);
+                el.reverse();
             }
-            triangles.push(tri);
+            elements.push(match el[..] {
+                [a, b, c] => super::Element::T3([a, b, c]),
+                [a, b, c, d] => super::Element::Q4([a, b, c, d]),
+                _ => unreachable!("the reader keeps 3- and 4-node elements only"),
+            });
         }
         let mut mesh = Mesh {
             nodes,
-            triangles,
+            elements,
             boundaries: BTreeMap::new(),
         };
 
@@ -1256,8 +1265,8 @@ $EndElements
         let m = parse(SQUARE_22).unwrap();
         let mesh = m.part_mesh("p", None).unwrap();
         mesh.validate("p").unwrap();
-        assert!((0..2).all(|e| mesh.triangle_area(e) > 0.0));
-        assert!((mesh.triangle_area(1) - 0.5).abs() < 1e-15);
+        assert!((0..2).all(|e| mesh.element_area(e) > 0.0));
+        assert!((mesh.element_area(1) - 0.5).abs() < 1e-15);
     }
 
     /// Physical curves become boundaries oriented counter-clockwise w.r.t. the part
@@ -1387,7 +1396,7 @@ $EndElements
             Group::Name("1".into()),
             Group::Name("sq".into()),
         ] {
-            assert_eq!(m.part_mesh("p", Some(&[g])).unwrap().triangles.len(), 2);
+            assert_eq!(m.part_mesh("p", Some(&[g])).unwrap().elements.len(), 2);
         }
     }
 

@@ -320,7 +320,7 @@ impl<'a> Solver<'a> {
                             return PairState::Bonded;
                         }
                         let g = self.dofs.cfe_dofs(iface, c);
-                        let d = g.map(|j| u[j]);
+                        let d: Vec<f64> = g.iter().map(|&j| u[j]).collect();
                         let gap = cfe::local_jump(c.normal, cfe::jump(&c.shape, &d))[0];
                         iface.law.state(gap, self.gap_tolerance(&d))
                     })
@@ -330,10 +330,11 @@ impl<'a> Solver<'a> {
     }
 
     /// The open/closed tolerance of a pair: `gap_tolerance` × the largest
-    /// displacement magnitude among its four nodes.
-    fn gap_tolerance(&self, d: &[f64; 8]) -> f64 {
-        let scale = (0..4)
-            .map(|a| d[2 * a].hypot(d[2 * a + 1]))
+    /// displacement magnitude among its nodes (element displacements `d`).
+    fn gap_tolerance(&self, d: &[f64]) -> f64 {
+        let scale = d
+            .chunks_exact(2)
+            .map(|v| v[0].hypot(v[1]))
             .fold(0.0, f64::max);
         self.settings.gap_tolerance * scale
     }

@@ -131,7 +131,12 @@ mod tests {
     fn permutation_with_low_fill() {
         let parts = vec![Part {
             name: "p".into(),
-            mesh: Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [40, 40]),
+            mesh: Mesh::rectangle(
+                [0.0, 1.0],
+                [0.0, 1.0],
+                [40, 40],
+                crate::mesh::ElementKind::T3,
+            ),
             material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
         }];
         let supports = vec![crate::model::Support {

@@ -12,7 +12,10 @@
 
 use super::linear::CholeskySolver;
 use crate::assembly::{DofMap, FIXED, Stiffness};
-use crate::coupling::{Interface, PairState, element::rotation};
+use crate::coupling::{
+    Interface, PairState,
+    element::{b_coefficients, rotation},
+};
 use std::collections::HashMap;
 use std::time::Instant;
 
@@ -178,13 +181,13 @@ impl ContactSystem {
                 -1.0
             };
             let r = rotation(c.normal);
-            let b = [-c.shape[0], -c.shape[1], -c.shape[2], 1.0];
+            let b = b_coefficients(&c.shape);
             let g = dofs.cfe_dofs(iface, c);
             self.cached.insert((i, k), self.columns.len());
             for (row, ck) in [(0, iface.c_n), (1, iface.c_s)] {
                 let mut col = Column {
-                    eq: Vec::with_capacity(8),
-                    w: Vec::with_capacity(8),
+                    eq: Vec::with_capacity(g.len()),
+                    w: Vec::with_capacity(g.len()),
                     weight: sign * ck,
                 };
                 for (p, &gp) in g.iter().enumerate() {

@@ -101,7 +101,7 @@ fn errors_of(a: &crate::analysis::Analysis, u: &[f64]) -> (f64, f64) {
         for (e, s) in st.element.iter().enumerate() {
             let d = [0, 1, 2].map(|k| s[k] - SIGMA[k]);
             max = max.max(d.iter().fold(0.0f64, |m, v| m.max(v.abs())) / norm);
-            let ae = part.mesh.triangle_area(e);
+            let ae = part.mesh.element_area(e);
             sq += ae * d.iter().map(|v| v * v).sum::<f64>();
             area += ae;
         }
