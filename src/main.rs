@@ -160,7 +160,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             );
             for i in &summary.interfaces {
                 println!(
-                    "  interface '{}': {} pairs, {} bonded, {} open{}",
+                    "  interface '{}': {} pairs, {} bonded, {} open{}{}",
                     i.name,
                     i.pairs,
                     i.bonded,
@@ -169,6 +169,14 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                         String::new()
                     } else {
                         format!(", {} kept bonded to settle a cycle", i.settled.len())
+                    },
+                    if i.max_projection_distance > 0.0 {
+                        format!(
+                            "; coupling nodes moved onto the host edges by up to {:.3e}",
+                            i.max_projection_distance
+                        )
+                    } else {
+                        String::new()
                     }
                 );
             }

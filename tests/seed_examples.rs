@@ -24,39 +24,6 @@ fn pattern(states: &[Vec<PairState>], i: usize) -> Vec<bool> {
     states[i].iter().map(|&s| s == PairState::Bonded).collect()
 }
 
-/// Checks the contact conditions of a converged increment: no bonded pair
-/// penetrates by more than 1e-4 of the largest displacement, every open pair has
-/// gap_n > 0 and carries no force.
-fn check_contact_conditions(a: &Analysis, inc: &cfe::solve::nonlinear::IncrementResult) {
-    let umax = inc
-        .u
-        .chunks(2)
-        .map(|d| d[0].hypot(d[1]))
-        .fold(0.0, f64::max);
-    for row in a.pair_rows(inc) {
-        if row.state == "bonded" {
-            assert!(
-                -row.gap_n <= 1e-4 * umax,
-                "bonded pair at x = {} penetrates by {:e}",
-                row.x,
-                -row.gap_n
-            );
-        } else {
-            assert!(
-                row.gap_n > 0.0,
-                "open pair at x = {} has gap {:e}",
-                row.x,
-                row.gap_n
-            );
-            assert!(
-                row.force_n == 0.0 && row.force_s == 0.0,
-                "open pair at x = {} carries force",
-                row.x
-            );
-        }
-    }
-}
-
 /// Bonded pairs form one contiguous run.
 fn contiguous(p: &[bool]) -> bool {
     let first = p.iter().position(|&b| b);
@@ -119,7 +86,7 @@ fn plate_on_base() {
 
     let incs = common::solve(&a);
     let last = incs.last().unwrap();
-    check_contact_conditions(&a, last);
+    common::check_contact_conditions(&a, last);
     let p = pattern(&last.states, 0);
     let xs: Vec<f64> = a.interfaces[0]
         .elements
@@ -159,7 +126,7 @@ fn bar_in_bearing() {
     );
     let incs = common::solve(&a);
     let last = incs.last().unwrap();
-    check_contact_conditions(&a, last);
+    common::check_contact_conditions(&a, last);
     let mut fy = 100.0;
     let mut fx = 0.0;
     for d in 0..last.u.len() {

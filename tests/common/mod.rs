@@ -45,3 +45,36 @@ pub fn displacement_at(a: &Analysis, inc: &IncrementResult, part: &str, at: [f64
     let g = a.dofs.node(p, n);
     [inc.u[2 * g], inc.u[2 * g + 1]]
 }
+
+/// Checks the contact conditions of a converged increment: no bonded pair
+/// penetrates by more than 1e-4 of the largest displacement, every open pair has
+/// gap_n > 0 and carries no force.
+pub fn check_contact_conditions(a: &Analysis, inc: &IncrementResult) {
+    let umax = inc
+        .u
+        .chunks(2)
+        .map(|d| d[0].hypot(d[1]))
+        .fold(0.0, f64::max);
+    for row in a.pair_rows(inc) {
+        if row.state == "bonded" {
+            assert!(
+                -row.gap_n <= 1e-4 * umax,
+                "bonded pair at x = {} penetrates by {:e}",
+                row.x,
+                -row.gap_n
+            );
+        } else {
+            assert!(
+                row.gap_n > 0.0,
+                "open pair at x = {} has gap {:e}",
+                row.x,
+                row.gap_n
+            );
+            assert!(
+                row.force_n == 0.0 && row.force_s == 0.0,
+                "open pair at x = {} carries force",
+                row.x
+            );
+        }
+    }
+}
