@@ -217,12 +217,15 @@ impl Analysis {
         for def in &model.interfaces {
             let host = &model.parts[def.host];
             let node_part = &model.parts[def.node_part];
+            // The tolerance is a fraction of the host's edges as meshed in the
+            // problem file: `--refine K` subdivides edges K times but leaves the gap
+            // between two faces meshed apart (a Gmsh part keeps its polygons) as it is.
             let elements = search::find_pairs(
                 &def.name,
                 &host.mesh,
                 &node_part.mesh,
                 &def.nodes,
-                def.tolerance,
+                def.tolerance * model.refine as f64,
             )?;
             let max_projection_distance = elements.iter().map(|c| c.distance).fold(0.0, f64::max);
             if max_projection_distance > 0.0 {

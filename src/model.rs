@@ -334,7 +334,8 @@ pub struct Model {
     pub loads: Vec<Load>,
     /// Analysis settings.
     pub settings: Settings,
-    /// Refinement factor applied to the structured meshes.
+    /// Refinement factor: the structured meshes' cell counts are multiplied by it,
+    /// the Gmsh meshes subdivided uniformly by it.
     pub refine: usize,
     /// The problem text, so the same problem can be rebuilt at another refinement.
     pub text: String,
@@ -342,7 +343,8 @@ pub struct Model {
 
 impl Model {
     /// Reads, checks and meshes the problem file at `path`; `refine` multiplies every
-    /// structured part's cell counts (1 = as written).
+    /// structured part's cell counts and splits every edge of a Gmsh part into that
+    /// many (1 = as written).
     pub fn from_file(path: &Path, refine: usize) -> Result<Model> {
         let text = std::fs::read_to_string(path).map_err(|source| Error::ReadInput {
             path: path.to_path_buf(),
@@ -351,7 +353,7 @@ impl Model {
         Model::from_str(&text, path, refine)
     }
 
-    /// The same problem with the structured meshes refined `refine` times instead.
+    /// The same problem with the meshes refined `refine` times instead.
     pub fn with_refine(&self, refine: usize) -> Result<Model> {
         Model::from_str(&self.text, &self.source, refine)
     }
@@ -460,8 +462,10 @@ impl Builder<'_> {
         Ok(best)
     }
 
-    /// The mesh of part `name` from a Gmsh file; `files` caches the files already
-    /// read, so a file shared by several parts is read once.
+    /// The mesh of part `name` from a Gmsh file, subdivided uniformly by `refine`
+    /// ([`Mesh::refined`]: every edge split into `refine` equal segments, so curved
+    /// boundaries stay the file's polygons); `files` caches the files already read,
+    /// so a file shared by several parts is read once.
     fn gmsh_mesh(
         &self,
         name: &str,
@@ -470,12 +474,6 @@ impl Builder<'_> {
         files: &mut HashMap<PathBuf, Rc<GmshMesh>>,
     ) -> Result<Mesh> {
         let g = spec.get_ref();
-        if refine > 1 {
-            return Err(self.err(
-                spec,
-                format!("part '{name}' is meshed in Gmsh: --refine applies to structured (`rectangle`) meshes only; refine the mesh in Gmsh instead"),
-            ));
-        }
         let path = self.path.parent().unwrap_or(Path::new("")).join(&g.file);
         let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
         let mesh = match files.get(&key) {
@@ -499,7 +497,12 @@ impl Builder<'_> {
             .surfaces
             .as_ref()
             .map(|s| s.iter().map(|GroupSpec(g)| g.clone()).collect());
-        mesh.part_mesh(name, surfaces.as_deref())
+        let part = mesh.part_mesh(name, surfaces.as_deref())?;
+        Ok(if refine > 1 {
+            part.refined(refine)
+        } else {
+            part
+        })
     }
 
     fn build(&self, file: ProblemFile, refine: usize) -> Result<Model> {

@@ -135,6 +135,52 @@ fn shared_file_parts_and_oriented_boundaries() {
     }
 }
 
+/// A physical curve with lines both on a part's boundary and inside it ("cut" =
+/// the top of the left square and the line between the squares, in
+/// partial_curve_41.msh) is an error for the part made of both squares, naming
+/// the part, the curve, the file, the counts and an inner edge, and saying what to
+/// do; for each square alone the curve lies on its boundary (or on the other
+/// square) and names a boundary as usual.
+#[test]
+fn curve_partly_inside_a_part_is_an_error() {
+    let m = read("partial_curve_41.msh");
+    let e = m.part_mesh("all", None).unwrap_err().to_string();
+    for want in [
+        "part 'all'",
+        "physical curve 'cut' (16)",
+        "partial_curve_41.msh",
+        "1 edge on the part's boundary and 1 edge inside it",
+        "from node 2 (1, 0) to node 5 (1, 1)",
+        "split the curve",
+        "only boundary curves",
+    ] {
+        assert!(e.contains(want), "'{want}' not in: {e}");
+    }
+    // The same through a problem file.
+    let text = SQUARES_PROBLEM.replace(
+        "square_41_bin.msh\", surfaces = [\"left\"]",
+        "partial_curve_41.msh\"",
+    );
+    let e = model(&text).unwrap_err().to_string();
+    assert!(e.contains("part 'left'") && e.contains("'cut' (16)"), "{e}");
+    // Each square alone: "cut" is a boundary, counter-clockwise w.r.t. the part.
+    let left = m.part_mesh("left", Some(&[name("left")])).unwrap();
+    assert_eq!(
+        segments(&left, "cut"),
+        [[[1.0, 0.0], [1.0, 1.0]], [[1.0, 1.0], [0.0, 1.0]]]
+    );
+    let right = m.part_mesh("right", Some(&[name("right")])).unwrap();
+    assert_eq!(segments(&right, "cut"), [[[1.0, 1.0], [1.0, 0.0]]]);
+    // Apart from "cut", the file is square_41.msh.
+    let square = read("square_41.msh");
+    for part in ["left", "right"] {
+        let mut a = m.part_mesh(part, Some(&[name(part)])).unwrap();
+        a.boundaries.remove("cut");
+        let b = square.part_mesh(part, Some(&[name(part)])).unwrap();
+        assert_same_mesh(&a, &b, part);
+    }
+}
+
 /// Quadrilaterals are read (binary 4.1 and ASCII 2.2) into their own list and
 /// become Q4 elements, counter-clockwise, alone or mixed with the file's
 /// triangles in one part.
@@ -289,39 +335,75 @@ fn pairs_by_x(a: &Analysis, inc: &IncrementResult) -> Vec<(f64, bool, f64)> {
     rows
 }
 
-/// The plate on a base with both parts from the shared Gmsh file (physical
-/// surfaces select the parts, physical curves name the interface, support and load
-/// boundaries) solves like examples/plate_on_base.toml: 29 pairs with the same
-/// states and forces, the same reactions and displacements.
-#[test]
-fn gmsh_plate_on_base_solves_like_the_structured_one() {
-    let gmsh = Analysis::new(Model::from_file(&data("plate_on_base.toml"), 1).unwrap()).unwrap();
+/// Solves the plate on a base with both parts from the shared Gmsh file
+/// (tests/data/gmsh/plate_on_base.toml) and as examples/plate_on_base.toml, both at
+/// refinement `refine`, and checks that they agree: the same pairs with the same
+/// states and forces (to 1e-6 of the largest), the same reactions, and the
+/// load-point displacement to `rel` (relative). Returns (pairs, open pairs).
+fn gmsh_and_structured_plate_on_base_agree(refine: usize, rel: f64) -> (usize, usize) {
+    let gmsh =
+        Analysis::new(Model::from_file(&data("plate_on_base.toml"), refine).unwrap()).unwrap();
     let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/plate_on_base.toml");
-    let structured = Analysis::new(Model::from_file(&example, 1).unwrap()).unwrap();
-    assert_eq!(gmsh.interfaces[0].elements.len(), 29);
+    let structured = Analysis::new(Model::from_file(&example, refine).unwrap()).unwrap();
+    for (g, s) in gmsh.model.parts.iter().zip(&structured.model.parts) {
+        assert_eq!(
+            g.mesh.nodes.len(),
+            s.mesh.nodes.len(),
+            "{} K = {refine}",
+            g.name
+        );
+        assert_eq!(
+            g.mesh.elements.len(),
+            s.mesh.elements.len(),
+            "{} K = {refine}",
+            g.name
+        );
+    }
     let (g, s) = (common::solve(&gmsh), common::solve(&structured));
     let (g, s) = (g.last().unwrap(), s.last().unwrap());
     let (rg, rs) = (reaction(&gmsh, g, 0), reaction(&structured, s, 0));
     assert!((rg[1] - 1500.0).abs() < 1e-8 * 1500.0, "{rg:?}");
     assert!((rg[0] - rs[0]).abs() < 1e-8 * 1500.0 && (rg[1] - rs[1]).abs() < 1e-8 * 1500.0);
     let (pg, ps) = (pairs_by_x(&gmsh, g), pairs_by_x(&structured, s));
+    assert_eq!(pg.len(), ps.len(), "K = {refine}");
     let fmax = ps.iter().map(|p| p.2.abs()).fold(0.0, f64::max);
     for (a, b) in pg.iter().zip(&ps) {
         assert!((a.0 - b.0).abs() < 1e-9, "{a:?} {b:?}");
-        assert_eq!(a.1, b.1, "state at x = {}", a.0);
+        assert_eq!(a.1, b.1, "K = {refine}: state at x = {}", a.0);
         assert!(
             (a.2 - b.2).abs() < 1e-6 * fmax,
-            "force at x = {}: {a:?} {b:?}",
+            "K = {refine}: force at x = {}: {a:?} {b:?}",
             a.0
         );
     }
-    assert_eq!(pg.iter().filter(|p| !p.1).count(), 11);
     let top = [100.0, 135.0];
     let (ug, us) = (
         common::displacement_at(&gmsh, g, "plate", top),
         common::displacement_at(&structured, s, "plate", top),
     );
-    assert!((ug[1] - us[1]).abs() < 1e-7 * us[1].abs(), "{ug:?} {us:?}");
+    assert!(
+        (ug[1] - us[1]).abs() < rel * us[1].abs(),
+        "K = {refine}: {ug:?} {us:?}"
+    );
+    (pg.len(), pg.iter().filter(|p| !p.1).count())
+}
+
+/// The plate on a base with both parts from the shared Gmsh file (physical
+/// surfaces select the parts, physical curves name the interface, support and load
+/// boundaries) solves like examples/plate_on_base.toml: 29 pairs with the same
+/// states and forces, the same reactions and displacements.
+#[test]
+fn gmsh_plate_on_base_solves_like_the_structured_one() {
+    assert_eq!(gmsh_and_structured_plate_on_base_agree(1, 1e-7), (29, 11));
+}
+
+/// With --refine 2 the Gmsh plate on a base, subdivided uniformly, solves like the
+/// structured example with its cells doubled: 57 pairs, 20 of them open, each in
+/// the same state with the same force, the same reactions, and the load-point
+/// displacement to 1e-9 (relative).
+#[test]
+fn refined_gmsh_plate_on_base_solves_like_the_refined_structured_one() {
+    assert_eq!(gmsh_and_structured_plate_on_base_agree(2, 1e-9), (57, 20));
 }
 
 /// An unstructured (Delaunay) Gmsh mesh of the plate on a base: one pair per node of
@@ -409,8 +491,36 @@ fn physical_curves_name_problem_boundaries() {
     assert!((r[0] + 1.0).abs() < 1e-9, "{r:?}");
 }
 
+/// --refine K subdivides Gmsh parts: the two squares at K = 3 have 9× the
+/// triangles and n + 2 per edge + 1 per triangle nodes, the right square's
+/// interface edge gives K + 1 = 4 pairs, and they are still in uniform tension
+/// (the same displacement at (2, 1) and reaction as at K = 1).
+#[test]
+fn refine_subdivides_gmsh_parts() {
+    let m = Model::from_str(SQUARES_PROBLEM, &data("inline.toml"), 3).unwrap();
+    let counts: Vec<_> = m
+        .parts
+        .iter()
+        .map(|p| (p.mesh.nodes.len(), p.mesh.elements.len()))
+        .collect();
+    assert_eq!(counts, [(5 + 8 * 2 + 4, 36), (4 + 5 * 2 + 2, 18)]);
+    for p in &m.parts {
+        p.mesh.validate(&p.name).unwrap();
+    }
+    let a = Analysis::new(m).unwrap();
+    assert_eq!(a.interfaces[0].elements.len(), 4);
+    let last = common::solve(&a).pop().unwrap();
+    let u = common::displacement_at(&a, &last, "right", [2.0, 1.0]);
+    assert!(
+        (u[0] - 2e-3).abs() < 1e-8 && (u[1] + 2.5e-4).abs() < 1e-8,
+        "{u:?}"
+    );
+    let r = reaction(&a, &last, 0);
+    assert!((r[0] + 1.0).abs() < 1e-9, "{r:?}");
+}
+
 /// Problem-file errors for Gmsh parts: both or neither of `rectangle` and `gmsh`,
-/// --refine on a Gmsh part, a missing file, an unknown surface (listing the file's
+/// a missing file, an unknown surface (listing the file's
 /// surfaces), an unknown boundary (listing the part's physical curves), a bad
 /// `surfaces` entry, and an unknown key in `gmsh`.
 #[test]
@@ -434,13 +544,6 @@ fn problem_file_errors_for_gmsh_parts() {
     let e = err(&neither);
     assert!(
         e.contains("part 'left' has no mesh") && e.contains("gmsh = {"),
-        "{e}"
-    );
-    let e = Model::from_str(SQUARES_PROBLEM, &data("inline.toml"), 2)
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.contains("part 'left' is meshed in Gmsh") && e.contains("--refine"),
         "{e}"
     );
     let e = err(&SQUARES_PROBLEM.replace("square_22.msh", "nowhere.msh"));

@@ -10,10 +10,14 @@ use cfe::analysis::Analysis;
 use cfe::model::Model;
 use std::path::Path;
 
-fn example() -> Analysis {
+fn example_at(refine: usize) -> Analysis {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("examples/roller_in_cradle/roller_in_cradle.toml");
-    Analysis::new(Model::from_file(&path, 1).unwrap()).unwrap()
+    Analysis::new(Model::from_file(&path, refine).unwrap()).unwrap()
+}
+
+fn example() -> Analysis {
+    example_at(1)
 }
 
 /// 43 five-node CFEs on the roller's quadrilaterals; the seat's nodes, which lie
@@ -90,4 +94,21 @@ fn bonded_on_the_loaded_side_open_on_the_other() {
     // Proportional load: the pattern is found in the first increment and kept.
     assert!(incs.iter().all(|i| i.states == last.states));
     assert!(incs[1..].iter().all(|i| i.iterations == 1));
+}
+
+/// `--refine 3` subdivides both Gmsh meshes (the seat stays the files' polygons):
+/// 3 × 42 + 1 seat pairs, still coupled, moved by the same largest distance — the
+/// tolerance refers to the host's edges as meshed in the file, as the gap between
+/// the two polygons does not shrink with subdivision.
+#[test]
+fn refined_meshes_keep_the_curved_coupling() {
+    let coarse = example();
+    let fine = example_at(3);
+    let seat = &fine.interfaces[0];
+    assert_eq!(seat.elements.len(), 3 * 42 + 1);
+    let (a, b) = (
+        coarse.interfaces[0].max_projection_distance,
+        seat.max_projection_distance,
+    );
+    assert!((a - b).abs() < 1e-9 * a, "{a} vs {b}");
 }

@@ -5,6 +5,7 @@
 //! independent.
 
 use super::element;
+use crate::mesh::Element;
 use crate::model::Part;
 
 /// Stresses of one part: per element and averaged per node, (σxx, σyy, σxy).
@@ -24,18 +25,28 @@ pub fn recover(part: &Part, u: &[f64]) -> PartStress {
     let mut nodal = vec![[0.0; 3]; mesh.nodes.len()];
     let mut weight = vec![0.0; mesh.nodes.len()];
     use rayon::prelude::*;
-    let per_element: Vec<element::ElementStress> = mesh
+    // Element values in parallel; only these are kept for every element (a T3's
+    // corner values equal its element value, a Q4's are recomputed below), so a
+    // million-element part does not hold four corner stresses per element.
+    let element: Vec<[f64; 3]> = mesh
         .elements
         .par_iter()
         .map(|el| {
             let x = element::coordinates(mesh, el);
-            element::stresses(el, &x, &d, &element::gather(el, u))
+            element::stresses(el, &x, &d, &element::gather(el, u)).element
         })
         .collect();
     for (e, el) in mesh.elements.iter().enumerate() {
         let a = mesh.element_area(e);
-        for (k, &n) in el.nodes().iter().enumerate() {
-            for (v, s) in nodal[n].iter_mut().zip(&per_element[e].corners[k]) {
+        let corners = match el {
+            Element::T3(_) => [element[e]; element::MAX_NODES],
+            Element::Q4(_) => {
+                let x = element::coordinates(mesh, el);
+                element::stresses(el, &x, &d, &element::gather(el, u)).corners
+            }
+        };
+        for (&n, c) in el.nodes().iter().zip(&corners) {
+            for (v, s) in nodal[n].iter_mut().zip(c) {
                 *v += a * s;
             }
             weight[n] += a;
@@ -48,8 +59,5 @@ pub fn recover(part: &Part, u: &[f64]) -> PartStress {
             }
         }
     }
-    PartStress {
-        element: per_element.iter().map(|s| s.element).collect(),
-        nodal,
-    }
+    PartStress { element, nodal }
 }

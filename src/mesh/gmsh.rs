@@ -4,10 +4,9 @@
 //! [`Mesh`] from a set of physical surfaces, with its named boundaries from the
 //! physical curves.
 //!
-//! The reader is pure Rust and keeps every element type cfe knows in its own list,
-//! so the 4-node quadrilaterals are read (and checked) even though the solver does
-//! not use them yet: [`GmshMesh::part_mesh`] refuses them with a clear error rather
-//! than splitting them into triangles.
+//! The reader is pure Rust and keeps every element type cfe knows in its own list;
+//! [`GmshMesh::part_mesh`] makes the triangles T3 and the 4-node quadrilaterals Q4
+//! elements.
 //!
 //! Sections read: `$MeshFormat`, `$PhysicalNames`, `$Entities` (4.1: the physical
 //! tags of each entity), `$Nodes`, `$Elements`; any other section (`$Periodic`,
@@ -274,8 +273,11 @@ impl GmshMesh {
     /// curve's lines that lie on the part's boundary become a named boundary
     /// (`Mesh::boundaries`; a curve without a name is named by its number), its edges
     /// oriented counter-clockwise with respect to the part and ordered along the
-    /// curve; curves with no edge on the part's boundary are left out. Quadrilaterals
-    /// in the selection are an error: the solver has no Q4 element yet.
+    /// curve; curves with no edge on the part's boundary (inside the part, or on
+    /// another part of a shared file) are left out. A curve with edges both on the
+    /// part's boundary and inside it (an edge shared by two of the part's elements)
+    /// is an error naming the curve and one inner edge. Quadrilaterals become Q4
+    /// elements, counter-clockwise like the triangles.
     pub fn part_mesh(&self, part: &str, surfaces: Option<&[Group]>) -> Result<Mesh> {
         let err = |message: String| Error::Mesh {
             part: part.to_string(),
@@ -377,23 +379,69 @@ impl GmshMesh {
             boundaries: BTreeMap::new(),
         };
 
-        // Named boundaries from the physical curves.
-        let free: HashMap<(usize, usize), BoundaryEdge> = mesh
-            .boundary_edges()
-            .into_iter()
-            .map(|e| ((e.nodes[0].min(e.nodes[1]), e.nodes[0].max(e.nodes[1])), e))
-            .collect();
+        // Named boundaries from the physical curves. Each element edge, by its sorted
+        // node pair: how many elements use it, and the first one's oriented edge.
+        let mut uses: HashMap<(usize, usize), (usize, BoundaryEdge)> =
+            HashMap::with_capacity(2 * mesh.elements.len());
+        for (e, el) in mesh.elements.iter().enumerate() {
+            for [a, b] in el.edges() {
+                uses.entry((a.min(b), a.max(b)))
+                    .and_modify(|u| u.0 += 1)
+                    .or_insert((
+                        1,
+                        BoundaryEdge {
+                            nodes: [a, b],
+                            element: e,
+                        },
+                    ));
+            }
+        }
+        // Per physical curve: its edges on the part's boundary, and its lines that
+        // are interior edges of the part (how many, and the first one).
         let mut by_tag: BTreeMap<i32, Vec<BoundaryEdge>> = BTreeMap::new();
+        let mut inside: BTreeMap<i32, (usize, [usize; 2])> = BTreeMap::new();
         for line in &self.lines {
             let [a, b] = line.nodes.map(|n| local[n]);
             if a == UNUSED || b == UNUSED {
                 continue;
             }
-            if let Some(edge) = free.get(&(a.min(b), a.max(b))) {
-                for &tag in &line.physical {
-                    by_tag.entry(tag).or_default().push(*edge);
+            match uses.get(&(a.min(b), a.max(b))) {
+                Some((1, edge)) => {
+                    for &tag in &line.physical {
+                        by_tag.entry(tag).or_default().push(*edge);
+                    }
                 }
+                Some(_) => {
+                    for &tag in &line.physical {
+                        inside.entry(tag).or_insert((0, line.nodes)).0 += 1;
+                    }
+                }
+                None => {}
             }
+        }
+        // A curve partly on the boundary and partly inside the part is an error
+        // (curves wholly inside are left out below, as they name no boundary).
+        for (tag, &(count, [a, b])) in &inside {
+            let Some(on_boundary) = by_tag.get(tag) else {
+                continue;
+            };
+            let curve = match self.name(1, *tag) {
+                Some(n) => format!("'{n}' ({tag})"),
+                None => tag.to_string(),
+            };
+            let at = |n: usize| {
+                let [x, y] = self.nodes[n];
+                format!("node {} ({x}, {y})", self.node_tags[n])
+            };
+            let edges = |n: usize| format!("{n} edge{}", if n == 1 { "" } else { "s" });
+            return Err(err(format!(
+                "physical curve {curve} of file {} lies partly inside the part: it has {} on the part's boundary and {} inside it (shared by two of the part's elements), e.g. the edge from {} to {}; a boundary must lie on the part's boundary: split the curve in Gmsh so that its inner lines form a physical curve of their own, or put only boundary curves in the physical group",
+                self.file_name(),
+                edges(on_boundary.len()),
+                edges(count),
+                at(a),
+                at(b),
+            )));
         }
         for (tag, edges) in by_tag {
             let name = self

@@ -1,9 +1,11 @@
 //! Mesh: the nodes, elements (linear triangles T3 and bilinear quadrilaterals Q4,
 //! possibly mixed) and named boundaries of one part, the built-in structured
 //! rectangle mesher, and the geometric checks (inverted, degenerate or non-convex
-//! elements) every mesh passes before it is used. [`gmsh`] reads Gmsh meshes.
+//! elements) every mesh passes before it is used. [`gmsh`] reads Gmsh meshes;
+//! [`Mesh::refined`] (in `refine`) subdivides any mesh uniformly.
 
 pub mod gmsh;
+mod refine;
 
 use crate::error::{Error, Result};
 use std::collections::{BTreeMap, HashMap};
@@ -278,7 +280,18 @@ impl Mesh {
     /// area of the quadrilateral through its corners, which the bilinear map fills
     /// exactly).
     pub fn element_area(&self, e: usize) -> f64 {
-        polygon_area(self.elements[e].nodes().iter().map(|&n| self.nodes[n]))
+        let p = |n: usize| self.nodes[n];
+        match self.elements[e] {
+            Element::T3([a, b, c]) => {
+                let (a, b, c) = (p(a), p(b), p(c));
+                0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
+            }
+            // Half the cross product of the diagonals.
+            Element::Q4([a, b, c, d]) => {
+                let (a, b, c, d) = (p(a), p(b), p(c), p(d));
+                0.5 * ((c[0] - a[0]) * (d[1] - b[1]) - (d[0] - b[0]) * (c[1] - a[1]))
+            }
+        }
     }
 
     /// How many elements of each kind the mesh has: (T3, Q4).

@@ -27,6 +27,10 @@ Files written:
   square_22_bin.msh      MSH 2.2 binary
   quads_41_bin.msh       as square, the right square one 4-node quadrilateral
   quads_22.msh           the same in MSH 2.2 ASCII
+  partial_curve_41.msh   as square_41.msh (without $NodeData), plus physical curve
+                         16 "cut" {c5, c7}: on the whole file's mesh c5 is boundary
+                         but c7 is inside (an error); for each square alone both
+                         lie on its boundary or belong to the other square
 """
 
 import os
@@ -85,27 +89,34 @@ def entity_boxes():
     return curve_box, surf_box
 
 
-def physical_names_ascii():
-    out = "$PhysicalNames\n%d\n" % len(NAMES)
-    for d, t, n in NAMES:
+# partial_curve_41.msh: the same groups plus curve 16 "cut" = {c5, c7}.
+PARTIAL_PHYSICAL = dict(PHYSICAL)
+PARTIAL_PHYSICAL[(1, 5)] = [12, 16]
+PARTIAL_PHYSICAL[(1, 7)] = [14, 16]
+PARTIAL_NAMES = NAMES[:5] + [(1, 16, "cut")] + NAMES[5:]
+
+
+def physical_names_ascii(names=NAMES):
+    out = "$PhysicalNames\n%d\n" % len(names)
+    for d, t, n in names:
         out += '%d %d "%s"\n' % (d, t, n)
     return out + "$EndPhysicalNames\n"
 
 
 # ------------------------------------------------------------------ MSH 4.1
 
-def msh41_ascii(quads=False):
-    s = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n" + physical_names_ascii()
+def msh41_ascii(quads=False, physical=PHYSICAL, names=NAMES, node_data=True):
+    s = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n" + physical_names_ascii(names)
     curve_box, surf_box = entity_boxes()
     s += "$Entities\n%d %d %d 0\n" % (len(POINTS), len(CURVES), len(SURFACES))
     xy = dict(NODES)
     for tag, node in POINTS:
-        ph = PHYSICAL.get((0, tag), [])
+        ph = physical.get((0, tag), [])
         s += "%d %r %r %r %d%s\n" % (tag, xy[node][0], xy[node][1], Z, len(ph),
                                      "".join(" %d" % p for p in ph))
     for dim, ents, boxes in ((1, CURVES, curve_box), (2, SURFACES, surf_box)):
         for tag, bounds in ents:
-            ph = PHYSICAL.get((dim, tag), [])
+            ph = physical.get((dim, tag), [])
             s += "%d %s %d%s %d%s\n" % (tag, " ".join(repr(v) for v in boxes[tag]), len(ph),
                                         "".join(" %d" % p for p in ph), len(bounds),
                                         "".join(" %d" % b for b in bounds))
@@ -125,6 +136,8 @@ def msh41_ascii(quads=False):
         for t, ns in els:
             s += "%d %s\n" % (t, " ".join(str(n) for n in ns))
     s += "$EndElements\n"
+    if not node_data:
+        return s.encode()
     # A section cfe does not read: skipped.
     s += '$NodeData\n1\n"displacement"\n1\n0.0\n3\n0\n1\n1\n1 0.5\n$EndNodeData\n'
     return s.encode()
@@ -234,6 +247,8 @@ def main():
         "square_22_bin.msh": msh22_binary(),
         "quads_41_bin.msh": msh41_binary(quads=True),
         "quads_22.msh": msh22_ascii(quads=True),
+        "partial_curve_41.msh": msh41_ascii(physical=PARTIAL_PHYSICAL, names=PARTIAL_NAMES,
+                                            node_data=False),
     }
     for name, data in files.items():
         with open(os.path.join(HERE, name), "wb") as f:
