@@ -571,3 +571,34 @@ fn problem_file_errors_for_gmsh_parts() {
     let e = err(&SQUARES_PROBLEM.replace("surfaces = [2]", "surface = [2]"));
     assert!(e.contains("surface"), "{e}");
 }
+
+/// The Gmsh-made mixed mesh (make_mixed.py: 2 × 1 rectangle, 4 Q4 on the left
+/// half, 8 T3 on the right, conforming along x = 1) is one part of 12 elements of
+/// both kinds, counter-clockwise, filling the rectangle, with its four sides named
+/// and exactly its free edges.
+#[test]
+fn mixed_triangles_and_quadrilaterals_make_one_part() {
+    let m = read("mixed.msh");
+    let body = m.part_mesh("body", Some(&[name("body")])).unwrap();
+    body.validate("body").unwrap();
+    assert_eq!(body.counts(), (8, 4));
+    assert_eq!(body.nodes.len(), 15);
+    let area: f64 = (0..body.elements.len()).map(|e| body.element_area(e)).sum();
+    assert!((area - 2.0).abs() < 1e-14);
+    let names: Vec<&String> = body.boundaries.keys().collect();
+    assert_eq!(names, ["bottom", "left", "right", "top"]);
+    let mut named: Vec<_> = body.boundaries.values().flatten().copied().collect();
+    let mut free = body.boundary_edges();
+    named.sort_by_key(|e| (e.element, e.nodes));
+    free.sort_by_key(|e| (e.element, e.nodes));
+    assert_eq!(named, free);
+    // The left side belongs to quadrilaterals, the right side to triangles.
+    let kind = |side: &str| {
+        body.boundaries[side]
+            .iter()
+            .map(|e| body.elements[e.element].kind())
+            .collect::<Vec<_>>()
+    };
+    assert!(kind("left").iter().all(|k| *k == ElementKind::Q4));
+    assert!(kind("right").iter().all(|k| *k == ElementKind::T3));
+}

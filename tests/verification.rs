@@ -2,7 +2,7 @@
 //! meet its independent reference. `cfe verify` runs the full versions and writes
 //! docs/verification.md.
 
-use cfe::verification::{cantilever, patch, punch, seed};
+use cfe::verification::{cantilever, curved, patch, punch, quads, seed};
 
 fn check(case: cfe::error::Result<cfe::verification::Case>) {
     let c = case.expect("case runs");
@@ -53,4 +53,16 @@ fn bonded_punch() {
 #[test]
 fn seed_examples() {
     check(seed::schemes_and_refinement(true));
+}
+
+/// Lamé's cylinder tied along a curved face: u_r at order 2, the tie adds no error beyond the bulk's.
+#[test]
+fn curved_interface() {
+    check(curved::lame_cylinder(true));
+}
+
+/// Q4 and mixed meshes: patch tests for every T3/Q4 pairing, Q4 cantilever at order 2, beating T3.
+#[test]
+fn q4_and_mixed() {
+    check(quads::q4_and_mixed(true));
 }

@@ -28,9 +28,13 @@
 //!
 //! Tip deflection: v(L) = P L³/(3 E I) + (4 + 5ν) P D² L/(24 E I).
 
-use super::{Case, Plot, Table, displacement_at, energy_density, orders, prepare, sci, solve};
+use super::{
+    Case, Plot, Table, displacement_at, energy_density, for_each_stress_point, orders, prepare,
+    sci, solve, toml_kind,
+};
 use crate::analysis::Analysis;
 use crate::error::Result;
+use crate::mesh::ElementKind;
 use crate::output::chart::Series;
 use crate::solve::nonlinear::IncrementResult;
 use std::collections::BTreeMap;
@@ -154,6 +158,19 @@ pub fn tied_with(
     ends: Ends,
     fine_hosts: bool,
 ) -> String {
+    tied_with_elements(host, fine, c, ends, fine_hosts, [ElementKind::T3; 2])
+}
+
+/// [`tied_with`] with the element types of the coarse (left) and fine (right)
+/// halves given (`[coarse, fine]`).
+pub fn tied_with_elements(
+    host: [usize; 2],
+    fine: [usize; 2],
+    c: Option<f64>,
+    ends: Ends,
+    fine_hosts: bool,
+    kinds: [ElementKind; 2],
+) -> String {
     let c = c.map_or(String::new(), |c| format!("c_n = {c:e}\n"));
     let (h, n, b) = if fine_hosts {
         ("fine", "coarse", "right")
@@ -165,11 +182,11 @@ pub fn tied_with(
 [[part]]
 name = "coarse"
 material = "steel"
-rectangle = {{ x = [0.0, 50.0], y = [-5.0, 5.0], cells = [{}, {}] }}
+rectangle = {{ x = [0.0, 50.0], y = [-5.0, 5.0], cells = [{}, {}], elements = "{}" }}
 [[part]]
 name = "fine"
 material = "steel"
-rectangle = {{ x = [50.0, 100.0], y = [-5.0, 5.0], cells = [{}, {}] }}
+rectangle = {{ x = [50.0, 100.0], y = [-5.0, 5.0], cells = [{}, {}], elements = "{}" }}
 [[interface]]
 host = "{h}"
 nodes = "{n}"
@@ -180,8 +197,10 @@ law = "rigid"
 {}"#,
         host[0],
         host[1],
+        toml_kind(kinds[0]),
         fine[0],
         fine[1],
+        toml_kind(kinds[1]),
         support_text("coarse", host[1], ends),
         load_text("fine", fine[1], ends)
     )
@@ -194,16 +213,22 @@ pub fn conforming(cells: [usize; 2]) -> String {
 
 /// The cantilever meshed conformingly with `cells` and the given end conditions.
 pub fn conforming_with(cells: [usize; 2], ends: Ends) -> String {
+    conforming_with_elements(cells, ends, ElementKind::T3)
+}
+
+/// [`conforming_with`] meshed with elements of `kind`.
+pub fn conforming_with_elements(cells: [usize; 2], ends: Ends, kind: ElementKind) -> String {
     format!(
         r#"{HEAD}
 [[part]]
 name = "beam"
 material = "steel"
-rectangle = {{ x = [0.0, 100.0], y = [-5.0, 5.0], cells = [{}, {}] }}
+rectangle = {{ x = [0.0, 100.0], y = [-5.0, 5.0], cells = [{}, {}], elements = "{}" }}
 {}
 {}"#,
         cells[0],
         cells[1],
+        toml_kind(kind),
         support_text("beam", cells[1], ends),
         load_text("beam", cells[1], ends)
     )
@@ -249,64 +274,26 @@ pub fn measure(text: &str, tip_part: &str) -> Result<Measured> {
     Ok(Measured { tip, left, right })
 }
 
-/// 6-point Dunavant rule (degree 4) on a triangle: barycentric points and weights.
-const DUNAVANT4: [([f64; 3], f64); 6] = [
-    (
-        [0.445948490915965, 0.445948490915965, 0.108103018168070],
-        0.223381589678011,
-    ),
-    (
-        [0.445948490915965, 0.108103018168070, 0.445948490915965],
-        0.223381589678011,
-    ),
-    (
-        [0.108103018168070, 0.445948490915965, 0.445948490915965],
-        0.223381589678011,
-    ),
-    (
-        [0.091576213509771, 0.091576213509771, 0.816847572980459],
-        0.109951743655322,
-    ),
-    (
-        [0.091576213509771, 0.816847572980459, 0.091576213509771],
-        0.109951743655322,
-    ),
-    (
-        [0.816847572980459, 0.091576213509771, 0.091576213509771],
-        0.109951743655322,
-    ),
-];
-
-/// ∫ (σ_h − σ_TG)ᵀ D⁻¹ (σ_h − σ_TG) t dA over the elements left and right of x = 50.
-/// The integrand is a polynomial of degree 4 per element (σ_h constant, σ_TG
-/// quadratic), integrated exactly.
+/// ∫ (σ_h − σ_TG)ᵀ D⁻¹ (σ_h − σ_TG) t dA over the elements left and right of x = 50
+/// (by their centroids). In a T3 the integrand is a polynomial of degree 4 (σ_h
+/// constant, σ_TG quadratic), integrated exactly; in a rectangular Q4 one of degree
+/// 4 in each of ξ, η, integrated exactly by 3 × 3 Gauss points.
 fn energy_error_split(a: &Analysis, inc: &IncrementResult) -> (f64, f64) {
-    let stresses = a.recover(&inc.u);
     let (mut left, mut right) = (0.0, 0.0);
-    for (part, s) in a.model.parts.iter().zip(&stresses) {
+    for_each_stress_point(a, &inc.u, |p, e, x, w, s| {
+        let part = &a.model.parts[p];
         let m = &part.mesh;
-        for (e, el) in m.elements.iter().enumerate() {
-            let crate::mesh::Element::T3(tri) = el else {
-                unreachable!("the cantilever problems are meshed with T3")
-            };
-            let x = tri.map(|n| m.nodes[n]);
-            let area = m.element_area(e);
-            let mut sum = 0.0;
-            for (b, w) in DUNAVANT4 {
-                let px = b[0] * x[0][0] + b[1] * x[1][0] + b[2] * x[2][0];
-                let py = b[0] * x[0][1] + b[1] * x[1][1] + b[2] * x[2][1];
-                let ex = tg_stress(px, py);
-                let d = [0, 1, 2].map(|k| s.element[e][k] - ex[k]);
-                sum += w * energy_density(&part.material, d);
-            }
-            let v = sum * area * part.material.thickness;
-            if (x[0][0] + x[1][0] + x[2][0]) / 3.0 < 50.0 {
-                left += v;
-            } else {
-                right += v;
-            }
+        let nodes = m.elements[e].nodes();
+        let cx = nodes.iter().map(|&n| m.nodes[n][0]).sum::<f64>() / nodes.len() as f64;
+        let ex = tg_stress(x[0], x[1]);
+        let d = [0, 1, 2].map(|k| s[k] - ex[k]);
+        let v = w * energy_density(&part.material, d);
+        if cx < 50.0 {
+            left += v;
+        } else {
+            right += v;
         }
-    }
+    });
     (left, right)
 }
 
@@ -717,6 +704,7 @@ pub fn reversed_cantilever(k: usize, r: usize) -> Result<(Measured, Measured)> {
 mod tests {
     use super::*;
     use crate::fem::material::{Material, PlaneKind};
+    use crate::verification::DUNAVANT4;
 
     /// The closed form is a plane-stress elasticity solution: strains of u equal
     /// D⁻¹σ (central differences), and the shear on x = L sums to P.

@@ -5,8 +5,10 @@
 //! versions also run as tests.
 
 pub mod cantilever;
+pub mod curved;
 pub mod patch;
 pub mod punch;
+pub mod quads;
 pub mod seed;
 
 use crate::analysis::Analysis;
@@ -119,7 +121,7 @@ pub fn displacement_at(
 pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>> {
     let mut cases = Vec::new();
     type CaseFn = fn(bool) -> Result<Case>;
-    let all: [(&str, CaseFn); 7] = [
+    let all: [(&str, CaseFn); 9] = [
         ("patch tests", patch::constant_stress),
         ("contact patch test", patch::contact_patch),
         ("tied cantilever", cantilever::convergence),
@@ -127,6 +129,8 @@ pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>>
         ("bonded punch", punch::bonded_punch),
         ("host choice", patch::host_choice),
         ("seed examples", seed::schemes_and_refinement),
+        ("curved interface", curved::lame_cylinder),
+        ("Q4 and mixed meshes", quads::q4_and_mixed),
     ];
     for (name, f) in all {
         progress(name);
@@ -206,6 +210,98 @@ pub fn energy_density(m: &crate::fem::material::Material, s: [f64; 3]) -> f64 {
         }
     }
     e
+}
+
+/// 6-point Dunavant rule (degree 4) on a triangle: barycentric points and weights.
+pub const DUNAVANT4: [([f64; 3], f64); 6] = [
+    (
+        [0.445948490915965, 0.445948490915965, 0.108103018168070],
+        0.223381589678011,
+    ),
+    (
+        [0.445948490915965, 0.108103018168070, 0.445948490915965],
+        0.223381589678011,
+    ),
+    (
+        [0.108103018168070, 0.445948490915965, 0.445948490915965],
+        0.223381589678011,
+    ),
+    (
+        [0.091576213509771, 0.091576213509771, 0.816847572980459],
+        0.109951743655322,
+    ),
+    (
+        [0.091576213509771, 0.816847572980459, 0.091576213509771],
+        0.109951743655322,
+    ),
+    (
+        [0.816847572980459, 0.091576213509771, 0.091576213509771],
+        0.109951743655322,
+    ),
+];
+
+/// 3-point Gauss–Legendre rule on [−1, 1] (exact to degree 5): abscissae and weights.
+const GAUSS3: [(f64, f64); 3] = [
+    (-0.774_596_669_241_483_4, 5.0 / 9.0),
+    (0.0, 8.0 / 9.0),
+    (0.774_596_669_241_483_4, 5.0 / 9.0),
+];
+
+/// Quadrature of a function of the finite element stress over every part: calls
+/// `f(part, element, x, w, σ_h)` at each quadrature point x of each element, with
+/// w its weight (its share of the element's area times the thickness) and σ_h the
+/// element's stress there. T3: the 6-point degree-4 Dunavant rule (σ_h constant),
+/// exact for a quadratic reference stress. Q4: 3 × 3 Gauss points in (ξ, η),
+/// σ_h = D B(ξ, η) u_e and w = det J × weights × t, exact for a parallelogram and a
+/// quadratic reference stress.
+pub fn for_each_stress_point(
+    a: &Analysis,
+    u: &[f64],
+    mut f: impl FnMut(usize, usize, [f64; 2], f64, [f64; 3]),
+) {
+    use crate::fem::{element, q4};
+    use crate::mesh::Element;
+    for (p, part) in a.model.parts.iter().enumerate() {
+        let m = &part.mesh;
+        let s = 2 * a.dofs.node_offset[p];
+        let up = &u[s..s + 2 * m.nodes.len()];
+        let d = part.material.d_matrix();
+        let t = part.material.thickness;
+        for (e, el) in m.elements.iter().enumerate() {
+            let x = element::coordinates(m, el);
+            let ue = element::gather(el, up);
+            match el {
+                Element::T3(_) => {
+                    let sigma = element::stresses(el, &x, &d, &ue).element;
+                    let area = m.element_area(e);
+                    for (b, w) in DUNAVANT4 {
+                        let px = b[0] * x[0][0] + b[1] * x[1][0] + b[2] * x[2][0];
+                        let py = b[0] * x[0][1] + b[1] * x[1][1] + b[2] * x[2][1];
+                        f(p, e, [px, py], w * area * t, sigma);
+                    }
+                }
+                Element::Q4(_) => {
+                    for (xi, wi) in GAUSS3 {
+                        for (eta, wj) in GAUSS3 {
+                            let n = q4::shape([xi, eta]);
+                            let pt = [0, 1].map(|c| (0..4).map(|k| n[k] * x[k][c]).sum());
+                            let (_, det) = q4::b_matrix(&x, [xi, eta]);
+                            let sigma = q4::stress_at(&x, &d, &ue, [xi, eta]);
+                            f(p, e, pt, wi * wj * det * t, sigma);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The name of an element type in a problem file (`t3`, `q4`).
+pub fn toml_kind(kind: crate::mesh::ElementKind) -> &'static str {
+    match kind {
+        crate::mesh::ElementKind::T3 => "t3",
+        crate::mesh::ElementKind::Q4 => "q4",
+    }
 }
 
 /// Formats a number in scientific notation with 3 significant digits.

@@ -17,6 +17,7 @@
 
 use super::{Case, Plot, Table, prepare, sci, solve};
 use crate::error::Result;
+use crate::mesh::ElementKind;
 use crate::output::chart::Series;
 
 /// E·t of the patch-test material.
@@ -27,7 +28,20 @@ pub const SIGMA: [f64; 3] = [1.0, 2.0, 0.5];
 /// The patch-test problem: host `host_cells`² cells below, node part
 /// `node_cells`² cells above (unit squares), tied with penalty `c`.
 pub fn problem(host_cells: usize, node_cells: usize, sigma: [f64; 3], c: f64) -> String {
+    problem_with_elements(host_cells, node_cells, sigma, c, [ElementKind::T3; 2])
+}
+
+/// [`problem`] with the element types of the host (lower) and node (upper) parts
+/// given (`[host, node]`).
+pub fn problem_with_elements(
+    host_cells: usize,
+    node_cells: usize,
+    sigma: [f64; 3],
+    c: f64,
+    kinds: [ElementKind; 2],
+) -> String {
     let [sxx, syy, sxy] = sigma;
+    let [host_kind, node_kind] = kinds.map(super::toml_kind);
     let side = |part: &str, b: &str, f: [f64; 2]| {
         format!(
             "[[load]]\npart = \"{part}\"\nboundary = \"{b}\"\nforce = [{:e}, {:e}]\n",
@@ -43,12 +57,12 @@ nu = 0.3
 [[part]]
 name = "lower"
 material = "m"
-rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [{host_cells}, {host_cells}] }}
+rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [{host_cells}, {host_cells}], elements = "{host_kind}" }}
 
 [[part]]
 name = "upper"
 material = "m"
-rectangle = {{ x = [0.0, 1.0], y = [1.0, 2.0], cells = [{node_cells}, {node_cells}] }}
+rectangle = {{ x = [0.0, 1.0], y = [1.0, 2.0], cells = [{node_cells}, {node_cells}], elements = "{node_kind}" }}
 
 [[interface]]
 host = "lower"
