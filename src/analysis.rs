@@ -233,7 +233,10 @@ impl Analysis {
                 for c in &elements {
                     part.mesh.nodes[c.node] = c.position;
                 }
-                part.mesh.validate(&part.name).map_err(|e| Error::Coupling {
+                let moved: Vec<usize> = elements.iter().map(|c| c.node).collect();
+                part.mesh
+                    .validate_around(&part.name, &moved)
+                    .map_err(|e| Error::Coupling {
                     interface: def.name.clone(),
                     message: format!(
                         "moving the coupling nodes onto the host edges (by up to {max_projection_distance:e}) spoils the node part's mesh: {e}; lower `tolerance` or mesh the faces closer together"

@@ -188,3 +188,24 @@ fn no_support_at_all() {
     let e = s.run(|_| Ok(())).err().unwrap().to_string();
     assert!(e.contains("'base'") && e.contains("'plate'"), "{e}");
 }
+
+/// Coupling nodes moved onto the host edges must leave the node part's mesh
+/// valid: a plate meshed 0.4 mm into the base (within the 5 % tolerance of the
+/// base's 10 mm edges) with one 0.4 mm row of cells along it collapses when its
+/// bottom nodes are moved up, and the error names the interface, the move and the
+/// element.
+#[test]
+fn moving_coupling_nodes_must_not_spoil_the_node_part() {
+    let text = BASE.replace(
+        "rectangle = { x = [30.0, 170.0], y = [120.0, 135.0], cells = [28, 6] }",
+        "rectangle = { x = [30.0, 170.0], y = [119.6, 120.0], cells = [28, 1] }",
+    );
+    let model = parse(&text).unwrap();
+    let e = Analysis::new(model).err().expect("collapsed").to_string();
+    assert!(
+        e.contains("interface 'base/plate'")
+            && e.contains("by up to 4.0000")
+            && e.contains("degenerate"),
+        "{e}"
+    );
+}

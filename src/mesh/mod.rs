@@ -344,40 +344,70 @@ impl Mesh {
         {
             return Err(err(format!("node {i} has a non-finite coordinate {p:?}")));
         }
+        for e in 0..self.elements.len() {
+            self.check_element(e).map_err(err)?;
+        }
+        Ok(())
+    }
+
+    /// Checks only the elements that contain one of `nodes` (after those nodes
+    /// moved), as [`Mesh::validate`] does for all.
+    pub fn validate_around(&self, part: &str, nodes: &[usize]) -> Result<()> {
+        let moved: std::collections::HashSet<usize> = nodes.iter().copied().collect();
         for (e, el) in self.elements.iter().enumerate() {
-            let nodes = el.nodes();
-            if let Some(n) = nodes.iter().find(|&&n| n >= self.nodes.len()) {
-                return Err(err(format!(
-                    "element {e} refers to node {n}, but the mesh has {} nodes",
-                    self.nodes.len()
-                )));
+            if el.nodes().iter().any(|n| moved.contains(n)) {
+                self.check_element(e).map_err(|message| Error::Mesh {
+                    part: part.to_string(),
+                    message,
+                })?;
             }
-            let x: Vec<[f64; 2]> = nodes.iter().map(|&n| self.nodes[n]).collect();
-            let h = el
-                .edges()
-                .map(|[a, b]| dist(self.nodes[a], self.nodes[b]))
-                .fold(0.0, f64::max);
-            let kind = el.kind().as_str();
-            let area = polygon_area(x.iter().copied());
-            if area.abs() <= 1e-10 * h * h {
-                return Err(err(format!(
-                    "{kind} element {e} (nodes {nodes:?} at {x:?}) is degenerate: area {area:e}"
-                )));
-            }
-            if area < 0.0 {
-                return Err(err(format!(
-                    "{kind} element {e} (nodes {nodes:?} at {x:?}) is inverted (clockwise), area {area:e}"
-                )));
-            }
-            if let Some((k, _)) = corner_crosses(&x)
+        }
+        Ok(())
+    }
+
+    /// The geometric check of element `e` (see [`Mesh::validate`]), with the
+    /// message of its failure.
+    fn check_element(&self, e: usize) -> std::result::Result<(), String> {
+        let el = &self.elements[e];
+        let nodes = el.nodes();
+        if let Some(n) = nodes.iter().find(|&&n| n >= self.nodes.len()) {
+            return Err(format!(
+                "element {e} refers to node {n}, but the mesh has {} nodes",
+                self.nodes.len()
+            ));
+        }
+        let mut corners = [[0.0; 2]; 4];
+        for (c, &n) in corners.iter_mut().zip(nodes) {
+            *c = self.nodes[n];
+        }
+        let x = &corners[..nodes.len()];
+        let h = el
+            .edges()
+            .map(|[a, b]| dist(self.nodes[a], self.nodes[b]))
+            .fold(0.0, f64::max);
+        let kind = el.kind().as_str();
+        let area = self.element_area(e);
+        if area.abs() <= 1e-10 * h * h {
+            return Err(format!(
+                "{kind} element {e} (nodes {nodes:?} at {x:?}) is degenerate: area {area:e}"
+            ));
+        }
+        if area < 0.0 {
+            return Err(format!(
+                "{kind} element {e} (nodes {nodes:?} at {x:?}) is inverted (clockwise), area {area:e}"
+            ));
+        }
+        // A triangle's corner products all equal twice its area; a
+        // quadrilateral's tell whether it is convex.
+        if let Element::Q4(_) = el
+            && let Some((k, _)) = corner_crosses(x)
                 .enumerate()
                 .find(|(_, c)| *c <= 1e-10 * h * h)
-            {
-                return Err(err(format!(
-                    "{kind} element {e} (nodes {nodes:?} at {x:?}) is not convex or is degenerate at its corner {k} (node {}): the bilinear map folds there",
-                    nodes[k]
-                )));
-            }
+        {
+            return Err(format!(
+                "{kind} element {e} (nodes {nodes:?} at {x:?}) is not convex or is degenerate at its corner {k} (node {}): the bilinear map folds there",
+                nodes[k]
+            ));
         }
         Ok(())
     }
