@@ -101,7 +101,7 @@ pub struct InterfaceSummary {
     pub open: usize,
     /// Pairs kept bonded to settle a cycle, with their forces.
     pub settled: Vec<SettledPair>,
-    /// Largest penetration (−[[u_n]]) among bonded pairs.
+    /// Largest penetration (−`[[u_n]]`) among bonded pairs.
     pub max_penetration: f64,
     /// Total normal force on the node part.
     pub total_force_n: f64,

@@ -11,7 +11,7 @@
 //! [`fem`] (materials, element routines) → [`coupling`] (pair search, CFEs, laws) →
 //! [`assembly`] (DOF map, sparse pattern, global K and F) → [`solve`] (sparse
 //! Cholesky, contact schemes) → [`output`] (VTU, CSV, JSON, PNG).
-//! [`analysis`] strings them together for one problem; [`bench`] measures it at scale.
+//! [`analysis`] strings them together for one problem; [`bench`](mod@bench) measures it at scale.
 
 pub mod analysis;
 pub mod assembly;

@@ -183,7 +183,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let m = &summary.max_displacement;
             println!(
                 "  max |u| = {:.6e} at ({}, {}) in part '{}'",
-                m.value, m.x, m.y, m.part
+                m.value,
+                short(m.x),
+                short(m.y),
+                m.part
             );
             for r in &summary.reactions {
                 println!("  reaction '{}': ({:.6e}, {:.6e})", r.support, r.fx, r.fy);
@@ -195,4 +198,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
     }
+}
+
+/// A coordinate rounded to 7 significant digits, printed without trailing zeros
+/// (`100`, `-6.840403`).
+fn short(v: f64) -> f64 {
+    format!("{v:.6e}").parse().unwrap_or(v)
 }

@@ -235,7 +235,7 @@ pub struct Settings {
     pub scheme: Scheme,
     /// Iteration limit per increment (active-set).
     pub max_iterations: usize,
-    /// A pair opens when [[u_n]] exceeds this fraction of the largest displacement
+    /// A pair opens when `[[u_n]]` exceeds this fraction of the largest displacement
     /// magnitude among its four nodes.
     pub gap_tolerance: f64,
 }

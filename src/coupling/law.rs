@@ -10,7 +10,7 @@
 pub enum Law {
     /// Tied: D̂ = 0 always (plain non-matching mesh tying).
     Rigid,
-    /// Unilateral: bonded where [[u_n]] ≤ tolerance, open where it separates.
+    /// Unilateral: bonded where `[[u_n]]` ≤ tolerance, open where it separates.
     Contact,
 }
 
@@ -50,7 +50,7 @@ impl Law {
         }
     }
 
-    /// The state the law assigns to a normal jump `gap_n` = [[u_n]]: open only when
+    /// The state the law assigns to a normal jump `gap_n` = `[[u_n]]`: open only when
     /// the pair separates by more than `tolerance` (≥ 0). A rigid law is always bonded.
     pub fn state(self, gap_n: f64, tolerance: f64) -> PairState {
         match self {

@@ -1,5 +1,5 @@
 //! The element provider: the routines of one part element, whatever its type
-//! ([`t3`](super::t3) or [`q4`](super::q4)), behind one interface so that assembly
+//! ([`t3`] or [`q4`]), behind one interface so that assembly
 //! and stress recovery loop over mixed meshes without knowing the types. Element
 //! matrices live in fixed 8×8 arrays (the leading `2n × 2n` block is the element's,
 //! n its node count): no allocation per element.

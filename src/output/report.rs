@@ -20,9 +20,9 @@ pub struct PairRow {
     pub host_element: usize,
     /// `bonded` or `open`.
     pub state: &'static str,
-    /// Normal jump [[u_n]] (> 0: the faces separate).
+    /// Normal jump `[[u_n]]` (> 0: the faces separate).
     pub gap_n: f64,
-    /// Tangential jump [[u_s]].
+    /// Tangential jump `[[u_s]]`.
     pub slip_s: f64,
     /// Normal force on the node part (> 0: the faces press together).
     pub force_n: f64,

@@ -3,14 +3,14 @@
 //! equilibrium `K(D̂) u = λ F` (the law is secant, so a lagged state leaves no
 //! accumulated error). Two schemes decide the pair states D̂:
 //!
-//! - `active-set`: solve, recompute every pair's state from the new [[u_n]], repeat
+//! - `active-set`: solve, recompute every pair's state from the new `[[u_n]]`, repeat
 //!   until no state changes. A cycle (a state pattern seen before in the same
 //!   increment, or a pair about to change state for the second time in it) is
 //!   settled by keeping the flipping pairs bonded — no interpenetration, a small
 //!   tensile force — and iterating on; those pairs are
 //!   reported as *settled* and stay bonded in the following increments (the loads
 //!   are proportional, so the same cycle would recur at every load level).
-//! - `implex` (the seed's): the states of increment n come from [[u_n]] of increment
+//! - `implex` (the seed's): the states of increment n come from `[[u_n]]` of increment
 //!   n − 1 (all bonded before the first); one solve per increment.
 //!
 //! Linear solves go through [`ContactSystem`], which refactorizes or corrects the

@@ -20,7 +20,7 @@
 //!
 //! References: the exact constant stress state (a, b); S. P. Timoshenko,
 //! J. N. Goodier, *Theory of Elasticity*, 3rd ed. (1970), §21 (c, see
-//! [`cantilever`](super::cantilever)).
+//! [`cantilever`]).
 
 use super::cantilever::{self, Ends, Measured};
 use super::patch::{ET, SIGMA};
