@@ -209,3 +209,32 @@ fn moving_coupling_nodes_must_not_spoil_the_node_part() {
         "{e}"
     );
 }
+
+/// An annulus with its radii the wrong way round, and a pressure given together
+/// with a force, are errors naming the part and what to give instead.
+#[test]
+fn annulus_and_pressure_misuse() {
+    let ring = BASE.replace(
+        "rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [20, 12] }",
+        "annulus = { r = [20.0, 10.0], cells = [2, 8] }",
+    );
+    let e = parse(&ring).unwrap_err();
+    assert!(
+        e.contains("part 'base': annulus needs 0 < r0 < r1") && e.contains("r = [20.0, 10.0]"),
+        "{e}"
+    );
+    let both = format!(
+        "{BASE}[[load]]\npart = \"plate\"\nboundary = \"top\"\npressure = 1.0\nforce = [0.0, 1.0]\n"
+    );
+    let e = parse(&both).unwrap_err();
+    assert!(
+        e.contains("a pressure [[load]] needs `boundary` and `pressure` only"),
+        "{e}"
+    );
+    let neither = format!("{BASE}[[load]]\npart = \"plate\"\nboundary = \"top\"\n");
+    let e = parse(&neither).unwrap_err();
+    assert!(
+        e.contains("needs `force`") && e.contains("or `pressure`"),
+        "{e}"
+    );
+}
