@@ -580,6 +580,18 @@ impl Analysis {
         }
     }
 
+    /// The reaction (x, y) of each support, in the order of `model.supports`: the
+    /// out-of-balance force F_int − F_ext summed over the DOFs it fixes.
+    pub fn reactions(&self, inc: &IncrementResult) -> Vec<[f64; 2]> {
+        let mut r = vec![[0.0; 2]; self.model.supports.len()];
+        for (d, sup) in self.dofs.support_of.iter().enumerate() {
+            if let Some(k) = sup {
+                r[*k][d % 2] += inc.f_int[d] - inc.f_ext[d];
+            }
+        }
+        r
+    }
+
     /// Stresses of every part for displacements `u` (all DOFs).
     pub fn recover(&self, u: &[f64]) -> Vec<PartStress> {
         self.model
@@ -697,13 +709,7 @@ impl Analysis {
             part: self.model.parts[p].name.clone(),
             node: n,
         };
-        // Reactions per support.
-        let mut r = vec![[0.0; 2]; self.model.supports.len()];
-        for (d, sup) in self.dofs.support_of.iter().enumerate() {
-            if let Some(k) = sup {
-                r[*k][d % 2] += inc.f_int[d] - inc.f_ext[d];
-            }
-        }
+        let r = self.reactions(inc);
         s.reactions = self
             .model
             .supports

@@ -342,6 +342,11 @@ pub struct Model {
 }
 
 impl Model {
+    /// The index of the part named `name`.
+    pub fn part_index(&self, name: &str) -> Option<usize> {
+        self.parts.iter().position(|p| p.name == name)
+    }
+
     /// Reads, checks and meshes the problem file at `path`; `refine` multiplies every
     /// structured part's cell counts and splits every edge of a Gmsh part into that
     /// many (1 = as written).

@@ -78,12 +78,7 @@ fn bonded_on_the_loaded_side_open_on_the_other() {
     let open = rows.iter().filter(|r| r.state == "open").count();
     assert!((5..=20).contains(&open), "{open} open pairs");
     // Equilibrium: Σ reactions = −Σ loads.
-    let mut reaction = [0.0; 2];
-    for (d, s) in a.dofs.support_of.iter().enumerate() {
-        if s.is_some() {
-            reaction[d % 2] += last.f_int[d] - last.f_ext[d];
-        }
-    }
+    let reaction = common::total_reaction(&a, last);
     let load = [500.0, -1000.0 * 30f64.to_radians().cos()];
     for k in 0..2 {
         assert!(

@@ -127,14 +127,8 @@ fn bar_in_bearing() {
     let incs = common::solve(&a);
     let last = incs.last().unwrap();
     common::check_contact_conditions(&a, last);
-    let mut fy = 100.0;
-    let mut fx = 0.0;
-    for d in 0..last.u.len() {
-        if a.dofs.support_of[d].is_some() {
-            let r = last.f_int[d] - last.f_ext[d];
-            if d % 2 == 0 { fx += r } else { fy += r }
-        }
-    }
+    let [fx, reaction_y] = common::total_reaction(&a, last);
+    let fy = reaction_y + 100.0;
     assert!(
         fx.hypot(fy) < 1e-8 * 100.0,
         "reactions do not balance the load: ({fx:e}, {fy:e})"

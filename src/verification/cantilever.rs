@@ -677,27 +677,17 @@ pub fn tied_dissimilar(ratio: f64, c: Option<f64>) -> String {
 /// Reversed roles on the cantilever: tip deflection and energy-norm error with the
 /// coarse part hosting and with the fine part hosting (exact end conditions).
 pub fn reversed_cantilever(k: usize, r: usize) -> Result<(Measured, Measured)> {
-    let good = measure(
-        &tied_with(
+    let run = |fine_hosts: bool| {
+        let text = tied_with(
             [10 * k, 2 * k],
             [10 * k * r, 2 * k * r],
             None,
             Ends::Exact,
-            false,
-        ),
-        "fine",
-    )?;
-    let bad = measure(
-        &tied_with(
-            [10 * k, 2 * k],
-            [10 * k * r, 2 * k * r],
-            None,
-            Ends::Exact,
-            true,
-        ),
-        "fine",
-    )?;
-    Ok((good, bad))
+            fine_hosts,
+        );
+        measure(&text, "fine")
+    };
+    Ok((run(false)?, run(true)?))
 }
 
 #[cfg(test)]

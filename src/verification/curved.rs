@@ -172,12 +172,7 @@ pub fn measure(text: &str, inner: &str, outer: &str) -> Result<Measured> {
 
 fn measure_solved(a: &Analysis, u: &[f64], inner: &str, outer: &str) -> Measured {
     let surface = |part: &str, boundary: &str, r: f64| {
-        let p = a
-            .model
-            .parts
-            .iter()
-            .position(|q| q.name == part)
-            .expect("part");
+        let p = a.model.part_index(part).expect("part");
         let m = &a.model.parts[p].mesh;
         let exact = lame_ur(r);
         m.boundary_nodes(boundary)

@@ -103,9 +103,7 @@ pub fn displacement_at(
 ) -> Result<[f64; 2]> {
     let p = a
         .model
-        .parts
-        .iter()
-        .position(|q| q.name == part)
+        .part_index(part)
         .ok_or_else(|| Error::Model(format!("no part '{part}'")))?;
     let n = a.model.parts[p]
         .mesh

@@ -30,12 +30,7 @@ pub fn solve(a: &Analysis) -> Vec<IncrementResult> {
 
 /// Displacement (x, y) of the node of `part` at `at`.
 pub fn displacement_at(a: &Analysis, inc: &IncrementResult, part: &str, at: [f64; 2]) -> [f64; 2] {
-    let p = a
-        .model
-        .parts
-        .iter()
-        .position(|q| q.name == part)
-        .expect("part");
+    let p = a.model.part_index(part).expect("part");
     let n = a.model.parts[p]
         .mesh
         .nodes
@@ -77,4 +72,11 @@ pub fn check_contact_conditions(a: &Analysis, inc: &IncrementResult) {
             );
         }
     }
+}
+
+/// The sum of all support reactions (x, y).
+pub fn total_reaction(a: &Analysis, inc: &IncrementResult) -> [f64; 2] {
+    a.reactions(inc)
+        .iter()
+        .fold([0.0; 2], |t, r| [t[0] + r[0], t[1] + r[1]])
 }
