@@ -83,21 +83,14 @@ impl DofMap {
         (p, g - self.node_offset[p])
     }
 
-    /// The global nodes of a coupling element: host nodes, then the coupling node.
-    pub fn cfe_nodes(&self, iface: &Interface, c: &CouplingElement) -> Vec<usize> {
+    /// The global DOFs of a coupling element: host nodes, then the coupling node
+    /// (2 (n + 1) of them).
+    pub fn cfe_dofs(&self, iface: &Interface, c: &CouplingElement) -> Vec<usize> {
         c.host_nodes
             .iter()
             .map(|&n| self.node(iface.host, n))
             .chain([self.node(iface.node_part, c.node)])
-            .collect()
-    }
-
-    /// The global DOFs of a coupling element: host nodes, then the coupling node
-    /// (2 (n + 1) of them).
-    pub fn cfe_dofs(&self, iface: &Interface, c: &CouplingElement) -> Vec<usize> {
-        self.cfe_nodes(iface, c)
-            .iter()
-            .flat_map(|&g| [2 * g, 2 * g + 1])
+            .flat_map(|g| [2 * g, 2 * g + 1])
             .collect()
     }
 
