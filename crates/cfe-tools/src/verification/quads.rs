@@ -25,11 +25,11 @@
 use super::cantilever::{self, Ends, Measured};
 use super::patch::{ET, SIGMA};
 use super::{Case, Plot, Table, for_each_stress_point, orders, prepare, sci, solve};
-use crate::analysis::Analysis;
-use crate::error::Result;
-use crate::mesh::ElementKind;
-use crate::model::Model;
-use crate::output::chart::Series;
+use cfe::analysis::Analysis;
+use cfe::error::Result;
+use cfe::mesh::ElementKind;
+use cfe::model::Model;
+use cfe::output::chart::Series;
 use std::path::Path;
 
 const T3: ElementKind = ElementKind::T3;
@@ -137,7 +137,9 @@ increments = 1
         sxy
     );
     // The mesh file is found relative to the (notional) problem file's folder.
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gmsh/verification.toml");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join("tests/data/gmsh/verification.toml");
     let a = Analysis::new(Model::from_str(&text, &path, 1)?)?;
     let inc = solve(&a)?.pop().expect("one increment");
     let (stress, _) = patch_errors(&a, &inc.u);

@@ -12,6 +12,7 @@ use std::path::Path;
 
 fn example_at(refine: usize) -> Analysis {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
         .join("examples/roller_in_cradle/roller_in_cradle.toml");
     Analysis::new(Model::from_file(&path, refine).unwrap()).unwrap()
 }

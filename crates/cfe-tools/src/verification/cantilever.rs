@@ -32,11 +32,11 @@ use super::{
     Case, Plot, Table, displacement_at, energy_density, for_each_stress_point, orders, prepare,
     sci, solve, toml_kind,
 };
-use crate::analysis::Analysis;
-use crate::error::Result;
-use crate::mesh::ElementKind;
-use crate::output::chart::Series;
-use crate::solve::nonlinear::IncrementResult;
+use cfe::analysis::Analysis;
+use cfe::error::Result;
+use cfe::mesh::ElementKind;
+use cfe::output::chart::Series;
+use cfe::solve::nonlinear::IncrementResult;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
@@ -589,7 +589,7 @@ pub fn penalty_study(quick: bool) -> Result<Case> {
         points: vec![(1e2, y0), (x_max, y0 * 1e2 / x_max)],
         reference: true,
     });
-    let default = crate::model::DEFAULT_PENALTY_FACTOR;
+    let default = cfe::model::DEFAULT_PENALTY_FACTOR;
     let default_err = default_errs.iter().copied().fold(0.0, f64::max);
 
     // Dissimilar parts: the node part 10⁴ times stiffer than the host. No
@@ -693,8 +693,8 @@ pub fn reversed_cantilever(k: usize, r: usize) -> Result<(Measured, Measured)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::material::{Material, PlaneKind};
     use crate::verification::DUNAVANT4;
+    use cfe::fem::material::{Material, PlaneKind};
 
     /// The closed form is a plane-stress elasticity solution: strains of u equal
     /// D⁻¹σ (central differences), and the shear on x = L sums to P.
@@ -729,11 +729,11 @@ mod tests {
     /// over a mesh of the beam.
     #[test]
     fn exact_energy_matches_quadrature() {
-        let mesh = crate::mesh::Mesh::rectangle(
+        let mesh = cfe::mesh::Mesh::rectangle(
             [0.0, L],
             [-D / 2.0, D / 2.0],
             [10, 2],
-            crate::mesh::ElementKind::T3,
+            cfe::mesh::ElementKind::T3,
         );
         let m = Material::new(E, NU, PlaneKind::Stress, 1.0, "t").unwrap();
         let mut sum = 0.0;

@@ -36,11 +36,11 @@
 use super::{
     Case, Plot, Table, energy_density, for_each_stress_point, orders, prepare, sci, solve,
 };
-use crate::analysis::Analysis;
-use crate::error::Result;
-use crate::fem::material::Material;
-use crate::mesh::ElementKind;
-use crate::output::chart::Series;
+use cfe::analysis::Analysis;
+use cfe::error::Result;
+use cfe::fem::material::Material;
+use cfe::mesh::ElementKind;
+use cfe::output::chart::Series;
 use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_2;
 
@@ -535,7 +535,7 @@ pub fn lame_cylinder(quick: bool) -> Result<Case> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::material::{Material, PlaneKind};
+    use cfe::fem::material::{Material, PlaneKind};
 
     /// Lamé's solution is a plane-strain elasticity solution: the strains of
     /// u = u_r(r) e_r (central differences) are D⁻¹σ, σ_r = −p on r = a and 0 on

@@ -2,9 +2,9 @@
 //! meet its independent reference. `cfe verify` runs the full versions and writes
 //! docs/verification.md.
 
-use cfe::verification::{cantilever, curved, patch, punch, quads, seed};
+use cfe_tools::verification::{cantilever, curved, patch, punch, quads, seed};
 
-fn check(case: cfe::error::Result<cfe::verification::Case>) {
+fn check(case: cfe::error::Result<cfe_tools::verification::Case>) {
     let c = case.expect("case runs");
     assert!(c.passed, "{}: {}", c.title, c.verdict);
 }

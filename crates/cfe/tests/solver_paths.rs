@@ -14,7 +14,9 @@ use cfe::solve::system::{ContactSystem, Method, UpdatePolicy};
 use std::path::Path;
 
 fn plate(refine: usize) -> Analysis {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/plate_on_base.toml");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join("examples/plate_on_base.toml");
     Analysis::new(Model::from_file(&path, refine).unwrap()).unwrap()
 }
 

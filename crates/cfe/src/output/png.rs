@@ -51,7 +51,7 @@ static FONT_ONCE: Once = Once::new();
 pub(crate) fn register_font() {
     FONT_ONCE.call_once(|| {
         // The bundled DejaVu Sans (see assets/fonts/DejaVuSans-LICENSE.txt).
-        let bytes: &'static [u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+        let bytes: &'static [u8] = include_bytes!("../../../../assets/fonts/DejaVuSans.ttf");
         let _ = plotters::style::register_font(FONT, FontStyle::Normal, bytes);
     });
 }

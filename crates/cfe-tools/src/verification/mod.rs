@@ -11,11 +11,11 @@ pub mod punch;
 pub mod quads;
 pub mod seed;
 
-use crate::analysis::Analysis;
-use crate::error::{Error, Result};
-use crate::model::Model;
-use crate::output::chart::{self, Axes, Series};
-use crate::solve::nonlinear::{IncrementResult, Solver};
+use cfe::analysis::Analysis;
+use cfe::error::{Error, Result};
+use cfe::model::Model;
+use cfe::output::chart::{self, Axes, Series};
+use cfe::solve::nonlinear::{IncrementResult, Solver};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -81,7 +81,7 @@ pub fn solve(a: &Analysis) -> Result<Vec<IncrementResult>> {
 /// coarser model's pattern (`coarse_start`, as `cfe run` does for K ≥ 4) or from
 /// all pairs bonded; returns every increment.
 pub fn solve_with(a: &Analysis, coarse_start: bool) -> Result<Vec<IncrementResult>> {
-    let f = crate::assembly::external_force(&a.model.loads, &a.dofs);
+    let f = cfe::assembly::external_force(&a.model.loads, &a.dofs);
     let mut solver = Solver::new(&a.model.parts, &a.interfaces, &a.dofs, f, &a.model.settings)?;
     if coarse_start && let Some(states) = a.coarse_states() {
         solver.set_initial_states(states);
@@ -184,12 +184,12 @@ pub fn write_report(out: &Path, cases: &[Case], quick: bool) -> Result<()> {
             c.verdict
         );
     }
-    crate::output::write_atomic(&out.join("verification.md"), |w| w.write_all(s.as_bytes()))
+    cfe::output::write_atomic(&out.join("verification.md"), |w| w.write_all(s.as_bytes()))
 }
 
 /// The complementary energy density σᵀ D⁻¹ σ of a stress (σxx, σyy, σxy) in `m`
 /// (per unit volume; multiply by t dA).
-pub fn energy_density(m: &crate::fem::material::Material, s: [f64; 3]) -> f64 {
+pub fn energy_density(m: &cfe::fem::material::Material, s: [f64; 3]) -> f64 {
     let d = m.d_matrix();
     // D⁻¹ by cofactors (D is symmetric positive definite).
     let det = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1])
@@ -257,8 +257,8 @@ pub fn for_each_stress_point(
     u: &[f64],
     mut f: impl FnMut(usize, usize, [f64; 2], f64, [f64; 3]),
 ) {
-    use crate::fem::{element, q4};
-    use crate::mesh::Element;
+    use cfe::fem::{element, q4};
+    use cfe::mesh::Element;
     for (p, part) in a.model.parts.iter().enumerate() {
         let m = &part.mesh;
         let s = 2 * a.dofs.node_offset[p];
@@ -295,10 +295,10 @@ pub fn for_each_stress_point(
 }
 
 /// The name of an element type in a problem file (`t3`, `q4`).
-pub fn toml_kind(kind: crate::mesh::ElementKind) -> &'static str {
+pub fn toml_kind(kind: cfe::mesh::ElementKind) -> &'static str {
     match kind {
-        crate::mesh::ElementKind::T3 => "t3",
-        crate::mesh::ElementKind::Q4 => "q4",
+        cfe::mesh::ElementKind::T3 => "t3",
+        cfe::mesh::ElementKind::Q4 => "q4",
     }
 }
 
@@ -321,7 +321,7 @@ pub fn orders(errors: &[f64]) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::material::{Material, PlaneKind};
+    use cfe::fem::material::{Material, PlaneKind};
 
     /// σᵀD⁻¹σ: uniaxial stress gives σ²/E, pure shear τ²/G, in plane stress and
     /// plane strain (where uniaxial in-plane stress gives (1 − ν²)σ²/E).

@@ -11,14 +11,15 @@
 //! ```
 
 use super::{Case, Plot, Table, displacement_at, sci, solve};
-use crate::analysis::Analysis;
-use crate::error::Result;
-use crate::model::{Model, Scheme};
-use crate::output::chart::Series;
+use cfe::analysis::Analysis;
+use cfe::error::Result;
+use cfe::model::{Model, Scheme};
+use cfe::output::chart::Series;
 use std::path::{Path, PathBuf};
 
 fn example(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
         .join("examples")
         .join(name)
 }
@@ -63,7 +64,7 @@ impl ZoneEnd {
 pub type Zone = (String, Option<[ZoneEnd; 2]>, usize);
 
 /// The bonded zone of each interface.
-pub fn zone_ends(a: &Analysis, inc: &crate::solve::nonlinear::IncrementResult) -> Vec<Zone> {
+pub fn zone_ends(a: &Analysis, inc: &cfe::solve::nonlinear::IncrementResult) -> Vec<Zone> {
     let rows = a.pair_rows(inc);
     a.interfaces
         .iter()
@@ -211,7 +212,7 @@ pub fn schemes_and_refinement(quick: bool) -> Result<Case> {
                     .zip(a.pair_rows(&last))
                     .filter(|(p, q)| p.state != q.state)
                     .map(|(p, q)| {
-                        let describe = |r: &crate::output::report::PairRow| {
+                        let describe = |r: &cfe::output::report::PairRow| {
                             if r.state == "bonded" {
                                 format!("bonded pressing with {}", sci(r.force_n))
                             } else {

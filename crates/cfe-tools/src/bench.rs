@@ -4,7 +4,7 @@
 //! writes `benchmarks.md` with the phase timings and a log–log picture of time and
 //! memory against unknowns.
 
-use crate::error::{Error, Result};
+use cfe::error::{Error, Result};
 use serde_json::Value;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -132,7 +132,7 @@ pub fn run(
         .map(|c| serde_json::json!({"law": c.law, "refine": c.refine, "summary": c.summary}))
         .collect();
     let header = serde_json::json!({"problem": problem, "machine": machine(), "commit": commit(), "cases": raw});
-    crate::output::report::write_json(&out.join("benchmarks.json"), &header)?;
+    cfe::output::report::write_json(&out.join("benchmarks.json"), &header)?;
     write_report(out, &header)?;
     Ok(cases)
 }
@@ -165,7 +165,7 @@ pub fn write_report(out: &Path, raw: &Value) -> Result<()> {
         raw["commit"].as_str().unwrap_or("?"),
         &cases,
     );
-    super::output::write_atomic(&out.join("benchmarks.md"), |w| w.write_all(md.as_bytes()))
+    cfe::output::write_atomic(&out.join("benchmarks.md"), |w| w.write_all(md.as_bytes()))
 }
 
 fn f(v: &Value) -> f64 {
@@ -469,7 +469,7 @@ fn targets(s: &mut String, cases: &[Case]) {
 }
 
 fn plot(path: &Path, cases: &[Case]) -> Result<()> {
-    use crate::output::chart::{Axes, Series};
+    use cfe::output::chart::{Axes, Series};
     let curve = |law: &str, key: fn(&Value) -> f64| Series {
         name: law.to_string(),
         points: cases
@@ -517,7 +517,7 @@ fn plot(path: &Path, cases: &[Case]) -> Result<()> {
         log_x: true,
         log_y: true,
     };
-    crate::output::chart::side_by_side(
+    cfe::output::chart::side_by_side(
         path,
         [
             (&log("run time", "seconds"), &time[..]),

@@ -55,10 +55,10 @@
 //! corners, and the shear is about tan(βλ) times the pressure.
 
 use super::{Case, Plot, Table, prepare, sci, solve};
-use crate::analysis::Analysis;
-use crate::error::Result;
-use crate::output::chart::Series;
-use crate::solve::nonlinear::IncrementResult;
+use cfe::analysis::Analysis;
+use cfe::error::Result;
+use cfe::output::chart::Series;
+use cfe::solve::nonlinear::IncrementResult;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 

@@ -11,11 +11,11 @@
 //! [`fem`] (materials, element routines) → [`coupling`] (pair search, CFEs, laws) →
 //! [`assembly`] (DOF map, sparse pattern, global K and F) → [`solve`] (sparse
 //! Cholesky, contact schemes) → [`output`] (VTU, CSV, JSON, PNG).
-//! [`analysis`] strings them together for one problem; [`bench`](mod@bench) measures it at scale.
+//! [`analysis`] strings them together for one problem. The verification report and
+//! the benchmark live in the `cfe-tools` crate, the command line in `cfe-cli`.
 
 pub mod analysis;
 pub mod assembly;
-pub mod bench;
 pub mod coupling;
 pub mod error;
 pub mod fem;
@@ -23,6 +23,5 @@ pub mod mesh;
 pub mod model;
 pub mod output;
 pub mod solve;
-pub mod verification;
 
 pub use error::{Error, Result};

@@ -81,8 +81,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Verify { out, quick } => {
-            let cases = cfe::verification::run_all(quick, &mut |name| eprintln!("running {name}"))?;
-            cfe::verification::write_report(&out, &cases, quick)?;
+            let cases =
+                cfe_tools::verification::run_all(quick, &mut |name| eprintln!("running {name}"))?;
+            cfe_tools::verification::write_report(&out, &cases, quick)?;
             for c in &cases {
                 println!("{} {}", if c.passed { "pass" } else { "FAIL" }, c.title);
             }
@@ -101,12 +102,12 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     .with_context(|| format!("cannot read {}", path.display()))?;
                 let raw: serde_json::Value = serde_json::from_str(&text)
                     .with_context(|| format!("{} is not valid JSON", path.display()))?;
-                cfe::bench::write_report(&out, &raw)?;
+                cfe_tools::bench::write_report(&out, &raw)?;
                 println!("wrote {}", out.join("benchmarks.md").display());
                 return Ok(());
             }
             let exe = std::env::current_exe().context("cannot locate the cfe executable")?;
-            cfe::bench::run(&exe, &problem, max_unknowns, &out, &mut |line| {
+            cfe_tools::bench::run(&exe, &problem, max_unknowns, &out, &mut |line| {
                 println!("{line}")
             })?;
             println!("wrote {}", out.join("benchmarks.md").display());

@@ -16,9 +16,9 @@
 //! elastic body loaded by the tractions σ·n of a constant stress field).
 
 use super::{Case, Plot, Table, prepare, sci, solve};
-use crate::error::Result;
-use crate::mesh::ElementKind;
-use crate::output::chart::Series;
+use cfe::error::Result;
+use cfe::mesh::ElementKind;
+use cfe::output::chart::Series;
 
 /// E·t of the patch-test material.
 pub const ET: f64 = 1000.0;
@@ -108,7 +108,7 @@ pub fn stress_errors(host_cells: usize, node_cells: usize, c: f64) -> Result<(f6
 }
 
 /// (largest, RMS) element stress error of a solved patch test, relative to |σ|.
-fn errors_of(a: &crate::analysis::Analysis, u: &[f64]) -> (f64, f64) {
+fn errors_of(a: &cfe::analysis::Analysis, u: &[f64]) -> (f64, f64) {
     let norm = SIGMA.iter().map(|v| v * v).sum::<f64>().sqrt();
     let (mut max, mut sq, mut area) = (0.0f64, 0.0, 0.0);
     for (part, st) in a.model.parts.iter().zip(a.recover(u)) {
@@ -354,7 +354,7 @@ increments = 2
 /// against the other face interpolated linearly), relative to the largest
 /// displacement on the faces: how far the faces open or interpenetrate between
 /// tied points.
-fn face_mismatch(a: &crate::analysis::Analysis, u: &[f64]) -> f64 {
+fn face_mismatch(a: &cfe::analysis::Analysis, u: &[f64]) -> f64 {
     let face = |p: usize| {
         let m = &a.model.parts[p].mesh;
         let mut f: Vec<(f64, [f64; 2])> = (0..m.nodes.len())

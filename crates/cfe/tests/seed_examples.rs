@@ -12,6 +12,7 @@ use std::path::Path;
 fn example(name: &str) -> Model {
     Model::from_file(
         &Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../..")
             .join("examples")
             .join(name),
         1,

@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
         .join("tests/data/gmsh")
         .join(name)
 }
@@ -343,7 +344,9 @@ fn pairs_by_x(a: &Analysis, inc: &IncrementResult) -> Vec<(f64, bool, f64)> {
 fn gmsh_and_structured_plate_on_base_agree(refine: usize, rel: f64) -> (usize, usize) {
     let gmsh =
         Analysis::new(Model::from_file(&data("plate_on_base.toml"), refine).unwrap()).unwrap();
-    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/plate_on_base.toml");
+    let example = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join("examples/plate_on_base.toml");
     let structured = Analysis::new(Model::from_file(&example, refine).unwrap()).unwrap();
     for (g, s) in gmsh.model.parts.iter().zip(&structured.model.parts) {
         assert_eq!(

@@ -14,7 +14,7 @@
 //! (Its end conditions differ slightly from a fully clamped end; the difference
 //! vanishes as L/D grows and is below 1 % here.)
 
-use cfe::verification::cantilever::{conforming, tied, timoshenko_goodier, tip};
+use cfe_tools::verification::cantilever::{conforming, tied, timoshenko_goodier, tip};
 
 /// The tied model's tip deflection lies between the conforming meshes of its two
 /// element sizes (the interface adds no stiffness or flexibility beyond the bulk
