@@ -489,7 +489,7 @@ impl Analysis {
             c.law = i.law;
         }
         let f = assembly::external_force(&coarse.model.loads, &coarse.dofs);
-        let settings = crate::model::Settings {
+        let settings = crate::domain::Settings {
             increments: 1,
             ..m.settings.clone()
         };
@@ -600,7 +600,11 @@ impl Analysis {
             .enumerate()
             .map(|(p, part)| {
                 let s = 2 * self.dofs.node_offset[p];
-                recovery::recover(part, &u[s..s + 2 * part.mesh.nodes.len()])
+                recovery::recover(
+                    &part.mesh,
+                    &part.material,
+                    &u[s..s + 2 * part.mesh.nodes.len()],
+                )
             })
             .collect()
     }

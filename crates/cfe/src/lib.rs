@@ -17,6 +17,8 @@
 pub mod analysis;
 pub mod assembly;
 pub mod coupling;
+pub mod dofs;
+pub mod domain;
 pub mod error;
 pub mod fem;
 pub mod mesh;

@@ -4,9 +4,9 @@
 //! points), within one part only — never across parts, whose meshes are
 //! independent.
 
+use super::Material;
 use super::element;
-use crate::mesh::Element;
-use crate::model::Part;
+use crate::mesh::{Element, Mesh};
 
 /// Stresses of one part: per element and averaged per node, (σxx, σyy, σxy).
 #[derive(Debug, Clone)]
@@ -17,11 +17,10 @@ pub struct PartStress {
     pub nodal: Vec<[f64; 3]>,
 }
 
-/// Recovers the stresses of `part` from its nodal displacements `u` (2 per node,
-/// the part's own numbering).
-pub fn recover(part: &Part, u: &[f64]) -> PartStress {
-    let d = part.material.d_matrix();
-    let mesh = &part.mesh;
+/// Recovers the stresses of a part (its `mesh` and `material`) from its nodal
+/// displacements `u` (2 per node, the part's own numbering).
+pub fn recover(mesh: &Mesh, material: &Material, u: &[f64]) -> PartStress {
+    let d = material.d_matrix();
     let mut nodal = vec![[0.0; 3]; mesh.nodes.len()];
     let mut weight = vec![0.0; mesh.nodes.len()];
     use rayon::prelude::*;

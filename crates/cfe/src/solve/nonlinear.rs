@@ -24,8 +24,8 @@ use super::support;
 use super::system::{ContactSystem, Method};
 use crate::assembly::{self, DofMap, FIXED, NodeGraph, Stiffness};
 use crate::coupling::{Interface, PairState, element as cfe};
+use crate::domain::{Part, Scheme, Settings};
 use crate::error::{Error, Result};
-use crate::model::{Part, Scheme, Settings};
 use std::collections::HashSet;
 use std::time::Instant;
 

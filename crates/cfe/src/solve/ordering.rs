@@ -120,9 +120,9 @@ fn partition(items: &mut [usize], pred: impl Fn(usize) -> bool) -> usize {
 mod tests {
     use super::*;
     use crate::assembly::NodeGraph;
+    use crate::domain::Part;
     use crate::fem::{Material, PlaneKind};
     use crate::mesh::Mesh;
-    use crate::model::Part;
 
     /// The ordering is a permutation of all equations, and on a 40 × 40 grid its
     /// Cholesky factor has far fewer nonzeros than the natural order and no more
@@ -139,7 +139,7 @@ mod tests {
             ),
             material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
         }];
-        let supports = vec![crate::model::Support {
+        let supports = vec![crate::domain::Support {
             name: "s".into(),
             part: 0,
             nodes: parts[0].mesh.boundary_nodes("bottom").unwrap(),

@@ -7,8 +7,8 @@
 
 use crate::assembly::DofMap;
 use crate::coupling::{Interface, PairState};
+use crate::domain::Part;
 use crate::error::{Error, Result};
-use crate::model::Part;
 use faer::{Mat, Side};
 
 /// Checks that the parts cannot move as rigid bodies under the supports and the

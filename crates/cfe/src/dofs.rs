@@ -1,0 +1,112 @@
+//! DOF numbering: global nodes and degrees of freedom across parts, with the
+//! Dirichlet DOFs eliminated. Below the elements: the part elements and the coupling
+//! elements find their global DOFs here.
+
+use crate::coupling::{CouplingElement, Interface};
+use crate::domain::{Part, Support};
+use crate::fem::element::MAX_DOFS;
+
+/// Marks a DOF that is prescribed (eliminated from the system).
+pub const FIXED: usize = usize::MAX;
+
+/// Numbering of nodes and degrees of freedom across parts: global node
+/// `g = node_offset[part] + local`, DOFs `2g` (x) and `2g + 1` (y).
+#[derive(Debug, Clone)]
+pub struct DofMap {
+    /// First global node of each part (length parts + 1).
+    pub node_offset: Vec<usize>,
+    /// Equation number of each DOF, or [`FIXED`].
+    pub eq: Vec<usize>,
+    /// Number of equations (free DOFs): the unknowns.
+    pub n_eq: usize,
+    /// Prescribed value of each DOF at full load (0 where free).
+    pub prescribed: Vec<f64>,
+    /// For each DOF, the index of the support that fixes it (first one wins).
+    pub support_of: Vec<Option<usize>>,
+}
+
+impl DofMap {
+    /// Numbers the DOFs of `parts`, eliminating those fixed by `supports`.
+    pub fn new(parts: &[Part], supports: &[Support]) -> DofMap {
+        let mut node_offset = Vec::with_capacity(parts.len() + 1);
+        let mut n = 0;
+        for p in parts {
+            node_offset.push(n);
+            n += p.mesh.nodes.len();
+        }
+        node_offset.push(n);
+        let mut prescribed = vec![0.0; 2 * n];
+        let mut support_of = vec![None; 2 * n];
+        for (s, sup) in supports.iter().enumerate() {
+            for &node in &sup.nodes {
+                let g = node_offset[sup.part] + node;
+                for c in 0..2 {
+                    if sup.fix[c] && support_of[2 * g + c].is_none() {
+                        support_of[2 * g + c] = Some(s);
+                        prescribed[2 * g + c] = sup.value[c];
+                    }
+                }
+            }
+        }
+        let mut eq = vec![FIXED; 2 * n];
+        let mut n_eq = 0;
+        for (d, e) in eq.iter_mut().enumerate() {
+            if support_of[d].is_none() {
+                *e = n_eq;
+                n_eq += 1;
+            }
+        }
+        DofMap {
+            node_offset,
+            eq,
+            n_eq,
+            prescribed,
+            support_of,
+        }
+    }
+
+    /// Number of global nodes.
+    pub fn n_nodes(&self) -> usize {
+        *self.node_offset.last().unwrap_or(&0)
+    }
+
+    /// Global node of `node` in `part`.
+    pub fn node(&self, part: usize, node: usize) -> usize {
+        self.node_offset[part] + node
+    }
+
+    /// The part and local node of a global node.
+    pub fn locate(&self, g: usize) -> (usize, usize) {
+        let p = self.node_offset.partition_point(|&o| o <= g) - 1;
+        (p, g - self.node_offset[p])
+    }
+
+    /// The global DOFs of a coupling element: host nodes, then the coupling node
+    /// (2 (n + 1) of them).
+    pub fn cfe_dofs(&self, iface: &Interface, c: &CouplingElement) -> Vec<usize> {
+        c.host_nodes
+            .iter()
+            .map(|&n| self.node(iface.host, n))
+            .chain([self.node(iface.node_part, c.node)])
+            .flat_map(|g| [2 * g, 2 * g + 1])
+            .collect()
+    }
+
+    /// The global DOFs of element `e` of `part` (the first 2n entries, n its node
+    /// count) and their number.
+    pub fn element_dofs(
+        &self,
+        parts: &[Part],
+        part: usize,
+        e: usize,
+    ) -> ([usize; MAX_DOFS], usize) {
+        let nodes = parts[part].mesh.elements[e].nodes();
+        let mut g = [0; MAX_DOFS];
+        for (a, &n) in nodes.iter().enumerate() {
+            let gn = self.node(part, n);
+            g[2 * a] = 2 * gn;
+            g[2 * a + 1] = 2 * gn + 1;
+        }
+        (g, 2 * nodes.len())
+    }
+}
