@@ -4,7 +4,7 @@
 //! converges, so results survive a later failure; pictures at the end.
 
 use crate::assembly::{self, DofMap};
-use crate::coupling::{Interface, PairState, element as cfe, search};
+use crate::coupling::{Interface, PairState, search};
 use crate::error::{Error, Result};
 use crate::fem::recovery::{self, PartStress};
 use crate::mesh::Element;
@@ -615,15 +615,11 @@ impl Analysis {
         for (i, iface) in self.interfaces.iter().enumerate() {
             for (k, c) in iface.elements.iter().enumerate() {
                 let state = inc.states[i][k];
-                let d: Vec<f64> = self
-                    .dofs
-                    .cfe_dofs(iface, c)
-                    .iter()
-                    .map(|&j| inc.u[j])
-                    .collect();
-                let (_, f) =
-                    cfe::internal_force(&c.shape, c.normal, iface.c_n, iface.c_s, state, &d);
-                let jump = cfe::local_jump(c.normal, cfe::jump(&c.shape, &d));
+                let d = c
+                    .dofs(&self.dofs, iface.host, iface.node_part)
+                    .gather(&inc.u);
+                let (_, f) = c.internal_force(iface.c_n, iface.c_s, state, &d);
+                let jump = c.local_jump(&d);
                 rows.push(PairRow {
                     interface: iface.name.clone(),
                     node: c.node,

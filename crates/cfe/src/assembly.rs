@@ -3,7 +3,7 @@
 //! element's couplings, so a pair changing state changes values, never the pattern —
 //! and fills the lower triangle of K, the internal force vector and the external loads.
 
-use crate::coupling::{Interface, PairState, element as cfe};
+use crate::coupling::{Interface, PairState, element::MAX_NODES};
 pub use crate::dofs::{DofMap, FIXED};
 use crate::domain::{Load, Part};
 use crate::fem::element::{self, MAX_DOFS};
@@ -28,7 +28,7 @@ impl NodeGraph {
         // Two passes (count, fill), then sort and dedup each row.
         let mut count = vec![0usize; n_nodes + 1];
         let each_element = |f: &mut dyn FnMut(&[usize])| {
-            let mut g = [0usize; cfe::MAX_NODES];
+            let mut g = [0usize; MAX_NODES];
             for (p, part) in parts.iter().enumerate() {
                 for el in &part.mesh.elements {
                     let nodes = el.nodes();
@@ -40,12 +40,8 @@ impl NodeGraph {
             }
             for iface in interfaces {
                 for c in &iface.elements {
-                    let n = c.host_nodes.len();
-                    for (gi, &h) in g.iter_mut().zip(&c.host_nodes) {
-                        *gi = dofs.node(iface.host, h);
-                    }
-                    g[n] = dofs.node(iface.node_part, c.node);
-                    f(&g[..=n]);
+                    let (g, n) = c.global_nodes(dofs, iface.host, iface.node_part);
+                    f(&g[..n]);
                 }
             }
         };
@@ -202,10 +198,9 @@ impl Stiffness {
                 if s == PairState::Open {
                     continue;
                 }
-                let ke = cfe::stiffness(&c.shape, c.normal, iface.c_n, iface.c_s, s);
-                self.scatter(&mut values, dofs, &dofs.cfe_dofs(iface, c), |a, b| {
-                    ke.get(a, b)
-                });
+                let ke = c.stiffness(iface.c_n, iface.c_s, s);
+                let g = c.dofs(dofs, iface.host, iface.node_part);
+                self.scatter(&mut values, dofs, g.as_slice(), |a, b| ke.get(a, b));
             }
         }
         self.values = values;
@@ -267,10 +262,9 @@ pub fn internal_force(
         .unwrap_or_else(|| vec![0.0; u.len()]);
     for (iface, st) in interfaces.iter().zip(states) {
         for (c, &s) in iface.elements.iter().zip(st) {
-            let g = dofs.cfe_dofs(iface, c);
-            let d: Vec<f64> = g.iter().map(|&i| u[i]).collect();
-            let (fe, _) = cfe::internal_force(&c.shape, c.normal, iface.c_n, iface.c_s, s, &d);
-            for (a, &ga) in g.iter().enumerate() {
+            let g = c.dofs(dofs, iface.host, iface.node_part);
+            let (fe, _) = c.internal_force(iface.c_n, iface.c_s, s, &g.gather(u));
+            for (a, &ga) in g.as_slice().iter().enumerate() {
                 f[ga] += fe[a];
             }
         }

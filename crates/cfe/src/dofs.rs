@@ -2,7 +2,6 @@
 //! Dirichlet DOFs eliminated. Below the elements: the part elements and the coupling
 //! elements find their global DOFs here.
 
-use crate::coupling::{CouplingElement, Interface};
 use crate::domain::{Part, Support};
 use crate::fem::element::MAX_DOFS;
 
@@ -79,17 +78,6 @@ impl DofMap {
     pub fn locate(&self, g: usize) -> (usize, usize) {
         let p = self.node_offset.partition_point(|&o| o <= g) - 1;
         (p, g - self.node_offset[p])
-    }
-
-    /// The global DOFs of a coupling element: host nodes, then the coupling node
-    /// (2 (n + 1) of them).
-    pub fn cfe_dofs(&self, iface: &Interface, c: &CouplingElement) -> Vec<usize> {
-        c.host_nodes
-            .iter()
-            .map(|&n| self.node(iface.host, n))
-            .chain([self.node(iface.node_part, c.node)])
-            .flat_map(|g| [2 * g, 2 * g + 1])
-            .collect()
     }
 
     /// The global DOFs of element `e` of `part` (the first 2n entries, n its node

@@ -11,6 +11,7 @@
 //! node.
 
 use super::law::{PairState, local_force};
+use crate::dofs::DofMap;
 
 /// Most nodes a CFE has: a Q4 host's 4 plus the coupling node.
 pub const MAX_NODES: usize = 5;
@@ -47,23 +48,138 @@ impl CouplingElement {
     pub fn n_dofs(&self) -> usize {
         2 * (self.host_nodes.len() + 1)
     }
+
+    /// The global nodes of the CFE in its local order: the host element's nodes
+    /// (in part `host`), then the coupling node (in part `node_part`); the first
+    /// `n + 1` entries are used.
+    pub fn global_nodes(
+        &self,
+        dofs: &DofMap,
+        host: usize,
+        node_part: usize,
+    ) -> ([usize; MAX_NODES], usize) {
+        let n = self.host_nodes.len();
+        let mut g = [0; MAX_NODES];
+        for (gi, &h) in g.iter_mut().zip(&self.host_nodes) {
+            *gi = dofs.node(host, h);
+        }
+        g[n] = dofs.node(node_part, self.node);
+        (g, n + 1)
+    }
+
+    /// The global DOFs of the CFE, `[u₁ v₁ … uₙ vₙ u_c v_c]` (host nodes in part
+    /// `host`, then the coupling node in part `node_part`).
+    pub fn dofs(&self, dofs: &DofMap, host: usize, node_part: usize) -> CfeDofs {
+        let (g, n) = self.global_nodes(dofs, host, node_part);
+        let mut ids = [0; MAX_DOFS];
+        for (a, &gn) in g[..n].iter().enumerate() {
+            ids[2 * a] = 2 * gn;
+            ids[2 * a + 1] = 2 * gn + 1;
+        }
+        CfeDofs { ids, len: 2 * n }
+    }
+
+    /// The global jump `[[U]] = D_c − Σ N̄ᵢ Dᵢ` for element displacements `d`
+    /// (as [gathered](CfeDofs::gather); entries past [`n_dofs`](Self::n_dofs) are ignored).
+    pub fn jump(&self, d: &[f64]) -> [f64; 2] {
+        jump(&self.shape, &d[..self.n_dofs()])
+    }
+
+    /// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_s]])` for element displacements `d`.
+    pub fn local_jump(&self, d: &[f64]) -> [f64; 2] {
+        local_jump(self.normal, self.jump(d))
+    }
+
+    /// The normal gap `gap_n = [[u_n]]` (positive: the faces separate) for element
+    /// displacements `d`.
+    pub fn gap_n(&self, d: &[f64]) -> f64 {
+        self.local_jump(d)[0]
+    }
+
+    /// The stiffness `K_e = B_eᵀ (1 − D̂) C B_e`, `C = Rᵀ c R`, for penalties
+    /// `c_n`, `c_s` and the pair's `state` (zero when open).
+    pub fn stiffness(&self, c_n: f64, c_s: f64, state: PairState) -> CfeStiffness {
+        stiffness(&self.shape, self.normal, c_n, c_s, state)
+    }
+
+    /// The bonded stiffness in rank-2 form, `K_e = Σ_k c_k w_k w_kᵀ` (k = n, s), with
+    /// `w_k = (R_k B_e)ᵀ`, i.e. `w_k[2a + i] = b_a R_k[i]`: the pairs `(c_k, w_k)`,
+    /// from the same `b` and `R` as [`stiffness`](Self::stiffness). Bonding a pair
+    /// adds these terms to K, opening it removes them (the low-rank update).
+    pub fn stiffness_terms(&self, c_n: f64, c_s: f64) -> [(f64, [f64; MAX_DOFS]); 2] {
+        let r = rotation(self.normal);
+        let b = b_coefficients(&self.shape);
+        let w = |k: usize| -> [f64; MAX_DOFS] {
+            let mut w = [0.0; MAX_DOFS];
+            for (p, x) in w.iter_mut().enumerate().take(self.n_dofs()) {
+                *x = b[p / 2] * r[k][p % 2];
+            }
+            w
+        };
+        [(c_n, w(0)), (c_s, w(1))]
+    }
+
+    /// The internal force `F_e = B_eᵀ Rᵀ f`, `f = (1 − D̂) c [[u]]`, for element
+    /// displacements `d`, and the local force `f` (the force the host side exerts on
+    /// the pair, in (n, s)).
+    pub fn internal_force(
+        &self,
+        c_n: f64,
+        c_s: f64,
+        state: PairState,
+        d: &[f64],
+    ) -> ([f64; MAX_DOFS], [f64; 2]) {
+        internal_force(
+            &self.shape,
+            self.normal,
+            c_n,
+            c_s,
+            state,
+            &d[..self.n_dofs()],
+        )
+    }
+}
+
+/// The global DOFs of one coupling element in its local order (host nodes, then the
+/// coupling node): see [`CouplingElement::dofs`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CfeDofs {
+    ids: [usize; MAX_DOFS],
+    len: usize,
+}
+
+impl CfeDofs {
+    /// The DOF numbers, 2 (n + 1) of them.
+    pub fn as_slice(&self) -> &[usize] {
+        &self.ids[..self.len]
+    }
+
+    /// The element displacements: the entries of `u` (all DOFs) at these DOFs
+    /// (zero past the element's).
+    pub fn gather(&self, u: &[f64]) -> [f64; MAX_DOFS] {
+        let mut d = [0.0; MAX_DOFS];
+        for (x, &g) in d.iter_mut().zip(self.as_slice()) {
+            *x = u[g];
+        }
+        d
+    }
 }
 
 /// The rotation `R = [[n₁, n₂], [s₁, s₂]]` with `s = n` turned +90° (s = (−n₂, n₁)).
-pub fn rotation(n: [f64; 2]) -> [[f64; 2]; 2] {
+fn rotation(n: [f64; 2]) -> [[f64; 2]; 2] {
     [[n[0], n[1]], [-n[1], n[0]]]
 }
 
 /// The global jump `[[U]] = D_c − Σ N̄ᵢ Dᵢ` for element displacements `d`
 /// (2 (n + 1) values: host nodes, then the coupling node).
-pub fn jump(shape: &[f64], d: &[f64]) -> [f64; 2] {
+fn jump(shape: &[f64], d: &[f64]) -> [f64; 2] {
     let n = shape.len();
     debug_assert_eq!(d.len(), 2 * (n + 1));
     std::array::from_fn(|c| d[2 * n + c] - (0..n).map(|i| shape[i] * d[2 * i + c]).sum::<f64>())
 }
 
 /// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_s]])`.
-pub fn local_jump(normal: [f64; 2], jump: [f64; 2]) -> [f64; 2] {
+fn local_jump(normal: [f64; 2], jump: [f64; 2]) -> [f64; 2] {
     let r = rotation(normal);
     [
         r[0][0] * jump[0] + r[0][1] * jump[1],
@@ -73,7 +189,7 @@ pub fn local_jump(normal: [f64; 2], jump: [f64; 2]) -> [f64; 2] {
 
 /// The coefficients `b` of `B_e` per node, `B_e = [b₁I … b_{n+1}I]` with
 /// `b = (−N̄₁, …, −N̄ₙ, 1)`; entries past n + 1 are zero.
-pub fn b_coefficients(shape: &[f64]) -> [f64; MAX_NODES] {
+fn b_coefficients(shape: &[f64]) -> [f64; MAX_NODES] {
     let mut b = [0.0; MAX_NODES];
     for (bi, s) in b.iter_mut().zip(shape) {
         *bi = -s;
@@ -112,7 +228,7 @@ impl CfeStiffness {
 
 /// CFE stiffness `K_e = B_eᵀ (1 − D̂) C B_e`, `C = Rᵀ c R` (symmetric, positive
 /// semidefinite; zero for an open pair).
-pub fn stiffness(
+fn stiffness(
     shape: &[f64],
     normal: [f64; 2],
     c_n: f64,
@@ -134,7 +250,7 @@ pub fn stiffness(
 /// displacements `d` (the first 2 (n + 1) entries of the result are the element's).
 /// Also returns the local force `f` (the force the host side exerts on the pair,
 /// in (n, s)).
-pub fn internal_force(
+fn internal_force(
     shape: &[f64],
     normal: [f64; 2],
     c_n: f64,
@@ -295,5 +411,29 @@ mod tests {
         assert!((u[0] + 2.0).abs() < 1e-15 && u[1].abs() < 1e-15);
         let u = local_jump(n, [0.5 * s[0], 0.5 * s[1]]);
         assert!(u[0].abs() < 1e-15 && (u[1] - 0.5).abs() < 1e-15);
+    }
+
+    /// The rank-2 form `Σ_k c_k w_k w_kᵀ` is the bonded stiffness, for T3 and Q4 hosts.
+    #[test]
+    fn stiffness_terms_sum_to_the_stiffness() {
+        for (x, shape, position) in hosts() {
+            let c = CouplingElement {
+                node: 0,
+                host_element: 0,
+                host_nodes: (0..x.len()).collect(),
+                shape: shape.clone(),
+                normal: normal(),
+                position,
+                distance: 0.0,
+            };
+            let k = c.stiffness(1e9, 5e8, PairState::Bonded);
+            let terms = c.stiffness_terms(1e9, 5e8);
+            for p in 0..c.n_dofs() {
+                for q in 0..c.n_dofs() {
+                    let sum: f64 = terms.iter().map(|(ck, w)| ck * w[p] * w[q]).sum();
+                    assert!((sum - k.get(p, q)).abs() <= 1e-6, "({p}, {q})");
+                }
+            }
+        }
     }
 }

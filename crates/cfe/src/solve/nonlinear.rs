@@ -23,7 +23,7 @@ use super::ordering;
 use super::support;
 use super::system::{ContactSystem, Method};
 use crate::assembly::{self, DofMap, FIXED, NodeGraph, Stiffness};
-use crate::coupling::{Interface, PairState, element as cfe};
+use crate::coupling::{Interface, PairState};
 use crate::domain::{Part, Scheme, Settings};
 use crate::error::{Error, Result};
 use std::collections::HashSet;
@@ -319,10 +319,9 @@ impl<'a> Solver<'a> {
                         if locked.contains(&(i, k)) {
                             return PairState::Bonded;
                         }
-                        let g = self.dofs.cfe_dofs(iface, c);
-                        let d: Vec<f64> = g.iter().map(|&j| u[j]).collect();
-                        let gap = cfe::local_jump(c.normal, cfe::jump(&c.shape, &d))[0];
-                        iface.law.state(gap, self.gap_tolerance(&d))
+                        let d = c.dofs(self.dofs, iface.host, iface.node_part).gather(u);
+                        let d = &d[..c.n_dofs()];
+                        iface.law.state(c.gap_n(d), self.gap_tolerance(d))
                     })
                     .collect()
             })

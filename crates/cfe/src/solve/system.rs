@@ -12,10 +12,7 @@
 
 use super::linear::CholeskySolver;
 use crate::assembly::{DofMap, FIXED, Stiffness};
-use crate::coupling::{
-    Interface, PairState,
-    element::{b_coefficients, rotation},
-};
+use crate::coupling::{Interface, PairState};
 use std::collections::HashMap;
 use std::time::Instant;
 
@@ -180,11 +177,10 @@ impl ContactSystem {
             } else {
                 -1.0
             };
-            let r = rotation(c.normal);
-            let b = b_coefficients(&c.shape);
-            let g = dofs.cfe_dofs(iface, c);
+            let g = c.dofs(dofs, iface.host, iface.node_part);
+            let g = g.as_slice();
             self.cached.insert((i, k), self.columns.len());
-            for (row, ck) in [(0, iface.c_n), (1, iface.c_s)] {
+            for (ck, w) in c.stiffness_terms(iface.c_n, iface.c_s) {
                 let mut col = Column {
                     eq: Vec::with_capacity(g.len()),
                     w: Vec::with_capacity(g.len()),
@@ -194,7 +190,7 @@ impl ContactSystem {
                     let e = dofs.eq[gp];
                     if e != FIXED {
                         col.eq.push(e);
-                        col.w.push(b[p / 2] * r[row][p % 2]);
+                        col.w.push(w[p]);
                     }
                 }
                 self.columns.push(col);
