@@ -3,11 +3,13 @@
 //! element's couplings, so a pair changing state changes values, never the pattern —
 //! and fills the lower triangle of K, the internal force vector and the external loads.
 
-use crate::coupling::{Interface, PairState, element::MAX_NODES};
+mod source;
+
+use crate::coupling::{Interface, PairState};
 pub use crate::dofs::{DofMap, FIXED};
 use crate::domain::{Load, Part};
-use crate::fem::element::{self, MAX_DOFS};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+pub use source::{CouplingElements, ElementSource, MatrixSink, PartElements, VectorSink};
 
 /// The node adjacency graph of the whole model (CSR, each row sorted, self
 /// included): two nodes are adjacent when an element — a part element or a coupling
@@ -24,24 +26,19 @@ pub struct NodeGraph {
 impl NodeGraph {
     /// The graph of all part elements and all coupling elements (whatever their state).
     pub fn new(parts: &[Part], interfaces: &[Interface], dofs: &DofMap) -> NodeGraph {
-        let n_nodes = dofs.n_nodes();
+        let part_elements = PartElements::new(parts, dofs);
+        let coupling_elements = CouplingElements::new(interfaces, None, dofs);
+        NodeGraph::from_sources(&[&part_elements, &coupling_elements], dofs.n_nodes())
+    }
+
+    /// The graph of the elements of `sources` over `n_nodes` global nodes.
+    pub fn from_sources(sources: &[&dyn ElementSource], n_nodes: usize) -> NodeGraph {
         // Two passes (count, fill), then sort and dedup each row.
         let mut count = vec![0usize; n_nodes + 1];
         let each_element = |f: &mut dyn FnMut(&[usize])| {
-            let mut g = [0usize; MAX_NODES];
-            for (p, part) in parts.iter().enumerate() {
-                for el in &part.mesh.elements {
-                    let nodes = el.nodes();
-                    for (gi, &n) in g.iter_mut().zip(nodes) {
-                        *gi = dofs.node(p, n);
-                    }
-                    f(&g[..nodes.len()]);
-                }
-            }
-            for iface in interfaces {
-                for c in &iface.elements {
-                    let (g, n) = c.global_nodes(dofs, iface.host, iface.node_part);
-                    f(&g[..n]);
+            for source in sources {
+                for e in 0..source.len() {
+                    source.nodes(e, f);
                 }
             }
         };
@@ -105,6 +102,16 @@ impl Stiffness {
     /// Builds the pattern from the node graph of every part element and every
     /// coupling element, and assembles the parts' stiffness.
     pub fn new(parts: &[Part], dofs: &DofMap, graph: &NodeGraph) -> Stiffness {
+        Stiffness::from_sources(&[&PartElements::new(parts, dofs)], dofs, graph)
+    }
+
+    /// Builds the pattern from `graph` and assembles the constant part of the values,
+    /// `base`, from the elements of `sources`.
+    pub fn from_sources(
+        sources: &[&dyn ElementSource],
+        dofs: &DofMap,
+        graph: &NodeGraph,
+    ) -> Stiffness {
         let n_nodes = dofs.n_nodes();
         let (nbr_ptr, nbr) = (&graph.ptr, &graph.adj);
         // DOF-level lower-triangular CSC over equations. Equation numbers increase with
@@ -137,15 +144,7 @@ impl Stiffness {
             values: vec![0.0; nnz],
         };
         let mut base = std::mem::take(&mut k.base);
-        for (p, part) in parts.iter().enumerate() {
-            let d = part.material.d_matrix();
-            for (e, el) in part.mesh.elements.iter().enumerate() {
-                let x = element::coordinates(&part.mesh, el);
-                let ke = element::stiffness(el, &x, &d, part.material.thickness);
-                let (g, n) = dofs.element_dofs(parts, p, e);
-                k.scatter(&mut base, dofs, &g[..n], |a, b| ke[a][b]);
-            }
-        }
+        k.add_sources(&mut base, sources, dofs);
         k.base = base;
         k
     }
@@ -170,7 +169,7 @@ impl Stiffness {
         values: &mut [f64],
         dofs: &DofMap,
         g: &[usize],
-        k: impl Fn(usize, usize) -> f64,
+        k: &dyn Fn(usize, usize) -> f64,
     ) {
         for (b, &gb) in g.iter().enumerate() {
             let j = dofs.eq[gb];
@@ -188,21 +187,30 @@ impl Stiffness {
         }
     }
 
+    /// Adds the stiffness of every element of `sources` into `values`.
+    fn add_sources(&self, values: &mut [f64], sources: &[&dyn ElementSource], dofs: &DofMap) {
+        for source in sources {
+            for e in 0..source.len() {
+                source.stiffness(e, &mut |g, k| self.scatter(values, dofs, g, k));
+            }
+        }
+    }
+
     /// Sets `values` = parts + the coupling elements in their `states`
     /// (`states[i][k]` for pair k of interface i).
     pub fn assemble(&mut self, interfaces: &[Interface], states: &[Vec<PairState>], dofs: &DofMap) {
+        self.assemble_sources(
+            &[&CouplingElements::new(interfaces, Some(states), dofs)],
+            dofs,
+        );
+    }
+
+    /// Sets `values` = `base` + the elements of `sources` (those whose stiffness
+    /// changes between solves).
+    pub fn assemble_sources(&mut self, sources: &[&dyn ElementSource], dofs: &DofMap) {
         let mut values = std::mem::take(&mut self.values);
         values.copy_from_slice(&self.base);
-        for (iface, st) in interfaces.iter().zip(states) {
-            for (c, &s) in iface.elements.iter().zip(st) {
-                if s == PairState::Open {
-                    continue;
-                }
-                let ke = c.stiffness(iface.c_n, iface.c_s, s);
-                let g = c.dofs(dofs, iface.host, iface.node_part);
-                self.scatter(&mut values, dofs, g.as_slice(), |a, b| ke.get(a, b));
-            }
-        }
+        self.add_sources(&mut values, sources, dofs);
         self.values = values;
     }
 
@@ -224,48 +232,57 @@ pub fn internal_force(
     dofs: &DofMap,
     u: &[f64],
 ) -> Vec<f64> {
+    let part_elements = PartElements::new(parts, dofs);
+    let coupling_elements = CouplingElements::new(interfaces, Some(states), dofs);
+    internal_force_of(&[&part_elements, &coupling_elements], u)
+}
+
+/// The internal force vector over all DOFs, `Σ_e F_e(u)` over the elements of
+/// `sources`, summed source after source: in parallel chunks (each into its own
+/// vector) for a [parallel](ElementSource::parallel) source, in element order
+/// otherwise.
+pub fn internal_force_of(sources: &[&dyn ElementSource], u: &[f64]) -> Vec<f64> {
     use rayon::prelude::*;
-    // Part elements in one chunk per thread, each summed into its own vector.
-    let elements: Vec<(usize, usize)> = parts
-        .iter()
-        .enumerate()
-        .flat_map(|(p, part)| (0..part.mesh.elements.len()).map(move |e| (p, e)))
-        .collect();
-    let threads = rayon::current_num_threads().max(1);
-    let chunk = elements.len().div_ceil(threads).max(1);
-    let materials: Vec<[[f64; 3]; 3]> = parts.iter().map(|p| p.material.d_matrix()).collect();
-    let mut f = elements
-        .par_chunks(chunk)
-        .map(|chunk| {
-            let mut f = vec![0.0; u.len()];
-            for &(p, e) in chunk {
-                let part = &parts[p];
-                let el = &part.mesh.elements[e];
-                let x = element::coordinates(&part.mesh, el);
-                let ke = element::stiffness(el, &x, &materials[p], part.material.thickness);
-                let (g, n) = dofs.element_dofs(parts, p, e);
-                let ue: [f64; MAX_DOFS] =
-                    std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
-                let fe = element::mul(&ke, &ue, n);
-                for (a, &ga) in g[..n].iter().enumerate() {
-                    f[ga] += fe[a];
+    let mut f = vec![0.0; u.len()];
+    for source in sources {
+        if !source.parallel() {
+            for e in 0..source.len() {
+                source.internal_force(e, u, &mut |g, fe| {
+                    for (&ga, v) in g.iter().zip(fe) {
+                        f[ga] += v;
+                    }
+                });
+            }
+            continue;
+        }
+        let threads = rayon::current_num_threads().max(1);
+        let chunk = source.len().div_ceil(threads).max(1);
+        let chunks: Vec<std::ops::Range<usize>> = (0..source.len())
+            .step_by(chunk)
+            .map(|s| s..(s + chunk).min(source.len()))
+            .collect();
+        let sum = chunks
+            .into_par_iter()
+            .map(|range| {
+                let mut f = vec![0.0; u.len()];
+                for e in range {
+                    source.internal_force(e, u, &mut |g, fe| {
+                        for (&ga, v) in g.iter().zip(fe) {
+                            f[ga] += v;
+                        }
+                    });
                 }
-            }
-            f
-        })
-        .reduce_with(|mut a, b| {
-            for (x, y) in a.iter_mut().zip(&b) {
+                f
+            })
+            .reduce_with(|mut a, b| {
+                for (x, y) in a.iter_mut().zip(&b) {
+                    *x += y;
+                }
+                a
+            });
+        if let Some(sum) = sum {
+            for (x, y) in f.iter_mut().zip(&sum) {
                 *x += y;
-            }
-            a
-        })
-        .unwrap_or_else(|| vec![0.0; u.len()]);
-    for (iface, st) in interfaces.iter().zip(states) {
-        for (c, &s) in iface.elements.iter().zip(st) {
-            let g = c.dofs(dofs, iface.host, iface.node_part);
-            let (fe, _) = c.internal_force(iface.c_n, iface.c_s, s, &g.gather(u));
-            for (a, &ga) in g.as_slice().iter().enumerate() {
-                f[ga] += fe[a];
             }
         }
     }

@@ -1,0 +1,199 @@
+//! Element sources: the families of elements the assembly iterates over (the
+//! element-provider pattern of fenris). A source numbers its elements `0..len()`
+//! and gives, per element, its global nodes (for the sparsity pattern), its
+//! stiffness and its internal force over its global DOFs. The part elements (T3,
+//! Q4) and the coupling elements are the two implementations here; a new family —
+//! a 3D element, another coupling formulation — is a new implementation, and
+//! [`crate::assembly`] (pattern, values, internal force) does not change.
+
+use crate::coupling::{Interface, PairState};
+use crate::dofs::DofMap;
+use crate::domain::Part;
+use crate::fem::element;
+
+/// Receives one element matrix: its global DOFs and its entry `(a, b)` over them.
+pub type MatrixSink<'s> = dyn FnMut(&[usize], &dyn Fn(usize, usize) -> f64) + 's;
+/// Receives one element vector: its global DOFs and its values over them.
+pub type VectorSink<'s> = dyn FnMut(&[usize], &[f64]) + 's;
+
+/// A family of elements contributing to the global stiffness and internal force.
+pub trait ElementSource: Sync {
+    /// Number of elements.
+    fn len(&self) -> usize;
+
+    /// Whether the source has no element.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Calls `f` with the global nodes of element `e` (every node it couples,
+    /// whatever its current state: the pattern never changes).
+    fn nodes(&self, e: usize, f: &mut dyn FnMut(&[usize]));
+
+    /// Gives `sink` the stiffness `K_e` of element `e` (nothing when it is zero,
+    /// e.g. an open pair).
+    fn stiffness(&self, e: usize, sink: &mut MatrixSink<'_>);
+
+    /// Gives `sink` the internal force `F_e` of element `e` for the displacements
+    /// `u` of all DOFs.
+    fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>);
+
+    /// Whether the assembly should sum this source's internal forces in parallel
+    /// chunks (many, independent elements) rather than in element order.
+    fn parallel(&self) -> bool {
+        false
+    }
+}
+
+/// The elements of every part (T3 and Q4), numbered part after part.
+pub struct PartElements<'a> {
+    parts: &'a [Part],
+    dofs: &'a DofMap,
+    /// First element of each part in the source's numbering (length parts + 1).
+    offset: Vec<usize>,
+    /// The constitutive matrix of each part.
+    d: Vec<[[f64; 3]; 3]>,
+}
+
+impl<'a> PartElements<'a> {
+    /// The elements of `parts`, numbered with `dofs`.
+    pub fn new(parts: &'a [Part], dofs: &'a DofMap) -> Self {
+        let mut offset = Vec::with_capacity(parts.len() + 1);
+        let mut n = 0;
+        for p in parts {
+            offset.push(n);
+            n += p.mesh.elements.len();
+        }
+        offset.push(n);
+        let d = parts.iter().map(|p| p.material.d_matrix()).collect();
+        PartElements {
+            parts,
+            dofs,
+            offset,
+            d,
+        }
+    }
+
+    /// The part and the element within it of source element `e`.
+    fn locate(&self, e: usize) -> (usize, usize) {
+        let p = self.offset.partition_point(|&o| o <= e) - 1;
+        (p, e - self.offset[p])
+    }
+
+    /// The element stiffness and global DOFs of source element `e`.
+    fn element(&self, e: usize) -> (element::ElementMatrix, [usize; element::MAX_DOFS], usize) {
+        let (p, e) = self.locate(e);
+        let part = &self.parts[p];
+        let el = &part.mesh.elements[e];
+        let x = element::coordinates(&part.mesh, el);
+        let ke = element::stiffness(el, &x, &self.d[p], part.material.thickness);
+        let (g, n) = self.dofs.element_dofs(self.parts, p, e);
+        (ke, g, n)
+    }
+}
+
+impl ElementSource for PartElements<'_> {
+    fn len(&self) -> usize {
+        *self.offset.last().unwrap_or(&0)
+    }
+
+    fn nodes(&self, e: usize, f: &mut dyn FnMut(&[usize])) {
+        let (p, e) = self.locate(e);
+        let nodes = self.parts[p].mesh.elements[e].nodes();
+        let mut g = [0usize; element::MAX_NODES];
+        for (gi, &n) in g.iter_mut().zip(nodes) {
+            *gi = self.dofs.node(p, n);
+        }
+        f(&g[..nodes.len()]);
+    }
+
+    fn stiffness(&self, e: usize, sink: &mut MatrixSink<'_>) {
+        let (ke, g, n) = self.element(e);
+        sink(&g[..n], &|a, b| ke[a][b]);
+    }
+
+    fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>) {
+        let (ke, g, n) = self.element(e);
+        let ue: [f64; element::MAX_DOFS] =
+            std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
+        let fe = element::mul(&ke, &ue, n);
+        sink(&g[..n], &fe[..n]);
+    }
+
+    fn parallel(&self) -> bool {
+        true
+    }
+}
+
+/// The coupling elements of every interface, numbered interface after interface,
+/// in given pair states (`None`: for the pattern only, every pair counted).
+pub struct CouplingElements<'a> {
+    interfaces: &'a [Interface],
+    states: Option<&'a [Vec<PairState>]>,
+    dofs: &'a DofMap,
+    /// First pair of each interface in the source's numbering (length interfaces + 1).
+    offset: Vec<usize>,
+}
+
+impl<'a> CouplingElements<'a> {
+    /// The coupling elements of `interfaces` in `states` (`states[i][k]` for pair k
+    /// of interface i; `None` when only the pattern is wanted).
+    pub fn new(
+        interfaces: &'a [Interface],
+        states: Option<&'a [Vec<PairState>]>,
+        dofs: &'a DofMap,
+    ) -> Self {
+        let mut offset = Vec::with_capacity(interfaces.len() + 1);
+        let mut n = 0;
+        for i in interfaces {
+            offset.push(n);
+            n += i.elements.len();
+        }
+        offset.push(n);
+        CouplingElements {
+            interfaces,
+            states,
+            dofs,
+            offset,
+        }
+    }
+
+    /// The interface, the pair and its state of source element `e`.
+    fn locate(&self, e: usize) -> (&Interface, usize, PairState) {
+        let i = self.offset.partition_point(|&o| o <= e) - 1;
+        let k = e - self.offset[i];
+        let state = self.states.map_or(PairState::Bonded, |s| s[i][k]);
+        (&self.interfaces[i], k, state)
+    }
+}
+
+impl ElementSource for CouplingElements<'_> {
+    fn len(&self) -> usize {
+        *self.offset.last().unwrap_or(&0)
+    }
+
+    fn nodes(&self, e: usize, f: &mut dyn FnMut(&[usize])) {
+        let (iface, k, _) = self.locate(e);
+        let (g, n) = iface.elements[k].global_nodes(self.dofs, iface.host, iface.node_part);
+        f(&g[..n]);
+    }
+
+    fn stiffness(&self, e: usize, sink: &mut MatrixSink<'_>) {
+        let (iface, k, state) = self.locate(e);
+        if state == PairState::Open {
+            return;
+        }
+        let c = &iface.elements[k];
+        let ke = c.stiffness(iface.c_n, iface.c_s, state);
+        let g = c.dofs(self.dofs, iface.host, iface.node_part);
+        sink(g.as_slice(), &|a, b| ke.get(a, b));
+    }
+
+    fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>) {
+        let (iface, k, state) = self.locate(e);
+        let c = &iface.elements[k];
+        let g = c.dofs(self.dofs, iface.host, iface.node_part);
+        let (fe, _) = c.internal_force(iface.c_n, iface.c_s, state, &g.gather(u));
+        sink(g.as_slice(), &fe[..c.n_dofs()]);
+    }
+}
