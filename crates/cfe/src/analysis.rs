@@ -12,6 +12,7 @@ use crate::model::{Model, Scheme};
 use crate::output::report::{self, PairRow};
 use crate::output::{png, vtu};
 use crate::solve::nonlinear::{IncrementResult, SolveTimings, Solver};
+use crate::solve::warm_start;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -36,6 +37,44 @@ pub struct Timings {
     pub pictures: f64,
     /// Wall time of the whole run.
     pub total: f64,
+}
+
+/// Where the `active-set` iteration of the first increment starts.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Start {
+    /// From the final pattern of the model on 4 × coarser meshes when the model is
+    /// refined 4 × or more (as `cfe run` does), else all bonded.
+    Coarse,
+    /// Every pair bonded.
+    AllBonded,
+    /// These states (`states[i][k]` for pair k of interface i).
+    States(Vec<Vec<PairState>>),
+}
+
+/// The results of a solved analysis at its last converged increment, in memory.
+#[derive(Debug, Clone)]
+pub struct Results {
+    /// The last converged increment: displacements `u` of all DOFs, pair states,
+    /// internal and external forces, iterations.
+    pub last: IncrementResult,
+    /// Stresses of every part.
+    pub stresses: Vec<PartStress>,
+    /// One row per coupling pair: state, jumps and forces on the node part.
+    pub pairs: Vec<PairRow>,
+    /// The summary (as written to `summary.json` by [`Analysis::run`]).
+    pub summary: Summary,
+}
+
+impl Results {
+    /// Displacements of all DOFs (x and y of global node g at 2g and 2g + 1).
+    pub fn displacements(&self) -> &[f64] {
+        &self.last.u
+    }
+
+    /// The reactions, one per support, as in the summary.
+    pub fn reactions(&self) -> &[Reaction] {
+        &self.summary.reactions
+    }
 }
 
 /// A model with its coupling pairs found and its DOFs numbered: ready to solve.
@@ -342,7 +381,6 @@ impl Analysis {
         let start = Instant::now();
         let vtu_dir = out.join("vtu");
         std::fs::create_dir_all(&vtu_dir).map_err(|e| Error::output(&vtu_dir, e))?;
-        let f_ext = assembly::external_force(&self.model.loads, &self.dofs);
         let mut summary = self.empty_summary();
         let mut pvd: Vec<vtu::PvdEntry> = Vec::new();
         let mut output_time = 0.0;
@@ -357,13 +395,7 @@ impl Analysis {
         let result = std::thread::scope(|scope| -> Result<IncrementResult> {
             let this = &*self;
             let grid = &grid;
-            let mut solver = match Solver::new(
-                &this.model.parts,
-                &this.interfaces,
-                &this.dofs,
-                f_ext,
-                &this.model.settings,
-            ) {
+            let mut solver = match this.solver() {
                 Ok(s) => s,
                 Err(e) => {
                     summary.status = "failed".into();
@@ -488,48 +520,94 @@ impl Analysis {
         for (c, i) in coarse.interfaces.iter_mut().zip(&self.interfaces) {
             c.law = i.law;
         }
-        let f = assembly::external_force(&coarse.model.loads, &coarse.dofs);
-        let settings = crate::domain::Settings {
-            increments: 1,
-            ..m.settings.clone()
+        let start = coarse.coarse_states();
+        let problem = warm_start::Problem {
+            parts: &coarse.model.parts,
+            interfaces: &coarse.interfaces,
+            dofs: &coarse.dofs,
+            f_ext: assembly::external_force(&coarse.model.loads, &coarse.dofs),
+            settings: &m.settings,
         };
-        let mut solver = Solver::new(
-            &coarse.model.parts,
-            &coarse.interfaces,
-            &coarse.dofs,
+        warm_start::states_from_coarse(problem, start, &self.interfaces)
+    }
+
+    /// The incremental solver of this analysis: its parts, interfaces, DOFs, loads
+    /// and settings (the pattern and the symbolic factorization are built here).
+    pub fn solver(&self) -> Result<Solver<'_>> {
+        let f = assembly::external_force(&self.model.loads, &self.dofs);
+        Solver::new(
+            &self.model.parts,
+            &self.interfaces,
+            &self.dofs,
             f,
-            &settings,
+            &self.model.settings,
         )
-        .ok()?;
-        if let Some(s) = coarse.coarse_states() {
-            solver.set_initial_states(s);
+    }
+
+    /// Solves every increment in memory, as `cfe run` does (a model refined 4 × or
+    /// more starts its contact iteration from its coarser model's pattern);
+    /// `on_increment` receives each converged increment. Returns the last one.
+    pub fn solve_with(
+        &self,
+        on_increment: impl FnMut(&IncrementResult) -> Result<()>,
+    ) -> Result<IncrementResult> {
+        self.solve_from(Start::Coarse, on_increment)
+    }
+
+    /// Solves every increment in memory with the contact iteration starting as
+    /// `start` says; `on_increment` receives each converged increment. Returns the
+    /// last one.
+    pub fn solve_from(
+        &self,
+        start: Start,
+        on_increment: impl FnMut(&IncrementResult) -> Result<()>,
+    ) -> Result<IncrementResult> {
+        let mut solver = self.solver()?;
+        let initial = match start {
+            Start::Coarse => self.coarse_states(),
+            Start::AllBonded => None,
+            Start::States(s) => Some(s),
+        };
+        if let Some(states) = initial {
+            solver.set_initial_states(states);
         }
-        let last = solver.run(|_| Ok(())).ok()?;
-        // Each fine pair takes the state of the nearest coarse pair of its interface.
-        let states = self
-            .interfaces
-            .iter()
-            .zip(&coarse.interfaces)
-            .zip(&last.states)
-            .map(|((fine, coarse), cs)| {
-                let tree = rstar::RTree::bulk_load(
-                    coarse
-                        .elements
-                        .iter()
-                        .enumerate()
-                        .map(|(k, c)| rstar::primitives::GeomWithData::new(c.position, k))
-                        .collect(),
-                );
-                fine.elements
-                    .iter()
-                    .map(|c| {
-                        tree.nearest_neighbor(c.position)
-                            .map_or(PairState::Bonded, |n| cs[n.data])
-                    })
-                    .collect()
-            })
-            .collect();
-        Some(states)
+        solver.run(on_increment)
+    }
+
+    /// Solves the problem in memory, writing nothing: the displacements, stresses,
+    /// pair states and forces, reactions and summary of the last increment.
+    pub fn solve(&self) -> Result<Results> {
+        let start = Instant::now();
+        let mut summary = self.empty_summary();
+        let t = Instant::now();
+        let mut solver = self.solver()?;
+        if let Some(states) = self.coarse_states() {
+            solver.set_initial_states(states);
+        }
+        summary.timings.coarse_start = t.elapsed().as_secs_f64();
+        summary.matrix_nonzeros = solver.matrix_nnz();
+        summary.factor_nonzeros = solver.factor_nnz();
+        let last = solver.run(|inc| {
+            let rows = self.pair_rows(inc);
+            self.fill_summary(&mut summary, inc, &rows);
+            Ok(())
+        })?;
+        summary.timings.solve = solver.timings.clone();
+        (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
+        summary.first_factorization_seconds = solver.first_factorization_seconds();
+        let t = Instant::now();
+        let stresses = self.recover(&last.u);
+        summary.timings.stress_recovery = t.elapsed().as_secs_f64();
+        summary.status = "completed".into();
+        summary.timings.total =
+            start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
+        summary.peak_memory_bytes = peak_memory_bytes();
+        Ok(Results {
+            pairs: self.pair_rows(&last),
+            stresses,
+            summary,
+            last,
+        })
     }
 
     fn empty_summary(&self) -> Summary {

@@ -6,6 +6,59 @@
 //! freedom is added. The method follows Bitencourt Jr. et al. (CMAME 290, 2015) and
 //! Tosati et al. (CILAMCE 2016).
 //!
+//! ## Solving a model in memory
+//!
+//! A [`Model`] comes from a problem file ([`Model::from_file`]), from text
+//! (`text.parse::<Model>()` or [`Model::from_str`]), or is built in code
+//! ([`Model::from_parts`]). [`Analysis::new`] finds the coupling pairs and numbers
+//! the DOFs; [`Analysis::solve`] solves every increment without writing a file and
+//! returns the [`Results`] of the last one; [`Analysis::run`] also writes them.
+//!
+//! ```
+//! let text = r#"
+//! [materials.steel]
+//! E = 210000.0
+//! nu = 0.3
+//!
+//! [[part]]
+//! name = "base"
+//! material = "steel"
+//! rectangle = { x = [0.0, 40.0], y = [0.0, 20.0], cells = [4, 2] }
+//!
+//! [[part]]
+//! name = "block"
+//! material = "steel"
+//! rectangle = { x = [10.0, 30.0], y = [20.0, 30.0], cells = [6, 3] }
+//!
+//! [[interface]]
+//! host = "base"
+//! nodes = "block"
+//! boundary = "bottom"
+//!
+//! [[support]]
+//! part = "base"
+//! boundary = "bottom"
+//! fix = ["x", "y"]
+//!
+//! [[load]]
+//! part = "block"
+//! boundary = "top"
+//! force = [0.0, -100.0]
+//! "#;
+//! let model: cfe::Model = text.parse()?;
+//! let analysis = cfe::Analysis::new(model)?;
+//! let results = analysis.solve()?;
+//! // Pressed down, every pair is bonded and the base carries the load.
+//! assert!(results.last.states[0].iter().all(|&s| s == cfe::PairState::Bonded));
+//! let reaction = &results.reactions()[0];
+//! assert!((reaction.fy - 100.0).abs() < 1e-6);
+//! let u = results.displacements();
+//! assert!(u.iter().all(|v| v.is_finite()));
+//! # Ok::<(), cfe::Error>(())
+//! ```
+//!
+//! ## Layers
+//!
 //! Data flows one way through the modules:
 //! [`model`] (problem file, validation) → [`mesh`] (nodes, elements, boundaries) →
 //! [`fem`] (materials, element routines) → [`coupling`] (pair search, CFEs, laws) →
@@ -26,4 +79,8 @@ pub mod model;
 pub mod output;
 pub mod solve;
 
+pub use analysis::{Analysis, Results, Start};
+pub use coupling::{Law, PairState};
+pub use domain::{InterfaceDef, Load, Part, Scheme, Settings, Support};
 pub use error::{Error, Result};
+pub use model::Model;

@@ -242,6 +242,16 @@ pub struct Model {
     pub text: String,
 }
 
+/// A problem given as text (TOML), read as if from a file `problem.toml` in the
+/// current folder, at refinement 1.
+impl std::str::FromStr for Model {
+    type Err = Error;
+
+    fn from_str(text: &str) -> Result<Model> {
+        Model::from_str(text, Path::new("problem.toml"), 1)
+    }
+}
+
 impl Model {
     /// The index of the part named `name`.
     pub fn part_index(&self, name: &str) -> Option<usize> {
@@ -262,6 +272,31 @@ impl Model {
     /// The same problem with the meshes refined `refine` times instead.
     pub fn with_refine(&self, refine: usize) -> Result<Model> {
         Model::from_str(&self.text, &self.source, refine)
+    }
+
+    /// A model built in code from its parts: no problem file behind it (so no
+    /// coarser level for the warm start: [`Model::with_refine`] fails).
+    #[allow(clippy::too_many_arguments)]
+    pub fn from_parts(
+        title: impl Into<String>,
+        parts: Vec<Part>,
+        interfaces: Vec<InterfaceDef>,
+        supports: Vec<Support>,
+        loads: Vec<Load>,
+        settings: Settings,
+    ) -> Model {
+        Model {
+            title: title.into(),
+            source: PathBuf::new(),
+            units: Units::default(),
+            parts,
+            interfaces,
+            supports,
+            loads,
+            settings,
+            refine: 1,
+            text: String::new(),
+        }
     }
 
     /// Reads, checks and meshes a problem given as text; `path` is used in messages

@@ -152,16 +152,7 @@ fn unsupported_part_fails_cleanly_and_keeps_results() {
 fn unsupported_part_active_set() {
     let text = format!("{BASE}{}", LOAD_DOWN.replace("-1500.0", "1500.0"));
     let a = Analysis::new(parse(&text).unwrap()).unwrap();
-    let f = cfe::assembly::external_force(&a.model.loads, &a.dofs);
-    let mut s = cfe::solve::nonlinear::Solver::new(
-        &a.model.parts,
-        &a.interfaces,
-        &a.dofs,
-        f,
-        &a.model.settings,
-    )
-    .unwrap();
-    let e = s.run(|_| Ok(())).err().unwrap().to_string();
+    let e = a.solve().err().unwrap().to_string();
     assert!(
         e.contains("'plate'") && e.contains("without support"),
         "{e}"
@@ -176,16 +167,7 @@ fn no_support_at_all() {
         "",
     ) + LOAD_DOWN;
     let a = Analysis::new(parse(&text).unwrap()).unwrap();
-    let f = cfe::assembly::external_force(&a.model.loads, &a.dofs);
-    let mut s = cfe::solve::nonlinear::Solver::new(
-        &a.model.parts,
-        &a.interfaces,
-        &a.dofs,
-        f,
-        &a.model.settings,
-    )
-    .unwrap();
-    let e = s.run(|_| Ok(())).err().unwrap().to_string();
+    let e = a.solve().err().unwrap().to_string();
     assert!(e.contains("'base'") && e.contains("'plate'"), "{e}");
 }
 

@@ -5,7 +5,7 @@
 
 mod common;
 
-use cfe::analysis::Analysis;
+use cfe::analysis::{Analysis, Start};
 use cfe::assembly::{NodeGraph, Stiffness, external_force};
 use cfe::coupling::PairState;
 use cfe::model::Model;
@@ -86,20 +86,9 @@ fn coarse_start_reaches_a_law_consistent_pattern() {
     let a = plate(4);
     let start = a.coarse_states().expect("a coarser level exists");
     assert_eq!(start[0].len(), a.interfaces[0].elements.len());
-    let f = external_force(&a.model.loads, &a.dofs);
     let run = |initial: Option<Vec<Vec<PairState>>>| {
-        let mut s = cfe::solve::nonlinear::Solver::new(
-            &a.model.parts,
-            &a.interfaces,
-            &a.dofs,
-            f.clone(),
-            &a.model.settings,
-        )
-        .unwrap();
-        if let Some(st) = initial {
-            s.set_initial_states(st);
-        }
-        s.run(|_| Ok(())).unwrap()
+        let start = initial.map_or(Start::AllBonded, Start::States);
+        a.solve_from(start, |_| Ok(())).unwrap()
     };
     let (warm, cold) = (run(Some(start)), run(None));
     assert!(warm.history.len() <= cold.history.len());

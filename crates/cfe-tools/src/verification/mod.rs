@@ -12,10 +12,11 @@ pub mod quads;
 pub mod seed;
 
 use cfe::analysis::Analysis;
+use cfe::analysis::Start;
 use cfe::error::{Error, Result};
 use cfe::model::Model;
 use cfe::output::chart::{self, Axes, Series};
-use cfe::solve::nonlinear::{IncrementResult, Solver};
+use cfe::solve::nonlinear::IncrementResult;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -81,13 +82,13 @@ pub fn solve(a: &Analysis) -> Result<Vec<IncrementResult>> {
 /// coarser model's pattern (`coarse_start`, as `cfe run` does for K ≥ 4) or from
 /// all pairs bonded; returns every increment.
 pub fn solve_with(a: &Analysis, coarse_start: bool) -> Result<Vec<IncrementResult>> {
-    let f = cfe::assembly::external_force(&a.model.loads, &a.dofs);
-    let mut solver = Solver::new(&a.model.parts, &a.interfaces, &a.dofs, f, &a.model.settings)?;
-    if coarse_start && let Some(states) = a.coarse_states() {
-        solver.set_initial_states(states);
-    }
+    let start = if coarse_start {
+        Start::Coarse
+    } else {
+        Start::AllBonded
+    };
     let mut all = Vec::new();
-    solver.run(|inc| {
+    a.solve_from(start, |inc| {
         all.push(inc.clone());
         Ok(())
     })?;

@@ -3,8 +3,9 @@
 #![allow(dead_code)]
 
 use cfe::analysis::Analysis;
+use cfe::analysis::Start;
 use cfe::model::Model;
-use cfe::solve::nonlinear::{IncrementResult, Solver};
+use cfe::solve::nonlinear::IncrementResult;
 use std::path::Path;
 
 /// Prepares an analysis from problem text.
@@ -15,16 +16,12 @@ pub fn analysis(text: &str) -> Analysis {
 
 /// Solves every increment in memory and returns them all.
 pub fn solve(a: &Analysis) -> Vec<IncrementResult> {
-    let f = cfe::assembly::external_force(&a.model.loads, &a.dofs);
-    let mut solver =
-        Solver::new(&a.model.parts, &a.interfaces, &a.dofs, f, &a.model.settings).expect("solver");
     let mut all = Vec::new();
-    solver
-        .run(|inc| {
-            all.push(inc.clone());
-            Ok(())
-        })
-        .expect("converges");
+    a.solve_from(Start::AllBonded, |inc| {
+        all.push(inc.clone());
+        Ok(())
+    })
+    .expect("converges");
     all
 }
 

@@ -1,0 +1,88 @@
+//! Warm start of the `active-set` iteration from a coarser model: the final pair
+//! states of the same problem on coarser meshes, mapped to the fine pairs by
+//! position (each fine pair takes the state of the nearest coarse pair of its
+//! interface). A start close to the final pattern needs few, small state changes;
+//! the converged result does not depend on it.
+//!
+//! Building the coarser model is the caller's business (the solver reads no input):
+//! it hands over the coarse problem, already prepared.
+
+use super::nonlinear::Solver;
+use crate::coupling::{Interface, PairState};
+use crate::dofs::DofMap;
+use crate::domain::{Part, Settings};
+
+/// A prepared problem to solve for its final states: parts, interfaces with their
+/// coupling elements, DOF numbering, external force at full load, settings.
+pub struct Problem<'a> {
+    /// The parts.
+    pub parts: &'a [Part],
+    /// The interfaces with their coupling elements.
+    pub interfaces: &'a [Interface],
+    /// The DOF numbering.
+    pub dofs: &'a DofMap,
+    /// External force of all DOFs at full load.
+    pub f_ext: Vec<f64>,
+    /// Analysis settings (the increments are ignored: one increment is solved).
+    pub settings: &'a Settings,
+}
+
+/// The final pair states of `coarse` solved in one increment (its own iteration
+/// starting from `coarse_start` when given), mapped onto the pairs of `fine`.
+/// `None` when the coarse problem does not solve or its interfaces do not match.
+pub fn states_from_coarse(
+    coarse: Problem<'_>,
+    coarse_start: Option<Vec<Vec<PairState>>>,
+    fine: &[Interface],
+) -> Option<Vec<Vec<PairState>>> {
+    if coarse.interfaces.len() != fine.len() {
+        return None;
+    }
+    let settings = Settings {
+        increments: 1,
+        ..coarse.settings.clone()
+    };
+    let mut solver = Solver::new(
+        coarse.parts,
+        coarse.interfaces,
+        coarse.dofs,
+        coarse.f_ext,
+        &settings,
+    )
+    .ok()?;
+    if let Some(s) = coarse_start {
+        solver.set_initial_states(s);
+    }
+    let last = solver.run(|_| Ok(())).ok()?;
+    Some(map_states(coarse.interfaces, &last.states, fine))
+}
+
+/// Each pair of `fine` takes the state of the nearest pair (by reference position)
+/// of the same interface of `coarse`, whose states are `coarse_states`.
+pub fn map_states(
+    coarse: &[Interface],
+    coarse_states: &[Vec<PairState>],
+    fine: &[Interface],
+) -> Vec<Vec<PairState>> {
+    fine.iter()
+        .zip(coarse)
+        .zip(coarse_states)
+        .map(|((fine, coarse), cs)| {
+            let tree = rstar::RTree::bulk_load(
+                coarse
+                    .elements
+                    .iter()
+                    .enumerate()
+                    .map(|(k, c)| rstar::primitives::GeomWithData::new(c.position, k))
+                    .collect(),
+            );
+            fine.elements
+                .iter()
+                .map(|c| {
+                    tree.nearest_neighbor(c.position)
+                        .map_or(PairState::Bonded, |n| cs[n.data])
+                })
+                .collect()
+        })
+        .collect()
+}
