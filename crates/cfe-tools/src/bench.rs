@@ -173,26 +173,12 @@ fn f(v: &Value) -> f64 {
 }
 
 fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".into());
+    let cpu = cfe::output::memory::cpu_model().unwrap_or_else(|| "unknown CPU".into());
     let cores = std::thread::available_parallelism()
         .map(|n| n.get())
         .unwrap_or(1);
-    let mem = std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .next()
-                .and_then(|l| l.split_whitespace().nth(1))
-                .and_then(|k| k.parse::<f64>().ok())
-        })
-        .map(|kb| format!("{:.0} GiB", kb / 1048576.0))
+    let mem = cfe::output::memory::total_memory_bytes()
+        .map(|b| format!("{:.0} GiB", b as f64 / 1073741824.0))
         .unwrap_or_else(|| "unknown memory".into());
     format!("{cpu}, {cores} cores, {mem}")
 }

@@ -1,10 +1,13 @@
-//! Output: writes what an analysis produced (VTU series, pairs CSV, JSON summary,
-//! PNG pictures) into a results folder. Every file is written atomically: to a
+//! Output: the summary types of a run, and the writers of what an analysis produced
+//! (VTU series, pairs CSV, JSON summary, PNG pictures) into a results folder. Every file is written atomically: to a
 //! temporary name first, then renamed, so a crash never leaves a half-written file.
 
 pub mod chart;
+pub mod memory;
 pub mod png;
 pub mod report;
+pub mod run;
+pub mod summary;
 pub mod vtu;
 
 use crate::error::{Error, Result};

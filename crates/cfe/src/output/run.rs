@@ -1,0 +1,491 @@
+//! Running an analysis to disk: solves the increments and writes each converged
+//! one (VTU + PVD series, pairs CSV, JSON summary) as soon as it converges, so
+//! results survive a later failure; pictures at the end.
+
+use super::memory::peak_memory_bytes;
+use super::report::{self, PairRow};
+use super::summary::Summary;
+use super::{png, vtu};
+use crate::analysis::Analysis;
+use crate::error::{Error, Result};
+use crate::fem::recovery::PartStress;
+use crate::mesh::Element;
+use crate::solve::nonlinear::IncrementResult;
+use std::path::Path;
+use std::time::Instant;
+
+impl Analysis {
+    /// Solves all increments and writes the results into `out`. `progress` is called
+    /// after each converged increment. On failure the converged increments stay on
+    /// disk and `summary.json` records the error.
+    pub fn run(
+        &mut self,
+        out: &Path,
+        progress: &mut dyn FnMut(&IncrementResult),
+    ) -> Result<Summary> {
+        let start = Instant::now();
+        let vtu_dir = out.join("vtu");
+        std::fs::create_dir_all(&vtu_dir).map_err(|e| Error::output(&vtu_dir, e))?;
+        let mut summary = self.empty_summary();
+        let mut pvd: Vec<vtu::PvdEntry> = Vec::new();
+        let mut output_time = 0.0;
+        let mut recovery_time = 0.0;
+
+        let grid = self.parts_grid();
+        // The stresses of the last converged increment, kept for the pictures.
+        let mut last_stresses: Option<std::sync::Arc<Vec<PartStress>>> = None;
+        // The large parts VTU of each increment is written by a background thread
+        // (at most two in flight) while the next increment is solved and the small
+        // files are written; all writers are joined before returning.
+        let result = std::thread::scope(|scope| -> Result<IncrementResult> {
+            let this = &*self;
+            let grid = &grid;
+            let mut solver = match this.solver() {
+                Ok(s) => s,
+                Err(e) => {
+                    summary.status = "failed".into();
+                    summary.error = Some(e.to_string());
+                    report::write_json(&out.join("summary.json"), &summary)?;
+                    return Err(e);
+                }
+            };
+            let t = Instant::now();
+            if let Some(states) = this.coarse_states() {
+                solver.set_initial_states(states);
+            }
+            summary.timings.coarse_start = t.elapsed().as_secs_f64();
+            summary.matrix_nonzeros = solver.matrix_nnz();
+            summary.factor_nonzeros = solver.factor_nnz();
+            let mut writers: std::collections::VecDeque<
+                std::thread::ScopedJoinHandle<'_, Result<()>>,
+            > = std::collections::VecDeque::new();
+            let join = |h: std::thread::ScopedJoinHandle<'_, Result<()>>| -> Result<()> {
+                h.join().unwrap_or_else(|_| {
+                    Err(Error::output(&vtu_dir, "a VTU writer thread panicked"))
+                })
+            };
+            let r = solver.run(|inc| {
+                let t = Instant::now();
+                let stresses = this.recover(&inc.u);
+                recovery_time += t.elapsed().as_secs_f64();
+                let t = Instant::now();
+                let rows = this.pair_rows(inc);
+                let parts_file = format!("parts_{:04}.vtu", inc.index);
+                let pairs_file = format!("pairs_{:04}.vtu", inc.index);
+                if writers.len() >= 2 {
+                    join(writers.pop_front().expect("two writers"))?;
+                }
+                let (path, lambda, u) = (vtu_dir.join(&parts_file), inc.lambda, inc.u.clone());
+                let stresses = std::sync::Arc::new(stresses);
+                last_stresses = Some(std::sync::Arc::clone(&stresses));
+                writers.push_back(
+                    scope.spawn(move || this.write_parts_vtu(&path, grid, lambda, &u, &stresses)),
+                );
+                this.write_pairs_vtu(&vtu_dir.join(&pairs_file), inc, &rows)?;
+                pvd.push(vtu::PvdEntry {
+                    time: inc.lambda,
+                    part: 0,
+                    file: format!("vtu/{parts_file}"),
+                });
+                pvd.push(vtu::PvdEntry {
+                    time: inc.lambda,
+                    part: 1,
+                    file: format!("vtu/{pairs_file}"),
+                });
+                vtu::write_pvd(&out.join("results.pvd"), &pvd)?;
+                report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
+                this.fill_summary(&mut summary, inc, &rows);
+                report::write_json(&out.join("summary.json"), &summary)?;
+                output_time += t.elapsed().as_secs_f64();
+                progress(inc);
+                Ok(())
+            });
+            let t = Instant::now();
+            let mut written = Ok(());
+            for h in writers {
+                written = written.and(join(h));
+            }
+            output_time += t.elapsed().as_secs_f64();
+            summary.timings.solve = solver.timings.clone();
+            (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
+            summary.first_factorization_seconds = solver.first_factorization_seconds();
+            let r = r?;
+            written.map(|_| r)
+        });
+        let inc = match result {
+            Ok(inc) => inc,
+            Err(e) => {
+                summary.status = "failed".into();
+                summary.error = Some(e.to_string());
+                summary.timings.total =
+                    start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
+                summary.peak_memory_bytes = peak_memory_bytes();
+                report::write_json(&out.join("summary.json"), &summary)?;
+                return Err(e);
+            }
+        };
+        let t = Instant::now();
+        let stresses = match last_stresses.take() {
+            Some(s) => s,
+            None => std::sync::Arc::new(self.recover(&inc.u)),
+        };
+        self.write_pictures(out, &inc, &stresses)?;
+        summary.timings.pictures = t.elapsed().as_secs_f64();
+        summary.status = "completed".into();
+        summary.timings.meshing = self.timings.meshing;
+        summary.timings.pair_search = self.timings.pair_search;
+        summary.timings.stress_recovery = recovery_time;
+        summary.timings.output = output_time;
+        summary.timings.total =
+            start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
+        summary.peak_memory_bytes = peak_memory_bytes();
+        report::write_json(&out.join("summary.json"), &summary)?;
+        self.timings = summary.timings.clone();
+        Ok(summary)
+    }
+
+    fn global_points(&self) -> Vec<[f64; 2]> {
+        self.model
+            .parts
+            .iter()
+            .flat_map(|p| p.mesh.nodes.iter().copied())
+            .collect()
+    }
+
+    /// Every element as triangles in global node numbers, for the pictures: a Q4
+    /// is split along its diagonal 1–3 (the picture interpolates linearly).
+    fn plot_triangles(&self) -> Vec<[usize; 3]> {
+        let mut out = Vec::new();
+        for (p, part) in self.model.parts.iter().enumerate() {
+            let o = self.dofs.node_offset[p];
+            for el in &part.mesh.elements {
+                match *el {
+                    Element::T3(t) => out.push(t.map(|n| n + o)),
+                    Element::Q4([a, b, c, d]) => {
+                        out.push([a + o, b + o, c + o]);
+                        out.push([a + o, c + o, d + o]);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The parts' geometry for the VTU files, built once per run.
+    fn parts_grid(&self) -> PartsGrid {
+        let n_cells: usize = self.model.parts.iter().map(|p| p.mesh.elements.len()).sum();
+        let mut part_point = Vec::with_capacity(self.dofs.n_nodes());
+        let mut part_cell = Vec::with_capacity(n_cells);
+        let mut connectivity = Vec::with_capacity(4 * n_cells);
+        let mut offsets = Vec::with_capacity(n_cells);
+        let mut kinds = Vec::with_capacity(n_cells);
+        for (p, part) in self.model.parts.iter().enumerate() {
+            let o = self.dofs.node_offset[p];
+            part_point.extend(std::iter::repeat_n(p as i32, part.mesh.nodes.len()));
+            part_cell.extend(std::iter::repeat_n(p as i32, part.mesh.elements.len()));
+            for el in &part.mesh.elements {
+                connectivity.extend(el.nodes().iter().map(|n| n + o));
+                offsets.push(connectivity.len());
+                kinds.push(match el {
+                    Element::T3(_) => vtu::CellKind::Triangle,
+                    Element::Q4(_) => vtu::CellKind::Quad,
+                });
+            }
+        }
+        PartsGrid {
+            points: self.global_points(),
+            connectivity,
+            offsets,
+            kinds,
+            part_point,
+            part_cell,
+        }
+    }
+
+    fn write_parts_vtu(
+        &self,
+        path: &Path,
+        grid: &PartsGrid,
+        lambda: f64,
+        u: &[f64],
+        stresses: &[PartStress],
+    ) -> Result<()> {
+        let (points, connectivity, offsets, kinds) =
+            (&grid.points, &grid.connectivity, &grid.offsets, &grid.kinds);
+        let (part_point, part_cell) = (&grid.part_point, &grid.part_cell);
+        let mut nodal: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(points.len()));
+        let mut cell: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(part_cell.len()));
+        for (part, s) in self.model.parts.iter().zip(stresses) {
+            for v in &s.nodal {
+                for c in 0..3 {
+                    nodal[c].push(v[c]);
+                }
+                nodal[3].push(part.material.von_mises(*v));
+            }
+            for v in &s.element {
+                for c in 0..3 {
+                    cell[c].push(v[c]);
+                }
+                cell[3].push(part.material.von_mises(*v));
+            }
+        }
+        let names = ["sigma_xx", "sigma_yy", "sigma_xy", "von_mises"];
+        let mut point_data = vec![vtu::DataArray {
+            name: "displacement",
+            components: 2,
+            values: vtu::Values::F64(u),
+        }];
+        for (name, v) in names.iter().zip(&nodal) {
+            point_data.push(vtu::DataArray {
+                name,
+                components: 1,
+                values: vtu::Values::F64(v),
+            });
+        }
+        point_data.push(vtu::DataArray {
+            name: "part_id",
+            components: 1,
+            values: vtu::Values::I32(part_point),
+        });
+        let mut cell_data: Vec<vtu::DataArray> = names
+            .iter()
+            .zip(&cell)
+            .map(|(name, v)| vtu::DataArray {
+                name,
+                components: 1,
+                values: vtu::Values::F64(v),
+            })
+            .collect();
+        cell_data.push(vtu::DataArray {
+            name: "part_id",
+            components: 1,
+            values: vtu::Values::I32(part_cell),
+        });
+        vtu::write_vtu(
+            path,
+            &vtu::Grid {
+                points,
+                connectivity,
+                offsets,
+                kinds,
+                point_data: &point_data,
+                cell_data: &cell_data,
+                field_data: &[("TIME", lambda)],
+            },
+        )
+    }
+
+    fn write_pairs_vtu(&self, path: &Path, inc: &IncrementResult, rows: &[PairRow]) -> Result<()> {
+        let points: Vec<[f64; 2]> = rows.iter().map(|r| [r.x, r.y]).collect();
+        let connectivity: Vec<usize> = (0..rows.len()).collect();
+        let offsets: Vec<usize> = (1..=rows.len()).collect();
+        let kinds: Vec<vtu::CellKind> = rows.iter().map(|_| vtu::CellKind::Vertex).collect();
+        let bonded: Vec<i32> = rows.iter().map(|r| (r.state == "bonded") as i32).collect();
+        let settled: Vec<i32> = rows.iter().map(|r| r.settled as i32).collect();
+        let col = |f: fn(&PairRow) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
+        let (gap, slip, fn_, fs) = (
+            col(|r| r.gap_n),
+            col(|r| r.slip_s),
+            col(|r| r.force_n),
+            col(|r| r.force_s),
+        );
+        let mut normal = Vec::with_capacity(2 * rows.len());
+        let mut iface_id = Vec::with_capacity(rows.len());
+        let mut disp = Vec::with_capacity(2 * rows.len());
+        for (i, iface) in self.interfaces.iter().enumerate() {
+            for c in &iface.elements {
+                normal.extend_from_slice(&c.normal);
+                iface_id.push(i as i32);
+                let g = self.dofs.node(iface.node_part, c.node);
+                disp.extend_from_slice(&inc.u[2 * g..2 * g + 2]);
+            }
+        }
+        let point_data = [
+            vtu::DataArray {
+                name: "displacement",
+                components: 2,
+                values: vtu::Values::F64(&disp),
+            },
+            vtu::DataArray {
+                name: "bonded",
+                components: 1,
+                values: vtu::Values::I32(&bonded),
+            },
+            vtu::DataArray {
+                name: "settled",
+                components: 1,
+                values: vtu::Values::I32(&settled),
+            },
+            vtu::DataArray {
+                name: "gap_n",
+                components: 1,
+                values: vtu::Values::F64(&gap),
+            },
+            vtu::DataArray {
+                name: "slip_s",
+                components: 1,
+                values: vtu::Values::F64(&slip),
+            },
+            vtu::DataArray {
+                name: "force_n",
+                components: 1,
+                values: vtu::Values::F64(&fn_),
+            },
+            vtu::DataArray {
+                name: "force_s",
+                components: 1,
+                values: vtu::Values::F64(&fs),
+            },
+            vtu::DataArray {
+                name: "normal",
+                components: 2,
+                values: vtu::Values::F64(&normal),
+            },
+            vtu::DataArray {
+                name: "interface_id",
+                components: 1,
+                values: vtu::Values::I32(&iface_id),
+            },
+        ];
+        vtu::write_vtu(
+            path,
+            &vtu::Grid {
+                points: &points,
+                connectivity: &connectivity,
+                offsets: &offsets,
+                kinds: &kinds,
+                point_data: &point_data,
+                cell_data: &[],
+                field_data: &[("TIME", inc.lambda)],
+            },
+        )
+    }
+
+    fn write_pictures(
+        &self,
+        out: &Path,
+        inc: &IncrementResult,
+        stresses: &[PartStress],
+    ) -> Result<()> {
+        let points = self.global_points();
+        let tris = self.plot_triangles();
+        let outline = png::outline_edges(&tris);
+        let syy: Vec<f64> = stresses
+            .iter()
+            .flat_map(|s| s.nodal.iter().map(|v| v[1]))
+            .collect();
+        let rows = self.pair_rows(inc);
+        let markers: Vec<png::PairMarker> = rows
+            .iter()
+            .map(|r| png::PairMarker {
+                at: [r.x, r.y],
+                bonded: r.state == "bonded",
+            })
+            .collect();
+        let units = &self.model.units;
+        let title = format!("{}: σyy", self.model.title);
+        // The two pictures are drawn in parallel.
+        let field = || {
+            png::render_field(
+                &out.join("sigma_yy.png"),
+                &png::PlotMesh {
+                    points: &points,
+                    triangles: &tris,
+                    outline: Some(&outline),
+                },
+                &syy,
+                &markers,
+                &png::PlotLabels {
+                    title: &title,
+                    colorbar: &format!("σyy [{}]", units.stress),
+                    axis_unit: &units.length,
+                },
+            )
+        };
+        let isolines = || {
+            // Deformed shape, magnified so the largest displacement is 5 % of the model size.
+            let magnitude: Vec<f64> = (0..points.len())
+                .map(|g| inc.u[2 * g].hypot(inc.u[2 * g + 1]))
+                .collect();
+            let umax = magnitude.iter().copied().fold(0.0, f64::max);
+            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+            for p in &points {
+                for c in 0..2 {
+                    lo[c] = lo[c].min(p[c]);
+                    hi[c] = hi[c].max(p[c]);
+                }
+            }
+            let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+            let scale = if umax > 0.0 {
+                nice_floor(0.05 * size / umax)
+            } else {
+                0.0
+            };
+            let deformed: Vec<[f64; 2]> = points
+                .iter()
+                .enumerate()
+                .map(|(g, p)| [p[0] + scale * inc.u[2 * g], p[1] + scale * inc.u[2 * g + 1]])
+                .collect();
+            let deformed_markers: Vec<png::PairMarker> = self
+                .interfaces
+                .iter()
+                .flat_map(|iface| {
+                    iface
+                        .elements
+                        .iter()
+                        .map(move |c| self.dofs.node(iface.node_part, c.node))
+                })
+                .zip(&rows)
+                .map(|(g, r)| png::PairMarker {
+                    at: deformed[g],
+                    bonded: r.state == "bonded",
+                })
+                .collect();
+            let title = format!(
+                "{}: total displacement, deformed ×{scale}",
+                self.model.title
+            );
+            png::render_isolines(
+                &out.join("displacement.png"),
+                &png::PlotMesh {
+                    points: &deformed,
+                    triangles: &tris,
+                    outline: Some(&outline),
+                },
+                &magnitude,
+                12,
+                &deformed_markers,
+                &png::PlotLabels {
+                    title: &title,
+                    colorbar: &format!("|u| [{}]", units.length),
+                    axis_unit: &units.length,
+                },
+            )
+        };
+        let (a, b) = rayon::join(field, isolines);
+        a.and(b)
+    }
+}
+
+/// The largest 1, 2 or 5 × 10ⁿ not above `x` (a readable magnification factor).
+fn nice_floor(x: f64) -> f64 {
+    let base = 10f64.powf(x.log10().floor());
+    let m = x / base;
+    base * if m >= 5.0 {
+        5.0
+    } else if m >= 2.0 {
+        2.0
+    } else {
+        1.0
+    }
+}
+
+/// The parts' points and cells as written to every VTU of a run.
+struct PartsGrid {
+    points: Vec<[f64; 2]>,
+    connectivity: Vec<usize>,
+    offsets: Vec<usize>,
+    kinds: Vec<vtu::CellKind>,
+    part_point: Vec<i32>,
+    part_cell: Vec<i32>,
+}

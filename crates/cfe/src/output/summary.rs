@@ -1,0 +1,176 @@
+//! The summary of a run (`summary.json`): what was solved, how, and the main
+//! results of the last converged increment. Plain data; [`crate::analysis`] fills
+//! it, [`crate::output::run`] writes it.
+
+use crate::coupling::Law;
+use crate::domain::Scheme;
+use crate::solve::nonlinear::{Iteration, SolveTimings};
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// Seconds spent in each phase of a run.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Timings {
+    /// Reading the problem and meshing the parts.
+    pub meshing: f64,
+    /// Pair search and DOF numbering.
+    pub pair_search: f64,
+    /// Solving the problem on 4× coarser meshes for the active-set's starting pattern.
+    pub coarse_start: f64,
+    /// Linear-algebra phases of the solution.
+    #[serde(flatten)]
+    pub solve: SolveTimings,
+    /// Stress recovery.
+    pub stress_recovery: f64,
+    /// Writing the per-increment files (VTU, PVD, CSV, JSON).
+    pub output: f64,
+    /// Rendering the PNG pictures.
+    pub pictures: f64,
+    /// Wall time of the whole run.
+    pub total: f64,
+}
+
+/// Summary of one part.
+#[derive(Debug, Clone, Serialize)]
+pub struct PartSummary {
+    /// Part name.
+    pub name: String,
+    /// Number of nodes.
+    pub nodes: usize,
+    /// Number of elements.
+    pub elements: usize,
+    /// Of which linear triangles.
+    pub t3: usize,
+    /// Of which bilinear quadrilaterals.
+    pub q4: usize,
+}
+
+/// A pair kept bonded to settle an active-set cycle.
+#[derive(Debug, Clone, Serialize)]
+pub struct SettledPair {
+    /// Coupling node.
+    pub node: usize,
+    /// Its position.
+    pub x: f64,
+    /// Its position.
+    pub y: f64,
+    /// Normal force on the node part (negative: tension).
+    pub force_n: f64,
+}
+
+/// Summary of one interface at the last converged increment.
+#[derive(Debug, Clone, Serialize)]
+pub struct InterfaceSummary {
+    /// Interface name.
+    pub name: String,
+    /// Host part.
+    pub host: String,
+    /// Node part.
+    pub node_part: String,
+    /// `rigid` or `contact`.
+    pub law: Law,
+    /// Normal penalty.
+    pub c_n: f64,
+    /// Tangential penalty.
+    pub c_s: f64,
+    /// Number of coupling pairs.
+    pub pairs: usize,
+    /// Bonded pairs.
+    pub bonded: usize,
+    /// Open pairs.
+    pub open: usize,
+    /// Pairs kept bonded to settle a cycle, with their forces.
+    pub settled: Vec<SettledPair>,
+    /// Largest penetration (−`[[u_n]]`) among bonded pairs.
+    pub max_penetration: f64,
+    /// Total normal force on the node part.
+    pub total_force_n: f64,
+    /// Largest distance of a coupling node from its host edge.
+    pub max_projection_distance: f64,
+    /// Positions of the first and the last bonded pair along the interface (the
+    /// ends of the contact zone); `null` when no pair is bonded.
+    pub bonded_extent: Option<[[f64; 2]; 2]>,
+}
+
+/// The maximum displacement magnitude and where it occurs.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct MaxDisplacement {
+    /// |u|.
+    pub value: f64,
+    /// Reference position x.
+    pub x: f64,
+    /// Reference position y.
+    pub y: f64,
+    /// Part name.
+    pub part: String,
+    /// Node of the part.
+    pub node: usize,
+}
+
+/// The total reaction of one support.
+#[derive(Debug, Clone, Serialize)]
+pub struct Reaction {
+    /// Support label.
+    pub support: String,
+    /// Reaction force x.
+    pub fx: f64,
+    /// Reaction force y.
+    pub fy: f64,
+}
+
+/// The JSON summary of a run (`summary.json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// `running`, `completed` or `failed`.
+    pub status: String,
+    /// Error message when failed.
+    pub error: Option<String>,
+    /// Title.
+    pub title: String,
+    /// Problem file.
+    pub problem: PathBuf,
+    /// Refinement factor of the structured meshes.
+    pub refine: usize,
+    /// `active-set` or `implex`.
+    pub scheme: Scheme,
+    /// Number of unknowns (free DOFs).
+    pub unknowns: usize,
+    /// Nonzeros of the lower triangle of K.
+    pub matrix_nonzeros: usize,
+    /// Nonzeros of the Cholesky factor.
+    pub factor_nonzeros: usize,
+    /// Parts.
+    pub parts: Vec<PartSummary>,
+    /// Interfaces at the last converged increment.
+    pub interfaces: Vec<InterfaceSummary>,
+    /// Increments requested.
+    pub increments: usize,
+    /// Increments converged.
+    pub converged_increments: usize,
+    /// Active-set iterations (state checks) per converged increment.
+    pub iterations: Vec<usize>,
+    /// How each iteration was solved, per increment: a factorization, a reuse of the
+    /// current one, a low-rank update, or (method null) the scaled solution of the
+    /// same states at another load factor; and how many pairs changed state.
+    pub iteration_history: Vec<Vec<Iteration>>,
+    /// Numeric factorizations performed.
+    pub factorizations: usize,
+    /// Low-rank updates performed instead of factorizations.
+    pub low_rank_updates: usize,
+    /// Seconds of the first numeric factorization.
+    pub first_factorization_seconds: Option<f64>,
+    /// Largest displacement at the last converged increment.
+    pub max_displacement: MaxDisplacement,
+    /// Reactions per support at the last converged increment.
+    pub reactions: Vec<Reaction>,
+    /// Applied load (sum of nodal forces) at the last converged increment.
+    pub applied: [f64; 2],
+    /// |Σ reactions + Σ loads| / |Σ loads| (0 when no load).
+    pub equilibrium_error: f64,
+    /// Out-of-balance force at free DOFs relative to the largest force.
+    pub residual: f64,
+    /// Peak resident memory of the process (bytes; Linux).
+    pub peak_memory_bytes: Option<u64>,
+    /// Seconds per phase.
+    pub timings: Timings,
+}
