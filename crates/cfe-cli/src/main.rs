@@ -2,7 +2,7 @@
 
 use anyhow::Context;
 use cfe::analysis::Analysis;
-use clap::{Parser, Subcommand};
+use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 
@@ -12,6 +12,24 @@ use std::path::PathBuf;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+}
+
+/// An interface law on the command line.
+#[derive(Clone, Copy, ValueEnum)]
+enum LawArg {
+    /// Tied: always bonded.
+    Rigid,
+    /// Bonded in compression, open in tension.
+    Contact,
+}
+
+impl From<LawArg> for cfe::Law {
+    fn from(l: LawArg) -> cfe::Law {
+        match l {
+            LawArg::Rigid => cfe::Law::Rigid,
+            LawArg::Contact => cfe::Law::Contact,
+        }
+    }
 }
 
 #[derive(Subcommand)]
@@ -26,9 +44,9 @@ enum Command {
         /// Multiply every structured part's cell counts by K.
         #[arg(long, default_value_t = 1, value_name = "K")]
         refine: usize,
-        /// Make every interface follow this law (rigid or contact) instead of the file's.
-        #[arg(long, value_parser = ["rigid", "contact"])]
-        law: Option<String>,
+        /// Make every interface follow this law instead of the file's.
+        #[arg(long, value_enum)]
+        law: Option<LawArg>,
     },
     /// Benchmark: run a problem with the rigid and the contact law at growing
     /// refinement and write benchmarks.md and benchmarks.png.
@@ -127,10 +145,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 PathBuf::from("results").join(stem)
             });
             let mut a = Analysis::from_file(&problem, refine)?;
-            match law.as_deref() {
-                Some("rigid") => a.override_law(cfe::coupling::Law::Rigid),
-                Some("contact") => a.override_law(cfe::coupling::Law::Contact),
-                _ => {}
+            if let Some(law) = law {
+                a.override_law(law.into());
             }
             eprint!("{}", a.describe());
             let bar = ProgressBar::new(a.model.settings.increments as u64);

@@ -6,14 +6,15 @@
 //! [`crate::output::run`].
 
 use crate::assembly::{self, DofMap};
-use crate::coupling::{Interface, PairState, search};
+use crate::coupling::{Interface, PairState, PairStates, search};
 use crate::error::{Error, Result};
 use crate::fem::recovery::{self, PartStress};
 use crate::model::{Model, Scheme};
 use crate::output::memory::peak_memory_bytes;
 use crate::output::report::PairRow;
 pub use crate::output::summary::{
-    InterfaceSummary, MaxDisplacement, PartSummary, Reaction, SettledPair, Summary, Timings,
+    InterfaceSummary, MaxDisplacement, PartSummary, Reaction, RunStatus, SettledPair, Summary,
+    Timings,
 };
 use crate::solve::nonlinear::{IncrementResult, Solver};
 use crate::solve::warm_start;
@@ -29,7 +30,7 @@ pub enum Start {
     /// Every pair bonded.
     AllBonded,
     /// These states (`states[i][k]` for pair k of interface i).
-    States(Vec<Vec<PairState>>),
+    States(PairStates),
 }
 
 /// The results of a solved analysis at its last converged increment, in memory.
@@ -210,7 +211,7 @@ impl Analysis {
     /// problem on meshes 4 × coarser (solved the same way, recursively), mapped to
     /// this model's pairs by position — a start close to the final pattern, so the
     /// iteration needs few, small state changes. `None` when no coarser level exists.
-    pub fn coarse_states(&self) -> Option<Vec<Vec<PairState>>> {
+    pub fn coarse_states(&self) -> Option<PairStates> {
         let m = &self.model;
         let contact = self
             .interfaces
@@ -305,7 +306,7 @@ impl Analysis {
         let t = Instant::now();
         let stresses = self.recover(&last.u);
         summary.timings.stress_recovery = t.elapsed().as_secs_f64();
-        summary.status = "completed".into();
+        summary.status = RunStatus::Completed;
         summary.timings.total =
             start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
         summary.peak_memory_bytes = peak_memory_bytes();
@@ -319,7 +320,7 @@ impl Analysis {
 
     pub(crate) fn empty_summary(&self) -> Summary {
         Summary {
-            status: "running".into(),
+            status: RunStatus::Running,
             error: None,
             title: self.model.title.clone(),
             problem: self.model.source.clone(),
@@ -411,7 +412,7 @@ impl Analysis {
                     x: c.position[0],
                     y: c.position[1],
                     host_element: c.host_element,
-                    state: state.as_str(),
+                    state,
                     gap_n: jump[0],
                     slip_s: jump[1],
                     // Force on the node part is −f; `+ 0.0` turns −0 into 0 for open pairs.
@@ -435,10 +436,7 @@ impl Analysis {
             .map(|iface| {
                 let mine: Vec<&PairRow> =
                     rows.iter().filter(|r| r.interface == iface.name).collect();
-                let bonded = mine
-                    .iter()
-                    .filter(|r| r.state == PairState::Bonded.as_str())
-                    .count();
+                let bonded = mine.iter().filter(|r| r.state == PairState::Bonded).count();
                 InterfaceSummary {
                     name: iface.name.clone(),
                     host: self.model.parts[iface.host].name.clone(),
@@ -461,14 +459,16 @@ impl Analysis {
                         .collect(),
                     max_penetration: mine
                         .iter()
-                        .filter(|r| r.state == "bonded")
+                        .filter(|r| r.state == PairState::Bonded)
                         .map(|r| -r.gap_n)
                         .fold(0.0, f64::max),
                     total_force_n: mine.iter().map(|r| r.force_n).sum(),
                     max_projection_distance: iface.max_projection_distance,
                     bonded_extent: {
-                        let bonded: Vec<&&PairRow> =
-                            mine.iter().filter(|r| r.state == "bonded").collect();
+                        let bonded: Vec<&&PairRow> = mine
+                            .iter()
+                            .filter(|r| r.state == PairState::Bonded)
+                            .collect();
                         match (bonded.first(), bonded.last()) {
                             (Some(a), Some(b)) => Some([[a.x, a.y], [b.x, b.y]]),
                             _ => None,

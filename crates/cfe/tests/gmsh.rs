@@ -330,7 +330,7 @@ fn pairs_by_x(a: &Analysis, inc: &IncrementResult) -> Vec<(f64, bool, f64)> {
     let mut rows: Vec<_> = a
         .pair_rows(inc)
         .into_iter()
-        .map(|r| (r.x, r.state == "bonded", r.force_n))
+        .map(|r| (r.x, r.state == PairState::Bonded, r.force_n))
         .collect();
     rows.sort_by(|a, b| a.0.total_cmp(&b.0));
     rows

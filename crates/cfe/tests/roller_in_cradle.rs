@@ -7,6 +7,7 @@
 mod common;
 
 use cfe::analysis::Analysis;
+use cfe::coupling::PairState;
 use cfe::model::Model;
 use std::path::Path;
 
@@ -70,13 +71,23 @@ fn bonded_on_the_loaded_side_open_on_the_other() {
     let rows = a.pair_rows(last);
     for r in &rows {
         if r.x > 0.0 {
-            assert_eq!(r.state, "bonded", "pair at x = {} on the loaded side", r.x);
+            assert_eq!(
+                r.state,
+                PairState::Bonded,
+                "pair at x = {} on the loaded side",
+                r.x
+            );
         }
         if r.x < -12.0 {
-            assert_eq!(r.state, "open", "pair at x = {} on the far side", r.x);
+            assert_eq!(
+                r.state,
+                PairState::Open,
+                "pair at x = {} on the far side",
+                r.x
+            );
         }
     }
-    let open = rows.iter().filter(|r| r.state == "open").count();
+    let open = rows.iter().filter(|r| r.state == PairState::Open).count();
     assert!((5..=20).contains(&open), "{open} open pairs");
     // Equilibrium: Σ reactions = −Σ loads.
     let reaction = common::total_reaction(&a, last);

@@ -98,7 +98,7 @@ fn coarse_start_reaches_a_law_consistent_pattern() {
         .map(|d| d[0].hypot(d[1]))
         .fold(0.0, f64::max);
     for row in a.pair_rows(&warm) {
-        if row.state == "bonded" {
+        if row.state == PairState::Bonded {
             assert!(-row.gap_n <= 1e-4 * umax);
         } else {
             assert!(row.gap_n > 0.0 && row.force_n == 0.0);

@@ -16,6 +16,7 @@
 //! elastic body loaded by the tractions σ·n of a constant stress field).
 
 use super::{Case, Plot, Table, prepare, sci, solve};
+use cfe::coupling::PairState;
 use cfe::error::Result;
 use cfe::mesh::ElementKind;
 use cfe::output::chart::Series;
@@ -313,10 +314,10 @@ increments = 2
         let d = (fy - expected).abs() / expected;
         worst = worst.max(d);
         fe_pts.push((r.x, d));
-        all_bonded &= r.state == "bonded";
+        all_bonded &= r.state == PairState::Bonded;
         table.rows.push(vec![
             format!("{:.4}", r.x),
-            r.state.into(),
+            r.state.to_string(),
             format!("({:.3}, {:.3})", n[0], n[1]),
             sci(r.force_n),
             sci(fy),

@@ -56,6 +56,7 @@
 
 use super::{Case, Plot, Table, prepare, sci, solve};
 use cfe::analysis::Analysis;
+use cfe::coupling::PairState;
 use cfe::error::Result;
 use cfe::output::chart::Series;
 use cfe::solve::nonlinear::IncrementResult;
@@ -209,7 +210,7 @@ type Forces = Vec<(f64, f64, f64)>;
 /// n = (0, 1), s = (−1, 0); force_n, force_s act on the punch).
 fn pair_forces(a: &Analysis, inc: &IncrementResult) -> (Forces, bool) {
     let rows = a.pair_rows(inc);
-    let all_bonded = rows.iter().all(|r| r.state == "bonded");
+    let all_bonded = rows.iter().all(|r| r.state == PairState::Bonded);
     let mut f: Forces = rows.iter().map(|r| (r.x, r.force_n, r.force_s)).collect();
     f.sort_by(|p, q| p.0.total_cmp(&q.0));
     (f, all_bonded)

@@ -12,6 +12,7 @@
 
 use super::{Case, Plot, Table, displacement_at, sci, solve};
 use cfe::analysis::Analysis;
+use cfe::coupling::PairState;
 use cfe::error::Result;
 use cfe::model::{Model, Scheme};
 use cfe::output::chart::Series;
@@ -72,7 +73,7 @@ pub fn zone_ends(a: &Analysis, inc: &cfe::solve::nonlinear::IncrementResult) -> 
             let mut pairs: Vec<(f64, bool)> = rows
                 .iter()
                 .filter(|r| r.interface == i.name)
-                .map(|r| (r.x, r.state == "bonded"))
+                .map(|r| (r.x, r.state == PairState::Bonded))
                 .collect();
             pairs.sort_by(|p, q| p.0.total_cmp(&q.0));
             let first = pairs.iter().position(|p| p.1);
@@ -213,7 +214,7 @@ pub fn schemes_and_refinement(quick: bool) -> Result<Case> {
                     .filter(|(p, q)| p.state != q.state)
                     .map(|(p, q)| {
                         let describe = |r: &cfe::output::report::PairRow| {
-                            if r.state == "bonded" {
+                            if r.state == PairState::Bonded {
                                 format!("bonded pressing with {}", sci(r.force_n))
                             } else {
                                 format!("open with gap {}", sci(r.gap_n))

@@ -4,6 +4,15 @@
 //! The law is secant: the force follows from the total jump, so a pair that closes
 //! again after sliding while open snaps back tangentially (no slip memory).
 
+impl std::fmt::Display for PairState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// The states of every pair of a model: `states[i][k]` for pair k of interface i.
+pub type PairStates = Vec<Vec<PairState>>;
+
 /// Which law an interface follows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -14,8 +23,9 @@ pub enum Law {
     Contact,
 }
 
-/// The state of one coupling pair.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// The state of one coupling pair (serialized as `bonded` or `open`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum PairState {
     /// D̂ = 0: no penetration and no slip.
     Bonded,

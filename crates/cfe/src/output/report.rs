@@ -1,6 +1,7 @@
 //! Tables and summaries: the interface pairs CSV and the JSON summary of a run.
 
 use super::write_atomic;
+use crate::coupling::PairState;
 use crate::error::Result;
 use serde::Serialize;
 use std::path::Path;
@@ -13,59 +14,69 @@ pub struct PairRow {
     /// Coupling node (index in the node part).
     pub node: usize,
     /// Reference position x of the coupling node.
+    #[serde(serialize_with = "plain")]
     pub x: f64,
     /// Reference position y of the coupling node.
+    #[serde(serialize_with = "plain")]
     pub y: f64,
     /// Host element (index in the host part).
     pub host_element: usize,
     /// `bonded` or `open`.
-    pub state: &'static str,
+    pub state: PairState,
     /// Normal jump `[[u_n]]` (> 0: the faces separate).
+    #[serde(serialize_with = "sci")]
     pub gap_n: f64,
     /// Tangential jump `[[u_s]]`.
+    #[serde(serialize_with = "sci")]
     pub slip_s: f64,
     /// Normal force on the node part (> 0: the faces press together).
+    #[serde(serialize_with = "sci")]
     pub force_n: f64,
     /// Tangential force on the node part along s.
+    #[serde(serialize_with = "sci")]
     pub force_s: f64,
     /// Kept bonded by the active-set scheme to settle a cycle (not a CSV column).
     #[serde(skip)]
     pub settled: bool,
 }
 
-/// The header of `pairs.csv`.
-pub const PAIRS_HEADER: &str = "interface,node,x,y,host_element,state,gap_n,slip_s,force_n,force_s";
+/// The columns of `pairs.csv` (the serialized fields of [`PairRow`]).
+pub const PAIR_COLUMNS: [&str; 10] = [
+    "interface",
+    "node",
+    "x",
+    "y",
+    "host_element",
+    "state",
+    "gap_n",
+    "slip_s",
+    "force_n",
+    "force_s",
+];
 
-/// Writes the pairs table (one row per coupling pair).
+/// Writes the pairs table (one row per coupling pair; the header is the field
+/// names of [`PairRow`]).
 pub fn write_pairs_csv(path: &Path, rows: &[PairRow]) -> Result<()> {
     write_atomic(path, |w| {
-        writeln!(w, "{PAIRS_HEADER}")?;
-        for r in rows {
-            writeln!(
-                w,
-                "{},{},{},{},{},{},{:e},{:e},{:e},{:e}",
-                csv_field(&r.interface),
-                r.node,
-                r.x,
-                r.y,
-                r.host_element,
-                r.state,
-                r.gap_n,
-                r.slip_s,
-                r.force_n,
-                r.force_s
-            )?;
+        let mut csv = csv::Writer::from_writer(w);
+        if rows.is_empty() {
+            csv.write_record(PAIR_COLUMNS)?;
         }
-        Ok(())
+        for r in rows {
+            csv.serialize(r).map_err(std::io::Error::other)?;
+        }
+        csv.flush()
     })
 }
 
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
+/// A number as Rust's `Display` writes it (`100`, `0.5`): the positions' format.
+fn plain<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_str(v)
+}
+
+/// A number in scientific notation (`-1.25e-3`): the jumps' and forces' format.
+fn sci<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_str(&format_args!("{v:e}"))
 }
 
 /// Writes any serializable value as pretty JSON.
@@ -74,4 +85,45 @@ pub fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<()> {
         serde_json::to_writer_pretty(&mut *w, value).map_err(std::io::Error::other)?;
         writeln!(w)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The CSV: header from the field names, positions as written, jumps and forces
+    /// in scientific notation, a name with a comma quoted; an empty table keeps
+    /// its header.
+    #[test]
+    fn pairs_csv_format() {
+        let dir = std::env::temp_dir().join(format!("cfe-report-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("pairs.csv");
+        let row = PairRow {
+            interface: "a,b".into(),
+            node: 3,
+            x: 100.0,
+            y: -6.5,
+            host_element: 7,
+            state: PairState::Open,
+            gap_n: 1.25e-3,
+            slip_s: 0.0,
+            force_n: -0.5,
+            force_s: 2.0,
+            settled: false,
+        };
+        write_pairs_csv(&path, &[row]).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            text,
+            format!(
+                "{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0\n",
+                PAIR_COLUMNS.join(",")
+            )
+        );
+        write_pairs_csv(&path, &[]).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(text, format!("{}\n", PAIR_COLUMNS.join(",")));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -4,9 +4,10 @@
 
 use super::memory::peak_memory_bytes;
 use super::report::{self, PairRow};
-use super::summary::Summary;
+use super::summary::{RunStatus, Summary};
 use super::{png, vtu};
 use crate::analysis::Analysis;
+use crate::coupling::PairState;
 use crate::error::{Error, Result};
 use crate::fem::recovery::PartStress;
 use crate::mesh::Element;
@@ -43,7 +44,7 @@ impl Analysis {
             let mut solver = match this.solver() {
                 Ok(s) => s,
                 Err(e) => {
-                    summary.status = "failed".into();
+                    summary.status = RunStatus::Failed;
                     summary.error = Some(e.to_string());
                     report::write_json(&out.join("summary.json"), &summary)?;
                     return Err(e);
@@ -115,7 +116,7 @@ impl Analysis {
         let inc = match result {
             Ok(inc) => inc,
             Err(e) => {
-                summary.status = "failed".into();
+                summary.status = RunStatus::Failed;
                 summary.error = Some(e.to_string());
                 summary.timings.total =
                     start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
@@ -131,7 +132,7 @@ impl Analysis {
         };
         self.write_pictures(out, &inc, &stresses)?;
         summary.timings.pictures = t.elapsed().as_secs_f64();
-        summary.status = "completed".into();
+        summary.status = RunStatus::Completed;
         summary.timings.meshing = self.timings.meshing;
         summary.timings.pair_search = self.timings.pair_search;
         summary.timings.stress_recovery = recovery_time;
@@ -280,7 +281,10 @@ impl Analysis {
         let connectivity: Vec<usize> = (0..rows.len()).collect();
         let offsets: Vec<usize> = (1..=rows.len()).collect();
         let kinds: Vec<vtu::CellKind> = rows.iter().map(|_| vtu::CellKind::Vertex).collect();
-        let bonded: Vec<i32> = rows.iter().map(|r| (r.state == "bonded") as i32).collect();
+        let bonded: Vec<i32> = rows
+            .iter()
+            .map(|r| (r.state == PairState::Bonded) as i32)
+            .collect();
         let settled: Vec<i32> = rows.iter().map(|r| r.settled as i32).collect();
         let col = |f: fn(&PairRow) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
         let (gap, slip, fn_, fs) = (
@@ -379,7 +383,7 @@ impl Analysis {
             .iter()
             .map(|r| png::PairMarker {
                 at: [r.x, r.y],
-                bonded: r.state == "bonded",
+                bonded: r.state == PairState::Bonded,
             })
             .collect();
         let units = &self.model.units;
@@ -438,7 +442,7 @@ impl Analysis {
                 .zip(&rows)
                 .map(|(g, r)| png::PairMarker {
                     at: deformed[g],
-                    bonded: r.state == "bonded",
+                    bonded: r.state == PairState::Bonded,
                 })
                 .collect();
             let title = format!(

@@ -8,6 +8,18 @@ use crate::solve::nonlinear::{Iteration, SolveTimings};
 use serde::Serialize;
 use std::path::PathBuf;
 
+/// Where a run stands (serialized as `running`, `completed`, `failed`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunStatus {
+    /// Increments are being solved.
+    Running,
+    /// Every increment converged.
+    Completed,
+    /// The run stopped with an error (converged increments are kept).
+    Failed,
+}
+
 /// Seconds spent in each phase of a run.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct Timings {
@@ -122,7 +134,7 @@ pub struct Reaction {
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
     /// `running`, `completed` or `failed`.
-    pub status: String,
+    pub status: RunStatus,
     /// Error message when failed.
     pub error: Option<String>,
     /// Title.

@@ -12,7 +12,7 @@
 
 use super::linear::CholeskySolver;
 use crate::assembly::{DofMap, FIXED, Stiffness};
-use crate::coupling::{Interface, PairState};
+use crate::coupling::{Interface, PairState, PairStates};
 use std::collections::HashMap;
 use std::time::Instant;
 
@@ -56,7 +56,7 @@ pub struct ContactSystem {
     /// The stiffness with its fixed pattern.
     pub k: Stiffness,
     chol: CholeskySolver,
-    base: Option<Vec<Vec<PairState>>>,
+    base: Option<PairStates>,
     /// Correction columns per changed pair (relative to `base`): (column index in `z`).
     cached: HashMap<(usize, usize), usize>,
     columns: Vec<Column>,

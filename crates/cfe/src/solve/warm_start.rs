@@ -8,7 +8,7 @@
 //! it hands over the coarse problem, already prepared.
 
 use super::nonlinear::Solver;
-use crate::coupling::{Interface, PairState};
+use crate::coupling::{Interface, PairState, PairStates};
 use crate::dofs::DofMap;
 use crate::domain::{Part, Settings};
 
@@ -32,9 +32,9 @@ pub struct Problem<'a> {
 /// `None` when the coarse problem does not solve or its interfaces do not match.
 pub fn states_from_coarse(
     coarse: Problem<'_>,
-    coarse_start: Option<Vec<Vec<PairState>>>,
+    coarse_start: Option<PairStates>,
     fine: &[Interface],
-) -> Option<Vec<Vec<PairState>>> {
+) -> Option<PairStates> {
     if coarse.interfaces.len() != fine.len() {
         return None;
     }
@@ -63,7 +63,7 @@ pub fn map_states(
     coarse: &[Interface],
     coarse_states: &[Vec<PairState>],
     fine: &[Interface],
-) -> Vec<Vec<PairState>> {
+) -> PairStates {
     fine.iter()
         .zip(coarse)
         .zip(coarse_states)

@@ -4,6 +4,7 @@
 
 use cfe::analysis::Analysis;
 use cfe::analysis::Start;
+use cfe::coupling::PairState;
 use cfe::model::Model;
 use cfe::solve::nonlinear::IncrementResult;
 use std::path::Path;
@@ -48,7 +49,7 @@ pub fn check_contact_conditions(a: &Analysis, inc: &IncrementResult) {
         .map(|d| d[0].hypot(d[1]))
         .fold(0.0, f64::max);
     for row in a.pair_rows(inc) {
-        if row.state == "bonded" {
+        if row.state == PairState::Bonded {
             assert!(
                 -row.gap_n <= 1e-4 * umax,
                 "bonded pair at x = {} penetrates by {:e}",
