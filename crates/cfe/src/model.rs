@@ -461,337 +461,26 @@ impl Builder<'_> {
         if part_specs.is_empty() {
             return Err(Error::Model("the problem defines no [[part]]".into()));
         }
-        // Parts.
         let mut parts: Vec<Part> = Vec::with_capacity(part_specs.len());
         let mut gmsh_files = HashMap::new();
         for spec in &part_specs {
-            let name = spec.name.get_ref().clone();
-            if parts.iter().any(|p| p.name == name) {
-                return Err(self.err(&spec.name, format!("part '{name}' is defined twice")));
-            }
-            let m = materials.get(spec.material.get_ref()).ok_or_else(|| {
-                self.err(
-                    &spec.material,
-                    format!(
-                        "part '{name}' uses material '{}', which is not in [materials] (defined: {})",
-                        spec.material.get_ref(),
-                        materials.keys().cloned().collect::<Vec<_>>().join(", ")
-                    ),
-                )
-            })?;
-            let material = Material::new(m.young, m.nu, plane, spec.thickness, &name)?;
-            let given = [
-                spec.rectangle.is_some(),
-                spec.annulus.is_some(),
-                spec.gmsh.is_some(),
-            ];
-            if given.iter().filter(|&&g| g).count() > 1 {
-                return Err(self.err(
-                    &spec.name,
-                    format!("part '{name}' has more than one of `rectangle`, `annulus` and `gmsh`: give exactly one"),
-                ));
-            }
-            let mesh = match (&spec.rectangle, &spec.annulus, &spec.gmsh) {
-                (Some(r), _, _) => {
-                    if !(r.x[1] > r.x[0] && r.y[1] > r.y[0]) || r.cells[0] == 0 || r.cells[1] == 0 {
-                        return Err(self.err(
-                            &spec.name,
-                            format!("part '{name}': rectangle needs x0 < x1, y0 < y1 and at least one cell each way (got x = {:?}, y = {:?}, cells = {:?})", r.x, r.y, r.cells),
-                        ));
-                    }
-                    Mesh::rectangle(
-                        r.x,
-                        r.y,
-                        [r.cells[0] * refine, r.cells[1] * refine],
-                        r.elements,
-                    )
-                }
-                (None, Some(a), _) => {
-                    let span = a.theta[1] - a.theta[0];
-                    let ok = a.r[0] > 0.0
-                        && a.r[1] > a.r[0]
-                        && span > 0.0
-                        && span <= 360.0 * (1.0 + 1e-12)
-                        && a.cells[0] > 0
-                        && a.cells[1] > 0
-                        && a.center
-                            .iter()
-                            .chain(&a.r)
-                            .chain(&a.theta)
-                            .all(|v| v.is_finite());
-                    let full = (span - 360.0).abs() <= 1e-12 * 360.0;
-                    if !ok || (full && a.cells[1] < 3) {
-                        return Err(self.err(
-                            &spec.name,
-                            format!("part '{name}': annulus needs 0 < r0 < r1, θ0 < θ1 ≤ θ0 + 360 (degrees) and at least one cell each way, three around a full ring (got r = {:?}, theta = {:?}, cells = {:?})", a.r, a.theta, a.cells),
-                        ));
-                    }
-                    Mesh::annulus(
-                        a.center,
-                        a.r,
-                        a.theta,
-                        [a.cells[0] * refine, a.cells[1] * refine],
-                        a.elements,
-                    )
-                }
-                (None, None, Some(g)) => self.gmsh_mesh(&name, g, refine, &mut gmsh_files)?,
-                (None, None, None) => {
-                    return Err(self.err(
-                        &spec.name,
-                        format!("part '{name}' has no mesh: give `rectangle = {{ x = [x0, x1], y = [y0, y1], cells = [nx, ny] }}`, `annulus = {{ r = [r0, r1], theta = [t0, t1], cells = [nr, nt] }}` or `gmsh = {{ file = \"part.msh\" }}`"),
-                    ));
-                }
-            };
-            mesh.validate(&name)?;
-            parts.push(Part {
-                name,
-                mesh,
-                material,
-            });
+            let part = self.part(spec, &parts, &materials, plane, refine, &mut gmsh_files)?;
+            parts.push(part);
         }
-
-        // Interfaces.
-        let mut interfaces = Vec::with_capacity(iface_specs.len());
         let mut claimed: BTreeMap<(usize, usize), String> = BTreeMap::new();
-        for spec in &iface_specs {
-            let host = self.part_index(&parts, &spec.host, "host")?;
-            let node_part = self.part_index(&parts, &spec.nodes, "nodes")?;
-            let name = spec
-                .name
-                .clone()
-                .unwrap_or_else(|| format!("{}/{}", parts[host].name, parts[node_part].name));
-            if host == node_part {
-                return Err(self.err(
-                    &spec.host,
-                    format!("interface '{name}': host and node part are the same part"),
-                ));
-            }
-            self.boundary(&parts[node_part], &spec.boundary)?;
-            let nodes = parts[node_part]
-                .mesh
-                .boundary_nodes(spec.boundary.get_ref())
-                .unwrap_or_default();
-            for &n in &nodes {
-                if let Some(other) = claimed.insert((node_part, n), name.clone()) {
-                    return Err(self.err(
-                        &spec.boundary,
-                        format!(
-                            "node {n} of part '{}' is claimed by interfaces '{other}' and '{name}'",
-                            parts[node_part].name
-                        ),
-                    ));
-                }
-            }
-            // The tie's compliance 1/c acts in series with the softer part's local
-            // compliance ~ 1/(E·t): its relative error is E·t/c of the softer part.
-            // Scaling by the stiffer part would make c needlessly large (round-off)
-            // when the materials differ by orders of magnitude.
-            let default_c = DEFAULT_PENALTY_FACTOR
-                * parts[host]
-                    .material
-                    .stiffness_scale()
-                    .min(parts[node_part].material.stiffness_scale());
-            let c_n = spec.c_n.unwrap_or(default_c);
-            let c_s = spec.c_s.unwrap_or(c_n);
-            let tolerance = spec.tolerance.unwrap_or(DEFAULT_PAIR_TOLERANCE);
-            for (key, v) in [("c_n", c_n), ("c_s", c_s), ("tolerance", tolerance)] {
-                if !(v.is_finite() && v > 0.0) {
-                    return Err(self.err(
-                        &spec.host,
-                        format!("interface '{name}': `{key}` = {v} must be positive and finite"),
-                    ));
-                }
-            }
-            interfaces.push(InterfaceDef {
-                name,
-                host,
-                node_part,
-                nodes,
-                boundary: spec.boundary.get_ref().clone(),
-                law: spec.law,
-                c_n,
-                c_s,
-                tolerance,
-            });
-        }
-
-        // Supports.
-        let mut supports = Vec::with_capacity(support_specs.len());
-        for spec in &support_specs {
-            let p = self.part_index(&parts, &spec.part, "part")?;
-            let part = &parts[p];
-            let (name, nodes) = match (&spec.boundary, spec.at) {
-                (Some(b), None) => {
-                    self.boundary(part, b)?;
-                    (
-                        format!("{}/{}", part.name, b.get_ref()),
-                        part.mesh.boundary_nodes(b.get_ref()).unwrap_or_default(),
-                    )
-                }
-                (None, Some(at)) => (
-                    format!("{}@({},{})", part.name, at[0], at[1]),
-                    vec![self.node_at(part, at, &spec.part, "support")?],
-                ),
-                _ => {
-                    return Err(self.err(
-                        &spec.part,
-                        "a [[support]] needs exactly one of `boundary` or `at`",
-                    ));
-                }
-            };
-            if spec.fix.is_empty() {
-                return Err(self.err(
-                    &spec.part,
-                    format!(
-                        "support '{name}': `fix` is empty; give [\"x\"], [\"y\"] or [\"x\", \"y\"]"
-                    ),
-                ));
-            }
-            if !spec.value.iter().all(|v| v.is_finite()) {
-                return Err(self.err(
-                    &spec.part,
-                    format!("support '{name}': `value` must be finite"),
-                ));
-            }
-            supports.push(Support {
-                name,
-                part: p,
-                nodes,
-                fix: [
-                    spec.fix.contains(&Component::X),
-                    spec.fix.contains(&Component::Y),
-                ],
-                value: spec.value,
-            });
-        }
-
-        // Loads.
-        let mut loads_out = Vec::with_capacity(load_specs.len());
-        for spec in &load_specs {
-            let p = self.part_index(&parts, &spec.part, "part")?;
-            let part = &parts[p];
-            let edges_of =
-                |edges: &[crate::mesh::BoundaryEdge]| -> Vec<([usize; 2], [[f64; 2]; 2])> {
-                    edges
-                        .iter()
-                        .map(|e| (e.nodes, e.nodes.map(|n| part.mesh.nodes[n])))
-                        .collect()
-                };
-            if !spec
-                .force
-                .iter()
-                .flatten()
-                .chain(&spec.pressure)
-                .all(|v| v.is_finite())
-            {
-                return Err(self.err(&spec.part, "load `force` and `pressure` must be finite"));
-            }
-            if let Some(pressure) = spec.pressure {
-                // A normal traction over a whole boundary.
-                let b = match (&spec.boundary, spec.force, spec.from, spec.to, spec.at) {
-                    (Some(b), None, None, None, None) => b,
-                    _ => {
-                        return Err(self.err(
-                            &spec.part,
-                            "a pressure [[load]] needs `boundary` and `pressure` only (no `force`, `at`, `from` or `to`)",
-                        ));
-                    }
-                };
-                let edges = edges_of(self.boundary(part, b)?);
-                let nodal = loads::pressure_forces(&edges, pressure);
-                let mut resultant = [0.0; 2];
-                for (_, f) in &nodal {
-                    resultant[0] += f[0];
-                    resultant[1] += f[1];
-                }
-                loads_out.push(Load {
-                    name: format!("{}/{} (pressure {pressure})", part.name, b.get_ref()),
-                    part: p,
-                    nodal,
-                    resultant,
-                });
-                continue;
-            }
-            let Some(force) = spec.force else {
-                return Err(self.err(
-                    &spec.part,
-                    "a [[load]] needs `force` (a resultant, with `at`, `boundary` or `from`/`to`) or `pressure` (with `boundary`)",
-                ));
-            };
-            let load = match (&spec.boundary, spec.from, spec.to, spec.at) {
-                (None, None, None, Some(at)) => {
-                    let n = self.node_at(part, at, &spec.part, "point load")?;
-                    Load {
-                        name: format!("{}@({},{})", part.name, at[0], at[1]),
-                        part: p,
-                        nodal: vec![(n, force)],
-                        resultant: force,
-                    }
-                }
-                (Some(b), None, None, None) => {
-                    let edges = edges_of(self.boundary(part, b)?);
-                    Load {
-                        name: format!("{}/{}", part.name, b.get_ref()),
-                        part: p,
-                        nodal: loads::chain_forces(&edges, force),
-                        resultant: force,
-                    }
-                }
-                (b, Some(from), Some(to), None) => {
-                    let seg_len = crate::mesh::dist(from, to);
-                    if seg_len <= 0.0 || seg_len.is_nan() {
-                        return Err(self.err(&spec.part, "load segment has `from` equal to `to`"));
-                    }
-                    let edges = match b {
-                        Some(b) => edges_of(self.boundary(part, b)?),
-                        None => edges_of(&part.mesh.boundary_edges()),
-                    };
-                    let tol = 1e-6 * part.mesh.max_edge_length();
-                    let (nodal, covered) = loads::segment_forces(&edges, from, to, force, tol);
-                    if (covered - seg_len).abs() > 1e-6 * seg_len {
-                        return Err(self.err(
-                            &spec.part,
-                            format!(
-                                "load segment ({}, {})–({}, {}) lies on the boundary of part '{}' over {covered:.6} of its length {seg_len:.6}: the whole segment must lie on the part's boundary",
-                                from[0], from[1], to[0], to[1], part.name
-                            ),
-                        ));
-                    }
-                    Load {
-                        name: format!(
-                            "{}[({},{})-({},{})]",
-                            part.name, from[0], from[1], to[0], to[1]
-                        ),
-                        part: p,
-                        nodal,
-                        resultant: force,
-                    }
-                }
-                _ => {
-                    return Err(self.err(
-                        &spec.part,
-                        "a [[load]] needs `at` (point load), `boundary` (whole boundary), or `from` and `to` (segment, optionally with `boundary`)",
-                    ));
-                }
-            };
-            loads_out.push(load);
-        }
-
-        if analysis.increments == 0 {
-            return Err(Error::Model(
-                "[analysis] increments must be at least 1".into(),
-            ));
-        }
-        if analysis.max_iterations == 0 {
-            return Err(Error::Model(
-                "[analysis] max_iterations must be at least 1".into(),
-            ));
-        }
-        if !(analysis.gap_tolerance.is_finite() && analysis.gap_tolerance >= 0.0) {
-            return Err(Error::Model(
-                "[analysis] gap_tolerance must be finite and non-negative".into(),
-            ));
-        }
+        let interfaces = iface_specs
+            .iter()
+            .map(|spec| self.interface(spec, &parts, &mut claimed))
+            .collect::<Result<Vec<_>>>()?;
+        let supports = support_specs
+            .iter()
+            .map(|spec| self.support(spec, &parts))
+            .collect::<Result<Vec<_>>>()?;
+        let loads_out = load_specs
+            .iter()
+            .map(|spec| self.load(spec, &parts))
+            .collect::<Result<Vec<_>>>()?;
+        check_settings(&analysis)?;
         let title = title.unwrap_or_else(|| {
             self.path
                 .file_stem()
@@ -811,4 +500,359 @@ impl Builder<'_> {
             text: self.text.to_string(),
         })
     }
+
+    /// A part: its material from `[materials]`, its mesh, checked; `parts` are
+    /// the parts defined before it.
+    fn part(
+        &self,
+        spec: &PartSpec,
+        parts: &[Part],
+        materials: &BTreeMap<String, MaterialSpec>,
+        plane: PlaneKind,
+        refine: usize,
+        gmsh_files: &mut HashMap<PathBuf, Rc<GmshMesh>>,
+    ) -> Result<Part> {
+        let name = spec.name.get_ref().clone();
+        if parts.iter().any(|p| p.name == name) {
+            return Err(self.err(&spec.name, format!("part '{name}' is defined twice")));
+        }
+        let m = materials.get(spec.material.get_ref()).ok_or_else(|| {
+            self.err(
+                &spec.material,
+                format!(
+                    "part '{name}' uses material '{}', which is not in [materials] (defined: {})",
+                    spec.material.get_ref(),
+                    materials.keys().cloned().collect::<Vec<_>>().join(", ")
+                ),
+            )
+        })?;
+        let material = Material::new(m.young, m.nu, plane, spec.thickness, &name)?;
+        let given = [
+            spec.rectangle.is_some(),
+            spec.annulus.is_some(),
+            spec.gmsh.is_some(),
+        ];
+        if given.iter().filter(|&&g| g).count() > 1 {
+            return Err(self.err(
+                &spec.name,
+                format!("part '{name}' has more than one of `rectangle`, `annulus` and `gmsh`: give exactly one"),
+            ));
+        }
+        let mesh = self.part_mesh(spec, &name, refine, gmsh_files)?;
+        mesh.validate(&name)?;
+        Ok(Part {
+            name,
+            mesh,
+            material,
+        })
+    }
+
+    /// The mesh of a part from its one mesh key (`rectangle`, `annulus` or `gmsh`),
+    /// refined `refine` times.
+    fn part_mesh(
+        &self,
+        spec: &PartSpec,
+        name: &str,
+        refine: usize,
+        gmsh_files: &mut HashMap<PathBuf, Rc<GmshMesh>>,
+    ) -> Result<Mesh> {
+        Ok(match (&spec.rectangle, &spec.annulus, &spec.gmsh) {
+            (Some(r), _, _) => {
+                if !(r.x[1] > r.x[0] && r.y[1] > r.y[0]) || r.cells[0] == 0 || r.cells[1] == 0 {
+                    return Err(self.err(
+                        &spec.name,
+                        format!("part '{name}': rectangle needs x0 < x1, y0 < y1 and at least one cell each way (got x = {:?}, y = {:?}, cells = {:?})", r.x, r.y, r.cells),
+                    ));
+                }
+                Mesh::rectangle(
+                    r.x,
+                    r.y,
+                    [r.cells[0] * refine, r.cells[1] * refine],
+                    r.elements,
+                )
+            }
+            (None, Some(a), _) => {
+                let span = a.theta[1] - a.theta[0];
+                let ok = a.r[0] > 0.0
+                    && a.r[1] > a.r[0]
+                    && span > 0.0
+                    && span <= 360.0 * (1.0 + 1e-12)
+                    && a.cells[0] > 0
+                    && a.cells[1] > 0
+                    && a.center
+                        .iter()
+                        .chain(&a.r)
+                        .chain(&a.theta)
+                        .all(|v| v.is_finite());
+                let full = (span - 360.0).abs() <= 1e-12 * 360.0;
+                if !ok || (full && a.cells[1] < 3) {
+                    return Err(self.err(
+                        &spec.name,
+                        format!("part '{name}': annulus needs 0 < r0 < r1, θ0 < θ1 ≤ θ0 + 360 (degrees) and at least one cell each way, three around a full ring (got r = {:?}, theta = {:?}, cells = {:?})", a.r, a.theta, a.cells),
+                    ));
+                }
+                Mesh::annulus(
+                    a.center,
+                    a.r,
+                    a.theta,
+                    [a.cells[0] * refine, a.cells[1] * refine],
+                    a.elements,
+                )
+            }
+            (None, None, Some(g)) => self.gmsh_mesh(name, g, refine, gmsh_files)?,
+            (None, None, None) => {
+                return Err(self.err(
+                    &spec.name,
+                    format!("part '{name}' has no mesh: give `rectangle = {{ x = [x0, x1], y = [y0, y1], cells = [nx, ny] }}`, `annulus = {{ r = [r0, r1], theta = [t0, t1], cells = [nr, nt] }}` or `gmsh = {{ file = \"part.msh\" }}`"),
+                ));
+            }
+        })
+    }
+
+    /// An interface: its parts, its coupling nodes (each claimed by one interface
+    /// only, recorded in `claimed`), its penalties and tolerance.
+    fn interface(
+        &self,
+        spec: &InterfaceSpec,
+        parts: &[Part],
+        claimed: &mut BTreeMap<(usize, usize), String>,
+    ) -> Result<InterfaceDef> {
+        let host = self.part_index(parts, &spec.host, "host")?;
+        let node_part = self.part_index(parts, &spec.nodes, "nodes")?;
+        let name = spec
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("{}/{}", parts[host].name, parts[node_part].name));
+        if host == node_part {
+            return Err(self.err(
+                &spec.host,
+                format!("interface '{name}': host and node part are the same part"),
+            ));
+        }
+        self.boundary(&parts[node_part], &spec.boundary)?;
+        let nodes = parts[node_part]
+            .mesh
+            .boundary_nodes(spec.boundary.get_ref())
+            .unwrap_or_default();
+        for &n in &nodes {
+            if let Some(other) = claimed.insert((node_part, n), name.clone()) {
+                return Err(self.err(
+                    &spec.boundary,
+                    format!(
+                        "node {n} of part '{}' is claimed by interfaces '{other}' and '{name}'",
+                        parts[node_part].name
+                    ),
+                ));
+            }
+        }
+        // The tie's compliance 1/c acts in series with the softer part's local
+        // compliance ~ 1/(E·t): its relative error is E·t/c of the softer part.
+        // Scaling by the stiffer part would make c needlessly large (round-off)
+        // when the materials differ by orders of magnitude.
+        let default_c = DEFAULT_PENALTY_FACTOR
+            * parts[host]
+                .material
+                .stiffness_scale()
+                .min(parts[node_part].material.stiffness_scale());
+        let c_n = spec.c_n.unwrap_or(default_c);
+        let c_s = spec.c_s.unwrap_or(c_n);
+        let tolerance = spec.tolerance.unwrap_or(DEFAULT_PAIR_TOLERANCE);
+        for (key, v) in [("c_n", c_n), ("c_s", c_s), ("tolerance", tolerance)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(self.err(
+                    &spec.host,
+                    format!("interface '{name}': `{key}` = {v} must be positive and finite"),
+                ));
+            }
+        }
+        Ok(InterfaceDef {
+            name,
+            host,
+            node_part,
+            nodes,
+            boundary: spec.boundary.get_ref().clone(),
+            law: spec.law,
+            c_n,
+            c_s,
+            tolerance,
+        })
+    }
+
+    /// A Dirichlet condition on a boundary or at a node.
+    fn support(&self, spec: &SupportSpec, parts: &[Part]) -> Result<Support> {
+        let p = self.part_index(parts, &spec.part, "part")?;
+        let part = &parts[p];
+        let (name, nodes) = match (&spec.boundary, spec.at) {
+            (Some(b), None) => {
+                self.boundary(part, b)?;
+                (
+                    format!("{}/{}", part.name, b.get_ref()),
+                    part.mesh.boundary_nodes(b.get_ref()).unwrap_or_default(),
+                )
+            }
+            (None, Some(at)) => (
+                format!("{}@({},{})", part.name, at[0], at[1]),
+                vec![self.node_at(part, at, &spec.part, "support")?],
+            ),
+            _ => {
+                return Err(self.err(
+                    &spec.part,
+                    "a [[support]] needs exactly one of `boundary` or `at`",
+                ));
+            }
+        };
+        if spec.fix.is_empty() {
+            return Err(self.err(
+                &spec.part,
+                format!(
+                    "support '{name}': `fix` is empty; give [\"x\"], [\"y\"] or [\"x\", \"y\"]"
+                ),
+            ));
+        }
+        if !spec.value.iter().all(|v| v.is_finite()) {
+            return Err(self.err(
+                &spec.part,
+                format!("support '{name}': `value` must be finite"),
+            ));
+        }
+        Ok(Support {
+            name,
+            part: p,
+            nodes,
+            fix: [
+                spec.fix.contains(&Component::X),
+                spec.fix.contains(&Component::Y),
+            ],
+            value: spec.value,
+        })
+    }
+
+    /// A load resolved to nodal forces: a pressure over a boundary, or a resultant
+    /// at a node, over a boundary or over a segment of the boundary.
+    fn load(&self, spec: &LoadSpec, parts: &[Part]) -> Result<Load> {
+        let p = self.part_index(parts, &spec.part, "part")?;
+        let part = &parts[p];
+        let edges_of = |edges: &[crate::mesh::BoundaryEdge]| -> Vec<([usize; 2], [[f64; 2]; 2])> {
+            edges
+                .iter()
+                .map(|e| (e.nodes, e.nodes.map(|n| part.mesh.nodes[n])))
+                .collect()
+        };
+        if !spec
+            .force
+            .iter()
+            .flatten()
+            .chain(&spec.pressure)
+            .all(|v| v.is_finite())
+        {
+            return Err(self.err(&spec.part, "load `force` and `pressure` must be finite"));
+        }
+        if let Some(pressure) = spec.pressure {
+            // A normal traction over a whole boundary.
+            let b = match (&spec.boundary, spec.force, spec.from, spec.to, spec.at) {
+                (Some(b), None, None, None, None) => b,
+                _ => {
+                    return Err(self.err(
+                        &spec.part,
+                        "a pressure [[load]] needs `boundary` and `pressure` only (no `force`, `at`, `from` or `to`)",
+                    ));
+                }
+            };
+            let edges = edges_of(self.boundary(part, b)?);
+            let nodal = loads::pressure_forces(&edges, pressure);
+            let mut resultant = [0.0; 2];
+            for (_, f) in &nodal {
+                resultant[0] += f[0];
+                resultant[1] += f[1];
+            }
+            return Ok(Load {
+                name: format!("{}/{} (pressure {pressure})", part.name, b.get_ref()),
+                part: p,
+                nodal,
+                resultant,
+            });
+        }
+        let Some(force) = spec.force else {
+            return Err(self.err(
+                &spec.part,
+                "a [[load]] needs `force` (a resultant, with `at`, `boundary` or `from`/`to`) or `pressure` (with `boundary`)",
+            ));
+        };
+        Ok(match (&spec.boundary, spec.from, spec.to, spec.at) {
+            (None, None, None, Some(at)) => {
+                let n = self.node_at(part, at, &spec.part, "point load")?;
+                Load {
+                    name: format!("{}@({},{})", part.name, at[0], at[1]),
+                    part: p,
+                    nodal: vec![(n, force)],
+                    resultant: force,
+                }
+            }
+            (Some(b), None, None, None) => {
+                let edges = edges_of(self.boundary(part, b)?);
+                Load {
+                    name: format!("{}/{}", part.name, b.get_ref()),
+                    part: p,
+                    nodal: loads::chain_forces(&edges, force),
+                    resultant: force,
+                }
+            }
+            (b, Some(from), Some(to), None) => {
+                let seg_len = crate::mesh::dist(from, to);
+                if seg_len <= 0.0 || seg_len.is_nan() {
+                    return Err(self.err(&spec.part, "load segment has `from` equal to `to`"));
+                }
+                let edges = match b {
+                    Some(b) => edges_of(self.boundary(part, b)?),
+                    None => edges_of(&part.mesh.boundary_edges()),
+                };
+                let tol = 1e-6 * part.mesh.max_edge_length();
+                let (nodal, covered) = loads::segment_forces(&edges, from, to, force, tol);
+                if (covered - seg_len).abs() > 1e-6 * seg_len {
+                    return Err(self.err(
+                        &spec.part,
+                        format!(
+                            "load segment ({}, {})–({}, {}) lies on the boundary of part '{}' over {covered:.6} of its length {seg_len:.6}: the whole segment must lie on the part's boundary",
+                            from[0], from[1], to[0], to[1], part.name
+                        ),
+                    ));
+                }
+                Load {
+                    name: format!(
+                        "{}[({},{})-({},{})]",
+                        part.name, from[0], from[1], to[0], to[1]
+                    ),
+                    part: p,
+                    nodal,
+                    resultant: force,
+                }
+            }
+            _ => {
+                return Err(self.err(
+                    &spec.part,
+                    "a [[load]] needs `at` (point load), `boundary` (whole boundary), or `from` and `to` (segment, optionally with `boundary`)",
+                ));
+            }
+        })
+    }
+}
+
+/// Checks the `[analysis]` settings.
+fn check_settings(settings: &Settings) -> Result<()> {
+    if settings.increments == 0 {
+        return Err(Error::Model(
+            "[analysis] increments must be at least 1".into(),
+        ));
+    }
+    if settings.max_iterations == 0 {
+        return Err(Error::Model(
+            "[analysis] max_iterations must be at least 1".into(),
+        ));
+    }
+    if !(settings.gap_tolerance.is_finite() && settings.gap_tolerance >= 0.0) {
+        return Err(Error::Model(
+            "[analysis] gap_tolerance must be finite and non-negative".into(),
+        ));
+    }
+    Ok(())
 }
