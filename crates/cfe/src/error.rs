@@ -15,21 +15,72 @@ pub enum Error {
         path: PathBuf,
         source: std::io::Error,
     },
-    /// The problem file is not valid TOML or does not match the schema
-    /// (unknown key, missing key, wrong type). The message names the key and line.
+    /// The problem file is not valid TOML, does not match the schema (unknown key,
+    /// missing key, wrong type) or names something that does not exist (a part, a
+    /// boundary, a node). The message names the key and the line.
     #[error("{path}: {message}")]
-    Parse { path: PathBuf, message: String },
-    /// The problem is well-formed TOML but describes an invalid model
-    /// (bad material constants, unknown part names, empty selections, ...).
+    Parse {
+        /// The problem file.
+        path: PathBuf,
+        /// The line at fault (1-based), when known.
+        line: Option<usize>,
+        /// What is wrong, with the line and the key.
+        message: String,
+    },
+    /// The problem is well-formed TOML but describes an invalid model (no part,
+    /// invalid analysis settings, nothing to solve, ...).
     #[error("invalid model: {0}")]
     Model(String),
+    /// Invalid material constants of a part.
+    #[error("invalid model: part '{part}': {message}")]
+    Material {
+        /// The part.
+        part: String,
+        /// The constant at fault: `E`, `nu` or `thickness`.
+        key: &'static str,
+        /// What is wrong.
+        message: String,
+    },
     /// A mesh is unusable (inverted or degenerate elements, bad connectivity).
     #[error("mesh of part '{part}': {message}")]
     Mesh { part: String, message: String },
-    /// Coupling nodes that lie in no host element.
+    /// An interface cannot be built (a host element's inverse map fails, moving
+    /// the coupling nodes spoils the node part's mesh).
     #[error("interface '{interface}': {message}")]
     Coupling { interface: String, message: String },
-    /// The system is singular: a part is left without support, or the mesh has a mechanism.
+    /// Coupling nodes that lie on no host boundary edge within the tolerance.
+    #[error("interface '{interface}': {message}")]
+    OrphanNodes {
+        /// The interface.
+        interface: String,
+        /// The coupling nodes (index in the node part) and their positions.
+        nodes: Vec<(usize, [f64; 2])>,
+        /// The message listing them with their nearest host edges.
+        message: String,
+    },
+    /// Parts left without support: they can move as rigid bodies.
+    #[error("singular system: {message}")]
+    Unsupported {
+        /// The parts that can move.
+        parts: Vec<String>,
+        /// The message naming them with their open pairs.
+        message: String,
+    },
+    /// A pivot of the factorization is not positive: a mechanism or an unsupported part.
+    #[error("singular system: {message}")]
+    NotPositiveDefinite {
+        /// The increment (1-based).
+        increment: usize,
+        /// The part of the DOF at the pivot.
+        part: String,
+        /// The node of that part.
+        node: usize,
+        /// The DOF's component: 0 (x) or 1 (y).
+        component: usize,
+        /// The message naming them.
+        message: String,
+    },
+    /// The system is singular in another way (a non-finite solution, a failed check).
     #[error("singular system: {0}")]
     Singular(String),
     /// The nonlinear iteration did not converge.

@@ -304,6 +304,7 @@ impl Model {
     pub fn from_str(text: &str, path: &Path, refine: usize) -> Result<Model> {
         let file: ProblemFile = toml::from_str(text).map_err(|e| Error::Parse {
             path: path.to_path_buf(),
+            line: e.span().map(|s| line_of(text, s.start)),
             message: e.to_string().trim_end().to_string(),
         })?;
         if refine == 0 {
@@ -333,6 +334,7 @@ impl Builder<'_> {
     fn err<T>(&self, s: &Spanned<T>, msg: impl std::fmt::Display) -> Error {
         Error::Parse {
             path: self.path.to_path_buf(),
+            line: Some(line_of(self.text, s.span().start)),
             message: format!(
                 "line {}: {msg}",
                 self.at(s).rsplit(':').next().unwrap_or("?")
@@ -835,6 +837,11 @@ impl Builder<'_> {
             }
         })
     }
+}
+
+/// The 1-based line of byte offset `at` in `text`.
+fn line_of(text: &str, at: usize) -> usize {
+    text[..at.min(text.len())].matches('\n').count() + 1
 }
 
 /// Checks the `[analysis]` settings.

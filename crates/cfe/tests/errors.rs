@@ -3,6 +3,7 @@
 
 mod common;
 
+use cfe::Error;
 use cfe::analysis::Analysis;
 use cfe::model::Model;
 use std::path::Path;
@@ -42,15 +43,22 @@ to = [114.0, 135.0]
 force = [0.0, -1500.0]
 "#;
 
-fn parse(text: &str) -> Result<Model, String> {
-    Model::from_str(text, Path::new("bad.toml"), 1).map_err(|e| e.to_string())
+fn parse(text: &str) -> Result<Model, Error> {
+    Model::from_str(text, Path::new("bad.toml"), 1)
+}
+
+/// The error of reading `text`, which must be of the kind `kind` says; as text.
+fn parse_err(text: &str, kind: impl Fn(&Error) -> bool) -> String {
+    let e = parse(text).expect_err("an error");
+    assert!(kind(&e), "unexpected kind of error: {e:?}");
+    e.to_string()
 }
 
 /// An unknown key is an error naming the key, the file and the line.
 #[test]
 fn unknown_key_names_key_file_and_line() {
     let text = BASE.replace("nu = 0.31", "nu = 0.31\npoisson = 0.3");
-    let e = parse(&text).unwrap_err();
+    let e = parse_err(&text, |e| matches!(e, Error::Parse { line: Some(5), .. }));
     assert!(
         e.contains("bad.toml") && e.contains("poisson") && e.contains("line 5"),
         "{e}"
@@ -60,30 +68,40 @@ fn unknown_key_names_key_file_and_line() {
 /// A missing key is an error naming it.
 #[test]
 fn missing_key_is_named() {
-    let e = parse(&BASE.replace("nu = 0.31\n", "")).unwrap_err();
+    let e = parse_err(&BASE.replace("nu = 0.31\n", ""), |e| {
+        matches!(e, Error::Parse { .. })
+    });
     assert!(e.contains("nu"), "{e}");
 }
 
 /// References to undefined parts or boundaries name the line and the alternatives.
 #[test]
 fn undefined_part_and_boundary() {
-    let e = parse(&BASE.replace("nodes = \"plate\"", "nodes = \"plat\"")).unwrap_err();
+    let e = parse_err(
+        &BASE.replace("nodes = \"plate\"", "nodes = \"plat\""),
+        |e| matches!(e, Error::Parse { line: Some(18), .. }),
+    );
     assert!(
         e.contains("'plat'") && e.contains("line 18") && e.contains("base, plate"),
         "{e}"
     );
-    let e = parse(&BASE.replace(
-        "boundary = \"bottom\"\n\n[[support]]",
-        "boundary = \"botom\"\n\n[[support]]",
-    ))
-    .unwrap_err();
+    let e = parse_err(
+        &BASE.replace(
+            "boundary = \"bottom\"\n\n[[support]]",
+            "boundary = \"botom\"\n\n[[support]]",
+        ),
+        |e| matches!(e, Error::Parse { line: Some(_), .. }),
+    );
     assert!(e.contains("botom") && e.contains("left, right, top"), "{e}");
 }
 
 /// Invalid material constants are errors naming the part.
 #[test]
 fn invalid_material() {
-    let e = parse(&BASE.replace("nu = 0.31", "nu = 0.7")).unwrap_err();
+    let e = parse_err(
+        &BASE.replace("nu = 0.31", "nu = 0.7"),
+        |e| matches!(e, Error::Material { part, key: "nu", .. } if part == "base"),
+    );
     assert!(e.contains("Poisson") && e.contains("base"), "{e}");
 }
 
@@ -95,11 +113,11 @@ fn selections_that_match_nothing() {
         "{BASE}{}",
         LOAD_DOWN.replace("[114.0, 135.0]", "[114.0, 130.0]")
     );
-    let e = parse(&text).unwrap_err();
+    let e = parse_err(&text, |e| matches!(e, Error::Parse { .. }));
     assert!(e.contains("must lie on the part's boundary"), "{e}");
     let text =
         format!("{BASE}[[load]]\npart = \"plate\"\nat = [31.0, 135.0]\nforce = [0.0, 1.0]\n");
-    let e = parse(&text).unwrap_err();
+    let e = parse_err(&text, |e| matches!(e, Error::Parse { .. }));
     assert!(e.contains("matches no node"), "{e}");
 }
 
@@ -112,7 +130,18 @@ fn coupling_nodes_outside_the_host() {
             .replace("114.0", "234.0")
             .as_str();
     let model = parse(&text).unwrap();
-    let e = Analysis::new(model).err().expect("orphans").to_string();
+    let e = Analysis::new(model).err().expect("orphans");
+    let Error::OrphanNodes {
+        interface, nodes, ..
+    } = &e
+    else {
+        panic!("unexpected kind of error: {e:?}");
+    };
+    assert_eq!(interface, "base/plate");
+    for at in [[210.0, 120.0], [290.0, 120.0]] {
+        assert!(nodes.iter().any(|(_, x)| *x == at), "{nodes:?}");
+    }
+    let e = e.to_string();
     assert!(
         e.contains("lie on no host boundary edge within the tolerance")
             && e.contains("(210, 120)")
@@ -131,7 +160,12 @@ fn unsupported_part_fails_cleanly_and_keeps_results() {
     let text = format!("{BASE}{pull}[analysis]\nscheme = \"implex\"\nincrements = 3\n");
     let mut a = Analysis::new(parse(&text).unwrap()).unwrap();
     let out = std::env::temp_dir().join(format!("cfe-test-unsupported-{}", std::process::id()));
-    let e = a.run(&out, &mut |_| {}).expect_err("must fail").to_string();
+    let e = a.run(&out, &mut |_| {}).expect_err("must fail");
+    assert!(
+        matches!(&e, Error::Unsupported { parts, .. } if parts == &["plate"]),
+        "{e:?}"
+    );
+    let e = e.to_string();
     assert!(
         e.contains("'plate'")
             && e.contains("without support")
@@ -152,7 +186,12 @@ fn unsupported_part_fails_cleanly_and_keeps_results() {
 fn unsupported_part_active_set() {
     let text = format!("{BASE}{}", LOAD_DOWN.replace("-1500.0", "1500.0"));
     let a = Analysis::new(parse(&text).unwrap()).unwrap();
-    let e = a.solve().err().unwrap().to_string();
+    let e = a.solve().err().unwrap();
+    assert!(
+        matches!(&e, Error::Unsupported { parts, .. } if parts == &["plate"]),
+        "{e:?}"
+    );
+    let e = e.to_string();
     assert!(
         e.contains("'plate'") && e.contains("without support"),
         "{e}"
@@ -167,7 +206,12 @@ fn no_support_at_all() {
         "",
     ) + LOAD_DOWN;
     let a = Analysis::new(parse(&text).unwrap()).unwrap();
-    let e = a.solve().err().unwrap().to_string();
+    let e = a.solve().err().unwrap();
+    assert!(
+        matches!(&e, Error::Unsupported { parts, .. } if parts == &["base", "plate"]),
+        "{e:?}"
+    );
+    let e = e.to_string();
     assert!(e.contains("'base'") && e.contains("'plate'"), "{e}");
 }
 
@@ -183,7 +227,12 @@ fn moving_coupling_nodes_must_not_spoil_the_node_part() {
         "rectangle = { x = [30.0, 170.0], y = [119.6, 120.0], cells = [28, 1] }",
     );
     let model = parse(&text).unwrap();
-    let e = Analysis::new(model).err().expect("collapsed").to_string();
+    let e = Analysis::new(model).err().expect("collapsed");
+    assert!(
+        matches!(&e, Error::Coupling { interface, .. } if interface == "base/plate"),
+        "{e:?}"
+    );
+    let e = e.to_string();
     assert!(
         e.contains("interface 'base/plate'")
             && e.contains("by up to 4.0000")
@@ -200,7 +249,7 @@ fn annulus_and_pressure_misuse() {
         "rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [20, 12] }",
         "annulus = { r = [20.0, 10.0], cells = [2, 8] }",
     );
-    let e = parse(&ring).unwrap_err();
+    let e = parse_err(&ring, |e| matches!(e, Error::Parse { line: Some(_), .. }));
     assert!(
         e.contains("part 'base': annulus needs 0 < r0 < r1") && e.contains("r = [20.0, 10.0]"),
         "{e}"
@@ -208,13 +257,15 @@ fn annulus_and_pressure_misuse() {
     let both = format!(
         "{BASE}[[load]]\npart = \"plate\"\nboundary = \"top\"\npressure = 1.0\nforce = [0.0, 1.0]\n"
     );
-    let e = parse(&both).unwrap_err();
+    let e = parse_err(&both, |e| matches!(e, Error::Parse { line: Some(_), .. }));
     assert!(
         e.contains("a pressure [[load]] needs `boundary` and `pressure` only"),
         "{e}"
     );
     let neither = format!("{BASE}[[load]]\npart = \"plate\"\nboundary = \"top\"\n");
-    let e = parse(&neither).unwrap_err();
+    let e = parse_err(&neither, |e| {
+        matches!(e, Error::Parse { line: Some(_), .. })
+    });
     assert!(
         e.contains("needs `force`") && e.contains("or `pressure`"),
         "{e}"

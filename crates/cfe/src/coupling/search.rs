@@ -150,8 +150,9 @@ pub fn find_pairs(
                 None => format!("node {n} at ({}, {})", p[0], p[1]),
             })
             .collect();
-        return Err(Error::Coupling {
+        return Err(Error::OrphanNodes {
             interface: interface.to_string(),
+            nodes: orphans.iter().map(|(n, p, _)| (*n, *p)).collect(),
             message: format!(
                 "{} coupling node(s) lie on no host boundary edge within the tolerance {} × edge length: {}{} — check that the interface's boundary faces the host, or raise `tolerance` if the faces are meshed apart (curved faces: about (edge length)² / (8 × radius))",
                 orphans.len(),

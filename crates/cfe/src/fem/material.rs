@@ -36,21 +36,30 @@ impl Material {
         thickness: f64,
         owner: &str,
     ) -> Result<Self> {
-        let bad = |what: String| Err(Error::Model(format!("part '{owner}': {what}")));
+        let bad = |key: &'static str, message: String| {
+            Err(Error::Material {
+                part: owner.to_string(),
+                key,
+                message,
+            })
+        };
         if !(young.is_finite() && young > 0.0) {
-            return bad(format!(
-                "Young's modulus E = {young} must be positive and finite"
-            ));
+            return bad(
+                "E",
+                format!("Young's modulus E = {young} must be positive and finite"),
+            );
         }
         if !(poisson.is_finite() && poisson > -1.0 && poisson < 0.5) {
-            return bad(format!(
-                "Poisson's ratio nu = {poisson} must lie in (-1, 0.5)"
-            ));
+            return bad(
+                "nu",
+                format!("Poisson's ratio nu = {poisson} must lie in (-1, 0.5)"),
+            );
         }
         if !(thickness.is_finite() && thickness > 0.0) {
-            return bad(format!(
-                "thickness = {thickness} must be positive and finite"
-            ));
+            return bad(
+                "thickness",
+                format!("thickness = {thickness} must be positive and finite"),
+            );
         }
         Ok(Material {
             young,

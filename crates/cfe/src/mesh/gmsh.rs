@@ -166,6 +166,7 @@ impl GmshMesh {
     /// Reads and parses the file at `path`.
     pub fn read(path: &Path) -> Result<GmshMesh> {
         let data = std::fs::read(path).map_err(|e| Error::Parse {
+            line: None,
             path: path.to_path_buf(),
             message: format!("cannot read the Gmsh file: {e}"),
         })?;
@@ -559,15 +560,16 @@ impl<'a> Parser<'a> {
     // ------------------------------------------------------------ messages
 
     fn err_at(&self, pos: usize, msg: impl Display) -> Error {
-        let place = if self.binary {
-            format!("byte {pos}")
-        } else {
-            let line = self.data[..pos.min(self.data.len())]
+        let line = (!self.binary).then(|| {
+            self.data[..pos.min(self.data.len())]
                 .iter()
                 .filter(|&&b| b == b'\n')
                 .count()
-                + 1;
-            format!("line {line}")
+                + 1
+        });
+        let place = match line {
+            Some(line) => format!("line {line}"),
+            None => format!("byte {pos}"),
         };
         let section = if self.section.is_empty() {
             String::new()
@@ -575,6 +577,7 @@ impl<'a> Parser<'a> {
             format!(" ({})", self.section)
         };
         Error::Parse {
+            line,
             path: self.path.to_path_buf(),
             message: format!("{place}{section}: {msg}"),
         }
@@ -781,6 +784,7 @@ impl<'a> Parser<'a> {
         ] {
             if !present {
                 return Err(Error::Parse {
+                    line: None,
                     path: self.path.to_path_buf(),
                     message: format!("the file has no {name} section"),
                 });
@@ -1216,6 +1220,7 @@ impl<'a> Parser<'a> {
             dz.is_nan() || dz > tol
         }) {
             return Err(Error::Parse {
+                line: None,
                 path: self.path.to_path_buf(),
                 message: format!(
                     "the mesh is not planar: node {} has z = {} but node {} has z = {}; cfe is 2D and needs a mesh in a plane z = const",

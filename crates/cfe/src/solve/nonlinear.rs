@@ -420,11 +420,17 @@ impl<'a> Solver<'a> {
     fn pivot_error(&self, eq: usize, inc: usize) -> Error {
         let d = self.dofs.eq.iter().position(|&e| e == eq).unwrap_or(0);
         let (p, n) = self.dofs.locate(d / 2);
-        Error::Singular(format!(
-            "increment {inc}: the stiffness matrix is not positive definite (pivot at part '{}', node {n}, {} displacement); check for a mechanism or an unsupported part",
-            self.parts[p].name,
-            if d % 2 == 0 { "x" } else { "y" }
-        ))
+        Error::NotPositiveDefinite {
+            increment: inc,
+            part: self.parts[p].name.clone(),
+            node: n,
+            component: d % 2,
+            message: format!(
+                "increment {inc}: the stiffness matrix is not positive definite (pivot at part '{}', node {n}, {} displacement); check for a mechanism or an unsupported part",
+                self.parts[p].name,
+                if d % 2 == 0 { "x" } else { "y" }
+            ),
+        }
     }
 
     /// Largest out-of-balance force at free DOFs relative to the largest external

@@ -127,9 +127,15 @@ pub fn check(
     if names.is_empty() {
         Ok(())
     } else {
-        Err(Error::Singular(format!(
-            "part(s) {} left without support: they can move as rigid bodies. Add a [[support]], or check that the loads press the parts together",
-            names.join(", ")
-        )))
+        Err(Error::Unsupported {
+            parts: (0..np)
+                .filter(|&p| free[p])
+                .map(|p| parts[p].name.clone())
+                .collect(),
+            message: format!(
+                "part(s) {} left without support: they can move as rigid bodies. Add a [[support]], or check that the loads press the parts together",
+                names.join(", ")
+            ),
+        })
     }
 }
