@@ -4,7 +4,7 @@ use anyhow::Context;
 use cfe::analysis::Analysis;
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Contact between independently meshed parts, by coupling finite elements.
 #[derive(Parser)]
@@ -136,85 +136,95 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             out,
             refine,
             law,
-        } => {
-            let out = out.unwrap_or_else(|| {
-                let stem = problem
-                    .file_stem()
-                    .map(|s| s.to_os_string())
-                    .unwrap_or_else(|| "problem".into());
-                PathBuf::from("results").join(stem)
-            });
-            let mut a = Analysis::from_file(&problem, refine)?;
-            if let Some(law) = law {
-                a.override_law(law.into());
-            }
-            eprint!("{}", a.describe());
-            let bar = ProgressBar::new(a.model.settings.increments as u64);
-            bar.set_style(
-                ProgressStyle::with_template(
-                    "{spinner} increment {pos}/{len} [{bar:30}] {elapsed} {msg}",
-                )
-                .expect("valid template")
-                .progress_chars("=> "),
-            );
-            let summary = a
-                .run(&out, &mut |inc| {
-                    bar.set_message(format!(
-                        "λ = {:.3}, {} iteration(s)",
-                        inc.lambda, inc.iterations
-                    ));
-                    bar.inc(1);
-                })
-                .with_context(|| {
-                    format!("run failed; converged increments are in {}", out.display())
-                });
-            bar.finish_and_clear();
-            let summary = summary?;
-            println!("results in {}", out.display());
-            println!(
-                "  {} unknowns, {} increments, iterations per increment {:?}",
-                summary.unknowns, summary.converged_increments, summary.iterations
-            );
-            for i in &summary.interfaces {
-                println!(
-                    "  interface '{}': {} pairs, {} bonded, {} open{}{}",
-                    i.name,
-                    i.pairs,
-                    i.bonded,
-                    i.open,
-                    if i.settled.is_empty() {
-                        String::new()
-                    } else {
-                        format!(", {} kept bonded to settle a cycle", i.settled.len())
-                    },
-                    if i.max_projection_distance > 0.0 {
-                        format!(
-                            "; coupling nodes moved onto the host edges by up to {:.3e}",
-                            i.max_projection_distance
-                        )
-                    } else {
-                        String::new()
-                    }
-                );
-            }
-            let m = &summary.max_displacement;
-            println!(
-                "  max |u| = {:.6e} at ({}, {}) in part '{}'",
-                m.value,
-                short(m.x),
-                short(m.y),
-                m.part
-            );
-            for r in &summary.reactions {
-                println!("  reaction '{}': ({:.6e}, {:.6e})", r.support, r.fx, r.fy);
-            }
-            println!(
-                "  equilibrium error {:.2e}, total {:.3} s",
-                summary.equilibrium_error, summary.timings.total
-            );
-            Ok(())
-        }
+        } => run_problem(&problem, out, refine, law),
     }
+}
+
+/// `cfe run`: solves the problem with a progress bar, writes the results into
+/// `out` (default `results/<problem stem>`) and prints the main figures.
+fn run_problem(
+    problem: &Path,
+    out: Option<PathBuf>,
+    refine: usize,
+    law: Option<LawArg>,
+) -> anyhow::Result<()> {
+    let out = out.unwrap_or_else(|| {
+        let stem = problem
+            .file_stem()
+            .map(|s| s.to_os_string())
+            .unwrap_or_else(|| "problem".into());
+        PathBuf::from("results").join(stem)
+    });
+    let mut a = Analysis::from_file(problem, refine)?;
+    if let Some(law) = law {
+        a.override_law(law.into());
+    }
+    eprint!("{}", a.describe());
+    let bar = ProgressBar::new(a.model.settings.increments as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} increment {pos}/{len} [{bar:30}] {elapsed} {msg}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    let summary = a
+        .run(&out, &mut |inc| {
+            bar.set_message(format!(
+                "λ = {:.3}, {} iteration(s)",
+                inc.lambda, inc.iterations
+            ));
+            bar.inc(1);
+        })
+        .with_context(|| format!("run failed; converged increments are in {}", out.display()));
+    bar.finish_and_clear();
+    let summary = summary?;
+    print_summary(&out, &summary);
+    Ok(())
+}
+
+/// Prints the main figures of a finished run.
+fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
+    println!("results in {}", out.display());
+    println!(
+        "  {} unknowns, {} increments, iterations per increment {:?}",
+        summary.unknowns, summary.converged_increments, summary.iterations
+    );
+    for i in &summary.interfaces {
+        println!(
+            "  interface '{}': {} pairs, {} bonded, {} open{}{}",
+            i.name,
+            i.pairs,
+            i.bonded,
+            i.open,
+            if i.settled.is_empty() {
+                String::new()
+            } else {
+                format!(", {} kept bonded to settle a cycle", i.settled.len())
+            },
+            if i.max_projection_distance > 0.0 {
+                format!(
+                    "; coupling nodes moved onto the host edges by up to {:.3e}",
+                    i.max_projection_distance
+                )
+            } else {
+                String::new()
+            }
+        );
+    }
+    let m = &summary.max_displacement;
+    println!(
+        "  max |u| = {:.6e} at ({}, {}) in part '{}'",
+        m.value,
+        short(m.x),
+        short(m.y),
+        m.part
+    );
+    for r in &summary.reactions {
+        println!("  reaction '{}': ({:.6e}, {:.6e})", r.support, r.fx, r.fy);
+    }
+    println!(
+        "  equilibrium error {:.2e}, total {:.3} s",
+        summary.equilibrium_error, summary.timings.total
+    );
 }
 
 /// A coordinate rounded to 7 significant digits, printed without trailing zeros

@@ -83,16 +83,14 @@ impl Analysis {
                     scope.spawn(move || this.write_parts_vtu(&path, grid, lambda, &u, &stresses)),
                 );
                 this.write_pairs_vtu(&vtu_dir.join(&pairs_file), inc, &rows)?;
-                pvd.push(vtu::PvdEntry {
-                    time: inc.lambda,
-                    part: 0,
-                    file: format!("vtu/{parts_file}"),
-                });
-                pvd.push(vtu::PvdEntry {
-                    time: inc.lambda,
-                    part: 1,
-                    file: format!("vtu/{pairs_file}"),
-                });
+                for (part, file) in [parts_file, pairs_file].into_iter().enumerate() {
+                    let file = format!("vtu/{file}");
+                    pvd.push(vtu::PvdEntry {
+                        time: inc.lambda,
+                        part,
+                        file,
+                    });
+                }
                 vtu::write_pvd(&out.join("results.pvd"), &pvd)?;
                 report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
                 this.fill_summary(&mut summary, inc, &rows);

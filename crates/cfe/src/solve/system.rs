@@ -169,32 +169,9 @@ impl ContactSystem {
         let t = Instant::now();
         let first = self.columns.len();
         for &(i, k) in &new {
-            let iface = &interfaces[i];
-            let c = &iface.elements[k];
-            // Bonding a pair adds c_k w wᵀ; opening it removes it.
-            let sign = if states[i][k] == PairState::Bonded {
-                1.0
-            } else {
-                -1.0
-            };
-            let g = c.dofs(dofs, iface.host, iface.node_part);
-            let g = g.as_slice();
             self.cached.insert((i, k), self.columns.len());
-            for (ck, w) in c.stiffness_terms(iface.c_n, iface.c_s) {
-                let mut col = Column {
-                    eq: Vec::with_capacity(g.len()),
-                    w: Vec::with_capacity(g.len()),
-                    weight: sign * ck,
-                };
-                for (p, &gp) in g.iter().enumerate() {
-                    let e = dofs.eq[gp];
-                    if e != FIXED {
-                        col.eq.push(e);
-                        col.w.push(w[p]);
-                    }
-                }
-                self.columns.push(col);
-            }
+            let columns = pair_columns(&interfaces[i], k, states[i][k], dofs);
+            self.columns.extend(columns);
         }
         let added = self.columns.len() - first;
         let start = self.z.len();
@@ -274,4 +251,33 @@ impl ContactSystem {
         }
         Ok(Method::Factorization)
     }
+}
+
+/// The two correction columns of pair `k` of `iface` changing to `state`: the
+/// element's rank-2 terms `(c_k, w_k)` restricted to the free equations, with weight
+/// +c_k when the pair bonds (the term is added to K) and −c_k when it opens.
+fn pair_columns(iface: &Interface, k: usize, state: PairState, dofs: &DofMap) -> [Column; 2] {
+    let c = &iface.elements[k];
+    let sign = if state == PairState::Bonded {
+        1.0
+    } else {
+        -1.0
+    };
+    let g = c.dofs(dofs, iface.host, iface.node_part);
+    let g = g.as_slice();
+    c.stiffness_terms(iface.c_n, iface.c_s).map(|(ck, w)| {
+        let mut col = Column {
+            eq: Vec::with_capacity(g.len()),
+            w: Vec::with_capacity(g.len()),
+            weight: sign * ck,
+        };
+        for (p, &gp) in g.iter().enumerate() {
+            let e = dofs.eq[gp];
+            if e != FIXED {
+                col.eq.push(e);
+                col.w.push(w[p]);
+            }
+        }
+        col
+    })
 }
