@@ -11,7 +11,7 @@ use crate::mesh::Element;
 use crate::model::{Model, Scheme};
 use crate::output::report::{self, PairRow};
 use crate::output::{png, vtu};
-use crate::solve::nonlinear::{IncrementResult, SolveTimings, Solver};
+use crate::solve::nonlinear::{IncrementResult, RESIDUAL_WARN, SolveTimings, Solver};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -65,7 +65,7 @@ pub struct PartSummary {
     pub q4: usize,
 }
 
-/// A pair kept bonded to settle an active-set cycle.
+/// A pair whose state was fixed against the law to settle an active-set cycle.
 #[derive(Debug, Clone, Serialize)]
 pub struct SettledPair {
     /// Coupling node.
@@ -74,8 +74,36 @@ pub struct SettledPair {
     pub x: f64,
     /// Its position.
     pub y: f64,
+    /// `bonded` or `open`.
+    pub state: &'static str,
     /// Normal force on the node part (negative: tension).
     pub force_n: f64,
+}
+
+/// A pair that breaks its law at a converged increment.
+#[derive(Debug, Clone, Serialize)]
+pub struct ViolationRecord {
+    /// Increment (1-based).
+    pub increment: usize,
+    /// Interface name.
+    pub interface: String,
+    /// Coupling node (index in the node part).
+    pub node: usize,
+    /// Its position.
+    pub x: f64,
+    /// Its position.
+    pub y: f64,
+    /// `tension` (a bonded pair pulls) or `penetration` (an open pair interpenetrates).
+    pub kind: crate::coupling::ViolationKind,
+    /// The tensile force, or the penetration depth.
+    pub amount: f64,
+    /// The amount as a force (`c_n` × depth for a penetration).
+    pub force: f64,
+    /// The force relative to the increment's load scale.
+    pub relative: f64,
+    /// Kept against the law to settle a cycle (active-set), rather than a lagged
+    /// state (`implex`).
+    pub settled: bool,
 }
 
 /// Summary of one interface at the last converged increment.
@@ -99,17 +127,44 @@ pub struct InterfaceSummary {
     pub bonded: usize,
     /// Open pairs.
     pub open: usize,
-    /// Pairs kept bonded to settle a cycle, with their forces.
+    /// Pairs whose state was fixed against the law to settle a cycle, with their forces.
     pub settled: Vec<SettledPair>,
-    /// Largest penetration (−`[[u_n]]`) among bonded pairs.
+    /// Pairs that break the law at the last converged increment.
+    pub violations: usize,
+    /// Largest penetration (−`[[u_n]]`) among all pairs, bonded or open.
     pub max_penetration: f64,
     /// Total normal force on the node part.
     pub total_force_n: f64,
     /// Largest distance of a coupling node from its host edge.
     pub max_projection_distance: f64,
-    /// Positions of the first and the last bonded pair along the interface (the
-    /// ends of the contact zone); `null` when no pair is bonded.
+    /// Positions of the bonded pairs with the smallest and the largest x (then y):
+    /// the ends of the contact zone; `null` when no pair is bonded.
     pub bonded_extent: Option<[[f64; 2]; 2]>,
+}
+
+/// A warning about one converged increment.
+#[derive(Debug, Clone, Serialize)]
+pub struct Warning {
+    /// Increment (1-based).
+    pub increment: usize,
+    /// What is wrong, in one sentence.
+    pub message: String,
+}
+
+/// What "the law holds" and "in equilibrium" mean for a run.
+#[derive(Debug, Clone, Serialize)]
+pub struct Tolerances {
+    /// A bonded pair pulling with more than this fraction of the load scale breaks the law.
+    pub tension: f64,
+    /// An open pair penetrating by more than this fraction of its nodes' largest
+    /// displacement breaks the law.
+    pub penetration: f64,
+    /// The run fails when a violation exceeds this fraction of the load scale.
+    pub max_violation: f64,
+    /// Out-of-balance force (relative to the load scale) above which a warning is given.
+    pub residual_warn: f64,
+    /// Out-of-balance force (relative to the load scale) above which the run fails.
+    pub residual_fail: f64,
 }
 
 /// The maximum displacement magnitude and where it occurs.
@@ -141,10 +196,21 @@ pub struct Reaction {
 /// The JSON summary of a run (`summary.json`).
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
-    /// `running`, `completed` or `failed`.
+    /// `running`; `completed` (the law holds on every pair at every increment and
+    /// equilibrium to the stated tolerance); `completed_with_violations` (some pairs
+    /// break the law, each listed in `violations`, or the result is imprecise, see
+    /// `warnings`); or `failed`.
     pub status: String,
     /// Error message when failed.
     pub error: Option<String>,
+    /// Warnings: law violations and loss of precision, per increment.
+    pub warnings: Vec<Warning>,
+    /// Every pair that broke its law, per converged increment.
+    pub violations: Vec<ViolationRecord>,
+    /// The largest violation as a fraction of its increment's load scale (0 when none).
+    pub max_violation: f64,
+    /// The tolerances the law and equilibrium were checked to.
+    pub tolerances: Tolerances,
     /// Title.
     pub title: String,
     /// Problem file.
@@ -187,7 +253,8 @@ pub struct Summary {
     pub applied: [f64; 2],
     /// |Σ reactions + Σ loads| / |Σ loads| (0 when no load).
     pub equilibrium_error: f64,
-    /// Out-of-balance force at free DOFs relative to the largest force.
+    /// Largest out-of-balance force at a free DOF relative to the load scale (the
+    /// larger of Σ‖f‖ over the loaded nodes and the largest support reaction).
     pub residual: f64,
     /// Peak resident memory of the process (bytes; Linux).
     pub peak_memory_bytes: Option<u64>,
@@ -454,7 +521,11 @@ impl Analysis {
         };
         self.write_pictures(out, &inc, &stresses)?;
         summary.timings.pictures = t.elapsed().as_secs_f64();
-        summary.status = "completed".into();
+        summary.status = if summary.warnings.is_empty() {
+            "completed".into()
+        } else {
+            "completed_with_violations".into()
+        };
         summary.timings.meshing = self.timings.meshing;
         summary.timings.pair_search = self.timings.pair_search;
         summary.timings.stress_recovery = recovery_time;
@@ -536,6 +607,16 @@ impl Analysis {
         Summary {
             status: "running".into(),
             error: None,
+            warnings: Vec::new(),
+            violations: Vec::new(),
+            max_violation: 0.0,
+            tolerances: Tolerances {
+                tension: self.model.settings.force_tolerance,
+                penetration: self.model.settings.gap_tolerance,
+                max_violation: self.model.settings.max_violation,
+                residual_warn: RESIDUAL_WARN,
+                residual_fail: self.model.settings.max_residual,
+            },
             title: self.model.title.clone(),
             problem: self.model.source.clone(),
             refine: self.model.refine,
@@ -608,9 +689,12 @@ impl Analysis {
     /// One row per coupling pair: state, jumps and forces on the node part.
     pub fn pair_rows(&self, inc: &IncrementResult) -> Vec<PairRow> {
         let mut rows = Vec::new();
+        let mut violations = inc.violations.iter().peekable();
         for (i, iface) in self.interfaces.iter().enumerate() {
             for (k, c) in iface.elements.iter().enumerate() {
                 let state = inc.states[i][k];
+                // Violations are sorted by interface and pair, like the rows.
+                let violation = violations.next_if(|v| (v.interface, v.pair) == (i, k));
                 let d: Vec<f64> = self
                     .dofs
                     .cfe_dofs(iface, c)
@@ -632,7 +716,9 @@ impl Analysis {
                     // Force on the node part is −f; `+ 0.0` turns −0 into 0 for open pairs.
                     force_n: -f[0] + 0.0,
                     force_s: -f[1] + 0.0,
-                    settled: inc.settled.contains(&(i, k)),
+                    settled: inc.settled.binary_search(&(i, k)).is_ok(),
+                    violation: violation.map(|v| v.kind),
+                    violation_amount: violation.map_or(0.0, |v| v.amount),
                 });
             }
         }
@@ -641,6 +727,7 @@ impl Analysis {
 
     fn fill_summary(&self, s: &mut Summary, inc: &IncrementResult, rows: &[PairRow]) {
         s.converged_increments = inc.index;
+        self.record_violations(s, inc);
         s.iterations.push(inc.iterations);
         s.iteration_history.push(inc.history.clone());
         s.residual = inc.residual;
@@ -671,20 +758,20 @@ impl Analysis {
                             node: r.node,
                             x: r.x,
                             y: r.y,
+                            state: r.state,
                             force_n: r.force_n,
                         })
                         .collect(),
-                    max_penetration: mine
-                        .iter()
-                        .filter(|r| r.state == "bonded")
-                        .map(|r| -r.gap_n)
-                        .fold(0.0, f64::max),
+                    violations: mine.iter().filter(|r| r.violation.is_some()).count(),
+                    max_penetration: mine.iter().map(|r| -r.gap_n).fold(0.0, f64::max),
                     total_force_n: mine.iter().map(|r| r.force_n).sum(),
                     max_projection_distance: iface.max_projection_distance,
                     bonded_extent: {
-                        let bonded: Vec<&&PairRow> =
-                            mine.iter().filter(|r| r.state == "bonded").collect();
-                        match (bonded.first(), bonded.last()) {
+                        let by_x = |a: &&&PairRow, b: &&&PairRow| {
+                            a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y))
+                        };
+                        let bonded = || mine.iter().filter(|r| r.state == "bonded");
+                        match (bonded().min_by(by_x), bonded().max_by(by_x)) {
                             (Some(a), Some(b)) => Some([[a.x, a.y], [b.x, b.y]]),
                             _ => None,
                         }
@@ -734,6 +821,77 @@ impl Analysis {
         } else {
             0.0
         };
+    }
+
+    /// Adds the increment's law violations and precision warning to the summary
+    /// (with `implex`, those of the final increment only).
+    fn record_violations(&self, s: &mut Summary, inc: &IncrementResult) {
+        // implex lags its states by design: only its final increment is judged.
+        let settings = &self.model.settings;
+        if settings.scheme == Scheme::Implex && inc.index < settings.increments {
+            return;
+        }
+        for v in &inc.violations {
+            let iface = &self.interfaces[v.interface];
+            let c = &iface.elements[v.pair];
+            let relative = if inc.load_scale > 0.0 {
+                v.force / inc.load_scale
+            } else {
+                0.0
+            };
+            s.max_violation = s.max_violation.max(relative);
+            s.violations.push(ViolationRecord {
+                increment: inc.index,
+                interface: iface.name.clone(),
+                node: c.node,
+                x: c.position[0],
+                y: c.position[1],
+                kind: v.kind,
+                amount: v.amount,
+                force: v.force,
+                relative,
+                settled: inc.settled.binary_search(&(v.interface, v.pair)).is_ok(),
+            });
+        }
+        if !inc.violations.is_empty() {
+            let worst = inc
+                .violations
+                .iter()
+                .max_by(|a, b| a.force.total_cmp(&b.force))
+                .expect("non-empty");
+            let c = &self.interfaces[worst.interface].elements[worst.pair];
+            let why = if inc.settled.is_empty() {
+                "lagged states of the implex scheme"
+            } else {
+                "no state satisfies the law; settled on the least-violating pattern"
+            };
+            s.warnings.push(Warning {
+                increment: inc.index,
+                message: format!(
+                "{} pair(s) break the contact law ({why}); the worst, node {} at ({}, {}) of interface '{}', {} {:.4e} ({:.2e} of the load scale)",
+                inc.violations.len(),
+                c.node,
+                c.position[0],
+                c.position[1],
+                self.interfaces[worst.interface].name,
+                match worst.kind {
+                    crate::coupling::ViolationKind::Tension => "pulls with",
+                    crate::coupling::ViolationKind::Penetration => "penetrates by",
+                },
+                worst.amount,
+                worst.force / inc.load_scale.max(f64::MIN_POSITIVE)
+            ),
+            });
+        }
+        if inc.residual > RESIDUAL_WARN {
+            s.warnings.push(Warning {
+                increment: inc.index,
+                message: format!(
+                "the out-of-balance force is {:.1e} of the load scale (above {:.0e}): the solution has lost accuracy; a penalty far above E·t (more than about 1e7 × E·t) is the usual cause",
+                inc.residual, RESIDUAL_WARN
+            ),
+            });
+        }
     }
 
     fn global_points(&self) -> Vec<[f64; 2]> {
@@ -874,6 +1032,16 @@ impl Analysis {
         let kinds: Vec<vtu::CellKind> = rows.iter().map(|_| vtu::CellKind::Vertex).collect();
         let bonded: Vec<i32> = rows.iter().map(|r| (r.state == "bonded") as i32).collect();
         let settled: Vec<i32> = rows.iter().map(|r| r.settled as i32).collect();
+        // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates.
+        let violation: Vec<i32> = rows
+            .iter()
+            .map(|r| match r.violation {
+                None => 0,
+                Some(crate::coupling::ViolationKind::Tension) => 1,
+                Some(crate::coupling::ViolationKind::Penetration) => 2,
+            })
+            .collect();
+        let violation_amount: Vec<f64> = rows.iter().map(|r| r.violation_amount).collect();
         let col = |f: fn(&PairRow) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
         let (gap, slip, fn_, fs) = (
             col(|r| r.gap_n),
@@ -907,6 +1075,16 @@ impl Analysis {
                 name: "settled",
                 components: 1,
                 values: vtu::Values::I32(&settled),
+            },
+            vtu::DataArray {
+                name: "violation",
+                components: 1,
+                values: vtu::Values::I32(&violation),
+            },
+            vtu::DataArray {
+                name: "violation_amount",
+                components: 1,
+                values: vtu::Values::F64(&violation_amount),
             },
             vtu::DataArray {
                 name: "gap_n",
@@ -972,10 +1150,17 @@ impl Analysis {
             .map(|r| png::PairMarker {
                 at: [r.x, r.y],
                 bonded: r.state == "bonded",
+                violates: r.violation.is_some(),
             })
             .collect();
         let units = &self.model.units;
-        let title = format!("{}: σyy", self.model.title);
+        let broken = rows.iter().filter(|r| r.violation.is_some()).count();
+        let note = if broken > 0 {
+            format!(" ({broken} pair(s) break the contact law: red squares)")
+        } else {
+            String::new()
+        };
+        let title = format!("{}: σyy{note}", self.model.title);
         // The two pictures are drawn in parallel.
         let field = || {
             png::render_field(
@@ -1031,10 +1216,11 @@ impl Analysis {
                 .map(|(g, r)| png::PairMarker {
                     at: deformed[g],
                     bonded: r.state == "bonded",
+                    violates: r.violation.is_some(),
                 })
                 .collect();
             let title = format!(
-                "{}: total displacement, deformed ×{scale}",
+                "{}: total displacement, deformed ×{scale}{note}",
                 self.model.title
             );
             png::render_isolines(

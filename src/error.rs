@@ -35,6 +35,14 @@ pub enum Error {
     /// The nonlinear iteration did not converge.
     #[error("no convergence: {0}")]
     NoConvergence(String),
+    /// The contact law is broken beyond `[analysis] max_violation` at some pairs
+    /// (no consistent state exists and the least-violating one is still too far off).
+    #[error("contact law violated: {0}")]
+    LawViolation(String),
+    /// The solution lost accuracy: the out-of-balance force is too large a fraction
+    /// of the load (a penalty too large for double precision, or an ill-conditioned model).
+    #[error("loss of precision: {0}")]
+    Precision(String),
     /// Writing a result file failed.
     #[error("cannot write {path}: {message}")]
     Output { path: PathBuf, message: String },

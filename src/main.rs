@@ -165,10 +165,14 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     i.pairs,
                     i.bonded,
                     i.open,
-                    if i.settled.is_empty() {
+                    if i.violations == 0 {
                         String::new()
                     } else {
-                        format!(", {} kept bonded to settle a cycle", i.settled.len())
+                        format!(
+                            ", {} breaking the law ({} settled to end a cycle)",
+                            i.violations,
+                            i.settled.len()
+                        )
                     },
                     if i.max_projection_distance > 0.0 {
                         format!(
@@ -195,6 +199,24 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 "  equilibrium error {:.2e}, total {:.3} s",
                 summary.equilibrium_error, summary.timings.total
             );
+            println!("  status: {}", summary.status);
+            // The last increment's warnings; earlier ones are in summary.json.
+            let last = summary.converged_increments;
+            for w in summary.warnings.iter().filter(|w| w.increment == last) {
+                eprintln!("warning: increment {}: {}", w.increment, w.message);
+            }
+            let earlier: std::collections::BTreeSet<usize> = summary
+                .warnings
+                .iter()
+                .filter(|w| w.increment != last)
+                .map(|w| w.increment)
+                .collect();
+            if !earlier.is_empty() {
+                eprintln!(
+                    "warning: {} earlier increment(s) have warnings too (see summary.json)",
+                    earlier.len()
+                );
+            }
             Ok(())
         }
     }

@@ -107,6 +107,9 @@ struct RectangleSpec {
     /// `t3` (each cell split into two triangles, the default) or `q4`.
     #[serde(default = "default_elements")]
     elements: ElementKind,
+    /// T3 only: `rising` (`/`, the default) or `falling` (`\`) cell diagonals.
+    #[serde(default)]
+    diagonal: crate::mesh::Diagonal,
 }
 
 fn default_elements() -> ElementKind {
@@ -235,9 +238,22 @@ pub struct Settings {
     pub scheme: Scheme,
     /// Iteration limit per increment (active-set).
     pub max_iterations: usize,
-    /// A pair opens when `[[u_n]]` exceeds this fraction of the largest displacement
-    /// magnitude among its four nodes.
+    /// An open pair closes (and, once converged, counts as penetrating) when
+    /// `−[[u_n]]` exceeds this fraction of the largest displacement magnitude among
+    /// its nodes.
     pub gap_tolerance: f64,
+    /// A bonded pair opens (and, once converged, counts as pulling) when its tensile
+    /// force exceeds this fraction of the load scale (the larger of the total
+    /// applied force Σ‖f‖ and the largest support reaction).
+    pub force_tolerance: f64,
+    /// The largest law violation a run may finish with, as a fraction of the load
+    /// scale: a pair settled against the law (in tension, or penetrating, as a
+    /// force `c_n` × depth) beyond it stops the run with an error naming it.
+    pub max_violation: f64,
+    /// The largest out-of-balance force (relative to the load scale) a run accepts:
+    /// above it the solve has lost accuracy (typically a penalty far above E·t) and
+    /// the run stops. Results above 1e-8 are flagged in any case.
+    pub max_residual: f64,
 }
 
 impl Default for Settings {
@@ -247,6 +263,9 @@ impl Default for Settings {
             scheme: Scheme::ActiveSet,
             max_iterations: 50,
             gap_tolerance: 1e-9,
+            force_tolerance: 1e-6,
+            max_violation: 0.05,
+            max_residual: 1e-4,
         }
     }
 }
@@ -563,11 +582,12 @@ impl Builder<'_> {
                             format!("part '{name}': rectangle needs x0 < x1, y0 < y1 and at least one cell each way (got x = {:?}, y = {:?}, cells = {:?})", r.x, r.y, r.cells),
                         ));
                     }
-                    Mesh::rectangle(
+                    Mesh::rectangle_split(
                         r.x,
                         r.y,
                         [r.cells[0] * refine, r.cells[1] * refine],
                         r.elements,
+                        r.diagonal,
                     )
                 }
                 (None, Some(a), _) => {
@@ -854,6 +874,26 @@ impl Builder<'_> {
         if !(analysis.gap_tolerance.is_finite() && analysis.gap_tolerance >= 0.0) {
             return Err(Error::Model(
                 "[analysis] gap_tolerance must be finite and non-negative".into(),
+            ));
+        }
+        if !(analysis.force_tolerance.is_finite()
+            && analysis.force_tolerance >= 0.0
+            && analysis.force_tolerance < 1.0)
+        {
+            return Err(Error::Model(
+                "[analysis] force_tolerance must be a fraction of the load in [0, 1)".into(),
+            ));
+        }
+        if !(analysis.max_violation.is_finite() && analysis.max_violation >= 0.0) {
+            return Err(Error::Model(
+                "[analysis] max_violation must be finite and non-negative (a fraction of the load)"
+                    .into(),
+            ));
+        }
+        if analysis.max_residual.is_nan() || analysis.max_residual <= 0.0 {
+            return Err(Error::Model(
+                "[analysis] max_residual must be positive (a fraction of the load, default 1e-4)"
+                    .into(),
             ));
         }
         let title = title.unwrap_or_else(|| {

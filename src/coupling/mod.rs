@@ -8,7 +8,7 @@ pub mod law;
 pub mod search;
 
 pub use element::CouplingElement;
-pub use law::{Law, PairState};
+pub use law::{Law, LawTolerance, LawViolation, PairState, ViolationKind};
 
 /// An interface between a host part and a node part, with its coupling elements.
 #[derive(Debug, Clone)]

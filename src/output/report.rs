@@ -28,13 +28,16 @@ pub struct PairRow {
     pub force_n: f64,
     /// Tangential force on the node part along s.
     pub force_s: f64,
-    /// Kept bonded by the active-set scheme to settle a cycle (not a CSV column).
-    #[serde(skip)]
+    /// State fixed against the law by the active-set scheme to settle a cycle.
     pub settled: bool,
+    /// How the pair breaks its law (`tension`, `penetration`), or `None`.
+    pub violation: Option<crate::coupling::ViolationKind>,
+    /// The violation's amount: the tensile force, or the penetration depth (0 when none).
+    pub violation_amount: f64,
 }
 
 /// The header of `pairs.csv`.
-pub const PAIRS_HEADER: &str = "interface,node,x,y,host_element,state,gap_n,slip_s,force_n,force_s";
+pub const PAIRS_HEADER: &str = "interface,node,x,y,host_element,state,gap_n,slip_s,force_n,force_s,settled,violation,violation_amount";
 
 /// Writes the pairs table (one row per coupling pair).
 pub fn write_pairs_csv(path: &Path, rows: &[PairRow]) -> Result<()> {
@@ -43,7 +46,7 @@ pub fn write_pairs_csv(path: &Path, rows: &[PairRow]) -> Result<()> {
         for r in rows {
             writeln!(
                 w,
-                "{},{},{},{},{},{},{:e},{:e},{:e},{:e}",
+                "{},{},{},{},{},{},{:e},{:e},{:e},{:e},{},{},{:e}",
                 csv_field(&r.interface),
                 r.node,
                 r.x,
@@ -53,7 +56,10 @@ pub fn write_pairs_csv(path: &Path, rows: &[PairRow]) -> Result<()> {
                 r.gap_n,
                 r.slip_s,
                 r.force_n,
-                r.force_s
+                r.force_s,
+                r.settled,
+                r.violation.map_or("", |v| v.as_str()),
+                r.violation_amount
             )?;
         }
         Ok(())
