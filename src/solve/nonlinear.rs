@@ -28,13 +28,15 @@
 //! Linear solves go through [`ContactSystem`], which refactorizes or corrects the
 //! current factorization by a low-rank update, whichever costs less. A state set
 //! already solved at another load factor is not solved again: with proportional
-//! loads its solution scales with λ exactly — and so does a whole increment that
-//! starts from the pattern the previous one started from.
+//! loads its solution scales with λ exactly. For the same reason an increment that
+//! starts from the pattern the previous one ended on is that increment scaled: the
+//! law is homogeneous in the load, so a consistent pattern stays consistent and a
+//! settled one breaks the law by the same fraction of the load at every level.
 
 use super::linear::CholeskySolver;
 use super::ordering;
 use super::support;
-use super::system::{ContactSystem, Method};
+use super::system::{ContactSystem, Method, UpdatePolicy};
 use crate::assembly::{self, DofMap, FIXED, NodeGraph, Stiffness};
 use crate::coupling::{Interface, Law, LawTolerance, PairState, ViolationKind, element as cfe};
 use crate::error::{Error, Result};
@@ -215,8 +217,8 @@ pub struct Solver<'a> {
     system: ContactSystem,
     last: Option<Solved>,
     initial: Option<Vec<Vec<PairState>>>,
-    /// The pattern the previous active-set increment started from, and its result.
-    previous: Option<(Vec<Vec<PairState>>, IncrementResult)>,
+    /// The previous active-set increment's result.
+    previous: Option<IncrementResult>,
     /// Σ‖f‖ over the loaded nodes at full load.
     total_load: f64,
     /// Phase timings.
@@ -305,6 +307,34 @@ impl<'a> Solver<'a> {
         }
     }
 
+    /// Chooses when a changed pattern is solved by a low-rank update of the current
+    /// factorization rather than a new one (default: by a cost model). The answer
+    /// does not depend on it beyond round-off.
+    pub fn set_update_policy(&mut self, policy: UpdatePolicy) {
+        self.system.policy = policy;
+    }
+
+    /// Solves the pattern `states` once at load factor `lambda` and checks the law on
+    /// every pair, without iterating: the increment a run would end on if this
+    /// pattern were its answer (`settled` empty, `violations` whatever the law says).
+    /// For studies of the pattern space, e.g. whether any pattern near a settled one
+    /// satisfies the law.
+    pub fn solve_pattern(
+        &mut self,
+        lambda: f64,
+        states: &[Vec<PairState>],
+    ) -> Result<IncrementResult> {
+        let t = Instant::now();
+        let (u, f_int, method) = self.solve_states(lambda, states, 1)?;
+        let check = self.check_law(states, &u, &f_int, lambda);
+        let history = vec![Iteration {
+            method,
+            changed: count_changes(&check.next, states),
+            seconds: t.elapsed().as_secs_f64(),
+        }];
+        Ok(self.finish(1, lambda, history, u, f_int, states.to_vec(), check, false))
+    }
+
     /// Runs all increments; `on_increment` receives each converged increment (to
     /// write it out) before the next starts. Returns the last increment. Stops with
     /// [`Error::LawViolation`] after handing over an increment whose largest
@@ -382,17 +412,19 @@ impl<'a> Solver<'a> {
         lambda: f64,
         start: Vec<Vec<PairState>>,
     ) -> Result<IncrementResult> {
-        // Proportional loads: an increment that starts where the previous one started
-        // takes the same path at a scaled load, to the same end.
-        if let Some((s, r)) = &self.previous
-            && *s == start
+        // Proportional loads: the law is homogeneous in the load (forces, jumps and
+        // both tolerances scale with λ), so the pattern the previous increment ended
+        // on satisfies the law — or breaks it by the same fraction — at this load
+        // too: its solution, scaled, is this increment's.
+        if let Some(r) = &self.previous
+            && r.states == start
         {
             return Ok(r.scaled(inc, lambda));
         }
         let mut seen: HashMap<Vec<Vec<PairState>>, usize> = HashMap::new();
         let mut visits: Vec<Visit> = Vec::new();
         let mut history = Vec::new();
-        let mut states = start.clone();
+        let mut states = start;
         let mut cautious = false;
         for _ in 0..self.settings.max_iterations {
             let t = Instant::now();
@@ -410,7 +442,7 @@ impl<'a> Solver<'a> {
                     seconds: t.elapsed().as_secs_f64(),
                 });
                 let r = self.finish(inc, lambda, history, u, f_int, states, check, false);
-                self.previous = Some((start, r.clone()));
+                self.previous = Some(r.clone());
                 return Ok(r);
             }
             let mut next = if cautious {
@@ -430,12 +462,12 @@ impl<'a> Solver<'a> {
                 seconds: t.elapsed().as_secs_f64(),
             });
             if seen.contains_key(&next) {
-                return self.settle(inc, lambda, start, &visits, history);
+                return self.settle(inc, lambda, &visits, history);
             }
             states = next;
         }
         if cautious {
-            return self.settle(inc, lambda, start, &visits, history);
+            return self.settle(inc, lambda, &visits, history);
         }
         let open: usize = states
             .iter()
@@ -455,7 +487,6 @@ impl<'a> Solver<'a> {
         &mut self,
         inc: usize,
         lambda: f64,
-        start: Vec<Vec<PairState>>,
         visits: &[Visit],
         mut history: Vec<Iteration>,
     ) -> Result<IncrementResult> {
@@ -481,7 +512,7 @@ impl<'a> Solver<'a> {
             seconds: t.elapsed().as_secs_f64(),
         });
         let r = self.finish(inc, lambda, history, u, f_int, states, check, true);
-        self.previous = Some((start, r.clone()));
+        self.previous = Some(r.clone());
         Ok(r)
     }
 

@@ -5,6 +5,7 @@
 //! versions also run as tests.
 
 pub mod cantilever;
+pub mod contact;
 pub mod curved;
 pub mod patch;
 pub mod punch;
@@ -119,7 +120,7 @@ pub fn displacement_at(
 pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>> {
     let mut cases = Vec::new();
     type CaseFn = fn(bool) -> Result<Case>;
-    let all: [(&str, CaseFn); 9] = [
+    let all: [(&str, CaseFn); 10] = [
         ("patch tests", patch::constant_stress),
         ("contact patch test", patch::contact_patch),
         ("tied cantilever", cantilever::convergence),
@@ -129,6 +130,7 @@ pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>>
         ("seed examples", seed::schemes_and_refinement),
         ("curved interface", curved::lame_cylinder),
         ("Q4 and mixed meshes", quads::q4_and_mixed),
+        ("contact iteration", contact::contact_iteration),
     ];
     for (name, f) in all {
         progress(name);
