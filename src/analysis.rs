@@ -440,7 +440,9 @@ impl Analysis {
                 }
             };
             let t = Instant::now();
-            if let Some(states) = this.coarse_states() {
+            if this.model.settings.start == crate::model::Start::Coarse
+                && let Some(states) = this.coarse_states()
+            {
                 solver.set_initial_states(states);
             }
             summary.timings.coarse_start = t.elapsed().as_secs_f64();

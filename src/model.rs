@@ -228,6 +228,21 @@ pub enum Scheme {
     Implex,
 }
 
+/// Where the `active-set` iteration of the first increment starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Start {
+    /// Every pair bonded (default): the answer the method defines.
+    #[default]
+    Bonded,
+    /// For a model refined with `--refine K` (K ≥ 4), the final pattern of the same
+    /// problem on 4× coarser meshes: far fewer iterations on large models, and the
+    /// same answer wherever the law has one consistent state; where it has several
+    /// (they exist for the stick law at the edge of a contact zone), it may end on
+    /// another of them.
+    Coarse,
+}
+
 /// Analysis settings (`[analysis]`).
 #[derive(Debug, Clone, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
@@ -238,6 +253,9 @@ pub struct Settings {
     pub scheme: Scheme,
     /// Iteration limit per increment (active-set).
     pub max_iterations: usize,
+    /// Where the active-set iteration starts: all pairs bonded, or the coarser
+    /// model's pattern.
+    pub start: Start,
     /// An open pair closes (and, once converged, counts as penetrating) when
     /// `−[[u_n]]` exceeds this fraction of the largest displacement magnitude among
     /// its nodes.
@@ -261,7 +279,8 @@ impl Default for Settings {
         Settings {
             increments: 10,
             scheme: Scheme::ActiveSet,
-            max_iterations: 50,
+            max_iterations: 200,
+            start: Start::Bonded,
             gap_tolerance: 1e-9,
             force_tolerance: 1e-6,
             max_violation: 0.05,

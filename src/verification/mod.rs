@@ -72,15 +72,15 @@ pub fn prepare(text: &str) -> Result<Analysis> {
     Analysis::new(Model::from_str(text, Path::new("verification.toml"), 1)?)
 }
 
-/// Solves a prepared problem in memory as `cfe run` does (a refined model starts
-/// from its coarser model's pattern); returns every increment.
+/// Solves a prepared problem in memory as `cfe run` does (from the start its
+/// `[analysis] start` names); returns every increment.
 pub fn solve(a: &Analysis) -> Result<Vec<IncrementResult>> {
-    solve_with(a, true)
+    solve_with(a, a.model.settings.start == crate::model::Start::Coarse)
 }
 
 /// Solves a prepared problem in memory, starting the contact iteration from the
-/// coarser model's pattern (`coarse_start`, as `cfe run` does for K ≥ 4) or from
-/// all pairs bonded; returns every increment.
+/// coarser model's pattern (`coarse_start`, for K ≥ 4) or from all pairs bonded;
+/// returns every increment.
 pub fn solve_with(a: &Analysis, coarse_start: bool) -> Result<Vec<IncrementResult>> {
     let f = crate::assembly::external_force(&a.model.loads, &a.dofs);
     let mut solver = Solver::new(&a.model.parts, &a.interfaces, &a.dofs, f, &a.model.settings)?;
