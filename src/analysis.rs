@@ -885,12 +885,12 @@ impl Analysis {
             ),
             });
         }
-        if inc.residual > RESIDUAL_WARN {
+        if inc.residual.max(inc.balance) > RESIDUAL_WARN {
             s.warnings.push(Warning {
                 increment: inc.index,
                 message: format!(
-                "the out-of-balance force is {:.1e} of the load scale (above {:.0e}): the solution has lost accuracy; a penalty far above E·t (more than about 1e7 × E·t) is the usual cause",
-                inc.residual, RESIDUAL_WARN
+                "the out-of-balance force is {:.1e} of the load scale (above {:.0e}; the largest at a free DOF, or the reactions against the applied load): the solution has lost accuracy; a penalty far above E·t (more than about 1e7 × E·t) is the usual cause",
+                inc.residual.max(inc.balance), RESIDUAL_WARN
             ),
             });
         }

@@ -101,6 +101,8 @@ pub struct IncrementResult {
     pub f_ext: Vec<f64>,
     /// Largest out-of-balance force at a free DOF relative to the load scale.
     pub residual: f64,
+    /// The global balance: ‖Σ reactions + Σ loads‖ relative to the load scale.
+    pub balance: f64,
 }
 
 impl IncrementResult {
@@ -139,6 +141,7 @@ impl IncrementResult {
             f_int: scale(&self.f_int),
             f_ext: scale(&self.f_ext),
             residual: self.residual,
+            balance: self.balance,
         }
     }
 }
@@ -590,13 +593,14 @@ impl<'a> Solver<'a> {
     /// Stops the run when the out-of-balance force has grown beyond what round-off
     /// explains: the solve lost its accuracy.
     fn check_precision(&self, r: &IncrementResult) -> Result<()> {
-        if r.residual <= self.settings.max_residual {
+        let worst = r.residual.max(r.balance);
+        if worst <= self.settings.max_residual {
             return Ok(());
         }
         Err(Error::Precision(format!(
-            "increment {}: the out-of-balance force is {:.1e} of the load scale (limit [analysis] max_residual = {:.0e}), so the solution cannot be trusted. {}",
+            "increment {}: the out-of-balance force is {:.1e} of the load scale (the largest at a free DOF, or the reactions against the applied load; limit [analysis] max_residual = {:.0e}), so the solution cannot be trusted. {}",
             r.index,
-            r.residual,
+            worst,
             self.settings.max_residual,
             penalty_advice(self.parts, self.interfaces)
         )))
@@ -768,6 +772,12 @@ impl<'a> Solver<'a> {
     ) -> IncrementResult {
         let f_ext: Vec<f64> = self.f_ext.iter().map(|f| lambda * f).collect();
         let residual = self.residual(lambda, &f_int, check.load_scale);
+        // Σ reactions + Σ loads = Σ over fixed DOFs of (F_int − F_ext) + Σ F_ext.
+        let mut total = [0.0; 2];
+        for (d, &e) in self.dofs.eq.iter().enumerate() {
+            total[d % 2] += if e == FIXED { f_int[d] } else { f_ext[d] };
+        }
+        let balance = total[0].hypot(total[1]) / check.load_scale.max(f64::MIN_POSITIVE);
         let settled = if settled {
             check
                 .violations
@@ -790,6 +800,7 @@ impl<'a> Solver<'a> {
             f_int,
             f_ext,
             residual,
+            balance,
         }
     }
 }
