@@ -195,10 +195,14 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
             i.pairs,
             i.bonded,
             i.open,
-            if i.settled.is_empty() {
+            if i.violations == 0 {
                 String::new()
             } else {
-                format!(", {} kept bonded to settle a cycle", i.settled.len())
+                format!(
+                    ", {} breaking the law ({} settled to end a cycle)",
+                    i.violations,
+                    i.settled.len()
+                )
             },
             if i.max_projection_distance > 0.0 {
                 format!(
@@ -225,6 +229,24 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
         "  equilibrium error {:.2e}, total {:.3} s",
         summary.equilibrium_error, summary.timings.total
     );
+    println!("  status: {}", summary.status);
+    // The last increment's warnings; earlier ones are in summary.json.
+    let last = summary.converged_increments;
+    for w in summary.warnings.iter().filter(|w| w.increment == last) {
+        eprintln!("warning: increment {}: {}", w.increment, w.message);
+    }
+    let earlier: std::collections::BTreeSet<usize> = summary
+        .warnings
+        .iter()
+        .filter(|w| w.increment != last)
+        .map(|w| w.increment)
+        .collect();
+    if !earlier.is_empty() {
+        eprintln!(
+            "warning: {} earlier increment(s) have warnings too (see summary.json)",
+            earlier.len()
+        );
+    }
 }
 
 /// A coordinate rounded to 7 significant digits, printed without trailing zeros

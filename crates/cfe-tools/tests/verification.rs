@@ -2,7 +2,7 @@
 //! meet its independent reference. `cfe verify` runs the full versions and writes
 //! docs/verification.md.
 
-use cfe_tools::verification::{cantilever, curved, patch, punch, quads, seed};
+use cfe_tools::verification::{cantilever, contact, curved, patch, punch, quads, seed};
 
 fn check(case: cfe::error::Result<cfe_tools::verification::Case>) {
     let c = case.expect("case runs");
@@ -65,4 +65,11 @@ fn curved_interface() {
 #[test]
 fn q4_and_mixed() {
     check(quads::q4_and_mixed(true));
+}
+
+/// The contact iteration: every variant ends on a pattern satisfying the law or has
+/// none nearby; warm start and updates change nothing; implex ends where active-set does.
+#[test]
+fn contact_iteration() {
+    check(contact::contact_iteration(true));
 }

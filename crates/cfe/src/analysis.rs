@@ -6,7 +6,8 @@
 //! [`crate::output::run`].
 
 use crate::assembly::{self, DofMap};
-use crate::coupling::{Interface, PairState, PairStates, search};
+use crate::coupling::{Interface, PairState, PairStates, ViolationKind, search};
+use crate::domain::StartPattern;
 use crate::error::{Error, Result};
 use crate::fem::recovery::{self, PartStress};
 use crate::model::{Model, Scheme};
@@ -14,9 +15,9 @@ use crate::output::memory::peak_memory_bytes;
 use crate::output::report::PairRow;
 pub use crate::output::summary::{
     InterfaceSummary, MaxDisplacement, PartSummary, Reaction, RunStatus, SettledPair, Summary,
-    Timings,
+    Timings, Tolerances, ViolationRecord, Warning,
 };
-use crate::solve::nonlinear::{IncrementResult, Solver};
+use crate::solve::nonlinear::{IncrementResult, RESIDUAL_WARN, Solver};
 use crate::solve::warm_start;
 use std::path::Path;
 use std::time::Instant;
@@ -252,14 +253,22 @@ impl Analysis {
         )
     }
 
-    /// Solves every increment in memory, as `cfe run` does (a model refined 4 × or
-    /// more starts its contact iteration from its coarser model's pattern);
-    /// `on_increment` receives each converged increment. Returns the last one.
+    /// Solves every increment in memory, as `cfe run` does (the contact iteration
+    /// starts as `[analysis] start` says); `on_increment` receives each converged
+    /// increment. Returns the last one.
     pub fn solve_with(
         &self,
         on_increment: impl FnMut(&IncrementResult) -> Result<()>,
     ) -> Result<IncrementResult> {
-        self.solve_from(Start::Coarse, on_increment)
+        self.solve_from(self.configured_start(), on_increment)
+    }
+
+    /// The start `[analysis] start` names.
+    pub fn configured_start(&self) -> Start {
+        match self.model.settings.start {
+            StartPattern::Bonded => Start::AllBonded,
+            StartPattern::Coarse => Start::Coarse,
+        }
     }
 
     /// Solves every increment in memory with the contact iteration starting as
@@ -289,7 +298,9 @@ impl Analysis {
         let mut summary = self.empty_summary();
         let t = Instant::now();
         let mut solver = self.solver()?;
-        if let Some(states) = self.coarse_states() {
+        if self.model.settings.start == StartPattern::Coarse
+            && let Some(states) = self.coarse_states()
+        {
             solver.set_initial_states(states);
         }
         summary.timings.coarse_start = t.elapsed().as_secs_f64();
@@ -306,7 +317,7 @@ impl Analysis {
         let t = Instant::now();
         let stresses = self.recover(&last.u);
         summary.timings.stress_recovery = t.elapsed().as_secs_f64();
-        summary.status = RunStatus::Completed;
+        summary.status = summary.final_status();
         summary.timings.total =
             start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
         summary.peak_memory_bytes = peak_memory_bytes();
@@ -322,6 +333,16 @@ impl Analysis {
         Summary {
             status: RunStatus::Running,
             error: None,
+            warnings: Vec::new(),
+            violations: Vec::new(),
+            max_violation: 0.0,
+            tolerances: Tolerances {
+                tension: self.model.settings.force_tolerance,
+                penetration: self.model.settings.gap_tolerance,
+                max_violation: self.model.settings.max_violation,
+                residual_warn: RESIDUAL_WARN,
+                residual_fail: self.model.settings.max_residual,
+            },
             title: self.model.title.clone(),
             problem: self.model.source.clone(),
             refine: self.model.refine,
@@ -398,9 +419,12 @@ impl Analysis {
     /// One row per coupling pair: state, jumps and forces on the node part.
     pub fn pair_rows(&self, inc: &IncrementResult) -> Vec<PairRow> {
         let mut rows = Vec::new();
+        let mut violations = inc.violations.iter().peekable();
         for (i, iface) in self.interfaces.iter().enumerate() {
             for (k, c) in iface.elements.iter().enumerate() {
                 let state = inc.states[i][k];
+                // Violations are sorted by interface and pair, like the rows.
+                let violation = violations.next_if(|v| (v.interface, v.pair) == (i, k));
                 let d = c
                     .dofs(&self.dofs, iface.host, iface.node_part)
                     .gather(&inc.u);
@@ -418,7 +442,9 @@ impl Analysis {
                     // Force on the node part is −f; `+ 0.0` turns −0 into 0 for open pairs.
                     force_n: -f[0] + 0.0,
                     force_s: -f[1] + 0.0,
-                    settled: inc.settled.contains(&(i, k)),
+                    settled: inc.settled.binary_search(&(i, k)).is_ok(),
+                    violation: violation.map(|v| v.kind),
+                    violation_amount: violation.map_or(0.0, |v| v.amount),
                 });
             }
         }
@@ -427,6 +453,7 @@ impl Analysis {
 
     pub(crate) fn fill_summary(&self, s: &mut Summary, inc: &IncrementResult, rows: &[PairRow]) {
         s.converged_increments = inc.index;
+        self.record_violations(s, inc);
         s.iterations.push(inc.iterations);
         s.iteration_history.push(inc.history.clone());
         s.residual = inc.residual;
@@ -454,26 +481,15 @@ impl Analysis {
                             node: r.node,
                             x: r.x,
                             y: r.y,
+                            state: r.state,
                             force_n: r.force_n,
                         })
                         .collect(),
-                    max_penetration: mine
-                        .iter()
-                        .filter(|r| r.state == PairState::Bonded)
-                        .map(|r| -r.gap_n)
-                        .fold(0.0, f64::max),
+                    violations: mine.iter().filter(|r| r.violation.is_some()).count(),
+                    max_penetration: mine.iter().map(|r| -r.gap_n).fold(0.0, f64::max),
                     total_force_n: mine.iter().map(|r| r.force_n).sum(),
                     max_projection_distance: iface.max_projection_distance,
-                    bonded_extent: {
-                        let bonded: Vec<&&PairRow> = mine
-                            .iter()
-                            .filter(|r| r.state == PairState::Bonded)
-                            .collect();
-                        match (bonded.first(), bonded.last()) {
-                            (Some(a), Some(b)) => Some([[a.x, a.y], [b.x, b.y]]),
-                            _ => None,
-                        }
-                    },
+                    bonded_extent: bonded_extent(&mine),
                 }
             })
             .collect();
@@ -519,5 +535,87 @@ impl Analysis {
         } else {
             0.0
         };
+    }
+
+    /// Adds the increment's law violations and precision warning to the summary
+    /// (with `implex`, those of the final increment only: its early increments lag
+    /// by design).
+    fn record_violations(&self, s: &mut Summary, inc: &IncrementResult) {
+        let settings = &self.model.settings;
+        if settings.scheme == Scheme::Implex && inc.index < settings.increments {
+            return;
+        }
+        for v in &inc.violations {
+            let iface = &self.interfaces[v.interface];
+            let c = &iface.elements[v.pair];
+            let relative = if inc.load_scale > 0.0 {
+                v.force / inc.load_scale
+            } else {
+                0.0
+            };
+            s.max_violation = s.max_violation.max(relative);
+            s.violations.push(ViolationRecord {
+                increment: inc.index,
+                interface: iface.name.clone(),
+                node: c.node,
+                x: c.position[0],
+                y: c.position[1],
+                kind: v.kind,
+                amount: v.amount,
+                force: v.force,
+                relative,
+                settled: inc.settled.binary_search(&(v.interface, v.pair)).is_ok(),
+            });
+        }
+        if let Some(worst) = inc
+            .violations
+            .iter()
+            .max_by(|a, b| a.force.total_cmp(&b.force))
+        {
+            let iface = &self.interfaces[worst.interface];
+            let c = &iface.elements[worst.pair];
+            let why = if inc.settled.is_empty() {
+                "lagged states of the implex scheme"
+            } else {
+                "no state satisfies the law; settled on the least-violating pattern"
+            };
+            s.warnings.push(Warning {
+                increment: inc.index,
+                message: format!(
+                    "{} pair(s) break the contact law ({why}); the worst, node {} at ({}, {}) of interface '{}', {} {:.4e} ({:.2e} of the load scale)",
+                    inc.violations.len(),
+                    c.node,
+                    c.position[0],
+                    c.position[1],
+                    iface.name,
+                    match worst.kind {
+                        ViolationKind::Tension => "pulls with",
+                        ViolationKind::Penetration => "penetrates by",
+                    },
+                    worst.amount,
+                    worst.force / inc.load_scale.max(f64::MIN_POSITIVE)
+                ),
+            });
+        }
+        let imbalance = inc.residual.max(inc.balance);
+        if imbalance > RESIDUAL_WARN {
+            s.warnings.push(Warning {
+                increment: inc.index,
+                message: format!(
+                    "the out-of-balance force is {imbalance:.1e} of the load scale (above {RESIDUAL_WARN:.0e}; the largest at a free DOF, or the reactions against the applied load): the solution has lost accuracy; a penalty far above E·t (more than about 1e7 × E·t) is the usual cause"
+                ),
+            });
+        }
+    }
+}
+
+/// The positions of the bonded pairs with the smallest and the largest x (then y):
+/// the ends of the contact zone; `None` when no pair is bonded.
+fn bonded_extent(rows: &[&PairRow]) -> Option<[[f64; 2]; 2]> {
+    let by_x = |a: &&&PairRow, b: &&&PairRow| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y));
+    let bonded = || rows.iter().filter(|r| r.state == PairState::Bonded);
+    match (bonded().min_by(by_x), bonded().max_by(by_x)) {
+        (Some(a), Some(b)) => Some([[a.x, a.y], [b.x, b.y]]),
+        _ => None,
     }
 }

@@ -18,6 +18,21 @@ pub enum Scheme {
     Implex,
 }
 
+/// Where the `active-set` iteration of the first increment starts (`[analysis] start`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StartPattern {
+    /// Every pair bonded (default): the answer the method defines.
+    #[default]
+    Bonded,
+    /// For a model refined with `--refine K` (K ≥ 4), the final pattern of the same
+    /// problem on 4× coarser meshes: far fewer iterations on large models, and the
+    /// same answer wherever the law has one consistent state; where it has several
+    /// (they exist for the stick law at the edge of a contact zone), it may end on
+    /// another of them.
+    Coarse,
+}
+
 /// Analysis settings (`[analysis]`).
 #[derive(Debug, Clone, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
@@ -28,9 +43,25 @@ pub struct Settings {
     pub scheme: Scheme,
     /// Iteration limit per increment (active-set).
     pub max_iterations: usize,
-    /// A pair opens when `[[u_n]]` exceeds this fraction of the largest displacement
-    /// magnitude among its four nodes.
+    /// Where the active-set iteration starts: all pairs bonded, or the coarser
+    /// model's pattern.
+    pub start: StartPattern,
+    /// An open pair closes (and, once converged, counts as penetrating) when
+    /// `−[[u_n]]` exceeds this fraction of the largest displacement magnitude among
+    /// its nodes.
     pub gap_tolerance: f64,
+    /// A bonded pair opens (and, once converged, counts as pulling) when its tensile
+    /// force exceeds this fraction of the load scale (the larger of the total
+    /// applied force Σ‖f‖ and the largest support reaction).
+    pub force_tolerance: f64,
+    /// The largest law violation a run may finish with, as a fraction of the load
+    /// scale: a pair settled against the law (in tension, or penetrating, as a
+    /// force `c_n` × depth) beyond it stops the run with an error naming it.
+    pub max_violation: f64,
+    /// The largest out-of-balance force (relative to the load scale) a run accepts:
+    /// above it the solve has lost accuracy (typically a penalty far above E·t) and
+    /// the run stops. Results above 1e-8 are flagged in any case.
+    pub max_residual: f64,
 }
 
 impl Default for Settings {
@@ -38,8 +69,12 @@ impl Default for Settings {
         Settings {
             increments: 10,
             scheme: Scheme::ActiveSet,
-            max_iterations: 50,
+            max_iterations: 200,
+            start: StartPattern::Bonded,
             gap_tolerance: 1e-9,
+            force_tolerance: 1e-6,
+            max_violation: 0.05,
+            max_residual: 1e-4,
         }
     }
 }

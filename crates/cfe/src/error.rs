@@ -86,6 +86,29 @@ pub enum Error {
     /// The nonlinear iteration did not converge.
     #[error("no convergence: {0}")]
     NoConvergence(String),
+    /// The contact law is broken beyond `[analysis] max_violation` at some pairs:
+    /// no consistent state exists and the least-violating one is still too far off.
+    #[error("contact law violated: {message}")]
+    LawViolation {
+        /// The increment (1-based).
+        increment: usize,
+        /// The pairs beyond the limit: (interface, coupling node).
+        pairs: Vec<(String, usize)>,
+        /// The message naming them with their amounts.
+        message: String,
+    },
+    /// The solution lost accuracy: the out-of-balance force exceeds
+    /// `[analysis] max_residual` of the load (a penalty too large for double
+    /// precision, or an ill-conditioned model).
+    #[error("loss of precision: {message}")]
+    Precision {
+        /// The increment (1-based).
+        increment: usize,
+        /// The out-of-balance force relative to the load scale.
+        residual: f64,
+        /// The message, with the interface whose penalty is too large if any.
+        message: String,
+    },
     /// Writing a result file failed.
     #[error("cannot write {path}: {message}")]
     Output { path: PathBuf, message: String },

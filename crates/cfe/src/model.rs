@@ -108,6 +108,9 @@ struct RectangleSpec {
     /// `t3` (each cell split into two triangles, the default) or `q4`.
     #[serde(default = "default_elements")]
     elements: ElementKind,
+    /// T3 only: `rising` (`/`, the default) or `falling` (`\`) cell diagonals.
+    #[serde(default)]
+    diagonal: crate::mesh::Diagonal,
 }
 
 fn default_elements() -> ElementKind {
@@ -566,11 +569,12 @@ impl Builder<'_> {
                         format!("part '{name}': rectangle needs x0 < x1, y0 < y1 and at least one cell each way (got x = {:?}, y = {:?}, cells = {:?})", r.x, r.y, r.cells),
                     ));
                 }
-                Mesh::rectangle(
+                Mesh::rectangle_split(
                     r.x,
                     r.y,
                     [r.cells[0] * refine, r.cells[1] * refine],
                     r.elements,
+                    r.diagonal,
                 )
             }
             (None, Some(a), _) => {
@@ -859,6 +863,26 @@ fn check_settings(settings: &Settings) -> Result<()> {
     if !(settings.gap_tolerance.is_finite() && settings.gap_tolerance >= 0.0) {
         return Err(Error::Model(
             "[analysis] gap_tolerance must be finite and non-negative".into(),
+        ));
+    }
+    if !(settings.force_tolerance.is_finite()
+        && settings.force_tolerance >= 0.0
+        && settings.force_tolerance < 1.0)
+    {
+        return Err(Error::Model(
+            "[analysis] force_tolerance must be a fraction of the load in [0, 1)".into(),
+        ));
+    }
+    if !(settings.max_violation.is_finite() && settings.max_violation >= 0.0) {
+        return Err(Error::Model(
+            "[analysis] max_violation must be finite and non-negative (a fraction of the load)"
+                .into(),
+        ));
+    }
+    if settings.max_residual.is_nan() || settings.max_residual <= 0.0 {
+        return Err(Error::Model(
+            "[analysis] max_residual must be positive (a fraction of the load, default 1e-4)"
+                .into(),
         ));
     }
     Ok(())

@@ -78,9 +78,10 @@ fn low_rank_update_equals_refactorization() {
 }
 
 /// At refinement 4 the analysis starts from the pattern of refinement 1: the
-/// result satisfies the law at every pair (no penetration where bonded, gap and no
-/// force where open), balances the load, and its pattern matches the one found
-/// from an all-bonded start except, at most, at pairs kept bonded to settle a cycle.
+/// result is the one found from an all-bonded start (the same pattern, the same
+/// settled pairs and violations), satisfies the law on every pair but the settled
+/// ones (no penetration, no tension where bonded; gap and no force where open), and
+/// balances the load.
 #[test]
 fn coarse_start_reaches_a_law_consistent_pattern() {
     let a = plate(4);
@@ -91,22 +92,27 @@ fn coarse_start_reaches_a_law_consistent_pattern() {
         a.solve_from(start, |_| Ok(())).unwrap()
     };
     let (warm, cold) = (run(Some(start)), run(None));
-    assert!(warm.history.len() <= cold.history.len());
+    if warm.settled.is_empty() {
+        assert!(warm.history.len() <= cold.history.len());
+    }
     let umax = warm
         .u
         .chunks(2)
         .map(|d| d[0].hypot(d[1]))
         .fold(0.0, f64::max);
     for row in a.pair_rows(&warm) {
+        if row.settled {
+            continue;
+        }
         if row.state == PairState::Bonded {
             assert!(-row.gap_n <= 1e-4 * umax);
+            assert!(row.force_n >= -1e-6 * 1500.0, "tension {:e}", row.force_n);
         } else {
             assert!(row.gap_n > 0.0 && row.force_n == 0.0);
         }
     }
     assert!(warm.residual < 1e-8);
-    for (k, (w, c)) in warm.states[0].iter().zip(&cold.states[0]).enumerate() {
-        let settled = warm.settled.contains(&(0, k)) || cold.settled.contains(&(0, k));
-        assert!(w == c || settled, "pair {k}: {w:?} vs {c:?}");
-    }
+    assert_eq!(warm.states, cold.states);
+    assert_eq!(warm.settled, cold.settled);
+    assert_eq!(warm.violations.len(), cold.violations.len());
 }

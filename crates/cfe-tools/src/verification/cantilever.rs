@@ -544,7 +544,7 @@ pub fn penalty_study(quick: bool) -> Result<Case> {
     };
     let et = E;
     let mut table = Table {
-        caption: "Tip deflection of the tied 1:1 clamped cantilever against the same mesh without an interface: relative difference, and the largest out-of-balance force of the solve relative to the load (the solver's own round-off check).".into(),
+        caption: "Tip deflection of the tied 1:1 clamped cantilever against the same mesh without an interface: relative difference, and the largest out-of-balance force of the solve relative to the load (the solver's own round-off check: a run flags a residual above 1e-8 and, with the default [analysis] max_residual, stops above 1e-4; this study lifts that limit to show the whole curve).".into(),
         header: std::iter::once("c / (E·t)".to_string())
             .chain(levels.iter().flat_map(|k| {
                 [format!("k = {k}: tip difference"), format!("k = {k}: residual")]
@@ -560,7 +560,9 @@ pub fn penalty_study(quick: bool) -> Result<Case> {
         let reference = tip(&conforming([20 * k, 2 * k]), "beam")?;
         let mut pts = Vec::new();
         for (i, &f) in factors.iter().enumerate() {
-            let a = prepare(&tied([10 * k, 2 * k], [10 * k, 2 * k], Some(f * et)))?;
+            let mut a = prepare(&tied([10 * k, 2 * k], [10 * k, 2 * k], Some(f * et)))?;
+            // The study goes past what a run accepts (max_residual) on purpose.
+            a.model.settings.max_residual = f64::INFINITY;
             let inc = solve(&a)?.pop().expect("one increment");
             let t = -displacement_at(&a, &inc, "fine", [L, 0.0])?[1];
             let d = ((t - reference) / reference).abs();
@@ -617,7 +619,8 @@ pub fn penalty_study(quick: bool) -> Result<Case> {
     };
     let mut at_soft = Vec::new();
     for &f in soft_factors {
-        let a = prepare(&tied_dissimilar(ratio, Some(f * et)))?;
+        let mut a = prepare(&tied_dissimilar(ratio, Some(f * et)))?;
+        a.model.settings.max_residual = f64::INFINITY;
         let inc = solve(&a)?.pop().expect("one increment");
         let t = -displacement_at(&a, &inc, "fine", [L, 0.0])?[1];
         let d = ((t - limit) / limit).abs();

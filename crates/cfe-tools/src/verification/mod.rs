@@ -5,6 +5,7 @@
 //! versions also run as tests.
 
 pub mod cantilever;
+pub mod contact;
 pub mod curved;
 pub mod patch;
 pub mod punch;
@@ -72,15 +73,20 @@ pub fn prepare(text: &str) -> Result<Analysis> {
     Analysis::new(Model::from_str(text, Path::new("verification.toml"), 1)?)
 }
 
-/// Solves a prepared problem in memory as `cfe run` does (a refined model starts
-/// from its coarser model's pattern); returns every increment.
+/// Solves a prepared problem in memory as `cfe run` does (from the start its
+/// `[analysis] start` names); returns every increment.
 pub fn solve(a: &Analysis) -> Result<Vec<IncrementResult>> {
-    solve_with(a, true)
+    let mut all = Vec::new();
+    a.solve_with(|inc| {
+        all.push(inc.clone());
+        Ok(())
+    })?;
+    Ok(all)
 }
 
 /// Solves a prepared problem in memory, starting the contact iteration from the
-/// coarser model's pattern (`coarse_start`, as `cfe run` does for K ≥ 4) or from
-/// all pairs bonded; returns every increment.
+/// coarser model's pattern (`coarse_start`, for K ≥ 4) or from all pairs bonded;
+/// returns every increment.
 pub fn solve_with(a: &Analysis, coarse_start: bool) -> Result<Vec<IncrementResult>> {
     let start = if coarse_start {
         Start::Coarse
@@ -120,7 +126,7 @@ pub fn displacement_at(
 pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>> {
     let mut cases = Vec::new();
     type CaseFn = fn(bool) -> Result<Case>;
-    let all: [(&str, CaseFn); 9] = [
+    let all: [(&str, CaseFn); 10] = [
         ("patch tests", patch::constant_stress),
         ("contact patch test", patch::contact_patch),
         ("tied cantilever", cantilever::convergence),
@@ -130,6 +136,7 @@ pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>>
         ("seed examples", seed::schemes_and_refinement),
         ("curved interface", curved::lame_cylinder),
         ("Q4 and mixed meshes", quads::q4_and_mixed),
+        ("contact iteration", contact::contact_iteration),
     ];
     for (name, f) in all {
         progress(name);

@@ -59,13 +59,97 @@ impl Law {
             Law::Contact => "contact",
         }
     }
+}
 
-    /// The state the law assigns to a normal jump `gap_n` = `[[u_n]]`: open only when
-    /// the pair separates by more than `tolerance` (≥ 0). A rigid law is always bonded.
-    pub fn state(self, gap_n: f64, tolerance: f64) -> PairState {
+/// How a pair breaks its law.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ViolationKind {
+    /// A bonded pair pulls: the law says it should be open.
+    Tension,
+    /// An open pair interpenetrates: the law says it should be bonded.
+    Penetration,
+}
+
+impl ViolationKind {
+    /// Lower-case name used in tables (`tension`, `penetration`).
+    pub fn as_str(self) -> &'static str {
         match self {
-            Law::Contact if gap_n > tolerance => PairState::Open,
-            _ => PairState::Bonded,
+            ViolationKind::Tension => "tension",
+            ViolationKind::Penetration => "penetration",
+        }
+    }
+}
+
+/// The thresholds below which a pair is taken to satisfy its law.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LawTolerance {
+    /// Largest tensile normal force a bonded pair may carry (force).
+    pub tension: f64,
+    /// Largest interpenetration `−[[u_n]]` an open pair may show (length).
+    pub penetration: f64,
+}
+
+/// A pair's departure from its law: the kind, the amount (a force for
+/// [`ViolationKind::Tension`], a length for [`ViolationKind::Penetration`]) and the
+/// amount as a force (`c_n` × the penetration for an open pair), which ranks
+/// violations of both kinds on one scale.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LawViolation {
+    /// Tension or penetration.
+    pub kind: ViolationKind,
+    /// Tensile force, or penetration depth.
+    pub amount: f64,
+    /// The amount as a force.
+    pub force: f64,
+}
+
+impl Law {
+    /// Checks a pair in `state` with normal jump `gap_n` and normal penalty `c_n`
+    /// against the law: a bonded pair may not pull (`c_n [[u_n]]` above
+    /// `tol.tension`), an open pair may not interpenetrate (`−[[u_n]]` above
+    /// `tol.penetration`). A rigid interface has no unilateral law and is never in
+    /// violation.
+    pub fn violation(
+        self,
+        state: PairState,
+        gap_n: f64,
+        c_n: f64,
+        tol: LawTolerance,
+    ) -> Option<LawViolation> {
+        if self == Law::Rigid {
+            return None;
+        }
+        match state {
+            PairState::Bonded if c_n * gap_n > tol.tension => Some(LawViolation {
+                kind: ViolationKind::Tension,
+                amount: c_n * gap_n,
+                force: c_n * gap_n,
+            }),
+            PairState::Open if -gap_n > tol.penetration => Some(LawViolation {
+                kind: ViolationKind::Penetration,
+                amount: -gap_n,
+                force: -c_n * gap_n,
+            }),
+            _ => None,
+        }
+    }
+
+    /// The state the law gives a pair now in `state` (the active-set update): a
+    /// bonded pair in tension opens, an open pair that interpenetrates closes, and
+    /// every other pair keeps its state — so a pair within the tolerances of the
+    /// boundary between the two does not flip back and forth on round-off.
+    pub fn next_state(
+        self,
+        state: PairState,
+        gap_n: f64,
+        c_n: f64,
+        tol: LawTolerance,
+    ) -> PairState {
+        match (self.violation(state, gap_n, c_n, tol), state) {
+            (Some(_), PairState::Bonded) => PairState::Open,
+            (Some(_), PairState::Open) => PairState::Bonded,
+            (None, s) => s,
         }
     }
 }
@@ -80,14 +164,9 @@ pub fn local_force(state: PairState, c_n: f64, c_s: f64, jump: [f64; 2]) -> [f64
 mod tests {
     use super::*;
 
-    /// The contact law opens only beyond the tolerance; the rigid law never opens;
-    /// an open pair carries no force and a bonded one carries c·[[u]].
+    /// An open pair carries no force and a bonded one carries c·[[u]].
     #[test]
-    fn states_and_forces() {
-        assert_eq!(Law::Contact.state(-1.0, 1e-9), PairState::Bonded);
-        assert_eq!(Law::Contact.state(0.5e-9, 1e-9), PairState::Bonded);
-        assert_eq!(Law::Contact.state(2e-9, 1e-9), PairState::Open);
-        assert_eq!(Law::Rigid.state(1.0, 1e-9), PairState::Bonded);
+    fn forces() {
         assert_eq!(
             local_force(PairState::Open, 1e9, 1e9, [1.0, 2.0]),
             [0.0, 0.0]
@@ -95,6 +174,73 @@ mod tests {
         assert_eq!(
             local_force(PairState::Bonded, 2.0, 3.0, [1.0, 2.0]),
             [2.0, 6.0]
+        );
+    }
+
+    /// The law check: a bonded pair pulling beyond the force tolerance and an open
+    /// pair penetrating beyond the length tolerance violate the contact law, and
+    /// the active-set update flips exactly those; pairs inside the tolerances keep
+    /// their state; a rigid interface never violates.
+    #[test]
+    fn violations_and_next_state() {
+        let tol = LawTolerance {
+            tension: 1e-3,
+            penetration: 1e-9,
+        };
+        let c = 1e6;
+        // Bonded, gap 2e-9: tension 2e-3 > 1e-3.
+        let v = Law::Contact
+            .violation(PairState::Bonded, 2e-9, c, tol)
+            .unwrap();
+        assert_eq!(v.kind, ViolationKind::Tension);
+        assert!((v.amount - 2e-3).abs() < 1e-15 && v.force == v.amount);
+        assert_eq!(
+            Law::Contact.next_state(PairState::Bonded, 2e-9, c, tol),
+            PairState::Open
+        );
+        // Bonded, gap 0.5e-9: tension 0.5e-3, within tolerance; compression is fine.
+        assert!(
+            Law::Contact
+                .violation(PairState::Bonded, 0.5e-9, c, tol)
+                .is_none()
+        );
+        assert!(
+            Law::Contact
+                .violation(PairState::Bonded, -1.0, c, tol)
+                .is_none()
+        );
+        assert_eq!(
+            Law::Contact.next_state(PairState::Bonded, 0.5e-9, c, tol),
+            PairState::Bonded
+        );
+        // Open, penetrating 3e-9 > 1e-9: closes; force measure c × 3e-9.
+        let v = Law::Contact
+            .violation(PairState::Open, -3e-9, c, tol)
+            .unwrap();
+        assert_eq!(v.kind, ViolationKind::Penetration);
+        assert!((v.amount - 3e-9).abs() < 1e-20 && (v.force - 3e-3).abs() < 1e-15);
+        assert_eq!(
+            Law::Contact.next_state(PairState::Open, -3e-9, c, tol),
+            PairState::Bonded
+        );
+        // Open and touching within the tolerance, or apart: stays open.
+        assert_eq!(
+            Law::Contact.next_state(PairState::Open, -0.5e-9, c, tol),
+            PairState::Open
+        );
+        assert_eq!(
+            Law::Contact.next_state(PairState::Open, 1.0, c, tol),
+            PairState::Open
+        );
+        // Rigid: never in violation, always bonded.
+        assert!(
+            Law::Rigid
+                .violation(PairState::Bonded, 1.0, c, tol)
+                .is_none()
+        );
+        assert_eq!(
+            Law::Rigid.next_state(PairState::Bonded, 1.0, c, tol),
+            PairState::Bonded
         );
     }
 }

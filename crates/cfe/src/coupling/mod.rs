@@ -8,7 +8,7 @@ pub mod law;
 pub mod search;
 
 pub use element::CouplingElement;
-pub use law::{Law, PairState, PairStates};
+pub use law::{Law, LawTolerance, LawViolation, PairState, PairStates, ViolationKind};
 
 /// An interface between a host part and a node part, with its coupling elements.
 #[derive(Debug, Clone)]

@@ -20,6 +20,19 @@ pub enum ElementKind {
     Q4,
 }
 
+/// Which diagonal splits each cell of a structured T3 mesh.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Deserialize, serde::Serialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Diagonal {
+    /// From the cell's lower-left to its upper-right corner (`/`, the default).
+    #[default]
+    Rising,
+    /// From the cell's upper-left to its lower-right corner (`\`).
+    Falling,
+}
+
 impl ElementKind {
     /// Name as in the problem file and in messages (`T3`, `Q4`).
     pub fn as_str(self) -> &'static str {
@@ -97,6 +110,20 @@ impl Mesh {
     /// `2 (j nx + i)` (below the diagonal) and `2 (j nx + i) + 1` (above it); with Q4,
     /// element `j nx + i`.
     pub fn rectangle(x: [f64; 2], y: [f64; 2], cells: [usize; 2], kind: ElementKind) -> Mesh {
+        Mesh::rectangle_split(x, y, cells, kind, Diagonal::Rising)
+    }
+
+    /// [`Mesh::rectangle`] with T3 cells split along the chosen diagonal. With the
+    /// falling diagonal, cell (i, j) gives elements `2 (j nx + i)` (below it, owning
+    /// the cell's lower and left edges) and `2 (j nx + i) + 1` (above it, owning the
+    /// upper and right edges). Q4 meshes ignore the diagonal.
+    pub fn rectangle_split(
+        x: [f64; 2],
+        y: [f64; 2],
+        cells: [usize; 2],
+        kind: ElementKind,
+        diagonal: Diagonal,
+    ) -> Mesh {
         let [nx, ny] = cells;
         let node = |i: usize, j: usize| j * (nx + 1) + i;
         let mut nodes = Vec::with_capacity((nx + 1) * (ny + 1));
@@ -119,12 +146,16 @@ impl Mesh {
                     node(i + 1, j + 1),
                     node(i, j + 1),
                 );
-                match kind {
-                    ElementKind::T3 => {
+                match (kind, diagonal) {
+                    (ElementKind::T3, Diagonal::Rising) => {
                         elements.push(Element::T3([n00, n10, n11]));
                         elements.push(Element::T3([n00, n11, n01]));
                     }
-                    ElementKind::Q4 => elements.push(Element::Q4([n00, n10, n11, n01])),
+                    (ElementKind::T3, Diagonal::Falling) => {
+                        elements.push(Element::T3([n00, n10, n01]));
+                        elements.push(Element::T3([n10, n11, n01]));
+                    }
+                    (ElementKind::Q4, _) => elements.push(Element::Q4([n00, n10, n11, n01])),
                 }
             }
         }
@@ -132,6 +163,10 @@ impl Mesh {
         // that owns its upper and left edges.
         let lower = |i: usize, j: usize| per_cell * (j * nx + i);
         let upper = |i: usize, j: usize| per_cell * (j * nx + i) + per_cell - 1;
+        // The owners of the right and left edges swap with a falling diagonal.
+        let falling = kind == ElementKind::T3 && diagonal == Diagonal::Falling;
+        let right_owner = |i: usize, j: usize| if falling { upper(i, j) } else { lower(i, j) };
+        let left_owner = |i: usize, j: usize| if falling { lower(i, j) } else { upper(i, j) };
         let mut boundaries = BTreeMap::new();
         let edge = |a, b, element| BoundaryEdge {
             nodes: [a, b],
@@ -146,7 +181,7 @@ impl Mesh {
         boundaries.insert(
             "right".to_string(),
             (0..ny)
-                .map(|j| edge(node(nx, j), node(nx, j + 1), lower(nx - 1, j)))
+                .map(|j| edge(node(nx, j), node(nx, j + 1), right_owner(nx - 1, j)))
                 .collect(),
         );
         boundaries.insert(
@@ -160,7 +195,7 @@ impl Mesh {
             "left".to_string(),
             (0..ny)
                 .rev()
-                .map(|j| edge(node(0, j + 1), node(0, j), upper(0, j)))
+                .map(|j| edge(node(0, j + 1), node(0, j), left_owner(0, j)))
                 .collect(),
         );
         Mesh {
@@ -460,8 +495,12 @@ mod tests {
     /// triangles and with quadrilaterals.
     #[test]
     fn rectangle_counts_areas_and_boundaries() {
-        for (kind, elements) in [(ElementKind::T3, 336), (ElementKind::Q4, 168)] {
-            let m = Mesh::rectangle([30.0, 170.0], [120.0, 135.0], [28, 6], kind);
+        for (kind, diagonal, elements) in [
+            (ElementKind::T3, Diagonal::Rising, 336),
+            (ElementKind::T3, Diagonal::Falling, 336),
+            (ElementKind::Q4, Diagonal::Rising, 168),
+        ] {
+            let m = Mesh::rectangle_split([30.0, 170.0], [120.0, 135.0], [28, 6], kind, diagonal);
             assert_eq!(m.nodes.len(), 29 * 7);
             assert_eq!(m.elements.len(), elements);
             m.validate("plate").unwrap();
@@ -472,7 +511,7 @@ mod tests {
             let mut free = m.boundary_edges();
             named.sort_by_key(|e| (e.element, e.nodes));
             free.sort_by_key(|e| (e.element, e.nodes));
-            assert_eq!(named, free, "{kind:?}");
+            assert_eq!(named, free, "{kind:?} {diagonal:?}");
         }
     }
 
@@ -480,8 +519,12 @@ mod tests {
     /// away from its element's centroid.
     #[test]
     fn boundary_edges_are_counter_clockwise() {
-        for kind in [ElementKind::T3, ElementKind::Q4] {
-            let m = Mesh::rectangle([0.0, 2.0], [0.0, 1.0], [2, 1], kind);
+        for (kind, diagonal) in [
+            (ElementKind::T3, Diagonal::Rising),
+            (ElementKind::T3, Diagonal::Falling),
+            (ElementKind::Q4, Diagonal::Rising),
+        ] {
+            let m = Mesh::rectangle_split([0.0, 2.0], [0.0, 1.0], [2, 1], kind, diagonal);
             for e in m.boundary_edges() {
                 let [a, b] = e.nodes.map(|n| m.nodes[n]);
                 let normal = [b[1] - a[1], -(b[0] - a[0])];

@@ -35,12 +35,16 @@ pub struct PlotLabels<'a> {
     pub axis_unit: &'a str,
 }
 
-/// A coupling pair marker: filled when bonded, hollow when open.
+/// A coupling pair marker: a black circle, filled when bonded, hollow when open;
+/// a red square (filled when bonded, hollow when open) when the pair breaks its
+/// law (a pair settled against the law to end a cycle, or a lagged `implex` state).
 pub struct PairMarker {
     /// Position.
     pub at: [f64; 2],
     /// Bonded (filled) or open (hollow).
     pub bonded: bool,
+    /// The pair breaks its law (drawn as a red square).
+    pub violates: bool,
 }
 
 const WIDTH: u32 = 1600;
@@ -556,13 +560,21 @@ fn render(
             if !inside(p) {
                 continue;
             }
+            let colour = if m.violates { RED } else { BLACK };
             let style = if m.bonded {
-                BLACK.filled()
+                colour.filled()
             } else {
-                BLACK.stroke_width(1)
+                colour.stroke_width(if m.violates { 2 } else { 1 })
             };
-            root.draw(&Circle::new(ip(p), radius, style))
-                .map_err(|e| err(&e))?;
+            if m.violates {
+                let (x, y) = ip(p);
+                let r = radius + 1;
+                root.draw(&Rectangle::new([(x - r, y - r), (x + r, y + r)], style))
+                    .map_err(|e| err(&e))?;
+            } else {
+                root.draw(&Circle::new(ip(p), radius, style))
+                    .map_err(|e| err(&e))?;
+            }
         }
         root.present().map_err(|e| err(&e))?;
     }
@@ -692,6 +704,7 @@ mod tests {
         let markers = [PairMarker {
             at: [0.5, 0.0],
             bonded: true,
+            violates: false,
         }];
         render_field(&path, &mesh, &[0.0, 1.0, 2.0, 3.0], &markers, &labels).unwrap();
         render_isolines(

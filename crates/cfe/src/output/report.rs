@@ -1,7 +1,7 @@
 //! Tables and summaries: the interface pairs CSV and the JSON summary of a run.
 
 use super::write_atomic;
-use crate::coupling::PairState;
+use crate::coupling::{PairState, ViolationKind};
 use crate::error::Result;
 use serde::Serialize;
 use std::path::Path;
@@ -35,13 +35,17 @@ pub struct PairRow {
     /// Tangential force on the node part along s.
     #[serde(serialize_with = "sci")]
     pub force_s: f64,
-    /// Kept bonded by the active-set scheme to settle a cycle (not a CSV column).
-    #[serde(skip)]
+    /// State fixed against the law by the active-set scheme to settle a cycle.
     pub settled: bool,
+    /// How the pair breaks its law (`tension`, `penetration`), or `None` (empty).
+    pub violation: Option<ViolationKind>,
+    /// The violation's amount: the tensile force, or the penetration depth (0 when none).
+    #[serde(serialize_with = "sci")]
+    pub violation_amount: f64,
 }
 
 /// The columns of `pairs.csv` (the serialized fields of [`PairRow`]).
-pub const PAIR_COLUMNS: [&str; 10] = [
+pub const PAIR_COLUMNS: [&str; 13] = [
     "interface",
     "node",
     "x",
@@ -52,6 +56,9 @@ pub const PAIR_COLUMNS: [&str; 10] = [
     "slip_s",
     "force_n",
     "force_s",
+    "settled",
+    "violation",
+    "violation_amount",
 ];
 
 /// Writes the pairs table (one row per coupling pair; the header is the field
@@ -92,8 +99,8 @@ mod tests {
     use super::*;
 
     /// The CSV: header from the field names, positions as written, jumps and forces
-    /// in scientific notation, a name with a comma quoted; an empty table keeps
-    /// its header.
+    /// in scientific notation, a name with a comma quoted, the violation empty when
+    /// there is none; an empty table keeps its header.
     #[test]
     fn pairs_csv_format() {
         let dir = std::env::temp_dir().join(format!("cfe-report-{}", std::process::id()));
@@ -111,13 +118,22 @@ mod tests {
             force_n: -0.5,
             force_s: 2.0,
             settled: false,
+            violation: None,
+            violation_amount: 0.0,
         };
-        write_pairs_csv(&path, &[row]).unwrap();
+        let pulling = PairRow {
+            state: PairState::Bonded,
+            settled: true,
+            violation: Some(ViolationKind::Tension),
+            violation_amount: 0.5,
+            ..row.clone()
+        };
+        write_pairs_csv(&path, &[row, pulling]).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(
             text,
             format!(
-                "{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0\n",
+                "{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0,false,,0e0\n\"a,b\",3,100,-6.5,7,bonded,1.25e-3,0e0,-5e-1,2e0,true,tension,5e-1\n",
                 PAIR_COLUMNS.join(",")
             )
         );

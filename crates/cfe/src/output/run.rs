@@ -7,7 +7,7 @@ use super::report::{self, PairRow};
 use super::summary::{RunStatus, Summary};
 use super::{png, vtu};
 use crate::analysis::Analysis;
-use crate::coupling::PairState;
+use crate::coupling::{PairState, ViolationKind};
 use crate::error::{Error, Result};
 use crate::fem::recovery::PartStress;
 use crate::mesh::Element;
@@ -51,7 +51,9 @@ impl Analysis {
                 }
             };
             let t = Instant::now();
-            if let Some(states) = this.coarse_states() {
+            if this.model.settings.start == crate::domain::StartPattern::Coarse
+                && let Some(states) = this.coarse_states()
+            {
                 solver.set_initial_states(states);
             }
             summary.timings.coarse_start = t.elapsed().as_secs_f64();
@@ -130,7 +132,7 @@ impl Analysis {
         };
         self.write_pictures(out, &inc, &stresses)?;
         summary.timings.pictures = t.elapsed().as_secs_f64();
-        summary.status = RunStatus::Completed;
+        summary.status = summary.final_status();
         summary.timings.meshing = self.timings.meshing;
         summary.timings.pair_search = self.timings.pair_search;
         summary.timings.stress_recovery = recovery_time;
@@ -284,6 +286,16 @@ impl Analysis {
             .map(|r| (r.state == PairState::Bonded) as i32)
             .collect();
         let settled: Vec<i32> = rows.iter().map(|r| r.settled as i32).collect();
+        // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates.
+        let violation: Vec<i32> = rows
+            .iter()
+            .map(|r| match r.violation {
+                None => 0,
+                Some(ViolationKind::Tension) => 1,
+                Some(ViolationKind::Penetration) => 2,
+            })
+            .collect();
+        let violation_amount: Vec<f64> = rows.iter().map(|r| r.violation_amount).collect();
         let col = |f: fn(&PairRow) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
         let (gap, slip, fn_, fs) = (
             col(|r| r.gap_n),
@@ -317,6 +329,16 @@ impl Analysis {
                 name: "settled",
                 components: 1,
                 values: vtu::Values::I32(&settled),
+            },
+            vtu::DataArray {
+                name: "violation",
+                components: 1,
+                values: vtu::Values::I32(&violation),
+            },
+            vtu::DataArray {
+                name: "violation_amount",
+                components: 1,
+                values: vtu::Values::F64(&violation_amount),
             },
             vtu::DataArray {
                 name: "gap_n",
@@ -382,10 +404,17 @@ impl Analysis {
             .map(|r| png::PairMarker {
                 at: [r.x, r.y],
                 bonded: r.state == PairState::Bonded,
+                violates: r.violation.is_some(),
             })
             .collect();
         let units = &self.model.units;
-        let title = format!("{}: σyy", self.model.title);
+        let broken = rows.iter().filter(|r| r.violation.is_some()).count();
+        let note = if broken > 0 {
+            format!(" ({broken} pair(s) break the contact law: red squares)")
+        } else {
+            String::new()
+        };
+        let title = format!("{}: σyy{note}", self.model.title);
         // The two pictures are drawn in parallel.
         let field = || {
             png::render_field(
@@ -441,10 +470,11 @@ impl Analysis {
                 .map(|(g, r)| png::PairMarker {
                     at: deformed[g],
                     bonded: r.state == PairState::Bonded,
+                    violates: r.violation.is_some(),
                 })
                 .collect();
             let title = format!(
-                "{}: total displacement, deformed ×{scale}",
+                "{}: total displacement, deformed ×{scale}{note}",
                 self.model.title
             );
             png::render_isolines(

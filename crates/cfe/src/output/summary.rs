@@ -2,22 +2,90 @@
 //! results of the last converged increment. Plain data; [`crate::analysis`] fills
 //! it, [`crate::output::run`] writes it.
 
-use crate::coupling::Law;
+use crate::coupling::{Law, PairState, ViolationKind};
 use crate::domain::Scheme;
 use crate::solve::nonlinear::{Iteration, SolveTimings};
 use serde::Serialize;
 use std::path::PathBuf;
 
-/// Where a run stands (serialized as `running`, `completed`, `failed`).
+/// Where a run stands (serialized as `running`, `completed`,
+/// `completed_with_violations`, `failed`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RunStatus {
     /// Increments are being solved.
     Running,
-    /// Every increment converged.
+    /// Every increment converged on a pattern where the contact law holds on every
+    /// pair, in equilibrium to 1e-8 of the load.
     Completed,
+    /// Every increment converged, but some pairs break the law (listed in
+    /// `violations`) or the out-of-balance force exceeds 1e-8 of the load (see
+    /// `warnings`).
+    CompletedWithViolations,
     /// The run stopped with an error (converged increments are kept).
     Failed,
+}
+
+impl std::fmt::Display for RunStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            RunStatus::Running => "running",
+            RunStatus::Completed => "completed",
+            RunStatus::CompletedWithViolations => "completed_with_violations",
+            RunStatus::Failed => "failed",
+        })
+    }
+}
+
+/// A warning about one converged increment.
+#[derive(Debug, Clone, Serialize)]
+pub struct Warning {
+    /// Increment (1-based).
+    pub increment: usize,
+    /// What is wrong, in one sentence.
+    pub message: String,
+}
+
+/// A pair that breaks its law at a converged increment.
+#[derive(Debug, Clone, Serialize)]
+pub struct ViolationRecord {
+    /// Increment (1-based).
+    pub increment: usize,
+    /// Interface name.
+    pub interface: String,
+    /// Coupling node (index in the node part).
+    pub node: usize,
+    /// Its position.
+    pub x: f64,
+    /// Its position.
+    pub y: f64,
+    /// `tension` (a bonded pair pulls) or `penetration` (an open pair interpenetrates).
+    pub kind: ViolationKind,
+    /// The tensile force, or the penetration depth.
+    pub amount: f64,
+    /// The amount as a force (`c_n` × depth for a penetration).
+    pub force: f64,
+    /// The force relative to the increment's load scale.
+    pub relative: f64,
+    /// Kept against the law to settle a cycle (active-set), rather than a lagged
+    /// state (`implex`).
+    pub settled: bool,
+}
+
+/// What "the law holds" and "in equilibrium" mean for a run.
+#[derive(Debug, Clone, Serialize)]
+pub struct Tolerances {
+    /// A bonded pair pulling with more than this fraction of the load scale breaks the law.
+    pub tension: f64,
+    /// An open pair penetrating by more than this fraction of its nodes' largest
+    /// displacement breaks the law.
+    pub penetration: f64,
+    /// The run fails when a violation exceeds this fraction of the load scale.
+    pub max_violation: f64,
+    /// Out-of-balance force (relative to the load scale) above which a warning is given.
+    pub residual_warn: f64,
+    /// Out-of-balance force (relative to the load scale) above which the run fails.
+    pub residual_fail: f64,
 }
 
 /// Seconds spent in each phase of a run.
@@ -57,7 +125,7 @@ pub struct PartSummary {
     pub q4: usize,
 }
 
-/// A pair kept bonded to settle an active-set cycle.
+/// A pair whose state was fixed against the law to settle an active-set cycle.
 #[derive(Debug, Clone, Serialize)]
 pub struct SettledPair {
     /// Coupling node.
@@ -66,6 +134,8 @@ pub struct SettledPair {
     pub x: f64,
     /// Its position.
     pub y: f64,
+    /// `bonded` or `open`.
+    pub state: PairState,
     /// Normal force on the node part (negative: tension).
     pub force_n: f64,
 }
@@ -91,16 +161,18 @@ pub struct InterfaceSummary {
     pub bonded: usize,
     /// Open pairs.
     pub open: usize,
-    /// Pairs kept bonded to settle a cycle, with their forces.
+    /// Pairs whose state was fixed against the law to settle a cycle, with their forces.
     pub settled: Vec<SettledPair>,
-    /// Largest penetration (−`[[u_n]]`) among bonded pairs.
+    /// Pairs that break the law at the last converged increment.
+    pub violations: usize,
+    /// Largest penetration (−`[[u_n]]`) among all pairs, bonded or open.
     pub max_penetration: f64,
     /// Total normal force on the node part.
     pub total_force_n: f64,
     /// Largest distance of a coupling node from its host edge.
     pub max_projection_distance: f64,
-    /// Positions of the first and the last bonded pair along the interface (the
-    /// ends of the contact zone); `null` when no pair is bonded.
+    /// Positions of the bonded pairs with the smallest and the largest x (then y):
+    /// the ends of the contact zone; `null` when no pair is bonded.
     pub bonded_extent: Option<[[f64; 2]; 2]>,
 }
 
@@ -130,13 +202,37 @@ pub struct Reaction {
     pub fy: f64,
 }
 
+impl Summary {
+    /// The status of a run whose every increment converged: `completed` when no
+    /// increment has a warning (a law violation or an imprecise solution), else
+    /// `completed_with_violations`.
+    pub fn final_status(&self) -> RunStatus {
+        if self.warnings.is_empty() {
+            RunStatus::Completed
+        } else {
+            RunStatus::CompletedWithViolations
+        }
+    }
+}
+
 /// The JSON summary of a run (`summary.json`).
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
-    /// `running`, `completed` or `failed`.
+    /// `running`; `completed` (the law holds on every pair at every increment and
+    /// equilibrium to the stated tolerance); `completed_with_violations` (some pairs
+    /// break the law, each listed in `violations`, or the result is imprecise, see
+    /// `warnings`); or `failed`.
     pub status: RunStatus,
     /// Error message when failed.
     pub error: Option<String>,
+    /// Warnings: law violations and loss of precision, per increment.
+    pub warnings: Vec<Warning>,
+    /// Every pair that broke its law, per converged increment.
+    pub violations: Vec<ViolationRecord>,
+    /// The largest violation as a fraction of its increment's load scale (0 when none).
+    pub max_violation: f64,
+    /// The tolerances the law and equilibrium were checked to.
+    pub tolerances: Tolerances,
     /// Title.
     pub title: String,
     /// Problem file.
@@ -179,7 +275,8 @@ pub struct Summary {
     pub applied: [f64; 2],
     /// |Σ reactions + Σ loads| / |Σ loads| (0 when no load).
     pub equilibrium_error: f64,
-    /// Out-of-balance force at free DOFs relative to the largest force.
+    /// Largest out-of-balance force at a free DOF relative to the load scale (the
+    /// larger of Σ‖f‖ over the loaded nodes and the largest support reaction).
     pub residual: f64,
     /// Peak resident memory of the process (bytes; Linux).
     pub peak_memory_bytes: Option<u64>,

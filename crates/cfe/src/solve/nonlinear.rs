@@ -3,30 +3,45 @@
 //! equilibrium `K(D̂) u = λ F` (the law is secant, so a lagged state leaves no
 //! accumulated error). Two schemes decide the pair states D̂:
 //!
-//! - `active-set`: solve, recompute every pair's state from the new `[[u_n]]`, repeat
-//!   until no state changes. A cycle (a state pattern seen before in the same
-//!   increment, or a pair about to change state for the second time in it) is
-//!   settled by keeping the flipping pairs bonded — no interpenetration, a small
-//!   tensile force — and iterating on; those pairs are
-//!   reported as *settled* and stay bonded in the following increments (the loads
-//!   are proportional, so the same cycle would recur at every load level).
+//! - `active-set`: solve, let the law update every pair (a bonded pair in tension
+//!   opens, an open pair that interpenetrates closes), repeat until the law holds on
+//!   every pair. Each whole pattern of states is remembered (hashed); the iteration
+//!   *cycles* only when the law sends it back to a pattern it has already solved.
+//!   Then it continues cautiously, flipping only the pair with the largest violation
+//!   per iteration, which finds a consistent pattern the all-at-once update stepped
+//!   over. If that cycles too, no consistent pattern is within reach (the strict
+//!   stick law has none on some meshes) and the increment is *settled*: it ends on
+//!   the least-violating pattern it solved — no penetration if any such pattern was
+//!   visited, then the smallest largest violation, then the earliest — and every
+//!   pair that breaks the law there is reported with its amount. Nothing carries
+//!   over to the next increment but the pattern it starts from.
 //! - `implex` (the seed's): the states of increment n come from `[[u_n]]` of increment
-//!   n − 1 (all bonded before the first); one solve per increment.
+//!   n − 1 (all bonded before the first); one solve per increment. Its pairs are
+//!   checked against the law after every increment all the same.
+//!
+//! After every increment the law is checked on every pair (tension of bonded pairs
+//! beyond `force_tolerance` × the load scale, penetration of open pairs beyond
+//! `gap_tolerance` × the pair's displacement scale) and the out-of-balance force is
+//! checked against the load: above `max_residual` (default 1e-4) the run stops
+//! with [`Error::Precision`], above [`RESIDUAL_WARN`] the result is flagged.
 //!
 //! Linear solves go through [`ContactSystem`], which refactorizes or corrects the
 //! current factorization by a low-rank update, whichever costs less. A state set
 //! already solved at another load factor is not solved again: with proportional
-//! loads its solution scales with λ exactly.
+//! loads its solution scales with λ exactly. For the same reason an increment that
+//! starts from the pattern the previous one ended on is that increment scaled: the
+//! law is homogeneous in the load, so a consistent pattern stays consistent and a
+//! settled one breaks the law by the same fraction of the load at every level.
 
 use super::linear::CholeskySolver;
 use super::ordering;
 use super::support;
-use super::system::{ContactSystem, Method};
+use super::system::{ContactSystem, Method, UpdatePolicy};
 use crate::assembly::{self, DofMap, FIXED, NodeGraph, Stiffness};
-use crate::coupling::{Interface, PairState};
+use crate::coupling::{Interface, Law, LawTolerance, PairState, PairStates, ViolationKind};
 use crate::domain::{Part, Scheme, Settings};
 use crate::error::{Error, Result};
-use std::collections::HashSet;
+use std::collections::HashMap;
 use std::time::Instant;
 
 /// Seconds spent in each phase of the solution.
@@ -70,20 +85,126 @@ pub struct IncrementResult {
     /// Displacements of all DOFs.
     pub u: Vec<f64>,
     /// Pair states used in the final solve, per interface.
-    pub states: Vec<Vec<PairState>>,
-    /// Pairs kept bonded to settle a cycle: (interface, pair).
+    pub states: PairStates,
+    /// Pairs whose state was fixed against the law to settle a cycle:
+    /// (interface, pair), sorted. Empty when the law holds everywhere.
     pub settled: Vec<(usize, usize)>,
+    /// Every pair that breaks its law at this increment (settled pairs, and with
+    /// `implex` pairs whose lagged state is wrong), sorted by interface and pair.
+    pub violations: Vec<PairViolation>,
+    /// The load scale of this increment: the larger of Σ‖λ f‖ over the loaded
+    /// nodes and the largest support reaction (force).
+    pub load_scale: f64,
     /// Internal force of all DOFs (reactions are F_int − F_ext at fixed DOFs).
     pub f_int: Vec<f64>,
     /// External force of all DOFs at this λ.
     pub f_ext: Vec<f64>,
-    /// Largest out-of-balance force at free DOFs relative to the largest external or reaction force.
+    /// Largest out-of-balance force at a free DOF relative to the load scale.
     pub residual: f64,
+    /// The global balance: ‖Σ reactions + Σ loads‖ relative to the load scale.
+    pub balance: f64,
+}
+
+impl IncrementResult {
+    /// The largest violation as a force (0 when the law holds everywhere).
+    pub fn max_violation_force(&self) -> f64 {
+        self.violations.iter().map(|v| v.force).fold(0.0, f64::max)
+    }
+
+    /// The same increment at load factor `lambda` (states unchanged, every force,
+    /// displacement and violation amount scaled): exact for proportional loads.
+    fn scaled(&self, index: usize, lambda: f64) -> IncrementResult {
+        let f = lambda / self.lambda;
+        let scale = |v: &[f64]| v.iter().map(|x| f * x).collect::<Vec<f64>>();
+        IncrementResult {
+            index,
+            lambda,
+            iterations: 1,
+            history: vec![Iteration {
+                method: None,
+                changed: 0,
+                seconds: 0.0,
+            }],
+            u: scale(&self.u),
+            states: self.states.clone(),
+            settled: self.settled.clone(),
+            violations: self
+                .violations
+                .iter()
+                .map(|v| PairViolation {
+                    amount: f * v.amount,
+                    force: f * v.force,
+                    ..*v
+                })
+                .collect(),
+            load_scale: f * self.load_scale,
+            f_int: scale(&self.f_int),
+            f_ext: scale(&self.f_ext),
+            residual: self.residual,
+            balance: self.balance,
+        }
+    }
+}
+
+/// A pair that breaks its law.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairViolation {
+    /// Interface index.
+    pub interface: usize,
+    /// Pair index within the interface.
+    pub pair: usize,
+    /// Tension (a bonded pair pulls) or penetration (an open pair interpenetrates).
+    pub kind: ViolationKind,
+    /// The tensile force, or the penetration depth.
+    pub amount: f64,
+    /// The amount as a force (`c_n` × depth for a penetration).
+    pub force: f64,
+}
+
+/// Out-of-balance force (relative to the load scale) above which a result is
+/// flagged as imprecise.
+pub const RESIDUAL_WARN: f64 = 1e-8;
+
+/// The law checked on one solution: the state the law gives each pair next and
+/// every pair that breaks it.
+struct LawCheck {
+    next: PairStates,
+    violations: Vec<PairViolation>,
+    load_scale: f64,
+}
+
+impl LawCheck {
+    /// How bad the solution is, for choosing among the patterns of a cycle: any
+    /// penetration first, then the largest violation as a force.
+    fn score(&self) -> (bool, f64) {
+        let penetrates = self
+            .violations
+            .iter()
+            .any(|v| v.kind == ViolationKind::Penetration);
+        let worst = self.violations.iter().map(|v| v.force).fold(0.0, f64::max);
+        (penetrates, worst)
+    }
+
+    /// The pair with the largest violation (the first of equals).
+    fn worst(&self) -> Option<&PairViolation> {
+        self.violations
+            .iter()
+            .fold(None, |best: Option<&PairViolation>, v| match best {
+                Some(b) if b.force >= v.force => Some(b),
+                _ => Some(v),
+            })
+    }
+}
+
+/// A pattern solved during an increment's iteration, and how well it satisfies the law.
+struct Visit {
+    states: PairStates,
+    score: (bool, f64),
 }
 
 /// The solution of one state set, kept to answer the same states at another λ.
 struct Solved {
-    states: Vec<Vec<PairState>>,
+    states: PairStates,
     lambda: f64,
     u: Vec<f64>,
     f_int: Vec<f64>,
@@ -98,7 +219,11 @@ pub struct Solver<'a> {
     f_ext: Vec<f64>,
     system: ContactSystem,
     last: Option<Solved>,
-    initial: Option<Vec<Vec<PairState>>>,
+    initial: Option<PairStates>,
+    /// The previous active-set increment's result.
+    previous: Option<IncrementResult>,
+    /// Σ‖f‖ over the loaded nodes at full load.
+    total_load: f64,
     /// Phase timings.
     pub timings: SolveTimings,
 }
@@ -135,6 +260,7 @@ impl<'a> Solver<'a> {
             pattern_and_symbolic: t.elapsed().as_secs_f64(),
             ..Default::default()
         };
+        let total_load = f_ext.chunks_exact(2).map(|f| f[0].hypot(f[1])).sum::<f64>();
         Ok(Solver {
             parts,
             interfaces,
@@ -144,6 +270,8 @@ impl<'a> Solver<'a> {
             system: ContactSystem::new(k, chol),
             last: None,
             initial: None,
+            previous: None,
+            total_load,
             timings,
         })
     }
@@ -171,7 +299,7 @@ impl<'a> Solver<'a> {
     /// Starts the `active-set` iteration of the first increment from these states
     /// instead of all bonded (e.g. the pattern found on a coarser mesh). The converged
     /// result does not depend on it; the number of iterations does.
-    pub fn set_initial_states(&mut self, states: Vec<Vec<PairState>>) {
+    pub fn set_initial_states(&mut self, states: PairStates) {
         if states.len() == self.interfaces.len()
             && states
                 .iter()
@@ -182,50 +310,89 @@ impl<'a> Solver<'a> {
         }
     }
 
+    /// Chooses when a changed pattern is solved by a low-rank update of the current
+    /// factorization rather than a new one (default: by a cost model). The answer
+    /// does not depend on it beyond round-off.
+    pub fn set_update_policy(&mut self, policy: UpdatePolicy) {
+        self.system.policy = policy;
+    }
+
+    /// Solves the pattern `states` once at load factor `lambda` and checks the law on
+    /// every pair, without iterating: the increment a run would end on if this
+    /// pattern were its answer (`settled` empty, `violations` whatever the law says).
+    /// For studies of the pattern space, e.g. whether any pattern near a settled one
+    /// satisfies the law.
+    pub fn solve_pattern(
+        &mut self,
+        lambda: f64,
+        states: &[Vec<PairState>],
+    ) -> Result<IncrementResult> {
+        let t = Instant::now();
+        let (u, f_int, method) = self.solve_states(lambda, states, 1)?;
+        let check = self.check_law(states, &u, &f_int, lambda);
+        let history = vec![Iteration {
+            method,
+            changed: count_changes(&check.next, states),
+            seconds: t.elapsed().as_secs_f64(),
+        }];
+        Ok(self.finish(1, lambda, history, u, f_int, states.to_vec(), check, false))
+    }
+
     /// Runs all increments; `on_increment` receives each converged increment (to
-    /// write it out) before the next starts. Returns the last increment.
+    /// write it out) before the next starts. Returns the last increment. Stops with
+    /// [`Error::LawViolation`] after handing over an increment whose largest
+    /// violation exceeds `max_violation` × the load scale.
     pub fn run(
         &mut self,
         mut on_increment: impl FnMut(&IncrementResult) -> Result<()>,
     ) -> Result<IncrementResult> {
         let n_inc = self.settings.increments;
-        let all_bonded: Vec<Vec<PairState>> = self
-            .interfaces
-            .iter()
-            .map(|i| vec![PairState::Bonded; i.elements.len()])
-            .collect();
-        let mut states = match (self.settings.scheme, self.initial.take()) {
-            (Scheme::ActiveSet, Some(s)) => s,
-            _ => all_bonded,
+        let all_bonded = self.all_bonded();
+        let warm = match self.settings.scheme {
+            Scheme::ActiveSet => self.initial.take(),
+            Scheme::Implex => None,
         };
-        let mut locked: HashSet<(usize, usize)> = HashSet::new();
+        let mut states = warm.clone().unwrap_or_else(|| all_bonded.clone());
         let mut last = None;
         for inc in 1..=n_inc {
             let lambda = inc as f64 / n_inc as f64;
             let result = match self.settings.scheme {
                 Scheme::ActiveSet => {
-                    let r = self.active_set_increment(inc, lambda, states.clone(), &mut locked)?;
+                    let mut r = self.active_set_increment(inc, lambda, states.clone())?;
+                    if warm.is_some() && inc == 1 && !r.settled.is_empty() {
+                        // A settlement depends on where the iteration started: take the
+                        // one a start from all bonded gives, as without the warm start.
+                        let history = r.history;
+                        r = self.active_set_increment(inc, lambda, all_bonded.clone())?;
+                        r.history.splice(0..0, history);
+                        r.iterations = r.history.len();
+                    }
                     states = r.states.clone();
                     r
                 }
                 Scheme::Implex => {
                     let t = Instant::now();
                     let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
+                    let check = self.check_law(&states, &u, &f_int, lambda);
                     // States for the next increment from this increment's jumps.
-                    let next = self.states_from(&u, &HashSet::new());
-                    let changed = count_changes(&next, &states);
-                    let seconds = t.elapsed().as_secs_f64();
+                    let changed = count_changes(&check.next, &states);
                     let history = vec![Iteration {
                         method,
                         changed,
-                        seconds,
+                        seconds: t.elapsed().as_secs_f64(),
                     }];
-                    let r = self.finish(inc, lambda, history, u, f_int, states, Vec::new());
+                    let next = check.next.clone();
+                    let r = self.finish(inc, lambda, history, u, f_int, states, check, false);
                     states = next;
                     r
                 }
             };
+            self.check_precision(&result)?;
             on_increment(&result)?;
+            // implex lags its states by design: only its final answer must obey the law.
+            if self.settings.scheme == Scheme::ActiveSet || inc == n_inc {
+                self.check_violation_limit(&result)?;
+            }
             last = Some(result);
         }
         let t = &mut self.timings;
@@ -234,64 +401,76 @@ impl<'a> Solver<'a> {
         Ok(last.expect("at least one increment"))
     }
 
+    fn all_bonded(&self) -> PairStates {
+        self.interfaces
+            .iter()
+            .map(|i| vec![PairState::Bonded; i.elements.len()])
+            .collect()
+    }
+
+    /// One increment of the active-set scheme from the pattern `start`.
     fn active_set_increment(
         &mut self,
         inc: usize,
         lambda: f64,
-        mut states: Vec<Vec<PairState>>,
-        locked: &mut HashSet<(usize, usize)>,
+        start: PairStates,
     ) -> Result<IncrementResult> {
-        let mut seen: Vec<Vec<Vec<PairState>>> = vec![states.clone()];
-        let mut flips: std::collections::HashMap<(usize, usize), u32> =
-            std::collections::HashMap::new();
+        // Proportional loads: the law is homogeneous in the load (forces, jumps and
+        // both tolerances scale with λ), so the pattern the previous increment ended
+        // on satisfies the law — or breaks it by the same fraction — at this load
+        // too: its solution, scaled, is this increment's.
+        if let Some(r) = &self.previous
+            && r.states == start
+        {
+            return Ok(r.scaled(inc, lambda));
+        }
+        let mut seen: HashMap<PairStates, usize> = HashMap::new();
+        let mut visits: Vec<Visit> = Vec::new();
         let mut history = Vec::new();
-        for _ in 1..=self.settings.max_iterations {
+        let mut states = start;
+        let mut cautious = false;
+        for _ in 0..self.settings.max_iterations {
             let t = Instant::now();
             let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
-            let mut next = self.states_from(&u, locked);
-            if let Some(pos) = seen.iter().position(|h| *h == next)
-                && next != states
-            {
-                // A cycle: every pair whose state differs somewhere along it flips.
-                let cycle = &seen[pos..];
-                for (i, st) in next.iter().enumerate() {
-                    for (k, &s) in st.iter().enumerate() {
-                        if cycle.iter().any(|h| h[i][k] != s) {
-                            locked.insert((i, k));
-                        }
-                    }
-                }
-                for &(i, k) in locked.iter() {
-                    next[i][k] = PairState::Bonded;
-                }
+            let check = self.check_law(&states, &u, &f_int, lambda);
+            seen.insert(states.clone(), visits.len());
+            visits.push(Visit {
+                states: states.clone(),
+                score: check.score(),
+            });
+            if check.violations.is_empty() {
+                history.push(Iteration {
+                    method,
+                    changed: 0,
+                    seconds: t.elapsed().as_secs_f64(),
+                });
+                let r = self.finish(inc, lambda, history, u, f_int, states, check, false);
+                self.previous = Some(r.clone());
+                return Ok(r);
             }
-            // A pair about to change state a second time in this increment returns to
-            // a state it already had: it oscillates (a cycle of its own, whatever the
-            // other pairs do). Settle it at once.
-            for (i, (n, s)) in next.iter_mut().zip(&states).enumerate() {
-                for (k, (nk, sk)) in n.iter_mut().zip(s).enumerate() {
-                    if nk != sk {
-                        let count = flips.entry((i, k)).or_insert(0u32);
-                        *count += 1;
-                        if *count >= 2 {
-                            locked.insert((i, k));
-                            *nk = PairState::Bonded;
-                        }
-                    }
-                }
+            let mut next = if cautious {
+                flip_worst(&states, &check)
+            } else {
+                check.next.clone()
+            };
+            if !cautious && seen.contains_key(&next) {
+                // The law leads back to a pattern already solved: a cycle. Go on one
+                // pair at a time, from here.
+                cautious = true;
+                next = flip_worst(&states, &check);
             }
             history.push(Iteration {
                 method,
                 changed: count_changes(&next, &states),
                 seconds: t.elapsed().as_secs_f64(),
             });
-            if next == states {
-                let mut settled: Vec<_> = locked.iter().copied().collect();
-                settled.sort_unstable();
-                return Ok(self.finish(inc, lambda, history, u, f_int, states, settled));
+            if seen.contains_key(&next) {
+                return self.settle(inc, lambda, &visits, history);
             }
-            seen.push(next.clone());
             states = next;
+        }
+        if cautious {
+            return self.settle(inc, lambda, &visits, history);
         }
         let open: usize = states
             .iter()
@@ -299,33 +478,187 @@ impl<'a> Solver<'a> {
             .filter(|&&s| s == PairState::Open)
             .count();
         Err(Error::NoConvergence(format!(
-            "increment {inc} (load factor {lambda:.4}): the contact states did not settle within {} iterations ({open} pairs open at the last one, {} pairs kept bonded to break cycles). Raise [analysis] max_iterations or use more increments",
+            "increment {inc} (load factor {lambda:.4}): the contact states did not settle within {} iterations ({open} pairs open at the last one, no pattern repeated). Raise [analysis] max_iterations or use more increments",
             self.settings.max_iterations,
-            locked.len()
         )))
     }
 
-    /// The pair states the law assigns to displacements `u`; `locked` pairs stay bonded.
-    fn states_from(&self, u: &[f64], locked: &HashSet<(usize, usize)>) -> Vec<Vec<PairState>> {
-        self.interfaces
+    /// Ends a cycling increment on the least-violating pattern it solved: one
+    /// without penetration if any, then the smallest largest violation, then the
+    /// earliest (the rule is deterministic). Its violating pairs are the settled ones.
+    fn settle(
+        &mut self,
+        inc: usize,
+        lambda: f64,
+        visits: &[Visit],
+        mut history: Vec<Iteration>,
+    ) -> Result<IncrementResult> {
+        let best = visits
             .iter()
             .enumerate()
-            .map(|(i, iface)| {
+            .min_by(|(i, a), (j, b)| {
+                a.score
+                    .0
+                    .cmp(&b.score.0)
+                    .then(a.score.1.total_cmp(&b.score.1))
+                    .then(i.cmp(j))
+            })
+            .map(|(_, v)| v)
+            .expect("at least one pattern solved");
+        let t = Instant::now();
+        let states = best.states.clone();
+        let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
+        let check = self.check_law(&states, &u, &f_int, lambda);
+        history.push(Iteration {
+            method,
+            changed: 0,
+            seconds: t.elapsed().as_secs_f64(),
+        });
+        let r = self.finish(inc, lambda, history, u, f_int, states, check, true);
+        self.previous = Some(r.clone());
+        Ok(r)
+    }
+
+    /// Checks the law on every pair of the solution `u` of `states`: the state the
+    /// law gives each pair next, and every violation with its amount.
+    fn check_law(
+        &self,
+        states: &[Vec<PairState>],
+        u: &[f64],
+        f_int: &[f64],
+        lambda: f64,
+    ) -> LawCheck {
+        let load_scale = self.load_scale(lambda, f_int);
+        let mut violations = Vec::new();
+        let next = self
+            .interfaces
+            .iter()
+            .zip(states)
+            .enumerate()
+            .map(|(i, (iface, st))| {
                 iface
                     .elements
                     .iter()
+                    .zip(st)
                     .enumerate()
-                    .map(|(k, c)| {
-                        if locked.contains(&(i, k)) {
+                    .map(|(k, (c, &state))| {
+                        if iface.law == Law::Rigid {
                             return PairState::Bonded;
                         }
                         let d = c.dofs(self.dofs, iface.host, iface.node_part).gather(u);
                         let d = &d[..c.n_dofs()];
-                        iface.law.state(c.gap_n(d), self.gap_tolerance(d))
+                        let gap = c.gap_n(d);
+                        let tol = LawTolerance {
+                            tension: self.settings.force_tolerance * load_scale,
+                            penetration: self.gap_tolerance(d),
+                        };
+                        if let Some(v) = iface.law.violation(state, gap, iface.c_n, tol) {
+                            violations.push(PairViolation {
+                                interface: i,
+                                pair: k,
+                                kind: v.kind,
+                                amount: v.amount,
+                                force: v.force,
+                            });
+                        }
+                        iface.law.next_state(state, gap, iface.c_n, tol)
                     })
                     .collect()
             })
-            .collect()
+            .collect();
+        LawCheck {
+            next,
+            violations,
+            load_scale,
+        }
+    }
+
+    /// The load scale at load factor `lambda`: the larger of Σ‖λ f‖ over the loaded
+    /// nodes and the largest support reaction of the solution with internal force
+    /// `f_int` (so a problem driven by prescribed displacements has a scale too).
+    fn load_scale(&self, lambda: f64, f_int: &[f64]) -> f64 {
+        let mut reactions: HashMap<usize, [f64; 2]> = HashMap::new();
+        for (d, sup) in self.dofs.support_of.iter().enumerate() {
+            if let Some(k) = sup {
+                reactions.entry(*k).or_insert([0.0; 2])[d % 2] += f_int[d] - lambda * self.f_ext[d];
+            }
+        }
+        let largest = reactions
+            .values()
+            .map(|r| r[0].hypot(r[1]))
+            .fold(0.0, f64::max);
+        (lambda * self.total_load).max(largest)
+    }
+
+    /// Stops the run when the out-of-balance force has grown beyond what round-off
+    /// explains: the solve lost its accuracy.
+    fn check_precision(&self, r: &IncrementResult) -> Result<()> {
+        let worst = r.residual.max(r.balance);
+        if worst <= self.settings.max_residual {
+            return Ok(());
+        }
+        Err(Error::Precision {
+            increment: r.index,
+            residual: worst,
+            message: format!(
+                "increment {}: the out-of-balance force is {:.1e} of the load scale (the largest at a free DOF, or the reactions against the applied load; limit [analysis] max_residual = {:.0e}), so the solution cannot be trusted. {}",
+                r.index,
+                worst,
+                self.settings.max_residual,
+                penalty_advice(self.parts, self.interfaces)
+            ),
+        })
+    }
+
+    /// Stops the run when a violation exceeds `max_violation` × the load scale.
+    fn check_violation_limit(&self, r: &IncrementResult) -> Result<()> {
+        let limit = self.settings.max_violation * r.load_scale;
+        let over: Vec<&PairViolation> = r.violations.iter().filter(|v| v.force > limit).collect();
+        if over.is_empty() {
+            return Ok(());
+        }
+        let list: Vec<String> = over
+            .iter()
+            .take(10)
+            .map(|v| {
+                let iface = &self.interfaces[v.interface];
+                let c = &iface.elements[v.pair];
+                let what = match v.kind {
+                    ViolationKind::Tension => format!("bonded in tension {:.4e}", v.amount),
+                    ViolationKind::Penetration => {
+                        format!(
+                            "open, penetrating {:.4e} (as a force {:.4e})",
+                            v.amount, v.force
+                        )
+                    }
+                };
+                format!(
+                    "interface '{}' node {} at ({}, {}): {what}",
+                    iface.name, c.node, c.position[0], c.position[1]
+                )
+            })
+            .collect();
+        let pairs = over
+            .iter()
+            .map(|v| {
+                let iface = &self.interfaces[v.interface];
+                (iface.name.clone(), iface.elements[v.pair].node)
+            })
+            .collect();
+        Err(Error::LawViolation {
+            increment: r.index,
+            pairs,
+            message: format!(
+                "increment {} (load factor {:.4}): no state satisfies the contact law, and {} pair(s) break it by more than [analysis] max_violation = {} of the load scale {:.4e}: {}{}. Refine the node part's face, or raise max_violation to accept",
+                r.index,
+                r.lambda,
+                over.len(),
+                self.settings.max_violation,
+                r.load_scale,
+                list.join("; "),
+                if over.len() > 10 { "; …" } else { "" }
+            ),
+        })
     }
 
     /// The open/closed tolerance of a pair: `gap_tolerance` × the largest
@@ -397,7 +730,7 @@ impl<'a> Solver<'a> {
             let f_int =
                 assembly::internal_force(self.parts, self.interfaces, states, self.dofs, &u);
             self.timings.contact_update += t.elapsed().as_secs_f64();
-            let residual = self.residual(lambda, &f_int);
+            let residual = self.residual(lambda, &f_int, self.load_scale(lambda, &f_int));
             if residual > UPDATE_RESIDUAL_LIMIT
                 && matches!(method, Method::LowRank { .. })
                 && !refactored
@@ -433,20 +766,16 @@ impl<'a> Solver<'a> {
         }
     }
 
-    /// Largest out-of-balance force at free DOFs relative to the largest external
-    /// force or reaction.
-    fn residual(&self, lambda: f64, f_int: &[f64]) -> f64 {
-        let mut scale: f64 = 0.0;
-        let mut res: f64 = 0.0;
-        for (d, &e) in self.dofs.eq.iter().enumerate() {
-            let r = f_int[d] - lambda * self.f_ext[d];
-            if e == FIXED {
-                scale = scale.max(r.abs());
-            } else {
-                scale = scale.max((lambda * self.f_ext[d]).abs());
-                res = res.max(r.abs());
-            }
-        }
+    /// Largest out-of-balance force at a free DOF relative to `scale`.
+    fn residual(&self, lambda: f64, f_int: &[f64], scale: f64) -> f64 {
+        let res = self
+            .dofs
+            .eq
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| **e != FIXED)
+            .map(|(d, _)| (f_int[d] - lambda * self.f_ext[d]).abs())
+            .fold(0.0, f64::max);
         if scale > 0.0 { res / scale } else { res }
     }
 
@@ -458,11 +787,27 @@ impl<'a> Solver<'a> {
         history: Vec<Iteration>,
         u: Vec<f64>,
         f_int: Vec<f64>,
-        states: Vec<Vec<PairState>>,
-        settled: Vec<(usize, usize)>,
+        states: PairStates,
+        check: LawCheck,
+        settled: bool,
     ) -> IncrementResult {
         let f_ext: Vec<f64> = self.f_ext.iter().map(|f| lambda * f).collect();
-        let residual = self.residual(lambda, &f_int);
+        let residual = self.residual(lambda, &f_int, check.load_scale);
+        // Σ reactions + Σ loads = Σ over fixed DOFs of (F_int − F_ext) + Σ F_ext.
+        let mut total = [0.0; 2];
+        for (d, &e) in self.dofs.eq.iter().enumerate() {
+            total[d % 2] += if e == FIXED { f_int[d] } else { f_ext[d] };
+        }
+        let balance = total[0].hypot(total[1]) / check.load_scale.max(f64::MIN_POSITIVE);
+        let settled = if settled {
+            check
+                .violations
+                .iter()
+                .map(|v| (v.interface, v.pair))
+                .collect()
+        } else {
+            Vec::new()
+        };
         IncrementResult {
             index,
             lambda,
@@ -471,10 +816,43 @@ impl<'a> Solver<'a> {
             u,
             states,
             settled,
+            violations: check.violations,
+            load_scale: check.load_scale,
             f_int,
             f_ext,
             residual,
+            balance,
         }
+    }
+}
+
+/// `states` with the law's verdict applied to the worst violating pair only.
+fn flip_worst(states: &[Vec<PairState>], check: &LawCheck) -> PairStates {
+    let mut next = states.to_vec();
+    if let Some(v) = check.worst() {
+        next[v.interface][v.pair] = check.next[v.interface][v.pair];
+    }
+    next
+}
+
+/// What to say about the penalties when the solve lost accuracy.
+fn penalty_advice(parts: &[Part], interfaces: &[Interface]) -> String {
+    let worst = interfaces
+        .iter()
+        .map(|i| {
+            let et = |p: usize| parts[p].material.young * parts[p].material.thickness;
+            let softer = et(i.host).min(et(i.node_part));
+            (i.c_n.max(i.c_s) / softer, i)
+        })
+        .max_by(|a, b| a.0.total_cmp(&b.0));
+    match worst {
+        Some((ratio, i)) if ratio > 1e7 => format!(
+            "Interface '{}' has a penalty {:.3e}, {:.1e} × E·t of its softer part: too large for double precision. Penalties between about 1e3 and 1e7 × E·t work (the default is 1e5 × E·t); lower c_n and c_s.",
+            i.name,
+            i.c_n.max(i.c_s),
+            ratio
+        ),
+        _ => "The model is ill-conditioned: check for very different stiffnesses (E, thickness) between parts, or elements of very different sizes.".into(),
     }
 }
 
