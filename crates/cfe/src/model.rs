@@ -102,8 +102,11 @@ fn one() -> f64 {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RectangleSpec {
+    #[serde(deserialize_with = "pair")]
     x: [f64; 2],
+    #[serde(deserialize_with = "pair")]
     y: [f64; 2],
+    #[serde(deserialize_with = "pair")]
     cells: [usize; 2],
     /// `t3` (each cell split into two triangles, the default) or `q4`.
     #[serde(default = "default_elements")]
@@ -111,6 +114,35 @@ struct RectangleSpec {
     /// T3 only: `rising` (`/`, the default) or `falling` (`\`) cell diagonals.
     #[serde(default)]
     diagonal: crate::mesh::Diagonal,
+}
+
+/// A two-entry array (`[x, y]`, `[nx, ny]`, …) with exactly two entries: serde's
+/// fixed-size arrays would silently drop extra entries of a TOML array.
+fn pair<'de, D, T>(d: D) -> std::result::Result<[T; 2], D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    let v: Vec<T> = Vec::deserialize(d)?;
+    let n = v.len();
+    <[T; 2]>::try_from(v).map_err(|_| {
+        serde::de::Error::custom(format!("expected an array of exactly 2 values, got {n}"))
+    })
+}
+
+/// [`pair`] for an optional key.
+fn opt_pair<'de, D, T>(d: D) -> std::result::Result<Option<[T; 2]>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    let Some(v) = Option::<Vec<T>>::deserialize(d)? else {
+        return Ok(None);
+    };
+    let n = v.len();
+    <[T; 2]>::try_from(v).map(Some).map_err(|_| {
+        serde::de::Error::custom(format!("expected an array of exactly 2 values, got {n}"))
+    })
 }
 
 fn default_elements() -> ElementKind {
@@ -122,11 +154,13 @@ fn default_elements() -> ElementKind {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct AnnulusSpec {
-    #[serde(default)]
+    #[serde(default, deserialize_with = "pair")]
     center: [f64; 2],
+    #[serde(deserialize_with = "pair")]
     r: [f64; 2],
-    #[serde(default = "full_turn")]
+    #[serde(default = "full_turn", deserialize_with = "pair")]
     theta: [f64; 2],
+    #[serde(deserialize_with = "pair")]
     cells: [usize; 2],
     #[serde(default = "default_elements")]
     elements: ElementKind,
@@ -201,9 +235,10 @@ enum Component {
 struct SupportSpec {
     part: Spanned<String>,
     boundary: Option<Spanned<String>>,
+    #[serde(default, deserialize_with = "opt_pair")]
     at: Option<[f64; 2]>,
     fix: Vec<Component>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "pair")]
     value: [f64; 2],
 }
 
@@ -212,9 +247,13 @@ struct SupportSpec {
 struct LoadSpec {
     part: Spanned<String>,
     boundary: Option<Spanned<String>>,
+    #[serde(default, deserialize_with = "opt_pair")]
     from: Option<[f64; 2]>,
+    #[serde(default, deserialize_with = "opt_pair")]
     to: Option<[f64; 2]>,
+    #[serde(default, deserialize_with = "opt_pair")]
     at: Option<[f64; 2]>,
+    #[serde(default, deserialize_with = "opt_pair")]
     force: Option<[f64; 2]>,
     pressure: Option<f64>,
 }
@@ -712,6 +751,27 @@ impl Builder<'_> {
                 &spec.part,
                 format!(
                     "support '{name}': `fix` is empty; give [\"x\"], [\"y\"] or [\"x\", \"y\"]"
+                ),
+            ));
+        }
+        if spec.fix.is_empty() {
+            return Err(self.err(
+                &spec.part,
+                format!("support '{name}': `fix` is empty; list the components to fix, \"x\" and/or \"y\""),
+            ));
+        }
+        if spec.fix.len() == 2 && spec.fix[0] == spec.fix[1] {
+            return Err(self.err(
+                &spec.part,
+                format!("support '{name}': `fix` names the same component twice; give [\"x\"], [\"y\"] or [\"x\", \"y\"]"),
+            ));
+        }
+        if spec.fix.len() > 2 {
+            return Err(self.err(
+                &spec.part,
+                format!(
+                    "support '{name}': `fix` has {} entries; give at most \"x\" and \"y\"",
+                    spec.fix.len()
                 ),
             ));
         }

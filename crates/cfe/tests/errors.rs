@@ -271,3 +271,33 @@ fn annulus_and_pressure_misuse() {
         "{e}"
     );
 }
+
+/// A two-value array with another number of values (a third force component, a
+/// third cell count, one coordinate) is an error naming the line, not silently cut
+/// to two; so is a `fix` that names a component twice or none.
+#[test]
+fn arrays_of_the_wrong_length_and_bad_fix() {
+    for (from, to) in [
+        ("force = [0.0, -1500.0]", "force = [0.0, -1500.0, -99999.0]"),
+        ("cells = [20, 12] }", "cells = [20, 12, 3] }"),
+        ("x = [0.0, 200.0]", "x = [0.0]"),
+        ("from = [86.0, 135.0]", "from = [86.0, 135.0, 1.0]"),
+    ] {
+        let text = format!("{BASE}{LOAD_DOWN}").replacen(from, to, 1);
+        assert_ne!(text, format!("{BASE}{LOAD_DOWN}"), "{from}");
+        let line = 1 + text[..text.find(to).unwrap()].matches('\n').count();
+        let e = parse_err(&text, |e| matches!(e, Error::Parse { .. }));
+        assert!(
+            e.contains("exactly 2 values") && e.contains(&format!("line {line}")),
+            "{to}: {e}"
+        );
+    }
+    for fix in ["[\"x\", \"x\"]", "[]", "[\"y\", \"x\", \"y\"]"] {
+        let text = BASE.replace("fix = [\"x\", \"y\"]", &format!("fix = {fix}"));
+        let e = parse_err(&text, |e| matches!(e, Error::Parse { line: Some(_), .. }));
+        assert!(
+            e.contains("`fix`") && e.contains("base/bottom"),
+            "{fix}: {e}"
+        );
+    }
+}

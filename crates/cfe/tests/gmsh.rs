@@ -605,3 +605,28 @@ fn mixed_triangles_and_quadrilaterals_make_one_part() {
     assert!(kind("left").iter().all(|k| *k == ElementKind::Q4));
     assert!(kind("right").iter().all(|k| *k == ElementKind::T3));
 }
+
+/// A tangled mesh — one node of a triangle swapped (302: 2 5 100 → 2 5 1), so that
+/// it overlaps its neighbours while every element on its own is valid — is an
+/// error naming the file's elements, not a run with a wrong answer.
+#[test]
+fn tangled_mesh_is_an_error() {
+    let text = std::fs::read_to_string(data("square_41.msh")).unwrap();
+    assert!(text.contains("\n302 2 5 100\n"));
+    let tangled = text.replace("\n302 2 5 100\n", "\n302 2 5 1\n");
+    let dir = std::env::temp_dir().join(format!("cfe-tangled-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("tangled.msh");
+    std::fs::write(&path, tangled).unwrap();
+    let m = GmshMesh::read(&path).unwrap();
+    let e = m.part_mesh("all", None).unwrap_err();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(matches!(e, cfe::Error::Mesh { .. }), "{e:?}");
+    let e = e.to_string();
+    assert!(e.contains("part 'all'") && e.contains("tangled.msh"), "{e}");
+    assert!(e.contains("302"), "the swapped element is not named: {e}");
+    assert!(e.contains("folds over"), "{e}");
+
+    // The untangled file reads as before.
+    read("square_41.msh").part_mesh("all", None).unwrap();
+}

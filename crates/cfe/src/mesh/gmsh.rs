@@ -13,7 +13,7 @@
 //! `$NodeData`, ...) is skipped. Node and element tags may be sparse. The mesh must
 //! be planar (z = const); z is dropped.
 
-use super::{BoundaryEdge, Mesh, dist};
+use super::{BoundaryEdge, Mesh, Tiling, dist};
 use crate::error::{Error, Result};
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::fmt::Display;
@@ -339,10 +339,13 @@ impl GmshMesh {
             }
         }
         let mut nodes = Vec::new();
+        // The file's node (index into `self.nodes`) of each part node.
+        let mut file_of = Vec::new();
         for (i, l) in local.iter_mut().enumerate() {
             if *l != UNUSED {
                 *l = nodes.len();
                 nodes.push(self.nodes[i]);
+                file_of.push(i);
             }
         }
 
@@ -379,6 +382,42 @@ impl GmshMesh {
             elements,
             boundaries: BTreeMap::new(),
         };
+        // The elements must tile the part: overlapping or folded elements would
+        // pass every per-element check and give a wrong answer.
+        let tag = |e: usize| chosen[e].0;
+        let node_tag = |n: usize| self.node_tags[file_of[n]];
+        mesh.check_tiling().map_err(|t| {
+            err(match t {
+                Tiling::Shared { edge, elements } => format!(
+                    "elements {:?} of file {} all use the edge between nodes {} and {}: an edge can border two elements at most (overlapping elements?)",
+                    elements.iter().map(|&e| tag(e)).collect::<Vec<_>>(),
+                    self.file_name(),
+                    node_tag(edge[0]),
+                    node_tag(edge[1])
+                ),
+                Tiling::SameSide { edge, elements } => format!(
+                    "elements {} and {} of file {} lie on the same side of their common edge (nodes {} and {}): one folds over the other",
+                    tag(elements[0]),
+                    tag(elements[1]),
+                    self.file_name(),
+                    node_tag(edge[0]),
+                    node_tag(edge[1])
+                ),
+                Tiling::Overlap { area, enclosed, pairs } if pairs.is_empty() => format!(
+                    "the elements of file {} cover an area of {area:e} but their boundary encloses {enclosed:e}: elements overlap",
+                    self.file_name()
+                ),
+                Tiling::Overlap { pairs, .. } => format!(
+                    "elements of file {} overlap: {}",
+                    self.file_name(),
+                    pairs
+                        .iter()
+                        .map(|[a, b]| format!("{} and {}", tag(*a), tag(*b)))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            })
+        })?;
 
         // Named boundaries from the physical curves. Each element edge, by its sorted
         // node pair: how many elements use it, and the first one's oriented edge.

@@ -385,6 +385,102 @@ impl Mesh {
         Ok(())
     }
 
+    /// Checks that the elements tile the part — no overlap, no fold — for a mesh
+    /// whose elements are each valid and counter-clockwise: every edge is used by at
+    /// most two elements, which run along it in opposite directions (one on each
+    /// side), the elements' areas add up to the area their boundary encloses, and no
+    /// two elements' interiors intersect.
+    /// A mesh read from a file can break this (a node swapped between elements)
+    /// while every element on its own looks fine.
+    pub fn check_tiling(&self) -> std::result::Result<(), Tiling> {
+        // Each edge by its sorted node pair: its uses (element, direction).
+        let mut edges: Vec<(usize, usize, usize, bool)> = self
+            .elements
+            .iter()
+            .enumerate()
+            .flat_map(|(e, el)| el.edges().map(move |[a, b]| (a.min(b), a.max(b), e, a < b)))
+            .collect();
+        edges.sort_unstable();
+        let mut enclosed = 0.0;
+        for run in edges.chunk_by(|p, q| (p.0, p.1) == (q.0, q.1)) {
+            let (a, b) = (run[0].0, run[0].1);
+            match run {
+                [(_, _, _, forward)] => {
+                    let (p, q) = if *forward { (a, b) } else { (b, a) };
+                    let (p, q) = (self.nodes[p], self.nodes[q]);
+                    enclosed += 0.5 * (p[0] * q[1] - q[0] * p[1]);
+                }
+                [(_, _, e, f), (_, _, g, h)] if f == h => {
+                    return Err(Tiling::SameSide {
+                        edge: [a, b],
+                        elements: [*e, *g],
+                    });
+                }
+                [_, _] => {}
+                _ => {
+                    return Err(Tiling::Shared {
+                        edge: [a, b],
+                        elements: run.iter().map(|u| u.2).collect(),
+                    });
+                }
+            }
+        }
+        // Elements that share nodes and still overlap show as more area than the
+        // boundary encloses; an element lying loose on others has a boundary of its
+        // own, so the elements' bounding boxes are searched as well.
+        let total: f64 = (0..self.elements.len()).map(|e| self.element_area(e)).sum();
+        let pairs = self.overlapping_pairs(10);
+        if pairs.is_empty() && (total - enclosed).abs() <= 1e-9 * total.abs().max(enclosed.abs()) {
+            return Ok(());
+        }
+        Err(Tiling::Overlap {
+            area: total,
+            enclosed,
+            pairs,
+        })
+    }
+
+    /// Up to `limit` pairs of elements whose interiors overlap (bounding boxes in an
+    /// R-tree, then a separating-axis test of the two convex polygons).
+    fn overlapping_pairs(&self, limit: usize) -> Vec<[usize; 2]> {
+        use rstar::{AABB, RTree, primitives::GeomWithData, primitives::Rectangle};
+        let corners = |e: usize| -> Vec<[f64; 2]> {
+            self.elements[e]
+                .nodes()
+                .iter()
+                .map(|&n| self.nodes[n])
+                .collect()
+        };
+        let boxes: Vec<GeomWithData<Rectangle<[f64; 2]>, usize>> = (0..self.elements.len())
+            .map(|e| {
+                let x = corners(e);
+                let lo = x
+                    .iter()
+                    .fold([f64::INFINITY; 2], |m, p| [m[0].min(p[0]), m[1].min(p[1])]);
+                let hi = x.iter().fold([f64::NEG_INFINITY; 2], |m, p| {
+                    [m[0].max(p[0]), m[1].max(p[1])]
+                });
+                GeomWithData::new(Rectangle::from_corners(lo, hi), e)
+            })
+            .collect();
+        let tree = RTree::bulk_load(boxes.clone());
+        let mut out = Vec::new();
+        for b in &boxes {
+            let e = b.data;
+            let env = AABB::from_corners(b.geom().lower(), b.geom().upper());
+            for other in tree.locate_in_envelope_intersecting(env) {
+                let f = other.data;
+                if f > e && interiors_overlap(&corners(e), &corners(f)) {
+                    out.push([e, f]);
+                    if out.len() == limit {
+                        return out;
+                    }
+                }
+            }
+        }
+        out
+    }
+
     /// Checks only the elements that contain one of `nodes` (after those nodes
     /// moved), as [`Mesh::validate`] does for all.
     pub fn validate_around(&self, part: &str, nodes: &[usize]) -> Result<()> {
@@ -461,6 +557,70 @@ pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (b[0] - a[0]).hypot(b[1] - a[1])
 }
 
+/// How a mesh fails to tile its part (see [`Mesh::check_tiling`]); element and
+/// node numbers are the mesh's.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Tiling {
+    /// More than two elements use one edge.
+    Shared {
+        /// The edge's nodes.
+        edge: [usize; 2],
+        /// The elements that use it.
+        elements: Vec<usize>,
+    },
+    /// Two elements lie on the same side of their common edge (one folds over the other).
+    SameSide {
+        /// The edge's nodes.
+        edge: [usize; 2],
+        /// The two elements.
+        elements: [usize; 2],
+    },
+    /// Elements overlap: they cover more area than their boundary encloses, or
+    /// the interiors of two of them intersect.
+    Overlap {
+        /// Sum of the element areas.
+        area: f64,
+        /// Area enclosed by the boundary edges.
+        enclosed: f64,
+        /// Pairs of elements found to overlap (at most ten).
+        pairs: Vec<[usize; 2]>,
+    },
+}
+
+/// Whether two convex polygons (counter-clockwise corners) share interior area: no
+/// edge normal of either separates them by more than round-off.
+fn interiors_overlap(a: &[[f64; 2]], b: &[[f64; 2]]) -> bool {
+    let scale = a
+        .iter()
+        .chain(b)
+        .map(|p| p[0].abs().max(p[1].abs()))
+        .fold(0.0, f64::max);
+    let eps = 1e-12 * scale * scale;
+    for poly in [a, b] {
+        for k in 0..poly.len() {
+            let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+            let n = [q[1] - p[1], p[0] - q[0]];
+            let proj = |x: &[f64; 2]| n[0] * (x[0] - p[0]) + n[1] * (x[1] - p[1]);
+            let (a0, a1) = a
+                .iter()
+                .map(proj)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |m, v| {
+                    (m.0.min(v), m.1.max(v))
+                });
+            let (b0, b1) = b
+                .iter()
+                .map(proj)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |m, v| {
+                    (m.0.min(v), m.1.max(v))
+                });
+            if a1 <= b0 + eps || b1 <= a0 + eps {
+                return false;
+            }
+        }
+    }
+    true
+}
+
 /// Signed area of the polygon through `points` (shoelace; positive when
 /// counter-clockwise).
 pub fn polygon_area(points: impl Iterator<Item = [f64; 2]> + Clone) -> f64 {
@@ -533,6 +693,66 @@ mod tests {
                 let to_centroid = [c[0] - a[0], c[1] - a[1]];
                 assert!(normal[0] * to_centroid[0] + normal[1] * to_centroid[1] < 0.0);
             }
+        }
+    }
+
+    /// The tiling check: structured meshes of both kinds tile their rectangle;
+    /// a triangle folded over its neighbour (one node moved across their common
+    /// edge, each triangle still counter-clockwise), a third element on an edge,
+    /// and a triangle lying on top of others are each caught, naming the elements.
+    ///
+    /// ```text
+    ///   2               2
+    ///   │ ╲             │ ╲  ╲
+    ///   │   ╲     +     │    ╲   ╲      [0, 1, 2] and [0, 4, 2]: both lie
+    ///   0─────1         0─────────4     right of their common edge 0–2
+    /// ```
+    #[test]
+    fn tiling_detects_folds_and_overlaps() {
+        for kind in [ElementKind::T3, ElementKind::Q4] {
+            let m = Mesh::rectangle([0.0, 3.0], [0.0, 2.0], [3, 2], kind);
+            assert_eq!(m.check_tiling(), Ok(()));
+        }
+        // A fold: two triangles on the same side of their common edge.
+        let mut fold = Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [1, 1], ElementKind::T3);
+        fold.nodes.push([2.0, 0.5]);
+        // Nodes 0 (0, 0), 1 (1, 0), 2 (0, 1) and 4 (2, 0.5): node 4 lies right of
+        // edge 0–2, like node 1.
+        fold.elements = vec![Element::T3([0, 1, 2]), Element::T3([0, 4, 2])];
+        assert!(fold.element_area(1) > 0.0);
+        assert!(matches!(
+            fold.check_tiling(),
+            Err(Tiling::SameSide {
+                edge: [0, 2],
+                elements: [0, 1]
+            })
+        ));
+        // A third element on one edge.
+        let mut three = Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [1, 1], ElementKind::T3);
+        three.nodes.push([0.2, 2.0]);
+        three.elements.push(Element::T3([0, 3, 4]));
+        let t = three.check_tiling();
+        assert!(
+            matches!(t, Err(Tiling::Shared { .. })),
+            "{t:?} {:?}",
+            three.elements
+        );
+        // An element lying on top of others, sharing no edge with them.
+        let mut on_top = Mesh::rectangle([0.0, 2.0], [0.0, 2.0], [2, 2], ElementKind::T3);
+        let n = on_top.nodes.len();
+        on_top.nodes.extend([[0.6, 0.6], [1.4, 0.6], [1.0, 1.4]]);
+        on_top.elements.push(Element::T3([n, n + 1, n + 2]));
+        match on_top.check_tiling() {
+            Err(Tiling::Overlap {
+                area,
+                enclosed,
+                pairs,
+            }) => {
+                assert!((area - enclosed).abs() < 1e-12, "{area} {enclosed}");
+                assert!(pairs.iter().all(|p| p[1] == 8 || p[0] == 8), "{pairs:?}");
+                assert!(!pairs.is_empty());
+            }
+            other => panic!("overlap not found: {other:?}"),
         }
     }
 
