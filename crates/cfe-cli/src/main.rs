@@ -57,8 +57,8 @@ enum Command {
         /// Refine until about this many unknowns.
         #[arg(long, default_value_t = 4_000_000)]
         max_unknowns: usize,
-        /// Where to write the report.
-        #[arg(long, default_value = "docs")]
+        /// Where to write the report (regenerate the committed one with `--out docs`).
+        #[arg(long, default_value = "results/bench")]
         out: PathBuf,
         /// Only regenerate benchmarks.md and benchmarks.png from OUT/benchmarks.json.
         #[arg(long)]
@@ -67,8 +67,8 @@ enum Command {
     /// Verification: run the cases against closed-form and conforming references and
     /// write verification.md with its pictures.
     Verify {
-        /// Where to write the report.
-        #[arg(long, default_value = "docs")]
+        /// Where to write the report (regenerate the committed one with `--out docs`).
+        #[arg(long, default_value = "results/verify")]
         out: PathBuf,
         /// The reduced versions of the cases (as run by the tests).
         #[arg(long)]
