@@ -109,6 +109,18 @@ pub enum Error {
         /// The message, with the interface whose penalty is too large if any.
         message: String,
     },
+    /// The model is too large for this machine: refused before meshing it.
+    #[error("model too large: {message}")]
+    TooLarge {
+        /// Estimated unknowns.
+        unknowns: u64,
+        /// Estimated memory (bytes).
+        bytes: u64,
+        /// Memory available (bytes).
+        available: u64,
+        /// The message with the estimate and what to change.
+        message: String,
+    },
     /// Writing a result file failed.
     #[error("cannot write {path}: {message}")]
     Output { path: PathBuf, message: String },

@@ -484,6 +484,12 @@ impl Builder<'_> {
             .map(|s| s.iter().map(|GroupSpec(g)| g.clone()).collect());
         let part = mesh.part_mesh(name, surfaces.as_deref())?;
         Ok(if refine > 1 {
+            let k = refine as u64;
+            let nodes = (part.nodes.len() as u64)
+                .checked_mul(k)
+                .and_then(|n| n.checked_mul(k))
+                .unwrap_or(u64::MAX);
+            check_size(nodes, refine)?;
             part.refined(refine)
         } else {
             part
@@ -505,6 +511,14 @@ impl Builder<'_> {
         if part_specs.is_empty() {
             return Err(Error::Model("the problem defines no [[part]]".into()));
         }
+        // Resources are checked before they are spent: the structured parts' sizes
+        // (checked arithmetic) against the machine's memory, before any meshing.
+        let mut nodes: u64 = 0;
+        for spec in &part_specs {
+            let n = self.structured_nodes(spec, refine)?;
+            nodes = nodes.saturating_add(n);
+        }
+        check_size(nodes, refine)?;
         let mut parts: Vec<Part> = Vec::with_capacity(part_specs.len());
         let mut gmsh_files = HashMap::new();
         for spec in &part_specs {
@@ -542,6 +556,31 @@ impl Builder<'_> {
             settings: analysis,
             refine,
             text: self.text.to_string(),
+        })
+    }
+
+    /// The number of nodes a structured part (rectangle or annulus) will have at
+    /// refinement `refine`, without meshing it (0 for a Gmsh part); an error when
+    /// a count overflows.
+    fn structured_nodes(&self, spec: &PartSpec, refine: usize) -> Result<u64> {
+        let cells = match (&spec.rectangle, &spec.annulus) {
+            (Some(r), _) => r.cells,
+            (None, Some(a)) => a.cells,
+            _ => return Ok(0),
+        };
+        let k = refine as u64;
+        let count = cells.iter().try_fold(1u64, |n, &c| {
+            (c as u64).checked_mul(k)?.checked_add(1)?.checked_mul(n)
+        });
+        count.ok_or_else(|| {
+            self.err(
+                &spec.name,
+                format!(
+                    "part '{}': {:?} cells refined {refine} times is too many to count",
+                    spec.name.get_ref(),
+                    cells
+                ),
+            )
         })
     }
 
@@ -906,6 +945,39 @@ impl Builder<'_> {
 /// The 1-based line of byte offset `at` in `text`.
 fn line_of(text: &str, at: usize) -> usize {
     text[..at.min(text.len())].matches('\n').count() + 1
+}
+
+/// Memory per unknown of a contact run, bytes: the peak of the benchmark runs
+/// (factor, stiffness, update columns, stresses and output; 1.9–2.7 kB per unknown
+/// from 0.2 to 8 million unknowns), rounded up.
+const BYTES_PER_UNKNOWN: u64 = 3000;
+
+/// Refuses a model of `nodes` nodes (two unknowns each) whose estimated memory
+/// exceeds what the machine has available, before it is meshed.
+fn check_size(nodes: u64, refine: usize) -> Result<()> {
+    let unknowns = nodes.saturating_mul(2);
+    let bytes = unknowns.saturating_mul(BYTES_PER_UNKNOWN);
+    let Some(available) = crate::output::memory::available_memory_bytes() else {
+        return Ok(());
+    };
+    if bytes <= available {
+        return Ok(());
+    }
+    Err(Error::TooLarge {
+        unknowns,
+        bytes,
+        available,
+        message: format!(
+            "the model would have about {unknowns} unknowns{} and need about {:.1} GiB, but {:.1} GiB of memory are available; use a smaller refinement or fewer cells",
+            if refine > 1 {
+                format!(" at refinement {refine}")
+            } else {
+                String::new()
+            },
+            bytes as f64 / (1u64 << 30) as f64,
+            available as f64 / (1u64 << 30) as f64
+        ),
+    })
 }
 
 /// Checks the `[analysis]` settings.

@@ -301,3 +301,27 @@ fn arrays_of_the_wrong_length_and_bad_fix() {
         );
     }
 }
+
+/// Sizes are checked before memory is spent: a refinement or a cell count whose
+/// node count overflows is an error naming the part, and a model whose estimated
+/// memory exceeds what the machine has is refused before meshing (no allocation
+/// failure, no abort).
+#[test]
+fn oversized_models_are_refused_before_meshing() {
+    let text = format!("{BASE}{LOAD_DOWN}");
+    for k in [1usize << 32, (1usize << 62) + 1] {
+        let e = Model::from_str(&text, Path::new("bad.toml"), k).unwrap_err();
+        assert!(matches!(e, Error::Parse { .. }), "{e:?}");
+        assert!(e.to_string().contains("too many to count"), "{e}");
+    }
+    if cfe::output::memory::available_memory_bytes().is_some() {
+        let e = Model::from_str(&text, Path::new("bad.toml"), 100_000).unwrap_err();
+        assert!(
+            matches!(e, Error::TooLarge { unknowns, .. } if unknowns > 8_000_000_000_000),
+            "{e:?}"
+        );
+        let huge = text.replace("cells = [20, 12]", "cells = [100000, 100000]");
+        let e = parse_err(&huge, |e| matches!(e, Error::TooLarge { .. }));
+        assert!(e.contains("GiB") && e.contains("unknowns"), "{e}");
+    }
+}

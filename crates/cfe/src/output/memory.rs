@@ -16,6 +16,14 @@ pub fn total_memory_bytes() -> Option<u64> {
     kib_field(&std::fs::read_to_string("/proc/meminfo").ok()?, "MemTotal:")
 }
 
+/// Memory available to a new allocation in bytes (Linux `MemAvailable`), if known.
+pub fn available_memory_bytes() -> Option<u64> {
+    kib_field(
+        &std::fs::read_to_string("/proc/meminfo").ok()?,
+        "MemAvailable:",
+    )
+}
+
 /// The processor's model name (Linux `/proc/cpuinfo`), if known.
 pub fn cpu_model() -> Option<String> {
     let info = std::fs::read_to_string("/proc/cpuinfo").ok()?;
