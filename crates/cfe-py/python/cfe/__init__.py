@@ -21,7 +21,6 @@ line, key, part, node).
 
 from __future__ import annotations
 
-import copy
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -491,15 +490,22 @@ class Model:
         ``law`` (``"rigid"`` or ``"contact"``) makes every interface follow that
         law, as ``cfe run --law``. The model is not changed: it can be solved again.
         """
-        callback = None
-        if progress is not None:
-            def callback(info: Dict[str, Any]) -> None:
-                progress(Increment(**info))
+        callback = None if progress is None else _increments_to(progress)
         raw = self._native.solve(callback, None if out is None else Path(out), law)
         return Results(raw, self, law)
 
     def __repr__(self) -> str:
         return repr(self._native)
+
+
+def _increments_to(progress: Callable[[Increment], Any]) -> Callable[[Dict[str, Any]], None]:
+    """The native solver's per-increment dict handed to ``progress`` as an
+    :class:`Increment`."""
+
+    def callback(info: Dict[str, Any]) -> None:
+        progress(Increment(**{k: info[k] for k in Increment._fields}))
+
+    return callback
 
 
 def run(
