@@ -294,6 +294,15 @@ impl Analysis {
     /// Solves the problem in memory, writing nothing: the displacements, stresses,
     /// pair states and forces, reactions and summary of the last increment.
     pub fn solve(&self) -> Result<Results> {
+        self.solve_observed(|_| Ok(()))
+    }
+
+    /// As [`Analysis::solve`], handing each converged increment to `on_increment`
+    /// (e.g. to show progress); an error it returns stops the solve and is returned.
+    pub fn solve_observed(
+        &self,
+        mut on_increment: impl FnMut(&IncrementResult) -> Result<()>,
+    ) -> Result<Results> {
         let start = Instant::now();
         let mut summary = self.empty_summary();
         let t = Instant::now();
@@ -309,7 +318,7 @@ impl Analysis {
         let last = solver.run(|inc| {
             let rows = self.pair_rows(inc);
             self.fill_summary(&mut summary, inc, &rows);
-            Ok(())
+            on_increment(inc)
         })?;
         summary.timings.solve = solver.timings.clone();
         (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();

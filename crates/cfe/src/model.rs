@@ -344,6 +344,20 @@ impl Model {
     /// Reads, checks and meshes a problem given as text; `path` is used in messages
     /// and for the default title.
     pub fn from_str(text: &str, path: &Path, refine: usize) -> Result<Model> {
+        Model::from_str_with_meshes(text, path, refine, BTreeMap::new())
+    }
+
+    /// As [`Model::from_str`], with the meshes of some parts given (by part name)
+    /// instead of by a mesh key in the text (e.g. [`Mesh::from_arrays`]): such a
+    /// part has no `rectangle`, `annulus` or `gmsh` key; its boundaries are the
+    /// mesh's. Each given mesh must belong to a part of the text. `refine`
+    /// subdivides the given meshes as it does Gmsh meshes ([`Mesh::refined`]).
+    pub fn from_str_with_meshes(
+        text: &str,
+        path: &Path,
+        refine: usize,
+        meshes: BTreeMap<String, Mesh>,
+    ) -> Result<Model> {
         let file: ProblemFile = toml::from_str(text).map_err(|e| Error::Parse {
             path: path.to_path_buf(),
             line: e.span().map(|s| line_of(text, s.start)),
@@ -354,13 +368,28 @@ impl Model {
                 "the refinement factor must be at least 1".into(),
             ));
         }
-        Builder { text, path }.build(file, refine)
+        if let Some(name) = meshes
+            .keys()
+            .find(|m| !file.parts.iter().any(|p| p.name.get_ref() == *m))
+        {
+            return Err(Error::Model(format!(
+                "a mesh is given for part '{name}', which the problem does not define"
+            )));
+        }
+        Builder {
+            text,
+            path,
+            meshes: std::cell::RefCell::new(meshes),
+        }
+        .build(file, refine)
     }
 }
 
 struct Builder<'a> {
     text: &'a str,
     path: &'a Path,
+    /// Meshes given in memory, by part name, taken by their parts.
+    meshes: std::cell::RefCell<BTreeMap<String, Mesh>>,
 }
 
 impl Builder<'_> {
@@ -621,6 +650,12 @@ impl Builder<'_> {
                 format!("part '{name}' has more than one of `rectangle`, `annulus` and `gmsh`: give exactly one"),
             ));
         }
+        if given.contains(&true) && self.meshes.borrow().contains_key(&name) {
+            return Err(self.err(
+                &spec.name,
+                format!("part '{name}' has a mesh given in memory and a `rectangle`, `annulus` or `gmsh` key: give one of them"),
+            ));
+        }
         let mesh = self.part_mesh(spec, &name, refine, gmsh_files)?;
         mesh.validate(&name)?;
         Ok(Part {
@@ -684,6 +719,14 @@ impl Builder<'_> {
                 )
             }
             (None, None, Some(g)) => self.gmsh_mesh(name, g, refine, gmsh_files)?,
+            (None, None, None) if self.meshes.borrow().contains_key(name) => {
+                let mesh = self.meshes.borrow_mut().remove(name).unwrap_or_default();
+                if refine > 1 {
+                    mesh.refined(refine)
+                } else {
+                    mesh
+                }
+            }
             (None, None, None) => {
                 return Err(self.err(
                     &spec.name,

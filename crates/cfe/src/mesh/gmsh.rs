@@ -515,7 +515,7 @@ fn describe(groups: &[(i32, Option<&str>)]) -> String {
 /// Orders oriented edges along their chains (each edge's end is the next one's
 /// start), open chains first from their free start, then closed loops; duplicates
 /// are dropped. Deterministic for a given input order.
-fn chain_order(mut edges: Vec<BoundaryEdge>) -> Vec<BoundaryEdge> {
+pub(super) fn chain_order(mut edges: Vec<BoundaryEdge>) -> Vec<BoundaryEdge> {
     let mut seen = HashSet::new();
     edges.retain(|e| seen.insert(e.nodes));
     let ends: HashSet<usize> = edges.iter().map(|e| e.nodes[1]).collect();

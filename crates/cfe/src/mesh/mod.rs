@@ -4,8 +4,11 @@
 //! elements) every mesh passes before it is used. [`gmsh`] reads Gmsh meshes;
 //! [`Mesh::refined`] (in `refine`) subdivides any mesh uniformly.
 
+mod arrays;
 pub mod gmsh;
 mod refine;
+
+pub use arrays::BoundarySelection;
 
 use crate::error::{Error, Result};
 use std::collections::{BTreeMap, HashMap};

@@ -1,0 +1,782 @@
+"""cfe: contact between independently meshed parts by coupling finite elements (2D).
+
+Each part of an assembly is meshed on its own; the parts interact across their
+shared faces through coupling finite elements (CFEs), bonded where the faces press
+together and free where they pull apart. This package drives the Rust solver from
+Python:
+
+* a :class:`Model` from a problem file (:meth:`Model.from_file`), TOML text
+  (:meth:`Model.from_toml`), or dicts mirroring the TOML schema (``Model(dict)``)
+  whose parts may be given as arrays (``points``, ``triangles``, ``quads``,
+  ``boundaries``) or as a :class:`Mesh` / ``meshio.Mesh``;
+* :meth:`Model.solve` (the GIL is released; an optional progress callback) returns
+  :class:`Results`: per part displacements and stresses, per interface the pairs'
+  positions, states, gaps, slips and forces, reactions, the summary, all NumPy arrays
+  made from the solver's buffers; :meth:`Results.to_meshio` and
+  :meth:`Results.write` (the files of ``cfe run``).
+
+Errors are :class:`CfeError` subclasses carrying the library's messages (file,
+line, key, part, node).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Mapping, NamedTuple, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _cfe
+from ._cfe import (
+    CfeError,
+    ConvergenceError,
+    CouplingError,
+    MeshError,
+    ModelError,
+    OutputError,
+    ParseError,
+    SingularError,
+)
+
+__version__: str = _cfe.__version__
+
+__all__ = [
+    "CfeError",
+    "ConvergenceError",
+    "CouplingError",
+    "Increment",
+    "InterfaceResult",
+    "Mesh",
+    "MeshError",
+    "Model",
+    "ModelError",
+    "OutputError",
+    "ParseError",
+    "PartResult",
+    "Results",
+    "SingularError",
+    "run",
+]
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+#: The keys of a part dict that give its mesh as arrays.
+_ARRAY_KEYS = ("points", "triangles", "quads", "boundaries")
+
+
+class Increment(NamedTuple):
+    """What a progress callback receives after each converged increment."""
+
+    #: 1-based increment number.
+    increment: int
+    #: Number of increments of the analysis.
+    increments: int
+    #: Load factor (1 at the last increment).
+    load_factor: float
+    #: Linear solves (active-set iterations) of the increment.
+    iterations: int
+
+
+# ---------------------------------------------------------------- meshes
+
+
+class Mesh:
+    """A part's mesh given as arrays, checked by the library.
+
+    ``points`` (n, 2) node coordinates; ``triangles`` (m, 3) and/or ``quads``
+    (k, 4) 0-based node indices, either way round (clockwise elements are
+    reversed); ``boundaries`` maps a name to edges (j, 2) (node pairs, each an
+    element edge on the part's boundary) or to nodes (j,) (every boundary edge
+    joining two of them). Element ``e`` of the part is ``triangles[e]`` for
+    ``e < m`` and ``quads[e - m]`` after. Bad shapes, indices out of range,
+    degenerate elements and edges off the boundary raise :class:`MeshError`.
+    """
+
+    def __init__(
+        self,
+        points: Any,
+        triangles: Any = None,
+        quads: Any = None,
+        boundaries: Optional[Mapping[str, Any]] = None,
+        *,
+        part: str = "mesh",
+    ) -> None:
+        pts = _float_array(points, "points", part)
+        if pts.ndim == 2 and pts.shape[1] == 3:
+            # meshio and Gmsh give 3D points; a planar mesh has z = const.
+            z = pts[:, 2]
+            if z.size and np.ptp(z) > 1e-12 * max(1.0, float(np.abs(pts[:, :2]).max())):
+                raise MeshError(f"mesh of part '{part}': the points are not in a plane z = const")
+            pts = np.ascontiguousarray(pts[:, :2])
+        tri = None if triangles is None else _int_array(triangles, "triangles", part)
+        quad = None if quads is None else _int_array(quads, "quads", part)
+        bnd = None
+        if boundaries is not None:
+            bnd = {str(k): _int_array(v, f"boundaries['{k}']", part) for k, v in boundaries.items()}
+        self._native = _cfe.Mesh(pts, tri, quad, bnd, part=part)
+
+    @classmethod
+    def _wrap(cls, native: Any) -> "Mesh":
+        m = cls.__new__(cls)
+        m._native = native
+        return m
+
+    @property
+    def points(self) -> np.ndarray:
+        """Node coordinates (n, 2)."""
+        return self._native.points
+
+    @property
+    def triangles(self) -> np.ndarray:
+        """Triangles (m, 3), counter-clockwise."""
+        return self._native.triangles
+
+    @property
+    def quads(self) -> np.ndarray:
+        """Quadrilaterals (k, 4), counter-clockwise."""
+        return self._native.quads
+
+    @property
+    def boundaries(self) -> Dict[str, np.ndarray]:
+        """Named boundaries: name -> edges (j, 2), the part on each edge's left."""
+        return dict(self._native.boundaries)
+
+    def boundary_nodes(self, name: str) -> np.ndarray:
+        """The nodes of boundary ``name``, each once, in order along it."""
+        return _chain_nodes(self.boundaries[name])
+
+    def __repr__(self) -> str:
+        return repr(self._native)
+
+    @classmethod
+    def from_meshio(
+        cls,
+        mesh: Any,
+        *,
+        surfaces: Optional[Sequence[Union[str, int]]] = None,
+        part: str = "mesh",
+    ) -> "Mesh":
+        """A mesh from a ``meshio.Mesh``: its ``triangle`` and ``quad`` cells (of the
+        physical ``surfaces`` only, names or Gmsh tags, when given; the nodes they
+        use are renumbered in order), its boundaries from the cell sets and the
+        Gmsh physical curves (``gmsh:physical`` cell data named by ``field_data``)
+        of its ``line`` cells. Lines that lie wholly inside the part are left out.
+        """
+        points = np.asarray(mesh.points, dtype=np.float64)
+        tags = _physical_tags(mesh)
+        selected: Optional[set] = None
+        if surfaces is not None:
+            names = {n: int(v[0]) for n, v in getattr(mesh, "field_data", {}).items() if int(v[1]) == 2}
+            selected = set()
+            for s in surfaces:
+                if isinstance(s, str):
+                    if s not in names:
+                        raise MeshError(
+                            f"mesh of part '{part}': the meshio mesh has no physical surface '{s}' "
+                            f"(it has: {', '.join(sorted(names)) or 'none'})"
+                        )
+                    selected.add(names[s])
+                else:
+                    selected.add(int(s))
+        tri: List[np.ndarray] = []
+        quad: List[np.ndarray] = []
+        lines: List[tuple] = []  # (block index, cells)
+        for b, block in enumerate(mesh.cells):
+            kind, data = block.type, np.asarray(block.data)
+            if kind in ("triangle", "quad"):
+                if selected is not None:
+                    if tags is None or tags[b] is None:
+                        raise MeshError(
+                            f"mesh of part '{part}': `surfaces` needs Gmsh physical tags (cell data 'gmsh:physical')"
+                        )
+                    data = data[np.isin(tags[b], list(selected))]
+                (tri if kind == "triangle" else quad).append(data)
+            elif kind == "line":
+                lines.append((b, data))
+            elif kind not in ("vertex",):
+                raise MeshError(
+                    f"mesh of part '{part}': cell type '{kind}' is not supported (triangle, quad; line for boundaries)"
+                )
+        tri_a = np.concatenate(tri) if tri else np.zeros((0, 3), dtype=np.int64)
+        quad_a = np.concatenate(quad) if quad else np.zeros((0, 4), dtype=np.int64)
+        # Keep only the nodes the elements use, in order.
+        used = np.unique(np.concatenate([tri_a.ravel(), quad_a.ravel()]))
+        local = np.full(len(points), -1, dtype=np.int64)
+        local[used] = np.arange(len(used))
+        # Boundaries: cell sets first, then named (or numbered) physical curves.
+        edges: Dict[str, List[np.ndarray]] = {}
+        for name, per_block in getattr(mesh, "cell_sets", {}).items():
+            if name.startswith("gmsh:"):
+                continue
+            for (b, data) in lines:
+                if b < len(per_block) and per_block[b] is not None and len(per_block[b]):
+                    edges.setdefault(name, []).append(data[np.asarray(per_block[b], dtype=np.int64)])
+        if tags is not None:
+            curve_names = {int(v[0]): n for n, v in getattr(mesh, "field_data", {}).items() if int(v[1]) == 1}
+            from_tags: Dict[str, List[np.ndarray]] = {}
+            for (b, data) in lines:
+                if tags[b] is None:
+                    continue
+                for t in np.unique(tags[b]):
+                    if t == 0:
+                        continue  # no physical group
+                    name = curve_names.get(int(t), str(int(t)))
+                    from_tags.setdefault(name, []).append(data[tags[b] == t])
+            for name, e in from_tags.items():
+                edges.setdefault(name, e)
+        free = _free_edges(tri_a, quad_a)
+        boundaries = {}
+        for name, blocks in edges.items():
+            e = np.concatenate(blocks).astype(np.int64)
+            e = e[(local[e] >= 0).all(axis=1)]
+            on_boundary = [tuple(sorted(x)) in free for x in e.tolist()]
+            if not any(on_boundary):
+                continue  # a curve inside the part (or of another part) names no boundary
+            boundaries[name] = local[e]
+        return cls(
+            points[used],
+            local[tri_a] if len(tri_a) else None,
+            local[quad_a] if len(quad_a) else None,
+            boundaries,
+            part=part,
+        )
+
+    def to_meshio(self) -> Any:
+        """The mesh as a ``meshio.Mesh`` (points with z = 0, ``triangle`` and ``quad``
+        cells, each boundary a ``line`` block with a cell set of its name); its
+        :meth:`from_meshio` gives this mesh back."""
+        import meshio
+
+        points = np.column_stack([self.points, np.zeros(len(self.points))])
+        cells = []
+        if len(self.triangles):
+            cells.append(("triangle", self.triangles))
+        if len(self.quads):
+            cells.append(("quad", self.quads))
+        n_elem_blocks = len(cells)
+        names = list(self.boundaries)
+        for name in names:
+            cells.append(("line", self.boundaries[name]))
+        sets = {}
+        for i, name in enumerate(names):
+            per_block = [np.zeros(0, dtype=np.int64) for _ in cells]
+            per_block[n_elem_blocks + i] = np.arange(len(self.boundaries[name]))
+            sets[name] = per_block
+        # The same as Gmsh physical groups, so that a .msh file keeps the names:
+        # the elements physical surface 1, boundary i physical curve i + 1.
+        tags = [1] * n_elem_blocks + list(range(1, len(names) + 1))
+        physical = [np.full(len(c[1]), t, dtype=np.int64) for c, t in zip(cells, tags)]
+        field_data = {name: np.array([i + 1, 1]) for i, name in enumerate(names)}
+        return meshio.Mesh(
+            points,
+            cells,
+            cell_sets=sets,
+            cell_data={"gmsh:physical": physical, "gmsh:geometrical": physical},
+            field_data=field_data,
+        )
+
+
+def _float_array(a: Any, what: str, part: str) -> np.ndarray:
+    try:
+        return np.ascontiguousarray(a, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise MeshError(f"mesh of part '{part}': `{what}` must be an array of numbers: {e}") from None
+
+
+def _int_array(a: Any, what: str, part: str) -> np.ndarray:
+    try:
+        raw = np.asarray(a)
+        if raw.dtype.kind == "f":
+            if raw.size and not np.all(raw == np.round(raw)):
+                raise ValueError("it has non-integer values")
+        elif raw.size and raw.dtype.kind not in "iu":
+            raise ValueError(f"its type is {raw.dtype}")
+        return np.ascontiguousarray(raw, dtype=np.int64)
+    except (TypeError, ValueError) as e:
+        raise MeshError(f"mesh of part '{part}': `{what}` must be an array of node indices: {e}") from None
+
+
+def _physical_tags(mesh: Any) -> Optional[List[Optional[np.ndarray]]]:
+    data = getattr(mesh, "cell_data", {}).get("gmsh:physical")
+    if data is None:
+        return None
+    return [None if d is None else np.asarray(d).astype(np.int64) for d in data]
+
+
+def _free_edges(tri: np.ndarray, quad: np.ndarray) -> set:
+    edges = []
+    for cells in (tri, quad):
+        if len(cells):
+            k = cells.shape[1]
+            for i in range(k):
+                edges.append(np.sort(np.stack([cells[:, i], cells[:, (i + 1) % k]], axis=1), axis=1))
+    if not edges:
+        return set()
+    all_edges, counts = np.unique(np.concatenate(edges), axis=0, return_counts=True)
+    return set(map(tuple, all_edges[counts == 1].tolist()))
+
+
+def _chain_nodes(edges: np.ndarray) -> np.ndarray:
+    seen: Dict[int, None] = {}
+    for a, b in np.asarray(edges).tolist():
+        seen.setdefault(a)
+        seen.setdefault(b)
+    return np.fromiter(seen.keys(), dtype=np.int64, count=len(seen))
+
+
+# ---------------------------------------------------------------- models
+
+
+class Model:
+    """A checked, meshed model, ready to solve.
+
+    ``Model(problem)`` builds one from a dict mirroring the TOML schema of a problem
+    file (``{"materials": {...}, "part": [...], "interface": [...], "support":
+    [...], "load": [...], "analysis": {...}}``); a part may give its mesh as
+    arrays (``points``, ``triangles``, ``quads``, ``boundaries``, see :class:`Mesh`)
+    or as ``mesh`` (a :class:`Mesh` or a ``meshio.Mesh``) instead of
+    ``rectangle``/``annulus``/``gmsh``. ``None`` values are left out. Errors name
+    the dict entry (e.g. ``part[1].host``) and the key. ``refine`` subdivides every
+    mesh (as ``cfe run --refine``); ``path`` locates relative Gmsh files.
+    """
+
+    def __init__(
+        self,
+        problem: Mapping[str, Any],
+        *,
+        refine: int = 1,
+        path: Optional[PathLike] = None,
+    ) -> None:
+        problem = dict(problem)
+        meshes: Dict[str, Mesh] = {}
+        parts = problem.get("part")
+        if isinstance(parts, Sequence) and not isinstance(parts, (str, bytes)):
+            new_parts = []
+            for i, spec in enumerate(parts):
+                if not isinstance(spec, Mapping):
+                    new_parts.append(spec)
+                    continue
+                spec = dict(spec)
+                given = {k: spec.pop(k) for k in _ARRAY_KEYS if k in spec}
+                mesh = spec.pop("mesh", None)
+                name = spec.get("name", f"part[{i}]")
+                if given and mesh is not None:
+                    raise ModelError(f"part '{name}': give `mesh` or arrays ({', '.join(given)}), not both")
+                if given:
+                    if "points" not in given:
+                        raise MeshError(f"mesh of part '{name}': arrays need `points` (n, 2)")
+                    mesh = Mesh(
+                        given["points"],
+                        given.get("triangles"),
+                        given.get("quads"),
+                        given.get("boundaries"),
+                        part=str(name),
+                    )
+                if mesh is not None:
+                    if not isinstance(mesh, Mesh):
+                        mesh = Mesh.from_meshio(mesh, part=str(name))
+                    if not isinstance(name, str):
+                        raise ParseError(f"problem dict, part[{i}].name: a part with a mesh needs a name (string)")
+                    meshes[name] = mesh
+                new_parts.append(spec)
+            problem["part"] = new_parts
+        text = _cfe.dict_to_toml(problem)
+        where = Path(path) if path is not None else Path("problem.toml")
+        try:
+            native = _cfe.Model.from_toml(
+                text, refine, where, {k: m._native for k, m in meshes.items()}
+            )
+        except ParseError as e:
+            raise _from_dict_error(e, text, where) from None
+        self._init(native, meshes)
+
+    def _init(self, native: Any, meshes: Optional[Dict[str, Mesh]] = None) -> None:
+        self._native = native
+        self._meshes = meshes or {}
+
+    @classmethod
+    def _wrap(cls, native: Any) -> "Model":
+        m = cls.__new__(cls)
+        m._init(native)
+        return m
+
+    @classmethod
+    def from_dict(cls, problem: Mapping[str, Any], *, refine: int = 1, path: Optional[PathLike] = None) -> "Model":
+        """The same as ``Model(problem, refine=..., path=...)``."""
+        return cls(problem, refine=refine, path=path)
+
+    @classmethod
+    def from_file(cls, path: PathLike, *, refine: int = 1) -> "Model":
+        """Reads, checks and meshes the problem file at ``path`` (as ``cfe run``)."""
+        return cls._wrap(_cfe.Model.from_file(Path(path), refine))
+
+    @classmethod
+    def from_toml(
+        cls,
+        text: str,
+        *,
+        refine: int = 1,
+        path: Optional[PathLike] = None,
+        meshes: Optional[Mapping[str, Any]] = None,
+    ) -> "Model":
+        """Reads, checks and meshes a problem given as TOML text. ``path`` (default
+        ``problem.toml``) is used in messages and to find Gmsh files; ``meshes``
+        gives the meshes (:class:`Mesh` or ``meshio.Mesh``) of parts that have no
+        mesh key, by part name."""
+        given = {}
+        for name, m in (meshes or {}).items():
+            given[name] = m if isinstance(m, Mesh) else Mesh.from_meshio(m, part=name)
+        where = Path(path) if path is not None else None
+        native = _cfe.Model.from_toml(text, refine, where, {k: m._native for k, m in given.items()})
+        model = cls._wrap(native)
+        model._meshes = given
+        return model
+
+    @property
+    def title(self) -> str:
+        """The title."""
+        return self._native.title
+
+    @property
+    def parts(self) -> List[str]:
+        """The part names, in order."""
+        return list(self._native.parts)
+
+    @property
+    def interfaces(self) -> List[str]:
+        """The interface names, in order."""
+        return list(self._native.interfaces)
+
+    @property
+    def settings(self) -> Dict[str, Any]:
+        """The analysis settings (increments, scheme, max_iterations, gap_tolerance)."""
+        return dict(self._native.settings)
+
+    @property
+    def refine(self) -> int:
+        """The refinement factor the model was meshed with."""
+        return self._native.refine
+
+    @property
+    def text(self) -> str:
+        """The problem as TOML text (for a dict model, the text it became)."""
+        return self._native.text
+
+    def mesh(self, part: str) -> Mesh:
+        """The mesh of ``part`` as meshed (before coupling nodes move onto host edges)."""
+        return Mesh._wrap(self._native.mesh(part))
+
+    def check(self) -> str:
+        """Finds the coupling pairs without solving; the description ``cfe check`` prints."""
+        return self._native.check()
+
+    def solve(
+        self,
+        progress: Optional[Callable[[Increment], Any]] = None,
+        *,
+        out: Optional[PathLike] = None,
+        law: Optional[str] = None,
+    ) -> "Results":
+        """Solves every increment in memory, with the GIL released, and returns the
+        :class:`Results` of the last one.
+
+        ``progress(increment)`` is called after each converged increment with an
+        :class:`Increment`; an exception it raises (or Ctrl-C) stops the solve and
+        propagates. With ``out``, every converged increment is also written into
+        that folder as ``cfe run`` does (VTU series, pairs.csv, summary.json, PNGs);
+        the callback cannot stop such a run, its exception is raised at the end.
+        ``law`` (``"rigid"`` or ``"contact"``) makes every interface follow that
+        law, as ``cfe run --law``. The model is not changed: it can be solved again.
+        """
+        callback = None if progress is None else _increments_to(progress)
+        raw = self._native.solve(callback, None if out is None else Path(out), law)
+        return Results(raw, self, law)
+
+    def __repr__(self) -> str:
+        return repr(self._native)
+
+
+def _increments_to(progress: Callable[[Increment], Any]) -> Callable[[Dict[str, Any]], None]:
+    """The native solver's per-increment dict handed to ``progress`` as an
+    :class:`Increment`."""
+
+    def callback(info: Dict[str, Any]) -> None:
+        progress(Increment(**{k: info[k] for k in Increment._fields}))
+
+    return callback
+
+
+def run(
+    problem: Union[PathLike, str, Mapping[str, Any], Model],
+    *,
+    refine: int = 1,
+    progress: Optional[Callable[[Increment], Any]] = None,
+    out: Optional[PathLike] = None,
+    law: Optional[str] = None,
+) -> "Results":
+    """Builds and solves a model in one call: ``problem`` is a :class:`Model`, a
+    dict (see :class:`Model`), a path to a problem file, or TOML text (a string
+    with a newline). See :meth:`Model.solve` for the other arguments."""
+    if isinstance(problem, Model):
+        model = problem
+    elif isinstance(problem, Mapping):
+        model = Model(problem, refine=refine)
+    elif isinstance(problem, str) and "\n" in problem:
+        model = Model.from_toml(problem, refine=refine)
+    else:
+        model = Model.from_file(problem, refine=refine)
+    return model.solve(progress, out=out, law=law)
+
+
+def _from_dict_error(e: ParseError, text: str, path: Path) -> ParseError:
+    """A parse error of a dict's TOML text, re-told with the dict entry at fault
+    (e.g. ``part[1].host``) instead of the generated text's line."""
+    line = getattr(e, "line", None)
+    message = str(e)
+    prefix = f"{path}: "
+    if message.startswith(prefix):
+        message = message[len(prefix):]
+    where = _dict_location(text, line) if line else None
+    new = ParseError(f"problem dict{', ' + where if where else ''}: {message}")
+    new.path = None
+    new.line = None
+    new.entry = where
+    return new
+
+
+def _dict_location(text: str, line: int) -> Optional[str]:
+    lines = text.splitlines()
+    counts: Dict[str, int] = {}
+    header: Optional[str] = None
+    for raw in lines[:line]:
+        s = raw.strip()
+        if s.startswith("[["):
+            name = s[2:-2].strip()
+            counts[name] = counts.get(name, -1) + 1
+            header = f"{name}[{counts[name]}]"
+        elif s.startswith("["):
+            name = s[1:-1].strip()
+            head, _, rest = name.partition(".")
+            header = f"{head}[{counts[head]}].{rest}" if head in counts and rest else name
+    key = None
+    if 0 < line <= len(lines) and "=" in lines[line - 1]:
+        key = lines[line - 1].split("=", 1)[0].strip()
+    return ".".join(x for x in (header, key) if x) or None
+
+
+# ---------------------------------------------------------------- results
+
+
+@dataclass
+class PartResult:
+    """One part's results at the last converged increment.
+
+    ``points`` are the reference positions (coupling nodes moved onto their host
+    edges), ``displacement`` (n, 2) a view of :attr:`Results.displacements`;
+    ``stress`` (n, 3) nodal (σxx, σyy, σxy) averaged within the part,
+    ``element_stress`` (m, 3) per element (element order: see ``triangle_ids``,
+    ``quad_ids``).
+    """
+
+    name: str
+    points: np.ndarray
+    triangles: np.ndarray
+    triangle_ids: np.ndarray
+    quads: np.ndarray
+    quad_ids: np.ndarray
+    boundaries: Dict[str, np.ndarray]
+    material: Dict[str, float]
+    displacement: np.ndarray
+    stress: np.ndarray
+    element_stress: np.ndarray
+    von_mises: np.ndarray
+    element_von_mises: np.ndarray
+
+    @property
+    def sigma_xx(self) -> np.ndarray:
+        """Nodal σxx (a view of ``stress``)."""
+        return self.stress[:, 0]
+
+    @property
+    def sigma_yy(self) -> np.ndarray:
+        """Nodal σyy (a view of ``stress``)."""
+        return self.stress[:, 1]
+
+    @property
+    def sigma_xy(self) -> np.ndarray:
+        """Nodal σxy (a view of ``stress``)."""
+        return self.stress[:, 2]
+
+    @property
+    def ux(self) -> np.ndarray:
+        """Nodal x displacement (a view)."""
+        return self.displacement[:, 0]
+
+    @property
+    def uy(self) -> np.ndarray:
+        """Nodal y displacement (a view)."""
+        return self.displacement[:, 1]
+
+    def boundary_nodes(self, name: str) -> np.ndarray:
+        """The nodes of boundary ``name``, each once, in order along it."""
+        return _chain_nodes(self.boundaries[name])
+
+    def to_meshio(self) -> Any:
+        """The part as a ``meshio.Mesh``: points (z = 0), ``triangle`` and ``quad``
+        cells, point data ``displacement`` (3 components, z = 0, as in the VTU
+        files) and the nodal stresses and von Mises, cell data the element ones."""
+        import meshio
+
+        n = len(self.points)
+        points = np.column_stack([self.points, np.zeros(n)])
+        cells, blocks = [], []
+        if len(self.triangles):
+            cells.append(("triangle", self.triangles))
+            blocks.append(self.triangle_ids)
+        if len(self.quads):
+            cells.append(("quad", self.quads))
+            blocks.append(self.quad_ids)
+        point_data = {
+            "displacement": np.column_stack([self.displacement, np.zeros(n)]),
+            "sigma_xx": self.sigma_xx,
+            "sigma_yy": self.sigma_yy,
+            "sigma_xy": self.sigma_xy,
+            "von_mises": self.von_mises,
+        }
+        cell_values = {
+            "sigma_xx": self.element_stress[:, 0],
+            "sigma_yy": self.element_stress[:, 1],
+            "sigma_xy": self.element_stress[:, 2],
+            "von_mises": self.element_von_mises,
+        }
+        cell_data = {k: [v[ids] for ids in blocks] for k, v in cell_values.items()}
+        return meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data)
+
+
+@dataclass
+class InterfaceResult:
+    """One interface's coupling pairs at the last converged increment, one entry
+    per pair (as the rows of ``pairs.csv``): ``node`` (the coupling node in the
+    node part), ``host_element``, ``position`` (k, 2), ``normal`` (k, 2, unit,
+    from the host towards the node part), ``bonded`` and ``settled`` (kept bonded
+    to settle an active-set cycle) booleans, ``gap_n`` = [[u_n]] (> 0: separated),
+    ``slip_s`` = [[u_s]], ``force_n`` (> 0: pressing) and ``force_s`` on the node
+    part in the local frame."""
+
+    name: str
+    host: str
+    node_part: str
+    law: str
+    c_n: float
+    c_s: float
+    node: np.ndarray
+    host_element: np.ndarray
+    position: np.ndarray
+    normal: np.ndarray
+    bonded: np.ndarray
+    settled: np.ndarray
+    gap_n: np.ndarray
+    slip_s: np.ndarray
+    force_n: np.ndarray
+    force_s: np.ndarray
+    extra: Dict[str, np.ndarray] = field(default_factory=dict)
+
+    @property
+    def x(self) -> np.ndarray:
+        """The pairs' x positions (a view of ``position``)."""
+        return self.position[:, 0]
+
+    @property
+    def y(self) -> np.ndarray:
+        """The pairs' y positions (a view of ``position``)."""
+        return self.position[:, 1]
+
+    @property
+    def state(self) -> np.ndarray:
+        """``"bonded"`` or ``"open"`` per pair."""
+        return np.where(self.bonded, "bonded", "open")
+
+    def __len__(self) -> int:
+        return len(self.node)
+
+
+class Results:
+    """The results of a solved model at its last converged increment.
+
+    ``parts`` and ``interfaces`` map names to :class:`PartResult` and
+    :class:`InterfaceResult`; ``reactions`` maps each support to its reaction
+    ``[fx, fy]``; ``summary`` is the content of ``summary.json``;
+    ``displacements`` the displacements of all DOFs (x, y of each node, parts in
+    order), of which every part's ``displacement`` is a view.
+    """
+
+    def __init__(self, raw: Dict[str, Any], model: Model, law: Optional[str] = None) -> None:
+        self._model = model
+        self._law = law
+        self.summary: Dict[str, Any] = raw["summary"]
+        self.load_factor: float = raw["load_factor"]
+        self.displacements: np.ndarray = raw["u"]
+        self.parts: Dict[str, PartResult] = {}
+        for p in raw["parts"]:
+            n = len(p["points"])
+            start = 2 * p["node_offset"]
+            self.parts[p["name"]] = PartResult(
+                name=p["name"],
+                points=p["points"],
+                triangles=p["triangles"],
+                triangle_ids=p["triangle_ids"],
+                quads=p["quads"],
+                quad_ids=p["quad_ids"],
+                boundaries=dict(p["boundaries"]),
+                material=dict(p["material"]),
+                displacement=self.displacements[start : start + 2 * n].reshape(n, 2),
+                stress=p["nodal_stress"],
+                element_stress=p["element_stress"],
+                von_mises=p["nodal_von_mises"],
+                element_von_mises=p["element_von_mises"],
+            )
+        known = {f for f in InterfaceResult.__dataclass_fields__ if f != "extra"}
+        self.interfaces: Dict[str, InterfaceResult] = {}
+        for i in raw["interfaces"]:
+            # Fields the library adds later pass through in `extra`.
+            extra = {k: v for k, v in i.items() if k not in known}
+            self.interfaces[i["name"]] = InterfaceResult(**{k: i[k] for k in known}, extra=extra)
+        self.reactions: Dict[str, np.ndarray] = {
+            r["support"]: np.array([r["fx"], r["fy"]]) for r in self.summary["reactions"]
+        }
+
+    @property
+    def status(self) -> str:
+        """The run status of the summary (``completed`` ...)."""
+        return self.summary["status"]
+
+    @property
+    def max_displacement(self) -> Dict[str, Any]:
+        """The largest |u| with its position, part and node (from the summary)."""
+        return dict(self.summary["max_displacement"])
+
+    def to_meshio(self, part: Optional[str] = None) -> Any:
+        """Part ``part`` as a ``meshio.Mesh`` (see :meth:`PartResult.to_meshio`),
+        or, without ``part``, a dict of them by part name."""
+        if part is not None:
+            return self.parts[part].to_meshio()
+        return {name: p.to_meshio() for name, p in self.parts.items()}
+
+    def write(self, folder: PathLike) -> Dict[str, Any]:
+        """Writes the files of ``cfe run`` into ``folder`` (results.pvd, vtu/,
+        pairs.csv, summary.json, sigma_yy.png, displacement.png), increment by
+        increment. The per-increment files need every increment, which these
+        results do not keep, so the model is solved again (the solve is
+        deterministic: the same numbers); ``Model.solve(out=folder)`` does both
+        in one pass. Returns the new summary."""
+        raw = self._model._native.solve(None, Path(folder), self._law)
+        return raw["summary"]
+
+    def __repr__(self) -> str:
+        md = self.summary.get("max_displacement", {})
+        return (
+            f"Results('{self.summary.get('title')}', {self.summary.get('unknowns')} unknowns, "
+            f"status {self.status}, max |u| = {md.get('value', float('nan')):e} in part '{md.get('part')}')"
+        )

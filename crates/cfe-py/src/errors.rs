@@ -1,0 +1,142 @@
+//! The library's errors as Python exceptions: one class per kind of failure, all
+//! subclasses of `cfe.CfeError`, carrying the library's message and, as
+//! attributes, the values it names (path, line, part, key, interface, nodes ...).
+
+use pyo3::IntoPyObjectExt;
+use pyo3::create_exception;
+use pyo3::exceptions::PyException;
+use pyo3::prelude::*;
+
+create_exception!(
+    _cfe,
+    CfeError,
+    PyException,
+    "Any error of cfe; the message names the file, line, key, part or node at fault."
+);
+create_exception!(
+    _cfe,
+    ParseError,
+    CfeError,
+    "The problem cannot be read: unreadable file, invalid TOML, a key the schema does not know or a name that does not exist. Attributes: `path`, `line` (1-based or None)."
+);
+create_exception!(
+    _cfe,
+    ModelError,
+    CfeError,
+    "The problem is well formed but describes an invalid model (settings, materials). Attributes: `part`, `key` for a material."
+);
+create_exception!(
+    _cfe,
+    MeshError,
+    CfeError,
+    "A mesh is unusable: bad array shapes or indices, inverted or degenerate elements, bad boundaries. Attribute: `part`."
+);
+create_exception!(
+    _cfe,
+    CouplingError,
+    CfeError,
+    "An interface cannot be built, e.g. coupling nodes on no host edge. Attributes: `interface`, `nodes` (list of (node, (x, y))) for orphan nodes."
+);
+create_exception!(
+    _cfe,
+    SingularError,
+    CfeError,
+    "The system is singular: a part without support, a mechanism. Attributes: `parts`, or `increment`, `part`, `node`, `component`."
+);
+create_exception!(
+    _cfe,
+    ConvergenceError,
+    CfeError,
+    "The contact iteration did not converge."
+);
+create_exception!(
+    _cfe,
+    OutputError,
+    CfeError,
+    "A result file cannot be written. Attribute: `path`."
+);
+
+/// The Python exception for a library error: its class by kind, its message the
+/// library's, the values the error names as attributes.
+pub fn to_py(py: Python<'_>, e: cfe::Error) -> PyErr {
+    use cfe::Error as E;
+    let message = e.to_string();
+    let (err, attrs): (PyErr, Vec<(&str, Py<PyAny>)>) = match e {
+        E::ReadInput { path, .. } => (
+            ParseError::new_err(message),
+            vec![("path", obj(py, path)), ("line", py.None())],
+        ),
+        E::Parse { path, line, .. } => (
+            ParseError::new_err(message),
+            vec![("path", obj(py, path)), ("line", obj(py, line))],
+        ),
+        E::Model(_) => (ModelError::new_err(message), vec![]),
+        E::Material { part, key, .. } => (
+            ModelError::new_err(message),
+            vec![("part", obj(py, part)), ("key", obj(py, key))],
+        ),
+        E::Mesh { part, .. } => (MeshError::new_err(message), vec![("part", obj(py, part))]),
+        E::Coupling { interface, .. } => (
+            CouplingError::new_err(message),
+            vec![("interface", obj(py, interface))],
+        ),
+        E::OrphanNodes {
+            interface, nodes, ..
+        } => (
+            CouplingError::new_err(message),
+            vec![("interface", obj(py, interface)), ("nodes", obj(py, nodes))],
+        ),
+        E::Unsupported { parts, .. } => (
+            SingularError::new_err(message),
+            vec![("parts", obj(py, parts))],
+        ),
+        E::NotPositiveDefinite {
+            increment,
+            part,
+            node,
+            component,
+            ..
+        } => (
+            SingularError::new_err(message),
+            vec![
+                ("increment", obj(py, increment)),
+                ("part", obj(py, part)),
+                ("node", obj(py, node)),
+                ("component", obj(py, component)),
+            ],
+        ),
+        E::Singular(_) => (SingularError::new_err(message), vec![]),
+        E::NoConvergence(_) => (ConvergenceError::new_err(message), vec![]),
+        E::Output { path, .. } => (OutputError::new_err(message), vec![("path", obj(py, path))]),
+    };
+    let value = err.value(py);
+    for (name, v) in attrs {
+        // Setting an attribute on a fresh exception instance cannot fail.
+        let _ = value.setattr(name, v);
+    }
+    err
+}
+
+/// A Rust value as a Python object (None when it cannot be converted).
+fn obj<'py, T: IntoPyObject<'py>>(py: Python<'py>, v: T) -> Py<PyAny> {
+    v.into_py_any(py).unwrap_or_else(|_| py.None())
+}
+
+/// A `MeshError` for arrays handed over with a bad shape or content.
+pub fn mesh_error(part: &str, message: impl std::fmt::Display) -> PyErr {
+    MeshError::new_err(format!("mesh of part '{part}': {message}"))
+}
+
+/// Registers the exception classes in the module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("CfeError", py.get_type::<CfeError>())?;
+    m.add("ParseError", py.get_type::<ParseError>())?;
+    m.add("ModelError", py.get_type::<ModelError>())?;
+    m.add("MeshError", py.get_type::<MeshError>())?;
+    m.add("CouplingError", py.get_type::<CouplingError>())?;
+    m.add("SingularError", py.get_type::<SingularError>())?;
+    m.add("ConvergenceError", py.get_type::<ConvergenceError>())?;
+    m.add("OutputError", py.get_type::<OutputError>())?;
+    Ok(())
+}

@@ -1,0 +1,172 @@
+//! The results of a solve as a dict of NumPy arrays for the Python layer
+//! (`cfe.Results`). The large arrays (displacements, stresses) are the solver's
+//! buffers moved into NumPy, not copied: the displacement vector of all DOFs
+//! becomes one array, each part's `(n, 2)` displacement a view of it (in Python),
+//! and each part's stresses an `(n, 3)` array whose columns are views.
+
+use cfe::analysis::Analysis;
+use cfe::mesh::{Element, Mesh};
+use cfe::{PairState, Results};
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+/// `flat` (rows of `cols` values) moved into an `(n, cols)` NumPy array.
+fn matrix<T: numpy::Element>(
+    py: Python<'_>,
+    flat: Vec<T>,
+    cols: usize,
+) -> PyResult<Bound<'_, PyArrayDyn<T>>> {
+    let n = flat.len() / cols;
+    PyArray1::from_vec(py, flat).reshape(vec![n, cols])
+}
+
+/// A connectivity `(k, corners)` and the element indices of its rows.
+pub type Cells<'py> = (Bound<'py, PyArrayDyn<i64>>, Bound<'py, PyArray1<i64>>);
+
+/// The elements of `mesh` with `corners` nodes (3: triangles, 4: quadrilaterals):
+/// their connectivity `(k, corners)` and their indices among all the mesh's
+/// elements (the order of element stresses).
+pub fn connectivity<'py>(py: Python<'py>, mesh: &Mesh, corners: usize) -> PyResult<Cells<'py>> {
+    let mut cells = Vec::new();
+    let mut ids = Vec::new();
+    for (e, el) in mesh.elements.iter().enumerate() {
+        let nodes = match el {
+            Element::T3(n) if corners == 3 => &n[..],
+            Element::Q4(n) if corners == 4 => &n[..],
+            _ => continue,
+        };
+        cells.extend(nodes.iter().map(|&n| n as i64));
+        ids.push(e as i64);
+    }
+    Ok((matrix(py, cells, corners)?, PyArray1::from_vec(py, ids)))
+}
+
+/// Named boundaries: name → edges `(j, 2)`.
+pub fn boundaries<'py>(py: Python<'py>, mesh: &Mesh) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (name, edges) in &mesh.boundaries {
+        let flat: Vec<i64> = edges
+            .iter()
+            .flat_map(|e| e.nodes.map(|n| n as i64))
+            .collect();
+        d.set_item(name, matrix(py, flat, 2)?)?;
+    }
+    Ok(d)
+}
+
+/// The results as a dict: `u` (all DOFs), `parts` (per part: name, node offset,
+/// points, connectivity, boundaries, material, nodal and element stresses and
+/// von Mises), `interfaces` (per interface: its pairs' arrays), `summary`
+/// (`summary.json`'s content as Python objects).
+pub fn to_dict<'py>(
+    py: Python<'py>,
+    analysis: &Analysis,
+    results: Results,
+) -> PyResult<Bound<'py, PyDict>> {
+    let Results {
+        last,
+        stresses,
+        pairs,
+        summary,
+    } = results;
+    let out = PyDict::new(py);
+    let json = serde_json::to_string(&summary)
+        .map_err(|e| crate::errors::CfeError::new_err(format!("summary: {e}")))?;
+    out.set_item(
+        "summary",
+        py.import("json")?.call_method1("loads", (json,))?,
+    )?;
+    out.set_item("load_factor", last.lambda)?;
+    out.set_item("u", PyArray1::from_vec(py, last.u))?;
+
+    let parts = PyList::empty(py);
+    for (p, (part, stress)) in analysis.model.parts.iter().zip(stresses).enumerate() {
+        let d = PyDict::new(py);
+        d.set_item("name", &part.name)?;
+        d.set_item("node_offset", analysis.dofs.node_offset[p])?;
+        let points: Vec<f64> = part.mesh.nodes.iter().flatten().copied().collect();
+        d.set_item("points", matrix(py, points, 2)?)?;
+        let (cells, ids) = connectivity(py, &part.mesh, 3)?;
+        d.set_item("triangles", cells)?;
+        d.set_item("triangle_ids", ids)?;
+        let (cells, ids) = connectivity(py, &part.mesh, 4)?;
+        d.set_item("quads", cells)?;
+        d.set_item("quad_ids", ids)?;
+        d.set_item("boundaries", boundaries(py, &part.mesh)?)?;
+        let m = &part.material;
+        let material = PyDict::new(py);
+        material.set_item("E", m.young)?;
+        material.set_item("nu", m.poisson)?;
+        material.set_item("thickness", m.thickness)?;
+        d.set_item("material", material)?;
+        let von_mises =
+            |s: &[[f64; 3]]| -> Vec<f64> { s.iter().map(|v| m.von_mises(*v)).collect() };
+        d.set_item(
+            "nodal_von_mises",
+            PyArray1::from_vec(py, von_mises(&stress.nodal)),
+        )?;
+        d.set_item(
+            "element_von_mises",
+            PyArray1::from_vec(py, von_mises(&stress.element)),
+        )?;
+        d.set_item(
+            "nodal_stress",
+            matrix(py, stress.nodal.into_flattened(), 3)?,
+        )?;
+        d.set_item(
+            "element_stress",
+            matrix(py, stress.element.into_flattened(), 3)?,
+        )?;
+        parts.append(d)?;
+    }
+    out.set_item("parts", parts)?;
+
+    let interfaces = PyList::empty(py);
+    let mut rows = pairs.into_iter().peekable();
+    for iface in &analysis.interfaces {
+        let d = PyDict::new(py);
+        d.set_item("name", &iface.name)?;
+        d.set_item("host", &analysis.model.parts[iface.host].name)?;
+        d.set_item("node_part", &analysis.model.parts[iface.node_part].name)?;
+        d.set_item("law", iface.law.as_str())?;
+        d.set_item("c_n", iface.c_n)?;
+        d.set_item("c_s", iface.c_s)?;
+        let k = iface.elements.len();
+        let mut node = Vec::with_capacity(k);
+        let mut host_element = Vec::with_capacity(k);
+        let mut position = Vec::with_capacity(2 * k);
+        let mut bonded = Vec::with_capacity(k);
+        let mut settled = Vec::with_capacity(k);
+        let mut columns: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(k));
+        // `pair_rows` lists the pairs interface by interface, in this order.
+        while let Some(r) = rows.next_if(|r| r.interface == iface.name) {
+            node.push(r.node as i64);
+            host_element.push(r.host_element as i64);
+            position.extend([r.x, r.y]);
+            bonded.push(r.state == PairState::Bonded);
+            settled.push(r.settled);
+            for (c, v) in columns
+                .iter_mut()
+                .zip([r.gap_n, r.slip_s, r.force_n, r.force_s])
+            {
+                c.push(v);
+            }
+        }
+        let normal: Vec<f64> = iface.elements.iter().flat_map(|c| c.normal).collect();
+        d.set_item("node", PyArray1::from_vec(py, node))?;
+        d.set_item("host_element", PyArray1::from_vec(py, host_element))?;
+        d.set_item("position", matrix(py, position, 2)?)?;
+        d.set_item("normal", matrix(py, normal, 2)?)?;
+        d.set_item("bonded", PyArray1::from_vec(py, bonded))?;
+        d.set_item("settled", PyArray1::from_vec(py, settled))?;
+        let [gap_n, slip_s, force_n, force_s] = columns;
+        d.set_item("gap_n", PyArray1::from_vec(py, gap_n))?;
+        d.set_item("slip_s", PyArray1::from_vec(py, slip_s))?;
+        d.set_item("force_n", PyArray1::from_vec(py, force_n))?;
+        d.set_item("force_s", PyArray1::from_vec(py, force_s))?;
+        interfaces.append(d)?;
+    }
+    out.set_item("interfaces", interfaces)?;
+    Ok(out)
+}
