@@ -51,6 +51,24 @@ create_exception!(
 );
 create_exception!(
     _cfe,
+    LawViolationError,
+    CfeError,
+    "The contact law has no consistent state and the least-violating one breaks it by more than `[analysis] max_violation`. Attributes: `increment`, `pairs` (list of (interface, node))."
+);
+create_exception!(
+    _cfe,
+    PrecisionError,
+    CfeError,
+    "The solution lost accuracy (out-of-balance force above `[analysis] max_residual`), typically a penalty far above E·t. Attributes: `increment`, `residual`."
+);
+create_exception!(
+    _cfe,
+    TooLargeError,
+    CfeError,
+    "The model would need more memory than the machine has; refused before meshing. Attributes: `unknowns`, `bytes`, `available`."
+);
+create_exception!(
+    _cfe,
     OutputError,
     CfeError,
     "A result file cannot be written. Attribute: `path`."
@@ -107,6 +125,36 @@ pub fn to_py(py: Python<'_>, e: cfe::Error) -> PyErr {
         ),
         E::Singular(_) => (SingularError::new_err(message), vec![]),
         E::NoConvergence(_) => (ConvergenceError::new_err(message), vec![]),
+        E::LawViolation {
+            increment, pairs, ..
+        } => (
+            LawViolationError::new_err(message),
+            vec![("increment", obj(py, increment)), ("pairs", obj(py, pairs))],
+        ),
+        E::Precision {
+            increment,
+            residual,
+            ..
+        } => (
+            PrecisionError::new_err(message),
+            vec![
+                ("increment", obj(py, increment)),
+                ("residual", obj(py, residual)),
+            ],
+        ),
+        E::TooLarge {
+            unknowns,
+            bytes,
+            available,
+            ..
+        } => (
+            TooLargeError::new_err(message),
+            vec![
+                ("unknowns", obj(py, unknowns)),
+                ("bytes", obj(py, bytes)),
+                ("available", obj(py, available)),
+            ],
+        ),
         E::Output { path, .. } => (OutputError::new_err(message), vec![("path", obj(py, path))]),
     };
     let value = err.value(py);
@@ -137,6 +185,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("CouplingError", py.get_type::<CouplingError>())?;
     m.add("SingularError", py.get_type::<SingularError>())?;
     m.add("ConvergenceError", py.get_type::<ConvergenceError>())?;
+    m.add("LawViolationError", py.get_type::<LawViolationError>())?;
+    m.add("PrecisionError", py.get_type::<PrecisionError>())?;
+    m.add("TooLargeError", py.get_type::<TooLargeError>())?;
     m.add("OutputError", py.get_type::<OutputError>())?;
     Ok(())
 }

@@ -138,7 +138,8 @@ pub fn to_dict<'py>(
         let mut position = Vec::with_capacity(2 * k);
         let mut bonded = Vec::with_capacity(k);
         let mut settled = Vec::with_capacity(k);
-        let mut columns: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(k));
+        let mut violation = Vec::with_capacity(k);
+        let mut columns: [Vec<f64>; 5] = std::array::from_fn(|_| Vec::with_capacity(k));
         // `pair_rows` lists the pairs interface by interface, in this order.
         while let Some(r) = rows.next_if(|r| r.interface == iface.name) {
             node.push(r.node as i64);
@@ -146,10 +147,19 @@ pub fn to_dict<'py>(
             position.extend([r.x, r.y]);
             bonded.push(r.state == PairState::Bonded);
             settled.push(r.settled);
-            for (c, v) in columns
-                .iter_mut()
-                .zip([r.gap_n, r.slip_s, r.force_n, r.force_s])
-            {
+            // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates.
+            violation.push(match r.violation {
+                None => 0i32,
+                Some(cfe::coupling::ViolationKind::Tension) => 1,
+                Some(cfe::coupling::ViolationKind::Penetration) => 2,
+            });
+            for (c, v) in columns.iter_mut().zip([
+                r.gap_n,
+                r.slip_s,
+                r.force_n,
+                r.force_s,
+                r.violation_amount,
+            ]) {
                 c.push(v);
             }
         }
@@ -160,7 +170,9 @@ pub fn to_dict<'py>(
         d.set_item("normal", matrix(py, normal, 2)?)?;
         d.set_item("bonded", PyArray1::from_vec(py, bonded))?;
         d.set_item("settled", PyArray1::from_vec(py, settled))?;
-        let [gap_n, slip_s, force_n, force_s] = columns;
+        let [gap_n, slip_s, force_n, force_s, violation_amount] = columns;
+        d.set_item("violation", PyArray1::from_vec(py, violation))?;
+        d.set_item("violation_amount", PyArray1::from_vec(py, violation_amount))?;
         d.set_item("gap_n", PyArray1::from_vec(py, gap_n))?;
         d.set_item("slip_s", PyArray1::from_vec(py, slip_s))?;
         d.set_item("force_n", PyArray1::from_vec(py, force_n))?;

@@ -33,11 +33,14 @@ from ._cfe import (
     CfeError,
     ConvergenceError,
     CouplingError,
+    LawViolationError,
     MeshError,
     ModelError,
     OutputError,
     ParseError,
+    PrecisionError,
     SingularError,
+    TooLargeError,
 )
 
 __version__: str = _cfe.__version__
@@ -48,6 +51,7 @@ __all__ = [
     "CouplingError",
     "Increment",
     "InterfaceResult",
+    "LawViolationError",
     "Mesh",
     "MeshError",
     "Model",
@@ -55,8 +59,10 @@ __all__ = [
     "OutputError",
     "ParseError",
     "PartResult",
+    "PrecisionError",
     "Results",
     "SingularError",
+    "TooLargeError",
     "run",
 ]
 
@@ -660,10 +666,12 @@ class InterfaceResult:
     """One interface's coupling pairs at the last converged increment, one entry
     per pair (as the rows of ``pairs.csv``): ``node`` (the coupling node in the
     node part), ``host_element``, ``position`` (k, 2), ``normal`` (k, 2, unit,
-    from the host towards the node part), ``bonded`` and ``settled`` (kept bonded
-    to settle an active-set cycle) booleans, ``gap_n`` = [[u_n]] (> 0: separated),
-    ``slip_s`` = [[u_s]], ``force_n`` (> 0: pressing) and ``force_s`` on the node
-    part in the local frame."""
+    from the host towards the node part), ``bonded`` and ``settled`` (state kept
+    against the contact law to settle an active-set cycle) booleans, ``gap_n`` =
+    [[u_n]] (> 0: separated), ``slip_s`` = [[u_s]], ``force_n`` (> 0: pressing)
+    and ``force_s`` on the node part in the local frame, ``violation`` (0: the law
+    holds, 1: a bonded pair pulls, 2: an open pair penetrates) and
+    ``violation_amount`` (the tensile force, or the penetration depth)."""
 
     name: str
     host: str
@@ -681,6 +689,8 @@ class InterfaceResult:
     slip_s: np.ndarray
     force_n: np.ndarray
     force_s: np.ndarray
+    violation: np.ndarray
+    violation_amount: np.ndarray
     extra: Dict[str, np.ndarray] = field(default_factory=dict)
 
     @property

@@ -12,11 +12,14 @@ from ._cfe import (
     CfeError as CfeError,
     ConvergenceError as ConvergenceError,
     CouplingError as CouplingError,
+    LawViolationError as LawViolationError,
     MeshError as MeshError,
     ModelError as ModelError,
     OutputError as OutputError,
     ParseError as ParseError,
+    PrecisionError as PrecisionError,
     SingularError as SingularError,
+    TooLargeError as TooLargeError,
 )
 
 __version__: str
@@ -153,6 +156,8 @@ class InterfaceResult:
     slip_s: _Floats
     force_n: _Floats
     force_s: _Floats
+    violation: npt.NDArray[np.int32]
+    violation_amount: _Floats
     extra: Dict[str, npt.NDArray[Any]]
     @property
     def x(self) -> _Floats: ...

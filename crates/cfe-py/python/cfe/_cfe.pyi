@@ -47,6 +47,25 @@ class SingularError(CfeError):
 class ConvergenceError(CfeError):
     """The contact iteration did not converge."""
 
+class LawViolationError(CfeError):
+    """No consistent contact state, and the least-violating one breaks the law by more than `[analysis] max_violation`."""
+
+    increment: int
+    pairs: List[Tuple[str, int]]
+
+class PrecisionError(CfeError):
+    """The solution lost accuracy (out-of-balance force above `[analysis] max_residual`); typically a penalty far above E·t."""
+
+    increment: int
+    residual: float
+
+class TooLargeError(CfeError):
+    """The model would need more memory than the machine has; refused before meshing."""
+
+    unknowns: int
+    bytes: int
+    available: int
+
 class OutputError(CfeError):
     """A result file cannot be written."""
 
