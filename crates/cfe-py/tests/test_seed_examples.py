@@ -87,7 +87,9 @@ def _pairs_csv(path):
 def test_same_numbers_as_the_cli(example, cli, tmp_path):
     """`cfe run` and `Model.solve` give the same pairs table and the same
     summary figures, to round-off; `Results.write` writes the same files as the
-    command line."""
+    command line. Round-off here is 1e-8: the solver picks a low-rank update or a
+    refactorization by measured time, so two runs may take different (equally
+    accurate) paths, and an update is accepted when it balances the load to 1e-8."""
     problem = EXAMPLES / f"{example}.toml"
     out = tmp_path / "cli"
     subprocess.run([str(cli), "run", str(problem), "--out", str(out)], check=True, capture_output=True)
@@ -106,7 +108,7 @@ def test_same_numbers_as_the_cli(example, cli, tmp_path):
             assert row["state"] == i.state[j]
             for col in ("gap_n", "slip_s", "force_n", "force_s"):
                 scale = np.abs(getattr(i, col)).max()
-                assert float(row[col]) == pytest.approx(getattr(i, col)[j], rel=1e-10, abs=1e-10 * scale)
+                assert float(row[col]) == pytest.approx(getattr(i, col)[j], rel=1e-8, abs=1e-8 * scale)
 
     summary = json.loads((out / "summary.json").read_text())
     for key in ("status", "unknowns", "matrix_nonzeros", "factor_nonzeros", "iterations", "converged_increments"):
