@@ -113,7 +113,7 @@ def test_same_numbers_as_the_cli(example, cli, tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     for key in ("status", "unknowns", "matrix_nonzeros", "factor_nonzeros", "iterations", "converged_increments"):
         assert summary[key] == r.summary[key], key
-    assert summary["max_displacement"]["value"] == pytest.approx(r.summary["max_displacement"]["value"], rel=1e-12)
+    assert summary["max_displacement"]["value"] == pytest.approx(r.summary["max_displacement"]["value"], rel=1e-9)
     for a, b in zip(summary["reactions"], r.summary["reactions"]):
         assert a["support"] == b["support"]
         assert a["fy"] == pytest.approx(b["fy"], rel=1e-10, abs=1e-8)
