@@ -4,7 +4,10 @@ use anyhow::Context;
 use cfe::analysis::Analysis;
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
+use signal_hook::consts::{SIGINT, SIGTERM};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::AtomicUsize;
 
 /// Contact between independently meshed parts, by coupling finite elements.
 #[derive(Parser)]
@@ -87,7 +90,12 @@ enum Command {
 fn main() {
     if let Err(e) = run(Cli::parse()) {
         eprintln!("error: {e:#}");
-        std::process::exit(1);
+        // A run stopped by a signal exits as the shell reports a signal: 128 + its number.
+        let code = match e.downcast_ref::<cfe::Error>() {
+            Some(cfe::Error::Interrupted { signal, .. }) => 128 + *signal as i32,
+            _ => 1,
+        };
+        std::process::exit(code);
     }
 }
 
@@ -166,17 +174,39 @@ fn run_problem(
             .expect("valid template")
             .progress_chars("=> "),
     );
-    let summary = a
-        .run(&out, &mut |inc| {
+    // SIGINT and SIGTERM ask the run to stop after the increment being solved,
+    // leaving a consistent output folder whose summary says `interrupted`.
+    let stop = Arc::new(AtomicUsize::new(0));
+    for signal in [SIGINT, SIGTERM] {
+        signal_hook::flag::register_usize(signal, Arc::clone(&stop), signal as usize)?;
+    }
+    let summary = a.run_until(
+        &out,
+        &mut |inc| {
             bar.set_message(format!(
                 "λ = {:.3}, {} iteration(s)",
                 inc.lambda, inc.iterations
             ));
             bar.inc(1);
-        })
-        .with_context(|| format!("run failed; converged increments are in {}", out.display()));
+        },
+        &stop,
+    );
     bar.finish_and_clear();
-    let summary = summary?;
+    let summary = match summary {
+        Ok(s) => s,
+        Err(e @ cfe::Error::Interrupted { .. }) => return Err(e.into()),
+        Err(e) => {
+            let written = out.join("summary.json").is_file();
+            return Err(anyhow::Error::new(e).context(if written {
+                format!(
+                    "run failed; the converged increments and the summary are in {}",
+                    out.display()
+                )
+            } else {
+                format!("run failed; nothing could be written to {}", out.display())
+            }));
+        }
+    };
     print_summary(&out, &summary);
     Ok(())
 }

@@ -155,6 +155,13 @@ pub fn to_py(py: Python<'_>, e: cfe::Error) -> PyErr {
                 ("available", obj(py, available)),
             ],
         ),
+        E::Interrupted { increment, signal } => (
+            pyo3::exceptions::PyKeyboardInterrupt::new_err(message),
+            vec![
+                ("increment", obj(py, increment)),
+                ("signal", obj(py, signal)),
+            ],
+        ),
         E::Output { path, .. } => (OutputError::new_err(message), vec![("path", obj(py, path))]),
     };
     let value = err.value(py);

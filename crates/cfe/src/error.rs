@@ -121,6 +121,16 @@ pub enum Error {
         /// The message with the estimate and what to change.
         message: String,
     },
+    /// The run was stopped on request (e.g. SIGINT) after a converged increment.
+    #[error(
+        "interrupted (signal {signal}) after increment {increment}; the converged increments are on disk"
+    )]
+    Interrupted {
+        /// The last increment written.
+        increment: usize,
+        /// What asked to stop: the signal's number.
+        signal: usize,
+    },
     /// Writing a result file failed.
     #[error("cannot write {path}: {message}")]
     Output { path: PathBuf, message: String },

@@ -325,3 +325,79 @@ fn oversized_models_are_refused_before_meshing() {
         assert!(e.contains("GiB") && e.contains("unknowns"), "{e}");
     }
 }
+
+/// A run asked to stop (as by SIGINT) ends after the increment being solved with
+/// `Error::Interrupted`; the folder is a consistent snapshot: `summary.json` says
+/// `interrupted`, `results.pvd` names only files that exist, no `.tmp` file is
+/// left, and the files of an earlier, longer run in the same folder are gone while
+/// a user's own file stays.
+#[test]
+fn interrupted_run_leaves_a_consistent_folder() {
+    let out = std::env::temp_dir().join(format!("cfe-test-interrupt-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let mut a = common::analysis(&format!("{BASE}{LOAD_DOWN}"));
+    a.run(&out, &mut |_| {}).unwrap();
+    assert!(out.join("vtu/parts_0010.vtu").is_file());
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    std::fs::write(out.join("vtu/parts_0003.vtu.tmp"), "half").unwrap();
+
+    let stop = std::sync::atomic::AtomicUsize::new(0);
+    let e = a
+        .run_until(
+            &out,
+            &mut |inc| {
+                if inc.index == 2 {
+                    stop.store(15, std::sync::atomic::Ordering::Relaxed);
+                }
+            },
+            &stop,
+        )
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::Interrupted {
+                increment: 2,
+                signal: 15
+            }
+        ),
+        "{e:?}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "interrupted");
+    assert_eq!(summary["converged_increments"], 2);
+    let pvd = std::fs::read_to_string(out.join("results.pvd")).unwrap();
+    let named: Vec<&str> = pvd
+        .split("file=\"")
+        .skip(1)
+        .map(|s| s.split('"').next().unwrap())
+        .collect();
+    assert_eq!(named.len(), 4, "{pvd}");
+    for f in &named {
+        assert!(out.join(f).is_file(), "{f} named but missing");
+    }
+    let mut vtu: Vec<String> = std::fs::read_dir(out.join("vtu"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    vtu.sort();
+    assert_eq!(
+        vtu,
+        [
+            "pairs_0001.vtu",
+            "pairs_0002.vtu",
+            "parts_0001.vtu",
+            "parts_0002.vtu"
+        ]
+    );
+    assert!(
+        !out.join("sigma_yy.png").exists(),
+        "a picture of the earlier run"
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -13,7 +13,46 @@ use crate::fem::recovery::PartStress;
 use crate::mesh::Element;
 use crate::solve::nonlinear::IncrementResult;
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
+
+/// The files a run writes into its output folder (besides `vtu/`).
+const RUN_FILES: [&str; 5] = [
+    "summary.json",
+    "pairs.csv",
+    "results.pvd",
+    "sigma_yy.png",
+    "displacement.png",
+];
+
+/// Removes what an earlier run left in `out`: its files, its VTU series
+/// (`vtu/parts_NNNN.vtu`, `vtu/pairs_NNNN.vtu`) and temporary files of an
+/// interrupted write (`*.tmp`). Other files are left alone.
+fn clear_previous_run(out: &Path) -> Result<()> {
+    let remove = |p: &Path| match std::fs::remove_file(p) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::output(p, e)),
+        _ => Ok(()),
+    };
+    for f in RUN_FILES {
+        remove(&out.join(f))?;
+    }
+    for dir in [out.to_path_buf(), out.join("vtu")] {
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let name = name.to_string_lossy();
+            let series = dir != out
+                && (name.starts_with("parts_") || name.starts_with("pairs_"))
+                && name.ends_with(".vtu");
+            if series || name.ends_with(".tmp") {
+                remove(&entry.path())?;
+            }
+        }
+    }
+    Ok(())
+}
 
 impl Analysis {
     /// Solves all increments and writes the results into `out`. `progress` is called
@@ -24,9 +63,28 @@ impl Analysis {
         out: &Path,
         progress: &mut dyn FnMut(&IncrementResult),
     ) -> Result<Summary> {
+        self.run_until(out, progress, &AtomicUsize::new(0))
+    }
+
+    /// [`Analysis::run`] that stops at the next safe point — after the increment
+    /// being solved is written — once `stop` is nonzero (e.g. set by a signal
+    /// handler to the signal's number): the converged increments stay on disk,
+    /// `summary.json` says `interrupted`, and the error is [`Error::Interrupted`].
+    ///
+    /// What a previous run left in `out` (its summary, pairs table, pictures,
+    /// series and VTU files, and any `.tmp` file) is removed first, so the folder
+    /// never mixes two runs; other files are left alone. `results.pvd` names an
+    /// increment's files only once both are completely written.
+    pub fn run_until(
+        &mut self,
+        out: &Path,
+        progress: &mut dyn FnMut(&IncrementResult),
+        stop: &AtomicUsize,
+    ) -> Result<Summary> {
         let start = Instant::now();
         let vtu_dir = out.join("vtu");
         std::fs::create_dir_all(&vtu_dir).map_err(|e| Error::output(&vtu_dir, e))?;
+        clear_previous_run(out)?;
         let mut summary = self.empty_summary();
         let mut pvd: Vec<vtu::PvdEntry> = Vec::new();
         let mut output_time = 0.0;
@@ -59,9 +117,12 @@ impl Analysis {
             summary.timings.coarse_start = t.elapsed().as_secs_f64();
             summary.matrix_nonzeros = solver.matrix_nnz();
             summary.factor_nonzeros = solver.factor_nnz();
-            let mut writers: std::collections::VecDeque<
+            // Each writer with the series entries of its increment, added to the
+            // .pvd once the writer has finished.
+            let mut writers: std::collections::VecDeque<(
                 std::thread::ScopedJoinHandle<'_, Result<()>>,
-            > = std::collections::VecDeque::new();
+                [vtu::PvdEntry; 2],
+            )> = std::collections::VecDeque::new();
             let join = |h: std::thread::ScopedJoinHandle<'_, Result<()>>| -> Result<()> {
                 h.join().unwrap_or_else(|_| {
                     Err(Error::output(&vtu_dir, "a VTU writer thread panicked"))
@@ -76,36 +137,57 @@ impl Analysis {
                 let parts_file = format!("parts_{:04}.vtu", inc.index);
                 let pairs_file = format!("pairs_{:04}.vtu", inc.index);
                 if writers.len() >= 2 {
-                    join(writers.pop_front().expect("two writers"))?;
+                    let (h, entries) = writers.pop_front().expect("two writers");
+                    join(h)?;
+                    pvd.extend(entries);
+                    vtu::write_pvd(&out.join("results.pvd"), &pvd)?;
                 }
                 let (path, lambda, u) = (vtu_dir.join(&parts_file), inc.lambda, inc.u.clone());
                 let stresses = std::sync::Arc::new(stresses);
                 last_stresses = Some(std::sync::Arc::clone(&stresses));
-                writers.push_back(
-                    scope.spawn(move || this.write_parts_vtu(&path, grid, lambda, &u, &stresses)),
-                );
+                let handle =
+                    scope.spawn(move || this.write_parts_vtu(&path, grid, lambda, &u, &stresses));
                 this.write_pairs_vtu(&vtu_dir.join(&pairs_file), inc, &rows)?;
-                for (part, file) in [parts_file, pairs_file].into_iter().enumerate() {
-                    let file = format!("vtu/{file}");
-                    pvd.push(vtu::PvdEntry {
-                        time: inc.lambda,
-                        part,
-                        file,
-                    });
-                }
-                vtu::write_pvd(&out.join("results.pvd"), &pvd)?;
+                let entries = [parts_file, pairs_file].map(|file| format!("vtu/{file}"));
+                let [a, b] = entries;
+                writers.push_back((
+                    handle,
+                    [
+                        vtu::PvdEntry {
+                            time: inc.lambda,
+                            part: 0,
+                            file: a,
+                        },
+                        vtu::PvdEntry {
+                            time: inc.lambda,
+                            part: 1,
+                            file: b,
+                        },
+                    ],
+                ));
                 report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
                 this.fill_summary(&mut summary, inc, &rows);
                 report::write_json(&out.join("summary.json"), &summary)?;
                 output_time += t.elapsed().as_secs_f64();
                 progress(inc);
-                Ok(())
+                match stop.load(Ordering::Relaxed) {
+                    0 => Ok(()),
+                    signal => Err(Error::Interrupted {
+                        increment: inc.index,
+                        signal,
+                    }),
+                }
             });
             let t = Instant::now();
             let mut written = Ok(());
-            for h in writers {
-                written = written.and(join(h));
+            for (h, entries) in writers {
+                let w = join(h);
+                if w.is_ok() {
+                    pvd.extend(entries);
+                }
+                written = written.and(w);
             }
+            written = written.and(vtu::write_pvd(&out.join("results.pvd"), &pvd));
             output_time += t.elapsed().as_secs_f64();
             summary.timings.solve = solver.timings.clone();
             (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
@@ -116,7 +198,11 @@ impl Analysis {
         let inc = match result {
             Ok(inc) => inc,
             Err(e) => {
-                summary.status = RunStatus::Failed;
+                summary.status = if matches!(e, Error::Interrupted { .. }) {
+                    RunStatus::Interrupted
+                } else {
+                    RunStatus::Failed
+                };
                 summary.error = Some(e.to_string());
                 summary.timings.total =
                     start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;

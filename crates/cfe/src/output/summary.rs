@@ -24,6 +24,9 @@ pub enum RunStatus {
     CompletedWithViolations,
     /// The run stopped with an error (converged increments are kept).
     Failed,
+    /// The run was stopped on request (a signal) after an increment; the
+    /// converged increments are kept.
+    Interrupted,
 }
 
 impl std::fmt::Display for RunStatus {
@@ -33,6 +36,7 @@ impl std::fmt::Display for RunStatus {
             RunStatus::Completed => "completed",
             RunStatus::CompletedWithViolations => "completed_with_violations",
             RunStatus::Failed => "failed",
+            RunStatus::Interrupted => "interrupted",
         })
     }
 }
