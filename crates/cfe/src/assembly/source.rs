@@ -6,13 +6,15 @@
 //! a 3D element, another coupling formulation — is a new implementation, and
 //! [`crate::assembly`] (pattern, values, internal force) does not change.
 
+use crate::coupling::element::MAX_DOFS;
 use crate::coupling::{Interface, PairState};
 use crate::dofs::DofMap;
 use crate::domain::Part;
 use crate::fem::element;
 
-/// Receives one element matrix: its global DOFs and its entry `(a, b)` over them.
-pub type MatrixSink<'s> = dyn FnMut(&[usize], &dyn Fn(usize, usize) -> f64) + 's;
+/// Receives one element matrix: its global DOFs `g` and its entries, row-major with
+/// row stride `stride` (entry `(a, b)` at `k[a * stride + b]`, a, b < g.len()).
+pub type MatrixSink<'s> = dyn FnMut(&[usize], &[f64], usize) + 's;
 /// Receives one element vector: its global DOFs and its values over them.
 pub type VectorSink<'s> = dyn FnMut(&[usize], &[f64]) + 's;
 
@@ -75,12 +77,14 @@ impl<'a> PartElements<'a> {
     }
 
     /// The part and the element within it of source element `e`.
+    #[inline(always)]
     fn locate(&self, e: usize) -> (usize, usize) {
         let p = self.offset.partition_point(|&o| o <= e) - 1;
         (p, e - self.offset[p])
     }
 
     /// The element stiffness and global DOFs of source element `e`.
+    #[inline(always)]
     fn element(&self, e: usize) -> (element::ElementMatrix, [usize; element::MAX_DOFS], usize) {
         let (p, e) = self.locate(e);
         let part = &self.parts[p];
@@ -109,7 +113,7 @@ impl ElementSource for PartElements<'_> {
 
     fn stiffness(&self, e: usize, sink: &mut MatrixSink<'_>) {
         let (ke, g, n) = self.element(e);
-        sink(&g[..n], &|a, b| ke[a][b]);
+        sink(&g[..n], ke.as_flattened(), element::MAX_DOFS);
     }
 
     fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>) {
@@ -186,7 +190,14 @@ impl ElementSource for CouplingElements<'_> {
         let c = &iface.elements[k];
         let ke = c.stiffness(iface.c_n, iface.c_s, state);
         let g = c.dofs(self.dofs, iface.host, iface.node_part);
-        sink(g.as_slice(), &|a, b| ke.get(a, b));
+        let n = g.as_slice().len();
+        let mut k = [0.0; MAX_DOFS * MAX_DOFS];
+        for a in 0..n {
+            for b in 0..n {
+                k[a * MAX_DOFS + b] = ke.get(a, b);
+            }
+        }
+        sink(g.as_slice(), &k, MAX_DOFS);
     }
 
     fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>) {
