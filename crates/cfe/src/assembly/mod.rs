@@ -244,13 +244,7 @@ pub fn internal_force_of(sources: &[&dyn ElementSource], u: &[f64]) -> Vec<f64> 
     for source in sources {
         if !source.parallel() {
             let f = f.get_or_insert_with(|| vec![0.0; u.len()]);
-            for e in 0..source.len() {
-                source.internal_force(e, u, &mut |g, fe| {
-                    for (&ga, v) in g.iter().zip(fe) {
-                        f[ga] += v;
-                    }
-                });
-            }
+            source.add_internal_forces(0..source.len(), u, f);
             continue;
         }
         let threads = rayon::current_num_threads().max(1);
@@ -263,13 +257,7 @@ pub fn internal_force_of(sources: &[&dyn ElementSource], u: &[f64]) -> Vec<f64> 
             .into_par_iter()
             .map(|range| {
                 let mut f = vec![0.0; u.len()];
-                for e in range {
-                    source.internal_force(e, u, &mut |g, fe| {
-                        for (&ga, v) in g.iter().zip(fe) {
-                            f[ga] += v;
-                        }
-                    });
-                }
+                source.add_internal_forces(range, u, &mut f);
                 f
             })
             .reduce_with(|mut a, b| {

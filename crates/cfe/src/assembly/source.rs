@@ -40,6 +40,19 @@ pub trait ElementSource: Sync {
     /// `u` of all DOFs.
     fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>);
 
+    /// Adds the internal forces of the elements in `range` into `f` (all DOFs) for
+    /// the displacements `u`. The default gives each element's to `f` in turn; a
+    /// source with many elements may do the same in one loop.
+    fn add_internal_forces(&self, range: std::ops::Range<usize>, u: &[f64], f: &mut [f64]) {
+        for e in range {
+            self.internal_force(e, u, &mut |g, fe| {
+                for (&ga, v) in g.iter().zip(fe) {
+                    f[ga] += v;
+                }
+            });
+        }
+    }
+
     /// Whether the assembly should sum this source's internal forces in parallel
     /// chunks (many, independent elements) rather than in element order.
     fn parallel(&self) -> bool {
@@ -122,6 +135,18 @@ impl ElementSource for PartElements<'_> {
             std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
         let fe = element::mul(&ke, &ue, n);
         sink(&g[..n], &fe[..n]);
+    }
+
+    fn add_internal_forces(&self, range: std::ops::Range<usize>, u: &[f64], f: &mut [f64]) {
+        for e in range {
+            let (ke, g, n) = self.element(e);
+            let ue: [f64; element::MAX_DOFS] =
+                std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
+            let fe = element::mul(&ke, &ue, n);
+            for (a, &ga) in g[..n].iter().enumerate() {
+                f[ga] += fe[a];
+            }
+        }
     }
 
     fn parallel(&self) -> bool {
