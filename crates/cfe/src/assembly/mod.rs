@@ -37,9 +37,7 @@ impl NodeGraph {
         let mut count = vec![0usize; n_nodes + 1];
         let each_element = |f: &mut dyn FnMut(&[usize])| {
             for source in sources {
-                for e in 0..source.len() {
-                    source.nodes(e, f);
-                }
+                source.for_each_nodes(f);
             }
         };
         each_element(&mut |nodes| {
@@ -184,11 +182,7 @@ impl Stiffness {
     /// Adds the stiffness of every element of `sources` into `values`.
     fn add_sources(&self, values: &mut [f64], sources: &[&dyn ElementSource], dofs: &DofMap) {
         for source in sources {
-            for e in 0..source.len() {
-                source.stiffness(e, &mut |g, k, stride| {
-                    self.scatter(values, dofs, g, k, stride)
-                });
-            }
+            source.for_each_stiffness(&mut |g, k, stride| self.scatter(values, dofs, g, k, stride));
         }
     }
 

@@ -36,6 +36,22 @@ pub trait ElementSource: Sync {
     /// e.g. an open pair).
     fn stiffness(&self, e: usize, sink: &mut MatrixSink<'_>);
 
+    /// Calls `f` with the global nodes of every element, in order. The default
+    /// asks [`nodes`](Self::nodes) element by element.
+    fn for_each_nodes(&self, f: &mut dyn FnMut(&[usize])) {
+        for e in 0..self.len() {
+            self.nodes(e, f);
+        }
+    }
+
+    /// Gives `sink` the stiffness of every element, in order. The default asks
+    /// [`stiffness`](Self::stiffness) element by element.
+    fn for_each_stiffness(&self, sink: &mut MatrixSink<'_>) {
+        for e in 0..self.len() {
+            self.stiffness(e, sink);
+        }
+    }
+
     /// Gives `sink` the internal force `F_e` of element `e` for the displacements
     /// `u` of all DOFs.
     fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>);
@@ -135,6 +151,30 @@ impl ElementSource for PartElements<'_> {
             std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
         let fe = element::mul(&ke, &ue, n);
         sink(&g[..n], &fe[..n]);
+    }
+
+    fn for_each_nodes(&self, f: &mut dyn FnMut(&[usize])) {
+        let mut g = [0usize; element::MAX_NODES];
+        for (p, part) in self.parts.iter().enumerate() {
+            for el in &part.mesh.elements {
+                let nodes = el.nodes();
+                for (gi, &n) in g.iter_mut().zip(nodes) {
+                    *gi = self.dofs.node(p, n);
+                }
+                f(&g[..nodes.len()]);
+            }
+        }
+    }
+
+    fn for_each_stiffness(&self, sink: &mut MatrixSink<'_>) {
+        for (p, part) in self.parts.iter().enumerate() {
+            for (e, el) in part.mesh.elements.iter().enumerate() {
+                let x = element::coordinates(&part.mesh, el);
+                let ke = element::stiffness(el, &x, &self.d[p], part.material.thickness);
+                let (g, n) = self.dofs.element_dofs(self.parts, p, e);
+                sink(&g[..n], ke.as_flattened(), element::MAX_DOFS);
+            }
+        }
     }
 
     fn add_internal_forces(&self, range: std::ops::Range<usize>, u: &[f64], f: &mut [f64]) {
