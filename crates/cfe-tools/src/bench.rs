@@ -205,6 +205,15 @@ fn report(problem: &Path, machine: &str, commit: &str, cases: &[Case]) -> String
         s,
         "Phases: *mesh* meshing, *pairs* pair search and DOF numbering, *coarse* solving the 4× coarser model for the active-set's starting pattern, *symbolic* node graph + nested-dissection ordering + sparsity pattern + symbolic factorization, *asm* assembly of values and right-hand sides, *# fact* and *# upd* the numbers of numeric factorizations and of low-rank updates, *fact* the seconds in numeric factorizations, *1st fact* the first of them, *solve* triangular solves including low-rank update columns, *later it.* the slowest active-set iteration after the first (and its ratio to the first factorization), *update* state updates, support checks and internal forces, *stress* stress recovery, *output* VTU/CSV/JSON of all increments, *png* the two pictures.\n"
     );
+    timing_tables(&mut s, cases);
+    targets(&mut s, cases);
+    convergence_table(&mut s, cases);
+    let _ = writeln!(s, "\n![time and memory against unknowns](benchmarks.png)\n");
+    s
+}
+
+/// One table of timings per law, a row per run.
+fn timing_tables(s: &mut String, cases: &[Case]) {
     for law in ["rigid", "contact"] {
         let _ = writeln!(s, "## `{law}` law\n");
         let _ = writeln!(
@@ -272,7 +281,10 @@ fn report(problem: &Path, machine: &str, commit: &str, cases: &[Case]) -> String
         }
         let _ = writeln!(s);
     }
-    targets(&mut s, cases);
+}
+
+/// Convergence of the scaled contact runs: load-point displacement and contact-zone ends.
+fn convergence_table(s: &mut String, cases: &[Case]) {
     // Convergence of the scaled runs: load-point displacement and contact-zone ends.
     let _ = writeln!(s, "## Convergence of the contact runs\n");
     let _ = writeln!(
@@ -334,8 +346,6 @@ fn report(problem: &Path, machine: &str, commit: &str, cases: &[Case]) -> String
             zones.join("; ")
         );
     }
-    let _ = writeln!(s, "\n![time and memory against unknowns](benchmarks.png)\n");
-    s
 }
 
 /// The performance targets of the project, evaluated on the measured runs.

@@ -37,9 +37,7 @@ impl NodeGraph {
         let mut count = vec![0usize; n_nodes + 1];
         let each_element = |f: &mut dyn FnMut(&[usize])| {
             for source in sources {
-                for e in 0..source.len() {
-                    source.nodes(e, f);
-                }
+                source.for_each_nodes(f);
             }
         };
         each_element(&mut |nodes| {
@@ -162,15 +160,9 @@ impl Stiffness {
             .expect("entry is in the sparsity pattern")
     }
 
-    /// Adds an element matrix (given by `k(a, b)` over local DOFs `g`) into `values`,
-    /// lower triangle, free DOFs only.
-    fn scatter(
-        &self,
-        values: &mut [f64],
-        dofs: &DofMap,
-        g: &[usize],
-        k: &dyn Fn(usize, usize) -> f64,
-    ) {
+    /// Adds an element matrix (entry `(a, b)` over local DOFs `g` at
+    /// `k[a * stride + b]`) into `values`, lower triangle, free DOFs only.
+    fn scatter(&self, values: &mut [f64], dofs: &DofMap, g: &[usize], k: &[f64], stride: usize) {
         for (b, &gb) in g.iter().enumerate() {
             let j = dofs.eq[gb];
             if j == FIXED {
@@ -182,7 +174,7 @@ impl Stiffness {
                     continue;
                 }
                 let pos = self.position(i, j);
-                values[pos] += k(a, b);
+                values[pos] += k[a * stride + b];
             }
         }
     }
@@ -190,9 +182,7 @@ impl Stiffness {
     /// Adds the stiffness of every element of `sources` into `values`.
     fn add_sources(&self, values: &mut [f64], sources: &[&dyn ElementSource], dofs: &DofMap) {
         for source in sources {
-            for e in 0..source.len() {
-                source.stiffness(e, &mut |g, k| self.scatter(values, dofs, g, k));
-            }
+            source.for_each_stiffness(&mut |g, k, stride| self.scatter(values, dofs, g, k, stride));
         }
     }
 
@@ -243,16 +233,12 @@ pub fn internal_force(
 /// otherwise.
 pub fn internal_force_of(sources: &[&dyn ElementSource], u: &[f64]) -> Vec<f64> {
     use rayon::prelude::*;
-    let mut f = vec![0.0; u.len()];
+    // Allocated by the first contribution (a parallel source's sum is taken as it is).
+    let mut f: Option<Vec<f64>> = None;
     for source in sources {
         if !source.parallel() {
-            for e in 0..source.len() {
-                source.internal_force(e, u, &mut |g, fe| {
-                    for (&ga, v) in g.iter().zip(fe) {
-                        f[ga] += v;
-                    }
-                });
-            }
+            let f = f.get_or_insert_with(|| vec![0.0; u.len()]);
+            source.add_internal_forces(0..source.len(), u, f);
             continue;
         }
         let threads = rayon::current_num_threads().max(1);
@@ -265,13 +251,7 @@ pub fn internal_force_of(sources: &[&dyn ElementSource], u: &[f64]) -> Vec<f64> 
             .into_par_iter()
             .map(|range| {
                 let mut f = vec![0.0; u.len()];
-                for e in range {
-                    source.internal_force(e, u, &mut |g, fe| {
-                        for (&ga, v) in g.iter().zip(fe) {
-                            f[ga] += v;
-                        }
-                    });
-                }
+                source.add_internal_forces(range, u, &mut f);
                 f
             })
             .reduce_with(|mut a, b| {
@@ -280,13 +260,17 @@ pub fn internal_force_of(sources: &[&dyn ElementSource], u: &[f64]) -> Vec<f64> 
                 }
                 a
             });
-        if let Some(sum) = sum {
-            for (x, y) in f.iter_mut().zip(&sum) {
-                *x += y;
+        match (&mut f, sum) {
+            (_, None) => {}
+            (None, Some(sum)) => f = Some(sum),
+            (Some(f), Some(sum)) => {
+                for (x, y) in f.iter_mut().zip(&sum) {
+                    *x += y;
+                }
             }
         }
     }
-    f
+    f.unwrap_or_else(|| vec![0.0; u.len()])
 }
 
 /// The external force vector over all DOFs at full load.

@@ -6,13 +6,15 @@
 //! a 3D element, another coupling formulation — is a new implementation, and
 //! [`crate::assembly`] (pattern, values, internal force) does not change.
 
+use crate::coupling::element::MAX_DOFS;
 use crate::coupling::{Interface, PairState};
 use crate::dofs::DofMap;
 use crate::domain::Part;
 use crate::fem::element;
 
-/// Receives one element matrix: its global DOFs and its entry `(a, b)` over them.
-pub type MatrixSink<'s> = dyn FnMut(&[usize], &dyn Fn(usize, usize) -> f64) + 's;
+/// Receives one element matrix: its global DOFs `g` and its entries, row-major with
+/// row stride `stride` (entry `(a, b)` at `k[a * stride + b]`, a, b < g.len()).
+pub type MatrixSink<'s> = dyn FnMut(&[usize], &[f64], usize) + 's;
 /// Receives one element vector: its global DOFs and its values over them.
 pub type VectorSink<'s> = dyn FnMut(&[usize], &[f64]) + 's;
 
@@ -34,9 +36,38 @@ pub trait ElementSource: Sync {
     /// e.g. an open pair).
     fn stiffness(&self, e: usize, sink: &mut MatrixSink<'_>);
 
+    /// Calls `f` with the global nodes of every element, in order. The default
+    /// asks [`nodes`](Self::nodes) element by element.
+    fn for_each_nodes(&self, f: &mut dyn FnMut(&[usize])) {
+        for e in 0..self.len() {
+            self.nodes(e, f);
+        }
+    }
+
+    /// Gives `sink` the stiffness of every element, in order. The default asks
+    /// [`stiffness`](Self::stiffness) element by element.
+    fn for_each_stiffness(&self, sink: &mut MatrixSink<'_>) {
+        for e in 0..self.len() {
+            self.stiffness(e, sink);
+        }
+    }
+
     /// Gives `sink` the internal force `F_e` of element `e` for the displacements
     /// `u` of all DOFs.
     fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>);
+
+    /// Adds the internal forces of the elements in `range` into `f` (all DOFs) for
+    /// the displacements `u`. The default gives each element's to `f` in turn; a
+    /// source with many elements may do the same in one loop.
+    fn add_internal_forces(&self, range: std::ops::Range<usize>, u: &[f64], f: &mut [f64]) {
+        for e in range {
+            self.internal_force(e, u, &mut |g, fe| {
+                for (&ga, v) in g.iter().zip(fe) {
+                    f[ga] += v;
+                }
+            });
+        }
+    }
 
     /// Whether the assembly should sum this source's internal forces in parallel
     /// chunks (many, independent elements) rather than in element order.
@@ -75,12 +106,14 @@ impl<'a> PartElements<'a> {
     }
 
     /// The part and the element within it of source element `e`.
+    #[inline(always)]
     fn locate(&self, e: usize) -> (usize, usize) {
         let p = self.offset.partition_point(|&o| o <= e) - 1;
         (p, e - self.offset[p])
     }
 
     /// The element stiffness and global DOFs of source element `e`.
+    #[inline(always)]
     fn element(&self, e: usize) -> (element::ElementMatrix, [usize; element::MAX_DOFS], usize) {
         let (p, e) = self.locate(e);
         let part = &self.parts[p];
@@ -109,7 +142,7 @@ impl ElementSource for PartElements<'_> {
 
     fn stiffness(&self, e: usize, sink: &mut MatrixSink<'_>) {
         let (ke, g, n) = self.element(e);
-        sink(&g[..n], &|a, b| ke[a][b]);
+        sink(&g[..n], ke.as_flattened(), element::MAX_DOFS);
     }
 
     fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>) {
@@ -118,6 +151,42 @@ impl ElementSource for PartElements<'_> {
             std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
         let fe = element::mul(&ke, &ue, n);
         sink(&g[..n], &fe[..n]);
+    }
+
+    fn for_each_nodes(&self, f: &mut dyn FnMut(&[usize])) {
+        let mut g = [0usize; element::MAX_NODES];
+        for (p, part) in self.parts.iter().enumerate() {
+            for el in &part.mesh.elements {
+                let nodes = el.nodes();
+                for (gi, &n) in g.iter_mut().zip(nodes) {
+                    *gi = self.dofs.node(p, n);
+                }
+                f(&g[..nodes.len()]);
+            }
+        }
+    }
+
+    fn for_each_stiffness(&self, sink: &mut MatrixSink<'_>) {
+        for (p, part) in self.parts.iter().enumerate() {
+            for (e, el) in part.mesh.elements.iter().enumerate() {
+                let x = element::coordinates(&part.mesh, el);
+                let ke = element::stiffness(el, &x, &self.d[p], part.material.thickness);
+                let (g, n) = self.dofs.element_dofs(self.parts, p, e);
+                sink(&g[..n], ke.as_flattened(), element::MAX_DOFS);
+            }
+        }
+    }
+
+    fn add_internal_forces(&self, range: std::ops::Range<usize>, u: &[f64], f: &mut [f64]) {
+        for e in range {
+            let (ke, g, n) = self.element(e);
+            let ue: [f64; element::MAX_DOFS] =
+                std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
+            let fe = element::mul(&ke, &ue, n);
+            for (a, &ga) in g[..n].iter().enumerate() {
+                f[ga] += fe[a];
+            }
+        }
     }
 
     fn parallel(&self) -> bool {
@@ -186,7 +255,14 @@ impl ElementSource for CouplingElements<'_> {
         let c = &iface.elements[k];
         let ke = c.stiffness(iface.c_n, iface.c_s, state);
         let g = c.dofs(self.dofs, iface.host, iface.node_part);
-        sink(g.as_slice(), &|a, b| ke.get(a, b));
+        let n = g.as_slice().len();
+        let mut k = [0.0; MAX_DOFS * MAX_DOFS];
+        for a in 0..n {
+            for b in 0..n {
+                k[a * MAX_DOFS + b] = ke.get(a, b);
+            }
+        }
+        sink(g.as_slice(), &k, MAX_DOFS);
     }
 
     fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>) {

@@ -5,7 +5,7 @@
 
 pub mod element;
 pub mod law;
-pub mod search;
+pub(crate) mod search;
 
 pub use element::CouplingElement;
 pub use law::{Law, LawTolerance, LawViolation, PairState, PairStates, ViolationKind};

@@ -67,7 +67,7 @@ pub fn find_pairs(
     }
 
     let mut pairs = Vec::with_capacity(nodes.len());
-    let mut orphans = Vec::new();
+    let mut orphans: Vec<Orphan> = Vec::new();
     for &node in nodes {
         let p = node_mesh.nodes[node];
         // (distance, element, edge index, ξ along the edge)
@@ -137,32 +137,43 @@ pub fn find_pairs(
         });
     }
     if !orphans.is_empty() {
-        let list: Vec<String> = orphans
-            .iter()
-            .take(20)
-            .map(|(n, p, near)| match near {
-                Some((d, len)) => format!(
-                    "node {n} at ({}, {}) (nearest host edge {d:.4e} away, {:.3} × its length {len:.4e})",
-                    p[0],
-                    p[1],
-                    d / len
-                ),
-                None => format!("node {n} at ({}, {})", p[0], p[1]),
-            })
-            .collect();
-        return Err(Error::OrphanNodes {
-            interface: interface.to_string(),
-            nodes: orphans.iter().map(|(n, p, _)| (*n, *p)).collect(),
-            message: format!(
-                "{} coupling node(s) lie on no host boundary edge within the tolerance {} × edge length: {}{} — check that the interface's boundary faces the host, or raise `tolerance` if the faces are meshed apart (curved faces: about (edge length)² / (8 × radius))",
-                orphans.len(),
-                tolerance,
-                list.join(", "),
-                if orphans.len() > 20 { ", ..." } else { "" }
-            ),
-        });
+        return Err(orphan_error(interface, &orphans, tolerance));
     }
     Ok(pairs)
+}
+
+/// A coupling node on no host edge: its index, its position and, when there is
+/// one, the distance to the nearest host edge and that edge's length.
+type Orphan = (usize, [f64; 2], Option<(f64, f64)>);
+
+/// The error listing the coupling nodes that lie on no host edge within the
+/// tolerance (the first 20, with their nearest host edge), `orphans` as
+/// (node, position, nearest (distance, edge length)).
+fn orphan_error(interface: &str, orphans: &[Orphan], tolerance: f64) -> Error {
+    let list: Vec<String> = orphans
+        .iter()
+        .take(20)
+        .map(|(n, p, near)| match near {
+            Some((d, len)) => format!(
+                "node {n} at ({}, {}) (nearest host edge {d:.4e} away, {:.3} × its length {len:.4e})",
+                p[0],
+                p[1],
+                d / len
+            ),
+            None => format!("node {n} at ({}, {})", p[0], p[1]),
+        })
+        .collect();
+    Error::OrphanNodes {
+        interface: interface.to_string(),
+        nodes: orphans.iter().map(|(n, p, _)| (*n, *p)).collect(),
+        message: format!(
+            "{} coupling node(s) lie on no host boundary edge within the tolerance {} × edge length: {}{} — check that the interface's boundary faces the host, or raise `tolerance` if the faces are meshed apart (curved faces: about (edge length)² / (8 × radius))",
+            orphans.len(),
+            tolerance,
+            list.join(", "),
+            if orphans.len() > 20 { ", ..." } else { "" }
+        ),
+    }
 }
 
 /// The shape functions of host element `element` (corner coordinates `x`) at the

@@ -4,7 +4,7 @@
 //! [`element`] provider that dispatches between them for mixed meshes.
 
 pub mod element;
-pub mod loads;
+pub(crate) mod loads;
 pub mod material;
 pub mod q4;
 pub mod recovery;

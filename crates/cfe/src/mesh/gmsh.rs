@@ -331,7 +331,6 @@ impl GmshMesh {
         }
 
         // Nodes used by the chosen elements, renumbered in file order.
-        const UNUSED: usize = usize::MAX;
         let mut local = vec![UNUSED; self.nodes.len()];
         for (_, nodes) in &chosen {
             for &n in nodes.iter() {
@@ -419,6 +418,14 @@ impl GmshMesh {
             })
         })?;
 
+        self.name_boundaries(&mut mesh, &local).map_err(err)?;
+        Ok(mesh)
+    }
+
+    /// Names the boundaries of a part's `mesh` after the physical curves whose lines
+    /// are its boundary edges (`local`: the file's nodes in the part's numbering, or
+    /// `UNUSED`), each chained in order. A curve partly inside the part is an error.
+    fn name_boundaries(&self, mesh: &mut Mesh, local: &[usize]) -> std::result::Result<(), String> {
         // Named boundaries from the physical curves. Each element edge, by its sorted
         // node pair: how many elements use it, and the first one's oriented edge.
         let mut uses: HashMap<(usize, usize), (usize, BoundaryEdge)> =
@@ -474,14 +481,14 @@ impl GmshMesh {
                 format!("node {} ({x}, {y})", self.node_tags[n])
             };
             let edges = |n: usize| format!("{n} edge{}", if n == 1 { "" } else { "s" });
-            return Err(err(format!(
+            return Err(format!(
                 "physical curve {curve} of file {} lies partly inside the part: it has {} on the part's boundary and {} inside it (shared by two of the part's elements), e.g. the edge from {} to {}; a boundary must lie on the part's boundary: split the curve in Gmsh so that its inner lines form a physical curve of their own, or put only boundary curves in the physical group",
                 self.file_name(),
                 edges(on_boundary.len()),
                 edges(count),
                 at(a),
                 at(b),
-            )));
+            ));
         }
         for (tag, edges) in by_tag {
             let name = self
@@ -493,9 +500,12 @@ impl GmshMesh {
         for edges in mesh.boundaries.values_mut() {
             *edges = chain_order(std::mem::take(edges));
         }
-        Ok(mesh)
+        Ok(())
     }
 }
+
+/// A file node used by no chosen element (in the map to the part's numbering).
+const UNUSED: usize = usize::MAX;
 
 /// `"left" (1), "right" (2), 7` for a list of physical groups.
 fn describe(groups: &[(i32, Option<&str>)]) -> String {

@@ -4,7 +4,7 @@
 //! parts), and it gives the same meshes as the built-in meshers with K× the cells.
 
 use super::{BoundaryEdge, Element, Mesh};
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// The subdivision of one reference element at factor k: the lattice points of its
 /// children and which child owns each sub-edge of each of its edges.
@@ -200,9 +200,25 @@ impl Mesh {
             }
         }
 
+        let boundaries = self.refined_boundaries(k, &edges, &template);
+        Mesh {
+            nodes,
+            elements,
+            boundaries,
+        }
+    }
+
+    /// The named boundaries of the mesh refined `k` times: each boundary edge
+    /// becomes its k sub-edges (nodes from `edges`), in order along the boundary,
+    /// each owned by the child element (of the element's `template`) that has it.
+    fn refined_boundaries<'t>(
+        &self,
+        k: usize,
+        edges: &EdgeNodes,
+        template: &dyn Fn(&Element) -> &'t Template,
+    ) -> BTreeMap<String, Vec<BoundaryEdge>> {
         // Each boundary edge becomes its k sub-edges, owned by the child that has it.
-        let boundaries = self
-            .boundaries
+        self.boundaries
             .iter()
             .map(|(name, list)| {
                 let sub = list
@@ -230,12 +246,7 @@ impl Mesh {
                     .collect();
                 (name.clone(), sub)
             })
-            .collect();
-        Mesh {
-            nodes,
-            elements,
-            boundaries,
-        }
+            .collect()
     }
 }
 

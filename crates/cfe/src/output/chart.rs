@@ -101,6 +101,87 @@ fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// The corner of the plotting area (in drawing fractions, y up) with the fewest
+/// The axis ranges of the points `pts`: their extent, widened by 5 % (a factor on
+/// a logarithmic axis).
+fn ranges(axes: &Axes, pts: &[(f64, f64)]) -> ([f64; 2], [f64; 2]) {
+    let (mut x0, mut x1) = pts
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.0), b.max(p.0))
+        });
+    let (mut y0, mut y1) = pts
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.1), b.max(p.1))
+        });
+    let widen = |lo: &mut f64, hi: &mut f64, log: bool| {
+        if log {
+            let f = (*hi / *lo).powf(0.05).max(1.15);
+            *lo /= f;
+            *hi *= f;
+        } else {
+            let pad = 0.05 * (*hi - *lo).abs().max(1e-12 * hi.abs().max(1.0));
+            *lo -= pad;
+            *hi += pad;
+        }
+    };
+    widen(&mut x0, &mut x1, axes.log_x);
+    widen(&mut y0, &mut y1, axes.log_y);
+    ([x0, x1], [y0, y1])
+}
+
+/// Whether a point can be drawn: finite, and positive on a logarithmic axis.
+fn drawable(axes: &Axes, p: &(f64, f64)) -> bool {
+    p.0.is_finite() && p.1.is_finite() && (!axes.log_x || p.0 > 0.0) && (!axes.log_y || p.1 > 0.0)
+}
+
+/// Where the points `pts` and the lines of `series` fall in the plotting area
+/// `[x0, x1] × [y0, y1]` (fractions of it), for choosing the legend's corner: the
+/// points, and ten samples along each segment between drawable points.
+fn plotted_points(
+    axes: &Axes,
+    series: &[Series],
+    pts: &[(f64, f64)],
+    [x0, x1]: [f64; 2],
+    [y0, y1]: [f64; 2],
+) -> Vec<(f64, f64)> {
+    let frac = |v: f64, lo: f64, hi: f64, log: bool| {
+        if log {
+            (v / lo).ln() / (hi / lo).ln()
+        } else {
+            (v - lo) / (hi - lo)
+        }
+    };
+    let mut placed: Vec<(f64, f64)> = pts
+        .iter()
+        .map(|p| (frac(p.0, x0, x1, axes.log_x), frac(p.1, y0, y1, axes.log_y)))
+        .collect();
+    // Lines between points also hide a legend: sample the segments.
+    for s in series {
+        let d: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .copied()
+            .filter(|p| drawable(axes, p))
+            .collect();
+        for w in d.windows(2) {
+            let a = (
+                frac(w[0].0, x0, x1, axes.log_x),
+                frac(w[0].1, y0, y1, axes.log_y),
+            );
+            let b = (
+                frac(w[1].0, x0, x1, axes.log_x),
+                frac(w[1].1, y0, y1, axes.log_y),
+            );
+            for i in 1..10 {
+                let t = i as f64 / 10.0;
+                placed.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
+            }
+        }
+    }
+    placed
+}
+
 /// points near it, for the legend.
 fn legend_corner(points: &[(f64, f64)]) -> SeriesLabelPosition {
     let corners = [
@@ -131,74 +212,16 @@ fn draw<DB: DrawingBackend>(
     series: &[Series],
 ) -> std::result::Result<(), String> {
     // Finite points, positive on logarithmic axes.
-    let drawable = |p: &(f64, f64)| {
-        p.0.is_finite()
-            && p.1.is_finite()
-            && (!axes.log_x || p.0 > 0.0)
-            && (!axes.log_y || p.1 > 0.0)
-    };
     let pts: Vec<(f64, f64)> = series
         .iter()
         .flat_map(|s| s.points.iter().copied())
-        .filter(drawable)
+        .filter(|p| drawable(axes, p))
         .collect();
     if pts.is_empty() {
         return Err("no finite points to draw".into());
     }
-    let (mut x0, mut x1) = pts
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-            (a.min(p.0), b.max(p.0))
-        });
-    let (mut y0, mut y1) = pts
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-            (a.min(p.1), b.max(p.1))
-        });
-    let widen = |lo: &mut f64, hi: &mut f64, log: bool| {
-        if log {
-            let f = (*hi / *lo).powf(0.05).max(1.15);
-            *lo /= f;
-            *hi *= f;
-        } else {
-            let pad = 0.05 * (*hi - *lo).abs().max(1e-12 * hi.abs().max(1.0));
-            *lo -= pad;
-            *hi += pad;
-        }
-    };
-    widen(&mut x0, &mut x1, axes.log_x);
-    widen(&mut y0, &mut y1, axes.log_y);
-    // Where the points fall in the plotting area, for the legend's corner.
-    let frac = |v: f64, lo: f64, hi: f64, log: bool| {
-        if log {
-            (v / lo).ln() / (hi / lo).ln()
-        } else {
-            (v - lo) / (hi - lo)
-        }
-    };
-    let mut placed: Vec<(f64, f64)> = pts
-        .iter()
-        .map(|p| (frac(p.0, x0, x1, axes.log_x), frac(p.1, y0, y1, axes.log_y)))
-        .collect();
-    // Lines between points also hide a legend: sample the segments.
-    for s in series {
-        let d: Vec<(f64, f64)> = s.points.iter().copied().filter(drawable).collect();
-        for w in d.windows(2) {
-            let a = (
-                frac(w[0].0, x0, x1, axes.log_x),
-                frac(w[0].1, y0, y1, axes.log_y),
-            );
-            let b = (
-                frac(w[1].0, x0, x1, axes.log_x),
-                frac(w[1].1, y0, y1, axes.log_y),
-            );
-            for i in 1..10 {
-                let t = i as f64 / 10.0;
-                placed.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
-            }
-        }
-    }
-    let corner = legend_corner(&placed);
+    let ([x0, x1], [y0, y1]) = ranges(axes, &pts);
+    let corner = legend_corner(&plotted_points(axes, series, &pts, [x0, x1], [y0, y1]));
     let e = |e: &dyn std::fmt::Display| e.to_string();
     let x_step = (x1 - x0) / 10.0;
     let y_step = (y1 - y0) / 10.0;
@@ -258,7 +281,12 @@ fn draw<DB: DrawingBackend>(
                 } else {
                     PALETTE[i % PALETTE.len()]
                 };
-                let data: Vec<(f64, f64)> = s.points.iter().copied().filter(drawable).collect();
+                let data: Vec<(f64, f64)> = s
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|p| drawable(axes, p))
+                    .collect();
                 let style = if s.reference {
                     colour.stroke_width(1)
                 } else {

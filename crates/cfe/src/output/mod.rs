@@ -4,9 +4,9 @@
 
 pub mod chart;
 pub mod memory;
-pub mod png;
+pub(crate) mod png;
 pub mod report;
-pub mod run;
+pub(crate) mod run;
 pub mod summary;
 pub mod vtu;
 

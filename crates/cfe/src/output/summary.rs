@@ -1,6 +1,6 @@
 //! The summary of a run (`summary.json`): what was solved, how, and the main
 //! results of the last converged increment. Plain data; [`crate::analysis`] fills
-//! it, [`crate::output::run`] writes it.
+//! it, [`Analysis::run`](crate::analysis::Analysis::run) writes it.
 
 use crate::coupling::{Law, PairState, ViolationKind};
 use crate::domain::Scheme;

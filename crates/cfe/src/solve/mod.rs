@@ -5,7 +5,7 @@
 
 pub mod linear;
 pub mod nonlinear;
-pub mod ordering;
-pub mod support;
+pub(crate) mod ordering;
+pub(crate) mod support;
 pub mod system;
-pub mod warm_start;
+pub(crate) mod warm_start;

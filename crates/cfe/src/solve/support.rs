@@ -103,7 +103,22 @@ pub fn check(
             }
         }
     }
-    let names: Vec<String> = (0..np)
+    if free.iter().any(|&f| f) {
+        Err(unsupported(parts, interfaces, states, &free))
+    } else {
+        Ok(())
+    }
+}
+
+/// The error naming the parts that are `free` to move, each with how many of its
+/// coupling pairs are open in `states`.
+fn unsupported(
+    parts: &[Part],
+    interfaces: &[Interface],
+    states: &[Vec<PairState>],
+    free: &[bool],
+) -> Error {
+    let names: Vec<String> = (0..parts.len())
         .filter(|&p| free[p])
         .map(|p| {
             let pairs: usize = interfaces
@@ -124,18 +139,14 @@ pub fn check(
             )
         })
         .collect();
-    if names.is_empty() {
-        Ok(())
-    } else {
-        Err(Error::Unsupported {
-            parts: (0..np)
-                .filter(|&p| free[p])
-                .map(|p| parts[p].name.clone())
-                .collect(),
-            message: format!(
-                "part(s) {} left without support: they can move as rigid bodies. Add a [[support]], or check that the loads press the parts together",
-                names.join(", ")
-            ),
-        })
+    Error::Unsupported {
+        parts: (0..parts.len())
+            .filter(|&p| free[p])
+            .map(|p| parts[p].name.clone())
+            .collect(),
+        message: format!(
+            "part(s) {} left without support: they can move as rigid bodies. Add a [[support]], or check that the loads press the parts together",
+            names.join(", ")
+        ),
     }
 }
