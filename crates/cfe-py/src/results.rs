@@ -5,11 +5,15 @@
 //! and each part's stresses an `(n, 3)` array whose columns are views.
 
 use cfe::analysis::Analysis;
+use cfe::coupling::Interface;
+use cfe::fem::recovery::PartStress;
 use cfe::mesh::{Element, Mesh};
-use cfe::{PairState, Results};
+use cfe::output::report::PairRow;
+use cfe::{PairState, Part, Results};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
+use std::iter::Peekable;
 
 /// `flat` (rows of `cols` values) moved into an `(n, cols)` NumPy array.
 fn matrix<T: numpy::Element>(
@@ -82,103 +86,123 @@ pub fn to_dict<'py>(
 
     let parts = PyList::empty(py);
     for (p, (part, stress)) in analysis.model.parts.iter().zip(stresses).enumerate() {
-        let d = PyDict::new(py);
-        d.set_item("name", &part.name)?;
-        d.set_item("node_offset", analysis.dofs.node_offset[p])?;
-        let points: Vec<f64> = part.mesh.nodes.iter().flatten().copied().collect();
-        d.set_item("points", matrix(py, points, 2)?)?;
-        let (cells, ids) = connectivity(py, &part.mesh, 3)?;
-        d.set_item("triangles", cells)?;
-        d.set_item("triangle_ids", ids)?;
-        let (cells, ids) = connectivity(py, &part.mesh, 4)?;
-        d.set_item("quads", cells)?;
-        d.set_item("quad_ids", ids)?;
-        d.set_item("boundaries", boundaries(py, &part.mesh)?)?;
-        let m = &part.material;
-        let material = PyDict::new(py);
-        material.set_item("E", m.young)?;
-        material.set_item("nu", m.poisson)?;
-        material.set_item("thickness", m.thickness)?;
-        d.set_item("material", material)?;
-        let von_mises =
-            |s: &[[f64; 3]]| -> Vec<f64> { s.iter().map(|v| m.von_mises(*v)).collect() };
-        d.set_item(
-            "nodal_von_mises",
-            PyArray1::from_vec(py, von_mises(&stress.nodal)),
-        )?;
-        d.set_item(
-            "element_von_mises",
-            PyArray1::from_vec(py, von_mises(&stress.element)),
-        )?;
-        d.set_item(
-            "nodal_stress",
-            matrix(py, stress.nodal.into_flattened(), 3)?,
-        )?;
-        d.set_item(
-            "element_stress",
-            matrix(py, stress.element.into_flattened(), 3)?,
-        )?;
-        parts.append(d)?;
+        parts.append(part_dict(py, analysis, p, part, stress)?)?;
     }
     out.set_item("parts", parts)?;
 
     let interfaces = PyList::empty(py);
+    // `pair_rows` lists the pairs interface by interface, in this order.
     let mut rows = pairs.into_iter().peekable();
     for iface in &analysis.interfaces {
-        let d = PyDict::new(py);
-        d.set_item("name", &iface.name)?;
-        d.set_item("host", &analysis.model.parts[iface.host].name)?;
-        d.set_item("node_part", &analysis.model.parts[iface.node_part].name)?;
-        d.set_item("law", iface.law.as_str())?;
-        d.set_item("c_n", iface.c_n)?;
-        d.set_item("c_s", iface.c_s)?;
-        let k = iface.elements.len();
-        let mut node = Vec::with_capacity(k);
-        let mut host_element = Vec::with_capacity(k);
-        let mut position = Vec::with_capacity(2 * k);
-        let mut bonded = Vec::with_capacity(k);
-        let mut settled = Vec::with_capacity(k);
-        let mut violation = Vec::with_capacity(k);
-        let mut columns: [Vec<f64>; 5] = std::array::from_fn(|_| Vec::with_capacity(k));
-        // `pair_rows` lists the pairs interface by interface, in this order.
-        while let Some(r) = rows.next_if(|r| r.interface == iface.name) {
-            node.push(r.node as i64);
-            host_element.push(r.host_element as i64);
-            position.extend([r.x, r.y]);
-            bonded.push(r.state == PairState::Bonded);
-            settled.push(r.settled);
-            // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates.
-            violation.push(match r.violation {
-                None => 0i32,
-                Some(cfe::coupling::ViolationKind::Tension) => 1,
-                Some(cfe::coupling::ViolationKind::Penetration) => 2,
-            });
-            for (c, v) in columns.iter_mut().zip([
-                r.gap_n,
-                r.slip_s,
-                r.force_n,
-                r.force_s,
-                r.violation_amount,
-            ]) {
-                c.push(v);
-            }
-        }
-        let normal: Vec<f64> = iface.elements.iter().flat_map(|c| c.normal).collect();
-        d.set_item("node", PyArray1::from_vec(py, node))?;
-        d.set_item("host_element", PyArray1::from_vec(py, host_element))?;
-        d.set_item("position", matrix(py, position, 2)?)?;
-        d.set_item("normal", matrix(py, normal, 2)?)?;
-        d.set_item("bonded", PyArray1::from_vec(py, bonded))?;
-        d.set_item("settled", PyArray1::from_vec(py, settled))?;
-        let [gap_n, slip_s, force_n, force_s, violation_amount] = columns;
-        d.set_item("violation", PyArray1::from_vec(py, violation))?;
-        d.set_item("violation_amount", PyArray1::from_vec(py, violation_amount))?;
-        d.set_item("gap_n", PyArray1::from_vec(py, gap_n))?;
-        d.set_item("slip_s", PyArray1::from_vec(py, slip_s))?;
-        d.set_item("force_n", PyArray1::from_vec(py, force_n))?;
-        d.set_item("force_s", PyArray1::from_vec(py, force_s))?;
-        interfaces.append(d)?;
+        interfaces.append(interface_dict(py, analysis, iface, &mut rows)?)?;
     }
     out.set_item("interfaces", interfaces)?;
     Ok(out)
+}
+
+/// Part `p` (`part`) as a dict: name, node offset, points, connectivity, boundaries,
+/// material, and its `stress` (nodal and element, with von Mises).
+fn part_dict<'py>(
+    py: Python<'py>,
+    analysis: &Analysis,
+    p: usize,
+    part: &Part,
+    stress: PartStress,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", &part.name)?;
+    d.set_item("node_offset", analysis.dofs.node_offset[p])?;
+    let points: Vec<f64> = part.mesh.nodes.iter().flatten().copied().collect();
+    d.set_item("points", matrix(py, points, 2)?)?;
+    let (cells, ids) = connectivity(py, &part.mesh, 3)?;
+    d.set_item("triangles", cells)?;
+    d.set_item("triangle_ids", ids)?;
+    let (cells, ids) = connectivity(py, &part.mesh, 4)?;
+    d.set_item("quads", cells)?;
+    d.set_item("quad_ids", ids)?;
+    d.set_item("boundaries", boundaries(py, &part.mesh)?)?;
+    let m = &part.material;
+    let material = PyDict::new(py);
+    material.set_item("E", m.young)?;
+    material.set_item("nu", m.poisson)?;
+    material.set_item("thickness", m.thickness)?;
+    d.set_item("material", material)?;
+    let von_mises = |s: &[[f64; 3]]| -> Vec<f64> { s.iter().map(|v| m.von_mises(*v)).collect() };
+    d.set_item(
+        "nodal_von_mises",
+        PyArray1::from_vec(py, von_mises(&stress.nodal)),
+    )?;
+    d.set_item(
+        "element_von_mises",
+        PyArray1::from_vec(py, von_mises(&stress.element)),
+    )?;
+    d.set_item(
+        "nodal_stress",
+        matrix(py, stress.nodal.into_flattened(), 3)?,
+    )?;
+    d.set_item(
+        "element_stress",
+        matrix(py, stress.element.into_flattened(), 3)?,
+    )?;
+    Ok(d)
+}
+
+/// Interface `iface` as a dict: its definition and its pairs' arrays, taken from
+/// the front of `rows` (the pair rows of all interfaces, in order).
+fn interface_dict<'py>(
+    py: Python<'py>,
+    analysis: &Analysis,
+    iface: &Interface,
+    rows: &mut Peekable<std::vec::IntoIter<PairRow>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", &iface.name)?;
+    d.set_item("host", &analysis.model.parts[iface.host].name)?;
+    d.set_item("node_part", &analysis.model.parts[iface.node_part].name)?;
+    d.set_item("law", iface.law.as_str())?;
+    d.set_item("c_n", iface.c_n)?;
+    d.set_item("c_s", iface.c_s)?;
+    let k = iface.elements.len();
+    let mut node = Vec::with_capacity(k);
+    let mut host_element = Vec::with_capacity(k);
+    let mut position = Vec::with_capacity(2 * k);
+    let mut bonded = Vec::with_capacity(k);
+    let mut settled = Vec::with_capacity(k);
+    let mut violation = Vec::with_capacity(k);
+    let mut columns: [Vec<f64>; 5] = std::array::from_fn(|_| Vec::with_capacity(k));
+    while let Some(r) = rows.next_if(|r| r.interface == iface.name) {
+        node.push(r.node as i64);
+        host_element.push(r.host_element as i64);
+        position.extend([r.x, r.y]);
+        bonded.push(r.state == PairState::Bonded);
+        settled.push(r.settled);
+        // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates.
+        violation.push(match r.violation {
+            None => 0i32,
+            Some(cfe::coupling::ViolationKind::Tension) => 1,
+            Some(cfe::coupling::ViolationKind::Penetration) => 2,
+        });
+        for (c, v) in
+            columns
+                .iter_mut()
+                .zip([r.gap_n, r.slip_s, r.force_n, r.force_s, r.violation_amount])
+        {
+            c.push(v);
+        }
+    }
+    let normal: Vec<f64> = iface.elements.iter().flat_map(|c| c.normal).collect();
+    d.set_item("node", PyArray1::from_vec(py, node))?;
+    d.set_item("host_element", PyArray1::from_vec(py, host_element))?;
+    d.set_item("position", matrix(py, position, 2)?)?;
+    d.set_item("normal", matrix(py, normal, 2)?)?;
+    d.set_item("bonded", PyArray1::from_vec(py, bonded))?;
+    d.set_item("settled", PyArray1::from_vec(py, settled))?;
+    let [gap_n, slip_s, force_n, force_s, violation_amount] = columns;
+    d.set_item("violation", PyArray1::from_vec(py, violation))?;
+    d.set_item("violation_amount", PyArray1::from_vec(py, violation_amount))?;
+    d.set_item("gap_n", PyArray1::from_vec(py, gap_n))?;
+    d.set_item("slip_s", PyArray1::from_vec(py, slip_s))?;
+    d.set_item("force_n", PyArray1::from_vec(py, force_n))?;
+    d.set_item("force_s", PyArray1::from_vec(py, force_s))?;
+    Ok(d)
 }

@@ -284,33 +284,50 @@ impl GmshMesh {
             part: part.to_string(),
             message,
         };
+        let chosen = self.chosen_elements(surfaces).map_err(err)?;
+        let used = self.used_nodes(&chosen);
+        let elements = self.ccw_elements(&chosen, &used).map_err(err)?;
+        let PartNodes {
+            local,
+            nodes,
+            file_of,
+        } = used;
+        let mut mesh = Mesh {
+            nodes,
+            elements,
+            boundaries: BTreeMap::new(),
+        };
+        // The elements must tile the part: overlapping or folded elements would
+        // pass every per-element check and give a wrong answer.
+        mesh.check_tiling()
+            .map_err(|t| err(self.tiling_message(t, &chosen, &file_of)))?;
+
+        self.name_boundaries(&mut mesh, &local).map_err(err)?;
+        Ok(mesh)
+    }
+
+    /// The elements of the physical surfaces `surfaces` (all when `None`) as
+    /// (tag, file nodes), in file order within each type: triangles, then
+    /// quadrilaterals. An empty selection, an unknown surface or no element is an
+    /// error.
+    fn chosen_elements(
+        &self,
+        surfaces: Option<&[Group]>,
+    ) -> std::result::Result<Vec<(u64, &[usize])>, String> {
         let selected = match surfaces {
             Some([]) => {
-                return Err(err(format!(
+                return Err(format!(
                     "no physical surface of file {} is selected: list some, or leave `surfaces` out to take them all",
                     self.file_name()
-                )));
+                ));
             }
-            Some(groups) => Some(self.resolve_surfaces(groups).map_err(err)?),
+            Some(groups) => Some(self.resolve_surfaces(groups)?),
             None => None,
         };
         let picks = |physical: &[i32]| match &selected {
             None => true,
             Some(s) => physical.iter().any(|t| s.contains(t)),
         };
-        let scope = match surfaces {
-            Some(groups) => format!(
-                " in physical surface(s) {}",
-                groups
-                    .iter()
-                    .map(|g| g.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-            None => String::new(),
-        };
-        // The chosen elements, in file order within each type: triangles, then
-        // quadrilaterals.
         let chosen: Vec<(u64, &[usize])> = self
             .triangles
             .iter()
@@ -324,21 +341,34 @@ impl GmshMesh {
             )
             .collect();
         if chosen.is_empty() {
-            return Err(err(format!(
+            let scope = match surfaces {
+                Some(groups) => format!(
+                    " in physical surface(s) {}",
+                    groups
+                        .iter()
+                        .map(|g| g.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+                None => String::new(),
+            };
+            return Err(format!(
                 "file {} has no 3-node triangles or 4-node quadrilaterals{scope}",
                 self.file_name()
-            )));
+            ));
         }
+        Ok(chosen)
+    }
 
-        // Nodes used by the chosen elements, renumbered in file order.
+    /// The nodes used by the `chosen` elements, renumbered in file order.
+    fn used_nodes(&self, chosen: &[(u64, &[usize])]) -> PartNodes {
         let mut local = vec![UNUSED; self.nodes.len()];
-        for (_, nodes) in &chosen {
+        for (_, nodes) in chosen {
             for &n in nodes.iter() {
                 local[n] = 0;
             }
         }
         let mut nodes = Vec::new();
-        // The file's node (index into `self.nodes`) of each part node.
         let mut file_of = Vec::new();
         for (i, l) in local.iter_mut().enumerate() {
             if *l != UNUSED {
@@ -347,25 +377,37 @@ impl GmshMesh {
                 file_of.push(i);
             }
         }
+        PartNodes {
+            local,
+            nodes,
+            file_of,
+        }
+    }
 
-        // Elements, counter-clockwise (a clockwise one is reversed).
+    /// The `chosen` elements in the part's node numbering, counter-clockwise (a
+    /// clockwise one is reversed); a degenerate element is an error.
+    fn ccw_elements(
+        &self,
+        chosen: &[(u64, &[usize])],
+        used: &PartNodes,
+    ) -> std::result::Result<Vec<super::Element>, String> {
         let mut elements = Vec::with_capacity(chosen.len());
-        for (tag, file_nodes) in &chosen {
-            let mut el: Vec<usize> = file_nodes.iter().map(|&n| local[n]).collect();
-            let x: Vec<[f64; 2]> = el.iter().map(|&n| nodes[n]).collect();
+        for (tag, file_nodes) in chosen {
+            let mut el: Vec<usize> = file_nodes.iter().map(|&n| used.local[n]).collect();
+            let x: Vec<[f64; 2]> = el.iter().map(|&n| used.nodes[n]).collect();
             let area = super::polygon_area(x.iter().copied());
             let h = (0..x.len())
                 .map(|k| dist(x[k], x[(k + 1) % x.len()]))
                 .fold(0.0, f64::max);
             if area.abs() <= 1e-10 * h * h {
-                return Err(err(format!(
+                return Err(format!(
                     "element {tag} of file {} is degenerate: nodes {:?} at {x:?}, area {area:e}",
                     self.file_name(),
                     file_nodes
                         .iter()
                         .map(|&n| self.node_tags[n])
                         .collect::<Vec<_>>(),
-                )));
+                ));
             }
             if area < 0.0 {
                 el.reverse();
@@ -376,50 +418,48 @@ impl GmshMesh {
                 _ => unreachable!("the reader keeps 3- and 4-node elements only"),
             });
         }
-        let mut mesh = Mesh {
-            nodes,
-            elements,
-            boundaries: BTreeMap::new(),
-        };
-        // The elements must tile the part: overlapping or folded elements would
-        // pass every per-element check and give a wrong answer.
+        Ok(elements)
+    }
+
+    /// The message for a part whose elements do not tile it, naming elements and
+    /// nodes by their tags in the file.
+    fn tiling_message(&self, t: Tiling, chosen: &[(u64, &[usize])], file_of: &[usize]) -> String {
         let tag = |e: usize| chosen[e].0;
         let node_tag = |n: usize| self.node_tags[file_of[n]];
-        mesh.check_tiling().map_err(|t| {
-            err(match t {
-                Tiling::Shared { edge, elements } => format!(
-                    "elements {:?} of file {} all use the edge between nodes {} and {}: an edge can border two elements at most (overlapping elements?)",
-                    elements.iter().map(|&e| tag(e)).collect::<Vec<_>>(),
-                    self.file_name(),
-                    node_tag(edge[0]),
-                    node_tag(edge[1])
-                ),
-                Tiling::SameSide { edge, elements } => format!(
-                    "elements {} and {} of file {} lie on the same side of their common edge (nodes {} and {}): one folds over the other",
-                    tag(elements[0]),
-                    tag(elements[1]),
-                    self.file_name(),
-                    node_tag(edge[0]),
-                    node_tag(edge[1])
-                ),
-                Tiling::Overlap { area, enclosed, pairs } if pairs.is_empty() => format!(
-                    "the elements of file {} cover an area of {area:e} but their boundary encloses {enclosed:e}: elements overlap",
-                    self.file_name()
-                ),
-                Tiling::Overlap { pairs, .. } => format!(
-                    "elements of file {} overlap: {}",
-                    self.file_name(),
-                    pairs
-                        .iter()
-                        .map(|[a, b]| format!("{} and {}", tag(*a), tag(*b)))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            })
-        })?;
-
-        self.name_boundaries(&mut mesh, &local).map_err(err)?;
-        Ok(mesh)
+        match t {
+            Tiling::Shared { edge, elements } => format!(
+                "elements {:?} of file {} all use the edge between nodes {} and {}: an edge can border two elements at most (overlapping elements?)",
+                elements.iter().map(|&e| tag(e)).collect::<Vec<_>>(),
+                self.file_name(),
+                node_tag(edge[0]),
+                node_tag(edge[1])
+            ),
+            Tiling::SameSide { edge, elements } => format!(
+                "elements {} and {} of file {} lie on the same side of their common edge (nodes {} and {}): one folds over the other",
+                tag(elements[0]),
+                tag(elements[1]),
+                self.file_name(),
+                node_tag(edge[0]),
+                node_tag(edge[1])
+            ),
+            Tiling::Overlap {
+                area,
+                enclosed,
+                pairs,
+            } if pairs.is_empty() => format!(
+                "the elements of file {} cover an area of {area:e} but their boundary encloses {enclosed:e}: elements overlap",
+                self.file_name()
+            ),
+            Tiling::Overlap { pairs, .. } => format!(
+                "elements of file {} overlap: {}",
+                self.file_name(),
+                pairs
+                    .iter()
+                    .map(|[a, b]| format!("{} and {}", tag(*a), tag(*b)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }
     }
 
     /// Names the boundaries of a part's `mesh` after the physical curves whose lines
@@ -506,6 +546,15 @@ impl GmshMesh {
 
 /// A file node used by no chosen element (in the map to the part's numbering).
 const UNUSED: usize = usize::MAX;
+
+/// The nodes of a part built from a file: the file's nodes in the part's
+/// numbering (`local`, [`UNUSED`] for the others), the part's coordinates, and
+/// the file's node (index into [`GmshMesh::nodes`]) of each part node.
+struct PartNodes {
+    local: Vec<usize>,
+    nodes: Vec<[f64; 2]>,
+    file_of: Vec<usize>,
+}
 
 /// `"left" (1), "right" (2), 7` for a list of physical groups.
 fn describe(groups: &[(i32, Option<&str>)]) -> String {

@@ -311,6 +311,157 @@ fn nice_ticks_label(v: f64) -> String {
     }
 }
 
+/// The drawing area over the picture's RGB buffer.
+type Area<'b> = DrawingArea<BitMapBackend<'b>, plotters::coord::Shift>;
+
+/// Margins around the plot box in pixels (the colour bar lives in the right one).
+const LEFT: u32 = 110;
+const RIGHT: u32 = 230;
+const TOP: u32 = 70;
+const BOTTOM: u32 = 80;
+
+/// The picture's geometry: the equal-scale transform from model to pixels, the
+/// visible model window and the size of the plot box.
+struct Layout {
+    /// Model → pixel transform.
+    tf: Transform,
+    /// Visible model window (after widening the shorter range for equal scaling).
+    x0: f64,
+    x1: f64,
+    y0: f64,
+    y1: f64,
+    /// Plot box width and height in pixels.
+    plot_w: u32,
+    plot_h: u32,
+    /// Picture height in pixels (the width is [`WIDTH`]).
+    height: u32,
+}
+
+impl Layout {
+    /// The layout for the model bounds of `points` with a small pad: plot area,
+    /// colour bar strip on the right, equal scaling.
+    fn new(points: &[[f64; 2]]) -> Layout {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in points {
+            for c in 0..2 {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+        }
+        let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-300);
+        let pad = 0.03 * span;
+        let (x0, x1, y0, y1) = (lo[0] - pad, hi[0] + pad, lo[1] - pad, hi[1] + pad);
+        let plot_w = WIDTH - LEFT - RIGHT;
+        let plot_h = ((plot_w as f64) * (y1 - y0) / (x1 - x0))
+            .round()
+            .clamp(360.0, 1000.0) as u32;
+        let height = plot_h + TOP + BOTTOM;
+        // Widen the shorter range so that one unit is the same number of pixels both ways.
+        let scale = (plot_w as f64 / (x1 - x0)).min(plot_h as f64 / (y1 - y0));
+        let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+        let (hw, hh) = (0.5 * plot_w as f64 / scale, 0.5 * plot_h as f64 / scale);
+        let (x0, x1, y0, y1) = (cx - hw, cx + hw, cy - hh, cy + hh);
+        let tf = Transform {
+            x0,
+            y1,
+            scale,
+            left: LEFT as f64,
+            top: TOP as f64,
+        };
+        Layout {
+            tf,
+            x0,
+            x1,
+            y0,
+            y1,
+            plot_w,
+            plot_h,
+            height,
+        }
+    }
+
+    /// The plot box in pixels: (left, top, right, bottom).
+    fn plot_box(&self) -> (i32, i32, i32, i32) {
+        (
+            LEFT as i32,
+            TOP as i32,
+            (LEFT + self.plot_w) as i32,
+            (TOP + self.plot_h) as i32,
+        )
+    }
+
+    /// The plot box as a clip rectangle [x0, y0, x1, y1) in pixels.
+    fn clip(&self) -> [usize; 4] {
+        [
+            LEFT as usize,
+            TOP as usize,
+            (LEFT + self.plot_w) as usize,
+            (TOP + self.plot_h) as usize,
+        ]
+    }
+
+    /// Whether pixel position `p` lies in the plot box (edges included).
+    fn inside(&self, p: [f64; 2]) -> bool {
+        let clip = self.clip();
+        p[0] >= clip[0] as f64
+            && p[0] <= clip[2] as f64
+            && p[1] >= clip[1] as f64
+            && p[1] <= clip[3] as f64
+    }
+}
+
+/// The colour range of a picture and the true extremes of the data.
+struct ColourRange {
+    vmin: f64,
+    vmax: f64,
+    data_min: f64,
+    data_max: f64,
+}
+
+impl ColourRange {
+    /// For a field, the 0.5–99.5 % quantiles of the nodal values, so that a stress
+    /// singularity at a corner does not wash out the rest (the true extremes are
+    /// printed beside the colour bar when they fall outside); for isolines, the
+    /// full range.
+    fn new(nodal: &[f64], style: Style) -> ColourRange {
+        let (data_min, data_max) = nodal
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        let (vmin, vmax) = match style {
+            Style::Field => robust_range(nodal),
+            Style::Isolines(_) => (data_min, data_max),
+        };
+        ColourRange {
+            vmin,
+            vmax,
+            data_min,
+            data_max,
+        }
+    }
+
+    /// `v` as a fraction of the colour range (1 when the range is empty).
+    fn norm(&self, v: f64) -> f64 {
+        let range = if self.vmax > self.vmin {
+            self.vmax - self.vmin
+        } else {
+            1.0
+        };
+        (v - self.vmin) / range
+    }
+}
+
+/// The pixel nearest to `p`.
+fn ip(p: [f64; 2]) -> (i32, i32) {
+    (p[0].round() as i32, p[1].round() as i32)
+}
+
+/// A closure turning a plotters error into the crate's output error for `path`.
+fn draw_err(path: &Path) -> impl Fn(&dyn std::fmt::Display) -> Error + '_ {
+    move |e: &dyn std::fmt::Display| Error::output(path, e)
+}
+
 fn render(
     path: &Path,
     mesh: &PlotMesh,
@@ -321,174 +472,31 @@ fn render(
 ) -> Result<()> {
     validate(path, mesh, nodal)?;
     register_font();
-    let err = |e: &dyn std::fmt::Display| Error::output(path, e);
+    let err = draw_err(path);
+    let layout = Layout::new(mesh.points);
+    let range = ColourRange::new(nodal, style);
 
-    // Model bounds with a small pad.
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in mesh.points {
-        for c in 0..2 {
-            lo[c] = lo[c].min(p[c]);
-            hi[c] = hi[c].max(p[c]);
-        }
-    }
-    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-300);
-    let pad = 0.03 * span;
-    let (mut x0, mut x1, mut y0, mut y1) = (lo[0] - pad, hi[0] + pad, lo[1] - pad, hi[1] + pad);
-
-    // Layout: plot area, colour bar strip on the right, equal scaling.
-    const LEFT: u32 = 110;
-    const RIGHT: u32 = 230;
-    const TOP: u32 = 70;
-    const BOTTOM: u32 = 80;
-    let plot_w = WIDTH - LEFT - RIGHT;
-    let plot_h = ((plot_w as f64) * (y1 - y0) / (x1 - x0))
-        .round()
-        .clamp(360.0, 1000.0) as u32;
-    let height = plot_h + TOP + BOTTOM;
-    // Widen the shorter range so that one unit is the same number of pixels both ways.
-    let scale = (plot_w as f64 / (x1 - x0)).min(plot_h as f64 / (y1 - y0));
-    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
-    let (hw, hh) = (0.5 * plot_w as f64 / scale, 0.5 * plot_h as f64 / scale);
-    (x0, x1, y0, y1) = (cx - hw, cx + hw, cy - hh, cy + hh);
-    let tf = Transform {
-        x0,
-        y1,
-        scale,
-        left: LEFT as f64,
-        top: TOP as f64,
-    };
-
-    let (data_min, data_max) = nodal
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-            (a.min(v), b.max(v))
-        });
-    // Colour range: the 0.5–99.5 % quantiles of the nodal values, so that a stress
-    // singularity at a corner does not wash out the rest; the true extremes are
-    // printed beside the colour bar when they fall outside.
-    let (vmin, vmax) = match style {
-        Style::Field => robust_range(nodal),
-        Style::Isolines(_) => (data_min, data_max),
-    };
-    let range = if vmax > vmin { vmax - vmin } else { 1.0 };
-    let norm = |v: f64| (v - vmin) / range;
-
-    let mut buf = vec![255u8; (WIDTH * height * 3) as usize];
+    let mut buf = vec![255u8; (WIDTH * layout.height * 3) as usize];
     // 1. Frame, axes, title, colour bar.
     {
-        let root = BitMapBackend::with_buffer(&mut buf, (WIDTH, height)).into_drawing_area();
+        let root = BitMapBackend::with_buffer(&mut buf, (WIDTH, layout.height)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(&e))?;
-        // Axes are drawn in pixels around the plot box, with the equal-scale transform.
-        let text = |size: f64| TextStyle::from((FONT, size).into_font()).color(&BLACK);
-        root.draw(&Text::new(
-            labels.title.to_string(),
-            (LEFT as i32, 22),
-            text(28.0),
-        ))
-        .map_err(|e| err(&e))?;
-        let (pl, pt, pr, pb) = (
-            LEFT as i32,
-            TOP as i32,
-            (LEFT + plot_w) as i32,
-            (TOP + plot_h) as i32,
-        );
-        root.draw(&Rectangle::new(
-            [(pl - 1, pt - 1), (pr, pb)],
-            BLACK.stroke_width(1),
-        ))
-        .map_err(|e| err(&e))?;
-        // Axis ticks: about 8 along x, matching spacing along y.
-        let step = nice_step((x1 - x0) / 8.0);
-        let tick_font = text(18.0);
-        let mut t = (x0 / step).ceil() * step;
-        while t <= x1 {
-            let px = tf.px([t, y0])[0].round() as i32;
-            root.draw(&PathElement::new(vec![(px, pb), (px, pb + 6)], BLACK))
-                .map_err(|e| err(&e))?;
-            let label = nice_ticks_label(t);
-            let w = 5 * label.len() as i32;
-            root.draw(&Text::new(label, (px - w, pb + 10), tick_font.clone()))
-                .map_err(|e| err(&e))?;
-            t += step;
-        }
-        let mut t = (y0 / step).ceil() * step;
-        while t <= y1 {
-            let py = tf.px([x0, t])[1].round() as i32;
-            root.draw(&PathElement::new(vec![(pl - 6, py), (pl, py)], BLACK))
-                .map_err(|e| err(&e))?;
-            let label = nice_ticks_label(t);
-            let w = 10 * label.len() as i32;
-            root.draw(&Text::new(label, (pl - 12 - w, py - 9), tick_font.clone()))
-                .map_err(|e| err(&e))?;
-            t += step;
-        }
-        root.draw(&Text::new(
-            format!("x [{}]", labels.axis_unit),
-            (LEFT as i32 + plot_w as i32 / 2 - 30, pb + 40),
-            text(22.0),
-        ))
-        .map_err(|e| err(&e))?;
-        root.draw(&Text::new(
-            format!("y [{}]", labels.axis_unit),
-            (12, pt + plot_h as i32 / 2 + 30),
-            text(22.0).transform(FontTransform::Rotate270),
-        ))
-        .map_err(|e| err(&e))?;
-        // Colour bar.
-        let (bl, br) = (pr + 40, pr + 70);
-        let n = (pb - pt).max(1);
-        for k in 0..n {
-            let c = turbo(1.0 - k as f64 / (n - 1).max(1) as f64);
-            root.draw(&Rectangle::new(
-                [(bl, pt + k), (br, pt + k + 1)],
-                RGBColor(c[0], c[1], c[2]).filled(),
-            ))
-            .map_err(|e| err(&e))?;
-        }
-        root.draw(&Rectangle::new([(bl, pt), (br, pb)], BLACK.stroke_width(1)))
-            .map_err(|e| err(&e))?;
-        for k in 0..=5 {
-            let f = k as f64 / 5.0;
-            let v = vmin + f * (vmax - vmin);
-            let py = pb - (f * (pb - pt) as f64).round() as i32;
-            root.draw(&PathElement::new(vec![(br, py), (br + 6, py)], BLACK))
-                .map_err(|e| err(&e))?;
-            let label = format_value(if vmax > vmin { v } else { vmin }, vmax - vmin);
-            root.draw(&Text::new(label, (br + 10, py - 9), tick_font.clone()))
-                .map_err(|e| err(&e))?;
-        }
-        root.draw(&Text::new(
-            labels.colorbar.to_string(),
-            (bl - 10, pt - 52),
-            text(22.0),
-        ))
-        .map_err(|e| err(&e))?;
-        if data_max > vmax {
-            let label = format!("max {}", format_value(data_max, vmax - vmin));
-            root.draw(&Text::new(label, (bl - 10, pt - 26), text(16.0)))
-                .map_err(|e| err(&e))?;
-        }
-        if data_min < vmin {
-            let label = format!("min {}", format_value(data_min, vmax - vmin));
-            root.draw(&Text::new(label, (bl - 10, pb + 10), text(16.0)))
-                .map_err(|e| err(&e))?;
-        }
+        draw_frame_and_axes(path, &root, &layout, labels)?;
+        draw_colour_bar(path, &root, &layout, &range, labels.colorbar)?;
         root.present().map_err(|e| err(&e))?;
     }
 
     // 2. The field (or the grey parts under the isolines).
-    let clip = [
-        LEFT as usize,
-        TOP as usize,
-        (LEFT + plot_w) as usize,
-        (TOP + plot_h) as usize,
-    ];
+    let tf = layout.tf;
     let px_tris = mesh
         .triangles
         .iter()
         .map(|t| (t.map(|n| tf.px(mesh.points[n])), t.map(|n| nodal[n])));
+    let clip = layout.clip();
     match style {
-        Style::Field => rasterize(&mut buf, WIDTH as usize, clip, px_tris, |v| turbo(norm(v))),
+        Style::Field => rasterize(&mut buf, WIDTH as usize, clip, px_tris, |v| {
+            turbo(range.norm(v))
+        }),
         Style::Isolines(_) => {
             rasterize(&mut buf, WIDTH as usize, clip, px_tris, |_| [232, 232, 232])
         }
@@ -496,91 +504,245 @@ fn render(
 
     // 3. Isolines, outlines, markers.
     {
-        let root = BitMapBackend::with_buffer(&mut buf, (WIDTH, height)).into_drawing_area();
-        let inside = |p: [f64; 2]| {
-            p[0] >= clip[0] as f64
-                && p[0] <= clip[2] as f64
-                && p[1] >= clip[1] as f64
-                && p[1] <= clip[3] as f64
-        };
-        let ip = |p: [f64; 2]| (p[0].round() as i32, p[1].round() as i32);
+        let root = BitMapBackend::with_buffer(&mut buf, (WIDTH, layout.height)).into_drawing_area();
         if let Style::Isolines(levels) = style
-            && vmax > vmin
+            && range.vmax > range.vmin
         {
-            for k in 1..=levels {
-                let level = vmin + (vmax - vmin) * k as f64 / (levels + 1) as f64;
-                let c = turbo(norm(level));
-                let colour = RGBColor(c[0], c[1], c[2]).stroke_width(2);
-                for t in mesh.triangles {
-                    let p = t.map(|n| tf.px(mesh.points[n]));
-                    if let Some([a, b]) = isoline_segment(&p, &t.map(|n| nodal[n]), level)
-                        && inside(a)
-                        && inside(b)
-                    {
-                        root.draw(&PathElement::new(vec![ip(a), ip(b)], colour))
-                            .map_err(|e| err(&e))?;
-                    }
-                }
-            }
+            draw_isolines(path, &root, &layout, mesh, nodal, &range, levels)?;
         }
-        let computed;
-        let outline = match mesh.outline {
-            Some(o) => o,
-            None => {
-                computed = outline_edges(mesh.triangles);
-                &computed
-            }
-        };
-        for &[a, b] in outline {
-            let (pa, pb) = (tf.px(mesh.points[a]), tf.px(mesh.points[b]));
-            if inside(pa) && inside(pb) {
-                root.draw(&PathElement::new(
-                    vec![ip(pa), ip(pb)],
-                    BLACK.stroke_width(1),
-                ))
-                .map_err(|e| err(&e))?;
-            }
-        }
-        // Marker size from the spacing of consecutive markers (pairs come in order
-        // along each interface), so dense interfaces stay readable.
-        let mut gaps: Vec<f64> = markers
-            .windows(2)
-            .map(|w| crate::mesh::dist(w[0].at, w[1].at) * tf.scale)
-            .filter(|d| *d > 0.0)
-            .collect();
-        let radius = if gaps.is_empty() {
-            4
-        } else {
-            let mid = gaps.len() / 2;
-            let (_, median, _) = gaps.select_nth_unstable_by(mid, f64::total_cmp);
-            (0.3 * *median).clamp(2.0, 5.0).round() as i32
-        };
-        for m in markers {
-            let p = tf.px(m.at);
-            if !inside(p) {
-                continue;
-            }
-            let colour = if m.violates { RED } else { BLACK };
-            let style = if m.bonded {
-                colour.filled()
-            } else {
-                colour.stroke_width(if m.violates { 2 } else { 1 })
-            };
-            if m.violates {
-                let (x, y) = ip(p);
-                let r = radius + 1;
-                root.draw(&Rectangle::new([(x - r, y - r), (x + r, y + r)], style))
-                    .map_err(|e| err(&e))?;
-            } else {
-                root.draw(&Circle::new(ip(p), radius, style))
-                    .map_err(|e| err(&e))?;
-            }
-        }
+        draw_outline(path, &root, &layout, mesh)?;
+        draw_markers(path, &root, &layout, markers)?;
         root.present().map_err(|e| err(&e))?;
     }
 
     // 4. Encode and write atomically.
-    write_rgb(path, &buf, WIDTH, height)
+    write_rgb(path, &buf, WIDTH, layout.height)
+}
+
+/// The title, the frame of the plot box, the axis ticks (about 8 along x,
+/// matching spacing along y) and the axis labels. Axes are drawn in pixels
+/// around the plot box, with the equal-scale transform.
+fn draw_frame_and_axes(
+    path: &Path,
+    root: &Area,
+    layout: &Layout,
+    labels: &PlotLabels,
+) -> Result<()> {
+    let err = draw_err(path);
+    let text = |size: f64| TextStyle::from((FONT, size).into_font()).color(&BLACK);
+    let Layout {
+        tf, x0, x1, y0, y1, ..
+    } = *layout;
+    root.draw(&Text::new(
+        labels.title.to_string(),
+        (LEFT as i32, 22),
+        text(28.0),
+    ))
+    .map_err(|e| err(&e))?;
+    let (pl, pt, pr, pb) = layout.plot_box();
+    root.draw(&Rectangle::new(
+        [(pl - 1, pt - 1), (pr, pb)],
+        BLACK.stroke_width(1),
+    ))
+    .map_err(|e| err(&e))?;
+    let step = nice_step((x1 - x0) / 8.0);
+    let tick_font = text(18.0);
+    let mut t = (x0 / step).ceil() * step;
+    while t <= x1 {
+        let px = tf.px([t, y0])[0].round() as i32;
+        root.draw(&PathElement::new(vec![(px, pb), (px, pb + 6)], BLACK))
+            .map_err(|e| err(&e))?;
+        let label = nice_ticks_label(t);
+        let w = 5 * label.len() as i32;
+        root.draw(&Text::new(label, (px - w, pb + 10), tick_font.clone()))
+            .map_err(|e| err(&e))?;
+        t += step;
+    }
+    let mut t = (y0 / step).ceil() * step;
+    while t <= y1 {
+        let py = tf.px([x0, t])[1].round() as i32;
+        root.draw(&PathElement::new(vec![(pl - 6, py), (pl, py)], BLACK))
+            .map_err(|e| err(&e))?;
+        let label = nice_ticks_label(t);
+        let w = 10 * label.len() as i32;
+        root.draw(&Text::new(label, (pl - 12 - w, py - 9), tick_font.clone()))
+            .map_err(|e| err(&e))?;
+        t += step;
+    }
+    root.draw(&Text::new(
+        format!("x [{}]", labels.axis_unit),
+        (LEFT as i32 + layout.plot_w as i32 / 2 - 30, pb + 40),
+        text(22.0),
+    ))
+    .map_err(|e| err(&e))?;
+    root.draw(&Text::new(
+        format!("y [{}]", labels.axis_unit),
+        (12, pt + layout.plot_h as i32 / 2 + 30),
+        text(22.0).transform(FontTransform::Rotate270),
+    ))
+    .map_err(|e| err(&e))?;
+    Ok(())
+}
+
+/// The colour bar right of the plot box with six ticks, its label above it and
+/// the true extremes when they fall outside the colour range.
+fn draw_colour_bar(
+    path: &Path,
+    root: &Area,
+    layout: &Layout,
+    range: &ColourRange,
+    label: &str,
+) -> Result<()> {
+    let err = draw_err(path);
+    let text = |size: f64| TextStyle::from((FONT, size).into_font()).color(&BLACK);
+    let tick_font = text(18.0);
+    let ColourRange {
+        vmin,
+        vmax,
+        data_min,
+        data_max,
+    } = *range;
+    let (_, pt, pr, pb) = layout.plot_box();
+    let (bl, br) = (pr + 40, pr + 70);
+    let n = (pb - pt).max(1);
+    for k in 0..n {
+        let c = turbo(1.0 - k as f64 / (n - 1).max(1) as f64);
+        root.draw(&Rectangle::new(
+            [(bl, pt + k), (br, pt + k + 1)],
+            RGBColor(c[0], c[1], c[2]).filled(),
+        ))
+        .map_err(|e| err(&e))?;
+    }
+    root.draw(&Rectangle::new([(bl, pt), (br, pb)], BLACK.stroke_width(1)))
+        .map_err(|e| err(&e))?;
+    for k in 0..=5 {
+        let f = k as f64 / 5.0;
+        let v = vmin + f * (vmax - vmin);
+        let py = pb - (f * (pb - pt) as f64).round() as i32;
+        root.draw(&PathElement::new(vec![(br, py), (br + 6, py)], BLACK))
+            .map_err(|e| err(&e))?;
+        let label = format_value(if vmax > vmin { v } else { vmin }, vmax - vmin);
+        root.draw(&Text::new(label, (br + 10, py - 9), tick_font.clone()))
+            .map_err(|e| err(&e))?;
+    }
+    root.draw(&Text::new(
+        label.to_string(),
+        (bl - 10, pt - 52),
+        text(22.0),
+    ))
+    .map_err(|e| err(&e))?;
+    if data_max > vmax {
+        let label = format!("max {}", format_value(data_max, vmax - vmin));
+        root.draw(&Text::new(label, (bl - 10, pt - 26), text(16.0)))
+            .map_err(|e| err(&e))?;
+    }
+    if data_min < vmin {
+        let label = format!("min {}", format_value(data_min, vmax - vmin));
+        root.draw(&Text::new(label, (bl - 10, pb + 10), text(16.0)))
+            .map_err(|e| err(&e))?;
+    }
+    Ok(())
+}
+
+/// `levels` isolines evenly spaced strictly inside the colour range, each
+/// coloured by its level; segments leaving the plot box are skipped.
+fn draw_isolines(
+    path: &Path,
+    root: &Area,
+    layout: &Layout,
+    mesh: &PlotMesh,
+    nodal: &[f64],
+    range: &ColourRange,
+    levels: usize,
+) -> Result<()> {
+    let err = draw_err(path);
+    let (vmin, vmax) = (range.vmin, range.vmax);
+    for k in 1..=levels {
+        let level = vmin + (vmax - vmin) * k as f64 / (levels + 1) as f64;
+        let c = turbo(range.norm(level));
+        let colour = RGBColor(c[0], c[1], c[2]).stroke_width(2);
+        for t in mesh.triangles {
+            let p = t.map(|n| layout.tf.px(mesh.points[n]));
+            if let Some([a, b]) = isoline_segment(&p, &t.map(|n| nodal[n]), level)
+                && layout.inside(a)
+                && layout.inside(b)
+            {
+                root.draw(&PathElement::new(vec![ip(a), ip(b)], colour))
+                    .map_err(|e| err(&e))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The part outlines (the given ones, or computed from the triangles).
+fn draw_outline(path: &Path, root: &Area, layout: &Layout, mesh: &PlotMesh) -> Result<()> {
+    let err = draw_err(path);
+    let computed;
+    let outline = match mesh.outline {
+        Some(o) => o,
+        None => {
+            computed = outline_edges(mesh.triangles);
+            &computed
+        }
+    };
+    for &[a, b] in outline {
+        let (pa, pb) = (layout.tf.px(mesh.points[a]), layout.tf.px(mesh.points[b]));
+        if layout.inside(pa) && layout.inside(pb) {
+            root.draw(&PathElement::new(
+                vec![ip(pa), ip(pb)],
+                BLACK.stroke_width(1),
+            ))
+            .map_err(|e| err(&e))?;
+        }
+    }
+    Ok(())
+}
+
+/// The pair markers inside the plot box (see [`PairMarker`]).
+fn draw_markers(path: &Path, root: &Area, layout: &Layout, markers: &[PairMarker]) -> Result<()> {
+    let err = draw_err(path);
+    let radius = marker_radius(markers, layout.tf.scale);
+    for m in markers {
+        let p = layout.tf.px(m.at);
+        if !layout.inside(p) {
+            continue;
+        }
+        let colour = if m.violates { RED } else { BLACK };
+        let style = if m.bonded {
+            colour.filled()
+        } else {
+            colour.stroke_width(if m.violates { 2 } else { 1 })
+        };
+        if m.violates {
+            let (x, y) = ip(p);
+            let r = radius + 1;
+            root.draw(&Rectangle::new([(x - r, y - r), (x + r, y + r)], style))
+                .map_err(|e| err(&e))?;
+        } else {
+            root.draw(&Circle::new(ip(p), radius, style))
+                .map_err(|e| err(&e))?;
+        }
+    }
+    Ok(())
+}
+
+/// Marker radius in pixels from the spacing of consecutive markers (pairs come in
+/// order along each interface), so dense interfaces stay readable; `scale` is
+/// pixels per model unit.
+fn marker_radius(markers: &[PairMarker], scale: f64) -> i32 {
+    let mut gaps: Vec<f64> = markers
+        .windows(2)
+        .map(|w| crate::mesh::dist(w[0].at, w[1].at) * scale)
+        .filter(|d| *d > 0.0)
+        .collect();
+    if gaps.is_empty() {
+        4
+    } else {
+        let mid = gaps.len() / 2;
+        let (_, median, _) = gaps.select_nth_unstable_by(mid, f64::total_cmp);
+        (0.3 * *median).clamp(2.0, 5.0).round() as i32
+    }
 }
 
 /// Encodes an RGB buffer of `width` × `height` pixels as PNG and writes it atomically.

@@ -12,8 +12,12 @@ use crate::error::{Error, Result};
 use crate::fem::recovery::PartStress;
 use crate::mesh::Element;
 use crate::solve::nonlinear::IncrementResult;
-use std::path::Path;
+use crate::solve::nonlinear::Solver;
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::thread::{Scope, ScopedJoinHandle};
 use std::time::Instant;
 
 /// The files a run writes into its output folder (besides `vtu/`).
@@ -54,6 +58,107 @@ fn clear_previous_run(out: &Path) -> Result<()> {
     Ok(())
 }
 
+/// What a run accumulates while its increments are solved and written.
+struct RunLog {
+    /// The summary, rewritten after each converged increment.
+    summary: Summary,
+    /// Time spent recovering stresses [s].
+    recovery_time: f64,
+    /// Time spent writing the per-increment files [s].
+    output_time: f64,
+    /// The stresses of the last converged increment, kept for the pictures.
+    last_stresses: Option<Arc<Vec<PartStress>>>,
+}
+
+/// A parts-VTU writer thread with the series entries of its increment.
+type Writer<'scope> = (ScopedJoinHandle<'scope, Result<()>>, [vtu::PvdEntry; 2]);
+
+/// The VTU series of a run. The large parts VTU of each increment is written by a
+/// background thread (at most two in flight) while the next increment is solved
+/// and the small files are written; an increment's entries are added to
+/// `results.pvd` once its writer has finished.
+struct Series<'scope> {
+    /// The `vtu/` folder.
+    vtu_dir: PathBuf,
+    /// `results.pvd`.
+    pvd_path: PathBuf,
+    /// The entries of the increments whose files are complete.
+    pvd: Vec<vtu::PvdEntry>,
+    /// The writers in flight, oldest first.
+    writers: VecDeque<Writer<'scope>>,
+}
+
+impl<'scope> Series<'scope> {
+    fn new(out: &Path) -> Self {
+        Series {
+            vtu_dir: out.join("vtu"),
+            pvd_path: out.join("results.pvd"),
+            pvd: Vec::new(),
+            writers: VecDeque::new(),
+        }
+    }
+
+    /// Waits for one writer.
+    fn join(&self, h: ScopedJoinHandle<'scope, Result<()>>) -> Result<()> {
+        h.join()
+            .unwrap_or_else(|_| Err(Error::output(&self.vtu_dir, "a VTU writer thread panicked")))
+    }
+
+    /// With two writers in flight, waits for the oldest and adds its increment to
+    /// `results.pvd`.
+    fn make_room(&mut self) -> Result<()> {
+        if self.writers.len() >= 2 {
+            let (h, entries) = self.writers.pop_front().expect("two writers");
+            self.join(h)?;
+            self.pvd.extend(entries);
+            vtu::write_pvd(&self.pvd_path, &self.pvd)?;
+        }
+        Ok(())
+    }
+
+    /// Registers the writer of the increment at `lambda` whose files (in `vtu/`)
+    /// are `parts_file` and `pairs_file`.
+    fn push(
+        &mut self,
+        handle: ScopedJoinHandle<'scope, Result<()>>,
+        lambda: f64,
+        parts_file: String,
+        pairs_file: String,
+    ) {
+        let entries = [parts_file, pairs_file].map(|file| format!("vtu/{file}"));
+        let [a, b] = entries;
+        self.writers.push_back((
+            handle,
+            [
+                vtu::PvdEntry {
+                    time: lambda,
+                    part: 0,
+                    file: a,
+                },
+                vtu::PvdEntry {
+                    time: lambda,
+                    part: 1,
+                    file: b,
+                },
+            ],
+        ));
+    }
+
+    /// Joins all writers, adds the increments of those that succeeded and writes
+    /// `results.pvd`; the first error, if any.
+    fn finish(mut self) -> Result<()> {
+        let mut written = Ok(());
+        for (h, entries) in std::mem::take(&mut self.writers) {
+            let w = self.join(h);
+            if w.is_ok() {
+                self.pvd.extend(entries);
+            }
+            written = written.and(w);
+        }
+        written.and(vtu::write_pvd(&self.pvd_path, &self.pvd))
+    }
+}
+
 impl Analysis {
     /// Solves all increments and writes the results into `out`. `progress` is called
     /// after each converged increment. On failure the converged increments stay on
@@ -85,144 +190,161 @@ impl Analysis {
         let vtu_dir = out.join("vtu");
         std::fs::create_dir_all(&vtu_dir).map_err(|e| Error::output(&vtu_dir, e))?;
         clear_previous_run(out)?;
-        let mut summary = self.empty_summary();
-        let mut pvd: Vec<vtu::PvdEntry> = Vec::new();
-        let mut output_time = 0.0;
-        let mut recovery_time = 0.0;
-
+        let mut log = RunLog {
+            summary: self.empty_summary(),
+            recovery_time: 0.0,
+            output_time: 0.0,
+            last_stresses: None,
+        };
         let grid = self.parts_grid();
-        // The stresses of the last converged increment, kept for the pictures.
-        let mut last_stresses: Option<std::sync::Arc<Vec<PartStress>>> = None;
-        // The large parts VTU of each increment is written by a background thread
-        // (at most two in flight) while the next increment is solved and the small
-        // files are written; all writers are joined before returning.
-        let result = std::thread::scope(|scope| -> Result<IncrementResult> {
-            let this = &*self;
-            let grid = &grid;
-            let mut solver = match this.solver() {
-                Ok(s) => s,
-                Err(e) => {
-                    summary.status = RunStatus::Failed;
-                    summary.error = Some(e.to_string());
-                    report::write_json(&out.join("summary.json"), &summary)?;
-                    return Err(e);
-                }
-            };
-            let t = Instant::now();
-            if this.model.settings.start == crate::domain::StartPattern::Coarse
-                && let Some(states) = this.coarse_states()
-            {
-                solver.set_initial_states(states);
-            }
-            summary.timings.coarse_start = t.elapsed().as_secs_f64();
-            summary.matrix_nonzeros = solver.matrix_nnz();
-            summary.factor_nonzeros = solver.factor_nnz();
-            // Each writer with the series entries of its increment, added to the
-            // .pvd once the writer has finished.
-            let mut writers: std::collections::VecDeque<(
-                std::thread::ScopedJoinHandle<'_, Result<()>>,
-                [vtu::PvdEntry; 2],
-            )> = std::collections::VecDeque::new();
-            let join = |h: std::thread::ScopedJoinHandle<'_, Result<()>>| -> Result<()> {
-                h.join().unwrap_or_else(|_| {
-                    Err(Error::output(&vtu_dir, "a VTU writer thread panicked"))
-                })
-            };
-            let r = solver.run(|inc| {
-                let t = Instant::now();
-                let stresses = this.recover(&inc.u);
-                recovery_time += t.elapsed().as_secs_f64();
-                let t = Instant::now();
-                let rows = this.pair_rows(inc);
-                let parts_file = format!("parts_{:04}.vtu", inc.index);
-                let pairs_file = format!("pairs_{:04}.vtu", inc.index);
-                if writers.len() >= 2 {
-                    let (h, entries) = writers.pop_front().expect("two writers");
-                    join(h)?;
-                    pvd.extend(entries);
-                    vtu::write_pvd(&out.join("results.pvd"), &pvd)?;
-                }
-                let (path, lambda, u) = (vtu_dir.join(&parts_file), inc.lambda, inc.u.clone());
-                let stresses = std::sync::Arc::new(stresses);
-                last_stresses = Some(std::sync::Arc::clone(&stresses));
-                let handle =
-                    scope.spawn(move || this.write_parts_vtu(&path, grid, lambda, &u, &stresses));
-                this.write_pairs_vtu(&vtu_dir.join(&pairs_file), inc, &rows)?;
-                let entries = [parts_file, pairs_file].map(|file| format!("vtu/{file}"));
-                let [a, b] = entries;
-                writers.push_back((
-                    handle,
-                    [
-                        vtu::PvdEntry {
-                            time: inc.lambda,
-                            part: 0,
-                            file: a,
-                        },
-                        vtu::PvdEntry {
-                            time: inc.lambda,
-                            part: 1,
-                            file: b,
-                        },
-                    ],
-                ));
-                report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
-                this.fill_summary(&mut summary, inc, &rows);
-                report::write_json(&out.join("summary.json"), &summary)?;
-                output_time += t.elapsed().as_secs_f64();
-                progress(inc);
-                match stop.load(Ordering::Relaxed) {
-                    0 => Ok(()),
-                    signal => Err(Error::Interrupted {
-                        increment: inc.index,
-                        signal,
-                    }),
-                }
-            });
-            let t = Instant::now();
-            let mut written = Ok(());
-            for (h, entries) in writers {
-                let w = join(h);
-                if w.is_ok() {
-                    pvd.extend(entries);
-                }
-                written = written.and(w);
-            }
-            written = written.and(vtu::write_pvd(&out.join("results.pvd"), &pvd));
-            output_time += t.elapsed().as_secs_f64();
-            summary.timings.solve = solver.timings.clone();
-            (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
-            summary.first_factorization_seconds = solver.first_factorization_seconds();
-            let r = r?;
-            written.map(|_| r)
+        // All VTU writer threads are joined before the scope ends.
+        let this = &*self;
+        let result = std::thread::scope(|scope| {
+            this.solve_and_write(scope, &grid, out, &mut log, progress, stop)
         });
-        let inc = match result {
-            Ok(inc) => inc,
+        match result {
+            Ok(inc) => self.finish_run(out, &inc, log, start),
             Err(e) => {
-                summary.status = if matches!(e, Error::Interrupted { .. }) {
-                    RunStatus::Interrupted
-                } else {
-                    RunStatus::Failed
-                };
-                summary.error = Some(e.to_string());
-                summary.timings.total =
-                    start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
-                summary.peak_memory_bytes = peak_memory_bytes();
-                report::write_json(&out.join("summary.json"), &summary)?;
+                self.record_stop(out, &mut log.summary, start, &e)?;
+                Err(e)
+            }
+        }
+    }
+
+    /// Solves the increments, writing each converged one (see
+    /// [`Analysis::write_increment`]) and stopping once `stop` is nonzero; the
+    /// last converged increment. Solver statistics go into the summary either way.
+    fn solve_and_write<'scope, 'env: 'scope>(
+        &'env self,
+        scope: &'scope Scope<'scope, 'env>,
+        grid: &'env PartsGrid,
+        out: &Path,
+        log: &mut RunLog,
+        progress: &mut dyn FnMut(&IncrementResult),
+        stop: &AtomicUsize,
+    ) -> Result<IncrementResult> {
+        let mut solver = match self.solver() {
+            Ok(s) => s,
+            Err(e) => {
+                log.summary.status = RunStatus::Failed;
+                log.summary.error = Some(e.to_string());
+                report::write_json(&out.join("summary.json"), &log.summary)?;
                 return Err(e);
             }
         };
+        self.prepare_solver(&mut solver, &mut log.summary);
+        let mut series = Series::new(out);
+        let r = solver.run(|inc| {
+            self.write_increment(scope, grid, inc, &mut series, log, out)?;
+            progress(inc);
+            match stop.load(Ordering::Relaxed) {
+                0 => Ok(()),
+                signal => Err(Error::Interrupted {
+                    increment: inc.index,
+                    signal,
+                }),
+            }
+        });
         let t = Instant::now();
-        let stresses = match last_stresses.take() {
-            Some(s) => s,
-            None => std::sync::Arc::new(self.recover(&inc.u)),
+        let written = series.finish();
+        log.output_time += t.elapsed().as_secs_f64();
+        let summary = &mut log.summary;
+        summary.timings.solve = solver.timings.clone();
+        (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
+        summary.first_factorization_seconds = solver.first_factorization_seconds();
+        let r = r?;
+        written.map(|_| r)
+    }
+
+    /// The coarse start (if the settings ask for it) and the matrix sizes.
+    fn prepare_solver(&self, solver: &mut Solver<'_>, summary: &mut Summary) {
+        let t = Instant::now();
+        if self.model.settings.start == crate::domain::StartPattern::Coarse
+            && let Some(states) = self.coarse_states()
+        {
+            solver.set_initial_states(states);
+        }
+        summary.timings.coarse_start = t.elapsed().as_secs_f64();
+        summary.matrix_nonzeros = solver.matrix_nnz();
+        summary.factor_nonzeros = solver.factor_nnz();
+    }
+
+    /// Writes one converged increment: recovers its stresses, starts its parts VTU
+    /// in the background, writes its pairs VTU and the pairs table, and updates
+    /// the summary on disk.
+    fn write_increment<'scope, 'env: 'scope>(
+        &'env self,
+        scope: &'scope Scope<'scope, 'env>,
+        grid: &'env PartsGrid,
+        inc: &IncrementResult,
+        series: &mut Series<'scope>,
+        log: &mut RunLog,
+        out: &Path,
+    ) -> Result<()> {
+        let t = Instant::now();
+        let stresses = self.recover(&inc.u);
+        log.recovery_time += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let rows = self.pair_rows(inc);
+        let parts_file = format!("parts_{:04}.vtu", inc.index);
+        let pairs_file = format!("pairs_{:04}.vtu", inc.index);
+        series.make_room()?;
+        let (path, lambda, u) = (series.vtu_dir.join(&parts_file), inc.lambda, inc.u.clone());
+        let stresses = Arc::new(stresses);
+        log.last_stresses = Some(Arc::clone(&stresses));
+        let handle = scope.spawn(move || self.write_parts_vtu(&path, grid, lambda, &u, &stresses));
+        self.write_pairs_vtu(&series.vtu_dir.join(&pairs_file), inc, &rows)?;
+        series.push(handle, inc.lambda, parts_file, pairs_file);
+        report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
+        self.fill_summary(&mut log.summary, inc, &rows);
+        report::write_json(&out.join("summary.json"), &log.summary)?;
+        log.output_time += t.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Records a run that stopped with `e` (failed or interrupted) in
+    /// `summary.json`.
+    fn record_stop(
+        &self,
+        out: &Path,
+        summary: &mut Summary,
+        start: Instant,
+        e: &Error,
+    ) -> Result<()> {
+        summary.status = if matches!(e, Error::Interrupted { .. }) {
+            RunStatus::Interrupted
+        } else {
+            RunStatus::Failed
         };
-        self.write_pictures(out, &inc, &stresses)?;
+        summary.error = Some(e.to_string());
+        summary.timings.total =
+            start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
+        summary.peak_memory_bytes = peak_memory_bytes();
+        report::write_json(&out.join("summary.json"), summary)
+    }
+
+    /// Finishes a run whose increments all converged: the pictures of the last
+    /// increment `inc`, the final status and timings in `summary.json`.
+    fn finish_run(
+        &mut self,
+        out: &Path,
+        inc: &IncrementResult,
+        mut log: RunLog,
+        start: Instant,
+    ) -> Result<Summary> {
+        let t = Instant::now();
+        let stresses = match log.last_stresses.take() {
+            Some(s) => s,
+            None => Arc::new(self.recover(&inc.u)),
+        };
+        self.write_pictures(out, inc, &stresses)?;
+        let mut summary = log.summary;
         summary.timings.pictures = t.elapsed().as_secs_f64();
         summary.status = summary.final_status();
         summary.timings.meshing = self.timings.meshing;
         summary.timings.pair_search = self.timings.pair_search;
-        summary.timings.stress_recovery = recovery_time;
-        summary.timings.output = output_time;
+        summary.timings.stress_recovery = log.recovery_time;
+        summary.timings.output = log.output_time;
         summary.timings.total =
             start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
         summary.peak_memory_bytes = peak_memory_bytes();
