@@ -29,9 +29,9 @@
 //! current factorization by a low-rank update, whichever costs less. A state set
 //! already solved at another load factor is not solved again: with proportional
 //! loads its solution scales with λ exactly. For the same reason an increment that
-//! starts from the pattern the previous one ended on is that increment scaled: the
-//! law is homogeneous in the load, so a consistent pattern stays consistent and a
-//! settled one breaks the law by the same fraction of the load at every level.
+//! starts from the pattern the previous one ended on needs no new solve: the law is
+//! homogeneous in the load, so a consistent pattern stays consistent and a settled
+//! one breaks the law by the same fraction of the load at every level (and is kept).
 
 use super::linear::CholeskySolver;
 use super::ordering;
@@ -41,7 +41,7 @@ use crate::assembly::{self, DofMap, FIXED, NodeGraph, Stiffness};
 use crate::coupling::{Interface, Law, LawTolerance, PairState, PairStates, ViolationKind};
 use crate::domain::{Part, Scheme, Settings};
 use crate::error::{Error, Result};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 
 /// Seconds spent in each phase of the solution.
@@ -109,40 +109,6 @@ impl IncrementResult {
     /// The largest violation as a force (0 when the law holds everywhere).
     pub fn max_violation_force(&self) -> f64 {
         self.violations.iter().map(|v| v.force).fold(0.0, f64::max)
-    }
-
-    /// The same increment at load factor `lambda` (states unchanged, every force,
-    /// displacement and violation amount scaled): exact for proportional loads.
-    fn scaled(&self, index: usize, lambda: f64) -> IncrementResult {
-        let f = lambda / self.lambda;
-        let scale = |v: &[f64]| v.iter().map(|x| f * x).collect::<Vec<f64>>();
-        IncrementResult {
-            index,
-            lambda,
-            iterations: 1,
-            history: vec![Iteration {
-                method: None,
-                changed: 0,
-                seconds: 0.0,
-            }],
-            u: scale(&self.u),
-            states: self.states.clone(),
-            settled: self.settled.clone(),
-            violations: self
-                .violations
-                .iter()
-                .map(|v| PairViolation {
-                    amount: f * v.amount,
-                    force: f * v.force,
-                    ..*v
-                })
-                .collect(),
-            load_scale: f * self.load_scale,
-            f_int: scale(&self.f_int),
-            f_ext: scale(&self.f_ext),
-            residual: self.residual,
-            balance: self.balance,
-        }
     }
 }
 
@@ -220,8 +186,8 @@ pub struct Solver<'a> {
     system: ContactSystem,
     last: Option<Solved>,
     initial: Option<PairStates>,
-    /// The previous active-set increment's result.
-    previous: Option<IncrementResult>,
+    /// The pattern the previous active-set increment settled on, if it settled.
+    settled_pattern: Option<PairStates>,
     /// Σ‖f‖ over the loaded nodes at full load.
     total_load: f64,
     /// Phase timings.
@@ -270,7 +236,7 @@ impl<'a> Solver<'a> {
             system: ContactSystem::new(k, chol),
             last: None,
             initial: None,
-            previous: None,
+            settled_pattern: None,
             total_load,
             timings,
         })
@@ -363,6 +329,7 @@ impl<'a> Solver<'a> {
                         // A settlement depends on where the iteration started: take the
                         // one a start from all bonded gives, as without the warm start.
                         let history = r.history;
+                        self.settled_pattern = None;
                         r = self.active_set_increment(inc, lambda, all_bonded.clone())?;
                         r.history.splice(0..0, history);
                         r.iterations = r.history.len();
@@ -416,15 +383,23 @@ impl<'a> Solver<'a> {
         start: PairStates,
     ) -> Result<IncrementResult> {
         // Proportional loads: the law is homogeneous in the load (forces, jumps and
-        // both tolerances scale with λ), so the pattern the previous increment ended
-        // on satisfies the law — or breaks it by the same fraction — at this load
-        // too: its solution, scaled, is this increment's.
-        if let Some(r) = &self.previous
-            && r.states == start
-        {
-            return Ok(r.scaled(inc, lambda));
+        // both tolerances scale with λ), so a pattern the previous increment settled
+        // on breaks the law by the same fraction at this load, and the iteration from
+        // it would find the same cycle: keep it (its solution is the previous one
+        // scaled, no solve). A consistent pattern needs no such rule: its first,
+        // scaled solution already satisfies the law.
+        if self.settled_pattern.as_ref() == Some(&start) {
+            let t = Instant::now();
+            let (u, f_int, method) = self.solve_states(lambda, &start, inc)?;
+            let check = self.check_law(&start, &u, &f_int, lambda);
+            let history = vec![Iteration {
+                method,
+                changed: 0,
+                seconds: t.elapsed().as_secs_f64(),
+            }];
+            return Ok(self.finish(inc, lambda, history, u, f_int, start, check, true));
         }
-        let mut seen: HashMap<PairStates, usize> = HashMap::new();
+        let mut seen: HashSet<PairStates> = HashSet::new();
         let mut visits: Vec<Visit> = Vec::new();
         let mut history = Vec::new();
         let mut states = start;
@@ -433,7 +408,7 @@ impl<'a> Solver<'a> {
             let t = Instant::now();
             let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
             let check = self.check_law(&states, &u, &f_int, lambda);
-            seen.insert(states.clone(), visits.len());
+            seen.insert(states.clone());
             visits.push(Visit {
                 states: states.clone(),
                 score: check.score(),
@@ -444,16 +419,15 @@ impl<'a> Solver<'a> {
                     changed: 0,
                     seconds: t.elapsed().as_secs_f64(),
                 });
-                let r = self.finish(inc, lambda, history, u, f_int, states, check, false);
-                self.previous = Some(r.clone());
-                return Ok(r);
+                self.settled_pattern = None;
+                return Ok(self.finish(inc, lambda, history, u, f_int, states, check, false));
             }
             let mut next = if cautious {
                 flip_worst(&states, &check)
             } else {
                 check.next.clone()
             };
-            if !cautious && seen.contains_key(&next) {
+            if !cautious && seen.contains(&next) {
                 // The law leads back to a pattern already solved: a cycle. Go on one
                 // pair at a time, from here.
                 cautious = true;
@@ -464,7 +438,7 @@ impl<'a> Solver<'a> {
                 changed: count_changes(&next, &states),
                 seconds: t.elapsed().as_secs_f64(),
             });
-            if seen.contains_key(&next) {
+            if seen.contains(&next) {
                 return self.settle(inc, lambda, &visits, history);
             }
             states = next;
@@ -514,9 +488,8 @@ impl<'a> Solver<'a> {
             changed: 0,
             seconds: t.elapsed().as_secs_f64(),
         });
-        let r = self.finish(inc, lambda, history, u, f_int, states, check, true);
-        self.previous = Some(r.clone());
-        Ok(r)
+        self.settled_pattern = Some(states.clone());
+        Ok(self.finish(inc, lambda, history, u, f_int, states, check, true))
     }
 
     /// Checks the law on every pair of the solution `u` of `states`: the state the
