@@ -399,13 +399,9 @@ impl Analysis {
     /// The reaction (x, y) of each support, in the order of `model.supports`: the
     /// out-of-balance force F_int − F_ext summed over the DOFs it fixes.
     pub fn reactions(&self, inc: &IncrementResult) -> Vec<[f64; 2]> {
-        let mut r = vec![[0.0; 2]; self.model.supports.len()];
-        for (d, sup) in self.dofs.support_of.iter().enumerate() {
-            if let Some(k) = sup {
-                r[*k][d % 2] += inc.f_int[d] - inc.f_ext[d];
-            }
-        }
-        r
+        // `inc.f_ext` is already at the increment's load factor.
+        self.dofs
+            .reactions(self.model.supports.len(), &inc.f_int, &inc.f_ext, 1.0)
     }
 
     /// Stresses of every part for displacements `u` (all DOFs).

@@ -74,6 +74,30 @@ impl DofMap {
         self.node_offset[part] + node
     }
 
+    /// The reaction (x, y) of each of `count` supports: the out-of-balance force
+    /// `F_int − λ F_ext` summed over the DOFs each fixes (`f_ext` at full load).
+    pub fn reactions(
+        &self,
+        count: usize,
+        f_int: &[f64],
+        f_ext: &[f64],
+        lambda: f64,
+    ) -> Vec<[f64; 2]> {
+        let mut r = vec![[0.0; 2]; count];
+        for (d, sup) in self.support_of.iter().enumerate() {
+            if let Some(k) = sup {
+                r[*k][d % 2] += f_int[d] - lambda * f_ext[d];
+            }
+        }
+        r
+    }
+
+    /// The number of supports that fix at least one DOF (one more than the largest
+    /// support index).
+    pub fn support_count(&self) -> usize {
+        self.support_of.iter().flatten().max().map_or(0, |k| k + 1)
+    }
+
     /// The part and local node of a global node.
     pub fn locate(&self, g: usize) -> (usize, usize) {
         let p = self.node_offset.partition_point(|&o| o <= g) - 1;

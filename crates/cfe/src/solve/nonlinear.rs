@@ -41,7 +41,7 @@ use crate::assembly::{self, DofMap, FIXED, NodeGraph, Stiffness};
 use crate::coupling::{Interface, Law, LawTolerance, PairState, PairStates, ViolationKind};
 use crate::domain::{Part, Scheme, Settings};
 use crate::error::{Error, Result};
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::time::Instant;
 
 /// Seconds spent in each phase of the solution.
@@ -550,14 +550,10 @@ impl<'a> Solver<'a> {
     /// nodes and the largest support reaction of the solution with internal force
     /// `f_int` (so a problem driven by prescribed displacements has a scale too).
     fn load_scale(&self, lambda: f64, f_int: &[f64]) -> f64 {
-        let mut reactions: HashMap<usize, [f64; 2]> = HashMap::new();
-        for (d, sup) in self.dofs.support_of.iter().enumerate() {
-            if let Some(k) = sup {
-                reactions.entry(*k).or_insert([0.0; 2])[d % 2] += f_int[d] - lambda * self.f_ext[d];
-            }
-        }
-        let largest = reactions
-            .values()
+        let largest = self
+            .dofs
+            .reactions(self.dofs.support_count(), f_int, &self.f_ext, lambda)
+            .iter()
             .map(|r| r[0].hypot(r[1]))
             .fold(0.0, f64::max);
         (lambda * self.total_load).max(largest)
