@@ -9,8 +9,8 @@ mod dict;
 mod errors;
 mod results;
 
+use cfe::IncrementResult;
 use cfe::mesh::{BoundarySelection, Element, Mesh};
-use cfe::solve::nonlinear::IncrementResult;
 use cfe::{Analysis, Law, Results};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;

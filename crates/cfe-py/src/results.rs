@@ -4,9 +4,9 @@
 //! becomes one array, each part's `(n, 2)` displacement a view of it (in Python),
 //! and each part's stresses an `(n, 3)` array whose columns are views.
 
+use cfe::Interface;
+use cfe::PartStress;
 use cfe::analysis::Analysis;
-use cfe::coupling::Interface;
-use cfe::fem::recovery::PartStress;
 use cfe::mesh::{Element, Mesh};
 use cfe::output::report::PairRow;
 use cfe::{PairState, Part, Results};
@@ -179,8 +179,8 @@ fn interface_dict<'py>(
         // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates.
         violation.push(match r.violation {
             None => 0i32,
-            Some(cfe::coupling::ViolationKind::Tension) => 1,
-            Some(cfe::coupling::ViolationKind::Penetration) => 2,
+            Some(cfe::ViolationKind::Tension) => 1,
+            Some(cfe::ViolationKind::Penetration) => 2,
         });
         for (c, v) in
             columns

@@ -60,27 +60,57 @@
 //! ## Layers
 //!
 //! Data flows one way through the modules:
-//! [`model`] (problem file, validation) → [`mesh`] (nodes, elements, boundaries) →
-//! [`fem`] (materials, element routines) → [`coupling`] (pair search, CFEs, laws) →
-//! [`assembly`] (DOF map, sparse pattern, global K and F) → [`solve`] (sparse
-//! Cholesky, contact schemes) → [`output`] (VTU, CSV, JSON, PNG).
+//! `model` (problem file, validation) → `mesh` (nodes, elements, boundaries) →
+//! `fem` (materials, element routines) → `coupling` (pair search, CFEs, laws) →
+//! `assembly` (DOF map, sparse pattern, global K and F) → `solve` (sparse
+//! Cholesky, contact schemes) → `output` (VTU, CSV, JSON, PNG).
 //! [`analysis`] strings them together for one problem. The verification report and
 //! the benchmark live in the `cfe-tools` crate, the command line in `cfe-cli`.
+//!
+//! ## Public API
+//!
+//! The crate root re-exports what a program needs to build, solve and read a model
+//! ([`Model`], [`Analysis`], [`Results`], [`Summary`], [`Error`], the domain types and
+//! the result types), and [`analysis`], [`model`], [`domain`], [`mesh`], [`output`] and
+//! [`error`] are public. The numerical layers (`fem`, `coupling`, `dofs`, `assembly`,
+//! `solve`) are crate-private; the `internals` feature makes them public for the
+//! verification crate and the integration tests, with no stability promise.
+
+/// Declares a layer module: public with the `internals` feature (for the verification
+/// crate and the integration tests, no stability promise), crate-private otherwise.
+macro_rules! layer {
+    ($(#[$attr:meta])* $name:ident) => {
+        $(#[$attr])*
+        #[cfg(feature = "internals")]
+        pub mod $name;
+        $(#[$attr])*
+        #[cfg(not(feature = "internals"))]
+        #[allow(dead_code, unused_imports)]
+        pub(crate) mod $name;
+    };
+}
 
 pub mod analysis;
-pub mod assembly;
-pub mod coupling;
-pub mod dofs;
+layer!(assembly);
+layer!(coupling);
+layer!(dofs);
 pub mod domain;
 pub mod error;
-pub mod fem;
+layer!(fem);
 pub mod mesh;
 pub mod model;
 pub mod output;
-pub mod solve;
+layer!(solve);
 
-pub use analysis::{Analysis, Results, Start};
-pub use coupling::{Law, PairState};
+pub use analysis::{Analysis, Results, RunStatus, Start, Summary};
+pub use coupling::{CouplingElement, Interface, Law, PairState, PairStates, ViolationKind};
+pub use dofs::DofMap;
 pub use domain::{InterfaceDef, Load, Part, Scheme, Settings, Support};
 pub use error::{Error, Result};
+pub use fem::material::{Material, PlaneKind};
+pub use fem::recovery::PartStress;
+pub use mesh::{BoundarySelection, Element, ElementKind, Mesh};
 pub use model::Model;
+pub use output::report::PairRow;
+pub use solve::nonlinear::{IncrementResult, Iteration, PairViolation, Solver};
+pub use solve::system::{Method, UpdatePolicy};

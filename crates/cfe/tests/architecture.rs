@@ -116,3 +116,40 @@ fn the_library_knows_no_command_line() {
         );
     }
 }
+
+/// The public surface is small: the numerical layers are declared through `layer!`
+/// (public only with the `internals` feature), and the embedding crates — the CLI and
+/// the Python package — reach the library through the crate root and the public
+/// modules only, never into a layer.
+#[test]
+fn embedders_use_the_public_api_only() {
+    let lib = std::fs::read_to_string(src().join("lib.rs")).unwrap();
+    for layer in ["assembly", "coupling", "dofs", "fem", "solve"] {
+        assert!(
+            lib.contains(&format!("layer!({layer});")),
+            "lib.rs must declare `{layer}` with layer!, not as a public module"
+        );
+        assert!(
+            !lib.contains(&format!("pub mod {layer};")),
+            "lib.rs makes `{layer}` public without the internals feature"
+        );
+    }
+    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut broken = Vec::new();
+    for embedder in ["cfe-cli/src", "cfe-py/src"] {
+        for (file, lines) in code(&crates.join(embedder)) {
+            for (n, line) in lines {
+                for layer in ["assembly", "coupling", "dofs", "fem", "solve"] {
+                    if line.contains(&format!("cfe::{layer}::")) {
+                        broken.push(format!("{}:{n}: {}", file.display(), line.trim()));
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        broken.is_empty(),
+        "the embedders reach into a layer module:\n{}",
+        broken.join("\n")
+    );
+}
