@@ -12,7 +12,9 @@ pub enum Error {
     /// The problem file could not be read.
     #[error("cannot read problem file {path}: {source}")]
     ReadInput {
+        /// The file.
         path: PathBuf,
+        /// Why it could not be read.
         source: std::io::Error,
     },
     /// The problem file is not valid TOML, does not match the schema (unknown key,
@@ -43,11 +45,21 @@ pub enum Error {
     },
     /// A mesh is unusable (inverted or degenerate elements, bad connectivity).
     #[error("mesh of part '{part}': {message}")]
-    Mesh { part: String, message: String },
+    Mesh {
+        /// The part whose mesh is at fault.
+        part: String,
+        /// What is wrong, with the element or node numbers.
+        message: String,
+    },
     /// An interface cannot be built (a host element's inverse map fails, moving
     /// the coupling nodes spoils the node part's mesh).
     #[error("interface '{interface}': {message}")]
-    Coupling { interface: String, message: String },
+    Coupling {
+        /// The interface's name.
+        interface: String,
+        /// What is wrong.
+        message: String,
+    },
     /// Coupling nodes that lie on no host boundary edge within the tolerance.
     #[error("interface '{interface}': {message}")]
     OrphanNodes {
@@ -133,7 +145,12 @@ pub enum Error {
     },
     /// Writing a result file failed.
     #[error("cannot write {path}: {message}")]
-    Output { path: PathBuf, message: String },
+    Output {
+        /// The file or folder that could not be written.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
 }
 
 impl Error {

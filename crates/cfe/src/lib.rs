@@ -76,6 +76,8 @@
 //! `solve`) are crate-private; the `internals` feature makes them public for the
 //! verification crate and the integration tests, with no stability promise.
 
+#![warn(missing_docs)]
+
 /// Declares a layer module: public with the `internals` feature (for the verification
 /// crate and the integration tests, no stability promise), crate-private otherwise.
 macro_rules! layer {

@@ -163,6 +163,51 @@ impl Analysis {
     /// Solves all increments and writes the results into `out`. `progress` is called
     /// after each converged increment. On failure the converged increments stay on
     /// disk and `summary.json` records the error.
+    ///
+    /// ```
+    /// let text = r#"
+    /// [materials.steel]
+    /// E = 210000.0
+    /// nu = 0.3
+    ///
+    /// [[part]]
+    /// name = "base"
+    /// material = "steel"
+    /// rectangle = { x = [0.0, 40.0], y = [0.0, 20.0], cells = [4, 2] }
+    ///
+    /// [[part]]
+    /// name = "block"
+    /// material = "steel"
+    /// rectangle = { x = [10.0, 30.0], y = [20.0, 30.0], cells = [6, 3] }
+    ///
+    /// [[interface]]
+    /// host = "base"
+    /// nodes = "block"
+    /// boundary = "bottom"
+    ///
+    /// [[support]]
+    /// part = "base"
+    /// boundary = "bottom"
+    /// fix = ["x", "y"]
+    ///
+    /// [[load]]
+    /// part = "block"
+    /// boundary = "top"
+    /// force = [0.0, -100.0]
+    /// "#;
+    /// let out = std::env::temp_dir().join(format!("cfe-doc-run-{}", std::process::id()));
+    /// let mut analysis = cfe::Analysis::new(text.parse()?)?;
+    /// let mut increments = 0;
+    /// let summary = analysis.run(&out, &mut |_increment| increments += 1)?;
+    /// assert_eq!(summary.status, cfe::RunStatus::Completed);
+    /// assert_eq!(increments, summary.increments);
+    /// // The snapshot on disk: the summary, the pairs table and the ParaView files.
+    /// for file in ["summary.json", "pairs.csv", "results.pvd"] {
+    ///     assert!(out.join(file).is_file(), "{file}");
+    /// }
+    /// # std::fs::remove_dir_all(&out).ok();
+    /// # Ok::<(), cfe::Error>(())
+    /// ```
     pub fn run(
         &mut self,
         out: &Path,
