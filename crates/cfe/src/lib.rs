@@ -105,7 +105,9 @@ pub mod output;
 layer!(solve);
 
 pub use analysis::{Analysis, Results, RunStatus, Start, Summary};
-pub use coupling::{CouplingElement, Interface, Law, PairState, PairStates, ViolationKind};
+pub use coupling::{
+    CouplingElement, Enforcement, Interface, Law, PairState, PairStates, ViolationKind,
+};
 pub use dofs::DofMap;
 pub use domain::{InterfaceDef, Load, Part, Scheme, Settings, Support};
 pub use error::{Error, Result};
