@@ -261,7 +261,7 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
                 i.contact_length
             );
         }
-        if i.enforcement == cfe::coupling::Enforcement::Augmented {
+        if i.enforcement == cfe::Enforcement::Augmented {
             println!(
                 "  interface '{}': augmented Lagrangian, {} Uzawa/fixed-point solves, final penetration {:.3e}",
                 i.name,
