@@ -6,7 +6,7 @@
 //! `output::run`.
 
 use crate::assembly::{self, DofMap};
-use crate::coupling::{Interface, PairState, PairStates, ViolationKind, search};
+use crate::coupling::{Coupling, Interface, PairState, PairStates, ViolationKind, search, segment};
 use crate::domain::StartPattern;
 use crate::error::{Error, Result};
 use crate::fem::recovery::{self, PartStress};
@@ -97,7 +97,7 @@ impl Analysis {
             // The tolerance is a fraction of the host's edges as meshed in the
             // problem file: `--refine K` subdivides edges K times but leaves the gap
             // between two faces meshed apart (a Gmsh part keeps its polygons) as it is.
-            let elements = search::find_pairs(
+            let mut elements = search::find_pairs(
                 &def.name,
                 &host.mesh,
                 &node_part.mesh,
@@ -120,6 +120,17 @@ impl Analysis {
                     ),
                 })?;
             }
+            if def.coupling == Coupling::Segment {
+                // The nodes now lie on the host boundary: integrate over their
+                // face segments.
+                elements = segment::segment_points(
+                    &def.name,
+                    &model.parts[def.host].mesh,
+                    &model.parts[def.node_part].mesh,
+                    &def.nodes,
+                    def.tolerance * model.refine as f64,
+                )?;
+            }
             interfaces.push(Interface {
                 name: def.name.clone(),
                 host: def.host,
@@ -129,6 +140,7 @@ impl Analysis {
                 c_s: def.c_s,
                 elements,
                 max_projection_distance,
+                coupling: def.coupling,
             });
         }
         let dofs = DofMap::new(&model.parts, &model.supports);
@@ -186,6 +198,9 @@ impl Analysis {
                 i.c_s,
                 i.max_projection_distance
             );
+            if i.coupling == Coupling::Segment {
+                s += "    segment coupling: each pair is a Gauss point of the node part's face\n";
+            }
         }
         for sup in &self.model.supports {
             s += &format!(
@@ -450,6 +465,8 @@ impl Analysis {
                     settled: inc.settled.binary_search(&(i, k)).is_ok(),
                     violation: violation.map(|v| v.kind),
                     violation_amount: violation.map_or(0.0, |v| v.amount),
+                    segment: c.segment.map(|s| format!("{}-{}", s.nodes[0], s.nodes[1])),
+                    length: c.segment.map(|s| s.length),
                 });
             }
         }

@@ -4,7 +4,7 @@
 //!
 //! The problem-file reference is in README.md; `examples/` holds complete files.
 
-use crate::coupling::Law;
+use crate::coupling::{Coupling, Law};
 pub use crate::domain::{InterfaceDef, Load, Part, Scheme, Settings, Support};
 use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, loads};
@@ -217,6 +217,8 @@ struct InterfaceSpec {
     c_n: Option<f64>,
     c_s: Option<f64>,
     tolerance: Option<f64>,
+    #[serde(default)]
+    coupling: Coupling,
 }
 
 fn default_law() -> Law {
@@ -802,6 +804,7 @@ impl Builder<'_> {
             c_n,
             c_s,
             tolerance,
+            coupling: spec.coupling,
         })
     }
 

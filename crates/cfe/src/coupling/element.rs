@@ -9,12 +9,20 @@
 //!
 //! Element DOFs are ordered `[u₁ v₁ … uₙ vₙ u_c v_c]`: host nodes, then the coupling
 //! node.
+//!
+//! The same element serves the segment-to-segment coupling (`coupling = "segment"`,
+//! built in [`super::segment`]): there the node side is an integration point on a
+//! face segment of the node part, `D_c = N₁ D_a + N₂ D_b` (two nodes, DOFs
+//! `[… u_a v_a u_b v_b]`), so `B_e = [−N̄₁I … −N̄ₙI N₁I N₂I]`, and the penalties are
+//! scaled by the point's weight ω (`c = ω diag(c_n, c_s)`); the node CFE is the case
+//! of one node with N = 1 and ω = 1.
 
 use super::law::{PairState, local_force};
 use crate::dofs::DofMap;
 
-/// Most nodes a CFE has: a Q4 host's 4 plus the coupling node.
-pub const MAX_NODES: usize = 5;
+/// Most nodes a CFE has: a Q4 host's 4 plus a face segment's 2 (segment coupling;
+/// the node CFE has the host's nodes plus the coupling node).
+pub const MAX_NODES: usize = 6;
 /// Most DOFs a CFE has.
 pub const MAX_DOFS: usize = 2 * MAX_NODES;
 
@@ -39,19 +47,77 @@ pub struct CouplingElement {
     /// edge, where the node part's node is placed.
     pub position: [f64; 2],
     /// Distance from the coupling node, as meshed, to the host edge it was
-    /// projected on (how far it was moved).
+    /// projected on (how far it was moved); for a segment integration point, the
+    /// distance from the point to its projection on the host edge.
     pub distance: f64,
+    /// `None` for the node CFE; for the segment coupling, the integration point on
+    /// a face segment of the node part that is the element's node side (then
+    /// `node` is the segment's node nearer the point).
+    pub segment: Option<SegmentPoint>,
+}
+
+/// The node side of a segment-to-segment coupling element: a Gauss point on a face
+/// segment of the node part (see [`super::segment`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SegmentPoint {
+    /// The segment's two nodes (indices in the node part's mesh), in the order of
+    /// the element's DOFs.
+    pub nodes: [usize; 2],
+    /// The segment's shape functions at the point, N₁ and N₂ (they sum to 1).
+    pub shape: [f64; 2],
+    /// The point's share of the face, w = Gauss weight × sub-segment length.
+    pub length: f64,
+    /// The penalty weight ω = w / h̄ (h̄ the mean face-segment length of the
+    /// interface): the point's stiffness is ω c_n, ω c_s.
+    pub weight: f64,
 }
 
 impl CouplingElement {
-    /// Number of DOFs of the CFE: 2 × (host nodes + 1).
+    /// Number of DOFs of the CFE: 2 × (host nodes + node-side nodes).
     pub fn n_dofs(&self) -> usize {
-        2 * (self.host_nodes.len() + 1)
+        2 * (self.host_nodes.len() + self.node_shape().len())
+    }
+
+    /// The node side's nodes (in the node part): the coupling node, or a face
+    /// segment's two nodes.
+    pub fn node_side(&self) -> &[usize] {
+        match &self.segment {
+            None => std::slice::from_ref(&self.node),
+            Some(s) => &s.nodes,
+        }
+    }
+
+    /// The node side's shape functions at the point: `[1]` for the coupling node,
+    /// `[N₁, N₂]` for a segment point.
+    pub fn node_shape(&self) -> &[f64] {
+        match &self.segment {
+            None => &[1.0],
+            Some(s) => &s.shape,
+        }
+    }
+
+    /// The penalty weight ω: 1 for the node CFE, the point's share of the face over
+    /// the mean segment length for a segment point.
+    pub fn weight(&self) -> f64 {
+        self.segment.map_or(1.0, |s| s.weight)
+    }
+
+    /// The node side's displacement `Σ N_j u_j` for the displacements `u` of the
+    /// node part's nodes given by `node_u(j)`.
+    pub fn node_side_displacement(&self, node_u: impl Fn(usize) -> [f64; 2]) -> [f64; 2] {
+        let mut out = [0.0; 2];
+        for (k, (&j, &n)) in self.node_side().iter().zip(self.node_shape()).enumerate() {
+            let u = node_u(j);
+            for c in 0..2 {
+                out[c] = if k == 0 { n * u[c] } else { out[c] + n * u[c] };
+            }
+        }
+        out
     }
 
     /// The global nodes of the CFE in its local order: the host element's nodes
-    /// (in part `host`), then the coupling node (in part `node_part`); the first
-    /// `n + 1` entries are used.
+    /// (in part `host`), then the node side's (in part `node_part`); the first
+    /// `n + m` entries are used (m = 1 node, or 2 for a segment point).
     pub fn global_nodes(
         &self,
         dofs: &DofMap,
@@ -63,8 +129,11 @@ impl CouplingElement {
         for (gi, &h) in g.iter_mut().zip(&self.host_nodes) {
             *gi = dofs.node(host, h);
         }
-        g[n] = dofs.node(node_part, self.node);
-        (g, n + 1)
+        let side = self.node_side();
+        for (gi, &j) in g[n..].iter_mut().zip(side) {
+            *gi = dofs.node(node_part, j);
+        }
+        (g, n + side.len())
     }
 
     /// The global DOFs of the CFE, `[u₁ v₁ … uₙ vₙ u_c v_c]` (host nodes in part
@@ -82,7 +151,7 @@ impl CouplingElement {
     /// The global jump `[[U]] = D_c − Σ N̄ᵢ Dᵢ` for element displacements `d`
     /// (as [gathered](CfeDofs::gather); entries past [`n_dofs`](Self::n_dofs) are ignored).
     pub fn jump(&self, d: &[f64]) -> [f64; 2] {
-        jump(&self.shape, &d[..self.n_dofs()])
+        jump(&self.shape, self.node_shape(), &d[..self.n_dofs()])
     }
 
     /// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_s]])` for element displacements `d`.
@@ -98,17 +167,28 @@ impl CouplingElement {
 
     /// The stiffness `K_e = B_eᵀ (1 − D̂) C B_e`, `C = Rᵀ c R`, for penalties
     /// `c_n`, `c_s` and the pair's `state` (zero when open).
+    /// For a segment point the penalties are scaled by its weight ω.
     pub fn stiffness(&self, c_n: f64, c_s: f64, state: PairState) -> CfeStiffness {
-        stiffness(&self.shape, self.normal, c_n, c_s, state)
+        let w = self.weight();
+        stiffness(
+            &self.shape,
+            self.node_shape(),
+            self.normal,
+            w * c_n,
+            w * c_s,
+            state,
+        )
     }
 
     /// The bonded stiffness in rank-2 form, `K_e = Σ_k c_k w_k w_kᵀ` (k = n, s), with
     /// `w_k = (R_k B_e)ᵀ`, i.e. `w_k[2a + i] = b_a R_k[i]`: the pairs `(c_k, w_k)`,
     /// from the same `b` and `R` as [`stiffness`](Self::stiffness). Bonding a pair
-    /// adds these terms to K, opening it removes them (the low-rank update).
+    /// adds these terms to K, opening it removes them (the low-rank update). For a
+    /// segment point `c_k` includes its weight ω.
     pub fn stiffness_terms(&self, c_n: f64, c_s: f64) -> [(f64, [f64; MAX_DOFS]); 2] {
         let r = rotation(self.normal);
-        let b = b_coefficients(&self.shape);
+        let b = b_coefficients(&self.shape, self.node_shape());
+        let wt = self.weight();
         let w = |k: usize| -> [f64; MAX_DOFS] {
             let mut w = [0.0; MAX_DOFS];
             for (p, x) in w.iter_mut().enumerate().take(self.n_dofs()) {
@@ -116,12 +196,13 @@ impl CouplingElement {
             }
             w
         };
-        [(c_n, w(0)), (c_s, w(1))]
+        [(wt * c_n, w(0)), (wt * c_s, w(1))]
     }
 
     /// The internal force `F_e = B_eᵀ Rᵀ f`, `f = (1 − D̂) c [[u]]`, for element
     /// displacements `d`, and the local force `f` (the force the host side exerts on
-    /// the pair, in (n, s)).
+    /// the pair, in (n, s)). For a segment point the penalties are scaled by its
+    /// weight ω, so `f` is the point's force.
     pub fn internal_force(
         &self,
         c_n: f64,
@@ -129,11 +210,13 @@ impl CouplingElement {
         state: PairState,
         d: &[f64],
     ) -> ([f64; MAX_DOFS], [f64; 2]) {
+        let w = self.weight();
         internal_force(
             &self.shape,
+            self.node_shape(),
             self.normal,
-            c_n,
-            c_s,
+            w * c_n,
+            w * c_s,
             state,
             &d[..self.n_dofs()],
         )
@@ -171,11 +254,21 @@ fn rotation(n: [f64; 2]) -> [[f64; 2]; 2] {
 }
 
 /// The global jump `[[U]] = D_c − Σ N̄ᵢ Dᵢ` for element displacements `d`
-/// (2 (n + 1) values: host nodes, then the coupling node).
-fn jump(shape: &[f64], d: &[f64]) -> [f64; 2] {
+/// (2 (n + m) values: host nodes, then the node side's m nodes), with
+/// `D_c = Σ_j N_j D_j` over the node side (`node_shape`; `[1]` for a coupling node).
+fn jump(shape: &[f64], node_shape: &[f64], d: &[f64]) -> [f64; 2] {
     let n = shape.len();
-    debug_assert_eq!(d.len(), 2 * (n + 1));
-    std::array::from_fn(|c| d[2 * n + c] - (0..n).map(|i| shape[i] * d[2 * i + c]).sum::<f64>())
+    debug_assert_eq!(d.len(), 2 * (n + node_shape.len()));
+    std::array::from_fn(|c| {
+        let node = node_shape
+            .iter()
+            .enumerate()
+            .skip(1)
+            .fold(node_shape[0] * d[2 * n + c], |acc, (j, nj)| {
+                acc + nj * d[2 * (n + j) + c]
+            });
+        node - (0..n).map(|i| shape[i] * d[2 * i + c]).sum::<f64>()
+    })
 }
 
 /// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_s]])`.
@@ -187,14 +280,15 @@ fn local_jump(normal: [f64; 2], jump: [f64; 2]) -> [f64; 2] {
     ]
 }
 
-/// The coefficients `b` of `B_e` per node, `B_e = [b₁I … b_{n+1}I]` with
-/// `b = (−N̄₁, …, −N̄ₙ, 1)`; entries past n + 1 are zero.
-fn b_coefficients(shape: &[f64]) -> [f64; MAX_NODES] {
+/// The coefficients `b` of `B_e` per node, `B_e = [b₁I … b_{n+m}I]` with
+/// `b = (−N̄₁, …, −N̄ₙ, N₁, …, N_m)` (the node side's `node_shape`: `[1]` for a
+/// coupling node); entries past n + m are zero.
+fn b_coefficients(shape: &[f64], node_shape: &[f64]) -> [f64; MAX_NODES] {
     let mut b = [0.0; MAX_NODES];
     for (bi, s) in b.iter_mut().zip(shape) {
         *bi = -s;
     }
-    b[shape.len()] = 1.0;
+    b[shape.len()..shape.len() + node_shape.len()].copy_from_slice(node_shape);
     b
 }
 
@@ -230,6 +324,7 @@ impl CfeStiffness {
 /// semidefinite; zero for an open pair).
 fn stiffness(
     shape: &[f64],
+    node_shape: &[f64],
     normal: [f64; 2],
     c_n: f64,
     c_s: f64,
@@ -238,11 +333,11 @@ fn stiffness(
     let r = rotation(normal);
     let k = 1.0 - state.d_hat();
     CfeStiffness {
-        b: b_coefficients(shape),
+        b: b_coefficients(shape, node_shape),
         c: std::array::from_fn(|i| {
             std::array::from_fn(|j| k * (c_n * r[0][i] * r[0][j] + c_s * r[1][i] * r[1][j]))
         }),
-        dofs: 2 * (shape.len() + 1),
+        dofs: 2 * (shape.len() + node_shape.len()),
     }
 }
 
@@ -252,22 +347,23 @@ fn stiffness(
 /// in (n, s)).
 fn internal_force(
     shape: &[f64],
+    node_shape: &[f64],
     normal: [f64; 2],
     c_n: f64,
     c_s: f64,
     state: PairState,
     d: &[f64],
 ) -> ([f64; MAX_DOFS], [f64; 2]) {
-    let u = local_jump(normal, jump(shape, d));
+    let u = local_jump(normal, jump(shape, node_shape, d));
     let f = local_force(state, c_n, c_s, u);
     let r = rotation(normal);
     let g = [
         r[0][0] * f[0] + r[1][0] * f[1],
         r[0][1] * f[0] + r[1][1] * f[1],
     ];
-    let b = b_coefficients(shape);
+    let b = b_coefficients(shape, node_shape);
     let mut out = [0.0; MAX_DOFS];
-    for (p, o) in out.iter_mut().enumerate().take(2 * (shape.len() + 1)) {
+    for (p, o) in out.iter_mut().enumerate().take(2 * (shape.len() + node_shape.len())) {
         *o = b[p / 2] * g[p % 2];
     }
     (out, f)
@@ -323,7 +419,7 @@ mod tests {
     #[test]
     fn stiffness_symmetric_psd() {
         for (_, shape, _) in hosts() {
-            let ks = stiffness(&shape, normal(), 1e9, 5e8, PairState::Bonded);
+            let ks = stiffness(&shape, &[1.0], normal(), 1e9, 5e8, PairState::Bonded);
             assert_eq!(ks.dofs, 2 * (shape.len() + 1));
             let k = dense(&ks);
             for (i, row) in k.iter().enumerate() {
@@ -346,7 +442,7 @@ mod tests {
                     .sum();
                 assert!(e >= -1e-6);
             }
-            let open = stiffness(&shape, normal(), 1e9, 5e8, PairState::Open);
+            let open = stiffness(&shape, &[1.0], normal(), 1e9, 5e8, PairState::Open);
             assert!(dense(&open).iter().flatten().all(|&v| v == 0.0));
         }
     }
@@ -359,7 +455,7 @@ mod tests {
         for (x, shape, xc) in hosts() {
             let pts: Vec<[f64; 2]> = x.iter().copied().chain([xc]).collect();
             let m = 2 * pts.len();
-            let k = stiffness(&shape, normal(), 1e9, 1e9, PairState::Bonded);
+            let k = stiffness(&shape, &[1.0], normal(), 1e9, 1e9, PairState::Bonded);
             let modes: [Vec<f64>; 3] = [
                 (0..m).map(|i| if i % 2 == 0 { 1.0 } else { 0.0 }).collect(),
                 (0..m).map(|i| if i % 2 == 1 { 1.0 } else { 0.0 }).collect(),
@@ -374,7 +470,7 @@ mod tests {
                     .collect(),
             ];
             for d in modes {
-                assert!(jump(&shape, &d).iter().all(|v| v.abs() < 1e-12));
+                assert!(jump(&shape, &[1.0], &d).iter().all(|v| v.abs() < 1e-12));
                 let kd = k.mul(&d);
                 assert!(kd.iter().all(|v| v.abs() < 1e-9 * 1e9), "{kd:?}");
             }
@@ -388,8 +484,8 @@ mod tests {
         for (_, shape, _) in hosts() {
             let m = 2 * (shape.len() + 1);
             let d: Vec<f64> = (0..m).map(|i| ((i * 7) % 5) as f64 * 0.1 - 0.2).collect();
-            let k = stiffness(&shape, normal(), 2.0, 3.0, PairState::Bonded);
-            let (f, _) = internal_force(&shape, normal(), 2.0, 3.0, PairState::Bonded, &d);
+            let k = stiffness(&shape, &[1.0], normal(), 2.0, 3.0, PairState::Bonded);
+            let (f, _) = internal_force(&shape, &[1.0], normal(), 2.0, 3.0, PairState::Bonded, &d);
             let kd = k.mul(&d);
             for i in 0..m {
                 assert!((kd[i] - f[i]).abs() < 1e-12);
@@ -425,6 +521,7 @@ mod tests {
                 normal: normal(),
                 position,
                 distance: 0.0,
+                segment: None,
             };
             let k = c.stiffness(1e9, 5e8, PairState::Bonded);
             let terms = c.stiffness_terms(1e9, 5e8);
@@ -432,6 +529,70 @@ mod tests {
                 for q in 0..c.n_dofs() {
                     let sum: f64 = terms.iter().map(|(ck, w)| ck * w[p] * w[q]).sum();
                     assert!((sum - k.get(p, q)).abs() <= 1e-6, "({p}, {q})");
+                }
+            }
+        }
+    }
+
+    /// A segment integration point (node side: a face segment a–b with N₁, N₂ at
+    /// the point, weight ω): a rigid translation and rotation of host and segment
+    /// together gives no jump and no force; its stiffness is ω × the stiffness of
+    /// the same tie at unit weight, equals its rank-2 form, and K_e d = F_e.
+    #[test]
+    fn segment_point_element() {
+        for (x, shape, position) in hosts() {
+            // The segment runs through the point along an arbitrary direction.
+            let t = 0.35;
+            let dir = [0.8, -0.6];
+            let a = [position[0] - t * dir[0], position[1] - t * dir[1]];
+            let b = [a[0] + dir[0], a[1] + dir[1]];
+            let mut c = CouplingElement {
+                node: 10,
+                host_element: 0,
+                host_nodes: (0..x.len()).collect(),
+                shape: shape.clone(),
+                normal: normal(),
+                position,
+                distance: 0.0,
+                segment: Some(SegmentPoint {
+                    nodes: [10, 11],
+                    shape: [1.0 - t, t],
+                    length: 0.5,
+                    weight: 0.25,
+                }),
+            };
+            assert_eq!(c.n_dofs(), 2 * (x.len() + 2));
+            let pts: Vec<[f64; 2]> = x.iter().copied().chain([a, b]).collect();
+            let m = 2 * pts.len();
+            for d in [
+                (0..m).map(|i| (i % 2) as f64).collect::<Vec<f64>>(),
+                (0..m)
+                    .map(|i| if i % 2 == 0 { -pts[i / 2][1] } else { pts[i / 2][0] })
+                    .collect(),
+            ] {
+                assert!(c.jump(&d).iter().all(|v| v.abs() < 1e-12));
+                let (f, _) = c.internal_force(1e9, 1e9, PairState::Bonded, &d);
+                assert!(f.iter().all(|v| v.abs() < 1e-3), "{f:?}");
+            }
+            let k = c.stiffness(2.0, 3.0, PairState::Bonded);
+            let terms = c.stiffness_terms(2.0, 3.0);
+            let d: Vec<f64> = (0..m).map(|i| ((i * 7) % 5) as f64 * 0.1 - 0.2).collect();
+            let (f, _) = c.internal_force(2.0, 3.0, PairState::Bonded, &d);
+            let kd = k.mul(&d);
+            for p in 0..m {
+                assert!((kd[p] - f[p]).abs() < 1e-12);
+                for q in 0..m {
+                    let sum: f64 = terms.iter().map(|(ck, w)| ck * w[p] * w[q]).sum();
+                    assert!((sum - k.get(p, q)).abs() <= 1e-12, "({p}, {q})");
+                }
+            }
+            let unit = {
+                c.segment.as_mut().unwrap().weight = 1.0;
+                c.stiffness(2.0, 3.0, PairState::Bonded)
+            };
+            for p in 0..m {
+                for q in 0..m {
+                    assert!((k.get(p, q) - 0.25 * unit.get(p, q)).abs() < 1e-14);
                 }
             }
         }

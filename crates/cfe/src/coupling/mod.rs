@@ -6,8 +6,9 @@
 pub mod element;
 pub mod law;
 pub(crate) mod search;
+pub mod segment;
 
-pub use element::CouplingElement;
+pub use element::{CouplingElement, SegmentPoint};
 pub use law::{Law, LawTolerance, LawViolation, PairState, PairStates, ViolationKind};
 
 /// An interface between a host part and a node part, with its coupling elements.
@@ -29,4 +30,30 @@ pub struct Interface {
     pub elements: Vec<CouplingElement>,
     /// Largest distance from a coupling node to its host edge (geometric check).
     pub max_projection_distance: f64,
+    /// How the coupling elements are built: one per coupling node, or one per
+    /// integration point of the face segments.
+    pub coupling: Coupling,
+}
+
+/// The coupling formulation of an interface (`coupling` in the problem file).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Coupling {
+    /// One CFE per coupling node, collocated at the node (the seed's, default).
+    #[default]
+    Node,
+    /// Segment-to-segment: one CFE per Gauss point of the node part's face
+    /// segments cut at the host's vertices ([`segment`]); passes the patch test on
+    /// non-matching meshes.
+    Segment,
+}
+
+impl Coupling {
+    /// Lower-case name as in the problem file (`node`, `segment`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Coupling::Node => "node",
+            Coupling::Segment => "segment",
+        }
+    }
 }

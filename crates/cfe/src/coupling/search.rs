@@ -134,6 +134,7 @@ pub fn find_pairs(
             normal,
             position,
             distance: d,
+            segment: None,
         });
     }
     if !orphans.is_empty() {

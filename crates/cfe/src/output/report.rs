@@ -42,10 +42,19 @@ pub struct PairRow {
     /// The violation's amount: the tensile force, or the penetration depth (0 when none).
     #[serde(serialize_with = "sci")]
     pub violation_amount: f64,
+    /// For a segment-coupling integration point, the node part's face segment it
+    /// lies on, as `a-b` (its two nodes; `node` is the nearer); empty for a node
+    /// pair.
+    pub segment: Option<String>,
+    /// For a segment-coupling integration point, its share of the face (Gauss
+    /// weight × sub-segment length): force / length is the traction; empty for a
+    /// node pair.
+    #[serde(serialize_with = "sci_opt")]
+    pub length: Option<f64>,
 }
 
 /// The columns of `pairs.csv` (the serialized fields of [`PairRow`]).
-pub const PAIR_COLUMNS: [&str; 13] = [
+pub const PAIR_COLUMNS: [&str; 15] = [
     "interface",
     "node",
     "x",
@@ -59,6 +68,8 @@ pub const PAIR_COLUMNS: [&str; 13] = [
     "settled",
     "violation",
     "violation_amount",
+    "segment",
+    "length",
 ];
 
 /// Writes the pairs table (one row per coupling pair; the header is the field
@@ -84,6 +95,14 @@ fn plain<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::E
 /// A number in scientific notation (`-1.25e-3`): the jumps' and forces' format.
 fn sci<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_str(&format_args!("{v:e}"))
+}
+
+/// An optional number in scientific notation, empty when there is none.
+fn sci_opt<S: serde::Serializer>(v: &Option<f64>, s: S) -> std::result::Result<S::Ok, S::Error> {
+    match v {
+        Some(v) => s.collect_str(&format_args!("{v:e}")),
+        None => s.serialize_none(),
+    }
 }
 
 /// Writes any serializable value as pretty JSON.
@@ -120,12 +139,16 @@ mod tests {
             settled: false,
             violation: None,
             violation_amount: 0.0,
+            segment: None,
+            length: None,
         };
         let pulling = PairRow {
             state: PairState::Bonded,
             settled: true,
             violation: Some(ViolationKind::Tension),
             violation_amount: 0.5,
+            segment: Some("3-4".into()),
+            length: Some(0.25),
             ..row.clone()
         };
         write_pairs_csv(&path, &[row, pulling]).unwrap();
@@ -133,7 +156,7 @@ mod tests {
         assert_eq!(
             text,
             format!(
-                "{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0,false,,0e0\n\"a,b\",3,100,-6.5,7,bonded,1.25e-3,0e0,-5e-1,2e0,true,tension,5e-1\n",
+                "{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0,false,,0e0,,\n\"a,b\",3,100,-6.5,7,bonded,1.25e-3,0e0,-5e-1,2e0,true,tension,5e-1,3-4,2.5e-1\n",
                 PAIR_COLUMNS.join(",")
             )
         );

@@ -525,7 +525,9 @@ impl<'a> Solver<'a> {
                             tension: self.settings.force_tolerance * load_scale,
                             penetration: self.gap_tolerance(d),
                         };
-                        if let Some(v) = iface.law.violation(state, gap, iface.c_n, tol) {
+                        // A segment point's stiffness is its weight × c_n.
+                        let c_n = c.weight() * iface.c_n;
+                        if let Some(v) = iface.law.violation(state, gap, c_n, tol) {
                             violations.push(PairViolation {
                                 interface: i,
                                 pair: k,
@@ -534,7 +536,7 @@ impl<'a> Solver<'a> {
                                 force: v.force,
                             });
                         }
-                        iface.law.next_state(state, gap, iface.c_n, tol)
+                        iface.law.next_state(state, gap, c_n, tol)
                     })
                     .collect()
             })
