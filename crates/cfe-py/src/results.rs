@@ -210,7 +210,7 @@ fn interface_dict<'py>(
     let length: Vec<f64> = iface
         .elements
         .iter()
-        .map(|c| c.segment.map_or(0.0, |s| s.length))
+        .map(|c| c.segment.as_ref().map_or(0.0, |s| s.length))
         .collect();
     d.set_item("segment_length", PyArray1::from_vec(py, length))?;
     Ok(d)

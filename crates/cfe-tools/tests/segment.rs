@@ -37,3 +37,21 @@ fn segment_coupling_passes_the_nonmatching_patch_test() {
         }
     }
 }
+
+/// The verification cases of the segment coupling (quick versions) meet their
+/// references: the patch test on non-matching faces, and optimal convergence of
+/// the tied cantilever and Lamé's cylinder with a converging interface traction.
+#[test]
+fn segment_verification_cases_pass() {
+    use cfe_tools::verification::segment;
+    for case in [segment::patch_comparison(true).unwrap(), segment::convergence(true).unwrap()] {
+        for t in &case.tables {
+            eprintln!("{}\n{}", t.caption, t.header.join(" | "));
+            for r in &t.rows {
+                eprintln!("{}", r.join(" | "));
+            }
+        }
+        eprintln!("{}", case.verdict);
+        assert!(case.passed, "{}: {}", case.title, case.verdict);
+    }
+}

@@ -123,7 +123,7 @@ impl Analysis {
             if def.coupling == Coupling::Segment {
                 // The nodes now lie on the host boundary: integrate over their
                 // face segments.
-                elements = segment::segment_points(
+                elements = segment::segment_elements(
                     &def.name,
                     &model.parts[def.host].mesh,
                     &model.parts[def.node_part].mesh,
@@ -465,8 +465,14 @@ impl Analysis {
                     settled: inc.settled.binary_search(&(i, k)).is_ok(),
                     violation: violation.map(|v| v.kind),
                     violation_amount: violation.map_or(0.0, |v| v.amount),
-                    segment: c.segment.map(|s| format!("{}-{}", s.nodes[0], s.nodes[1])),
-                    length: c.segment.map(|s| s.length),
+                    segment: c.segment.as_ref().map(|s| {
+                        s.nodes
+                            .iter()
+                            .map(|n| n.to_string())
+                            .collect::<Vec<_>>()
+                            .join("-")
+                    }),
+                    length: c.segment.as_ref().map(|s| s.length),
                 });
             }
         }

@@ -10,19 +10,22 @@
 //! Element DOFs are ordered `[u₁ v₁ … uₙ vₙ u_c v_c]`: host nodes, then the coupling
 //! node.
 //!
-//! The same element serves the segment-to-segment coupling (`coupling = "segment"`,
-//! built in [`super::segment`]): there the node side is an integration point on a
-//! face segment of the node part, `D_c = N₁ D_a + N₂ D_b` (two nodes, DOFs
-//! `[… u_a v_a u_b v_b]`), so `B_e = [−N̄₁I … −N̄ₙI N₁I N₂I]`, and the penalties are
-//! scaled by the point's weight ω (`c = ω diag(c_n, c_s)`); the node CFE is the case
-//! of one node with N = 1 and ω = 1.
+//! The same element serves the segment coupling (`coupling = "segment"`, built in
+//! [`super::segment`]): there the jump of coupling node a is the gap integrated
+//! over its face segments, `[[U]]_a = Σ_b M̂_ab D_b − Σ_i N̂_ai D_i` (node-part nodes
+//! b: a and its face neighbours; host nodes i of every host element under a's
+//! segments), so `B_e = [−N̂_a1 I … −N̂_an I  M̂_a1 I … M̂_am I]` with both coefficient
+//! rows summing to 1, and the penalties are scaled by the node's weight ω
+//! (`c = ω diag(c_n, c_s)`); the node CFE is the case of one node-side node with
+//! coefficient 1 and ω = 1.
 
 use super::law::{PairState, local_force};
 use crate::dofs::DofMap;
 
-/// Most nodes a CFE has: a Q4 host's 4 plus a face segment's 2 (segment coupling;
-/// the node CFE has the host's nodes plus the coupling node).
-pub const MAX_NODES: usize = 6;
+/// Most nodes a CFE has. The node CFE has a host element's 3 or 4 plus the coupling
+/// node; a segment-coupling element has up to 3 node-part nodes and the host nodes
+/// of the host elements under them (up to 9: three Q4 or T3 hosts).
+pub const MAX_NODES: usize = 12;
 /// Most DOFs a CFE has.
 pub const MAX_DOFS: usize = 2 * MAX_NODES;
 
@@ -50,25 +53,26 @@ pub struct CouplingElement {
     /// projected on (how far it was moved); for a segment integration point, the
     /// distance from the point to its projection on the host edge.
     pub distance: f64,
-    /// `None` for the node CFE; for the segment coupling, the integration point on
-    /// a face segment of the node part that is the element's node side (then
-    /// `node` is the segment's node nearer the point).
-    pub segment: Option<SegmentPoint>,
+    /// `None` for the node CFE; for the segment coupling, the node side of the
+    /// coupling node's integrated gap (then `host_nodes` and `shape` are the host
+    /// nodes under its face segments and their coefficients N̂_ai).
+    pub segment: Option<SegmentSide>,
 }
 
-/// The node side of a segment-to-segment coupling element: a Gauss point on a face
-/// segment of the node part (see [`super::segment`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SegmentPoint {
-    /// The segment's two nodes (indices in the node part's mesh), in the order of
-    /// the element's DOFs.
-    pub nodes: [usize; 2],
-    /// The segment's shape functions at the point, N₁ and N₂ (they sum to 1).
-    pub shape: [f64; 2],
-    /// The point's share of the face, w = Gauss weight × sub-segment length.
+/// The node side of a segment-coupling element of coupling node a (see
+/// [`super::segment`]): `[[U]]_a = Σ_b M̂_ab D_b − Σ_i N̂_ai D_i` with
+/// `M̂_ab = ∫ N_a N_b ds / m_a`, `N̂_ai = ∫ N_a N̄_i ds / m_a`, `m_a = ∫ N_a ds`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SegmentSide {
+    /// The node-part nodes b: a and its neighbours along the face (indices in the
+    /// node part's mesh), in the order of the element's DOFs.
+    pub nodes: Vec<usize>,
+    /// Their coefficients M̂_ab (they sum to 1).
+    pub shape: Vec<f64>,
+    /// The node's share of the face lying over the host, m_a = ∫ N_a ds.
     pub length: f64,
-    /// The penalty weight ω = w / h̄ (h̄ the mean face-segment length of the
-    /// interface): the point's stiffness is ω c_n, ω c_s.
+    /// The penalty weight ω = m_a / h̄ (h̄ the mean face-segment length of the
+    /// interface): the element's stiffness is ω c_n, ω c_s.
     pub weight: f64,
 }
 
@@ -78,8 +82,8 @@ impl CouplingElement {
         2 * (self.host_nodes.len() + self.node_shape().len())
     }
 
-    /// The node side's nodes (in the node part): the coupling node, or a face
-    /// segment's two nodes.
+    /// The node side's nodes (in the node part): the coupling node, or for the
+    /// segment coupling the node and its face neighbours.
     pub fn node_side(&self) -> &[usize] {
         match &self.segment {
             None => std::slice::from_ref(&self.node),
@@ -87,8 +91,8 @@ impl CouplingElement {
         }
     }
 
-    /// The node side's shape functions at the point: `[1]` for the coupling node,
-    /// `[N₁, N₂]` for a segment point.
+    /// The node side's coefficients: `[1]` for the node CFE, M̂_ab for the segment
+    /// coupling.
     pub fn node_shape(&self) -> &[f64] {
         match &self.segment {
             None => &[1.0],
@@ -96,23 +100,9 @@ impl CouplingElement {
         }
     }
 
-    /// The penalty weight ω: 1 for the node CFE, the point's share of the face over
-    /// the mean segment length for a segment point.
+    /// The penalty weight ω: 1 for the node CFE, m_a / h̄ for the segment coupling.
     pub fn weight(&self) -> f64 {
-        self.segment.map_or(1.0, |s| s.weight)
-    }
-
-    /// The node side's displacement `Σ N_j u_j` for the displacements `u` of the
-    /// node part's nodes given by `node_u(j)`.
-    pub fn node_side_displacement(&self, node_u: impl Fn(usize) -> [f64; 2]) -> [f64; 2] {
-        let mut out = [0.0; 2];
-        for (k, (&j, &n)) in self.node_side().iter().zip(self.node_shape()).enumerate() {
-            let u = node_u(j);
-            for c in 0..2 {
-                out[c] = if k == 0 { n * u[c] } else { out[c] + n * u[c] };
-            }
-        }
-        out
+        self.segment.as_ref().map_or(1.0, |s| s.weight)
     }
 
     /// The global nodes of the CFE in its local order: the host element's nodes
@@ -534,54 +524,58 @@ mod tests {
         }
     }
 
-    /// A segment integration point (node side: a face segment a–b with N₁, N₂ at
-    /// the point, weight ω): a rigid translation and rotation of host and segment
-    /// together gives no jump and no force; its stiffness is ω × the stiffness of
-    /// the same tie at unit weight, equals its rank-2 form, and K_e d = F_e.
+    /// A segment-coupling element (node side: three nodes with coefficients
+    /// M̂, weight ω): a rigid translation and rotation of host and node part together
+    /// gives no jump and no force when Σ M̂_b X_b = Σ N̂_i X_i; its stiffness is ω ×
+    /// the unit-weight one, equals its rank-2 form, and K_e d = F_e.
     #[test]
-    fn segment_point_element() {
+    fn segment_side_element() {
         for (x, shape, position) in hosts() {
-            // The segment runs through the point along an arbitrary direction.
-            let t = 0.35;
-            let dir = [0.8, -0.6];
-            let a = [position[0] - t * dir[0], position[1] - t * dir[1]];
-            let b = [a[0] + dir[0], a[1] + dir[1]];
+            // Three node-side nodes whose weighted position is the host point.
+            let m = [0.2, 0.5, 0.3];
+            let off = [[-1.0, 0.5], [0.4, -0.2], [0.0, 0.0]];
+            let mut pts: Vec<[f64; 2]> = off.iter().map(|o| [position[0] + o[0], position[1] + o[1]]).collect();
+            let mean: [f64; 2] = std::array::from_fn(|c| (0..3).map(|b| m[b] * pts[b][c]).sum::<f64>());
+            pts[2] = [
+                pts[2][0] + (position[0] - mean[0]) / m[2],
+                pts[2][1] + (position[1] - mean[1]) / m[2],
+            ];
             let mut c = CouplingElement {
-                node: 10,
+                node: 11,
                 host_element: 0,
                 host_nodes: (0..x.len()).collect(),
                 shape: shape.clone(),
                 normal: normal(),
                 position,
                 distance: 0.0,
-                segment: Some(SegmentPoint {
-                    nodes: [10, 11],
-                    shape: [1.0 - t, t],
+                segment: Some(SegmentSide {
+                    nodes: vec![10, 11, 12],
+                    shape: m.to_vec(),
                     length: 0.5,
                     weight: 0.25,
                 }),
             };
-            assert_eq!(c.n_dofs(), 2 * (x.len() + 2));
-            let pts: Vec<[f64; 2]> = x.iter().copied().chain([a, b]).collect();
-            let m = 2 * pts.len();
+            assert_eq!(c.n_dofs(), 2 * (x.len() + 3));
+            let all: Vec<[f64; 2]> = x.iter().copied().chain(pts).collect();
+            let n = 2 * all.len();
             for d in [
-                (0..m).map(|i| (i % 2) as f64).collect::<Vec<f64>>(),
-                (0..m)
-                    .map(|i| if i % 2 == 0 { -pts[i / 2][1] } else { pts[i / 2][0] })
+                (0..n).map(|i| (i % 2) as f64).collect::<Vec<f64>>(),
+                (0..n)
+                    .map(|i| if i % 2 == 0 { -all[i / 2][1] } else { all[i / 2][0] })
                     .collect(),
             ] {
-                assert!(c.jump(&d).iter().all(|v| v.abs() < 1e-12));
+                assert!(c.jump(&d).iter().all(|v| v.abs() < 1e-12), "{:?}", c.jump(&d));
                 let (f, _) = c.internal_force(1e9, 1e9, PairState::Bonded, &d);
                 assert!(f.iter().all(|v| v.abs() < 1e-3), "{f:?}");
             }
             let k = c.stiffness(2.0, 3.0, PairState::Bonded);
             let terms = c.stiffness_terms(2.0, 3.0);
-            let d: Vec<f64> = (0..m).map(|i| ((i * 7) % 5) as f64 * 0.1 - 0.2).collect();
+            let d: Vec<f64> = (0..n).map(|i| ((i * 7) % 5) as f64 * 0.1 - 0.2).collect();
             let (f, _) = c.internal_force(2.0, 3.0, PairState::Bonded, &d);
             let kd = k.mul(&d);
-            for p in 0..m {
+            for p in 0..n {
                 assert!((kd[p] - f[p]).abs() < 1e-12);
-                for q in 0..m {
+                for q in 0..n {
                     let sum: f64 = terms.iter().map(|(ck, w)| ck * w[p] * w[q]).sum();
                     assert!((sum - k.get(p, q)).abs() <= 1e-12, "({p}, {q})");
                 }
@@ -590,8 +584,8 @@ mod tests {
                 c.segment.as_mut().unwrap().weight = 1.0;
                 c.stiffness(2.0, 3.0, PairState::Bonded)
             };
-            for p in 0..m {
-                for q in 0..m {
+            for p in 0..n {
+                for q in 0..n {
                     assert!((k.get(p, q) - 0.25 * unit.get(p, q)).abs() < 1e-14);
                 }
             }

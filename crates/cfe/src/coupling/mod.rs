@@ -8,7 +8,7 @@ pub mod law;
 pub(crate) mod search;
 pub mod segment;
 
-pub use element::{CouplingElement, SegmentPoint};
+pub use element::{CouplingElement, SegmentSide};
 pub use law::{Law, LawTolerance, LawViolation, PairState, PairStates, ViolationKind};
 
 /// An interface between a host part and a node part, with its coupling elements.

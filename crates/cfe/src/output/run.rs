@@ -518,11 +518,8 @@ impl Analysis {
             for c in &iface.elements {
                 normal.extend_from_slice(&c.normal);
                 iface_id.push(i as i32);
-                // A segment point moves with its face segment: Σ N_j u_j.
-                disp.extend(c.node_side_displacement(|j| {
-                    let g = self.dofs.node(iface.node_part, j);
-                    [inc.u[2 * g], inc.u[2 * g + 1]]
-                }));
+                let g = self.dofs.node(iface.node_part, c.node);
+                disp.extend_from_slice(&inc.u[2 * g..2 * g + 2]);
             }
         }
         let point_data = [
@@ -668,27 +665,18 @@ impl Analysis {
                 .enumerate()
                 .map(|(g, p)| [p[0] + scale * inc.u[2 * g], p[1] + scale * inc.u[2 * g + 1]])
                 .collect();
-            let deformed_at = &deformed;
             let deformed_markers: Vec<png::PairMarker> = self
                 .interfaces
                 .iter()
                 .flat_map(|iface| {
-                    iface.elements.iter().map(move |c| match c.segment {
-                        // A coupling node: where its node went.
-                        None => deformed_at[self.dofs.node(iface.node_part, c.node)],
-                        // A segment point: where its place on the face went.
-                        Some(_) => {
-                            let u = c.node_side_displacement(|j| {
-                                let g = self.dofs.node(iface.node_part, j);
-                                [inc.u[2 * g], inc.u[2 * g + 1]]
-                            });
-                            [c.position[0] + scale * u[0], c.position[1] + scale * u[1]]
-                        }
-                    })
+                    iface
+                        .elements
+                        .iter()
+                        .map(move |c| self.dofs.node(iface.node_part, c.node))
                 })
                 .zip(&rows)
-                .map(|(at, r)| png::PairMarker {
-                    at,
+                .map(|(g, r)| png::PairMarker {
+                    at: deformed[g],
                     bonded: r.state == PairState::Bonded,
                     violates: r.violation.is_some(),
                 })
