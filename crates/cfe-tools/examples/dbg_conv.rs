@@ -4,7 +4,10 @@ fn main() {
         for c in ["node", "segment"] {
             let e = cylinder_run(k, c).unwrap();
             let b = cantilever_run(k, c).unwrap();
-            println!("k {k} {c}: cyl {:.3e} {:.3e} {:.3e} | beam {:.3e} {:.3e} {:.3e}", e.displacement, e.energy, e.traction, b.displacement, b.energy, b.traction);
+            println!(
+                "k {k} {c}: cyl {:.3e} {:.3e} {:.3e} | beam {:.3e} {:.3e} {:.3e}",
+                e.displacement, e.energy, e.traction, b.displacement, b.energy, b.traction
+            );
         }
     }
 }

@@ -8,8 +8,12 @@ const ET: f64 = cfe_tools::verification::patch::ET;
 
 /// The meshes of the patch test: host : node cells per side and, for the randomly
 /// perturbed faces, the seed.
-const LAYOUTS: [(usize, usize, Option<u64>); 4] =
-    [(2, 3, None), (3, 7, None), (3, 4, Some(7)), (4, 5, Some(2026))];
+const LAYOUTS: [(usize, usize, Option<u64>); 4] = [
+    (2, 3, None),
+    (3, 7, None),
+    (3, 4, Some(7)),
+    (4, 5, Some(2026)),
+];
 
 /// The segment coupling reproduces a constant stress (tension and shear across
 /// and along the interface) through 2:3, 3:7 and randomly perturbed non-matching
@@ -29,10 +33,15 @@ fn segment_coupling_passes_the_nonmatching_patch_test() {
                 let (seg, seg_rms, bonded) =
                     nonmatching_patch(h, n, k, "segment", law, 1e6 * ET, seed).unwrap();
                 let (node, _, _) = nonmatching_patch(h, n, k, "node", law, 1e6 * ET, seed).unwrap();
-                eprintln!("{law} {k:?} {h}:{n} {seed:?}: segment {seg:.3e} (rms {seg_rms:.3e}), node {node:.3e}, bonded {bonded}");
+                eprintln!(
+                    "{law} {k:?} {h}:{n} {seed:?}: segment {seg:.3e} (rms {seg_rms:.3e}), node {node:.3e}, bonded {bonded}"
+                );
                 assert!(bonded, "{law} {k:?} {h}:{n}");
                 assert!(seg < 1e-6, "{law} {k:?} {h}:{n} {seed:?}: {seg:e}");
-                assert!(node > 1e-3, "{law} {k:?} {h}:{n}: the node CFE passes? {node:e}");
+                assert!(
+                    node > 1e-3,
+                    "{law} {k:?} {h}:{n}: the node CFE passes? {node:e}"
+                );
             }
         }
     }
@@ -44,7 +53,10 @@ fn segment_coupling_passes_the_nonmatching_patch_test() {
 #[test]
 fn segment_verification_cases_pass() {
     use cfe_tools::verification::segment;
-    for case in [segment::patch_comparison(true).unwrap(), segment::convergence(true).unwrap()] {
+    for case in [
+        segment::patch_comparison(true).unwrap(),
+        segment::convergence(true).unwrap(),
+    ] {
         for t in &case.tables {
             eprintln!("{}\n{}", t.caption, t.header.join(" | "));
             for r in &t.rows {

@@ -32,7 +32,11 @@ fn contact_law_on_the_plate_on_base() {
     let incs = common::solve(&a);
     let last = incs.last().unwrap();
     for inc in &incs {
-        assert!(inc.violations.is_empty() && inc.settled.is_empty(), "increment {}", inc.index);
+        assert!(
+            inc.violations.is_empty() && inc.settled.is_empty(),
+            "increment {}",
+            inc.index
+        );
     }
     common::check_contact_conditions(&a, last);
     let rows = a.pair_rows(last);
@@ -43,7 +47,10 @@ fn contact_law_on_the_plate_on_base() {
         .map(|(r, c)| r.force_n * c.normal[1] + r.force_s * c.normal[0])
         .sum();
     assert!((fy - 1500.0).abs() < 1e-6 * 1500.0, "{fy}");
-    assert!(rows.iter().all(|r| r.segment.is_some() && r.length.is_some_and(|l| l > 0.0)));
+    assert!(
+        rows.iter()
+            .all(|r| r.segment.is_some() && r.length.is_some_and(|l| l > 0.0))
+    );
     let node = plate_on_base(Coupling::Node);
     let node_last = common::solve(&node).pop().unwrap();
     let bonded = |states: &[PairState]| -> Vec<usize> {
@@ -58,7 +65,10 @@ fn contact_law_on_the_plate_on_base() {
     assert!(!seg.is_empty() && seg.len() < 29, "{seg:?}");
     let (s0, s1) = (seg[0], *seg.last().unwrap());
     let (n0, n1) = (nod[0], *nod.last().unwrap());
-    assert!(s0.abs_diff(n0) <= 1 && s1.abs_diff(n1) <= 1, "{seg:?} vs {nod:?}");
+    assert!(
+        s0.abs_diff(n0) <= 1 && s1.abs_diff(n1) <= 1,
+        "{seg:?} vs {nod:?}"
+    );
 }
 
 /// A misspelt coupling is an input error naming the accepted values.
@@ -69,6 +79,11 @@ fn unknown_coupling_is_an_error() {
     )
     .unwrap()
     .replace("[[interface]]", "[[interface]]\ncoupling = \"segments\"");
-    let e = Model::from_str(&text, Path::new("p.toml"), 1).unwrap_err().to_string();
-    assert!(e.contains("segments") && e.contains("segment") && e.contains("node"), "{e}");
+    let e = Model::from_str(&text, Path::new("p.toml"), 1)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("segments") && e.contains("segment") && e.contains("node"),
+        "{e}"
+    );
 }

@@ -271,7 +271,11 @@ pub fn nonmatching_patch(
     c: f64,
     perturb: Option<u64>,
 ) -> Result<(f64, f64, bool)> {
-    let sigma = if law == "contact" { SIGMA_PRESSED } else { SIGMA };
+    let sigma = if law == "contact" {
+        SIGMA_PRESSED
+    } else {
+        SIGMA
+    };
     let text = problem_with_elements(host_cells, node_cells, sigma, c, kinds).replace(
         "law = \"rigid\"",
         &format!("law = \"{law}\"\ncoupling = \"{coupling}\""),

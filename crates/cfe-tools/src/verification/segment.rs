@@ -21,7 +21,13 @@ pub fn patch_comparison(quick: bool) -> Result<Case> {
     let layouts: &[(usize, usize, Option<u64>)] = if quick {
         &[(2, 3, None), (3, 7, None), (3, 4, Some(7))]
     } else {
-        &[(2, 3, None), (3, 7, None), (3, 4, Some(7)), (4, 5, Some(2026)), (6, 14, None)]
+        &[
+            (2, 3, None),
+            (3, 7, None),
+            (3, 4, Some(7)),
+            (4, 5, Some(2026)),
+            (6, 14, None),
+        ]
     };
     let kinds = [
         ("T3", [ElementKind::T3; 2]),
@@ -40,7 +46,8 @@ pub fn patch_comparison(quick: bool) -> Result<Case> {
     for law in ["rigid", "contact"] {
         for (name, k) in kinds {
             for &(h, n, seed) in layouts {
-                let (node, _, node_bonded) = nonmatching_patch(h, n, k, "node", law, 1e6 * ET, seed)?;
+                let (node, _, node_bonded) =
+                    nonmatching_patch(h, n, k, "node", law, 1e6 * ET, seed)?;
                 let (seg, _, bonded) = nonmatching_patch(h, n, k, "segment", law, 1e6 * ET, seed)?;
                 worst_segment = worst_segment.max(seg);
                 best_node = best_node.min(node);
@@ -59,10 +66,16 @@ pub fn patch_comparison(quick: bool) -> Result<Case> {
             }
         }
     }
-    let factors: &[f64] = if quick { &[1e2, 1e6] } else { &[1e2, 1e3, 1e4, 1e5, 1e6, 1e7] };
+    let factors: &[f64] = if quick {
+        &[1e2, 1e6]
+    } else {
+        &[1e2, 1e3, 1e4, 1e5, 1e6, 1e7]
+    };
     let mut penalty = Table {
         caption: "Against the penalty (3:7, T3, rigid): largest element stress error / |σ|.".into(),
-        header: ["c / (E·t)", "node CFE", "segment"].map(String::from).to_vec(),
+        header: ["c / (E·t)", "node CFE", "segment"]
+            .map(String::from)
+            .to_vec(),
         rows: Vec::new(),
     };
     let mut segment_at_low_c = 0.0f64;
@@ -74,7 +87,9 @@ pub fn patch_comparison(quick: bool) -> Result<Case> {
         if f == 1e2 {
             segment_at_low_c = seg;
         }
-        penalty.rows.push(vec![format!("{f:.0e}"), sci(node), sci(seg)]);
+        penalty
+            .rows
+            .push(vec![format!("{f:.0e}"), sci(node), sci(seg)]);
     }
     Ok(Case {
         title: "Segment coupling: the patch test on non-matching faces".into(),
@@ -95,7 +110,11 @@ pub fn patch_comparison(quick: bool) -> Result<Case> {
 /// ∫ |u_h − u|² t dA and ∫ |u|² t dA over every part for displacements `u` (all
 /// DOFs) against `exact`: 6-point Dunavant on T3 (exact for u_h linear and u
 /// quadratic), 3 × 3 Gauss on Q4.
-pub fn displacement_error(a: &Analysis, u: &[f64], exact: impl Fn([f64; 2]) -> [f64; 2]) -> (f64, f64) {
+pub fn displacement_error(
+    a: &Analysis,
+    u: &[f64],
+    exact: impl Fn([f64; 2]) -> [f64; 2],
+) -> (f64, f64) {
     use cfe::fem::q4;
     let (mut err, mut norm) = (0.0, 0.0);
     for (p, part) in a.model.parts.iter().enumerate() {
@@ -148,7 +167,11 @@ pub fn displacement_error(a: &Analysis, u: &[f64], exact: impl Fn([f64; 2]) -> [
 /// κ[[u]]_a; a node pair's tributary length, half its two face segments) and the
 /// thickness, against `exact(x)`, the traction σ·n on the node part at the node,
 /// weighted by those lengths.
-pub fn traction_error(a: &Analysis, inc: &IncrementResult, exact: impl Fn([f64; 2]) -> [f64; 2]) -> f64 {
+pub fn traction_error(
+    a: &Analysis,
+    inc: &IncrementResult,
+    exact: impl Fn([f64; 2]) -> [f64; 2],
+) -> f64 {
     let iface = &a.interfaces[0];
     let mesh = &a.model.parts[iface.node_part].mesh;
     let t = a.model.parts[iface.node_part].material.thickness;
@@ -200,7 +223,10 @@ pub fn cantilever_run(k: usize, coupling: &str) -> Result<Errors> {
         false,
         [ElementKind::T3; 2],
     )
-    .replace("law = \"rigid\"", &format!("law = \"rigid\"\ncoupling = \"{coupling}\""));
+    .replace(
+        "law = \"rigid\"",
+        &format!("law = \"rigid\"\ncoupling = \"{coupling}\""),
+    );
     let a = prepare(&text)?;
     let inc = solve(&a)?.pop().expect("one increment");
     let (du, u) = displacement_error(&a, &inc.u, |x| cantilever::tg_displacement(x[0], x[1]));
@@ -226,8 +252,10 @@ pub fn cantilever_run(k: usize, coupling: &str) -> Result<Errors> {
 /// Lamé's quarter cylinder at level k on 2:3 faces (outer ring hosts with
 /// 2k × 4k cells, inner ring 3k × 6k, Q4), coupled by `coupling`.
 pub fn cylinder_run(k: usize, coupling: &str) -> Result<Errors> {
-    let text = curved::tied([2 * k, 4 * k], [3 * k, 6 * k], ElementKind::Q4)
-        .replace("law = \"rigid\"", &format!("law = \"rigid\"\ncoupling = \"{coupling}\""));
+    let text = curved::tied([2 * k, 4 * k], [3 * k, 6 * k], ElementKind::Q4).replace(
+        "law = \"rigid\"",
+        &format!("law = \"rigid\"\ncoupling = \"{coupling}\""),
+    );
     let a = prepare(&text)?;
     let inc = solve(&a)?.pop().expect("one increment");
     let (du, u) = displacement_error(&a, &inc.u, |x| {
@@ -323,14 +351,18 @@ fn study(
 /// non-matching faces, node CFE and segment coupling side by side.
 pub fn convergence(quick: bool) -> Result<Case> {
     // The segment traction is pre-asymptotic on the coarsest meshes (k ≤ 4).
-    let levels: &[usize] = if quick { &[4, 8, 16] } else { &[1, 2, 4, 8, 16, 32] };
+    let levels: &[usize] = if quick {
+        &[4, 8, 16]
+    } else {
+        &[1, 2, 4, 8, 16, 32]
+    };
     let (beam, beam_orders, beam_last) = study(
-        "(a) Tied cantilever (case 2's beam, exact end conditions), host [0, 50] with 10k × 2k cells, node part [50, 100] with 15k × 3k (2:3 through the depth: the faces share only their ends), T3, rigid law, default penalty: relative errors and observed orders.",
+        "(a) Tied cantilever (the beam of the tied-cantilever case, exact end conditions), host [0, 50] with 10k × 2k cells, node part [50, 100] with 15k × 3k (2:3 through the depth: the faces share only their ends), T3, rigid law, default penalty: relative errors and observed orders.",
         levels,
         cantilever_run,
     )?;
     let (ring, ring_orders, ring_last) = study(
-        "(b) Lamé's quarter cylinder (case 8's), outer ring hosting with 2k × 4k cells (radial × around), inner ring 3k × 6k (2:3 around the curved face), Q4, rigid law, default penalty: relative errors and observed orders.",
+        "(b) Lamé's quarter cylinder (that of the curved-interface case), outer ring hosting with 2k × 4k cells (radial × around), inner ring 3k × 6k (2:3 around the curved face), Q4, rigid law, default penalty: relative errors and observed orders.",
         levels,
         cylinder_run,
     )?;
@@ -339,7 +371,8 @@ pub fn convergence(quick: bool) -> Result<Case> {
     let optimal = |o: &[f64; 3]| o[0] > 1.7 && o[1] > 0.85;
     let segment_ok = optimal(&beam_orders[1]) && optimal(&ring_orders[1]);
     let traction_ok = beam_orders[1][2] > 0.4 && ring_orders[1][2] > 0.4;
-    let better = beam_last[1].traction < beam_last[0].traction && ring_last[1].traction < ring_last[0].traction;
+    let better = beam_last[1].traction < beam_last[0].traction
+        && ring_last[1].traction < ring_last[0].traction;
     Ok(Case {
         title: "Segment coupling: convergence on non-matching faces, side by side with the node CFE".into(),
         setup: "The tied cantilever (plane stress, Timoshenko–Goodier) and Lamé's thick cylinder (plane strain, curved interface, faces projected onto the host's chords), both on 2:3 non-matching faces, refined by doubling k; each solved with `coupling = \"node\"` and `coupling = \"segment\"`.".into(),

@@ -353,7 +353,11 @@ fn internal_force(
     ];
     let b = b_coefficients(shape, node_shape);
     let mut out = [0.0; MAX_DOFS];
-    for (p, o) in out.iter_mut().enumerate().take(2 * (shape.len() + node_shape.len())) {
+    for (p, o) in out
+        .iter_mut()
+        .enumerate()
+        .take(2 * (shape.len() + node_shape.len()))
+    {
         *o = b[p / 2] * g[p % 2];
     }
     (out, f)
@@ -534,8 +538,12 @@ mod tests {
             // Three node-side nodes whose weighted position is the host point.
             let m = [0.2, 0.5, 0.3];
             let off = [[-1.0, 0.5], [0.4, -0.2], [0.0, 0.0]];
-            let mut pts: Vec<[f64; 2]> = off.iter().map(|o| [position[0] + o[0], position[1] + o[1]]).collect();
-            let mean: [f64; 2] = std::array::from_fn(|c| (0..3).map(|b| m[b] * pts[b][c]).sum::<f64>());
+            let mut pts: Vec<[f64; 2]> = off
+                .iter()
+                .map(|o| [position[0] + o[0], position[1] + o[1]])
+                .collect();
+            let mean: [f64; 2] =
+                std::array::from_fn(|c| (0..3).map(|b| m[b] * pts[b][c]).sum::<f64>());
             pts[2] = [
                 pts[2][0] + (position[0] - mean[0]) / m[2],
                 pts[2][1] + (position[1] - mean[1]) / m[2],
@@ -561,10 +569,20 @@ mod tests {
             for d in [
                 (0..n).map(|i| (i % 2) as f64).collect::<Vec<f64>>(),
                 (0..n)
-                    .map(|i| if i % 2 == 0 { -all[i / 2][1] } else { all[i / 2][0] })
+                    .map(|i| {
+                        if i % 2 == 0 {
+                            -all[i / 2][1]
+                        } else {
+                            all[i / 2][0]
+                        }
+                    })
                     .collect(),
             ] {
-                assert!(c.jump(&d).iter().all(|v| v.abs() < 1e-12), "{:?}", c.jump(&d));
+                assert!(
+                    c.jump(&d).iter().all(|v| v.abs() < 1e-12),
+                    "{:?}",
+                    c.jump(&d)
+                );
                 let (f, _) = c.internal_force(1e9, 1e9, PairState::Bonded, &d);
                 assert!(f.iter().all(|v| v.abs() < 1e-3), "{f:?}");
             }

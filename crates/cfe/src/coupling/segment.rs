@@ -128,7 +128,10 @@ pub fn segment_elements(
             for (&i, &ni) in p.host_nodes.iter().zip(&p.host_shape) {
                 add(&mut e.host, i, wa * ni);
             }
-            e.normal = [e.normal[0] + wa * p.normal[0], e.normal[1] + wa * p.normal[1]];
+            e.normal = [
+                e.normal[0] + wa * p.normal[0],
+                e.normal[1] + wa * p.normal[1],
+            ];
             if wa > e.element.0 {
                 e.element = (wa, p.element);
             }
@@ -338,8 +341,18 @@ mod tests {
                 assert!((s.shape.iter().sum::<f64>() - 1.0).abs() < 1e-14);
                 assert!((c.shape.iter().sum::<f64>() - 1.0).abs() < 1e-14);
                 for k in 0..2 {
-                    let side: f64 = s.nodes.iter().zip(&s.shape).map(|(&b, m)| m * top.nodes[b][k]).sum();
-                    let hosted: f64 = c.host_nodes.iter().zip(&c.shape).map(|(&i, n)| n * host.nodes[i][k]).sum();
+                    let side: f64 = s
+                        .nodes
+                        .iter()
+                        .zip(&s.shape)
+                        .map(|(&b, m)| m * top.nodes[b][k])
+                        .sum();
+                    let hosted: f64 = c
+                        .host_nodes
+                        .iter()
+                        .zip(&c.shape)
+                        .map(|(&i, n)| n * host.nodes[i][k])
+                        .sum();
                     assert!((side - hosted).abs() < 1e-12, "{kind:?} {side} {hosted}");
                 }
                 assert!((c.normal[1] - 1.0).abs() < 1e-12 && c.distance < 1e-12);
@@ -362,6 +375,9 @@ mod tests {
         let e = segment_elements("lone", &host, &top, &nodes[..1], 1e-6)
             .unwrap_err()
             .to_string();
-        assert!(e.contains("lone") && e.contains("coupling = \"node\""), "{e}");
+        assert!(
+            e.contains("lone") && e.contains("coupling = \"node\""),
+            "{e}"
+        );
     }
 }
