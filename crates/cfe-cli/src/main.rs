@@ -66,6 +66,11 @@ enum Command {
         /// Only regenerate benchmarks.md and benchmarks.png from OUT/benchmarks.json.
         #[arg(long)]
         report_only: bool,
+        /// Instead, compare the cost of `coupling = "node"` and `"segment"` on the
+        /// problem refined K times (tied, one assembly and factorization each) and
+        /// print the table.
+        #[arg(long, value_name = "K")]
+        coupling_cost: Option<usize>,
     },
     /// Verification: run the cases against closed-form and conforming references and
     /// write verification.md with its pictures.
@@ -121,7 +126,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             max_unknowns,
             out,
             report_only,
+            coupling_cost,
         } => {
+            if let Some(k) = coupling_cost {
+                let rows = cfe_tools::bench::coupling_cost(&problem, k)?;
+                print!("{}", cfe_tools::bench::coupling_cost_table(&rows));
+                return Ok(());
+            }
             if report_only {
                 let path = out.join("benchmarks.json");
                 let text = std::fs::read_to_string(&path)

@@ -239,5 +239,14 @@ fn interface_dict<'py>(
     d.set_item("slip_s", PyArray1::from_vec(py, slip_s))?;
     d.set_item("force_n", PyArray1::from_vec(py, force_n))?;
     d.set_item("force_s", PyArray1::from_vec(py, force_s))?;
+    // Segment coupling: each pair is an integration point; its share of the face
+    // (0 for a node pair) turns its force into a traction.
+    d.set_item("coupling", iface.coupling.as_str())?;
+    let length: Vec<f64> = iface
+        .elements
+        .iter()
+        .map(|c| c.segment.as_ref().map_or(0.0, |s| s.length))
+        .collect();
+    d.set_item("segment_length", PyArray1::from_vec(py, length))?;
     Ok(d)
 }

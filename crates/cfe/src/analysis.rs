@@ -6,7 +6,9 @@
 //! `output::run`.
 
 use crate::assembly::{self, DofMap};
-use crate::coupling::{Interface, Law, PairState, PairStates, ViolationKind, search};
+use crate::coupling::{
+    Coupling, Interface, Law, PairState, PairStates, ViolationKind, search, segment,
+};
 use crate::domain::StartPattern;
 use crate::error::{Error, Result};
 use crate::fem::recovery::{self, PartStress};
@@ -97,7 +99,7 @@ impl Analysis {
             // The tolerance is a fraction of the host's edges as meshed in the
             // problem file: `--refine K` subdivides edges K times but leaves the gap
             // between two faces meshed apart (a Gmsh part keeps its polygons) as it is.
-            let (elements, unpaired) = search::find_pairs_within(
+            let (mut elements, unpaired) = search::find_pairs_within(
                 &def.name,
                 &host.mesh,
                 &node_part.mesh,
@@ -127,6 +129,17 @@ impl Analysis {
                     ),
                 })?;
             }
+            if def.coupling == Coupling::Segment {
+                // The nodes now lie on the host boundary: integrate over their
+                // face segments.
+                elements = segment::segment_elements(
+                    &def.name,
+                    &model.parts[def.host].mesh,
+                    &model.parts[def.node_part].mesh,
+                    &def.nodes,
+                    def.tolerance * model.refine as f64,
+                )?;
+            }
             interfaces.push(Interface {
                 name: def.name.clone(),
                 host: def.host,
@@ -140,6 +153,7 @@ impl Analysis {
                 enforcement: def.enforcement,
                 penetration_tolerance: def.penetration_tolerance,
                 unpaired,
+                coupling: def.coupling,
             });
         }
         let dofs = DofMap::new(&model.parts, &model.supports);
@@ -164,17 +178,6 @@ impl Analysis {
         for iface in &mut self.interfaces {
             iface.law = law;
         }
-    }
-
-    /// Whether an interface uses a law or key beyond the seed's (`frictionless`,
-    /// `coulomb`, `search_distance`, augmented enforcement): then `pairs.csv` has
-    /// the contact columns (gap0, gap, slip, pressure, shear, tributary).
-    pub fn contact_extensions(&self) -> bool {
-        self.model.interfaces.iter().any(|d| {
-            matches!(d.law, Law::Frictionless | Law::Coulomb)
-                || d.search_distance > 0.0
-                || d.enforcement == crate::coupling::Enforcement::Augmented
-        })
     }
 
     /// A human-readable description of the prepared model (for `cfe check`).
@@ -208,6 +211,9 @@ impl Analysis {
                 i.c_s,
                 i.max_projection_distance
             );
+            if i.coupling == Coupling::Segment {
+                s += "    segment coupling: each pair is a Gauss point of the node part's face\n";
+            }
         }
         for sup in &self.model.supports {
             s += &format!(
@@ -506,6 +512,13 @@ impl Analysis {
                     pressure: traction(-f[0] + 0.0),
                     shear: traction(-f[1] + 0.0),
                     tributary: c.tributary,
+                    segment: c.segment.as_ref().map(|s| {
+                        s.nodes
+                            .iter()
+                            .map(|n| n.to_string())
+                            .collect::<Vec<_>>()
+                            .join("-")
+                    }),
                 });
             }
         }

@@ -3,7 +3,7 @@
 //! schema ([`crate::model`]) translates into these types; the element routines, the
 //! coupling, the assembly and the solver take only these, never the input types.
 
-use crate::coupling::{Enforcement, Law};
+use crate::coupling::{Coupling, Enforcement, Law};
 use crate::fem::Material;
 use crate::mesh::Mesh;
 use serde::Deserialize;
@@ -121,6 +121,9 @@ pub struct InterfaceDef {
     pub enforcement: Enforcement,
     /// Augmented Lagrangian: largest penetration accepted (length).
     pub penetration_tolerance: f64,
+    /// `node` (one CFE per coupling node) or `segment` (one per Gauss point of the
+    /// face segments).
+    pub coupling: Coupling,
 }
 
 /// A Dirichlet condition on a set of nodes of one part.

@@ -4,7 +4,7 @@
 //!
 //! The problem-file reference is in README.md; `examples/` holds complete files.
 
-use crate::coupling::{Enforcement, Law};
+use crate::coupling::{Coupling, Enforcement, Law};
 pub use crate::domain::{InterfaceDef, Load, Part, Scheme, Settings, Support};
 use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, loads};
@@ -225,6 +225,8 @@ struct InterfaceSpec {
     #[serde(default)]
     enforcement: Enforcement,
     penetration_tolerance: Option<f64>,
+    #[serde(default)]
+    coupling: Coupling,
 }
 
 /// The diagonal of the bounding box of the nodes of `meshes`.
@@ -870,6 +872,14 @@ impl Builder<'_> {
                 ),
             ));
         }
+        if search_distance > 0.0 && spec.coupling == Coupling::Segment {
+            return Err(self.err(
+                &spec.host,
+                format!(
+                    "interface '{name}': `search_distance` works with the node coupling only; the segment coupling integrates over faces that touch (remove `coupling = \"segment\"` or `search_distance`)"
+                ),
+            ));
+        }
         let penetration_tolerance = match spec.penetration_tolerance {
             Some(t) if t.is_finite() && t > 0.0 => t,
             Some(t) => {
@@ -908,6 +918,7 @@ impl Builder<'_> {
             search_distance,
             enforcement: spec.enforcement,
             penetration_tolerance,
+            coupling: spec.coupling,
         })
     }
 

@@ -11,6 +11,7 @@ pub mod patch;
 pub mod punch;
 pub mod quads;
 pub mod seed;
+pub mod segment;
 
 use cfe::analysis::Analysis;
 use cfe::analysis::Start;
@@ -126,7 +127,7 @@ pub fn displacement_at(
 pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>> {
     let mut cases = Vec::new();
     type CaseFn = fn(bool) -> Result<Case>;
-    let all: [(&str, CaseFn); 10] = [
+    let all: [(&str, CaseFn); 12] = [
         ("patch tests", patch::constant_stress),
         ("contact patch test", patch::contact_patch),
         ("tied cantilever", cantilever::convergence),
@@ -137,6 +138,8 @@ pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>>
         ("curved interface", curved::lame_cylinder),
         ("Q4 and mixed meshes", quads::q4_and_mixed),
         ("contact iteration", contact::contact_iteration),
+        ("segment patch test", segment::patch_comparison),
+        ("segment convergence", segment::convergence),
     ];
     for (name, f) in all {
         progress(name);

@@ -110,11 +110,17 @@ pub fn stress_errors(host_cells: usize, node_cells: usize, c: f64) -> Result<(f6
 
 /// (largest, RMS) element stress error of a solved patch test, relative to |σ|.
 fn errors_of(a: &cfe::analysis::Analysis, u: &[f64]) -> (f64, f64) {
-    let norm = SIGMA.iter().map(|v| v * v).sum::<f64>().sqrt();
+    errors_against(a, u, SIGMA)
+}
+
+/// (largest, RMS) element stress error of a solved patch test against the constant
+/// stress `sigma`, relative to |σ|.
+fn errors_against(a: &cfe::analysis::Analysis, u: &[f64], sigma: [f64; 3]) -> (f64, f64) {
+    let norm = sigma.iter().map(|v| v * v).sum::<f64>().sqrt();
     let (mut max, mut sq, mut area) = (0.0f64, 0.0, 0.0);
     for (part, st) in a.model.parts.iter().zip(a.recover(u)) {
         for (e, s) in st.element.iter().enumerate() {
-            let d = [0, 1, 2].map(|k| s[k] - SIGMA[k]);
+            let d = [0, 1, 2].map(|k| s[k] - sigma[k]);
             max = max.max(d.iter().fold(0.0f64, |m, v| m.max(v.abs())) / norm);
             let ae = part.mesh.element_area(e);
             sq += ae * d.iter().map(|v| v * v).sum::<f64>();
@@ -243,6 +249,56 @@ pub fn constant_stress(quick: bool) -> Result<Case> {
         ),
         passed,
     })
+}
+
+/// The constant stress of the contact patch tests: compression across the
+/// interface (σyy < 0) with tension along it and shear, so every pair stays bonded.
+pub const SIGMA_PRESSED: [f64; 3] = [1.0, -2.0, 0.5];
+
+/// One non-matching patch test: host `host_cells`² and node part `node_cells`²
+/// cells of `kinds` (`[host, node]`), tied by `coupling` (`node` or `segment`) with
+/// `law` (`rigid` under [`SIGMA`], `contact` under [`SIGMA_PRESSED`]) and penalty
+/// `c`; with `perturb = Some(seed)`, the interior nodes of both faces along the
+/// interface are moved along it by up to ±30 % of their cell (seeded, so no two
+/// face nodes are aligned). Returns the largest and RMS element stress errors
+/// relative to |σ| and whether every pair ended bonded.
+pub fn nonmatching_patch(
+    host_cells: usize,
+    node_cells: usize,
+    kinds: [ElementKind; 2],
+    coupling: &str,
+    law: &str,
+    c: f64,
+    perturb: Option<u64>,
+) -> Result<(f64, f64, bool)> {
+    let sigma = if law == "contact" {
+        SIGMA_PRESSED
+    } else {
+        SIGMA
+    };
+    let text = problem_with_elements(host_cells, node_cells, sigma, c, kinds).replace(
+        "law = \"rigid\"",
+        &format!("law = \"{law}\"\ncoupling = \"{coupling}\""),
+    );
+    let mut model = cfe::model::Model::from_str(&text, std::path::Path::new("patch.toml"), 1)?;
+    if let Some(mut seed) = perturb {
+        for (part, cells) in model.parts.iter_mut().zip([host_cells, node_cells]) {
+            for x in part.mesh.nodes.iter_mut() {
+                if (x[1] - 1.0).abs() < 1e-12 && x[0] > 1e-12 && x[0] < 1.0 - 1e-12 {
+                    seed = seed
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    let r = (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                    x[0] += 0.6 * r / cells as f64;
+                }
+            }
+        }
+    }
+    let a = cfe::analysis::Analysis::new(model)?;
+    let inc = solve(&a)?.pop().expect("one increment");
+    let (max, rms) = errors_against(&a, &inc.u, sigma);
+    let bonded = inc.states.iter().flatten().all(|&s| s == PairState::Bonded);
+    Ok((max, rms, bonded))
 }
 
 /// Case 1c: two blocks pressed together uniformly: bonded everywhere, uniform pressure.

@@ -13,12 +13,23 @@
 //!
 //! Element DOFs are ordered `[u₁ v₁ … uₙ vₙ u_c v_c]`: host nodes, then the coupling
 //! node.
+//!
+//! The same element serves the segment coupling (`coupling = "segment"`, built in
+//! [`super::segment`]): there the jump of coupling node a is the gap integrated
+//! over its face segments, `[[U]]_a = Σ_b M̂_ab D_b − Σ_i N̂_ai D_i` (node-part nodes
+//! b: a and its face neighbours; host nodes i of every host element under a's
+//! segments), so `B_e = [−N̂_a1 I … −N̂_an I  M̂_a1 I … M̂_am I]` with both coefficient
+//! rows summing to 1, and the penalties are scaled by the node's weight ω
+//! (`c = ω diag(c_n, c_s)`); the node CFE is the case of one node-side node with
+//! coefficient 1 and ω = 1.
 
 use super::law::{LawParams, PairHistory, PairState, local_force};
 use crate::dofs::DofMap;
 
-/// Most nodes a CFE has: a Q4 host's 4 plus the coupling node.
-pub const MAX_NODES: usize = 5;
+/// Most nodes a CFE has. The node CFE has a host element's 3 or 4 plus the coupling
+/// node; a segment-coupling element has up to 3 node-part nodes and the host nodes
+/// of the host elements under them (up to 9: three Q4 or T3 hosts).
+pub const MAX_NODES: usize = 12;
 /// Most DOFs a CFE has.
 pub const MAX_DOFS: usize = 2 * MAX_NODES;
 
@@ -44,7 +55,8 @@ pub struct CouplingElement {
     pub position: [f64; 2],
     /// Distance from the coupling node, as meshed, to the host edge it was
     /// projected on (how far it was moved, unless it was paired within a search
-    /// distance: then it stays and the distance is its gap's magnitude).
+    /// distance: then it stays and the distance is its gap's magnitude); for a
+    /// segment coupling, the distance from the node to its projection on the host edge.
     pub distance: f64,
     /// Initial normal gap g₀ (length, along `normal`: positive apart, negative
     /// overlapping), for a pair found within a search distance; 0 for a node moved
@@ -52,22 +64,67 @@ pub struct CouplingElement {
     pub gap0: f64,
     /// Tributary length of the coupling node on the node part's face: half the sum
     /// of the lengths of the node part's boundary edges at the node whose both ends
-    /// couple in the same interface. Force / tributary length = traction.
+    /// couple in the same interface (for the segment coupling, m_a). Force /
+    /// tributary length = traction.
     pub tributary: f64,
     /// Length of the host edge the node was projected on (the scale of the
     /// geometrically linear limit: slip small against it).
     pub edge_length: f64,
+    /// `None` for the node CFE; for the segment coupling, the node side of the
+    /// coupling node's integrated gap (then `host_nodes` and `shape` are the host
+    /// nodes under its face segments and their coefficients N̂_ai).
+    pub segment: Option<SegmentSide>,
+}
+
+/// The node side of a segment-coupling element of coupling node a (see
+/// [`super::segment`]): `[[U]]_a = Σ_b M̂_ab D_b − Σ_i N̂_ai D_i` with
+/// `M̂_ab = ∫ N_a N_b ds / m_a`, `N̂_ai = ∫ N_a N̄_i ds / m_a`, `m_a = ∫ N_a ds`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SegmentSide {
+    /// The node-part nodes b: a and its neighbours along the face (indices in the
+    /// node part's mesh), in the order of the element's DOFs.
+    pub nodes: Vec<usize>,
+    /// Their coefficients M̂_ab (they sum to 1).
+    pub shape: Vec<f64>,
+    /// The node's share of the face lying over the host, m_a = ∫ N_a ds.
+    pub length: f64,
+    /// The penalty weight ω = m_a / h̄ (h̄ the mean face-segment length of the
+    /// interface): the element's stiffness is ω c_n, ω c_s.
+    pub weight: f64,
 }
 
 impl CouplingElement {
-    /// Number of DOFs of the CFE: 2 × (host nodes + 1).
+    /// Number of DOFs of the CFE: 2 × (host nodes + node-side nodes).
     pub fn n_dofs(&self) -> usize {
-        2 * (self.host_nodes.len() + 1)
+        2 * (self.host_nodes.len() + self.node_shape().len())
+    }
+
+    /// The node side's nodes (in the node part): the coupling node, or for the
+    /// segment coupling the node and its face neighbours.
+    pub fn node_side(&self) -> &[usize] {
+        match &self.segment {
+            None => std::slice::from_ref(&self.node),
+            Some(s) => &s.nodes,
+        }
+    }
+
+    /// The node side's coefficients: `[1]` for the node CFE, M̂_ab for the segment
+    /// coupling.
+    pub fn node_shape(&self) -> &[f64] {
+        match &self.segment {
+            None => &[1.0],
+            Some(s) => &s.shape,
+        }
+    }
+
+    /// The penalty weight ω: 1 for the node CFE, m_a / h̄ for the segment coupling.
+    pub fn weight(&self) -> f64 {
+        self.segment.as_ref().map_or(1.0, |s| s.weight)
     }
 
     /// The global nodes of the CFE in its local order: the host element's nodes
-    /// (in part `host`), then the coupling node (in part `node_part`); the first
-    /// `n + 1` entries are used.
+    /// (in part `host`), then the node side's (in part `node_part`); the first
+    /// `n + m` entries are used (m = 1 node, or 2 for a segment point).
     pub fn global_nodes(
         &self,
         dofs: &DofMap,
@@ -79,8 +136,11 @@ impl CouplingElement {
         for (gi, &h) in g.iter_mut().zip(&self.host_nodes) {
             *gi = dofs.node(host, h);
         }
-        g[n] = dofs.node(node_part, self.node);
-        (g, n + 1)
+        let side = self.node_side();
+        for (gi, &j) in g[n..].iter_mut().zip(side) {
+            *gi = dofs.node(node_part, j);
+        }
+        (g, n + side.len())
     }
 
     /// The global DOFs of the CFE, `[u₁ v₁ … uₙ vₙ u_c v_c]` (host nodes in part
@@ -98,7 +158,7 @@ impl CouplingElement {
     /// The global jump `[[U]] = D_c − Σ N̄ᵢ Dᵢ` for element displacements `d`
     /// (as [gathered](CfeDofs::gather); entries past [`n_dofs`](Self::n_dofs) are ignored).
     pub fn jump(&self, d: &[f64]) -> [f64; 2] {
-        jump(&self.shape, &d[..self.n_dofs()])
+        jump(&self.shape, self.node_shape(), &d[..self.n_dofs()])
     }
 
     /// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_s]])` for element displacements `d`.
@@ -123,17 +183,28 @@ impl CouplingElement {
 
     /// The stiffness `K_e = B_eᵀ (1 − D̂) C B_e`, `C = Rᵀ c R`, for penalties
     /// `c_n`, `c_s` and the pair's `state` (zero when open).
+    /// For a segment point the penalties are scaled by its weight ω.
     pub fn stiffness(&self, c_n: f64, c_s: f64, state: PairState) -> CfeStiffness {
-        stiffness(&self.shape, self.normal, c_n, c_s, state)
+        let w = self.weight();
+        stiffness(
+            &self.shape,
+            self.node_shape(),
+            self.normal,
+            w * c_n,
+            w * c_s,
+            state,
+        )
     }
 
     /// The bonded stiffness in rank-2 form, `K_e = Σ_k c_k w_k w_kᵀ` (k = n, s), with
     /// `w_k = (R_k B_e)ᵀ`, i.e. `w_k[2a + i] = b_a R_k[i]`: the pairs `(c_k, w_k)`,
     /// from the same `b` and `R` as [`stiffness`](Self::stiffness). Bonding a pair
-    /// adds these terms to K, opening it removes them (the low-rank update).
+    /// adds these terms to K, opening it removes them (the low-rank update). For a
+    /// segment point `c_k` includes its weight ω.
     pub fn stiffness_terms(&self, c_n: f64, c_s: f64) -> [(f64, [f64; MAX_DOFS]); 2] {
         let r = rotation(self.normal);
-        let b = b_coefficients(&self.shape);
+        let b = b_coefficients(&self.shape, self.node_shape());
+        let wt = self.weight();
         let w = |k: usize| -> [f64; MAX_DOFS] {
             let mut w = [0.0; MAX_DOFS];
             for (p, x) in w.iter_mut().enumerate().take(self.n_dofs()) {
@@ -141,12 +212,13 @@ impl CouplingElement {
             }
             w
         };
-        [(c_n, w(0)), (c_s, w(1))]
+        [(wt * c_n, w(0)), (wt * c_s, w(1))]
     }
 
     /// The internal force `F_e = B_eᵀ Rᵀ f`, `f = (1 − D̂) c [[u]]`, for element
     /// displacements `d`, and the local force `f` (the force the host side exerts on
-    /// the pair, in (n, s)).
+    /// the pair, in (n, s)). For a segment point the penalties are scaled by its
+    /// weight ω, so `f` is the point's force.
     pub fn internal_force(
         &self,
         c_n: f64,
@@ -154,11 +226,13 @@ impl CouplingElement {
         state: PairState,
         d: &[f64],
     ) -> ([f64; MAX_DOFS], [f64; 2]) {
+        let w = self.weight();
         internal_force(
             &self.shape,
+            self.node_shape(),
             self.normal,
-            c_n,
-            c_s,
+            w * c_n,
+            w * c_s,
             state,
             &d[..self.n_dofs()],
         )
@@ -169,7 +243,8 @@ impl CouplingElement {
     /// The internal force `F_e = B_eᵀ Rᵀ f` and the local force `f` under the law
     /// `law` in `state` with history `h`: `f` from [`LawParams::local_force`] with
     /// the normal gap g₀ + [[u_n]] (so it includes the initial-gap, slip-history,
-    /// slip-force and multiplier terms), for element displacements `d`.
+    /// slip-force and multiplier terms), for element displacements `d`. For a
+    /// segment point the penalties are scaled by its weight ω ([`Self::params`]).
     pub fn law_force(
         &self,
         law: &LawParams,
@@ -178,8 +253,23 @@ impl CouplingElement {
         d: &[f64],
     ) -> ([f64; MAX_DOFS], [f64; 2]) {
         let u = self.local_jump(d);
-        let f = law.local_force(state, self.gap(u), u[1], h);
-        (nodal_force(&self.shape, self.normal, f), f)
+        let f = self.params(law).local_force(state, self.gap(u), u[1], h);
+        (nodal_force(&self.shape, self.node_shape(), self.normal, f), f)
+    }
+
+    /// The interface's law with this element's penalties: `c_n`, `c_s` scaled by its
+    /// weight ω (1 for the node CFE, so the parameters are returned unchanged).
+    pub fn params(&self, law: &LawParams) -> LawParams {
+        let w = self.weight();
+        if w == 1.0 {
+            *law
+        } else {
+            LawParams {
+                c_n: w * law.c_n,
+                c_s: w * law.c_s,
+                ..*law
+            }
+        }
     }
 }
 
@@ -214,11 +304,21 @@ fn rotation(n: [f64; 2]) -> [[f64; 2]; 2] {
 }
 
 /// The global jump `[[U]] = D_c − Σ N̄ᵢ Dᵢ` for element displacements `d`
-/// (2 (n + 1) values: host nodes, then the coupling node).
-fn jump(shape: &[f64], d: &[f64]) -> [f64; 2] {
+/// (2 (n + m) values: host nodes, then the node side's m nodes), with
+/// `D_c = Σ_j N_j D_j` over the node side (`node_shape`; `[1]` for a coupling node).
+fn jump(shape: &[f64], node_shape: &[f64], d: &[f64]) -> [f64; 2] {
     let n = shape.len();
-    debug_assert_eq!(d.len(), 2 * (n + 1));
-    std::array::from_fn(|c| d[2 * n + c] - (0..n).map(|i| shape[i] * d[2 * i + c]).sum::<f64>())
+    debug_assert_eq!(d.len(), 2 * (n + node_shape.len()));
+    std::array::from_fn(|c| {
+        let node = node_shape
+            .iter()
+            .enumerate()
+            .skip(1)
+            .fold(node_shape[0] * d[2 * n + c], |acc, (j, nj)| {
+                acc + nj * d[2 * (n + j) + c]
+            });
+        node - (0..n).map(|i| shape[i] * d[2 * i + c]).sum::<f64>()
+    })
 }
 
 /// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_s]])`.
@@ -230,14 +330,15 @@ fn local_jump(normal: [f64; 2], jump: [f64; 2]) -> [f64; 2] {
     ]
 }
 
-/// The coefficients `b` of `B_e` per node, `B_e = [b₁I … b_{n+1}I]` with
-/// `b = (−N̄₁, …, −N̄ₙ, 1)`; entries past n + 1 are zero.
-fn b_coefficients(shape: &[f64]) -> [f64; MAX_NODES] {
+/// The coefficients `b` of `B_e` per node, `B_e = [b₁I … b_{n+m}I]` with
+/// `b = (−N̄₁, …, −N̄ₙ, N₁, …, N_m)` (the node side's `node_shape`: `[1]` for a
+/// coupling node); entries past n + m are zero.
+fn b_coefficients(shape: &[f64], node_shape: &[f64]) -> [f64; MAX_NODES] {
     let mut b = [0.0; MAX_NODES];
     for (bi, s) in b.iter_mut().zip(shape) {
         *bi = -s;
     }
-    b[shape.len()] = 1.0;
+    b[shape.len()..shape.len() + node_shape.len()].copy_from_slice(node_shape);
     b
 }
 
@@ -273,6 +374,7 @@ impl CfeStiffness {
 /// semidefinite; zero for an open pair).
 fn stiffness(
     shape: &[f64],
+    node_shape: &[f64],
     normal: [f64; 2],
     c_n: f64,
     c_s: f64,
@@ -281,11 +383,11 @@ fn stiffness(
     let r = rotation(normal);
     let k = 1.0 - state.d_hat();
     CfeStiffness {
-        b: b_coefficients(shape),
+        b: b_coefficients(shape, node_shape),
         c: std::array::from_fn(|i| {
             std::array::from_fn(|j| k * (c_n * r[0][i] * r[0][j] + c_s * r[1][i] * r[1][j]))
         }),
-        dofs: 2 * (shape.len() + 1),
+        dofs: 2 * (shape.len() + node_shape.len()),
     }
 }
 
@@ -295,28 +397,33 @@ fn stiffness(
 /// in (n, s)).
 fn internal_force(
     shape: &[f64],
+    node_shape: &[f64],
     normal: [f64; 2],
     c_n: f64,
     c_s: f64,
     state: PairState,
     d: &[f64],
 ) -> ([f64; MAX_DOFS], [f64; 2]) {
-    let u = local_jump(normal, jump(shape, d));
+    let u = local_jump(normal, jump(shape, node_shape, d));
     let f = local_force(state, c_n, c_s, u);
-    (nodal_force(shape, normal, f), f)
+    (nodal_force(shape, node_shape, normal, f), f)
 }
 
-/// `F_e = B_eᵀ Rᵀ f` for the local force `f` (the first 2 (n + 1) entries are the
+/// `F_e = B_eᵀ Rᵀ f` for the local force `f` (the first 2 (n + m) entries are the
 /// element's).
-fn nodal_force(shape: &[f64], normal: [f64; 2], f: [f64; 2]) -> [f64; MAX_DOFS] {
+fn nodal_force(shape: &[f64], node_shape: &[f64], normal: [f64; 2], f: [f64; 2]) -> [f64; MAX_DOFS] {
     let r = rotation(normal);
     let g = [
         r[0][0] * f[0] + r[1][0] * f[1],
         r[0][1] * f[0] + r[1][1] * f[1],
     ];
-    let b = b_coefficients(shape);
+    let b = b_coefficients(shape, node_shape);
     let mut out = [0.0; MAX_DOFS];
-    for (p, o) in out.iter_mut().enumerate().take(2 * (shape.len() + 1)) {
+    for (p, o) in out
+        .iter_mut()
+        .enumerate()
+        .take(2 * (shape.len() + node_shape.len()))
+    {
         *o = b[p / 2] * g[p % 2];
     }
     out
@@ -372,7 +479,7 @@ mod tests {
     #[test]
     fn stiffness_symmetric_psd() {
         for (_, shape, _) in hosts() {
-            let ks = stiffness(&shape, normal(), 1e9, 5e8, PairState::Bonded);
+            let ks = stiffness(&shape, &[1.0], normal(), 1e9, 5e8, PairState::Bonded);
             assert_eq!(ks.dofs, 2 * (shape.len() + 1));
             let k = dense(&ks);
             for (i, row) in k.iter().enumerate() {
@@ -395,7 +502,7 @@ mod tests {
                     .sum();
                 assert!(e >= -1e-6);
             }
-            let open = stiffness(&shape, normal(), 1e9, 5e8, PairState::Open);
+            let open = stiffness(&shape, &[1.0], normal(), 1e9, 5e8, PairState::Open);
             assert!(dense(&open).iter().flatten().all(|&v| v == 0.0));
         }
     }
@@ -408,7 +515,7 @@ mod tests {
         for (x, shape, xc) in hosts() {
             let pts: Vec<[f64; 2]> = x.iter().copied().chain([xc]).collect();
             let m = 2 * pts.len();
-            let k = stiffness(&shape, normal(), 1e9, 1e9, PairState::Bonded);
+            let k = stiffness(&shape, &[1.0], normal(), 1e9, 1e9, PairState::Bonded);
             let modes: [Vec<f64>; 3] = [
                 (0..m).map(|i| if i % 2 == 0 { 1.0 } else { 0.0 }).collect(),
                 (0..m).map(|i| if i % 2 == 1 { 1.0 } else { 0.0 }).collect(),
@@ -423,7 +530,7 @@ mod tests {
                     .collect(),
             ];
             for d in modes {
-                assert!(jump(&shape, &d).iter().all(|v| v.abs() < 1e-12));
+                assert!(jump(&shape, &[1.0], &d).iter().all(|v| v.abs() < 1e-12));
                 let kd = k.mul(&d);
                 assert!(kd.iter().all(|v| v.abs() < 1e-9 * 1e9), "{kd:?}");
             }
@@ -437,8 +544,8 @@ mod tests {
         for (_, shape, _) in hosts() {
             let m = 2 * (shape.len() + 1);
             let d: Vec<f64> = (0..m).map(|i| ((i * 7) % 5) as f64 * 0.1 - 0.2).collect();
-            let k = stiffness(&shape, normal(), 2.0, 3.0, PairState::Bonded);
-            let (f, _) = internal_force(&shape, normal(), 2.0, 3.0, PairState::Bonded, &d);
+            let k = stiffness(&shape, &[1.0], normal(), 2.0, 3.0, PairState::Bonded);
+            let (f, _) = internal_force(&shape, &[1.0], normal(), 2.0, 3.0, PairState::Bonded, &d);
             let kd = k.mul(&d);
             for i in 0..m {
                 assert!((kd[i] - f[i]).abs() < 1e-12);
@@ -477,6 +584,7 @@ mod tests {
                 gap0: 0.0,
                 tributary: 1.0,
                 edge_length: 1.0,
+                segment: None,
             };
             let k = c.stiffness(1e9, 5e8, PairState::Bonded);
             let terms = c.stiffness_terms(1e9, 5e8);
@@ -484,6 +592,91 @@ mod tests {
                 for q in 0..c.n_dofs() {
                     let sum: f64 = terms.iter().map(|(ck, w)| ck * w[p] * w[q]).sum();
                     assert!((sum - k.get(p, q)).abs() <= 1e-6, "({p}, {q})");
+                }
+            }
+        }
+    }
+
+    /// A segment-coupling element (node side: three nodes with coefficients
+    /// M̂, weight ω): a rigid translation and rotation of host and node part together
+    /// gives no jump and no force when Σ M̂_b X_b = Σ N̂_i X_i; its stiffness is ω ×
+    /// the unit-weight one, equals its rank-2 form, and K_e d = F_e.
+    #[test]
+    fn segment_side_element() {
+        for (x, shape, position) in hosts() {
+            // Three node-side nodes whose weighted position is the host point.
+            let m = [0.2, 0.5, 0.3];
+            let off = [[-1.0, 0.5], [0.4, -0.2], [0.0, 0.0]];
+            let mut pts: Vec<[f64; 2]> = off
+                .iter()
+                .map(|o| [position[0] + o[0], position[1] + o[1]])
+                .collect();
+            let mean: [f64; 2] =
+                std::array::from_fn(|c| (0..3).map(|b| m[b] * pts[b][c]).sum::<f64>());
+            pts[2] = [
+                pts[2][0] + (position[0] - mean[0]) / m[2],
+                pts[2][1] + (position[1] - mean[1]) / m[2],
+            ];
+            let mut c = CouplingElement {
+                node: 11,
+                host_element: 0,
+                host_nodes: (0..x.len()).collect(),
+                shape: shape.clone(),
+                normal: normal(),
+                position,
+                distance: 0.0,
+                gap0: 0.0,
+                tributary: 0.5,
+                edge_length: 1.0,
+                segment: Some(SegmentSide {
+                    nodes: vec![10, 11, 12],
+                    shape: m.to_vec(),
+                    length: 0.5,
+                    weight: 0.25,
+                }),
+            };
+            assert_eq!(c.n_dofs(), 2 * (x.len() + 3));
+            let all: Vec<[f64; 2]> = x.iter().copied().chain(pts).collect();
+            let n = 2 * all.len();
+            for d in [
+                (0..n).map(|i| (i % 2) as f64).collect::<Vec<f64>>(),
+                (0..n)
+                    .map(|i| {
+                        if i % 2 == 0 {
+                            -all[i / 2][1]
+                        } else {
+                            all[i / 2][0]
+                        }
+                    })
+                    .collect(),
+            ] {
+                assert!(
+                    c.jump(&d).iter().all(|v| v.abs() < 1e-12),
+                    "{:?}",
+                    c.jump(&d)
+                );
+                let (f, _) = c.internal_force(1e9, 1e9, PairState::Bonded, &d);
+                assert!(f.iter().all(|v| v.abs() < 1e-3), "{f:?}");
+            }
+            let k = c.stiffness(2.0, 3.0, PairState::Bonded);
+            let terms = c.stiffness_terms(2.0, 3.0);
+            let d: Vec<f64> = (0..n).map(|i| ((i * 7) % 5) as f64 * 0.1 - 0.2).collect();
+            let (f, _) = c.internal_force(2.0, 3.0, PairState::Bonded, &d);
+            let kd = k.mul(&d);
+            for p in 0..n {
+                assert!((kd[p] - f[p]).abs() < 1e-12);
+                for q in 0..n {
+                    let sum: f64 = terms.iter().map(|(ck, w)| ck * w[p] * w[q]).sum();
+                    assert!((sum - k.get(p, q)).abs() <= 1e-12, "({p}, {q})");
+                }
+            }
+            let unit = {
+                c.segment.as_mut().unwrap().weight = 1.0;
+                c.stiffness(2.0, 3.0, PairState::Bonded)
+            };
+            for p in 0..n {
+                for q in 0..n {
+                    assert!((k.get(p, q) - 0.25 * unit.get(p, q)).abs() < 1e-14);
                 }
             }
         }

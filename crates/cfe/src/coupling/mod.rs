@@ -6,8 +6,9 @@
 pub mod element;
 pub mod law;
 pub(crate) mod search;
+pub mod segment;
 
-pub use element::CouplingElement;
+pub use element::{CouplingElement, SegmentSide};
 pub use law::{
     Enforcement, Law, LawParams, LawTolerance, LawViolation, PairHistories, PairHistory, PairState,
     PairStates, ViolationKind,
@@ -43,6 +44,9 @@ pub struct Interface {
     /// Coupling nodes of the boundary left unpaired because no host boundary edge
     /// lies within the search distance (0 without a search distance).
     pub unpaired: usize,
+    /// How the coupling elements are built: one per coupling node, or one per
+    /// integration point of the face segments.
+    pub coupling: Coupling,
 }
 
 impl Interface {
@@ -63,5 +67,28 @@ impl Interface {
         self.law == Law::Coulomb
             || self.enforcement == Enforcement::Augmented
             || self.elements.iter().any(|c| c.gap0 != 0.0)
+    }
+}
+
+/// The coupling formulation of an interface (`coupling` in the problem file).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Coupling {
+    /// One CFE per coupling node, collocated at the node (the seed's, default).
+    #[default]
+    Node,
+    /// Segment-to-segment: one CFE per Gauss point of the node part's face
+    /// segments cut at the host's vertices ([`segment`]); passes the patch test on
+    /// non-matching meshes.
+    Segment,
+}
+
+impl Coupling {
+    /// Lower-case name as in the problem file (`node`, `segment`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Coupling::Node => "node",
+            Coupling::Segment => "segment",
+        }
     }
 }

@@ -172,6 +172,7 @@ pub fn find_pairs_within(
             gap0,
             tributary: tributary.get(&node).copied().unwrap_or(0.0),
             edge_length: dist(a, b),
+            segment: None,
         });
     }
     if !orphans.is_empty() {

@@ -62,10 +62,14 @@ pub struct PairRow {
     /// Tributary length of the coupling node on the node part's face.
     #[serde(serialize_with = "sci")]
     pub tributary: f64,
+    /// For the segment coupling, the node-part nodes whose displacements enter the
+    /// pair's integrated gap, as `a-b-c` (the coupling node and its face
+    /// neighbours); empty for a node pair.
+    pub segment: Option<String>,
 }
 
 /// The columns of `pairs.csv` (the serialized fields of [`PairRow`]).
-pub const PAIR_COLUMNS: [&str; 13] = [
+pub const PAIR_COLUMNS: [&str; 20] = [
     "interface",
     "node",
     "x",
@@ -79,48 +83,25 @@ pub const PAIR_COLUMNS: [&str; 13] = [
     "settled",
     "violation",
     "violation_amount",
+    "gap0",
+    "gap",
+    "slip",
+    "pressure",
+    "shear",
+    "tributary",
+    "segment",
 ];
 
-/// The columns `pairs.csv` adds after [`PAIR_COLUMNS`] when the model uses a law
-/// or key of the contact extensions (`frictionless`, `coulomb`,
-/// `search_distance`, augmented enforcement): the initial and current gap, the
-/// slip, the pressure and shear traction, the tributary length.
-pub const CONTACT_COLUMNS: [&str; 6] = ["gap0", "gap", "slip", "pressure", "shear", "tributary"];
-
-/// Writes the pairs table (one row per coupling pair): the columns
-/// [`PAIR_COLUMNS`], then, when `contact` is set, [`CONTACT_COLUMNS`] (so a model
-/// of the seed's laws writes the same table as before them).
-pub fn write_pairs_csv(path: &Path, rows: &[PairRow], contact: bool) -> Result<()> {
+/// Writes the pairs table (one row per coupling pair; the header is the field
+/// names of [`PairRow`]).
+pub fn write_pairs_csv(path: &Path, rows: &[PairRow]) -> Result<()> {
     write_atomic(path, |w| {
         let mut csv = csv::Writer::from_writer(w);
-        let mut header: Vec<&str> = PAIR_COLUMNS.to_vec();
-        if contact {
-            header.extend(CONTACT_COLUMNS);
+        if rows.is_empty() {
+            csv.write_record(PAIR_COLUMNS)?;
         }
-        csv.write_record(&header)?;
         for r in rows {
-            let mut record = vec![
-                r.interface.clone(),
-                r.node.to_string(),
-                r.x.to_string(),
-                r.y.to_string(),
-                r.host_element.to_string(),
-                r.state.as_str().to_string(),
-                format!("{:e}", r.gap_n),
-                format!("{:e}", r.slip_s),
-                format!("{:e}", r.force_n),
-                format!("{:e}", r.force_s),
-                r.settled.to_string(),
-                r.violation
-                    .map_or(String::new(), |v| v.as_str().to_string()),
-                format!("{:e}", r.violation_amount),
-            ];
-            if contact {
-                for v in [r.gap0, r.gap, r.slip, r.pressure, r.shear, r.tributary] {
-                    record.push(format!("{v:e}"));
-                }
-            }
-            csv.write_record(&record)?;
+            csv.serialize(r).map_err(std::io::Error::other)?;
         }
         csv.flush()
     })
@@ -176,37 +157,28 @@ mod tests {
             pressure: 0.25,
             shear: 0.0,
             tributary: 2.0,
+            segment: None,
         };
         let pulling = PairRow {
             state: PairState::Bonded,
             settled: true,
             violation: Some(ViolationKind::Tension),
             violation_amount: 0.5,
+            segment: Some("3-4".into()),
             ..row.clone()
         };
-        write_pairs_csv(&path, &[row.clone(), pulling.clone()], false).unwrap();
+        write_pairs_csv(&path, &[row, pulling]).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(
             text,
             format!(
-                "{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0,false,,0e0\n\"a,b\",3,100,-6.5,7,bonded,1.25e-3,0e0,-5e-1,2e0,true,tension,5e-1\n",
+                "{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0,false,,0e0,-1e0,5e-1,0e0,2.5e-1,0e0,2e0,\n\"a,b\",3,100,-6.5,7,bonded,1.25e-3,0e0,-5e-1,2e0,true,tension,5e-1,-1e0,5e-1,0e0,2.5e-1,0e0,2e0,3-4\n",
                 PAIR_COLUMNS.join(",")
             )
         );
-        write_pairs_csv(&path, &[], false).unwrap();
+        write_pairs_csv(&path, &[]).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(text, format!("{}\n", PAIR_COLUMNS.join(",")));
-        // With the contact columns: appended, in scientific notation.
-        write_pairs_csv(&path, &[row], true).unwrap();
-        let text = std::fs::read_to_string(&path).unwrap();
-        assert_eq!(
-            text,
-            format!(
-                "{},{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0,false,,0e0,-1e0,5e-1,0e0,2.5e-1,0e0,2e0\n",
-                PAIR_COLUMNS.join(","),
-                CONTACT_COLUMNS.join(",")
-            )
-        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

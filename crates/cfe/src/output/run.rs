@@ -340,7 +340,7 @@ impl Analysis {
         let handle = scope.spawn(move || self.write_parts_vtu(&path, grid, lambda, &u, &stresses));
         self.write_pairs_vtu(&series.vtu_dir.join(&pairs_file), inc, &rows)?;
         series.push(handle, inc.lambda, parts_file, pairs_file);
-        report::write_pairs_csv(&out.join("pairs.csv"), &rows, self.contact_extensions())?;
+        report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
         self.fill_summary(&mut log.summary, inc, &rows);
         report::write_json(&out.join("summary.json"), &log.summary)?;
         log.output_time += t.elapsed().as_secs_f64();

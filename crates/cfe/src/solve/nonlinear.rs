@@ -576,12 +576,13 @@ impl<'a> Solver<'a> {
                             tension: self.settings.force_tolerance * load_scale,
                             penetration: self.gap_tolerance(d),
                         };
-                        let law = iface.params();
+                        // A segment point's penalties are its weight × the interface's.
+                        let law = c.params(&iface.params());
                         let h = &self.history[i][k];
                         let f = if self.proportional {
-                            [iface.c_n * gap, 0.0]
+                            [law.c_n * gap, 0.0]
                         } else {
-                            c.law_force(&law, state, h, d).1
+                            c.law_force(&iface.params(), state, h, d).1
                         };
                         let mut push = |v: crate::coupling::LawViolation| {
                             violations.push(PairViolation {
@@ -593,7 +594,7 @@ impl<'a> Solver<'a> {
                             })
                         };
                         if let Some(v) =
-                            iface.law.normal_violation(state, gap, f[0], iface.c_n, tol)
+                            iface.law.normal_violation(state, gap, f[0], law.c_n, tol)
                         {
                             push(v);
                             return match state {
@@ -782,15 +783,17 @@ impl<'a> Solver<'a> {
         let mut converged = true;
         let mut augmented_error: f64 = 0.0;
         for (i, iface) in self.interfaces.iter().enumerate() {
-            let law = iface.params();
+            let base = iface.params();
             let augmented = iface.enforcement == Enforcement::Augmented;
             for (k, c) in iface.elements.iter().enumerate() {
+                // A segment point's penalties are its weight × the interface's.
+                let law = c.params(&base);
                 let state = states[i][k];
                 let h = &mut next[i][k];
                 let d = c.dofs(self.dofs, iface.host, iface.node_part).gather(u);
                 let jump = c.local_jump(&d);
                 let gap = c.gap(jump);
-                let (_, f) = c.law_force(&law, state, h, &d);
+                let (_, f) = c.law_force(&base, state, h, &d);
                 if !state.is_closed() {
                     if h.multiplier != [0.0; 2] {
                         h.multiplier = [0.0; 2];
@@ -857,7 +860,9 @@ impl<'a> Solver<'a> {
                     .gather(&result.u);
                 let u_s = c.local_jump(&d)[1];
                 match result.states[i][k] {
-                    PairState::Slip if iface.c_s > 0.0 => h.slip = u_s - h.slip_force / iface.c_s,
+                    PairState::Slip if iface.c_s > 0.0 => {
+                        h.slip = u_s - h.slip_force / (c.weight() * iface.c_s)
+                    }
                     PairState::Open => {
                         h.slip = if iface.law == Law::Coulomb { u_s } else { 0.0 };
                         h.multiplier = [0.0; 2];

@@ -195,7 +195,7 @@ impl ContactSystem {
         let mut idx: Vec<usize> = Vec::with_capacity(2 * flips.len());
         let mut weights: Vec<f64> = Vec::with_capacity(2 * flips.len());
         for &(i, k) in &flips {
-            let law = interfaces[i].params();
+            let law = interfaces[i].elements[k].params(&interfaces[i].params());
             let (now, was) = (law.penalties(states[i][k]), law.penalties(base[i][k]));
             let c = self.cached[&(i, k)];
             for t in 0..2 {

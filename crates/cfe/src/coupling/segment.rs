@@ -1,0 +1,387 @@
+//! Segment coupling (`coupling = "segment"`): the gap of each coupling node is
+//! integrated over its face segments instead of collocated at the node, so a
+//! constant traction passes a tied interface exactly whatever the two meshes (the
+//! patch test), still with one coupling element per coupling node and no added
+//! unknown.
+//!
+//! For coupling node a with face shape function N_a (the hat function on the node
+//! part's face) the element's jump is the weighted mean jump
+//! `[[U]]_a = ∫ N_a (u_node − u_host) ds / m_a`, `m_a = ∫ N_a ds`, which is linear
+//! in the displacements of a, its face neighbours and the host nodes under its
+//! segments: `[[U]]_a = Σ_b M̂_ab D_b − Σ_i N̂_ai D_i` with `M̂_ab = ∫ N_a N_b / m_a`
+//! and `N̂_ai = ∫ N_a N̄_i / m_a` (both rows sum to 1). Its penalty is
+//! `ω_a c`, `ω_a = m_a / h̄` (h̄ the mean face-segment length): the traction penalty
+//! is κ = c / h̄, so `c_n`, `c_s` keep their meaning (the stiffness of a coupling
+//! node of a uniformly meshed face), and the element carries the force
+//! `f_a = m_a κ [[u]]_a`. The normal is the N_a-weighted mean of the host edges'
+//! normals. docs/method.md §2b derives it and when it reduces to the node CFE.
+//!
+//! The integrals are exact: the face segments are cut at the projections of the
+//! host's vertices, so on each piece both sides are linear (the node side on its
+//! segment, the host on one boundary edge) and 2 Gauss points per piece integrate
+//! `N_a N_b` and `N_a N̄_i` exactly. The host's shape functions are taken at the
+//! Gauss point itself — extrapolated where a face segment cuts a corner of a
+//! curved host face — so no linear displacement field has a jump.
+
+use super::element::{CouplingElement, MAX_NODES, SegmentSide};
+use super::search::{edge_normal, project, shape_at};
+use crate::error::{Error, Result};
+use crate::mesh::{BoundaryEdge, Mesh, dist};
+use rstar::{AABB, RTree, primitives::GeomWithData, primitives::Line};
+
+/// Projections of host vertices closer than this fraction of a face segment to one
+/// of its ends, or to each other, are merged (no sliver sub-segments).
+const MERGE: f64 = 1e-9;
+
+/// The face segments of the node part on an interface: the boundary edges of
+/// `node_mesh` whose two nodes are both coupling nodes (`nodes`), counter-clockwise
+/// (the part on their left).
+pub fn face_segments(node_mesh: &Mesh, nodes: &[usize]) -> Vec<[usize; 2]> {
+    let mut is_coupling = vec![false; node_mesh.nodes.len()];
+    for &n in nodes {
+        is_coupling[n] = true;
+    }
+    let mut segments: Vec<[usize; 2]> = node_mesh
+        .boundary_edges()
+        .into_iter()
+        .map(|e| e.nodes)
+        .filter(|[a, b]| is_coupling[*a] && is_coupling[*b])
+        .collect();
+    segments.sort_unstable();
+    segments
+}
+
+/// A Gauss point of the face: where it lies on which face segment, its weight,
+/// and the host element under it with its shape functions and normal there.
+struct Point {
+    /// The face segment's nodes a, b and their shape functions at the point.
+    segment: [usize; 2],
+    n: [f64; 2],
+    /// Gauss weight × sub-segment length.
+    w: f64,
+    element: usize,
+    host_nodes: Vec<usize>,
+    host_shape: Vec<f64>,
+    normal: [f64; 2],
+    /// Distance from the point to the host edge.
+    distance: f64,
+}
+
+/// The segment coupling elements of an interface, one per coupling node a with a
+/// face segment over the host (in the order of `nodes`): the gap integrated over
+/// a's face segments with weight N_a (see the module doc and
+/// [`super::element::SegmentSide`]). The integrals are evaluated at two Gauss
+/// points on every piece of the node part's face segments (boundary edges of
+/// `node_mesh` joining two coupling nodes) cut at the host's vertices, over the
+/// host boundary edge within `tolerance` × its length. Call it once the coupling
+/// nodes lie on the host boundary (after the node search has moved them there).
+/// Errors: coupling nodes that form no face segment; a node whose segments lie
+/// over more host elements than a coupling element holds (the node part's face is
+/// much coarser than the host's: swap host and node part).
+pub fn segment_elements(
+    interface: &str,
+    host: &Mesh,
+    node_mesh: &Mesh,
+    nodes: &[usize],
+    tolerance: f64,
+) -> Result<Vec<CouplingElement>> {
+    let segments = face_segments(node_mesh, nodes);
+    if segments.is_empty() {
+        return Err(Error::Coupling {
+            interface: interface.to_string(),
+            message: format!(
+                "`coupling = \"segment\"` integrates over the node part's face, but its {} coupling node(s) share no boundary edge; name a boundary of connected edges, or use `coupling = \"node\"`",
+                nodes.len()
+            ),
+        });
+    }
+    let x = |n: usize| node_mesh.nodes[n];
+    let mean_length =
+        segments.iter().map(|&[a, b]| dist(x(a), x(b))).sum::<f64>() / segments.len() as f64;
+    let points = gauss_points(interface, host, node_mesh, &segments, tolerance)?;
+
+    // Accumulate, per coupling node a: m_a, ∫ N_a N_b, ∫ N_a N̄_i, ∫ N_a n.
+    #[derive(Default)]
+    struct Acc {
+        m: f64,
+        side: Vec<(usize, f64)>,
+        host: Vec<(usize, f64)>,
+        normal: [f64; 2],
+        element: (f64, usize),
+        distance: f64,
+    }
+    fn add(list: &mut Vec<(usize, f64)>, id: usize, v: f64) {
+        match list.iter_mut().find(|(i, _)| *i == id) {
+            Some(e) => e.1 += v,
+            None => list.push((id, v)),
+        }
+    }
+    let mut acc: Vec<Option<Acc>> = (0..node_mesh.nodes.len()).map(|_| None).collect();
+    for p in &points {
+        for (k, &a) in p.segment.iter().enumerate() {
+            let wa = p.w * p.n[k];
+            let e = acc[a].get_or_insert_with(Acc::default);
+            e.m += wa;
+            for (&b, &nb) in p.segment.iter().zip(&p.n) {
+                add(&mut e.side, b, wa * nb);
+            }
+            for (&i, &ni) in p.host_nodes.iter().zip(&p.host_shape) {
+                add(&mut e.host, i, wa * ni);
+            }
+            e.normal = [
+                e.normal[0] + wa * p.normal[0],
+                e.normal[1] + wa * p.normal[1],
+            ];
+            if wa > e.element.0 {
+                e.element = (wa, p.element);
+            }
+            e.distance = e.distance.max(p.distance);
+        }
+    }
+    let mut elements = Vec::with_capacity(nodes.len());
+    for &a in nodes {
+        let Some(e) = acc[a].take() else { continue };
+        if e.m <= 1e-12 * mean_length {
+            continue;
+        }
+        let mut side = e.side;
+        side.sort_unstable_by_key(|&(b, _)| b);
+        let mut host_coef = e.host;
+        host_coef.retain(|&(_, v)| v.abs() > 1e-13 * e.m);
+        host_coef.sort_unstable_by_key(|&(i, _)| i);
+        if side.len() + host_coef.len() > MAX_NODES {
+            return Err(Error::Coupling {
+                interface: interface.to_string(),
+                message: format!(
+                    "with `coupling = \"segment\"`, coupling node {a} at ({}, {}) ties {} host nodes under its face segments, more than a coupling element holds ({}); the node part's face is much coarser than the host's there — make the finer part the node part, or use `coupling = \"node\"`",
+                    x(a)[0],
+                    x(a)[1],
+                    host_coef.len(),
+                    MAX_NODES - side.len()
+                ),
+            });
+        }
+        let l = e.normal[0].hypot(e.normal[1]);
+        elements.push(CouplingElement {
+            node: a,
+            host_element: e.element.1,
+            host_nodes: host_coef.iter().map(|&(i, _)| i).collect(),
+            shape: host_coef.iter().map(|&(_, v)| v / e.m).collect(),
+            normal: [e.normal[0] / l, e.normal[1] / l],
+            position: x(a),
+            distance: e.distance,
+            gap0: 0.0,
+            tributary: e.m,
+            // The geometrically linear limit's scale: the face's mean segment.
+            edge_length: mean_length,
+            segment: Some(SegmentSide {
+                nodes: side.iter().map(|&(b, _)| b).collect(),
+                shape: side.iter().map(|&(_, v)| v / e.m).collect(),
+                length: e.m,
+                weight: e.m / mean_length,
+            }),
+        });
+    }
+    Ok(elements)
+}
+
+/// Two Gauss points on every piece of the face `segments` cut at the projections
+/// of the host's boundary vertices, each over the host boundary edge nearest to its
+/// piece's midpoint (within `tolerance` × that edge's length; pieces over no host
+/// edge, beyond the host's end, get none).
+fn gauss_points(
+    interface: &str,
+    host: &Mesh,
+    node_mesh: &Mesh,
+    segments: &[[usize; 2]],
+    tolerance: f64,
+) -> Result<Vec<Point>> {
+    let x = |n: usize| node_mesh.nodes[n];
+    let edges = host.boundary_edges();
+    let segment = |e: &BoundaryEdge| e.nodes.map(|n| host.nodes[n]);
+    let tree = RTree::bulk_load(
+        edges
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let [a, b] = segment(e);
+                GeomWithData::new(Line::new(a, b), i)
+            })
+            .collect(),
+    );
+    let max_len = edges
+        .iter()
+        .map(|e| {
+            let [a, b] = segment(e);
+            dist(a, b)
+        })
+        .fold(0.0, f64::max);
+    let radius = tolerance * max_len;
+    let gauss = [0.5 - 0.5 / 3f64.sqrt(), 0.5 + 0.5 / 3f64.sqrt()];
+
+    let mut points = Vec::with_capacity(4 * segments.len());
+    let mut candidates = Vec::new();
+    let mut cuts = Vec::new();
+    for &[na, nb] in segments {
+        let (a, b) = (x(na), x(nb));
+        let len = dist(a, b);
+        let ab = [b[0] - a[0], b[1] - a[1]];
+        // Host edges near the segment.
+        let envelope = AABB::from_corners(
+            [a[0].min(b[0]) - radius, a[1].min(b[1]) - radius],
+            [a[0].max(b[0]) + radius, a[1].max(b[1]) + radius],
+        );
+        candidates.clear();
+        candidates.extend(
+            tree.locate_in_envelope_intersecting(envelope)
+                .map(|c| c.data),
+        );
+        candidates.sort_unstable();
+        // Cut the segment at the projections of the host vertices near it.
+        cuts.clear();
+        cuts.extend([0.0, 1.0]);
+        for &e in &candidates {
+            let [p, q] = segment(&edges[e]);
+            let tol = tolerance * dist(p, q);
+            for v in [p, q] {
+                let t = ((v[0] - a[0]) * ab[0] + (v[1] - a[1]) * ab[1]) / (len * len);
+                let off = ((v[0] - a[0]) * ab[1] - (v[1] - a[1]) * ab[0]).abs() / len;
+                if t > MERGE && t < 1.0 - MERGE && off <= tol {
+                    cuts.push(t);
+                }
+            }
+        }
+        cuts.sort_unstable_by(f64::total_cmp);
+        cuts.dedup_by(|later, earlier| *later - *earlier <= MERGE);
+        for sub in cuts.windows(2) {
+            let (t0, t1) = (sub[0], sub[1]);
+            if t1 - t0 <= MERGE {
+                continue;
+            }
+            // The host edge under the piece: the nearest to its midpoint (ties to
+            // the lowest host element, then edge), within the tolerance.
+            let tm = 0.5 * (t0 + t1);
+            let mid = [a[0] + tm * ab[0], a[1] + tm * ab[1]];
+            let mut best: Option<(f64, usize, usize)> = None;
+            for &e in &candidates {
+                let [p, q] = segment(&edges[e]);
+                let elen = dist(p, q);
+                let (_, d) = project(mid, p, q);
+                if d > tolerance * elen {
+                    continue;
+                }
+                let key = (d, edges[e].element, e);
+                let same = best.is_some_and(|cur| (d - cur.0).abs() <= 1e-12 * elen);
+                best = match best {
+                    None => Some(key),
+                    Some(cur) if same && (key.1, key.2) < (cur.1, cur.2) => Some(key),
+                    Some(cur) if !same && d < cur.0 => Some(key),
+                    cur => cur,
+                };
+            }
+            let Some((_, element, e)) = best else {
+                continue;
+            };
+            let [p, q] = segment(&edges[e]);
+            let corners = host.coordinates(element);
+            let normal = edge_normal([p, q]);
+            for g in gauss {
+                let t = t0 + g * (t1 - t0);
+                let at = [a[0] + t * ab[0], a[1] + t * ab[1]];
+                let (_, distance) = project(at, p, q);
+                // The host's shape functions at the point itself, not at its
+                // projection: where the face segment cuts a corner of the host's
+                // polygon (a curved face) the point lies off the host edge, and
+                // extrapolating the host element there keeps every linear field
+                // free of jump (as the node CFE does by moving its nodes).
+                let host_shape = shape_at(&host.elements[element], &corners, at).ok_or_else(
+                    || Error::Coupling {
+                        interface: interface.to_string(),
+                        message: format!(
+                            "the inverse map of host element {element} (corners {corners:?}) does not converge at the face point ({}, {})",
+                            at[0], at[1]
+                        ),
+                    },
+                )?;
+                points.push(Point {
+                    segment: [na, nb],
+                    n: [1.0 - t, t],
+                    w: 0.5 * (t1 - t0) * len,
+                    element,
+                    host_nodes: host.elements[element].nodes().to_vec(),
+                    host_shape,
+                    normal,
+                    distance,
+                });
+            }
+        }
+    }
+    Ok(points)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::ElementKind;
+
+    /// A 3-cell node face over a 7-cell host face (3:7), T3 and Q4: one element per
+    /// face node, both coefficient rows sum to 1 and give the same point
+    /// (Σ M̂_b X_b = Σ N̂_i X_i: no jump for a linear field), the normal is +y, the
+    /// shares m_a add up to the face's length with interior nodes weighing ω = 1
+    /// (like a node CFE) and the two ends ½, and the host nodes are those of the
+    /// host's top row only.
+    #[test]
+    fn elements_on_a_3_to_7_face() {
+        for kind in [ElementKind::T3, ElementKind::Q4] {
+            let host = Mesh::rectangle([0.0, 7.0], [0.0, 2.0], [7, 2], kind);
+            let top = Mesh::rectangle([0.0, 7.0], [2.0, 3.0], [3, 1], kind);
+            let nodes = top.boundary_nodes("bottom").unwrap();
+            let els = segment_elements("i", &host, &top, &nodes, 1e-6).unwrap();
+            assert_eq!(els.len(), 4, "{kind:?}");
+            let total: f64 = els.iter().map(|c| c.segment.as_ref().unwrap().length).sum();
+            assert!((total - 7.0).abs() < 1e-12);
+            for c in &els {
+                let s = c.segment.as_ref().unwrap();
+                assert!((s.shape.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+                assert!((c.shape.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+                for k in 0..2 {
+                    let side: f64 = s
+                        .nodes
+                        .iter()
+                        .zip(&s.shape)
+                        .map(|(&b, m)| m * top.nodes[b][k])
+                        .sum();
+                    let hosted: f64 = c
+                        .host_nodes
+                        .iter()
+                        .zip(&c.shape)
+                        .map(|(&i, n)| n * host.nodes[i][k])
+                        .sum();
+                    assert!((side - hosted).abs() < 1e-12, "{kind:?} {side} {hosted}");
+                }
+                assert!((c.normal[1] - 1.0).abs() < 1e-12 && c.distance < 1e-12);
+                assert!(c.host_nodes.iter().all(|&i| host.nodes[i][1] > 1.5));
+                let end = top.nodes[c.node][0] < 1e-9 || top.nodes[c.node][0] > 7.0 - 1e-9;
+                let expected = if end { 0.5 } else { 1.0 };
+                assert!((s.weight - expected).abs() < 1e-12, "{}", s.weight);
+                assert_eq!(s.nodes.len(), if end { 2 } else { 3 });
+            }
+        }
+    }
+
+    /// Coupling nodes that share no boundary edge cannot be integrated over: an
+    /// error naming the interface and the remedy.
+    #[test]
+    fn isolated_nodes_are_an_error() {
+        let host = Mesh::rectangle([0.0, 2.0], [0.0, 1.0], [2, 1], ElementKind::T3);
+        let top = Mesh::rectangle([0.0, 2.0], [1.0, 2.0], [2, 1], ElementKind::T3);
+        let nodes = top.boundary_nodes("bottom").unwrap();
+        let e = segment_elements("lone", &host, &top, &nodes[..1], 1e-6)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("lone") && e.contains("coupling = \"node\""),
+            "{e}"
+        );
+    }
+}
