@@ -49,7 +49,7 @@ fn contact_law_on_the_plate_on_base() {
     assert!((fy - 1500.0).abs() < 1e-6 * 1500.0, "{fy}");
     assert!(
         rows.iter()
-            .all(|r| r.segment.is_some() && r.length.is_some_and(|l| l > 0.0))
+            .all(|r| r.segment.is_some() && r.tributary > 0.0)
     );
     let node = plate_on_base(Coupling::Node);
     let node_last = common::solve(&node).pop().unwrap();
