@@ -127,6 +127,7 @@ impl Analysis {
                     &def.name,
                     &model.parts[def.host].mesh,
                     &model.parts[def.node_part].mesh,
+                    &def.boundary,
                     &def.nodes,
                     def.tolerance * model.refine as f64,
                 )?;

@@ -177,7 +177,7 @@ pub fn traction_error(
     let t = a.model.parts[iface.node_part].material.thickness;
     let def = &a.model.interfaces[0];
     let mut tributary = vec![0.0; mesh.nodes.len()];
-    for [p, q] in face_segments(mesh, &def.nodes) {
+    for [p, q] in face_segments(mesh, &def.boundary) {
         let l = dist(mesh.nodes[p], mesh.nodes[q]);
         tributary[p] += 0.5 * l;
         tributary[q] += 0.5 * l;
