@@ -200,7 +200,7 @@ impl Analysis {
                 i.max_projection_distance
             );
             if i.coupling == Coupling::Segment {
-                s += "    segment coupling: each pair is a Gauss point of the node part's face\n";
+                s += "    segment coupling: each pair's gap is averaged over its node's face segments\n";
             }
         }
         for sup in &self.model.supports {

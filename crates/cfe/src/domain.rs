@@ -111,8 +111,8 @@ pub struct InterfaceDef {
     pub c_s: f64,
     /// Relative geometric tolerance of the pair search.
     pub tolerance: f64,
-    /// `node` (one CFE per coupling node) or `segment` (one per Gauss point of the
-    /// face segments).
+    /// `node` (the gap collocated at each coupling node) or `segment` (the gap
+    /// averaged over each coupling node's face segments).
     pub coupling: Coupling,
 }
 

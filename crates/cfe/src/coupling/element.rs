@@ -50,8 +50,8 @@ pub struct CouplingElement {
     /// edge, where the node part's node is placed.
     pub position: [f64; 2],
     /// Distance from the coupling node, as meshed, to the host edge it was
-    /// projected on (how far it was moved); for a segment integration point, the
-    /// distance from the point to its projection on the host edge.
+    /// projected on (how far it was moved); with segment coupling, the largest
+    /// distance of its face segments' Gauss points from their host edges.
     pub distance: f64,
     /// `None` for the node CFE; for the segment coupling, the node side of the
     /// coupling node's integrated gap (then `host_nodes` and `shape` are the host

@@ -30,8 +30,8 @@ pub struct Interface {
     pub elements: Vec<CouplingElement>,
     /// Largest distance from a coupling node to its host edge (geometric check).
     pub max_projection_distance: f64,
-    /// How the coupling elements are built: one per coupling node, or one per
-    /// integration point of the face segments.
+    /// How the coupling elements' jumps are taken: collocated at the coupling
+    /// node, or averaged over its face segments.
     pub coupling: Coupling,
 }
 
@@ -42,9 +42,9 @@ pub enum Coupling {
     /// One CFE per coupling node, collocated at the node (the seed's, default).
     #[default]
     Node,
-    /// Segment-to-segment: one CFE per Gauss point of the node part's face
-    /// segments cut at the host's vertices ([`segment`]); passes the patch test on
-    /// non-matching meshes.
+    /// Segment coupling: one CFE per coupling node whose jump is averaged over its
+    /// face segments, integrated exactly on the face cut at the host's vertices
+    /// ([`segment`]); passes the patch test on non-matching meshes.
     Segment,
 }
 

@@ -42,13 +42,11 @@ pub struct PairRow {
     /// The violation's amount: the tensile force, or the penetration depth (0 when none).
     #[serde(serialize_with = "sci")]
     pub violation_amount: f64,
-    /// For a segment-coupling integration point, the node part's face segment it
-    /// lies on, as `a-b` (its two nodes; `node` is the nearer); empty for a node
-    /// pair.
+    /// With segment coupling, the node-part nodes of the pair's averaged jump (the
+    /// coupling node and its face neighbours), as `a-b-c`; empty for the node CFE.
     pub segment: Option<String>,
-    /// For a segment-coupling integration point, its share of the face (Gauss
-    /// weight × sub-segment length): force / length is the traction; empty for a
-    /// node pair.
+    /// With segment coupling, the coupling node's share of the face m_a = ∫ N_a ds
+    /// (force / length is the traction there); empty for the node CFE.
     #[serde(serialize_with = "sci_opt")]
     pub length: Option<f64>,
 }
