@@ -498,6 +498,7 @@ impl Analysis {
                     host: self.model.parts[iface.host].name.clone(),
                     node_part: self.model.parts[iface.node_part].name.clone(),
                     law: iface.law,
+                    coupling: iface.coupling,
                     c_n: iface.c_n,
                     c_s: iface.c_s,
                     pairs: mine.len(),
