@@ -136,6 +136,7 @@ impl Analysis {
                     &def.name,
                     &model.parts[def.host].mesh,
                     &model.parts[def.node_part].mesh,
+                    &def.boundary,
                     &def.nodes,
                     def.tolerance * model.refine as f64,
                 )?;
@@ -212,7 +213,7 @@ impl Analysis {
                 i.max_projection_distance
             );
             if i.coupling == Coupling::Segment {
-                s += "    segment coupling: each pair is a Gauss point of the node part's face\n";
+                s += "    segment coupling: each pair's gap is averaged over its node's face segments\n";
             }
         }
         for sup in &self.model.supports {
@@ -543,6 +544,7 @@ impl Analysis {
                     host: self.model.parts[iface.host].name.clone(),
                     node_part: self.model.parts[iface.node_part].name.clone(),
                     law: iface.law,
+                    coupling: iface.coupling,
                     c_n: iface.c_n,
                     c_s: iface.c_s,
                     pairs: mine.len(),

@@ -121,8 +121,8 @@ pub struct InterfaceDef {
     pub enforcement: Enforcement,
     /// Augmented Lagrangian: largest penetration accepted (length).
     pub penetration_tolerance: f64,
-    /// `node` (one CFE per coupling node) or `segment` (one per Gauss point of the
-    /// face segments).
+    /// `node` (the gap collocated at each coupling node) or `segment` (the gap
+    /// averaged over each coupling node's face segments).
     pub coupling: Coupling,
 }
 

@@ -93,8 +93,8 @@ pub fn patch_comparison(quick: bool) -> Result<Case> {
     }
     Ok(Case {
         title: "Segment coupling: the patch test on non-matching faces".into(),
-        setup: "The constant-stress patch of case 1 (two unit squares, E = 1000, ν = 0.3, plane stress, t = 1, tied along y = 1, the lower one hosting, every outer edge loaded by σ·n) on non-matching faces, tied once by the node CFE and once by the segment coupling (`coupling = \"segment\"`: 2 Gauss points per piece of the node part's face segments cut at the host's vertices, traction penalty κ = c / h̄).".into(),
-        reference: "The constant stress state is the exact solution. The segment coupling integrates the penalty energy exactly over the face; a constant traction t then produces a constant jump t/κ, which the two meshes represent exactly, so the discrete solution is the constant stress state itself (up to round-off), for any mesh pair and any penalty (docs/method.md §2b).".into(),
+        setup: "The constant-stress patch of case 1 (two unit squares, E = 1000, ν = 0.3, plane stress, t = 1, tied along y = 1, the lower one hosting, every outer edge loaded by σ·n) on non-matching faces, tied once by the node CFE and once by the segment coupling (`coupling = \"segment\"`: each coupling node's jump averaged over its face segments with its face shape function, integrated exactly at 2 Gauss points per piece of the face cut at the host's vertices; traction penalty κ = c / h̄).".into(),
+        reference: "The constant stress state is the exact solution. With the segment coupling a constant traction t produces a constant jump t/κ, which the two meshes represent exactly, and the averaged jumps give every node the consistent nodal force of t, so the discrete solution is the constant stress state itself (up to round-off), for any mesh pair and any penalty (docs/method.md §2b).".into(),
         tables: vec![table, penalty],
         plots: Vec::new(),
         verdict: format!(
@@ -177,7 +177,7 @@ pub fn traction_error(
     let t = a.model.parts[iface.node_part].material.thickness;
     let def = &a.model.interfaces[0];
     let mut tributary = vec![0.0; mesh.nodes.len()];
-    for [p, q] in face_segments(mesh, &def.nodes) {
+    for [p, q] in face_segments(mesh, &def.boundary) {
         let l = dist(mesh.nodes[p], mesh.nodes[q]);
         tributary[p] += 0.5 * l;
         tributary[q] += 0.5 * l;

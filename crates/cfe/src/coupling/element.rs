@@ -55,8 +55,9 @@ pub struct CouplingElement {
     pub position: [f64; 2],
     /// Distance from the coupling node, as meshed, to the host edge it was
     /// projected on (how far it was moved, unless it was paired within a search
-    /// distance: then it stays and the distance is its gap's magnitude); for a
-    /// segment coupling, the distance from the node to its projection on the host edge.
+    /// distance: then it stays and the distance is its gap's magnitude); with
+    /// segment coupling, the largest distance of its face segments' Gauss points
+    /// from their host edges.
     pub distance: f64,
     /// Initial normal gap g₀ (length, along `normal`: positive apart, negative
     /// overlapping), for a pair found within a search distance; 0 for a node moved

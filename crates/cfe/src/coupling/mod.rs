@@ -44,8 +44,8 @@ pub struct Interface {
     /// Coupling nodes of the boundary left unpaired because no host boundary edge
     /// lies within the search distance (0 without a search distance).
     pub unpaired: usize,
-    /// How the coupling elements are built: one per coupling node, or one per
-    /// integration point of the face segments.
+    /// How the coupling elements' jumps are taken: collocated at the coupling
+    /// node, or averaged over its face segments.
     pub coupling: Coupling,
 }
 
@@ -77,9 +77,9 @@ pub enum Coupling {
     /// One CFE per coupling node, collocated at the node (the seed's, default).
     #[default]
     Node,
-    /// Segment-to-segment: one CFE per Gauss point of the node part's face
-    /// segments cut at the host's vertices ([`segment`]); passes the patch test on
-    /// non-matching meshes.
+    /// Segment coupling: one CFE per coupling node whose jump is averaged over its
+    /// face segments, integrated exactly on the face cut at the host's vertices
+    /// ([`segment`]); passes the patch test on non-matching meshes.
     Segment,
 }
 

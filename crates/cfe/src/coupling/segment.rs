@@ -28,26 +28,23 @@ use super::search::{edge_normal, project, shape_at};
 use crate::error::{Error, Result};
 use crate::mesh::{BoundaryEdge, Mesh, dist};
 use rstar::{AABB, RTree, primitives::GeomWithData, primitives::Line};
+use std::collections::HashMap;
 
 /// Projections of host vertices closer than this fraction of a face segment to one
 /// of its ends, or to each other, are merged (no sliver sub-segments).
 const MERGE: f64 = 1e-9;
 
-/// The face segments of the node part on an interface: the boundary edges of
-/// `node_mesh` whose two nodes are both coupling nodes (`nodes`), counter-clockwise
-/// (the part on their left).
-pub fn face_segments(node_mesh: &Mesh, nodes: &[usize]) -> Vec<[usize; 2]> {
-    let mut is_coupling = vec![false; node_mesh.nodes.len()];
-    for &n in nodes {
-        is_coupling[n] = true;
-    }
+/// The face segments of the node part on an interface: the edges of the named
+/// `boundary` of `node_mesh` (whose nodes are the interface's coupling nodes), as
+/// node pairs in ascending order (none when there is no such boundary).
+pub fn face_segments(node_mesh: &Mesh, boundary: &str) -> Vec<[usize; 2]> {
     let mut segments: Vec<[usize; 2]> = node_mesh
-        .boundary_edges()
-        .into_iter()
-        .map(|e| e.nodes)
-        .filter(|[a, b]| is_coupling[*a] && is_coupling[*b])
-        .collect();
+        .boundaries
+        .get(boundary)
+        .map(|edges| edges.iter().map(|e| e.nodes).collect())
+        .unwrap_or_default();
     segments.sort_unstable();
+    segments.dedup();
     segments
 }
 
@@ -68,11 +65,12 @@ struct Point {
 }
 
 /// The segment coupling elements of an interface, one per coupling node a with a
-/// face segment over the host (in the order of `nodes`): the gap integrated over
+/// face segment over the host (in the order of `nodes`, the nodes of the node
+/// part's `boundary`): the gap integrated over
 /// a's face segments with weight N_a (see the module doc and
 /// [`super::element::SegmentSide`]). The integrals are evaluated at two Gauss
-/// points on every piece of the node part's face segments (boundary edges of
-/// `node_mesh` joining two coupling nodes) cut at the host's vertices, over the
+/// points on every piece of the node part's face segments (the edges of
+/// `boundary`) cut at the host's vertices, over the
 /// host boundary edge within `tolerance` × its length. Call it once the coupling
 /// nodes lie on the host boundary (after the node search has moved them there).
 /// Errors: coupling nodes that form no face segment; a node whose segments lie
@@ -82,15 +80,16 @@ pub fn segment_elements(
     interface: &str,
     host: &Mesh,
     node_mesh: &Mesh,
+    boundary: &str,
     nodes: &[usize],
     tolerance: f64,
 ) -> Result<Vec<CouplingElement>> {
-    let segments = face_segments(node_mesh, nodes);
+    let segments = face_segments(node_mesh, boundary);
     if segments.is_empty() {
         return Err(Error::Coupling {
             interface: interface.to_string(),
             message: format!(
-                "`coupling = \"segment\"` integrates over the node part's face, but its {} coupling node(s) share no boundary edge; name a boundary of connected edges, or use `coupling = \"node\"`",
+                "`coupling = \"segment\"` integrates over the node part's face, but its boundary '{boundary}' has no edge for its {} coupling node(s); name a boundary made of edges, or use `coupling = \"node\"`",
                 nodes.len()
             ),
         });
@@ -116,11 +115,11 @@ pub fn segment_elements(
             None => list.push((id, v)),
         }
     }
-    let mut acc: Vec<Option<Acc>> = (0..node_mesh.nodes.len()).map(|_| None).collect();
+    let mut acc: HashMap<usize, Acc> = HashMap::with_capacity(nodes.len());
     for p in &points {
         for (k, &a) in p.segment.iter().enumerate() {
             let wa = p.w * p.n[k];
-            let e = acc[a].get_or_insert_with(Acc::default);
+            let e = acc.entry(a).or_default();
             e.m += wa;
             for (&b, &nb) in p.segment.iter().zip(&p.n) {
                 add(&mut e.side, b, wa * nb);
@@ -140,7 +139,7 @@ pub fn segment_elements(
     }
     let mut elements = Vec::with_capacity(nodes.len());
     for &a in nodes {
-        let Some(e) = acc[a].take() else { continue };
+        let Some(e) = acc.remove(&a) else { continue };
         if e.m <= 1e-12 * mean_length {
             continue;
         }
@@ -336,7 +335,7 @@ mod tests {
             let host = Mesh::rectangle([0.0, 7.0], [0.0, 2.0], [7, 2], kind);
             let top = Mesh::rectangle([0.0, 7.0], [2.0, 3.0], [3, 1], kind);
             let nodes = top.boundary_nodes("bottom").unwrap();
-            let els = segment_elements("i", &host, &top, &nodes, 1e-6).unwrap();
+            let els = segment_elements("i", &host, &top, "bottom", &nodes, 1e-6).unwrap();
             assert_eq!(els.len(), 4, "{kind:?}");
             let total: f64 = els.iter().map(|c| c.segment.as_ref().unwrap().length).sum();
             assert!((total - 7.0).abs() < 1e-12);
@@ -369,14 +368,14 @@ mod tests {
         }
     }
 
-    /// Coupling nodes that share no boundary edge cannot be integrated over: an
-    /// error naming the interface and the remedy.
+    /// Coupling nodes on no boundary edge cannot be integrated over: an error
+    /// naming the interface and the remedy.
     #[test]
     fn isolated_nodes_are_an_error() {
         let host = Mesh::rectangle([0.0, 2.0], [0.0, 1.0], [2, 1], ElementKind::T3);
         let top = Mesh::rectangle([0.0, 2.0], [1.0, 2.0], [2, 1], ElementKind::T3);
         let nodes = top.boundary_nodes("bottom").unwrap();
-        let e = segment_elements("lone", &host, &top, &nodes[..1], 1e-6)
+        let e = segment_elements("lone", &host, &top, "nowhere", &nodes[..1], 1e-6)
             .unwrap_err()
             .to_string();
         assert!(

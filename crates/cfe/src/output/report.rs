@@ -59,12 +59,12 @@ pub struct PairRow {
     /// Shear traction: `force_s` / tributary length.
     #[serde(serialize_with = "sci")]
     pub shear: f64,
-    /// Tributary length of the coupling node on the node part's face.
+    /// Tributary length of the coupling node on the node part's face (with segment
+    /// coupling, its share of the face m_a = ∫ N_a ds).
     #[serde(serialize_with = "sci")]
     pub tributary: f64,
-    /// For the segment coupling, the node-part nodes whose displacements enter the
-    /// pair's integrated gap, as `a-b-c` (the coupling node and its face
-    /// neighbours); empty for a node pair.
+    /// With segment coupling, the node-part nodes of the pair's averaged jump (the
+    /// coupling node and its face neighbours), as `a-b-c`; empty for the node CFE.
     pub segment: Option<String>,
 }
 

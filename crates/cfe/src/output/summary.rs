@@ -155,6 +155,8 @@ pub struct InterfaceSummary {
     pub node_part: String,
     /// `rigid` or `contact`.
     pub law: Law,
+    /// `node` or `segment`.
+    pub coupling: crate::coupling::Coupling,
     /// Normal penalty.
     pub c_n: f64,
     /// Tangential penalty.
