@@ -44,7 +44,8 @@ enum Command {
         /// Output folder (default: results/<problem stem>).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Multiply every structured part's cell counts by K.
+        /// Refine every part K times: structured parts' cell counts are multiplied
+        /// by K, Gmsh (and given) meshes are subdivided uniformly (each edge into K).
         #[arg(long, default_value_t = 1, value_name = "K")]
         refine: usize,
         /// Make every interface follow this law instead of the file's.
@@ -54,9 +55,10 @@ enum Command {
     /// Benchmark: run a problem with the rigid and the contact law at growing
     /// refinement and write benchmarks.md and benchmarks.png.
     Bench {
-        /// The problem file (default: the seed's plate on a base).
-        #[arg(long, default_value = "examples/plate_on_base.toml")]
-        problem: PathBuf,
+        /// The problem file (default: the repository's examples/plate_on_base.toml,
+        /// found from the current folder or from the cfe executable's location).
+        #[arg(long)]
+        problem: Option<PathBuf>,
         /// Refine until about this many unknowns.
         #[arg(long, default_value_t = 4_000_000)]
         max_unknowns: usize,
@@ -81,7 +83,8 @@ enum Command {
     Check {
         /// The problem file (TOML).
         problem: PathBuf,
-        /// Multiply every structured part's cell counts by K.
+        /// Refine every part K times: structured parts' cell counts are multiplied
+        /// by K, Gmsh (and given) meshes are subdivided uniformly (each edge into K).
         #[arg(long, default_value_t = 1, value_name = "K")]
         refine: usize,
     },
@@ -133,6 +136,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 return Ok(());
             }
             let exe = std::env::current_exe().context("cannot locate the cfe executable")?;
+            let problem = match problem {
+                Some(p) if p.is_file() => p,
+                Some(p) => anyhow::bail!("the problem file {} does not exist", p.display()),
+                None => default_bench_problem(&exe)?,
+            };
             cfe_tools::bench::run(&exe, &problem, max_unknowns, &out, &mut |line| {
                 println!("{line}")
             })?;
@@ -146,6 +154,26 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             law,
         } => run_problem(&problem, out, refine, law),
     }
+}
+
+/// The benchmark's default problem, `examples/plate_on_base.toml` of the
+/// repository: looked for under the current folder, then above the executable
+/// (`target/release/cfe` lies two levels below the repository's root).
+fn default_bench_problem(exe: &Path) -> anyhow::Result<PathBuf> {
+    let rel = Path::new("examples").join("plate_on_base.toml");
+    let candidates: Vec<PathBuf> = std::iter::once(rel.clone())
+        .chain(exe.ancestors().skip(1).map(|d| d.join(&rel)))
+        .collect();
+    candidates
+        .iter()
+        .find(|p| p.is_file())
+        .cloned()
+        .ok_or_else(|| {
+            anyhow::anyhow!(
+                "the default benchmark problem examples/plate_on_base.toml is neither under the current folder nor above the cfe executable ({}); give one with --problem FILE",
+                exe.display()
+            )
+        })
 }
 
 /// `cfe run`: solves the problem with a progress bar, writes the results into
@@ -196,7 +224,10 @@ fn run_problem(
         Ok(s) => s,
         Err(e @ cfe::Error::Interrupted { .. }) => return Err(e.into()),
         Err(e) => {
-            let written = out.join("summary.json").is_file();
+            // The summary on disk records the failure unless even it could not be
+            // written (then the library removed a stale one).
+            let written = std::fs::read_to_string(out.join("summary.json"))
+                .is_ok_and(|t| t.contains("\"status\": \"failed\""));
             return Err(anyhow::Error::new(e).context(if written {
                 format!(
                     "run failed; the converged increments and the summary are in {}",

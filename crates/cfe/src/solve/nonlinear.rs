@@ -691,9 +691,14 @@ impl<'a> Solver<'a> {
                 }
             }
             if u.iter().any(|v| !v.is_finite()) {
-                return Err(Error::Singular(format!(
-                    "increment {inc}: the solution is not finite"
-                )));
+                return Err(Error::Overflow {
+                    path: None,
+                    line: None,
+                    key: String::new(),
+                    message: format!(
+                        "increment {inc}: the solution is not finite (a load, a prescribed value or a stiffness is too large or too small for double precision; rescale the units)"
+                    ),
+                });
             }
             let t = Instant::now();
             let f_int =
