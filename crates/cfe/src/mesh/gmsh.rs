@@ -1056,14 +1056,12 @@ impl<'a> Parser<'a> {
             return Err(self.err_at(at, format!("node {tag} is defined twice")));
         }
         if let Some(c) = xyz.iter().position(|v| !v.is_finite()) {
-            return Err(self.err_at(
-                at,
-                format!(
-                    "node {tag} has a non-finite {} coordinate ({})",
-                    ["x", "y", "z"][c],
-                    xyz[c]
-                ),
-            ));
+            // At the current position: the end of the node's own line.
+            return Err(self.err(format!(
+                "node {tag} has a non-finite {} coordinate ({})",
+                ["x", "y", "z"][c],
+                xyz[c]
+            )));
         }
         self.node_tags.push(tag);
         self.coords.push(xyz);
