@@ -244,6 +244,7 @@ fn run_problem(
 
 /// Prints the main figures of a finished run.
 fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
+    use cfe::output::fmt::{num, num_rel};
     println!("results in {}", out.display());
     println!(
         "  {} unknowns, {} increments, iterations per increment {:?}",
@@ -267,8 +268,8 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
             },
             if i.max_projection_distance > 0.0 {
                 format!(
-                    "; coupling nodes moved onto the host edges by up to {:.3e}",
-                    i.max_projection_distance
+                    "; coupling nodes moved onto the host edges by up to {}",
+                    num(i.max_projection_distance)
                 )
             } else {
                 String::new()
@@ -277,14 +278,21 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
     }
     let m = &summary.max_displacement;
     println!(
-        "  max |u| = {:.6e} at ({}, {}) in part '{}'",
-        m.value,
+        "  max |u| = {} at ({}, {}) in part '{}'",
+        num(m.value),
         short(m.x),
         short(m.y),
         m.part
     );
     for r in &summary.reactions {
-        println!("  reaction '{}': ({:.6e}, {:.6e})", r.support, r.fx, r.fy);
+        // A component below 1e-10 of the reaction is round-off: shown as 0.
+        let size = r.fx.hypot(r.fy);
+        println!(
+            "  reaction '{}': ({}, {})",
+            r.support,
+            num_rel(r.fx, size),
+            num_rel(r.fy, size)
+        );
     }
     println!(
         "  equilibrium error {:.2e}, total {:.3} s",

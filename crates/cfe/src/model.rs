@@ -850,7 +850,7 @@ impl Builder<'_> {
                 )
             }
             (None, Some(at)) => (
-                format!("{}@({},{})", part.name, at[0], at[1]),
+                format!("{}@{}", part.name, crate::output::fmt::point(at)),
                 vec![self.node_at(part, at, &spec.part, "support")?],
             ),
             _ => {
@@ -962,7 +962,7 @@ impl Builder<'_> {
             (None, None, None, Some(at)) => {
                 let n = self.node_at(part, at, &spec.part, "point load")?;
                 Load {
-                    name: format!("{}@({},{})", part.name, at[0], at[1]),
+                    name: format!("{}@{}", part.name, crate::output::fmt::point(at)),
                     part: p,
                     nodal: vec![(n, force)],
                     resultant: force,

@@ -3,6 +3,7 @@
 //! temporary name first, then renamed, so a crash never leaves a half-written file.
 
 pub mod chart;
+pub mod fmt;
 pub mod memory;
 pub(crate) mod png;
 pub mod report;

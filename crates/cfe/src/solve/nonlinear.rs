@@ -63,12 +63,23 @@ pub struct SolveTimings {
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Iteration {
     /// How the system was solved (or `None` when the solution of the same states
-    /// at another load factor was scaled).
+    /// at another load factor was scaled: no solve). In `summary.json` both a
+    /// solve with the same factorization and a scaled solution read `"reuse"`.
+    #[serde(serialize_with = "method_or_reuse")]
     pub method: Option<Method>,
     /// Pairs whose state the law changed after this solve.
     pub changed: usize,
     /// Seconds spent on this iteration (solve, internal forces, state update).
     pub seconds: f64,
+}
+
+/// Serializes a scaled solution (`None`) as `"reuse"`, like a solve that
+/// reused its factorization.
+fn method_or_reuse<S: serde::Serializer>(
+    m: &Option<Method>,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    serde::Serialize::serialize(&m.unwrap_or(Method::Reuse), s)
 }
 
 /// The converged result of one increment.
