@@ -266,10 +266,7 @@ impl Analysis {
         progress: &mut dyn FnMut(&IncrementResult),
         stop: &AtomicUsize,
     ) -> Result<IncrementResult> {
-        let mut solver = match self.solver() {
-            Ok(s) => s,
-            Err(e) => return Err(e),
-        };
+        let mut solver = self.solver()?;
         self.prepare_solver(&mut solver, &mut log.summary);
         let mut series = Series::new(out);
         let r = solver.run(|inc| {
@@ -322,8 +319,8 @@ impl Analysis {
         out: &Path,
     ) -> Result<()> {
         let settings = &self.model.settings;
-        let files =
-            inc.index % settings.output_every.max(1) == 0 || inc.index >= settings.increments;
+        let files = inc.index.is_multiple_of(settings.output_every.max(1))
+            || inc.index >= settings.increments;
         let t = Instant::now();
         if !files {
             self.fill_summary(&mut log.summary, inc, &self.pair_rows(inc));
