@@ -3,7 +3,8 @@
 //! `failed` with the reason, and `results.pvd` names only files that exist; when
 //! not even the summary can be written, no stale summary saying `running` stays
 //! behind and the error says so. Also: `output_every` writes every N-th increment
-//! and the last. One test, as the fault injection is process-wide.
+//! and the last, and a run of many increments ends with complete files. One
+//! test, as the fault injection is process-wide.
 
 mod common;
 
@@ -142,5 +143,19 @@ fn full_disk_and_output_every() {
     assert_eq!(pvd_files_exist(&out), 6);
     assert_eq!(summary(&out)["status"], "completed");
     assert_eq!(summary(&out)["converged_increments"], 10);
+
+    // 300 increments (beyond the 100 below which the growing files are rewritten
+    // freely), every 100th written: the final pvd and summary are complete.
+    let out = base.join("many");
+    let mut a = common::analysis(
+        &PROBLEM.replace("increments = 10", "increments = 300\noutput_every = 100"),
+    );
+    a.run(&out, &mut |_| {}).unwrap();
+    assert_eq!(pvd_files_exist(&out), 6);
+    assert!(out.join("vtu/parts_0300.vtu").is_file());
+    let s = summary(&out);
+    assert_eq!(s["status"], "completed");
+    assert_eq!(s["converged_increments"], 300);
+    assert_eq!(s["iterations"].as_array().unwrap().len(), 300);
     let _ = std::fs::remove_dir_all(&base);
 }
