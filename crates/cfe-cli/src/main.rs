@@ -92,7 +92,19 @@ enum Command {
 
 fn main() {
     if let Err(e) = run(Cli::parse()) {
-        eprintln!("error: {e:#}");
+        // The chain of causes, each once: a library error's message already
+        // holds its I/O cause.
+        let mut message = String::new();
+        for cause in e.chain() {
+            let text = cause.to_string();
+            if !message.contains(&text) {
+                if !message.is_empty() {
+                    message.push_str(": ");
+                }
+                message.push_str(&text);
+            }
+        }
+        eprintln!("error: {message}");
         // A run stopped by a signal exits as the shell reports a signal: 128 + its number.
         let code = match e.downcast_ref::<cfe::Error>() {
             Some(cfe::Error::Interrupted { signal, .. }) => 128 + *signal as i32,

@@ -654,6 +654,12 @@ fn hostile_values_are_refused_with_file_line_and_key() {
             &["at least 1"],
         ),
         (
+            "increments 2^64-1",
+            with("increments = 10", "increments = 18446744073709551615"),
+            Invalid("analysis.increments"),
+            &["more than 10000000"],
+        ),
+        (
             "increments negative",
             with("increments = 10", "increments = -1"),
             Parse,

@@ -26,6 +26,9 @@ pub const MIN_STIFFNESS: f64 = 1e-100;
 /// round-off of the penalty entries, so the solve cannot see it.
 pub const MAX_PENALTY_RATIO: f64 = 1e16;
 
+/// The most load increments a run may have.
+pub const MAX_INCREMENTS: usize = 10_000_000;
+
 /// One step of a key path: a table key or an index into an array of tables.
 #[derive(Debug, Clone, Copy)]
 pub enum Seg<'k> {
@@ -372,6 +375,15 @@ fn analysis(v: &Values, s: &crate::domain::Settings) -> Result<()> {
         if n == 0 {
             return Err(v.invalid(&at(k), "= 0 must be at least 1"));
         }
+    }
+    if s.increments > MAX_INCREMENTS {
+        return Err(v.invalid(
+            &at("increments"),
+            format!(
+                "= {} is more than {MAX_INCREMENTS}: each increment is at least one solve and a line of summary.json, so the run would not end in reasonable time; a linear load ramp needs far fewer",
+                s.increments
+            ),
+        ));
     }
     v.check(
         &at("gap_tolerance"),
