@@ -44,7 +44,8 @@ enum Command {
         /// Output folder (default: results/<problem stem>).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Multiply every structured part's cell counts by K.
+        /// Refine every part K times: structured parts' cell counts are multiplied
+        /// by K, Gmsh (and given) meshes are subdivided uniformly (each edge into K).
         #[arg(long, default_value_t = 1, value_name = "K")]
         refine: usize,
         /// Make every interface follow this law instead of the file's.
@@ -54,9 +55,10 @@ enum Command {
     /// Benchmark: run a problem with the rigid and the contact law at growing
     /// refinement and write benchmarks.md and benchmarks.png.
     Bench {
-        /// The problem file (default: the seed's plate on a base).
-        #[arg(long, default_value = "examples/plate_on_base.toml")]
-        problem: PathBuf,
+        /// The problem file (default: the repository's examples/plate_on_base.toml,
+        /// found from the current folder or from the cfe executable's location).
+        #[arg(long)]
+        problem: Option<PathBuf>,
         /// Refine until about this many unknowns.
         #[arg(long, default_value_t = 4_000_000)]
         max_unknowns: usize,
@@ -86,7 +88,8 @@ enum Command {
     Check {
         /// The problem file (TOML).
         problem: PathBuf,
-        /// Multiply every structured part's cell counts by K.
+        /// Refine every part K times: structured parts' cell counts are multiplied
+        /// by K, Gmsh (and given) meshes are subdivided uniformly (each edge into K).
         #[arg(long, default_value_t = 1, value_name = "K")]
         refine: usize,
     },
@@ -94,7 +97,19 @@ enum Command {
 
 fn main() {
     if let Err(e) = run(Cli::parse()) {
-        eprintln!("error: {e:#}");
+        // The chain of causes, each once: a library error's message already
+        // holds its I/O cause.
+        let mut message = String::new();
+        for cause in e.chain() {
+            let text = cause.to_string();
+            if !message.contains(&text) {
+                if !message.is_empty() {
+                    message.push_str(": ");
+                }
+                message.push_str(&text);
+            }
+        }
+        eprintln!("error: {message}");
         // A run stopped by a signal exits as the shell reports a signal: 128 + its number.
         let code = match e.downcast_ref::<cfe::Error>() {
             Some(cfe::Error::Interrupted { signal, .. }) => 128 + *signal as i32,
@@ -144,6 +159,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 return Ok(());
             }
             let exe = std::env::current_exe().context("cannot locate the cfe executable")?;
+            let problem = match problem {
+                Some(p) if p.is_file() => p,
+                Some(p) => anyhow::bail!("the problem file {} does not exist", p.display()),
+                None => default_bench_problem(&exe)?,
+            };
             cfe_tools::bench::run(&exe, &problem, max_unknowns, &out, &mut |line| {
                 println!("{line}")
             })?;
@@ -157,6 +177,26 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             law,
         } => run_problem(&problem, out, refine, law),
     }
+}
+
+/// The benchmark's default problem, `examples/plate_on_base.toml` of the
+/// repository: looked for under the current folder, then above the executable
+/// (`target/release/cfe` lies two levels below the repository's root).
+fn default_bench_problem(exe: &Path) -> anyhow::Result<PathBuf> {
+    let rel = Path::new("examples").join("plate_on_base.toml");
+    let candidates: Vec<PathBuf> = std::iter::once(rel.clone())
+        .chain(exe.ancestors().skip(1).map(|d| d.join(&rel)))
+        .collect();
+    candidates
+        .iter()
+        .find(|p| p.is_file())
+        .cloned()
+        .ok_or_else(|| {
+            anyhow::anyhow!(
+                "the default benchmark problem examples/plate_on_base.toml is neither under the current folder nor above the cfe executable ({}); give one with --problem FILE",
+                exe.display()
+            )
+        })
 }
 
 /// `cfe run`: solves the problem with a progress bar, writes the results into
@@ -207,7 +247,10 @@ fn run_problem(
         Ok(s) => s,
         Err(e @ cfe::Error::Interrupted { .. }) => return Err(e.into()),
         Err(e) => {
-            let written = out.join("summary.json").is_file();
+            // The summary on disk records the failure unless even it could not be
+            // written (then the library removed a stale one).
+            let written = std::fs::read_to_string(out.join("summary.json"))
+                .is_ok_and(|t| t.contains("\"status\": \"failed\""));
             return Err(anyhow::Error::new(e).context(if written {
                 format!(
                     "run failed; the converged increments and the summary are in {}",
@@ -224,6 +267,7 @@ fn run_problem(
 
 /// Prints the main figures of a finished run.
 fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
+    use cfe::output::fmt::{num, num_rel};
     println!("results in {}", out.display());
     println!(
         "  {} unknowns, {} increments, iterations per increment {:?}",
@@ -247,8 +291,8 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
             },
             if i.max_projection_distance > 0.0 {
                 format!(
-                    "; coupling nodes moved onto the host edges by up to {:.3e}",
-                    i.max_projection_distance
+                    "; coupling nodes moved onto the host edges by up to {}",
+                    num(i.max_projection_distance)
                 )
             } else {
                 String::new()
@@ -291,14 +335,21 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
     }
     let m = &summary.max_displacement;
     println!(
-        "  max |u| = {:.6e} at ({}, {}) in part '{}'",
-        m.value,
+        "  max |u| = {} at ({}, {}) in part '{}'",
+        num(m.value),
         short(m.x),
         short(m.y),
         m.part
     );
     for r in &summary.reactions {
-        println!("  reaction '{}': ({:.6e}, {:.6e})", r.support, r.fx, r.fy);
+        // A component below 1e-10 of the reaction is round-off: shown as 0.
+        let size = r.fx.hypot(r.fy);
+        println!(
+            "  reaction '{}': ({}, {})",
+            r.support,
+            num_rel(r.fx, size),
+            num_rel(r.fy, size)
+        );
     }
     println!(
         "  equilibrium error {:.2e}, total {:.3} s",

@@ -23,7 +23,7 @@ create_exception!(
     _cfe,
     ModelError,
     CfeError,
-    "The problem is well formed but describes an invalid model (settings, materials). Attributes: `part`, `key` for a material."
+    "The problem is well formed but describes an invalid model (settings, materials). Attributes: `path`, `line`, `key` (dotted, e.g. `materials.steel.nu`) for a value out of range; `part`, `key` for the constants of a material given in memory."
 );
 create_exception!(
     _cfe,
@@ -59,7 +59,7 @@ create_exception!(
     _cfe,
     PrecisionError,
     CfeError,
-    "The solution lost accuracy (out-of-balance force above `[analysis] max_residual`), typically a penalty far above E·t. Attributes: `increment`, `residual`."
+    "Numbers beyond double precision: the solution lost accuracy (out-of-balance force above `[analysis] max_residual`; attributes `increment`, `residual`), or an input refused before solving as overflow or as a penalty far above E·t (attributes `path`, `line`, `key`, and `ratio` for a penalty)."
 );
 create_exception!(
     _cfe,
@@ -89,6 +89,47 @@ pub fn to_py(py: Python<'_>, e: cfe::Error) -> PyErr {
             vec![("path", obj(py, path)), ("line", obj(py, line))],
         ),
         E::Model(_) => (ModelError::new_err(message), vec![]),
+        E::Invalid {
+            path, line, key, ..
+        } => (
+            ModelError::new_err(message),
+            vec![
+                ("path", obj(py, path)),
+                ("line", obj(py, line)),
+                ("key", obj(py, key)),
+            ],
+        ),
+        E::Overflow {
+            path, line, key, ..
+        } => (
+            PrecisionError::new_err(message),
+            vec![
+                ("path", obj(py, path)),
+                ("line", obj(py, line)),
+                ("key", obj(py, key)),
+            ],
+        ),
+        E::PenaltyPrecision {
+            path,
+            line,
+            key,
+            ratio,
+            ..
+        } => (
+            PrecisionError::new_err(message),
+            vec![
+                ("path", obj(py, path)),
+                ("line", obj(py, line)),
+                ("key", obj(py, key)),
+                ("ratio", obj(py, ratio)),
+            ],
+        ),
+        E::Subprocess {
+            command, status, ..
+        } => (
+            CfeError::new_err(message),
+            vec![("command", obj(py, command)), ("status", obj(py, status))],
+        ),
         E::Material { part, key, .. } => (
             ModelError::new_err(message),
             vec![("part", obj(py, part)), ("key", obj(py, key))],

@@ -53,7 +53,8 @@ def test_bad_material_and_settings():
     d["materials"]["steel"]["nu"] = 0.5
     with pytest.raises(cfe.ModelError) as e:
         cfe.Model(d)
-    assert e.value.part == "base" and e.value.key == "nu"
+    assert e.value.key == "materials.steel.nu" and "(-1, 0.5)" in str(e.value)
+    assert str(e.value).startswith("problem dict: `materials.steel.nu`"), str(e.value)
     with pytest.raises(cfe.ModelError, match="increments"):
         cfe.Model(plate_on_base_dict(analysis={"increments": 0}))
 

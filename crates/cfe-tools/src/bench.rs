@@ -77,30 +77,44 @@ pub fn run(
     let scratch = std::env::temp_dir().join(format!("cfe-bench-{}", std::process::id()));
     let run_one = |law: &'static str, refine: usize| -> Result<Case> {
         let dir = scratch.join(format!("{law}-{refine}"));
-        let status = Command::new(exe)
+        let child = Command::new(exe)
             .arg("run")
             .arg(problem)
             .args(["--refine", &refine.to_string(), "--law", law, "--out"])
             .arg(&dir)
             .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .status()
+            .stderr(std::process::Stdio::piped())
+            .output()
             .map_err(|e| Error::output(exe, format!("cannot start the benchmark run: {e}")))?;
+        if !child.status.success() {
+            // The child's own message says what went wrong: pass it through
+            // (its error lines; its progress output is left out).
+            let stderr = String::from_utf8_lossy(&child.stderr);
+            let errors: Vec<&str> = stderr
+                .lines()
+                .filter(|l| l.starts_with("error") || l.starts_with("warning"))
+                .collect();
+            let text = if errors.is_empty() {
+                stderr.lines().rev().take(20).collect::<Vec<_>>().join("\n")
+            } else {
+                errors.join("\n")
+            };
+            let _ = std::fs::remove_dir_all(&dir);
+            return Err(Error::Subprocess {
+                command: format!(
+                    "cfe run {} --refine {refine} --law {law}",
+                    problem.display()
+                ),
+                status: child.status.code(),
+                stderr: text.trim().to_string(),
+            });
+        }
         let summary_path = dir.join("summary.json");
         let text =
             std::fs::read_to_string(&summary_path).map_err(|e| Error::output(&summary_path, e))?;
         let summary: Value =
             serde_json::from_str(&text).map_err(|e| Error::output(&summary_path, e))?;
         let _ = std::fs::remove_dir_all(&dir);
-        if !status.success() {
-            return Err(Error::output(
-                problem,
-                format!(
-                    "benchmark run {law} K={refine} failed: {}",
-                    summary["error"]
-                ),
-            ));
-        }
         Ok(Case {
             law,
             refine,

@@ -183,6 +183,22 @@ impl Analysis {
 
     /// A human-readable description of the prepared model (for `cfe check`).
     pub fn describe(&self) -> String {
+        use crate::output::fmt::{num, num_rel};
+        // The model's size: lengths below 1e-10 of it are round-off, shown as 0.
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in self.model.parts.iter().flat_map(|p| &p.mesh.nodes) {
+            for c in 0..2 {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+        }
+        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.0);
+        let load: f64 = self
+            .model
+            .loads
+            .iter()
+            .map(|l| l.resultant[0].hypot(l.resultant[1]))
+            .fold(0.0, f64::max);
         let mut s = format!(
             "{} ({})\n  unknowns: {}\n",
             self.model.title,
@@ -195,22 +211,22 @@ impl Analysis {
                 p.name,
                 p.mesh.nodes.len(),
                 p.mesh.describe_elements(),
-                p.material.young,
-                p.material.poisson,
-                p.material.thickness
+                num(p.material.young),
+                num(p.material.poisson),
+                num(p.material.thickness)
             );
         }
         for i in &self.interfaces {
             s += &format!(
-                "  interface '{}': host '{}', nodes '{}', law {}, {} pairs, c_n = {:e}, c_s = {:e}, max projection distance {:e}\n",
+                "  interface '{}': host '{}', nodes '{}', law {}, {} pairs, c_n = {}, c_s = {}, max projection distance {}\n",
                 i.name,
                 self.model.parts[i.host].name,
                 self.model.parts[i.node_part].name,
                 i.law.as_str(),
                 i.elements.len(),
-                i.c_n,
-                i.c_s,
-                i.max_projection_distance
+                num(i.c_n),
+                num(i.c_s),
+                num_rel(i.max_projection_distance, size)
             );
             if i.coupling == Coupling::Segment {
                 s += "    segment coupling: each pair's gap is averaged over its node's face segments\n";
@@ -229,8 +245,8 @@ impl Analysis {
             s += &format!(
                 "  load '{}': resultant ({}, {}) on {} nodal forces\n",
                 l.name,
-                l.resultant[0],
-                l.resultant[1],
+                num_rel(l.resultant[0], load),
+                num_rel(l.resultant[1], load),
                 l.nodal.len()
             );
         }

@@ -62,6 +62,9 @@ pub struct Settings {
     /// above it the solve has lost accuracy (typically a penalty far above E·t) and
     /// the run stops. Results above 1e-8 are flagged in any case.
     pub max_residual: f64,
+    /// Write the VTU files of every N-th increment (default 1: all); the last
+    /// increment is always written. Bounds the output of runs with many increments.
+    pub output_every: usize,
 }
 
 impl Default for Settings {
@@ -75,6 +78,7 @@ impl Default for Settings {
             force_tolerance: 1e-6,
             max_violation: 0.05,
             max_residual: 1e-4,
+            output_every: 1,
         }
     }
 }

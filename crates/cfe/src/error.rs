@@ -33,6 +33,52 @@ pub enum Error {
     /// invalid analysis settings, nothing to solve, ...).
     #[error("invalid model: {0}")]
     Model(String),
+    /// A value of the problem file is unusable: not a finite number, or outside its
+    /// physical range (the message gives the range and the reason). `key` is the
+    /// value's dotted path in the file, e.g. `materials.steel.E`,
+    /// `part.base.thickness`, `analysis.increments`.
+    #[error("{}: `{key}` {message}", place(path, *line))]
+    Invalid {
+        /// The problem file.
+        path: PathBuf,
+        /// The line of the value (1-based), when known.
+        line: Option<usize>,
+        /// The value's dotted path in the file.
+        key: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+    /// Numbers too large or too small for double precision to carry through the
+    /// solve: a value whose stiffness products or load sums would overflow (or
+    /// underflow to zero), or a solution that came out non-finite. `key` and `line`
+    /// name the input at fault when it is known.
+    #[error("overflow: {}{message}", match (path, line) { (Some(p), l) => format!("{}: ", place(p, *l)), _ => String::new() })]
+    Overflow {
+        /// The problem file, when an input value is at fault.
+        path: Option<PathBuf>,
+        /// The line of that value (1-based).
+        line: Option<usize>,
+        /// The value's dotted path (empty when no single input is at fault).
+        key: String,
+        /// What overflows and what to change.
+        message: String,
+    },
+    /// A coupling penalty so far above the softer part's E·t that the part's
+    /// stiffness is lost in the round-off of the penalty entries (double precision
+    /// keeps about 16 digits): refused before solving.
+    #[error("loss of precision: {}: `{key}` {message}", place(path, *line))]
+    PenaltyPrecision {
+        /// The problem file.
+        path: PathBuf,
+        /// The line of the penalty (1-based), when known.
+        line: Option<usize>,
+        /// The penalty's dotted path, e.g. `interface.plate-base.c_n`.
+        key: String,
+        /// The penalty relative to the softer part's E·t.
+        ratio: f64,
+        /// What is wrong and the working range.
+        message: String,
+    },
     /// Invalid material constants of a part.
     #[error("invalid model: part '{part}': {message}")]
     Material {
@@ -143,6 +189,17 @@ pub enum Error {
         /// What asked to stop: the signal's number.
         signal: usize,
     },
+    /// A child process (e.g. a benchmark run) failed: its command, exit status and
+    /// its own error message.
+    #[error("`{command}` failed (exit status {}): {stderr}", status.map_or("none (killed by a signal)".to_string(), |c| c.to_string()))]
+    Subprocess {
+        /// The command, as a user would type it.
+        command: String,
+        /// Its exit status (`None` when killed by a signal).
+        status: Option<i32>,
+        /// Its error lines (stderr).
+        stderr: String,
+    },
     /// Writing a result file failed.
     #[error("cannot write {path}: {message}")]
     Output {
@@ -151,6 +208,14 @@ pub enum Error {
         /// Why.
         message: String,
     },
+}
+
+/// `file:line` (or just `file`) for messages.
+fn place(path: &std::path::Path, line: Option<usize>) -> String {
+    match line {
+        Some(l) => format!("{}:{l}", path.display()),
+        None => path.display().to_string(),
+    }
 }
 
 impl Error {

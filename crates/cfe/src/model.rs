@@ -16,6 +16,8 @@ use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use toml::Spanned;
 
+mod check;
+
 /// Default relative geometric tolerance of the pair search: a coupling node may lie
 /// up to this fraction of the host edge's length off that edge (it is then moved
 /// onto it). 5 % admits a fine circular face against a coarse polygonal one down
@@ -406,6 +408,7 @@ impl Model {
             text,
             path,
             meshes: std::cell::RefCell::new(meshes),
+            values: check::Values::new(text, path),
         }
         .build(file, refine)
     }
@@ -416,6 +419,8 @@ struct Builder<'a> {
     path: &'a Path,
     /// Meshes given in memory, by part name, taken by their parts.
     meshes: std::cell::RefCell<BTreeMap<String, Mesh>>,
+    /// The text's values with their lines, for the checks.
+    values: check::Values<'a>,
 }
 
 impl Builder<'_> {
@@ -552,6 +557,10 @@ impl Builder<'_> {
     }
 
     fn build(&self, file: ProblemFile, refine: usize) -> Result<Model> {
+        // Every number is checked (finite, in range) before anything is meshed.
+        if !file.parts.is_empty() {
+            check::problem(&self.values, &file)?;
+        }
         let ProblemFile {
             title,
             units,
@@ -583,7 +592,8 @@ impl Builder<'_> {
         let mut claimed: BTreeMap<(usize, usize), String> = BTreeMap::new();
         let interfaces = iface_specs
             .iter()
-            .map(|spec| self.interface(spec, &parts, &mut claimed))
+            .enumerate()
+            .map(|(i, spec)| self.interface(i, spec, &parts, &mut claimed))
             .collect::<Result<Vec<_>>>()?;
         let supports = support_specs
             .iter()
@@ -593,7 +603,6 @@ impl Builder<'_> {
             .iter()
             .map(|spec| self.load(spec, &parts))
             .collect::<Result<Vec<_>>>()?;
-        check_settings(&analysis)?;
         let title = title.unwrap_or_else(|| {
             self.path
                 .file_stem()
@@ -766,6 +775,7 @@ impl Builder<'_> {
     /// only, recorded in `claimed`), its penalties and tolerance.
     fn interface(
         &self,
+        index: usize,
         spec: &InterfaceSpec,
         parts: &[Part],
         claimed: &mut BTreeMap<(usize, usize), String>,
@@ -904,6 +914,28 @@ impl Builder<'_> {
                 ),
             ));
         }
+        // A penalty beyond 1/ε × E·t of the softer part hides that part's stiffness
+        // in round-off: refused here with its name rather than as a failed pivot.
+        let softer = if parts[host].material.stiffness_scale()
+            <= parts[node_part].material.stiffness_scale()
+        {
+            host
+        } else {
+            node_part
+        };
+        let et = parts[softer].material.stiffness_scale();
+        for (key, c) in [("c_n", c_n), ("c_s", c_s)] {
+            self.values.penalty(
+                &[
+                    check::Seg::K("interface"),
+                    check::Seg::I(index),
+                    check::Seg::K(key),
+                ],
+                c,
+                et,
+                &parts[softer].name,
+            )?;
+        }
         Ok(InterfaceDef {
             name,
             host,
@@ -935,7 +967,7 @@ impl Builder<'_> {
                 )
             }
             (None, Some(at)) => (
-                format!("{}@({},{})", part.name, at[0], at[1]),
+                format!("{}@{}", part.name, crate::output::fmt::point(at)),
                 vec![self.node_at(part, at, &spec.part, "support")?],
             ),
             _ => {
@@ -1047,7 +1079,7 @@ impl Builder<'_> {
             (None, None, None, Some(at)) => {
                 let n = self.node_at(part, at, &spec.part, "point load")?;
                 Load {
-                    name: format!("{}@({},{})", part.name, at[0], at[1]),
+                    name: format!("{}@{}", part.name, crate::output::fmt::point(at)),
                     part: p,
                     nodal: vec![(n, force)],
                     resultant: force,
@@ -1138,44 +1170,4 @@ fn check_size(nodes: u64, refine: usize) -> Result<()> {
             available as f64 / (1u64 << 30) as f64
         ),
     })
-}
-
-/// Checks the `[analysis]` settings.
-fn check_settings(settings: &Settings) -> Result<()> {
-    if settings.increments == 0 {
-        return Err(Error::Model(
-            "[analysis] increments must be at least 1".into(),
-        ));
-    }
-    if settings.max_iterations == 0 {
-        return Err(Error::Model(
-            "[analysis] max_iterations must be at least 1".into(),
-        ));
-    }
-    if !(settings.gap_tolerance.is_finite() && settings.gap_tolerance >= 0.0) {
-        return Err(Error::Model(
-            "[analysis] gap_tolerance must be finite and non-negative".into(),
-        ));
-    }
-    if !(settings.force_tolerance.is_finite()
-        && settings.force_tolerance >= 0.0
-        && settings.force_tolerance < 1.0)
-    {
-        return Err(Error::Model(
-            "[analysis] force_tolerance must be a fraction of the load in [0, 1)".into(),
-        ));
-    }
-    if !(settings.max_violation.is_finite() && settings.max_violation >= 0.0) {
-        return Err(Error::Model(
-            "[analysis] max_violation must be finite and non-negative (a fraction of the load)"
-                .into(),
-        ));
-    }
-    if settings.max_residual.is_nan() || settings.max_residual <= 0.0 {
-        return Err(Error::Model(
-            "[analysis] max_residual must be positive (a fraction of the load, default 1e-4)"
-                .into(),
-        ));
-    }
-    Ok(())
 }

@@ -95,14 +95,15 @@ fn undefined_part_and_boundary() {
     assert!(e.contains("botom") && e.contains("left, right, top"), "{e}");
 }
 
-/// Invalid material constants are errors naming the part.
+/// Invalid material constants are errors naming the material's table
+/// (`materials.steel.nu`) and its line, not the first part that uses it.
 #[test]
 fn invalid_material() {
     let e = parse_err(
         &BASE.replace("nu = 0.31", "nu = 0.7"),
-        |e| matches!(e, Error::Material { part, key: "nu", .. } if part == "base"),
+        |e| matches!(e, Error::Invalid { key, line: Some(4), .. } if key == "materials.steel.nu"),
     );
-    assert!(e.contains("Poisson") && e.contains("base"), "{e}");
+    assert!(e.contains("(-1, 0.5)") && e.contains("bad.toml:4"), "{e}");
 }
 
 /// A load segment that is not on the part's boundary, and a point that matches no

@@ -396,6 +396,17 @@ class Model:
             )
         except ParseError as e:
             raise _from_dict_error(e, text, where) from None
+        except (ModelError, PrecisionError) as e:
+            # A value refused with its key: the generated text's file and line
+            # mean nothing to the dict's author, the dotted key does.
+            line = getattr(e, "line", None)
+            if line is None or not isinstance(getattr(e, "key", None), str):
+                raise
+            new = type(e)(str(e).replace(f"{where}:{line}: ", "problem dict: ", 1))
+            new.key = e.key
+            new.path = None
+            new.line = None
+            raise new from None
         self._init(native, meshes)
 
     def _init(self, native: Any, meshes: Optional[Dict[str, Mesh]] = None) -> None:

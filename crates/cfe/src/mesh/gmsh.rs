@@ -1055,6 +1055,14 @@ impl<'a> Parser<'a> {
         if self.node_index.insert(tag, self.node_tags.len()).is_some() {
             return Err(self.err_at(at, format!("node {tag} is defined twice")));
         }
+        if let Some(c) = xyz.iter().position(|v| !v.is_finite()) {
+            // At the current position: the end of the node's own line.
+            return Err(self.err(format!(
+                "node {tag} has a non-finite {} coordinate ({})",
+                ["x", "y", "z"][c],
+                xyz[c]
+            )));
+        }
         self.node_tags.push(tag);
         self.coords.push(xyz);
         Ok(())

@@ -3,6 +3,7 @@
 //! temporary name first, then renamed, so a crash never leaves a half-written file.
 
 pub mod chart;
+pub mod fmt;
 pub mod memory;
 pub(crate) mod png;
 pub mod report;
@@ -13,6 +14,42 @@ pub mod vtu;
 use crate::error::{Error, Result};
 use std::io::{BufWriter, Write};
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+/// Writes still allowed before injected faults start (`usize::MAX`: no faults).
+static WRITES_BEFORE_FAULT: AtomicUsize = AtomicUsize::new(usize::MAX);
+/// Whether injected faults spare `summary.json`.
+static SPARE_SUMMARY: AtomicBool = AtomicBool::new(false);
+
+/// Test hook: simulates a full disk. After `after` more successful file writes,
+/// every write fails with "No space left on device" (`None` turns the faults
+/// off); with `spare_summary`, writes of `summary.json` neither fail nor count
+/// (a disk with just enough room left for the small summary). Process-wide: use
+/// it from a test binary of its own.
+#[doc(hidden)]
+pub fn inject_write_faults(after: Option<usize>, spare_summary: bool) {
+    SPARE_SUMMARY.store(spare_summary, Ordering::SeqCst);
+    WRITES_BEFORE_FAULT.store(after.unwrap_or(usize::MAX), Ordering::SeqCst);
+}
+
+/// Takes one write from the injected budget: an error once it is spent.
+fn injected_fault() -> std::io::Result<()> {
+    let spent = WRITES_BEFORE_FAULT
+        .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |n| match n {
+            usize::MAX => Some(usize::MAX),
+            0 => None,
+            n => Some(n - 1),
+        })
+        .is_err();
+    if spent {
+        Err(std::io::Error::new(
+            std::io::ErrorKind::StorageFull,
+            "No space left on device (injected)",
+        ))
+    } else {
+        Ok(())
+    }
+}
 
 /// Writes a file atomically: `fill` writes the content into a buffered temporary file
 /// beside `path`, which is then renamed over `path`.
@@ -30,6 +67,9 @@ pub fn write_atomic(
         let file = std::fs::File::create(&tmp)?;
         let mut w = BufWriter::with_capacity(1 << 20, file);
         fill(&mut w)?;
+        if !(file_name == "summary.json" && SPARE_SUMMARY.load(Ordering::SeqCst)) {
+            injected_fault()?;
+        }
         w.flush()?;
         // No fsync: the rename makes the file appear whole or not at all if cfe
         // stops; durability against power loss is left to the operating system.

@@ -522,6 +522,29 @@ fn render(
     write_rgb(path, &buf, WIDTH, layout.height)
 }
 
+/// `title` and a font size (28 px, or smaller down to 16) at which it fits in
+/// `room` pixels; shortened with an ellipsis if it does not fit even at 16.
+fn fit_title(root: &Area, title: &str, room: u32) -> (String, f64) {
+    let width = |t: &str, size: f64| {
+        root.estimate_text_size(t, &TextStyle::from((FONT, size).into_font()))
+            .map_or(0, |(w, _)| w)
+    };
+    let mut size = 28.0;
+    while size > 16.0 && width(title, size) > room {
+        size -= 2.0;
+    }
+    let mut t = title.to_string();
+    while width(&t, size) > room && t.chars().count() > 1 {
+        t.pop();
+        let cut: String = t.trim_end().to_string();
+        t = cut;
+        if width(&format!("{t}…"), size) <= room {
+            return (format!("{t}…"), size);
+        }
+    }
+    (t, size)
+}
+
 /// The title, the frame of the plot box, the axis ticks (about 8 along x,
 /// matching spacing along y) and the axis labels. Axes are drawn in pixels
 /// around the plot box, with the equal-scale transform.
@@ -536,13 +559,13 @@ fn draw_frame_and_axes(
     let Layout {
         tf, x0, x1, y0, y1, ..
     } = *layout;
-    root.draw(&Text::new(
-        labels.title.to_string(),
-        (LEFT as i32, 22),
-        text(28.0),
-    ))
-    .map_err(|e| err(&e))?;
     let (pl, pt, pr, pb) = layout.plot_box();
+    // The title ends before the colour bar's label (which starts at pr + 30): a
+    // long one is set smaller, down to 16 px, then shortened with an ellipsis.
+    let room = (pr + 20 - LEFT as i32).max(50) as u32;
+    let (title, size) = fit_title(root, labels.title, room);
+    root.draw(&Text::new(title, (LEFT as i32, 22), text(size)))
+        .map_err(|e| err(&e))?;
     root.draw(&Rectangle::new(
         [(pl - 1, pt - 1), (pr, pb)],
         BLACK.stroke_width(1),

@@ -58,8 +58,29 @@ fn clear_previous_run(out: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Files that grow with the number of increments (`results.pvd`, `summary.json`)
+/// are rewritten at every chance while they are small, and at most once per
+/// [`REWRITE_INTERVAL`] once they hold [`REWRITE_FREELY`] increments or more, so a
+/// run of 100 000 increments does not spend its time rewriting them; the final
+/// versions are always written at the end.
+const REWRITE_FREELY: usize = 100;
+/// See [`REWRITE_FREELY`].
+const REWRITE_INTERVAL: std::time::Duration = std::time::Duration::from_secs(1);
+
+/// Whether a growing file holding `count` increments, last written at `last`, is
+/// due for a rewrite (see [`REWRITE_FREELY`]); marks it written if so.
+fn rewrite_due(last: &mut Option<Instant>, count: usize) -> bool {
+    let due = count < REWRITE_FREELY || last.is_none_or(|t| t.elapsed() >= REWRITE_INTERVAL);
+    if due {
+        *last = Some(Instant::now());
+    }
+    due
+}
+
 /// What a run accumulates while its increments are solved and written.
 struct RunLog {
+    /// When `summary.json` was last written.
+    summary_written: Option<Instant>,
     /// The summary, rewritten after each converged increment.
     summary: Summary,
     /// Time spent recovering stresses [s].
@@ -86,6 +107,8 @@ struct Series<'scope> {
     pvd: Vec<vtu::PvdEntry>,
     /// The writers in flight, oldest first.
     writers: VecDeque<Writer<'scope>>,
+    /// When `results.pvd` was last written.
+    written: Option<Instant>,
 }
 
 impl<'scope> Series<'scope> {
@@ -95,6 +118,7 @@ impl<'scope> Series<'scope> {
             pvd_path: out.join("results.pvd"),
             pvd: Vec::new(),
             writers: VecDeque::new(),
+            written: None,
         }
     }
 
@@ -111,7 +135,9 @@ impl<'scope> Series<'scope> {
             let (h, entries) = self.writers.pop_front().expect("two writers");
             self.join(h)?;
             self.pvd.extend(entries);
-            vtu::write_pvd(&self.pvd_path, &self.pvd)?;
+            if rewrite_due(&mut self.written, self.pvd.len() / 2) {
+                vtu::write_pvd(&self.pvd_path, &self.pvd)?;
+            }
         }
         Ok(())
     }
@@ -236,6 +262,7 @@ impl Analysis {
         std::fs::create_dir_all(&vtu_dir).map_err(|e| Error::output(&vtu_dir, e))?;
         clear_previous_run(out)?;
         let mut log = RunLog {
+            summary_written: None,
             summary: self.empty_summary(),
             recovery_time: 0.0,
             output_time: 0.0,
@@ -247,12 +274,28 @@ impl Analysis {
         let result = std::thread::scope(|scope| {
             this.solve_and_write(scope, &grid, out, &mut log, progress, stop)
         });
+        let result = result.and_then(|inc| self.finish_run(out, &inc, &mut log, start));
         match result {
-            Ok(inc) => self.finish_run(out, &inc, log, start),
-            Err(e) => {
-                self.record_stop(out, &mut log.summary, start, &e)?;
-                Err(e)
-            }
+            Ok(summary) => Ok(summary),
+            Err(e) => match self.record_stop(out, &mut log.summary, start, &e) {
+                Ok(()) => Err(e),
+                Err(w) => {
+                    // Not even the summary could be written: a stale one saying
+                    // `running` must not stay behind.
+                    let summary = out.join("summary.json");
+                    let removed = match std::fs::remove_file(&summary) {
+                        Ok(()) => "the stale summary.json was removed",
+                        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                            "no summary.json was written"
+                        }
+                        Err(_) => "summary.json is stale",
+                    };
+                    Err(Error::output(
+                        &summary,
+                        format!("{e}; the failure could not be recorded ({w}); {removed}"),
+                    ))
+                }
+            },
         }
     }
 
@@ -268,15 +311,7 @@ impl Analysis {
         progress: &mut dyn FnMut(&IncrementResult),
         stop: &AtomicUsize,
     ) -> Result<IncrementResult> {
-        let mut solver = match self.solver() {
-            Ok(s) => s,
-            Err(e) => {
-                log.summary.status = RunStatus::Failed;
-                log.summary.error = Some(e.to_string());
-                report::write_json(&out.join("summary.json"), &log.summary)?;
-                return Err(e);
-            }
-        };
+        let mut solver = self.solver()?;
         self.prepare_solver(&mut solver, &mut log.summary);
         let mut series = Series::new(out);
         let r = solver.run(|inc| {
@@ -316,7 +351,9 @@ impl Analysis {
 
     /// Writes one converged increment: recovers its stresses, starts its parts VTU
     /// in the background, writes its pairs VTU and the pairs table, and updates
-    /// the summary on disk.
+    /// the summary on disk. Only every `output_every`-th increment and the last
+    /// have their files written; the summary is rewritten at a bounded rate
+    /// (see [`REWRITE_FREELY`]).
     fn write_increment<'scope, 'env: 'scope>(
         &'env self,
         scope: &'scope Scope<'scope, 'env>,
@@ -326,7 +363,18 @@ impl Analysis {
         log: &mut RunLog,
         out: &Path,
     ) -> Result<()> {
+        let settings = &self.model.settings;
+        let files = inc.index.is_multiple_of(settings.output_every.max(1))
+            || inc.index >= settings.increments;
         let t = Instant::now();
+        if !files {
+            self.fill_summary(&mut log.summary, inc, &self.pair_rows(inc));
+            if rewrite_due(&mut log.summary_written, inc.index) {
+                report::write_json(&out.join("summary.json"), &log.summary)?;
+            }
+            log.output_time += t.elapsed().as_secs_f64();
+            return Ok(());
+        }
         let stresses = self.recover(&inc.u);
         log.recovery_time += t.elapsed().as_secs_f64();
         let t = Instant::now();
@@ -342,7 +390,9 @@ impl Analysis {
         series.push(handle, inc.lambda, parts_file, pairs_file);
         report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
         self.fill_summary(&mut log.summary, inc, &rows);
-        report::write_json(&out.join("summary.json"), &log.summary)?;
+        if rewrite_due(&mut log.summary_written, inc.index) {
+            report::write_json(&out.join("summary.json"), &log.summary)?;
+        }
         log.output_time += t.elapsed().as_secs_f64();
         Ok(())
     }
@@ -374,7 +424,7 @@ impl Analysis {
         &mut self,
         out: &Path,
         inc: &IncrementResult,
-        mut log: RunLog,
+        log: &mut RunLog,
         start: Instant,
     ) -> Result<Summary> {
         let t = Instant::now();
@@ -383,7 +433,7 @@ impl Analysis {
             None => Arc::new(self.recover(&inc.u)),
         };
         self.write_pictures(out, inc, &stresses)?;
-        let mut summary = log.summary;
+        let summary = &mut log.summary;
         summary.timings.pictures = t.elapsed().as_secs_f64();
         summary.status = summary.final_status();
         summary.timings.meshing = self.timings.meshing;
@@ -393,9 +443,9 @@ impl Analysis {
         summary.timings.total =
             start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
         summary.peak_memory_bytes = peak_memory_bytes();
-        report::write_json(&out.join("summary.json"), &summary)?;
+        report::write_json(&out.join("summary.json"), summary)?;
         self.timings = summary.timings.clone();
-        Ok(summary)
+        Ok(summary.clone())
     }
 
     fn global_points(&self) -> Vec<[f64; 2]> {

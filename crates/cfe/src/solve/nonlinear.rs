@@ -66,12 +66,23 @@ pub struct SolveTimings {
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Iteration {
     /// How the system was solved (or `None` when the solution of the same states
-    /// at another load factor was scaled).
+    /// at another load factor was scaled: no solve). In `summary.json` both a
+    /// solve with the same factorization and a scaled solution read `"reuse"`.
+    #[serde(serialize_with = "method_or_reuse")]
     pub method: Option<Method>,
     /// Pairs whose state the law changed after this solve.
     pub changed: usize,
     /// Seconds spent on this iteration (solve, internal forces, state update).
     pub seconds: f64,
+}
+
+/// Serializes a scaled solution (`None`) as `"reuse"`, like a solve that
+/// reused its factorization.
+fn method_or_reuse<S: serde::Serializer>(
+    m: &Option<Method>,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    serde::Serialize::serialize(&m.unwrap_or(Method::Reuse), s)
 }
 
 /// The converged result of one increment.
@@ -928,9 +939,14 @@ impl<'a> Solver<'a> {
                 }
             }
             if u.iter().any(|v| !v.is_finite()) {
-                return Err(Error::Singular(format!(
-                    "increment {inc}: the solution is not finite"
-                )));
+                return Err(Error::Overflow {
+                    path: None,
+                    line: None,
+                    key: String::new(),
+                    message: format!(
+                        "increment {inc}: the solution is not finite (a load, a prescribed value or a stiffness is too large or too small for double precision; rescale the units)"
+                    ),
+                });
             }
             let t = Instant::now();
             let f_int = self.internal_force(states, &u);

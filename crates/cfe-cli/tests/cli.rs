@@ -1,0 +1,157 @@
+//! The `cfe` command line on hostile input: exit status 1 and a message naming
+//! the file, line and key (or the real numerical trouble); `bench` passes its
+//! children's errors through; `check` prints one number format.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn cfe(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cfe"))
+        .args(args)
+        .output()
+        .expect("cfe runs")
+}
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The seed's plate problem with `from` replaced by `to`, written to a temporary
+/// file named `name`.
+fn problem(name: &str, from: &str, to: &str) -> PathBuf {
+    let text = std::fs::read_to_string(repo().join("examples/plate_on_base.toml")).unwrap();
+    assert!(text.contains(from));
+    let dir = std::env::temp_dir().join(format!("cfe-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    path
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Bad values exit with status 1 and name the file, the line and the key.
+#[test]
+fn bad_values_name_file_line_and_key() {
+    let cases = [
+        ("E = 210000.0", "E = -1.0", "materials.steel.E", ":14:"),
+        ("nu = 0.31", "nu = 0.5", "materials.steel.nu", ":15:"),
+        (
+            "increments = 10",
+            "increments = 0",
+            "analysis.increments",
+            ":51:",
+        ),
+        (
+            "x = [0.0, 200.0]",
+            "x = [0.0, inf]",
+            "part.base.rectangle.x",
+            ":21:",
+        ),
+    ];
+    for (i, (from, to, key, line)) in cases.iter().enumerate() {
+        let p = problem(&format!("bad{i}.toml"), from, to);
+        for cmd in ["check", "run"] {
+            let o = cfe(&[
+                cmd,
+                p.to_str().unwrap(),
+                "--out",
+                "/nonexistent-never-written",
+            ][..if cmd == "check" { 2 } else { 4 }]);
+            assert_eq!(o.status.code(), Some(1), "{cmd} {to}");
+            let e = stderr(&o);
+            assert!(e.contains(key) && e.contains(line), "{cmd} {to}: {e}");
+        }
+    }
+}
+
+/// Numbers double precision cannot carry are named as overflow or loss of
+/// precision, never as a mechanism or a singular system.
+#[test]
+fn numerical_trouble_has_its_real_name() {
+    let cases = [
+        ("E = 210000.0", "E = 1e300", "overflow"),
+        ("E = 210000.0", "E = 1e-300", "overflow"),
+        ("c_n = 1e9 ", "c_n = 1e25 ", "loss of precision"),
+        (
+            "force = [0.0, -1500.0]",
+            "force = [0.0, -1e308]",
+            "overflow",
+        ),
+    ];
+    for (i, (from, to, words)) in cases.iter().enumerate() {
+        let p = problem(&format!("num{i}.toml"), from, to);
+        let out = p.with_extension("out");
+        let o = cfe(&["run", p.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(1), "{to}");
+        let e = stderr(&o);
+        assert!(e.contains(words), "{to}: {e}");
+        assert!(
+            !e.contains("mechanism") && !e.contains("singular"),
+            "{to}: {e}"
+        );
+    }
+}
+
+/// `bench` refuses a missing problem file clearly, and shows a failing child's
+/// own error message.
+#[test]
+fn bench_passes_errors_through() {
+    let o = cfe(&["bench", "--problem", "nope.toml"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("nope.toml does not exist"),
+        "{}",
+        stderr(&o)
+    );
+    let p = problem("benchbad.toml", "E = 210000.0", "E = -5.0");
+    let out = p.with_extension("bench");
+    let o = cfe(&[
+        "bench",
+        "--problem",
+        p.to_str().unwrap(),
+        "--max-unknowns",
+        "1000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(
+        e.contains("cfe run") && e.contains("materials.steel.E") && e.contains("positive"),
+        "{e}"
+    );
+}
+
+/// `check` prints four significant digits and round-off as zero: the roller's
+/// projection distance as 7.457e-2, the plate's as 0.
+#[test]
+fn check_uses_one_number_format() {
+    let o = cfe(&[
+        "check",
+        repo()
+            .join("examples/roller_in_cradle/roller_in_cradle.toml")
+            .to_str()
+            .unwrap(),
+    ]);
+    assert!(o.status.success());
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(s.contains("max projection distance 7.457e-2"), "{s}");
+    assert!(s.contains("E = 2.1e5"), "{s}");
+    let o = cfe(&[
+        "check",
+        repo().join("examples/plate_on_base.toml").to_str().unwrap(),
+    ]);
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(s.contains("max projection distance 0\n"), "{s}");
+    assert!(!s.contains("0e0"), "{s}");
+}
+
+/// `--refine`'s help mentions Gmsh parts.
+#[test]
+fn refine_help_mentions_gmsh() {
+    let o = cfe(&["run", "--help"]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("Gmsh"));
+}

@@ -1,0 +1,161 @@
+//! A full disk in the middle of a run (simulated by injected write failures, so it
+//! runs unprivileged): the run fails with the write error, `summary.json` says
+//! `failed` with the reason, and `results.pvd` names only files that exist; when
+//! not even the summary can be written, no stale summary saying `running` stays
+//! behind and the error says so. Also: `output_every` writes every N-th increment
+//! and the last, and a run of many increments ends with complete files. One
+//! test, as the fault injection is process-wide.
+
+mod common;
+
+use cfe::Error;
+use std::path::Path;
+
+const PROBLEM: &str = r#"
+[materials.steel]
+E = 210000.0
+nu = 0.31
+
+[[part]]
+name = "base"
+material = "steel"
+rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [10, 6] }
+
+[[part]]
+name = "plate"
+material = "steel"
+rectangle = { x = [30.0, 170.0], y = [120.0, 135.0], cells = [14, 3] }
+
+[[interface]]
+host = "base"
+nodes = "plate"
+boundary = "bottom"
+
+[[support]]
+part = "base"
+boundary = "bottom"
+fix = ["x", "y"]
+
+[[load]]
+part = "plate"
+boundary = "top"
+from = [86.0, 135.0]
+to = [114.0, 135.0]
+force = [0.0, -1500.0]
+
+[analysis]
+increments = 10
+"#;
+
+/// The files `results.pvd` in `out` names; each must exist.
+fn pvd_files_exist(out: &Path) -> usize {
+    let pvd = std::fs::read_to_string(out.join("results.pvd")).unwrap_or_default();
+    let named: Vec<&str> = pvd
+        .split("file=\"")
+        .skip(1)
+        .map(|s| s.split('"').next().unwrap())
+        .collect();
+    for f in &named {
+        assert!(out.join(f).is_file(), "{f} named but missing");
+    }
+    named.len()
+}
+
+fn summary(out: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+}
+
+fn no_tmp_left(out: &Path) {
+    for dir in [out.to_path_buf(), out.join("vtu")] {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let name = e.unwrap().file_name().to_string_lossy().into_owned();
+            assert!(!name.ends_with(".tmp"), "{name} left behind");
+        }
+    }
+}
+
+#[test]
+fn full_disk_and_output_every() {
+    let base = std::env::temp_dir().join(format!("cfe-test-disk-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+
+    // A disk that fills up after 9 files (a few increments in), with room left
+    // for the small summary.
+    let out = base.join("full");
+    let mut a = common::analysis(PROBLEM);
+    cfe::output::inject_write_faults(Some(9), true);
+    let e = a.run(&out, &mut |_| {}).unwrap_err();
+    cfe::output::inject_write_faults(None, false);
+    assert!(
+        matches!(&e, Error::Output { message, .. } if message.contains("No space left")),
+        "{e:?}"
+    );
+    let s = summary(&out);
+    assert_eq!(s["status"], "failed");
+    assert!(
+        s["error"].as_str().unwrap().contains("No space left"),
+        "{s}"
+    );
+    let named = pvd_files_exist(&out);
+    assert!(named < 20, "{named} files named after a failure");
+    no_tmp_left(&out);
+
+    // A disk with no room at all: nothing, not even the summary, can be written;
+    // the error says the failure could not be recorded and no summary says
+    // `running`.
+    let out = base.join("nothing");
+    cfe::output::inject_write_faults(Some(0), false);
+    let e = a.run(&out, &mut |_| {}).unwrap_err();
+    cfe::output::inject_write_faults(None, false);
+    let m = e.to_string();
+    assert!(
+        m.contains("could not be recorded") && m.contains("No space left"),
+        "{m}"
+    );
+    if out.join("summary.json").is_file() {
+        assert_ne!(summary(&out)["status"], "running");
+    }
+    assert_eq!(pvd_files_exist(&out), 0);
+    no_tmp_left(&out);
+
+    // `output_every = 4` of 10 increments: files of 4, 8 and the last, 10.
+    let out = base.join("every");
+    let mut a =
+        common::analysis(&PROBLEM.replace("increments = 10", "increments = 10\noutput_every = 4"));
+    let s = a.run(&out, &mut |_| {}).unwrap();
+    assert_eq!(s.converged_increments, 10);
+    let mut vtu: Vec<String> = std::fs::read_dir(out.join("vtu"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    vtu.sort();
+    assert_eq!(
+        vtu,
+        [
+            "pairs_0004.vtu",
+            "pairs_0008.vtu",
+            "pairs_0010.vtu",
+            "parts_0004.vtu",
+            "parts_0008.vtu",
+            "parts_0010.vtu"
+        ]
+    );
+    assert_eq!(pvd_files_exist(&out), 6);
+    assert_eq!(summary(&out)["status"], "completed");
+    assert_eq!(summary(&out)["converged_increments"], 10);
+
+    // 300 increments (beyond the 100 below which the growing files are rewritten
+    // freely), every 100th written: the final pvd and summary are complete.
+    let out = base.join("many");
+    let mut a = common::analysis(
+        &PROBLEM.replace("increments = 10", "increments = 300\noutput_every = 100"),
+    );
+    a.run(&out, &mut |_| {}).unwrap();
+    assert_eq!(pvd_files_exist(&out), 6);
+    assert!(out.join("vtu/parts_0300.vtu").is_file());
+    let s = summary(&out);
+    assert_eq!(s["status"], "completed");
+    assert_eq!(s["converged_increments"], 300);
+    assert_eq!(s["iterations"].as_array().unwrap().len(), 300);
+    let _ = std::fs::remove_dir_all(&base);
+}

@@ -1,0 +1,810 @@
+//! Hostile input: every bad value of a problem file is refused where it is read
+//! with a typed error naming the file, the line and the key (and the reason), and
+//! numbers double precision cannot carry are named as overflow or loss of
+//! precision — never a panic, a silent acceptance or a vague "mechanism". Each
+//! case asserts the error's variant, its key and line, and the message's key words.
+
+use cfe::Error;
+use cfe::model::Model;
+use std::path::Path;
+
+/// A valid problem (the seed's plate on a base, coarsened) that every case spoils
+/// in one place.
+const BASE: &str = r#"title = "hostile"
+[materials.steel]
+E = 210000.0
+nu = 0.31
+
+[materials.soft]
+E = 1000.0
+nu = 0.2
+
+[[part]]
+name = "base"
+material = "steel"
+thickness = 1.0
+rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [10, 6] }
+
+[[part]]
+name = "plate"
+material = "steel"
+thickness = 1.0
+rectangle = { x = [30.0, 170.0], y = [120.0, 135.0], cells = [14, 3] }
+
+[[part]]
+name = "ring"
+material = "soft"
+annulus = { center = [500.0, 0.0], r = [10.0, 20.0], theta = [0.0, 90.0], cells = [2, 4] }
+
+[[interface]]
+name = "plate-base"
+host = "base"
+nodes = "plate"
+boundary = "bottom"
+c_n = 1e9
+c_s = 1e9
+tolerance = 0.05
+
+[[support]]
+part = "base"
+boundary = "bottom"
+fix = ["x", "y"]
+value = [0.0, 0.0]
+
+[[support]]
+part = "ring"
+boundary = "inner"
+fix = ["x", "y"]
+
+[[load]]
+part = "plate"
+boundary = "top"
+from = [86.0, 135.0]
+to = [114.0, 135.0]
+force = [0.0, -1500.0]
+
+[[load]]
+part = "ring"
+at = [520.0, 0.0]
+force = [1.0, 0.0]
+
+[analysis]
+increments = 10
+max_iterations = 200
+gap_tolerance = 1e-9
+force_tolerance = 1e-6
+max_violation = 0.05
+max_residual = 1e-4
+output_every = 1
+"#;
+
+/// The error of `text` at refinement `refine`.
+fn error(text: &str, refine: usize) -> Error {
+    match Model::from_str(text, Path::new("hostile.toml"), refine) {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+/// The kinds of error a case expects.
+#[derive(Debug, Clone, Copy)]
+enum Kind {
+    /// `Error::Invalid` with this key.
+    Invalid(&'static str),
+    /// `Error::Overflow` with this key.
+    Overflow(&'static str),
+    /// `Error::PenaltyPrecision` with this key.
+    Precision(&'static str),
+    /// `Error::Parse` (schema, names, selections) with a line.
+    Parse,
+    /// `Error::TooLarge`.
+    TooLarge,
+}
+
+/// Checks `e` against `kind`: the variant, the key, and that the line it names
+/// holds that key in `text`; then that the message holds every word of `words`.
+fn assert_error(case: &str, text: &str, e: &Error, kind: Kind, words: &[&str]) {
+    let line_of = |line: &Option<usize>| -> &str {
+        let l = line.unwrap_or_else(|| panic!("{case}: no line in {e:?}"));
+        text.lines().nth(l - 1).unwrap_or("")
+    };
+    // The last plain segment of a dotted key (`part.base.rectangle.x` → `x`).
+    let last = |key: &str| key.rsplit('.').next().unwrap_or("").to_string();
+    match (kind, e) {
+        (Kind::Invalid(k), Error::Invalid { key, line, .. })
+        | (Kind::Overflow(k), Error::Overflow { key, line, .. })
+        | (Kind::Precision(k), Error::PenaltyPrecision { key, line, .. }) => {
+            assert_eq!(key, k, "{case}: {e}");
+            let l = line_of(line);
+            assert!(l.contains(&last(k)), "{case}: line '{l}' lacks {k}: {e}");
+        }
+        (Kind::Parse, Error::Parse { line, .. }) => {
+            line_of(line);
+        }
+        (Kind::TooLarge, Error::TooLarge { .. }) => {}
+        _ => panic!("{case}: expected {kind:?}, got {e:?}"),
+    }
+    let msg = e.to_string();
+    for w in words {
+        assert!(msg.contains(w), "{case}: message lacks '{w}': {msg}");
+    }
+}
+
+/// `BASE` with the first `from` replaced by `to` (which must occur).
+fn with(from: &str, to: &str) -> String {
+    assert!(BASE.contains(from), "{from}");
+    BASE.replacen(from, to, 1)
+}
+
+/// The base problem is valid: the cases below fail because of their one change.
+#[test]
+fn the_base_problem_is_valid() {
+    Model::from_str(BASE, Path::new("hostile.toml"), 1).unwrap();
+}
+
+/// Every value class: non-finite, out of physical range, beyond what double
+/// precision carries, wrong shape, dangling name, oversized. 70 cases.
+#[test]
+fn hostile_values_are_refused_with_file_line_and_key() {
+    use Kind::*;
+    let e_line = "E = 210000.0";
+    let t_line = "thickness = 1.0\nrectangle = { x = [0.0, 200.0]";
+    let t_rest = "\nrectangle = { x = [0.0, 200.0]";
+    let rect = "rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [10, 6] }";
+    let ann = "annulus = { center = [500.0, 0.0], r = [10.0, 20.0], theta = [0.0, 90.0], cells = [2, 4] }";
+    let cases: Vec<(&str, String, Kind, &[&str])> = vec![
+        // ---- materials
+        (
+            "E zero",
+            with(e_line, "E = 0.0"),
+            Invalid("materials.steel.E"),
+            &["must be positive", "hostile.toml:3"],
+        ),
+        (
+            "E negative",
+            with(e_line, "E = -210000.0"),
+            Invalid("materials.steel.E"),
+            &["positive"],
+        ),
+        (
+            "E nan",
+            with(e_line, "E = nan"),
+            Invalid("materials.steel.E"),
+            &["not a finite number"],
+        ),
+        (
+            "E inf",
+            with(e_line, "E = inf"),
+            Invalid("materials.steel.E"),
+            &["not a finite number"],
+        ),
+        (
+            "E -inf",
+            with(e_line, "E = -inf"),
+            Invalid("materials.steel.E"),
+            &["not a finite number"],
+        ),
+        (
+            "E 1e300",
+            with(e_line, "E = 1e300"),
+            Overflow("materials.steel.E"),
+            &["overflow", "too large"],
+        ),
+        (
+            "E 1e-300",
+            with(e_line, "E = 1e-300"),
+            Overflow("materials.steel.E"),
+            &["overflow", "too small"],
+        ),
+        (
+            "E of an unused-first material",
+            with("E = 1000.0", "E = -1.0"),
+            Invalid("materials.soft.E"),
+            &["materials.soft.E", "hostile.toml:7"],
+        ),
+        (
+            "nu 0.5",
+            with("nu = 0.31", "nu = 0.5"),
+            Invalid("materials.steel.nu"),
+            &["(-1, 0.5)", "incompressible"],
+        ),
+        (
+            "nu 0.7",
+            with("nu = 0.31", "nu = 0.7"),
+            Invalid("materials.steel.nu"),
+            &["(-1, 0.5)"],
+        ),
+        (
+            "nu -1",
+            with("nu = 0.31", "nu = -1.0"),
+            Invalid("materials.steel.nu"),
+            &["(-1, 0.5)"],
+        ),
+        (
+            "nu nan",
+            with("nu = 0.31", "nu = nan"),
+            Invalid("materials.steel.nu"),
+            &["finite"],
+        ),
+        (
+            "nu of soft",
+            with("nu = 0.2", "nu = 2.0"),
+            Invalid("materials.soft.nu"),
+            &["hostile.toml:8"],
+        ),
+        ("E as text", with(e_line, "E = \"steel\""), Parse, &["E"]),
+        (
+            "unknown material key",
+            with("nu = 0.31", "nu = 0.31\nrho = 7.8e-9"),
+            Parse,
+            &["rho"],
+        ),
+        ("missing nu", with("nu = 0.31\n", ""), Parse, &["nu"]),
+        // ---- parts
+        (
+            "thickness zero",
+            with(t_line, &format!("thickness = 0.0{t_rest}")),
+            Invalid("part.base.thickness"),
+            &["positive", "thickness"],
+        ),
+        (
+            "thickness negative",
+            with(t_line, &format!("thickness = -1.0{t_rest}")),
+            Invalid("part.base.thickness"),
+            &["positive"],
+        ),
+        (
+            "thickness nan",
+            with(t_line, &format!("thickness = nan{t_rest}")),
+            Invalid("part.base.thickness"),
+            &["finite"],
+        ),
+        (
+            "thickness inf",
+            with(t_line, &format!("thickness = inf{t_rest}")),
+            Invalid("part.base.thickness"),
+            &["finite"],
+        ),
+        (
+            "thickness huge",
+            with(t_line, &format!("thickness = 1e200{t_rest}")),
+            Overflow("part.base.thickness"),
+            &["overflow"],
+        ),
+        (
+            "E·t underflows",
+            with(t_line, &format!("thickness = 1e-106{t_rest}")),
+            Overflow("part.base.thickness"),
+            &["E·t", "overflow"],
+        ),
+        (
+            "E·t overflows",
+            with(e_line, "E = 1e60").replacen(t_line, &format!("thickness = 1e60{t_rest}"), 1),
+            Overflow("part.base.thickness"),
+            &["E·t"],
+        ),
+        (
+            "rectangle x inf",
+            with(
+                rect,
+                "rectangle = { x = [0.0, inf], y = [0.0, 120.0], cells = [10, 6] }",
+            ),
+            Invalid("part.base.rectangle.x"),
+            &["inf", "not a finite number"],
+        ),
+        (
+            "rectangle y nan",
+            with(
+                rect,
+                "rectangle = { x = [0.0, 200.0], y = [nan, 120.0], cells = [10, 6] }",
+            ),
+            Invalid("part.base.rectangle.y"),
+            &["NaN"],
+        ),
+        (
+            "rectangle x huge",
+            with(
+                rect,
+                "rectangle = { x = [0.0, 1e200], y = [0.0, 120.0], cells = [10, 6] }",
+            ),
+            Overflow("part.base.rectangle.x"),
+            &["too large"],
+        ),
+        (
+            "rectangle reversed",
+            with(
+                rect,
+                "rectangle = { x = [200.0, 0.0], y = [0.0, 120.0], cells = [10, 6] }",
+            ),
+            Parse,
+            &["x0 < x1"],
+        ),
+        (
+            "rectangle no cells",
+            with(
+                rect,
+                "rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [0, 6] }",
+            ),
+            Parse,
+            &["at least one cell"],
+        ),
+        (
+            "rectangle three cells",
+            with(
+                rect,
+                "rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [10, 6, 3] }",
+            ),
+            Parse,
+            &["exactly 2"],
+        ),
+        (
+            "rectangle three x",
+            with(
+                rect,
+                "rectangle = { x = [0.0, 200.0, 900.0], y = [0.0, 120.0], cells = [10, 6] }",
+            ),
+            Parse,
+            &["exactly 2"],
+        ),
+        (
+            "rectangle negative cells",
+            with(
+                rect,
+                "rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [-1, 6] }",
+            ),
+            Parse,
+            &["cells"],
+        ),
+        (
+            "rectangle elements outside",
+            with(rect, &format!("{rect}\nelements = \"q4\"")),
+            Parse,
+            &["elements"],
+        ),
+        (
+            "cells too many",
+            with(
+                rect,
+                "rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [100000, 100000] }",
+            ),
+            TooLarge,
+            &["unknowns", "GiB"],
+        ),
+        (
+            "annulus r inf",
+            with(
+                ann,
+                "annulus = { center = [500.0, 0.0], r = [10.0, inf], theta = [0.0, 90.0], cells = [2, 4] }",
+            ),
+            Invalid("part.ring.annulus.r"),
+            &["finite"],
+        ),
+        (
+            "annulus center nan",
+            with(
+                ann,
+                "annulus = { center = [nan, 0.0], r = [10.0, 20.0], theta = [0.0, 90.0], cells = [2, 4] }",
+            ),
+            Invalid("part.ring.annulus.center"),
+            &["finite"],
+        ),
+        (
+            "annulus theta nan",
+            with(
+                ann,
+                "annulus = { center = [500.0, 0.0], r = [10.0, 20.0], theta = [0.0, nan], cells = [2, 4] }",
+            ),
+            Invalid("part.ring.annulus.theta"),
+            &["finite"],
+        ),
+        (
+            "annulus r reversed",
+            with(
+                ann,
+                "annulus = { center = [500.0, 0.0], r = [20.0, 10.0], theta = [0.0, 90.0], cells = [2, 4] }",
+            ),
+            Parse,
+            &["0 < r0 < r1"],
+        ),
+        (
+            "annulus center huge",
+            with(
+                ann,
+                "annulus = { center = [1e300, 0.0], r = [10.0, 20.0], theta = [0.0, 90.0], cells = [2, 4] }",
+            ),
+            Overflow("part.ring.annulus.center"),
+            &["too large"],
+        ),
+        (
+            "unknown material",
+            with("material = \"soft\"", "material = \"gold\""),
+            Parse,
+            &["gold", "[materials]"],
+        ),
+        (
+            "duplicate part",
+            with("name = \"ring\"", "name = \"plate\""),
+            Parse,
+            &["defined twice"],
+        ),
+        (
+            "two meshes",
+            with(ann, &format!("{ann}\n{rect}")),
+            Parse,
+            &["exactly one"],
+        ),
+        // ---- interfaces
+        (
+            "c_n zero",
+            with("c_n = 1e9", "c_n = 0.0"),
+            Invalid("interface.plate-base.c_n"),
+            &["positive", "penalty"],
+        ),
+        (
+            "c_n negative",
+            with("c_n = 1e9", "c_n = -1e9"),
+            Invalid("interface.plate-base.c_n"),
+            &["positive"],
+        ),
+        (
+            "c_n nan",
+            with("c_n = 1e9", "c_n = nan"),
+            Invalid("interface.plate-base.c_n"),
+            &["finite"],
+        ),
+        (
+            "c_s inf",
+            with("c_s = 1e9", "c_s = inf"),
+            Invalid("interface.plate-base.c_s"),
+            &["finite"],
+        ),
+        (
+            "c_n 1e25",
+            with("c_n = 1e9", "c_n = 1e25"),
+            Precision("interface.plate-base.c_n"),
+            &["loss of precision", "E·t", "round-off"],
+        ),
+        (
+            "c_s 1e30",
+            with("c_s = 1e9", "c_s = 1e30"),
+            Precision("interface.plate-base.c_s"),
+            &["loss of precision"],
+        ),
+        (
+            "c_n 1e200",
+            with("c_n = 1e9", "c_n = 1e200"),
+            Overflow("interface.plate-base.c_n"),
+            &["overflow"],
+        ),
+        (
+            "c_n 1e-200",
+            with("c_n = 1e9", "c_n = 1e-200"),
+            Overflow("interface.plate-base.c_n"),
+            &["too small"],
+        ),
+        (
+            "tolerance zero",
+            with("tolerance = 0.05", "tolerance = 0.0"),
+            Invalid("interface.plate-base.tolerance"),
+            &["positive"],
+        ),
+        (
+            "tolerance nan",
+            with("tolerance = 0.05", "tolerance = nan"),
+            Invalid("interface.plate-base.tolerance"),
+            &["finite"],
+        ),
+        (
+            "unknown host",
+            with("host = \"base\"", "host = \"nope\""),
+            Parse,
+            &["nope", "not defined"],
+        ),
+        (
+            "unknown boundary",
+            with("boundary = \"bottom\"\nc_n", "boundary = \"floor\"\nc_n"),
+            Parse,
+            &["floor", "no boundary"],
+        ),
+        (
+            "host is node part",
+            with("host = \"base\"", "host = \"plate\""),
+            Parse,
+            &["same part"],
+        ),
+        (
+            "unknown law",
+            with("c_n = 1e9", "law = \"glue\"\nc_n = 1e9"),
+            Parse,
+            &["glue"],
+        ),
+        // ---- supports
+        (
+            "support value nan",
+            with("value = [0.0, 0.0]", "value = [0.0, nan]"),
+            Invalid("support#1.value"),
+            &["[1]", "finite"],
+        ),
+        (
+            "support value huge",
+            with("value = [0.0, 0.0]", "value = [0.0, 1e200]"),
+            Overflow("support#1.value"),
+            &["too large"],
+        ),
+        (
+            "support value three",
+            with("value = [0.0, 0.0]", "value = [0.0, 0.0, 5.0]"),
+            Parse,
+            &["exactly 2"],
+        ),
+        (
+            "support fix twice",
+            with("fix = [\"x\", \"y\"]", "fix = [\"x\", \"x\"]"),
+            Parse,
+            &["same component twice"],
+        ),
+        (
+            "support fix empty",
+            with("fix = [\"x\", \"y\"]", "fix = []"),
+            Parse,
+            &["empty"],
+        ),
+        (
+            "support fix z",
+            with("fix = [\"x\", \"y\"]", "fix = [\"z\"]"),
+            Parse,
+            &["z"],
+        ),
+        (
+            "support at nan",
+            with("boundary = \"inner\"", "at = [nan, 0.0]"),
+            Invalid("support#2.at"),
+            &["finite"],
+        ),
+        (
+            "support at and boundary",
+            with(
+                "boundary = \"inner\"",
+                "boundary = \"inner\"\nat = [510.0, 0.0]",
+            ),
+            Parse,
+            &["exactly one"],
+        ),
+        // ---- loads
+        (
+            "force nan",
+            with("force = [0.0, -1500.0]", "force = [0.0, nan]"),
+            Invalid("load#1.force"),
+            &["finite"],
+        ),
+        (
+            "force 1e308",
+            with("force = [0.0, -1500.0]", "force = [0.0, -1e308]"),
+            Overflow("load#1.force"),
+            &["overflow", "too large"],
+        ),
+        (
+            "force three",
+            with("force = [0.0, -1500.0]", "force = [0.0, -1500.0, -99999.0]"),
+            Parse,
+            &["exactly 2"],
+        ),
+        (
+            "from inf",
+            with("from = [86.0, 135.0]", "from = [inf, 135.0]"),
+            Invalid("load#1.from"),
+            &["finite"],
+        ),
+        (
+            "from equals to",
+            with("from = [86.0, 135.0]", "from = [114.0, 135.0]"),
+            Parse,
+            &["equal"],
+        ),
+        (
+            "segment off the boundary",
+            with("to = [114.0, 135.0]", "to = [114.0, 130.0]"),
+            Parse,
+            &["must lie on the part's boundary"],
+        ),
+        (
+            "point load nowhere",
+            with("at = [520.0, 0.0]", "at = [525.0, 3.0]"),
+            Parse,
+            &["matches no node"],
+        ),
+        (
+            "point load at nan",
+            with("at = [520.0, 0.0]", "at = [nan, 0.0]"),
+            Invalid("load#2.at"),
+            &["finite"],
+        ),
+        (
+            "pressure nan",
+            with(
+                "at = [520.0, 0.0]\nforce = [1.0, 0.0]",
+                "boundary = \"outer\"\npressure = nan",
+            ),
+            Invalid("load#2.pressure"),
+            &["finite"],
+        ),
+        (
+            "pressure huge",
+            with(
+                "at = [520.0, 0.0]\nforce = [1.0, 0.0]",
+                "boundary = \"outer\"\npressure = 1e300",
+            ),
+            Overflow("load#2.pressure"),
+            &["too large"],
+        ),
+        (
+            "pressure and force",
+            with(
+                "at = [520.0, 0.0]\nforce = [1.0, 0.0]",
+                "boundary = \"outer\"\npressure = 1.0\nforce = [1.0, 0.0]",
+            ),
+            Parse,
+            &["pressure"],
+        ),
+        // ---- analysis
+        (
+            "increments zero",
+            with("increments = 10", "increments = 0"),
+            Invalid("analysis.increments"),
+            &["at least 1"],
+        ),
+        (
+            "increments 2^64-1",
+            with("increments = 10", "increments = 18446744073709551615"),
+            Invalid("analysis.increments"),
+            &["more than 10000000"],
+        ),
+        (
+            "increments negative",
+            with("increments = 10", "increments = -1"),
+            Parse,
+            &["increments"],
+        ),
+        (
+            "max_iterations zero",
+            with("max_iterations = 200", "max_iterations = 0"),
+            Invalid("analysis.max_iterations"),
+            &["at least 1"],
+        ),
+        (
+            "output_every zero",
+            with("output_every = 1", "output_every = 0"),
+            Invalid("analysis.output_every"),
+            &["at least 1"],
+        ),
+        (
+            "gap_tolerance negative",
+            with("gap_tolerance = 1e-9", "gap_tolerance = -1.0"),
+            Invalid("analysis.gap_tolerance"),
+            &["non-negative"],
+        ),
+        (
+            "gap_tolerance nan",
+            with("gap_tolerance = 1e-9", "gap_tolerance = nan"),
+            Invalid("analysis.gap_tolerance"),
+            &["finite"],
+        ),
+        (
+            "force_tolerance one",
+            with("force_tolerance = 1e-6", "force_tolerance = 1.0"),
+            Invalid("analysis.force_tolerance"),
+            &["[0, 1)"],
+        ),
+        (
+            "force_tolerance negative",
+            with("force_tolerance = 1e-6", "force_tolerance = -0.1"),
+            Invalid("analysis.force_tolerance"),
+            &["[0, 1)"],
+        ),
+        (
+            "max_violation inf",
+            with("max_violation = 0.05", "max_violation = inf"),
+            Invalid("analysis.max_violation"),
+            &["finite"],
+        ),
+        (
+            "max_residual zero",
+            with("max_residual = 1e-4", "max_residual = 0.0"),
+            Invalid("analysis.max_residual"),
+            &["positive"],
+        ),
+        (
+            "max_residual nan",
+            with("max_residual = 1e-4", "max_residual = nan"),
+            Invalid("analysis.max_residual"),
+            &["finite"],
+        ),
+        (
+            "unknown analysis key",
+            with("output_every = 1", "output_every = 1\nincrement = 5"),
+            Parse,
+            &["increment"],
+        ),
+        (
+            "unknown scheme",
+            with("output_every = 1", "output_every = 1\nscheme = \"newton\""),
+            Parse,
+            &["newton"],
+        ),
+        // ---- the file as a whole
+        ("not toml", "E = = 3".to_string(), Parse, &["hostile.toml"]),
+        (
+            "no parts",
+            "[materials.steel]\nE = 1.0\nnu = 0.3\n".to_string(),
+            Parse,
+            &["part"],
+        ),
+    ];
+    assert!(cases.len() >= 60, "{} cases", cases.len());
+    for (case, text, kind, words) in &cases {
+        let e = error(text, 1);
+        assert_error(case, text, &e, *kind, words);
+    }
+}
+
+/// Sizes computed from `--refine` use checked arithmetic and are weighed against
+/// the machine's memory before meshing: a refinement too large to count or to
+/// hold is refused with the estimate, never an allocation abort.
+#[test]
+fn oversized_refinements_are_refused() {
+    for refine in [
+        100_000,
+        4_294_967_296,
+        4_611_686_018_427_387_905,
+        usize::MAX,
+    ] {
+        let e = error(BASE, refine);
+        assert!(
+            matches!(e, Error::TooLarge { .. } | Error::Parse { .. }),
+            "refine {refine}: {e:?}"
+        );
+        let m = e.to_string();
+        assert!(
+            m.contains("too large") || m.contains("too many"),
+            "refine {refine}: {m}"
+        );
+    }
+    assert!(matches!(error(BASE, 0), Error::Model(_)));
+}
+
+/// A Gmsh node with a non-finite coordinate is named by the file, its line and
+/// the node's tag.
+#[test]
+fn gmsh_non_finite_coordinate_names_file_and_node() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/gmsh");
+    let text = std::fs::read_to_string(dir.join("square_22.msh")).unwrap();
+    // The second node line of the $Nodes section: "2 x y z".
+    let lines: Vec<&str> = text.lines().collect();
+    let at = lines.iter().position(|l| *l == "$Nodes").unwrap() + 3;
+    let tag = lines[at].split_whitespace().next().unwrap().to_string();
+    let bad: Vec<String> = lines
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == at {
+                format!("{tag} nan 0 0")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    let e = cfe::mesh::gmsh::GmshMesh::parse(bad.join("\n").as_bytes(), Path::new("sq.msh"))
+        .unwrap_err();
+    match &e {
+        Error::Parse { line, path, .. } => {
+            assert_eq!(*line, Some(at + 1), "{e}");
+            assert_eq!(path, Path::new("sq.msh"));
+        }
+        other => panic!("{other:?}"),
+    }
+    let m = e.to_string();
+    assert!(
+        m.contains(&format!("node {tag}")) && m.contains("non-finite x"),
+        "{m}"
+    );
+}
