@@ -143,11 +143,6 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             report_only,
             coupling_cost,
         } => {
-            if let Some(k) = coupling_cost {
-                let rows = cfe_tools::bench::coupling_cost(&problem, k)?;
-                print!("{}", cfe_tools::bench::coupling_cost_table(&rows));
-                return Ok(());
-            }
             if report_only {
                 let path = out.join("benchmarks.json");
                 let text = std::fs::read_to_string(&path)
@@ -164,6 +159,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 Some(p) => anyhow::bail!("the problem file {} does not exist", p.display()),
                 None => default_bench_problem(&exe)?,
             };
+            if let Some(k) = coupling_cost {
+                let rows = cfe_tools::bench::coupling_cost(&problem, k)?;
+                print!("{}", cfe_tools::bench::coupling_cost_table(&rows));
+                return Ok(());
+            }
             cfe_tools::bench::run(&exe, &problem, max_unknowns, &out, &mut |line| {
                 println!("{line}")
             })?;
