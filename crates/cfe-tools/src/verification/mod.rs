@@ -5,6 +5,7 @@
 //! versions also run as tests.
 
 pub mod cantilever;
+pub mod closed_forms;
 pub mod contact;
 pub mod curved;
 pub mod patch;
