@@ -27,18 +27,22 @@
 //!
 //! (∫ q dx = μ π p₀ (a² − c²) / (2a) = μ P′ (1 − c²/a²) = Q.)
 //!
-//! **Shrink fit** (Lamé; S. Timoshenko, *Strength of Materials* II, §42): a solid
-//! shaft of radius b + δ in a ring b ≤ r ≤ c, radial interference δ, plane strain.
-//! The ring under an inner pressure p (Lamé, as in `curved.rs`):
-//! `u_r(b) = (1 + ν_r)/E_r · [(1 − 2ν_r) A b + B/b]` with `A = p b²/(c² − b²)`,
-//! `B = p b² c²/(c² − b²)`, so `u_ring(b) = p b (1 + ν_r)/E_r · [(1 − 2ν_r) b² + c²]/(c² − b²)`.
-//! The solid shaft under an outer pressure p has σ_r = σ_θ = −p, ε_z = 0, so
-//! `ε_θ = (1 + ν_s)/E_s · [(1 − ν_s) σ_θ − ν_s σ_r] = −p (1 + ν_s)(1 − 2ν_s)/E_s`
-//! and `u_shaft(b) = −p b (1 + ν_s)(1 − 2ν_s)/E_s`. The surfaces meet when
-//! `u_ring(b) − u_shaft(b) = δ`:
+//! **Shrink fit** (Lamé; S. P. Timoshenko, J. N. Goodier, *Theory of Elasticity*,
+//! 1970, §28): a hollow shaft a_s ≤ r ≤ b + δ in a ring b ≤ r ≤ c, radial
+//! interference δ, plane strain, small strains (so both meet at r ≈ b). Lamé's
+//! cylinder a₀ ≤ r ≤ a₁ under inner pressure p_i and outer pressure p_o:
+//! `σ_r = A − B/r²`, `u_r = (1 + ν)/E · [(1 − 2ν) A r + B/r]` with
+//! `A = (p_i a₀² − p_o a₁²)/(a₁² − a₀²)`, `B = (p_i − p_o) a₀² a₁²/(a₁² − a₀²)`.
+//! The ring (p_i = p, p_o = 0) opens by
+//! `u_ring(b) = p b (1 + ν_r)/E_r · [(1 − 2ν_r) b² + c²]/(c² − b²)`;
+//! the shaft (p_i = 0, p_o = p) closes by
+//! `u_shaft(b) = −p b (1 + ν_s)/E_s · [(1 − 2ν_s) b² + a_s²]/(b² − a_s²)`
+//! (a_s = 0: the solid shaft's `−p b (1 + ν_s)(1 − 2ν_s)/E_s`, from σ_r = σ_θ = −p,
+//! ε_z = 0). The surfaces meet when `u_ring(b) − u_shaft(b) = δ`:
 //!
 //! ```text
-//!   p = δ / ( b (1 + ν_r)/E_r · [(1 − 2ν_r) b² + c²]/(c² − b²) + b (1 + ν_s)(1 − 2ν_s)/E_s )
+//!   p = δ / ( b (1 + ν_r)/E_r · [(1 − 2ν_r) b² + c²]/(c² − b²)
+//!           + b (1 + ν_s)/E_s · [(1 − 2ν_s) b² + a_s²]/(b² − a_s²) )
 //! ```
 
 /// The plane-strain contact modulus E* of two bodies (E₁, ν₁) and (E₂, ν₂).
@@ -77,14 +81,20 @@ pub fn mindlin_shear(x: f64, a: f64, c: f64, mu: f64, p0: f64) -> f64 {
     }
 }
 
-/// The shrink-fit pressure of a solid shaft (E_s, ν_s) in a ring (E_r, ν_r),
-/// b ≤ r ≤ c, with radial interference δ, plane strain (module doc).
-pub fn shrink_fit_pressure(delta: f64, b: f64, c: f64, shaft: (f64, f64), ring: (f64, f64)) -> f64 {
+/// The shrink-fit pressure of a shaft a_s ≤ r ≤ b (E_s, ν_s; a_s = 0: solid) in a
+/// ring b ≤ r ≤ c (E_r, ν_r) with radial interference δ, plane strain (module doc).
+pub fn shrink_fit_pressure(
+    delta: f64,
+    [a_s, b, c]: [f64; 3],
+    shaft: (f64, f64),
+    ring: (f64, f64),
+) -> f64 {
     let (es, nus) = shaft;
     let (er, nur) = ring;
     let ring_compliance =
         b * (1.0 + nur) / er * ((1.0 - 2.0 * nur) * b * b + c * c) / (c * c - b * b);
-    let shaft_compliance = b * (1.0 + nus) * (1.0 - 2.0 * nus) / es;
+    let shaft_compliance =
+        b * (1.0 + nus) / es * ((1.0 - 2.0 * nus) * b * b + a_s * a_s) / (b * b - a_s * a_s);
     delta / (ring_compliance + shaft_compliance)
 }
 
@@ -259,18 +269,34 @@ mod tests {
         );
     }
 
-    /// Shrink fit: the ring's u_r(b) minus the shaft's is δ at the closed-form
-    /// pressure; a rigid shaft (E_s → ∞) leaves the ring's compliance alone.
+    /// Shrink fit: the ring's u_r(b) minus the solid shaft's is δ at the
+    /// closed-form pressure; a rigid shaft (E_s → ∞) leaves the ring's compliance
+    /// alone; the hollow shaft's u_r(b) is Lamé's with outer pressure (checked
+    /// through its strain: σ_r(b) = −p, σ_r(a_s) = 0 and u_r = r ε_θ).
     #[test]
     fn shrink_fit_closes_the_interference() {
         let (b, c, delta) = (10.0, 20.0, 0.01);
         let shaft = (210000.0, 0.3);
         let ring = (70000.0, 0.33);
-        let p = shrink_fit_pressure(delta, b, c, shaft, ring);
+        let p = shrink_fit_pressure(delta, [0.0, b, c], shaft, ring);
         let shaft_u = -p * b * (1.0 + shaft.1) * (1.0 - 2.0 * shaft.1) / shaft.0;
         assert!((ring_ur(p, b, c, ring, b) - shaft_u - delta).abs() < 1e-12 * delta);
-        let rigid = shrink_fit_pressure(delta, b, c, (1e30, 0.3), ring);
+        let rigid = shrink_fit_pressure(delta, [0.0, b, c], (1e30, 0.3), ring);
         assert!((ring_ur(rigid, b, c, ring, b) - delta).abs() < 1e-12 * delta);
+        // Hollow shaft a_s = 5: A = −p b²/(b² − a_s²), B = −p a_s² b²/(b² − a_s²).
+        let a_s = 5.0;
+        let ph = shrink_fit_pressure(delta, [a_s, b, c], shaft, ring);
+        let (ca, cb) = (
+            -ph * b * b / (b * b - a_s * a_s),
+            -ph * a_s * a_s * b * b / (b * b - a_s * a_s),
+        );
+        assert!((ca - cb / (b * b) + ph).abs() < 1e-9 * ph);
+        assert!((ca - cb / (a_s * a_s)).abs() < 1e-9 * ph);
+        let (e, nu) = shaft;
+        let (sr, st) = (ca - cb / (b * b), ca + cb / (b * b));
+        let u_b = b * (1.0 + nu) / e * ((1.0 - nu) * st - nu * sr);
+        assert!((ring_ur(ph, b, c, ring, b) - u_b - delta).abs() < 1e-9 * delta);
+        assert!(ph < p);
     }
 
     /// The ellipse fit recovers a, p₀ and the centre of sampled Hertz profiles

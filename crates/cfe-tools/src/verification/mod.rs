@@ -8,6 +8,8 @@ pub mod cantilever;
 pub mod closed_forms;
 pub mod contact;
 pub mod curved;
+pub mod fits;
+pub mod hertz;
 pub mod patch;
 pub mod punch;
 pub mod quads;
@@ -127,7 +129,7 @@ pub fn displacement_at(
 pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>> {
     let mut cases = Vec::new();
     type CaseFn = fn(bool) -> Result<Case>;
-    let all: [(&str, CaseFn); 10] = [
+    let all: [(&str, CaseFn); 14] = [
         ("patch tests", patch::constant_stress),
         ("contact patch test", patch::contact_patch),
         ("tied cantilever", cantilever::convergence),
@@ -138,6 +140,10 @@ pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>>
         ("curved interface", curved::lame_cylinder),
         ("Q4 and mixed meshes", quads::q4_and_mixed),
         ("contact iteration", contact::contact_iteration),
+        ("Hertz", hertz::hertz),
+        ("augmented Lagrangian", hertz::penalty_independence),
+        ("shrink fit", fits::shrink_fit),
+        ("frictionless patch test", fits::frictionless_patch),
     ];
     for (name, f) in all {
         progress(name);
