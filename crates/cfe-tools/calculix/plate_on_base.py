@@ -276,10 +276,17 @@ def main():
     ap.add_argument("--laws", default=",".join(CASES))
     args = ap.parse_args()
     rows, profiles = [], {}
+    # The mesh (identical for every law) from the stick run.
+    mesh, _ = run_cfe(args.cfe, args.work, "stick", CASES["stick"][0])
+    points, _, _, _ = mesh
     for name in args.laws.split(","):
         lines, friction = CASES[name]
-        mesh, pairs = run_cfe(args.cfe, args.work, name, lines)
-        points, _, _, u = mesh
+        try:
+            cfe_mesh, pairs = run_cfe(args.cfe, args.work, name, lines)
+            u = cfe_mesh[3]
+        except subprocess.CalledProcessError as e:
+            print(f"cfe failed for {name}: {e.stderr.decode().strip()}", file=sys.stderr)
+            cfe_mesh, pairs, u = None, [], None
         slaves, dat = run_ccx(args.ccx, args.work, name, mesh, friction)
         slaves = sorted(slaves, key=lambda n: points[n][0])
         xs = [points[n][0] for n in slaves]
@@ -297,8 +304,9 @@ def main():
         ends = [slaves[0], slaves[-1]]
         mid = min(slaves, key=lambda n: abs(points[n][0] - 100.0))
         u_ccx = dat.get("U", {})
-        rows.append(summarise(f"{name}: cfe", xs, f_cfe,
-                              sum(u[n][1] for n in ends) / 2, u[mid][1]))
+        if u is not None:
+            rows.append(summarise(f"{name}: cfe", xs, f_cfe,
+                                  sum(u[n][1] for n in ends) / 2, u[mid][1]))
         rows.append(summarise(f"{name}: CalculiX", xs, f_ccx,
                               sum(u_ccx[n][1] for n in ends) / 2, u_ccx[mid][1]))
         profiles[name] = (xs, f_cfe, f_ccx)

@@ -338,3 +338,188 @@ increments = 1
 "#
     )
 }
+
+/// Friction coefficient of the receding Coulomb case (and of the CalculiX run).
+pub const RECEDING_MU: f64 = 0.2;
+
+/// The plate on a base (examples/plate_on_base.toml) with the interface law
+/// lines `law`, and the plate's top centre held in x (the problem is symmetric
+/// about x = 100, so that support carries no force; it removes the rigid
+/// sliding that frictionless contact leaves free). The same problem as
+/// crates/cfe-tools/calculix/plate_on_base.py writes.
+pub fn receding_problem(law: &str) -> String {
+    format!(
+        r#"plane = "stress"
+[materials.steel]
+E = 210000.0
+nu = 0.31
+[[part]]
+name = "base"
+material = "steel"
+rectangle = {{ x = [0.0, 200.0], y = [0.0, 120.0], cells = [20, 12] }}
+[[part]]
+name = "plate"
+material = "steel"
+rectangle = {{ x = [30.0, 170.0], y = [120.0, 135.0], cells = [28, 6] }}
+[[interface]]
+name = "plate-base"
+host = "base"
+nodes = "plate"
+boundary = "bottom"
+{law}
+[[support]]
+part = "base"
+boundary = "bottom"
+fix = ["x", "y"]
+[[support]]
+part = "plate"
+at = [100.0, 135.0]
+fix = ["x"]
+[[load]]
+part = "plate"
+boundary = "top"
+from = [86.0, 135.0]
+to = [114.0, 135.0]
+force = [0.0, -1500.0]
+[analysis]
+increments = 10
+"#
+    )
+}
+
+/// CalculiX 2.20's answers on the same mesh, produced by
+/// `python3 crates/cfe-tools/calculix/plate_on_base.py` (static numbers, not
+/// recomputed by `cfe verify`): law, contact zone, closed pairs, Σ f_n, max f_n,
+/// mean u_y of the plate's two bottom ends, u_y at the plate's bottom centre.
+pub const CALCULIX: [[&str; 7]; 3] = [
+    [
+        "stick (μ = 1000)",
+        "55–140",
+        "18",
+        "1500.0",
+        "230.9",
+        "-1.0574e-03",
+        "-9.7678e-03",
+    ],
+    [
+        "frictionless",
+        "75–125",
+        "11",
+        "1499.9",
+        "260.1",
+        "6.2373e-03",
+        "-1.0926e-02",
+    ],
+    [
+        "coulomb μ = 0.2",
+        "70–130",
+        "13",
+        "1500.0",
+        "246.9",
+        "4.1082e-03",
+        "-1.0482e-02",
+    ],
+];
+
+/// CalculiX's contact zones of [`CALCULIX`] (x of the first and last closed
+/// pair), per law.
+const CALCULIX_ZONES: [(f64, f64); 3] = [(55.0, 140.0), (75.0, 125.0), (70.0, 130.0)];
+
+/// The receding contact of the plate on a base with three laws.
+pub fn receding(_quick: bool) -> Result<Case> {
+    let laws = [
+        (
+            "stick (seed's `contact`)",
+            "law = \"contact\"\nc_n = 1e9\nc_s = 1e9".to_string(),
+        ),
+        (
+            "frictionless",
+            "law = \"frictionless\"\nc_n = 1e9".to_string(),
+        ),
+        (
+            "coulomb μ = 0.2",
+            format!("law = \"coulomb\"\nfriction = {RECEDING_MU}\nc_n = 1e9\nc_s = 1e9"),
+        ),
+    ];
+    let mut table = Table {
+        caption: "cfe: the plate's 29 bottom pairs at full load. Contact zone: the x-extent of the pairs carrying compression; u_y: the plate's bottom ends (mean of x = 30 and 170) and bottom centre (x = 100).".into(),
+        header: [
+            "law", "contact zone x", "closed pairs", "Σ f_n (N)", "max f_n (N)", "u_y ends (mm)", "u_y centre (mm)", "reaction of the centre support (N)",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows: Vec::new(),
+    };
+    let mut zones = Vec::new();
+    let mut series = Vec::new();
+    for (name, law) in &laws {
+        let a = prepare(&receding_problem(law))?;
+        let incs = solve(&a)?;
+        let inc = incs.last().expect("increments");
+        let rows = a.pair_rows(inc);
+        let closed: Vec<f64> = rows
+            .iter()
+            .filter(|r| r.force_n > 1e-6 * 1500.0)
+            .map(|r| r.x)
+            .collect();
+        let (lo, hi) = (
+            closed.iter().cloned().fold(f64::INFINITY, f64::min),
+            closed.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+        );
+        let total: f64 = rows.iter().map(|r| r.force_n).sum();
+        let fmax = rows.iter().map(|r| r.force_n).fold(0.0, f64::max);
+        let u = |x: f64| super::displacement_at(&a, inc, "plate", [x, 120.0]).map(|u| u[1]);
+        let ends = (u(30.0)? + u(170.0)?) / 2.0;
+        let centre = u(100.0)?;
+        let reaction = a.reactions(inc)[1][0];
+        table.rows.push(vec![
+            (*name).into(),
+            format!("{lo:.0}–{hi:.0}"),
+            closed.len().to_string(),
+            format!("{total:.1}"),
+            format!("{fmax:.1}"),
+            sci(ends),
+            sci(centre),
+            sci(reaction),
+        ]);
+        zones.push((lo, hi, closed.len()));
+        series.push(Series {
+            name: (*name).into(),
+            points: rows.iter().map(|r| (r.x, r.force_n)).collect(),
+            reference: false,
+        });
+    }
+    let ccx = Table {
+        caption: "CalculiX 2.20 on the same mesh, nodes, loads and supports (node-to-surface contact, linear pressure-overclosure of the same stiffness per length as c_n, *FRICTION for the frictional laws). STATIC numbers produced by `python3 crates/cfe-tools/calculix/plate_on_base.py` (which also reruns cfe for its own columns); `cfe verify` does not run CalculiX.".into(),
+        header: ["law", "contact zone x", "closed pairs", "Σ f_n (N)", "max f_n (N)", "u_y ends (mm)", "u_y centre (mm)"]
+            .map(String::from)
+            .to_vec(),
+        rows: CALCULIX.iter().map(|r| r.iter().map(|s| s.to_string()).collect()).collect(),
+    };
+    // Each law's contact zone as CalculiX's on the same mesh, within one pair
+    // spacing (5 mm) at each end.
+    let passed = zones
+        .iter()
+        .zip(CALCULIX_ZONES)
+        .all(|(z, c)| (z.0 - c.0).abs() <= 5.0 + 1e-9 && (z.1 - c.1).abs() <= 5.0 + 1e-9);
+    Ok(Case {
+        title: "Receding contact: plate on a base with stick, frictionless and Coulomb laws".into(),
+        setup: "The plate on a base of SPEC §4 (examples/plate_on_base.toml: plane stress, steel, 1500 N on the plate's central fifth, c_n = c_s = 1e9), with the plate's top centre held in x (the problem is symmetric, so that support carries no force: it only removes the rigid sliding that frictionless contact leaves free), solved with the seed's stick law, the frictionless law and Coulomb friction μ = 0.2, 10 increments.".into(),
+        reference: "The contact zone of a receding contact does not grow with the load and depends on the tangential law; CalculiX (node-to-surface penalty contact, the same mesh written by the comparison script) gives the independent answer for each law.".into(),
+        tables: vec![table, ccx],
+        plots: vec![Plot {
+            file: "receding_forces.png".into(),
+            title: "Plate on a base: pair normal forces by law".into(),
+            x: "x (mm)".into(),
+            y: "f_n (N)".into(),
+            log: (false, false),
+            series,
+        }],
+        verdict: format!(
+            "Contact zones: stick {:.0}–{:.0} ({} pairs), frictionless {:.0}–{:.0} ({} pairs), Coulomb {:.0}–{:.0} ({} pairs). CalculiX: stick 55–140, frictionless 75–125, Coulomb 70–130. Pass criterion (each law's contact zone as CalculiX's within one pair spacing, 5 mm, at each end): {}.",
+            zones[0].0, zones[0].1, zones[0].2, zones[1].0, zones[1].1, zones[1].2, zones[2].0, zones[2].1, zones[2].2,
+            if passed { "met" } else { "NOT met" }
+        ),
+        passed,
+    })
+}

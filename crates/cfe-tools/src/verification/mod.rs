@@ -129,7 +129,7 @@ pub fn displacement_at(
 pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>> {
     let mut cases = Vec::new();
     type CaseFn = fn(bool) -> Result<Case>;
-    let all: [(&str, CaseFn); 14] = [
+    let all: [(&str, CaseFn); 15] = [
         ("patch tests", patch::constant_stress),
         ("contact patch test", patch::contact_patch),
         ("tied cantilever", cantilever::convergence),
@@ -144,6 +144,7 @@ pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>>
         ("augmented Lagrangian", hertz::penalty_independence),
         ("shrink fit", fits::shrink_fit),
         ("frictionless patch test", fits::frictionless_patch),
+        ("receding contact", fits::receding),
     ];
     for (name, f) in all {
         progress(name);
