@@ -244,6 +244,40 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
             }
         );
     }
+    for i in &summary.interfaces {
+        if i.law == cfe::Law::Frictionless || i.law == cfe::Law::Coulomb || i.unpaired > 0 {
+            println!(
+                "  interface '{}' ({}{}): {} slipping, {} unpaired, max pressure {:.4e}, contact length {:.4e}",
+                i.name,
+                i.law.as_str(),
+                if i.law == cfe::Law::Coulomb {
+                    format!(", μ = {}", i.friction)
+                } else {
+                    String::new()
+                },
+                i.slip,
+                i.unpaired,
+                i.max_pressure,
+                i.contact_length
+            );
+        }
+        if i.enforcement == cfe::coupling::Enforcement::Augmented {
+            println!(
+                "  interface '{}': augmented Lagrangian, {} Uzawa/fixed-point solves, final penetration {:.3e}",
+                i.name,
+                summary.fixed_point_iterations.iter().sum::<usize>(),
+                summary.augmented_penetration
+            );
+        }
+    }
+    if !summary.proportional_shortcut {
+        println!(
+            "  proportional-load shortcut off (initial gaps, friction or augmented Lagrangian): every increment solved"
+        );
+    }
+    for n in &summary.notes {
+        eprintln!("note: increment {}: {}", n.increment, n.message);
+    }
     let m = &summary.max_displacement;
     println!(
         "  max |u| = {:.6e} at ({}, {}) in part '{}'",

@@ -162,6 +162,8 @@ fn interface_dict<'py>(
     d.set_item("law", iface.law.as_str())?;
     d.set_item("c_n", iface.c_n)?;
     d.set_item("c_s", iface.c_s)?;
+    d.set_item("friction", iface.friction)?;
+    d.set_item("unpaired", iface.unpaired)?;
     let k = iface.elements.len();
     let mut node = Vec::with_capacity(k);
     let mut host_element = Vec::with_capacity(k);
@@ -169,24 +171,37 @@ fn interface_dict<'py>(
     let mut bonded = Vec::with_capacity(k);
     let mut settled = Vec::with_capacity(k);
     let mut violation = Vec::with_capacity(k);
-    let mut columns: [Vec<f64>; 5] = std::array::from_fn(|_| Vec::with_capacity(k));
+    let mut state = Vec::with_capacity(k);
+    let mut columns: [Vec<f64>; 11] = std::array::from_fn(|_| Vec::with_capacity(k));
     while let Some(r) = rows.next_if(|r| r.interface == iface.name) {
         node.push(r.node as i64);
         host_element.push(r.host_element as i64);
         position.extend([r.x, r.y]);
         bonded.push(r.state == PairState::Bonded);
+        state.push(r.state.as_str());
         settled.push(r.settled);
-        // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates.
+        // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates;
+        // 3: a stick pair exceeds μ|f_n|; 4: a slip pair is off μ|f_n|.
         violation.push(match r.violation {
             None => 0i32,
             Some(cfe::coupling::ViolationKind::Tension) => 1,
             Some(cfe::coupling::ViolationKind::Penetration) => 2,
+            Some(cfe::coupling::ViolationKind::Friction) => 3,
+            Some(cfe::coupling::ViolationKind::Slip) => 4,
         });
-        for (c, v) in
-            columns
-                .iter_mut()
-                .zip([r.gap_n, r.slip_s, r.force_n, r.force_s, r.violation_amount])
-        {
+        for (c, v) in columns.iter_mut().zip([
+            r.gap_n,
+            r.slip_s,
+            r.force_n,
+            r.force_s,
+            r.violation_amount,
+            r.gap0,
+            r.gap,
+            r.slip,
+            r.pressure,
+            r.shear,
+            r.tributary,
+        ]) {
             c.push(v);
         }
     }
@@ -197,7 +212,27 @@ fn interface_dict<'py>(
     d.set_item("normal", matrix(py, normal, 2)?)?;
     d.set_item("bonded", PyArray1::from_vec(py, bonded))?;
     d.set_item("settled", PyArray1::from_vec(py, settled))?;
-    let [gap_n, slip_s, force_n, force_s, violation_amount] = columns;
+    let [
+        gap_n,
+        slip_s,
+        force_n,
+        force_s,
+        violation_amount,
+        gap0,
+        gap,
+        slip,
+        pressure,
+        shear,
+        tributary,
+    ] = columns;
+    // `bonded`, `open` or `slip` per pair.
+    d.set_item("state", state)?;
+    d.set_item("gap0", PyArray1::from_vec(py, gap0))?;
+    d.set_item("gap", PyArray1::from_vec(py, gap))?;
+    d.set_item("slip", PyArray1::from_vec(py, slip))?;
+    d.set_item("pressure", PyArray1::from_vec(py, pressure))?;
+    d.set_item("shear", PyArray1::from_vec(py, shear))?;
+    d.set_item("tributary", PyArray1::from_vec(py, tributary))?;
     d.set_item("violation", PyArray1::from_vec(py, violation))?;
     d.set_item("violation_amount", PyArray1::from_vec(py, violation_amount))?;
     d.set_item("gap_n", PyArray1::from_vec(py, gap_n))?;

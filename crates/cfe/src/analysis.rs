@@ -6,7 +6,7 @@
 //! `output::run`.
 
 use crate::assembly::{self, DofMap};
-use crate::coupling::{Interface, PairState, PairStates, ViolationKind, search};
+use crate::coupling::{Interface, Law, PairState, PairStates, ViolationKind, search};
 use crate::domain::StartPattern;
 use crate::error::{Error, Result};
 use crate::fem::recovery::{self, PartStress};
@@ -97,14 +97,21 @@ impl Analysis {
             // The tolerance is a fraction of the host's edges as meshed in the
             // problem file: `--refine K` subdivides edges K times but leaves the gap
             // between two faces meshed apart (a Gmsh part keeps its polygons) as it is.
-            let elements = search::find_pairs(
+            let (elements, unpaired) = search::find_pairs_within(
                 &def.name,
                 &host.mesh,
                 &node_part.mesh,
                 &def.nodes,
                 def.tolerance * model.refine as f64,
+                def.search_distance,
             )?;
-            let max_projection_distance = elements.iter().map(|c| c.distance).fold(0.0, f64::max);
+            // Within a search distance the nodes stay where they are (their gaps
+            // are kept): nothing is moved.
+            let max_projection_distance = if def.search_distance > 0.0 {
+                0.0
+            } else {
+                elements.iter().map(|c| c.distance).fold(0.0, f64::max)
+            };
             if max_projection_distance > 0.0 {
                 let part = &mut model.parts[def.node_part];
                 for c in &elements {
@@ -129,6 +136,10 @@ impl Analysis {
                 c_s: def.c_s,
                 elements,
                 max_projection_distance,
+                friction: def.friction,
+                enforcement: def.enforcement,
+                penetration_tolerance: def.penetration_tolerance,
+                unpaired,
             });
         }
         let dofs = DofMap::new(&model.parts, &model.supports);
@@ -153,6 +164,17 @@ impl Analysis {
         for iface in &mut self.interfaces {
             iface.law = law;
         }
+    }
+
+    /// Whether an interface uses a law or key beyond the seed's (`frictionless`,
+    /// `coulomb`, `search_distance`, augmented enforcement): then `pairs.csv` has
+    /// the contact columns (gap0, gap, slip, pressure, shear, tributary).
+    pub fn contact_extensions(&self) -> bool {
+        self.model.interfaces.iter().any(|d| {
+            matches!(d.law, Law::Frictionless | Law::Coulomb)
+                || d.search_distance > 0.0
+                || d.enforcement == crate::coupling::Enforcement::Augmented
+        })
     }
 
     /// A human-readable description of the prepared model (for `cfe check`).
@@ -387,6 +409,13 @@ impl Analysis {
             applied: [0.0; 2],
             equilibrium_error: 0.0,
             residual: 0.0,
+            proportional_shortcut: !self
+                .interfaces
+                .iter()
+                .any(crate::coupling::Interface::non_proportional),
+            fixed_point_iterations: Vec::new(),
+            augmented_penetration: 0.0,
+            notes: Vec::new(),
             peak_memory_bytes: None,
             timings: Timings {
                 meshing: self.timings.meshing,
@@ -433,8 +462,29 @@ impl Analysis {
                 let d = c
                     .dofs(&self.dofs, iface.host, iface.node_part)
                     .gather(&inc.u);
-                let (_, f) = c.internal_force(iface.c_n, iface.c_s, state, &d);
+                let h = inc
+                    .pair_history
+                    .get(i)
+                    .and_then(|h| h.get(k))
+                    .copied()
+                    .unwrap_or_default();
+                let (_, f) = c.law_force(&iface.params(), state, &h, &d);
                 let jump = c.local_jump(&d);
+                // The slip not carried by the tangential spring: the plastic slip of
+                // a closed pair with friction, the whole tangential jump when
+                // nothing holds it (open, or frictionless).
+                let slip = if state.is_closed() && iface.law != Law::Frictionless {
+                    h.slip
+                } else {
+                    jump[1]
+                };
+                let traction = |force: f64| {
+                    if c.tributary > 0.0 {
+                        force / c.tributary
+                    } else {
+                        0.0
+                    }
+                };
                 rows.push(PairRow {
                     interface: iface.name.clone(),
                     node: c.node,
@@ -450,6 +500,12 @@ impl Analysis {
                     settled: inc.settled.binary_search(&(i, k)).is_ok(),
                     violation: violation.map(|v| v.kind),
                     violation_amount: violation.map_or(0.0, |v| v.amount),
+                    gap0: c.gap0,
+                    gap: c.gap(jump),
+                    slip,
+                    pressure: traction(-f[0] + 0.0),
+                    shear: traction(-f[1] + 0.0),
+                    tributary: c.tributary,
                 });
             }
         }
@@ -478,7 +534,7 @@ impl Analysis {
                     c_s: iface.c_s,
                     pairs: mine.len(),
                     bonded,
-                    open: mine.len() - bonded,
+                    open: mine.iter().filter(|r| r.state == PairState::Open).count(),
                     settled: mine
                         .iter()
                         .filter(|r| r.settled)
@@ -491,13 +547,45 @@ impl Analysis {
                         })
                         .collect(),
                     violations: mine.iter().filter(|r| r.violation.is_some()).count(),
-                    max_penetration: mine.iter().map(|r| -r.gap_n).fold(0.0, f64::max),
+                    max_penetration: mine.iter().map(|r| -r.gap).fold(0.0, f64::max),
                     total_force_n: mine.iter().map(|r| r.force_n).sum(),
                     max_projection_distance: iface.max_projection_distance,
                     bonded_extent: bonded_extent(&mine),
+                    friction: iface.friction,
+                    enforcement: iface.enforcement,
+                    slip: mine.iter().filter(|r| r.state == PairState::Slip).count(),
+                    unpaired: iface.unpaired,
+                    max_pressure: mine.iter().map(|r| r.pressure).fold(0.0, f64::max),
+                    max_shear: mine.iter().map(|r| r.shear.abs()).fold(0.0, f64::max),
+                    contact_extent: contact_extent(&mine),
+                    contact_length: contact_extent(&mine)
+                        .map_or(0.0, |[a, b]| (b[0] - a[0]).hypot(b[1] - a[1])),
+                    max_slip_ratio: iface
+                        .elements
+                        .iter()
+                        .zip(rows.iter().filter(|r| r.interface == iface.name))
+                        .map(|(c, r)| r.slip_s.abs() / c.edge_length.max(f64::MIN_POSITIVE))
+                        .fold(0.0, f64::max),
                 }
             })
             .collect();
+        s.fixed_point_iterations.push(inc.fixed_point_iterations);
+        s.augmented_penetration = inc.augmented_error;
+        for i in &s.interfaces {
+            let noted = s
+                .notes
+                .iter()
+                .any(|n| n.message.contains(&format!("'{}'", i.name)));
+            if i.max_slip_ratio > 0.5 && i.law != Law::Rigid && !noted {
+                s.notes.push(Warning {
+                    increment: inc.index,
+                    message: format!(
+                        "interface '{}': a pair's tangential jump reaches {:.2} × its host edge's length; the pairs and normals are fixed in the reference configuration (geometrically linear), which assumes sliding small against a host edge",
+                        i.name, i.max_slip_ratio
+                    ),
+                });
+            }
+        }
         // Maximum displacement.
         let mut best = (0.0, 0usize);
         for g in 0..self.dofs.n_nodes() {
@@ -596,6 +684,8 @@ impl Analysis {
                     match worst.kind {
                         ViolationKind::Tension => "pulls with",
                         ViolationKind::Penetration => "penetrates by",
+                        ViolationKind::Friction => "sticks beyond μ|f_n| by",
+                        ViolationKind::Slip => "slips off μ|f_n| by",
                     },
                     worst.amount,
                     worst.force / inc.load_scale.max(f64::MIN_POSITIVE)
@@ -611,6 +701,17 @@ impl Analysis {
                 ),
             });
         }
+    }
+}
+
+/// The positions of the closed (bonded or slipping) pairs with the smallest and
+/// the largest x (then y); `None` when no pair is closed.
+fn contact_extent(rows: &[&PairRow]) -> Option<[[f64; 2]; 2]> {
+    let by_x = |a: &&&PairRow, b: &&&PairRow| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y));
+    let closed = || rows.iter().filter(|r| r.state.is_closed());
+    match (closed().min_by(by_x), closed().max_by(by_x)) {
+        (Some(a), Some(b)) => Some([[a.x, a.y], [b.x, b.y]]),
+        _ => None,
     }
 }
 

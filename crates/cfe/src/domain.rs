@@ -3,7 +3,7 @@
 //! schema ([`crate::model`]) translates into these types; the element routines, the
 //! coupling, the assembly and the solver take only these, never the input types.
 
-use crate::coupling::Law;
+use crate::coupling::{Enforcement, Law};
 use crate::fem::Material;
 use crate::mesh::Mesh;
 use serde::Deserialize;
@@ -103,14 +103,24 @@ pub struct InterfaceDef {
     pub nodes: Vec<usize>,
     /// Name of that boundary.
     pub boundary: String,
-    /// `rigid` or `contact`.
+    /// `rigid`, `contact`, `frictionless` or `coulomb`.
     pub law: Law,
     /// Normal penalty.
     pub c_n: f64,
-    /// Tangential penalty.
+    /// Tangential penalty (0 allowed, and ignored, for `frictionless`).
     pub c_s: f64,
     /// Relative geometric tolerance of the pair search.
     pub tolerance: f64,
+    /// Friction coefficient μ (`coulomb` only; 0 otherwise).
+    pub friction: f64,
+    /// Search distance (a length): 0 pairs only nodes on the host's faces (moved
+    /// onto them); d > 0 pairs each node with the nearest host boundary edge within
+    /// d and keeps its initial gap.
+    pub search_distance: f64,
+    /// Penalty or augmented Lagrangian.
+    pub enforcement: Enforcement,
+    /// Augmented Lagrangian: largest penetration accepted (length).
+    pub penetration_tolerance: f64,
 }
 
 /// A Dirichlet condition on a set of nodes of one part.

@@ -80,7 +80,7 @@ pub mod output;
 pub mod solve;
 
 pub use analysis::{Analysis, Results, Start};
-pub use coupling::{Law, PairState};
+pub use coupling::{Enforcement, Law, PairState};
 pub use domain::{InterfaceDef, Load, Part, Scheme, Settings, Support};
 pub use error::{Error, Result};
 pub use model::Model;

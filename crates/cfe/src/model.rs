@@ -4,7 +4,7 @@
 //!
 //! The problem-file reference is in README.md; `examples/` holds complete files.
 
-use crate::coupling::Law;
+use crate::coupling::{Enforcement, Law};
 pub use crate::domain::{InterfaceDef, Load, Part, Scheme, Settings, Support};
 use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, loads};
@@ -23,6 +23,9 @@ use toml::Spanned;
 /// as the tie constraints of established codes admit a few per cent of the
 /// element size, while faces meshed visibly apart are still rejected.
 pub const DEFAULT_PAIR_TOLERANCE: f64 = 0.05;
+/// Default `penetration_tolerance` of the augmented Lagrangian, as a fraction of
+/// the diagonal of the bounding box of the interface's two parts.
+pub const DEFAULT_PENETRATION_TOLERANCE: f64 = 1e-6;
 /// Default coupling penalty as a multiple of the softer part's E·t.
 pub const DEFAULT_PENALTY_FACTOR: f64 = 1e5;
 
@@ -217,6 +220,27 @@ struct InterfaceSpec {
     c_n: Option<f64>,
     c_s: Option<f64>,
     tolerance: Option<f64>,
+    friction: Option<f64>,
+    search_distance: Option<f64>,
+    #[serde(default)]
+    enforcement: Enforcement,
+    penetration_tolerance: Option<f64>,
+}
+
+/// The diagonal of the bounding box of the nodes of `meshes`.
+fn bounding_diagonal(meshes: &[&Mesh]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in meshes.iter().flat_map(|m| &m.nodes) {
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    if lo[0] <= hi[0] {
+        (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+    } else {
+        0.0
+    }
 }
 
 fn default_law() -> Law {
@@ -782,15 +806,93 @@ impl Builder<'_> {
                 .stiffness_scale()
                 .min(parts[node_part].material.stiffness_scale());
         let c_n = spec.c_n.unwrap_or(default_c);
-        let c_s = spec.c_s.unwrap_or(c_n);
+        let frictionless = spec.law == Law::Frictionless;
+        // The frictionless law ignores c_s: absent, it is 0.
+        let c_s = spec.c_s.unwrap_or(if frictionless { 0.0 } else { c_n });
         let tolerance = spec.tolerance.unwrap_or(DEFAULT_PAIR_TOLERANCE);
         for (key, v) in [("c_n", c_n), ("c_s", c_s), ("tolerance", tolerance)] {
-            if !(v.is_finite() && v > 0.0) {
+            let zero_ok = key == "c_s" && frictionless;
+            if !(v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0))) {
+                let hint = if key == "c_s" {
+                    " (c_s = 0 is allowed only with law = \"frictionless\")"
+                } else {
+                    ""
+                };
                 return Err(self.err(
                     &spec.host,
-                    format!("interface '{name}': `{key}` = {v} must be positive and finite"),
+                    format!("interface '{name}': `{key}` = {v} must be positive and finite{hint}"),
                 ));
             }
+        }
+        let friction = match (spec.law, spec.friction) {
+            (Law::Coulomb, Some(mu)) if mu.is_finite() && mu >= 0.0 => mu,
+            (Law::Coulomb, Some(mu)) => {
+                return Err(self.err(
+                    &spec.host,
+                    format!(
+                        "interface '{name}': `friction` = {mu} must be finite and non-negative"
+                    ),
+                ));
+            }
+            (Law::Coulomb, None) => {
+                return Err(self.err(
+                    &spec.host,
+                    format!(
+                        "interface '{name}': law = \"coulomb\" needs `friction` = μ (the friction coefficient)"
+                    ),
+                ));
+            }
+            (law, Some(_)) => {
+                return Err(self.err(
+                    &spec.host,
+                    format!(
+                        "interface '{name}': `friction` applies to law = \"coulomb\" only, not \"{}\"",
+                        law.as_str()
+                    ),
+                ));
+            }
+            (_, None) => 0.0,
+        };
+        let search_distance = spec.search_distance.unwrap_or(0.0);
+        if !(search_distance.is_finite() && search_distance >= 0.0) {
+            return Err(self.err(
+                &spec.host,
+                format!(
+                    "interface '{name}': `search_distance` = {search_distance} must be a finite length ≥ 0"
+                ),
+            ));
+        }
+        if search_distance > 0.0 && spec.law == Law::Rigid {
+            return Err(self.err(
+                &spec.host,
+                format!(
+                    "interface '{name}': `search_distance` needs a contact law (contact, frictionless, coulomb); a rigid tie joins faces that touch (use `tolerance`)"
+                ),
+            ));
+        }
+        let penetration_tolerance = match spec.penetration_tolerance {
+            Some(t) if t.is_finite() && t > 0.0 => t,
+            Some(t) => {
+                return Err(self.err(
+                    &spec.host,
+                    format!(
+                        "interface '{name}': `penetration_tolerance` = {t} must be a positive, finite length"
+                    ),
+                ));
+            }
+            // 1e-6 × the size of the two parts (their bounding box's diagonal).
+            None => {
+                DEFAULT_PENETRATION_TOLERANCE
+                    * bounding_diagonal(&[&parts[host].mesh, &parts[node_part].mesh])
+            }
+        };
+        if spec.penetration_tolerance.is_some() && spec.enforcement != Enforcement::Augmented {
+            return Err(self.err(
+                &spec.host,
+                format!(
+                    "interface '{name}': `penetration_tolerance` applies to enforcement = \"augmented\" only"
+                ),
+            ));
         }
         Ok(InterfaceDef {
             name,
@@ -802,6 +904,10 @@ impl Builder<'_> {
             c_n,
             c_s,
             tolerance,
+            friction,
+            search_distance,
+            enforcement: spec.enforcement,
+            penetration_tolerance,
         })
     }
 

@@ -5,7 +5,7 @@
 
 mod source;
 
-use crate::coupling::{Interface, PairState};
+use crate::coupling::{Interface, PairHistory, PairState};
 pub use crate::dofs::{DofMap, FIXED};
 use crate::domain::{Load, Part};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -222,8 +222,22 @@ pub fn internal_force(
     dofs: &DofMap,
     u: &[f64],
 ) -> Vec<f64> {
+    internal_force_with(parts, interfaces, states, None, dofs, u)
+}
+
+/// As [`internal_force`], with the pairs' histories (slip, slip force,
+/// multipliers; `None`: all zero) in the coupling elements' forces.
+pub fn internal_force_with(
+    parts: &[Part],
+    interfaces: &[Interface],
+    states: &[Vec<PairState>],
+    history: Option<&[Vec<PairHistory>]>,
+    dofs: &DofMap,
+    u: &[f64],
+) -> Vec<f64> {
     let part_elements = PartElements::new(parts, dofs);
-    let coupling_elements = CouplingElements::new(interfaces, Some(states), dofs);
+    let coupling_elements =
+        CouplingElements::new(interfaces, Some(states), dofs).with_history(history);
     internal_force_of(&[&part_elements, &coupling_elements], u)
 }
 

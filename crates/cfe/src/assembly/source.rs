@@ -7,7 +7,7 @@
 //! [`crate::assembly`] (pattern, values, internal force) does not change.
 
 use crate::coupling::element::MAX_DOFS;
-use crate::coupling::{Interface, PairState};
+use crate::coupling::{Interface, PairHistory, PairState};
 use crate::dofs::DofMap;
 use crate::domain::Part;
 use crate::fem::element;
@@ -199,6 +199,7 @@ impl ElementSource for PartElements<'_> {
 pub struct CouplingElements<'a> {
     interfaces: &'a [Interface],
     states: Option<&'a [Vec<PairState>]>,
+    history: Option<&'a [Vec<PairHistory>]>,
     dofs: &'a DofMap,
     /// First pair of each interface in the source's numbering (length interfaces + 1).
     offset: Vec<usize>,
@@ -222,9 +223,18 @@ impl<'a> CouplingElements<'a> {
         CouplingElements {
             interfaces,
             states,
+            history: None,
             dofs,
             offset,
         }
+    }
+
+    /// The same elements with the pairs' histories (slip, slip force, multipliers:
+    /// `history[i][k]` for pair k of interface i), which enter their internal
+    /// forces; without, every history is zero.
+    pub fn with_history(mut self, history: Option<&'a [Vec<PairHistory>]>) -> Self {
+        self.history = history;
+        self
     }
 
     /// The interface, the pair and its state of source element `e`.
@@ -253,7 +263,10 @@ impl ElementSource for CouplingElements<'_> {
             return;
         }
         let c = &iface.elements[k];
-        let ke = c.stiffness(iface.c_n, iface.c_s, state);
+        // The penalties the law puts in the stiffness of this state (the
+        // tangential one is 0 for a frictionless or slipping pair).
+        let [c_n, c_s] = iface.params().penalties(state);
+        let ke = c.stiffness(c_n, c_s, PairState::Bonded);
         let g = c.dofs(self.dofs, iface.host, iface.node_part);
         let n = g.as_slice().len();
         let mut k = [0.0; MAX_DOFS * MAX_DOFS];
@@ -269,7 +282,9 @@ impl ElementSource for CouplingElements<'_> {
         let (iface, k, state) = self.locate(e);
         let c = &iface.elements[k];
         let g = c.dofs(self.dofs, iface.host, iface.node_part);
-        let (fe, _) = c.internal_force(iface.c_n, iface.c_s, state, &g.gather(u));
+        let i = self.offset.partition_point(|&o| o <= e) - 1;
+        let h = self.history.map_or(PairHistory::default(), |h| h[i][k]);
+        let (fe, _) = c.law_force(&iface.params(), state, &h, &g.gather(u));
         sink(g.as_slice(), &fe[..c.n_dofs()]);
     }
 }

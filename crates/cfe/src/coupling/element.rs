@@ -7,10 +7,14 @@
 //! Law: `c = diag(c_n, c_s)`, `C = Rᵀ c R`; internal force `F_e = B_eᵀ Rᵀ f` and
 //! stiffness `K_e = B_eᵀ (1 − D̂) C B_e` (symmetric).
 //!
+//! Initial gap: a pair found within a search distance keeps its node where it is
+//! meshed and stores its initial normal gap g₀; the law acts on `g_n = g₀ + [[u_n]]`,
+//! so `F_e` gains the constant `B_eᵀ Rᵀ (c_n g₀, 0)` (a load term; K_e unchanged).
+//!
 //! Element DOFs are ordered `[u₁ v₁ … uₙ vₙ u_c v_c]`: host nodes, then the coupling
 //! node.
 
-use super::law::{PairState, local_force};
+use super::law::{LawParams, PairHistory, PairState, local_force};
 use crate::dofs::DofMap;
 
 /// Most nodes a CFE has: a Q4 host's 4 plus the coupling node.
@@ -39,8 +43,20 @@ pub struct CouplingElement {
     /// edge, where the node part's node is placed.
     pub position: [f64; 2],
     /// Distance from the coupling node, as meshed, to the host edge it was
-    /// projected on (how far it was moved).
+    /// projected on (how far it was moved, unless it was paired within a search
+    /// distance: then it stays and the distance is its gap's magnitude).
     pub distance: f64,
+    /// Initial normal gap g₀ (length, along `normal`: positive apart, negative
+    /// overlapping), for a pair found within a search distance; 0 for a node moved
+    /// onto its host edge.
+    pub gap0: f64,
+    /// Tributary length of the coupling node on the node part's face: half the sum
+    /// of the lengths of the node part's boundary edges at the node whose both ends
+    /// couple in the same interface. Force / tributary length = traction.
+    pub tributary: f64,
+    /// Length of the host edge the node was projected on (the scale of the
+    /// geometrically linear limit: slip small against it).
+    pub edge_length: f64,
 }
 
 impl CouplingElement {
@@ -90,10 +106,19 @@ impl CouplingElement {
         local_jump(self.normal, self.jump(d))
     }
 
-    /// The normal gap `gap_n = [[u_n]]` (positive: the faces separate) for element
-    /// displacements `d`.
+    /// The normal gap `gap_n = g₀ + [[u_n]]` (positive: the faces are apart) for
+    /// element displacements `d`.
     pub fn gap_n(&self, d: &[f64]) -> f64 {
-        self.local_jump(d)[0]
+        self.gap(self.local_jump(d))
+    }
+
+    /// The normal gap `g₀ + [[u_n]]` for the local jump `jump`.
+    pub fn gap(&self, jump: [f64; 2]) -> f64 {
+        if self.gap0 == 0.0 {
+            jump[0]
+        } else {
+            self.gap0 + jump[0]
+        }
     }
 
     /// The stiffness `K_e = B_eᵀ (1 − D̂) C B_e`, `C = Rᵀ c R`, for penalties
@@ -137,6 +162,24 @@ impl CouplingElement {
             state,
             &d[..self.n_dofs()],
         )
+    }
+}
+
+impl CouplingElement {
+    /// The internal force `F_e = B_eᵀ Rᵀ f` and the local force `f` under the law
+    /// `law` in `state` with history `h`: `f` from [`LawParams::local_force`] with
+    /// the normal gap g₀ + [[u_n]] (so it includes the initial-gap, slip-history,
+    /// slip-force and multiplier terms), for element displacements `d`.
+    pub fn law_force(
+        &self,
+        law: &LawParams,
+        state: PairState,
+        h: &PairHistory,
+        d: &[f64],
+    ) -> ([f64; MAX_DOFS], [f64; 2]) {
+        let u = self.local_jump(d);
+        let f = law.local_force(state, self.gap(u), u[1], h);
+        (nodal_force(&self.shape, self.normal, f), f)
     }
 }
 
@@ -260,6 +303,12 @@ fn internal_force(
 ) -> ([f64; MAX_DOFS], [f64; 2]) {
     let u = local_jump(normal, jump(shape, d));
     let f = local_force(state, c_n, c_s, u);
+    (nodal_force(shape, normal, f), f)
+}
+
+/// `F_e = B_eᵀ Rᵀ f` for the local force `f` (the first 2 (n + 1) entries are the
+/// element's).
+fn nodal_force(shape: &[f64], normal: [f64; 2], f: [f64; 2]) -> [f64; MAX_DOFS] {
     let r = rotation(normal);
     let g = [
         r[0][0] * f[0] + r[1][0] * f[1],
@@ -270,7 +319,7 @@ fn internal_force(
     for (p, o) in out.iter_mut().enumerate().take(2 * (shape.len() + 1)) {
         *o = b[p / 2] * g[p % 2];
     }
-    (out, f)
+    out
 }
 
 #[cfg(test)]
@@ -425,6 +474,9 @@ mod tests {
                 normal: normal(),
                 position,
                 distance: 0.0,
+                gap0: 0.0,
+                tributary: 1.0,
+                edge_length: 1.0,
             };
             let k = c.stiffness(1e9, 5e8, PairState::Bonded);
             let terms = c.stiffness_terms(1e9, 5e8);

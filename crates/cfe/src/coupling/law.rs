@@ -1,8 +1,30 @@
 //! The interface law of a coupling pair (SPEC §2): in the local frame (n, s),
-//! `f_n = (1 − D̂) c_n [[u_n]]`, `f_s = (1 − D̂) c_s [[u_s]]`, with D̂ = 0 (bonded)
+//! `f_n = (1 − D̂) c_n g_n`, `f_s = (1 − D̂) c_s [[u_s]]`, with the normal gap
+//! `g_n = g₀ + [[u_n]]` (g₀ the initial gap, 0 for touching faces), D̂ = 0 (bonded)
 //! when the pair is closed or in compression and D̂ = 1 (open) when it separates.
-//! The law is secant: the force follows from the total jump, so a pair that closes
-//! again after sliding while open snaps back tangentially (no slip memory).
+//!
+//! Four laws (per interface):
+//! - `rigid`: always bonded (mesh tying);
+//! - `contact` (the seed's): bonded (stick in both directions) or open; secant,
+//!   so a pair that closes again after sliding while open snaps back tangentially;
+//! - `frictionless`: closed (state `bonded`: normal penalty only, tangential
+//!   force zero) or open;
+//! - `coulomb` with friction coefficient μ: stick (state `bonded`:
+//!   `f_s = c_s ([[u_s]] − s_p)`, s_p the plastic slip carried from increment to
+//!   increment), slip (`f_s = μ |f_n|` along the trial force
+//!   `c_s ([[u_s]] − s_p)`, a constant of the pair's [`PairHistory`] iterated to a
+//!   fixed point, so the stiffness stays symmetric) or open.
+//!
+//! State diagram (a transition is taken after a solve when the law is broken;
+//! `tol` are the law tolerances, so a pair at the boundary does not flip back and
+//! forth on round-off):
+//! ```text
+//! open ──(penetrates: g_n < −tol)──▶ bonded (stick)
+//! bonded ──(pulls: f_n > tol)──▶ open
+//! bonded ──(coulomb: |c_s([[u_s]] − s_p)| > μ|f_n| + tol)──▶ slip
+//! slip ──(coulomb: |c_s([[u_s]] − s_p)| < μ|f_n| − tol: the slip would reverse)──▶ bonded
+//! slip ──(pulls: f_n > tol)──▶ open
+//! ```
 
 impl std::fmt::Display for PairState {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -19,44 +41,215 @@ pub type PairStates = Vec<Vec<PairState>>;
 pub enum Law {
     /// Tied: D̂ = 0 always (plain non-matching mesh tying).
     Rigid,
-    /// Unilateral: bonded where `[[u_n]]` ≤ tolerance, open where it separates.
+    /// Unilateral: bonded (stick in both directions) where `g_n` ≤ tolerance, open
+    /// where it separates.
     Contact,
+    /// Unilateral and frictionless: a closed pair resists penetration only; its
+    /// tangential force is zero (`c_s` is ignored).
+    Frictionless,
+    /// Unilateral with Coulomb friction (coefficient μ): stick, slip or open.
+    Coulomb,
 }
 
-/// The state of one coupling pair (serialized as `bonded` or `open`).
+/// The state of one coupling pair (serialized as `bonded`, `open` or `slip`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum PairState {
-    /// D̂ = 0: no penetration and no slip.
+    /// D̂ = 0: closed; no penetration, and (except for the frictionless law) no
+    /// elastic slip beyond the tangential penalty (stick).
     Bonded,
     /// D̂ = 1: no force.
     Open,
+    /// Coulomb law only: closed and slipping; the normal penalty acts, the
+    /// tangential force is μ |f_n| along the trial force.
+    Slip,
 }
 
 impl PairState {
-    /// The damage-like variable D̂ of the law: 0 bonded, 1 open.
+    /// The damage-like variable D̂ of the normal law: 0 closed (bonded or slip),
+    /// 1 open.
     pub fn d_hat(self) -> f64 {
         match self {
-            PairState::Bonded => 0.0,
+            PairState::Bonded | PairState::Slip => 0.0,
             PairState::Open => 1.0,
         }
     }
 
-    /// Lower-case name used in tables (`bonded`, `open`).
+    /// Whether the pair is closed (bonded or slipping): it carries a normal force.
+    pub fn is_closed(self) -> bool {
+        self != PairState::Open
+    }
+
+    /// Lower-case name used in tables (`bonded`, `open`, `slip`).
     pub fn as_str(self) -> &'static str {
         match self {
             PairState::Bonded => "bonded",
             PairState::Open => "open",
+            PairState::Slip => "slip",
         }
     }
 }
 
 impl Law {
-    /// Lower-case name as in the problem file (`rigid`, `contact`).
+    /// Lower-case name as in the problem file (`rigid`, `contact`, `frictionless`,
+    /// `coulomb`).
     pub fn as_str(self) -> &'static str {
         match self {
             Law::Rigid => "rigid",
             Law::Contact => "contact",
+            Law::Frictionless => "frictionless",
+            Law::Coulomb => "coulomb",
+        }
+    }
+
+    /// Whether pairs of this law open in tension (every law but `rigid`).
+    pub fn is_unilateral(self) -> bool {
+        self != Law::Rigid
+    }
+}
+
+/// How an interface enforces its law (`enforcement = …`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Enforcement {
+    /// The penalties alone (default): a closed pair penetrates by about f_n / c_n.
+    #[default]
+    Penalty,
+    /// Augmented Lagrangian: Uzawa iterations on multipliers on top of the
+    /// penalties until the penetration (and the stick error) is below
+    /// `penetration_tolerance`.
+    Augmented,
+}
+
+/// The law of one interface with its parameters: what a pair's force and stiffness
+/// follow from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LawParams {
+    /// The law.
+    pub law: Law,
+    /// Normal penalty c_n.
+    pub c_n: f64,
+    /// Tangential penalty c_s (ignored by the frictionless law).
+    pub c_s: f64,
+    /// Friction coefficient μ (Coulomb law; 0 otherwise).
+    pub friction: f64,
+}
+
+/// What a pair's force depends on besides its jump: the plastic slip carried
+/// between increments (Coulomb), the tangential force of a slipping pair (iterated
+/// to a fixed point within an increment) and the augmented-Lagrangian multipliers.
+/// All zero for the penalty laws of the seed.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct PairHistory {
+    /// Plastic slip s_p (tangential, length): the stick force is `c_s ([[u_s]] − s_p)`.
+    pub slip: f64,
+    /// Tangential force of a slipping pair, `μ |f_n|` signed along the trial force.
+    pub slip_force: f64,
+    /// Multipliers (normal, tangential) added to the penalty forces of a closed pair
+    /// (augmented Lagrangian).
+    pub multiplier: [f64; 2],
+}
+
+/// The histories of every pair of a model: `h[i][k]` for pair k of interface i.
+pub type PairHistories = Vec<Vec<PairHistory>>;
+
+/// `a + b`, but exactly `a` when `b` is zero (so the seed's laws keep their bits,
+/// the sign of a zero included).
+fn plus(a: f64, b: f64) -> f64 {
+    if b == 0.0 { a } else { a + b }
+}
+
+impl LawParams {
+    /// The penalties (normal, tangential) that act in the stiffness of a pair in
+    /// `state`: both when bonded (the tangential one zero for the frictionless law),
+    /// the normal one when slipping, none when open.
+    pub fn penalties(&self, state: PairState) -> [f64; 2] {
+        match state {
+            PairState::Open => [0.0, 0.0],
+            PairState::Bonded if self.law == Law::Frictionless => [self.c_n, 0.0],
+            PairState::Bonded => [self.c_n, self.c_s],
+            PairState::Slip => [self.c_n, 0.0],
+        }
+    }
+
+    /// The local force `f = (f_n, f_s)` (the force the host side exerts on the pair)
+    /// for the normal gap `g_n` (g₀ + [[u_n]]) and the tangential jump `u_s`:
+    /// bonded `(c_n g_n, c_s (u_s − s_p))` (tangential 0 when frictionless), slip
+    /// `(c_n g_n, slip_force)`, open 0; plus the multipliers when closed.
+    pub fn local_force(&self, state: PairState, g_n: f64, u_s: f64, h: &PairHistory) -> [f64; 2] {
+        let m = h.multiplier;
+        match state {
+            PairState::Open => [0.0, 0.0],
+            PairState::Bonded if self.law == Law::Frictionless => [plus(self.c_n * g_n, m[0]), 0.0],
+            PairState::Bonded => [
+                plus(self.c_n * g_n, m[0]),
+                plus(self.c_s * plus(u_s, -h.slip), m[1]),
+            ],
+            PairState::Slip => [plus(self.c_n * g_n, m[0]), h.slip_force],
+        }
+    }
+
+    /// The trial tangential force of a closed pair, `c_s (u_s − s_p) + m_s`: what it
+    /// would carry if it stuck.
+    pub fn trial_shear(&self, u_s: f64, h: &PairHistory) -> f64 {
+        plus(self.c_s * plus(u_s, -h.slip), h.multiplier[1])
+    }
+
+    /// The Coulomb check of a closed pair (after the normal check): its state
+    /// next, and how it breaks the friction law if it does. `f_n` is the normal force
+    /// (negative in compression), `u_s` the tangential jump, `f_s` the tangential
+    /// force it carries, `tol` the force tolerance. A stick pair whose trial force
+    /// exceeds μ|f_n| slips; a slip pair whose trial force falls inside the cone
+    /// (its slip would reverse) sticks; a slip pair whose force differs from
+    /// μ|f_n| along the trial force (an unconverged fixed point) breaks the law but
+    /// keeps its state.
+    pub fn friction_check(
+        &self,
+        state: PairState,
+        f_n: f64,
+        u_s: f64,
+        f_s: f64,
+        h: &PairHistory,
+        tol: f64,
+    ) -> (PairState, Option<LawViolation>) {
+        if self.law != Law::Coulomb || !state.is_closed() {
+            return (state, None);
+        }
+        let limit = self.friction * (-f_n).max(0.0);
+        let trial = self.trial_shear(u_s, h);
+        match state {
+            PairState::Bonded if trial.abs() > limit + tol => {
+                let excess = trial.abs() - limit;
+                (
+                    PairState::Slip,
+                    Some(LawViolation {
+                        kind: ViolationKind::Friction,
+                        amount: excess,
+                        force: excess,
+                    }),
+                )
+            }
+            PairState::Slip if trial.abs() < limit - tol => {
+                let excess = limit - trial.abs();
+                (
+                    PairState::Bonded,
+                    Some(LawViolation {
+                        kind: ViolationKind::Slip,
+                        amount: excess,
+                        force: excess,
+                    }),
+                )
+            }
+            PairState::Slip => {
+                let error = (f_s - limit * trial.signum()).abs();
+                let v = (error > tol).then_some(LawViolation {
+                    kind: ViolationKind::Slip,
+                    amount: error,
+                    force: error,
+                });
+                (state, v)
+            }
+            _ => (state, None),
         }
     }
 }
@@ -69,14 +262,22 @@ pub enum ViolationKind {
     Tension,
     /// An open pair interpenetrates: the law says it should be bonded.
     Penetration,
+    /// A stick pair carries more than μ |f_n| (Coulomb): it should slip.
+    Friction,
+    /// A slip pair whose force is not μ |f_n| opposing its slip (Coulomb): its
+    /// trial force is inside the cone (it should stick) or its slip force has not
+    /// converged.
+    Slip,
 }
 
 impl ViolationKind {
-    /// Lower-case name used in tables (`tension`, `penetration`).
+    /// Lower-case name used in tables (`tension`, `penetration`, `friction`, `slip`).
     pub fn as_str(self) -> &'static str {
         match self {
             ViolationKind::Tension => "tension",
             ViolationKind::Penetration => "penetration",
+            ViolationKind::Friction => "friction",
+            ViolationKind::Slip => "slip",
         }
     }
 }
@@ -86,30 +287,30 @@ impl ViolationKind {
 pub struct LawTolerance {
     /// Largest tensile normal force a bonded pair may carry (force).
     pub tension: f64,
-    /// Largest interpenetration `−[[u_n]]` an open pair may show (length).
+    /// Largest interpenetration `−g_n` an open pair may show (length).
     pub penetration: f64,
 }
 
 /// A pair's departure from its law: the kind, the amount (a force for
-/// [`ViolationKind::Tension`], a length for [`ViolationKind::Penetration`]) and the
-/// amount as a force (`c_n` × the penetration for an open pair), which ranks
-/// violations of both kinds on one scale.
+/// [`ViolationKind::Tension`] and the friction kinds, a length for
+/// [`ViolationKind::Penetration`]) and the amount as a force (`c_n` × the
+/// penetration for an open pair), which ranks violations of all kinds on one scale.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LawViolation {
-    /// Tension or penetration.
+    /// Tension, penetration, friction or slip.
     pub kind: ViolationKind,
-    /// Tensile force, or penetration depth.
+    /// Tensile force, penetration depth, or friction force error.
     pub amount: f64,
     /// The amount as a force.
     pub force: f64,
 }
 
 impl Law {
-    /// Checks a pair in `state` with normal jump `gap_n` and normal penalty `c_n`
-    /// against the law: a bonded pair may not pull (`c_n [[u_n]]` above
-    /// `tol.tension`), an open pair may not interpenetrate (`−[[u_n]]` above
-    /// `tol.penetration`). A rigid interface has no unilateral law and is never in
-    /// violation.
+    /// Checks a pair in `state` with normal gap `gap_n` (g₀ + [[u_n]]) and normal
+    /// force `c_n gap_n` against the normal law: a closed pair (bonded or slip) may
+    /// not pull (`c_n gap_n` above `tol.tension`), an open pair may not
+    /// interpenetrate (`−gap_n` above `tol.penetration`). A rigid interface has no
+    /// unilateral law and is never in violation.
     pub fn violation(
         self,
         state: PairState,
@@ -117,14 +318,27 @@ impl Law {
         c_n: f64,
         tol: LawTolerance,
     ) -> Option<LawViolation> {
+        self.normal_violation(state, gap_n, c_n * gap_n, c_n, tol)
+    }
+
+    /// As [`Law::violation`] with the normal force `f_n` given (it differs from
+    /// `c_n gap_n` by the augmented-Lagrangian multiplier).
+    pub fn normal_violation(
+        self,
+        state: PairState,
+        gap_n: f64,
+        f_n: f64,
+        c_n: f64,
+        tol: LawTolerance,
+    ) -> Option<LawViolation> {
         if self == Law::Rigid {
             return None;
         }
         match state {
-            PairState::Bonded if c_n * gap_n > tol.tension => Some(LawViolation {
+            PairState::Bonded | PairState::Slip if f_n > tol.tension => Some(LawViolation {
                 kind: ViolationKind::Tension,
-                amount: c_n * gap_n,
-                force: c_n * gap_n,
+                amount: f_n,
+                force: f_n,
             }),
             PairState::Open if -gap_n > tol.penetration => Some(LawViolation {
                 kind: ViolationKind::Penetration,
@@ -135,10 +349,11 @@ impl Law {
         }
     }
 
-    /// The state the law gives a pair now in `state` (the active-set update): a
-    /// bonded pair in tension opens, an open pair that interpenetrates closes, and
-    /// every other pair keeps its state — so a pair within the tolerances of the
-    /// boundary between the two does not flip back and forth on round-off.
+    /// The state the normal law gives a pair now in `state` (the active-set
+    /// update): a closed pair in tension opens, an open pair that interpenetrates
+    /// closes (bonded: stick), and every other pair keeps its state — so a pair
+    /// within the tolerances of the boundary between the two does not flip back and
+    /// forth on round-off.
     pub fn next_state(
         self,
         state: PairState,
@@ -147,14 +362,15 @@ impl Law {
         tol: LawTolerance,
     ) -> PairState {
         match (self.violation(state, gap_n, c_n, tol), state) {
-            (Some(_), PairState::Bonded) => PairState::Open,
+            (Some(_), PairState::Bonded | PairState::Slip) => PairState::Open,
             (Some(_), PairState::Open) => PairState::Bonded,
             (None, s) => s,
         }
     }
 }
 
-/// Local interface force `f = (1 − D̂) c [[u]]` for the local jump `[[u_n]], [[u_s]]`.
+/// Local interface force `f = (1 − D̂) c [[u]]` for the local jump `[[u_n]], [[u_s]]`
+/// (the seed's laws without history: bonded or open).
 pub fn local_force(state: PairState, c_n: f64, c_s: f64, jump: [f64; 2]) -> [f64; 2] {
     let k = 1.0 - state.d_hat();
     [k * c_n * jump[0], k * c_s * jump[1]]

@@ -8,7 +8,10 @@ pub mod law;
 pub(crate) mod search;
 
 pub use element::CouplingElement;
-pub use law::{Law, LawTolerance, LawViolation, PairState, PairStates, ViolationKind};
+pub use law::{
+    Enforcement, Law, LawParams, LawTolerance, LawViolation, PairHistories, PairHistory, PairState,
+    PairStates, ViolationKind,
+};
 
 /// An interface between a host part and a node part, with its coupling elements.
 #[derive(Debug, Clone)]
@@ -19,7 +22,8 @@ pub struct Interface {
     pub host: usize,
     /// Index of the node part (usually the finer mesh), whose boundary nodes couple.
     pub node_part: usize,
-    /// `rigid` (always bonded) or `contact` (bonded in compression, open in tension).
+    /// `rigid` (always bonded), `contact` (bonded in compression, open in
+    /// tension), `frictionless` or `coulomb`.
     pub law: Law,
     /// Normal penalty c_n (force per length).
     pub c_n: f64,
@@ -29,4 +33,35 @@ pub struct Interface {
     pub elements: Vec<CouplingElement>,
     /// Largest distance from a coupling node to its host edge (geometric check).
     pub max_projection_distance: f64,
+    /// Friction coefficient μ (`coulomb`; 0 for the other laws).
+    pub friction: f64,
+    /// Penalty or augmented Lagrangian.
+    pub enforcement: Enforcement,
+    /// Augmented Lagrangian: the largest penetration (and stick error) accepted
+    /// (length).
+    pub penetration_tolerance: f64,
+    /// Coupling nodes of the boundary left unpaired because no host boundary edge
+    /// lies within the search distance (0 without a search distance).
+    pub unpaired: usize,
+}
+
+impl Interface {
+    /// The law with its parameters.
+    pub fn params(&self) -> LawParams {
+        LawParams {
+            law: self.law,
+            c_n: self.c_n,
+            c_s: self.c_s,
+            friction: self.friction,
+        }
+    }
+
+    /// Whether the solution depends on the load path or is not proportional to the
+    /// load factor: an initial gap on a unilateral interface, the Coulomb law, or
+    /// augmented-Lagrangian enforcement.
+    pub fn non_proportional(&self) -> bool {
+        self.law == Law::Coulomb
+            || self.enforcement == Enforcement::Augmented
+            || self.elements.iter().any(|c| c.gap0 != 0.0)
+    }
 }

@@ -30,6 +30,7 @@ pub const VERTEX_TOLERANCE: f64 = 1e-6;
 /// vertex the normalised average of the normals of the boundary edges that meet
 /// there. Nodes farther than the tolerance from every host edge are an error
 /// listing them with their coordinates and distances.
+#[cfg(test)]
 pub fn find_pairs(
     interface: &str,
     host: &Mesh,
@@ -37,6 +38,25 @@ pub fn find_pairs(
     nodes: &[usize],
     tolerance: f64,
 ) -> Result<Vec<CouplingElement>> {
+    find_pairs_within(interface, host, node_mesh, nodes, tolerance, 0.0).map(|(p, _)| p)
+}
+
+/// As [`find_pairs`] when `search_distance` is 0. With a search distance d > 0
+/// (a length) each node couples to the host boundary edge nearest to it within d,
+/// whatever the tolerance; it is *not* moved: its initial normal gap
+/// g₀ = (X − X_C) · n (positive apart, negative overlapping) is stored in the
+/// coupling element, and a node with no host edge within d is left unpaired
+/// (returned as the count, second). Every element gets its tributary length on
+/// the node part's face and its host edge's length.
+pub fn find_pairs_within(
+    interface: &str,
+    host: &Mesh,
+    node_mesh: &Mesh,
+    nodes: &[usize],
+    tolerance: f64,
+    search_distance: f64,
+) -> Result<(Vec<CouplingElement>, usize)> {
+    let gaps = search_distance > 0.0;
     let edges = host.boundary_edges();
     let segment = |e: &BoundaryEdge| e.nodes.map(|n| host.nodes[n]);
     let tree = RTree::bulk_load(
@@ -56,7 +76,13 @@ pub fn find_pairs(
             dist(a, b)
         })
         .fold(0.0, f64::max);
-    let radius = tolerance * max_len;
+    let radius = if gaps {
+        search_distance
+    } else {
+        tolerance * max_len
+    };
+    let tributary = tributary_lengths(node_mesh, nodes);
+    let mut unpaired = 0;
     // Outward normals of the boundary edges that meet at each host vertex.
     let mut vertex_normals: HashMap<usize, Vec<[f64; 2]>> = HashMap::new();
     for e in &edges {
@@ -77,7 +103,7 @@ pub fn find_pairs(
             let [a, b] = segment(edge);
             let len = dist(a, b);
             let (xi, d) = project(p, a, b);
-            if d > tolerance * len {
+            if (!gaps && d > tolerance * len) || (gaps && d > search_distance) {
                 continue;
             }
             let key = (d, edge.element, cand.data, xi);
@@ -95,6 +121,10 @@ pub fn find_pairs(
             };
         }
         let Some((d, element, edge_index, xi)) = best else {
+            if gaps {
+                unpaired += 1;
+                continue;
+            }
             let nearest = tree.nearest_neighbor(p).map(|c| {
                 let [a, b] = segment(&edges[c.data]);
                 let (_, d) = project(p, a, b);
@@ -126,6 +156,11 @@ pub fn find_pairs(
             Some(v) => normalised_average(&vertex_normals[&v]),
             None => edge_normal([a, b]),
         };
+        let gap0 = if gaps {
+            (p[0] - position[0]) * normal[0] + (p[1] - position[1]) * normal[1]
+        } else {
+            0.0
+        };
         pairs.push(CouplingElement {
             node,
             host_element: element,
@@ -134,12 +169,32 @@ pub fn find_pairs(
             normal,
             position,
             distance: d,
+            gap0,
+            tributary: tributary.get(&node).copied().unwrap_or(0.0),
+            edge_length: dist(a, b),
         });
     }
     if !orphans.is_empty() {
         return Err(orphan_error(interface, &orphans, tolerance));
     }
-    Ok(pairs)
+    Ok((pairs, unpaired))
+}
+
+/// The tributary length of each of `nodes` on the node part's face: half the sum
+/// of the lengths of the boundary edges of `mesh` at the node whose both ends are
+/// among `nodes`.
+fn tributary_lengths(mesh: &Mesh, nodes: &[usize]) -> HashMap<usize, f64> {
+    let set: std::collections::HashSet<usize> = nodes.iter().copied().collect();
+    let mut out: HashMap<usize, f64> = nodes.iter().map(|&n| (n, 0.0)).collect();
+    for e in mesh.boundary_edges() {
+        let [a, b] = e.nodes;
+        if set.contains(&a) && set.contains(&b) {
+            let half = 0.5 * dist(mesh.nodes[a], mesh.nodes[b]);
+            *out.entry(a).or_default() += half;
+            *out.entry(b).or_default() += half;
+        }
+    }
+    out
 }
 
 /// A coupling node on no host edge: its index, its position and, when there is

@@ -37,12 +37,15 @@ pub struct PlotLabels<'a> {
 
 /// A coupling pair marker: a black circle, filled when bonded, hollow when open;
 /// a red square (filled when bonded, hollow when open) when the pair breaks its
-/// law (a pair settled against the law to end a cycle, or a lagged `implex` state).
+/// law (a pair settled against the law to end a cycle, or a lagged `implex` state);
+/// a slipping pair (Coulomb) is a filled blue circle.
 pub struct PairMarker {
     /// Position.
     pub at: [f64; 2],
-    /// Bonded (filled) or open (hollow).
+    /// Closed (filled: bonded or slipping) or open (hollow).
     pub bonded: bool,
+    /// Slipping (Coulomb): drawn blue.
+    pub slip: bool,
     /// The pair breaks its law (drawn as a red square).
     pub violates: bool,
 }
@@ -708,7 +711,13 @@ fn draw_markers(path: &Path, root: &Area, layout: &Layout, markers: &[PairMarker
         if !layout.inside(p) {
             continue;
         }
-        let colour = if m.violates { RED } else { BLACK };
+        let colour = if m.violates {
+            RED
+        } else if m.slip {
+            BLUE
+        } else {
+            BLACK
+        };
         let style = if m.bonded {
             colour.filled()
         } else {
@@ -866,6 +875,7 @@ mod tests {
         let markers = [PairMarker {
             at: [0.5, 0.0],
             bonded: true,
+            slip: false,
             violates: false,
         }];
         render_field(&path, &mesh, &[0.0, 1.0, 2.0, 3.0], &markers, &labels).unwrap();

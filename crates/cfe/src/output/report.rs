@@ -42,6 +42,26 @@ pub struct PairRow {
     /// The violation's amount: the tensile force, or the penetration depth (0 when none).
     #[serde(serialize_with = "sci")]
     pub violation_amount: f64,
+    /// Initial normal gap g₀ (0 unless paired within a search distance).
+    #[serde(serialize_with = "sci")]
+    pub gap0: f64,
+    /// Current normal gap g₀ + `[[u_n]]` (< 0: penetration).
+    #[serde(serialize_with = "sci")]
+    pub gap: f64,
+    /// Slip not carried elastically: the plastic slip s_p of a closed pair with
+    /// friction (0 for the seed's stick law), the tangential jump of an open or
+    /// frictionless pair.
+    #[serde(serialize_with = "sci")]
+    pub slip: f64,
+    /// Contact pressure: `force_n` / tributary length (> 0 in compression).
+    #[serde(serialize_with = "sci")]
+    pub pressure: f64,
+    /// Shear traction: `force_s` / tributary length.
+    #[serde(serialize_with = "sci")]
+    pub shear: f64,
+    /// Tributary length of the coupling node on the node part's face.
+    #[serde(serialize_with = "sci")]
+    pub tributary: f64,
 }
 
 /// The columns of `pairs.csv` (the serialized fields of [`PairRow`]).
@@ -61,16 +81,46 @@ pub const PAIR_COLUMNS: [&str; 13] = [
     "violation_amount",
 ];
 
-/// Writes the pairs table (one row per coupling pair; the header is the field
-/// names of [`PairRow`]).
-pub fn write_pairs_csv(path: &Path, rows: &[PairRow]) -> Result<()> {
+/// The columns `pairs.csv` adds after [`PAIR_COLUMNS`] when the model uses a law
+/// or key of the contact extensions (`frictionless`, `coulomb`,
+/// `search_distance`, augmented enforcement): the initial and current gap, the
+/// slip, the pressure and shear traction, the tributary length.
+pub const CONTACT_COLUMNS: [&str; 6] = ["gap0", "gap", "slip", "pressure", "shear", "tributary"];
+
+/// Writes the pairs table (one row per coupling pair): the columns
+/// [`PAIR_COLUMNS`], then, when `contact` is set, [`CONTACT_COLUMNS`] (so a model
+/// of the seed's laws writes the same table as before them).
+pub fn write_pairs_csv(path: &Path, rows: &[PairRow], contact: bool) -> Result<()> {
     write_atomic(path, |w| {
         let mut csv = csv::Writer::from_writer(w);
-        if rows.is_empty() {
-            csv.write_record(PAIR_COLUMNS)?;
+        let mut header: Vec<&str> = PAIR_COLUMNS.to_vec();
+        if contact {
+            header.extend(CONTACT_COLUMNS);
         }
+        csv.write_record(&header)?;
         for r in rows {
-            csv.serialize(r).map_err(std::io::Error::other)?;
+            let mut record = vec![
+                r.interface.clone(),
+                r.node.to_string(),
+                r.x.to_string(),
+                r.y.to_string(),
+                r.host_element.to_string(),
+                r.state.as_str().to_string(),
+                format!("{:e}", r.gap_n),
+                format!("{:e}", r.slip_s),
+                format!("{:e}", r.force_n),
+                format!("{:e}", r.force_s),
+                r.settled.to_string(),
+                r.violation
+                    .map_or(String::new(), |v| v.as_str().to_string()),
+                format!("{:e}", r.violation_amount),
+            ];
+            if contact {
+                for v in [r.gap0, r.gap, r.slip, r.pressure, r.shear, r.tributary] {
+                    record.push(format!("{v:e}"));
+                }
+            }
+            csv.write_record(&record)?;
         }
         csv.flush()
     })
@@ -120,6 +170,12 @@ mod tests {
             settled: false,
             violation: None,
             violation_amount: 0.0,
+            gap0: -1.0,
+            gap: 0.5,
+            slip: 0.0,
+            pressure: 0.25,
+            shear: 0.0,
+            tributary: 2.0,
         };
         let pulling = PairRow {
             state: PairState::Bonded,
@@ -128,7 +184,7 @@ mod tests {
             violation_amount: 0.5,
             ..row.clone()
         };
-        write_pairs_csv(&path, &[row, pulling]).unwrap();
+        write_pairs_csv(&path, &[row.clone(), pulling.clone()], false).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(
             text,
@@ -137,9 +193,20 @@ mod tests {
                 PAIR_COLUMNS.join(",")
             )
         );
-        write_pairs_csv(&path, &[]).unwrap();
+        write_pairs_csv(&path, &[], false).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(text, format!("{}\n", PAIR_COLUMNS.join(",")));
+        // With the contact columns: appended, in scientific notation.
+        write_pairs_csv(&path, &[row], true).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            text,
+            format!(
+                "{},{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0,false,,0e0,-1e0,5e-1,0e0,2.5e-1,0e0,2e0\n",
+                PAIR_COLUMNS.join(","),
+                CONTACT_COLUMNS.join(",")
+            )
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

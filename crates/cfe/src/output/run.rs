@@ -295,7 +295,7 @@ impl Analysis {
         let handle = scope.spawn(move || self.write_parts_vtu(&path, grid, lambda, &u, &stresses));
         self.write_pairs_vtu(&series.vtu_dir.join(&pairs_file), inc, &rows)?;
         series.push(handle, inc.lambda, parts_file, pairs_file);
-        report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
+        report::write_pairs_csv(&out.join("pairs.csv"), &rows, self.contact_extensions())?;
         self.fill_summary(&mut log.summary, inc, &rows);
         report::write_json(&out.join("summary.json"), &log.summary)?;
         log.output_time += t.elapsed().as_secs_f64();
@@ -494,13 +494,25 @@ impl Analysis {
             .map(|r| (r.state == PairState::Bonded) as i32)
             .collect();
         let settled: Vec<i32> = rows.iter().map(|r| r.settled as i32).collect();
-        // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates.
+        // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates;
+        // 3: a stick pair exceeds μ|f_n|; 4: a slip pair is off μ|f_n|.
         let violation: Vec<i32> = rows
             .iter()
             .map(|r| match r.violation {
                 None => 0,
                 Some(ViolationKind::Tension) => 1,
                 Some(ViolationKind::Penetration) => 2,
+                Some(ViolationKind::Friction) => 3,
+                Some(ViolationKind::Slip) => 4,
+            })
+            .collect();
+        // 0: open, 1: bonded (stick), 2: slip.
+        let state: Vec<i32> = rows
+            .iter()
+            .map(|r| match r.state {
+                PairState::Open => 0,
+                PairState::Bonded => 1,
+                PairState::Slip => 2,
             })
             .collect();
         let violation_amount: Vec<f64> = rows.iter().map(|r| r.violation_amount).collect();
@@ -511,6 +523,14 @@ impl Analysis {
             col(|r| r.force_n),
             col(|r| r.force_s),
         );
+        let contact = [
+            ("gap0", col(|r| r.gap0)),
+            ("gap", col(|r| r.gap)),
+            ("slip", col(|r| r.slip)),
+            ("pressure", col(|r| r.pressure)),
+            ("shear", col(|r| r.shear)),
+            ("tributary", col(|r| r.tributary)),
+        ];
         let mut normal = Vec::with_capacity(2 * rows.len());
         let mut iface_id = Vec::with_capacity(rows.len());
         let mut disp = Vec::with_capacity(2 * rows.len());
@@ -522,7 +542,7 @@ impl Analysis {
                 disp.extend_from_slice(&inc.u[2 * g..2 * g + 2]);
             }
         }
-        let point_data = [
+        let mut point_data = vec![
             vtu::DataArray {
                 name: "displacement",
                 components: 2,
@@ -578,7 +598,19 @@ impl Analysis {
                 components: 1,
                 values: vtu::Values::I32(&iface_id),
             },
+            vtu::DataArray {
+                name: "state",
+                components: 1,
+                values: vtu::Values::I32(&state),
+            },
         ];
+        for (name, values) in &contact {
+            point_data.push(vtu::DataArray {
+                name,
+                components: 1,
+                values: vtu::Values::F64(values),
+            });
+        }
         vtu::write_vtu(
             path,
             &vtu::Grid {
@@ -611,7 +643,8 @@ impl Analysis {
             .iter()
             .map(|r| png::PairMarker {
                 at: [r.x, r.y],
-                bonded: r.state == PairState::Bonded,
+                bonded: r.state.is_closed(),
+                slip: r.state == PairState::Slip,
                 violates: r.violation.is_some(),
             })
             .collect();
@@ -677,7 +710,8 @@ impl Analysis {
                 .zip(&rows)
                 .map(|(g, r)| png::PairMarker {
                     at: deformed[g],
-                    bonded: r.state == PairState::Bonded,
+                    bonded: r.state.is_closed(),
+                    slip: r.state == PairState::Slip,
                     violates: r.violation.is_some(),
                 })
                 .collect();

@@ -2,7 +2,7 @@
 //! results of the last converged increment. Plain data; [`crate::analysis`] fills
 //! it, [`Analysis::run`](crate::analysis::Analysis::run) writes it.
 
-use crate::coupling::{Law, PairState, ViolationKind};
+use crate::coupling::{Enforcement, Law, PairState, ViolationKind};
 use crate::domain::Scheme;
 use crate::solve::nonlinear::{Iteration, SolveTimings};
 use serde::Serialize;
@@ -178,6 +178,27 @@ pub struct InterfaceSummary {
     /// Positions of the bonded pairs with the smallest and the largest x (then y):
     /// the ends of the contact zone; `null` when no pair is bonded.
     pub bonded_extent: Option<[[f64; 2]; 2]>,
+    /// Friction coefficient μ (`coulomb`; 0 otherwise).
+    pub friction: f64,
+    /// `penalty` or `augmented`.
+    pub enforcement: Enforcement,
+    /// Pairs slipping (Coulomb).
+    pub slip: usize,
+    /// Coupling nodes left unpaired: no host boundary edge within the search distance.
+    pub unpaired: usize,
+    /// Largest contact pressure (normal force on the node part / tributary length).
+    pub max_pressure: f64,
+    /// Largest shear traction magnitude.
+    pub max_shear: f64,
+    /// Positions of the closed (bonded or slipping) pairs with the smallest and the
+    /// largest x (then y): the contact extent; `null` when no pair is closed.
+    pub contact_extent: Option<[[f64; 2]; 2]>,
+    /// Distance between the two ends of `contact_extent` (0 when none).
+    pub contact_length: f64,
+    /// Largest tangential jump of a pair relative to its host edge's length (the
+    /// geometrically linear formulation assumes it small; a warning is given above
+    /// 0.5).
+    pub max_slip_ratio: f64,
 }
 
 /// The maximum displacement magnitude and where it occurs.
@@ -282,6 +303,20 @@ pub struct Summary {
     /// Largest out-of-balance force at a free DOF relative to the load scale (the
     /// larger of Σ‖f‖ over the loaded nodes and the largest support reaction).
     pub residual: f64,
+    /// Whether the proportional-load shortcuts were on (a solved pattern scaled to
+    /// another load factor, a settled pattern kept): off when an interface has an
+    /// initial gap, follows the Coulomb law or uses the augmented Lagrangian —
+    /// then every increment is solved.
+    pub proportional_shortcut: bool,
+    /// Fixed-point solves (slip forces, Uzawa steps) per converged increment, each
+    /// a triangular solve with the pattern's factorization.
+    pub fixed_point_iterations: Vec<usize>,
+    /// Augmented Lagrangian: the largest penetration of a closed pair (or stick
+    /// error) at the last converged increment (0 without augmented interfaces).
+    pub augmented_penetration: f64,
+    /// Notes that do not make the result break its law: pairs whose slip exceeds
+    /// half their host edge (beyond the geometrically linear formulation).
+    pub notes: Vec<Warning>,
     /// Peak resident memory of the process (bytes; Linux).
     pub peak_memory_bytes: Option<u64>,
     /// Seconds per phase.

@@ -38,7 +38,10 @@ use super::ordering;
 use super::support;
 use super::system::{ContactSystem, Method, UpdatePolicy};
 use crate::assembly::{self, DofMap, FIXED, NodeGraph, Stiffness};
-use crate::coupling::{Interface, Law, LawTolerance, PairState, PairStates, ViolationKind};
+use crate::coupling::{
+    Enforcement, Interface, Law, LawTolerance, PairHistories, PairHistory, PairState, PairStates,
+    ViolationKind,
+};
 use crate::domain::{Part, Scheme, Settings};
 use crate::error::{Error, Result};
 use std::collections::HashSet;
@@ -103,6 +106,16 @@ pub struct IncrementResult {
     pub residual: f64,
     /// The global balance: ‖Σ reactions + Σ loads‖ relative to the load scale.
     pub balance: f64,
+    /// Each pair's history after this increment (plastic slip, slip force,
+    /// multipliers), per interface; all zero for the seed's laws.
+    pub pair_history: PairHistories,
+    /// Fixed-point solves of this increment beyond the first per pattern: slip
+    /// forces (Coulomb) and Uzawa steps (augmented Lagrangian), each one triangular
+    /// solve with the factorization of the pattern.
+    pub fixed_point_iterations: usize,
+    /// Augmented Lagrangian: the largest penetration of a closed pair (and stick
+    /// error) at the end of the increment (0 without augmented interfaces).
+    pub augmented_error: f64,
 }
 
 impl IncrementResult {
@@ -190,9 +203,26 @@ pub struct Solver<'a> {
     settled_pattern: Option<PairStates>,
     /// Σ‖f‖ over the loaded nodes at full load.
     total_load: f64,
+    /// Whether the solution scales with the load factor (no initial gap, no
+    /// friction, no augmented Lagrangian): then a solved pattern is scaled, not
+    /// solved again.
+    proportional: bool,
+    /// Each pair's history (plastic slip, slip force, multipliers).
+    history: PairHistories,
+    /// Fixed-point solves in the current increment.
+    fixed_point: usize,
+    /// Largest augmented-Lagrangian error of the last fixed point.
+    augmented_error: f64,
     /// Phase timings.
     pub timings: SolveTimings,
 }
+
+/// The smallest load scale of a model without the proportional shortcuts, as a
+/// fraction of (largest E·t) × (largest displacement).
+pub const FORCE_FLOOR: f64 = 1e-6;
+
+/// Most fixed-point solves (slip forces, Uzawa steps) per pattern.
+pub const MAX_FIXED_POINT: usize = 200;
 
 /// Out-of-balance tolerance above which a low-rank solution is redone by factorization.
 const UPDATE_RESIDUAL_LIMIT: f64 = 1e-8;
@@ -227,6 +257,11 @@ impl<'a> Solver<'a> {
             ..Default::default()
         };
         let total_load = f_ext.chunks_exact(2).map(|f| f[0].hypot(f[1])).sum::<f64>();
+        let proportional = !interfaces.iter().any(Interface::non_proportional);
+        let history = interfaces
+            .iter()
+            .map(|i| vec![PairHistory::default(); i.elements.len()])
+            .collect();
         Ok(Solver {
             parts,
             interfaces,
@@ -238,6 +273,10 @@ impl<'a> Solver<'a> {
             initial: None,
             settled_pattern: None,
             total_load,
+            proportional,
+            history,
+            fixed_point: 0,
+            augmented_error: 0.0,
             timings,
         })
     }
@@ -255,6 +294,15 @@ impl<'a> Solver<'a> {
     /// Seconds of the first numeric factorization (None before it).
     pub fn first_factorization_seconds(&self) -> Option<f64> {
         self.system.first_factor_seconds
+    }
+
+    /// Whether the proportional-load shortcuts are on: a pattern solved at one load
+    /// factor is scaled to another, and a settled pattern carries to the next
+    /// increment without iterating. Off when an interface has an initial gap,
+    /// follows the Coulomb law or is enforced by augmented Lagrangian (the solution
+    /// is then not proportional to the load, or depends on the path).
+    pub fn proportional(&self) -> bool {
+        self.proportional
     }
 
     /// Numeric factorizations and low-rank updates performed so far.
@@ -322,7 +370,8 @@ impl<'a> Solver<'a> {
         let mut last = None;
         for inc in 1..=n_inc {
             let lambda = inc as f64 / n_inc as f64;
-            let result = match self.settings.scheme {
+            self.fixed_point = 0;
+            let mut result = match self.settings.scheme {
                 Scheme::ActiveSet => {
                     let mut r = self.active_set_increment(inc, lambda, states.clone())?;
                     if warm.is_some() && inc == 1 && !r.settled.is_empty() {
@@ -354,6 +403,7 @@ impl<'a> Solver<'a> {
                     r
                 }
             };
+            self.commit_history(&mut result);
             self.check_precision(&result)?;
             on_increment(&result)?;
             // implex lags its states by design: only its final answer must obey the law.
@@ -388,7 +438,7 @@ impl<'a> Solver<'a> {
         // it would find the same cycle: keep it (its solution is the previous one
         // scaled, no solve). A consistent pattern needs no such rule: its first,
         // scaled solution already satisfies the law.
-        if self.settled_pattern.as_ref() == Some(&start) {
+        if self.proportional && self.settled_pattern.as_ref() == Some(&start) {
             let t = Instant::now();
             let (u, f_int, method) = self.solve_states(lambda, &start, inc)?;
             let check = self.check_law(&start, &u, &f_int, lambda);
@@ -501,7 +551,7 @@ impl<'a> Solver<'a> {
         f_int: &[f64],
         lambda: f64,
     ) -> LawCheck {
-        let load_scale = self.load_scale(lambda, f_int);
+        let load_scale = self.load_scale(lambda, f_int, u);
         let mut violations = Vec::new();
         let next = self
             .interfaces
@@ -520,21 +570,43 @@ impl<'a> Solver<'a> {
                         }
                         let d = c.dofs(self.dofs, iface.host, iface.node_part).gather(u);
                         let d = &d[..c.n_dofs()];
-                        let gap = c.gap_n(d);
+                        let jump = c.local_jump(d);
+                        let gap = c.gap(jump);
                         let tol = LawTolerance {
                             tension: self.settings.force_tolerance * load_scale,
                             penetration: self.gap_tolerance(d),
                         };
-                        if let Some(v) = iface.law.violation(state, gap, iface.c_n, tol) {
+                        let law = iface.params();
+                        let h = &self.history[i][k];
+                        let f = if self.proportional {
+                            [iface.c_n * gap, 0.0]
+                        } else {
+                            c.law_force(&law, state, h, d).1
+                        };
+                        let mut push = |v: crate::coupling::LawViolation| {
                             violations.push(PairViolation {
                                 interface: i,
                                 pair: k,
                                 kind: v.kind,
                                 amount: v.amount,
                                 force: v.force,
-                            });
+                            })
+                        };
+                        if let Some(v) =
+                            iface.law.normal_violation(state, gap, f[0], iface.c_n, tol)
+                        {
+                            push(v);
+                            return match state {
+                                PairState::Open => PairState::Bonded,
+                                _ => PairState::Open,
+                            };
                         }
-                        iface.law.next_state(state, gap, iface.c_n, tol)
+                        let (next, v) =
+                            law.friction_check(state, f[0], jump[1], f[1], h, tol.tension);
+                        if let Some(v) = v {
+                            push(v);
+                        }
+                        next
                     })
                     .collect()
             })
@@ -549,7 +621,29 @@ impl<'a> Solver<'a> {
     /// The load scale at load factor `lambda`: the larger of Σ‖λ f‖ over the loaded
     /// nodes and the largest support reaction of the solution with internal force
     /// `f_int` (so a problem driven by prescribed displacements has a scale too).
-    fn load_scale(&self, lambda: f64, f_int: &[f64]) -> f64 {
+    ///
+    /// Without the proportional shortcuts (initial gaps, friction, augmented), the
+    /// scale is at least [`FORCE_FLOOR`] × the largest E·t × the largest
+    /// displacement `u`: a part that moves without load (a gap closing under a
+    /// prescribed displacement) has no force to measure round-off against.
+    fn load_scale(&self, lambda: f64, f_int: &[f64], u: &[f64]) -> f64 {
+        let scale = self.load_scale_of_forces(lambda, f_int);
+        if self.proportional {
+            return scale;
+        }
+        let et = self
+            .parts
+            .iter()
+            .map(|p| p.material.young * p.material.thickness)
+            .fold(0.0, f64::max);
+        let umax = u
+            .chunks_exact(2)
+            .map(|v| v[0].hypot(v[1]))
+            .fold(0.0, f64::max);
+        scale.max(FORCE_FLOOR * et * umax)
+    }
+
+    fn load_scale_of_forces(&self, lambda: f64, f_int: &[f64]) -> f64 {
         let largest = self
             .dofs
             .reactions(self.dofs.support_count(), f_int, &self.f_ext, lambda)
@@ -600,6 +694,12 @@ impl<'a> Solver<'a> {
                             v.amount, v.force
                         )
                     }
+                    ViolationKind::Friction => {
+                        format!("sticking beyond μ|f_n| by {:.4e}", v.amount)
+                    }
+                    ViolationKind::Slip => {
+                        format!("slipping off μ|f_n| by {:.4e}", v.amount)
+                    }
                 };
                 format!(
                     "interface '{}' node {} at ({}, {}): {what}",
@@ -641,14 +741,144 @@ impl<'a> Solver<'a> {
     }
 
     /// Displacements (all DOFs), internal force and solve method for the given
-    /// states at load factor `lambda`.
+    /// states at load factor `lambda`, with the pairs' right-hand-side terms at
+    /// their fixed point: the slip forces of slipping Coulomb pairs
+    /// (`μ |f_n|` along the trial force, from the solution) and, with augmented
+    /// Lagrangian enforcement, the multipliers (Uzawa: `m ← f`, until the largest
+    /// penetration of a closed pair and stick error is below the interface's
+    /// `penetration_tolerance`). Each further solve reuses the factorization of the
+    /// pattern (the values of K do not change). One solve for the seed's laws.
     fn solve_states(
         &mut self,
         lambda: f64,
         states: &[Vec<PairState>],
         inc: usize,
     ) -> Result<(Vec<f64>, Vec<f64>, Option<Method>)> {
-        if let Some(s) = &self.last
+        let first = self.solve_once(lambda, states, inc)?;
+        if self.proportional {
+            return Ok(first);
+        }
+        let (mut u, mut f_int, method) = first;
+        for _ in 0..MAX_FIXED_POINT {
+            let tol = self.settings.force_tolerance * self.load_scale(lambda, &f_int, &u);
+            if self.update_right_hand_side(states, &u, tol) {
+                break;
+            }
+            self.fixed_point += 1;
+            (u, f_int, _) = self.solve_once(lambda, states, inc)?;
+        }
+        Ok((u, f_int, method))
+    }
+
+    /// One fixed-point step on the pairs' right-hand-side terms for the solution
+    /// `u` of `states`: sets every closed Coulomb pair's slip force to
+    /// `μ |f_n|` along its trial force, the multipliers of augmented interfaces to
+    /// the pairs' forces (zero when open), and returns whether nothing changed by
+    /// more than the tolerances (force `tol`; each interface's
+    /// `penetration_tolerance`) — then the history is left as it was, consistent
+    /// with `u`.
+    fn update_right_hand_side(&mut self, states: &[Vec<PairState>], u: &[f64], tol: f64) -> bool {
+        let mut next = self.history.clone();
+        let mut converged = true;
+        let mut augmented_error: f64 = 0.0;
+        for (i, iface) in self.interfaces.iter().enumerate() {
+            let law = iface.params();
+            let augmented = iface.enforcement == Enforcement::Augmented;
+            for (k, c) in iface.elements.iter().enumerate() {
+                let state = states[i][k];
+                let h = &mut next[i][k];
+                let d = c.dofs(self.dofs, iface.host, iface.node_part).gather(u);
+                let jump = c.local_jump(&d);
+                let gap = c.gap(jump);
+                let (_, f) = c.law_force(&law, state, h, &d);
+                if !state.is_closed() {
+                    if h.multiplier != [0.0; 2] {
+                        h.multiplier = [0.0; 2];
+                        converged = false;
+                    }
+                    continue;
+                }
+                if iface.law == Law::Coulomb {
+                    let limit = iface.friction * (-f[0]).max(0.0);
+                    let target = limit * law.trial_shear(jump[1], h).signum();
+                    if state == PairState::Slip && (target - h.slip_force).abs() > tol {
+                        converged = false;
+                    }
+                    h.slip_force = target;
+                }
+                if augmented {
+                    let stick = state == PairState::Bonded && law.penalties(state)[1] > 0.0;
+                    let stick_error = if stick { (jump[1] - h.slip).abs() } else { 0.0 };
+                    let error = gap.abs().max(stick_error);
+                    augmented_error = augmented_error.max(error);
+                    if error > iface.penetration_tolerance {
+                        converged = false;
+                    }
+                    h.multiplier[0] = f[0];
+                    if stick {
+                        h.multiplier[1] = f[1];
+                    }
+                }
+            }
+        }
+        self.augmented_error = augmented_error;
+        if converged {
+            // Keep the history the solution was computed with; a stick pair's slip
+            // force (unused while it sticks) is its start should it slip.
+            for ((h, n), st) in self.history.iter_mut().zip(&next).zip(states) {
+                for ((h, n), s) in h.iter_mut().zip(n).zip(st) {
+                    if *s == PairState::Bonded {
+                        h.slip_force = n.slip_force;
+                    }
+                }
+            }
+        } else {
+            self.history = next;
+        }
+        converged
+    }
+
+    /// Ends an increment's history: a slipping Coulomb pair keeps its plastic slip
+    /// `s_p = [[u_s]] − f_s / c_s`, an open pair's slip follows its jump (it closes
+    /// again unstressed tangentially) and loses its multipliers. Copies the history
+    /// into `result`.
+    fn commit_history(&mut self, result: &mut IncrementResult) {
+        result.fixed_point_iterations = self.fixed_point;
+        result.augmented_error = self.augmented_error;
+        if self.proportional {
+            result.pair_history = self.history.clone();
+            return;
+        }
+        for (i, iface) in self.interfaces.iter().enumerate() {
+            for (k, c) in iface.elements.iter().enumerate() {
+                let h = &mut self.history[i][k];
+                let d = c
+                    .dofs(self.dofs, iface.host, iface.node_part)
+                    .gather(&result.u);
+                let u_s = c.local_jump(&d)[1];
+                match result.states[i][k] {
+                    PairState::Slip if iface.c_s > 0.0 => h.slip = u_s - h.slip_force / iface.c_s,
+                    PairState::Open => {
+                        h.slip = if iface.law == Law::Coulomb { u_s } else { 0.0 };
+                        h.multiplier = [0.0; 2];
+                    }
+                    _ => {}
+                }
+            }
+        }
+        result.pair_history = self.history.clone();
+    }
+
+    /// One linear solve of `states` at load factor `lambda` with the current pair
+    /// histories.
+    fn solve_once(
+        &mut self,
+        lambda: f64,
+        states: &[Vec<PairState>],
+        inc: usize,
+    ) -> Result<(Vec<f64>, Vec<f64>, Option<Method>)> {
+        if self.proportional
+            && let Some(s) = &self.last
             && s.states == states
             && s.lambda != 0.0
         {
@@ -664,9 +894,11 @@ impl<'a> Solver<'a> {
 
         let t = Instant::now();
         let mut u: Vec<f64> = self.dofs.prescribed.iter().map(|v| lambda * v).collect();
-        let has_prescribed = u.iter().any(|&v| v != 0.0);
+        // The pairs' constant terms (initial gaps, slip history, slip forces,
+        // multipliers) enter the right-hand side with the prescribed values.
+        let has_prescribed = u.iter().any(|&v| v != 0.0) || !self.proportional;
         let f_p = if has_prescribed {
-            assembly::internal_force(self.parts, self.interfaces, states, self.dofs, &u)
+            self.internal_force(states, &u)
         } else {
             Vec::new()
         };
@@ -696,10 +928,9 @@ impl<'a> Solver<'a> {
                 )));
             }
             let t = Instant::now();
-            let f_int =
-                assembly::internal_force(self.parts, self.interfaces, states, self.dofs, &u);
+            let f_int = self.internal_force(states, &u);
             self.timings.contact_update += t.elapsed().as_secs_f64();
-            let residual = self.residual(lambda, &f_int, self.load_scale(lambda, &f_int));
+            let residual = self.residual(lambda, &f_int, self.load_scale(lambda, &f_int, &u));
             if residual > UPDATE_RESIDUAL_LIMIT
                 && matches!(method, Method::LowRank { .. })
                 && !refactored
@@ -717,6 +948,13 @@ impl<'a> Solver<'a> {
             });
             return Ok((u, f_int, Some(method)));
         }
+    }
+
+    /// The internal force of all DOFs for `u` with the pairs in `states` and their
+    /// current histories (none for the seed's laws).
+    fn internal_force(&self, states: &[Vec<PairState>], u: &[f64]) -> Vec<f64> {
+        let history = (!self.proportional).then_some(self.history.as_slice());
+        assembly::internal_force_with(self.parts, self.interfaces, states, history, self.dofs, u)
     }
 
     fn pivot_error(&self, eq: usize, inc: usize) -> Error {
@@ -791,6 +1029,9 @@ impl<'a> Solver<'a> {
             f_ext,
             residual,
             balance,
+            pair_history: Vec::new(),
+            fixed_point_iterations: 0,
+            augmented_error: 0.0,
         }
     }
 }

@@ -42,12 +42,12 @@ pub enum UpdatePolicy {
     Never,
 }
 
-/// One column of the correction: the free equations and values of `w_k`, and its
-/// weight ±c_k.
+/// One column of the correction: the free equations and values of `w_k` (its
+/// weight, the change of the penalty c_k between the base state and the current
+/// one, is taken at each solve).
 struct Column {
     eq: Vec<usize>,
     w: Vec<f64>,
-    weight: f64,
 }
 
 /// The stiffness, its factorization for the base states, and the cached
@@ -170,7 +170,7 @@ impl ContactSystem {
         let first = self.columns.len();
         for &(i, k) in &new {
             self.cached.insert((i, k), self.columns.len());
-            let columns = pair_columns(&interfaces[i], k, states[i][k], dofs);
+            let columns = pair_columns(&interfaces[i], k, dofs);
             self.columns.extend(columns);
         }
         let added = self.columns.len() - first;
@@ -189,14 +189,22 @@ impl ContactSystem {
         }
         rhs.copy_from_slice(&self.z[start + added * n..]);
         self.z.truncate(start + added * n);
-        // Woodbury on the columns of the flipped pairs.
-        let idx: Vec<usize> = flips
-            .iter()
-            .flat_map(|p| {
-                let c = self.cached[p];
-                [c, c + 1]
-            })
-            .collect();
+        // Woodbury on the columns of the flipped pairs whose penalty changed (by
+        // ±c_k: a pair bonding or opening changes both, a stick pair slipping or a
+        // frictionless pair closing only the normal one).
+        let mut idx: Vec<usize> = Vec::with_capacity(2 * flips.len());
+        let mut weights: Vec<f64> = Vec::with_capacity(2 * flips.len());
+        for &(i, k) in &flips {
+            let law = interfaces[i].params();
+            let (now, was) = (law.penalties(states[i][k]), law.penalties(base[i][k]));
+            let c = self.cached[&(i, k)];
+            for t in 0..2 {
+                if now[t] != was[t] {
+                    idx.push(c + t);
+                    weights.push(now[t] - was[t]);
+                }
+            }
+        }
         let r = idx.len();
         let mut m = faer::Mat::<f64>::zeros(r, r);
         let mut t_vec = faer::Mat::<f64>::zeros(r, 1);
@@ -207,7 +215,7 @@ impl ContactSystem {
                 let zb = &self.z[cb * n..(cb + 1) * n];
                 m[(a, bcol)] = col.eq.iter().zip(&col.w).map(|(&e, &w)| w * zb[e]).sum();
             }
-            m[(a, a)] += 1.0 / col.weight;
+            m[(a, a)] += 1.0 / weights[a];
         }
         let lu = m.partial_piv_lu();
         use faer::linalg::solvers::Solve;
@@ -253,23 +261,16 @@ impl ContactSystem {
     }
 }
 
-/// The two correction columns of pair `k` of `iface` changing to `state`: the
-/// element's rank-2 terms `(c_k, w_k)` restricted to the free equations, with weight
-/// +c_k when the pair bonds (the term is added to K) and −c_k when it opens.
-fn pair_columns(iface: &Interface, k: usize, state: PairState, dofs: &DofMap) -> [Column; 2] {
+/// The two correction columns (normal, tangential) of pair `k` of `iface`: the
+/// element's rank-2 terms `w_k` restricted to the free equations.
+fn pair_columns(iface: &Interface, k: usize, dofs: &DofMap) -> [Column; 2] {
     let c = &iface.elements[k];
-    let sign = if state == PairState::Bonded {
-        1.0
-    } else {
-        -1.0
-    };
     let g = c.dofs(dofs, iface.host, iface.node_part);
     let g = g.as_slice();
-    c.stiffness_terms(iface.c_n, iface.c_s).map(|(ck, w)| {
+    c.stiffness_terms(iface.c_n, iface.c_s).map(|(_, w)| {
         let mut col = Column {
             eq: Vec::with_capacity(g.len()),
             w: Vec::with_capacity(g.len()),
-            weight: sign * ck,
         };
         for (p, &gp) in g.iter().enumerate() {
             let e = dofs.eq[gp];

@@ -1,0 +1,298 @@
+//! The contact laws beyond the seed's (issue 12): frictionless, initial gaps
+//! (`search_distance`), Coulomb friction with slip history, augmented Lagrangian —
+//! each against a closed form or equilibrium, on small models.
+
+mod common;
+
+use cfe::Error;
+use cfe::analysis::{Analysis, RunStatus};
+use cfe::coupling::PairState;
+use cfe::model::Model;
+use cfe::solve::nonlinear::IncrementResult;
+use std::path::Path;
+
+/// A block (node part, x ∈ [0, 1], height `h`, bottom at `bottom`) over a thin,
+/// stiff, fully supported base layer (host, x ∈ [−0.5, 1.5], y ∈ [−0.1, 0]); `iface`
+/// is the interface's extra keys, `tail` the supports, loads and analysis.
+fn block_on_layer(bottom: f64, h: f64, iface: &str, tail: &str) -> String {
+    format!(
+        r#"
+plane = "stress"
+[materials.soft]
+E = 1000.0
+nu = 0.3
+[materials.hard]
+E = 1.0e6
+nu = 0.3
+[[part]]
+name = "base"
+material = "hard"
+rectangle = {{ x = [-0.5, 1.5], y = [-0.1, 0.0], cells = [5, 1], elements = "q4" }}
+[[part]]
+name = "block"
+material = "soft"
+rectangle = {{ x = [0.0, 1.0], y = [{bottom}, {top}], cells = [4, 8], elements = "q4" }}
+[[interface]]
+host = "base"
+nodes = "block"
+boundary = "bottom"
+{iface}
+[[support]]
+part = "base"
+boundary = "bottom"
+fix = ["x", "y"]
+{tail}
+"#,
+        top = bottom + h
+    )
+}
+
+fn analysis(text: &str) -> Analysis {
+    common::analysis(text)
+}
+
+fn reaction(a: &Analysis, inc: &IncrementResult, k: usize) -> [f64; 2] {
+    a.reactions(inc)[k]
+}
+
+/// An interference δ between a block of height L, its top held (y = 0), and a
+/// rigidly supported stiff layer (a negative initial gap g₀ = −δ found within the
+/// search distance): the block is compressed uniformly, p = E δ / L (uniaxial
+/// plane stress, the frictionless face free to expand), on every pair's pressure
+/// and in the top reaction, to the penalty's and the layer's compliance (1e-3).
+#[test]
+fn interference_gives_the_closed_form_pressure() {
+    let (delta, l) = (0.01, 10.0);
+    let text = block_on_layer(
+        -delta,
+        l,
+        "law = \"frictionless\"\nsearch_distance = 0.05",
+        &format!(
+            "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"y\"]\n[[support]]\npart = \"block\"\nat = [0.0, {}]\nfix = [\"x\"]\n[analysis]\nincrements = 1",
+            l - delta
+        ),
+    );
+    let a = analysis(&text);
+    assert!(
+        a.interfaces[0]
+            .elements
+            .iter()
+            .all(|c| (c.gap0 + delta).abs() < 1e-12)
+    );
+    let incs = common::solve(&a);
+    let last = incs.last().unwrap();
+    let p = 1000.0 * delta / l;
+    let rows = a.pair_rows(last);
+    assert_eq!(rows.len(), 5);
+    for r in &rows {
+        assert_eq!(r.state, PairState::Bonded);
+        assert!(
+            (r.pressure - p).abs() < 1e-3 * p,
+            "pressure {} vs {p}",
+            r.pressure
+        );
+        assert!(r.force_s == 0.0 && r.shear == 0.0);
+        assert!((r.gap0 + delta).abs() < 1e-12);
+    }
+    let top = reaction(&a, last, 1);
+    assert!((top[1].abs() - p * 1.0).abs() < 1e-3 * p, "{top:?}");
+}
+
+/// An initial gap g₀ closes only once the top of the block is pushed down by more
+/// than g₀: before, no reaction and the gap shrinks by the push; after, the column
+/// carries R = (E w t / L)(δ − g₀) (a spring of the block's axial stiffness).
+#[test]
+fn initial_gap_closes_after_the_load_exceeds_it() {
+    let (g0, l, push) = (0.02, 10.0, 0.05);
+    let text = block_on_layer(
+        g0,
+        l,
+        "law = \"frictionless\"\nsearch_distance = 0.05",
+        &format!(
+            "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"y\"]\nvalue = [0.0, {}]\n[[support]]\npart = \"block\"\nat = [0.0, {}]\nfix = [\"x\"]\n[analysis]\nincrements = 5",
+            -push,
+            l + g0
+        ),
+    );
+    let a = analysis(&text);
+    let incs = common::solve(&a);
+    let k = 1000.0 * 1.0 / l;
+    for inc in &incs {
+        let delta = push * inc.lambda;
+        let r = reaction(&a, inc, 1)[1].abs();
+        let rows = a.pair_rows(inc);
+        if delta < g0 - 1e-9 {
+            assert!(r < 1e-9, "increment {}: reaction {r}", inc.index);
+            for row in &rows {
+                assert_eq!(row.state, PairState::Open);
+                assert!((row.gap - (g0 - delta)).abs() < 1e-9, "{}", row.gap);
+            }
+        } else if delta > g0 + 1e-9 {
+            let expected = k * (delta - g0);
+            assert!(
+                (r - expected).abs() < 1e-3 * expected,
+                "increment {}: reaction {r} vs {expected}",
+                inc.index
+            );
+            assert!(rows.iter().all(|r| r.state == PairState::Bonded));
+        }
+    }
+    // The law holds everywhere, and the summary says the shortcut was off.
+    let summary = a.solve().unwrap().summary;
+    assert_eq!(
+        summary.status,
+        RunStatus::Completed,
+        "{:?}",
+        summary.warnings
+    );
+    assert!(!summary.proportional_shortcut);
+    assert_eq!(summary.interfaces[0].unpaired, 0);
+}
+
+/// A search distance shorter than some nodes' gaps leaves those nodes unpaired
+/// (counted), instead of failing: a block tilted over a layer pairs only its
+/// nodes within the distance.
+#[test]
+fn nodes_beyond_the_search_distance_are_unpaired() {
+    let text = block_on_layer(
+        0.0,
+        1.0,
+        "law = \"frictionless\"\nsearch_distance = 0.05",
+        "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"x\", \"y\"]",
+    );
+    let mut model = Model::from_str(&text, Path::new("t.toml"), 1).unwrap();
+    // Lift the block's right half: its bottom rises linearly to 0.1 at x = 1.
+    let p = model.part_index("block").unwrap();
+    for x in &mut model.parts[p].mesh.nodes {
+        x[1] += 0.1 * x[0];
+    }
+    let a = Analysis::new(model).unwrap();
+    let iface = &a.interfaces[0];
+    // Bottom nodes at x = 0, 0.25, 0.5 (gaps 0, 0.025, 0.05) pair; 0.75, 1 do not.
+    assert_eq!(iface.elements.len(), 3);
+    assert_eq!(iface.unpaired, 2);
+    for c in &iface.elements {
+        let x = c.position[0];
+        assert!((c.gap0 - 0.1 * x).abs() < 1e-12, "{x}: {}", c.gap0);
+        let edge = 0.25 * 1.01f64.sqrt();
+        let expected = if x == 0.0 { 0.5 * edge } else { edge };
+        assert!((c.tributary - expected).abs() < 1e-12, "{}", c.tributary);
+    }
+}
+
+/// A block pressed on a base by a tilted load with the frictionless law: the
+/// interface carries no tangential force, so the block's x support takes the whole
+/// tangential load and the base none (with the seed's stick law the base takes a
+/// share); the normal forces carry the normal load.
+#[test]
+fn frictionless_carries_no_shear() {
+    let make = |law: &str| {
+        format!(
+            r#"
+plane = "stress"
+[materials.steel]
+E = 1000.0
+nu = 0.3
+[[part]]
+name = "base"
+material = "steel"
+rectangle = {{ x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [5, 3] }}
+[[part]]
+name = "block"
+material = "steel"
+rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [4, 4] }}
+[[interface]]
+host = "base"
+nodes = "block"
+boundary = "bottom"
+law = "{law}"
+[[support]]
+part = "base"
+boundary = "bottom"
+fix = ["x", "y"]
+[[support]]
+part = "block"
+boundary = "left"
+fix = ["x"]
+[[load]]
+part = "block"
+boundary = "top"
+force = [0.3, -1.0]
+[analysis]
+increments = 2
+"#
+        )
+    };
+    let a = analysis(&make("frictionless"));
+    let last = common::solve(&a).pop().unwrap();
+    let base = reaction(&a, &last, 0);
+    let side = reaction(&a, &last, 1);
+    assert!(base[0].abs() < 1e-9, "base takes {base:?}");
+    assert!((side[0] + 0.3).abs() < 1e-9, "side takes {side:?}");
+    assert!((base[1] - 1.0).abs() < 1e-9);
+    let rows = a.pair_rows(&last);
+    assert!(rows.iter().all(|r| r.force_s == 0.0));
+    let fy: f64 = rows.iter().map(|r| r.force_n).sum();
+    assert!((fy - 1.0).abs() < 1e-9, "{fy}");
+    let stick = analysis(&make("contact"));
+    let last = common::solve(&stick).pop().unwrap();
+    assert!(reaction(&stick, &last, 0)[0].abs() > 1e-3);
+}
+
+fn parse(text: &str) -> Result<Model, Error> {
+    Model::from_str(text, Path::new("laws.toml"), 1)
+}
+
+/// The keys of the laws are checked: `friction` only with (and required by)
+/// `coulomb`, finite and ≥ 0; `c_s = 0` only for `frictionless`;
+/// `search_distance` a finite length ≥ 0 and not on a rigid tie;
+/// `penetration_tolerance` only with augmented enforcement; unknown values of
+/// `law` and `enforcement` rejected — each a parse error naming the key.
+#[test]
+fn bad_law_keys_are_typed_errors() {
+    let tail = "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"y\"]";
+    for (keys, needle) in [
+        (
+            "law = \"frictionless\"\nfriction = 0.3",
+            "`friction` applies",
+        ),
+        ("law = \"coulomb\"", "needs `friction`"),
+        ("law = \"coulomb\"\nfriction = -0.1", "`friction` = -0.1"),
+        ("law = \"coulomb\"\nfriction = nan", "`friction` = NaN"),
+        ("law = \"contact\"\nc_s = 0.0", "c_s = 0 is allowed only"),
+        (
+            "law = \"contact\"\nsearch_distance = -1.0",
+            "`search_distance`",
+        ),
+        (
+            "law = \"contact\"\nsearch_distance = inf",
+            "`search_distance`",
+        ),
+        (
+            "law = \"rigid\"\nsearch_distance = 0.1",
+            "needs a contact law",
+        ),
+        (
+            "law = \"frictionless\"\npenetration_tolerance = 1e-6",
+            "`penetration_tolerance` applies",
+        ),
+        (
+            "law = \"frictionless\"\nenforcement = \"augmented\"\npenetration_tolerance = 0.0",
+            "`penetration_tolerance` = 0",
+        ),
+        ("law = \"sticky\"", "unknown variant"),
+        ("enforcement = \"lagrange\"", "unknown variant"),
+    ] {
+        let text = block_on_layer(0.0, 1.0, keys, tail);
+        match parse(&text) {
+            Err(e @ Error::Parse { .. }) => {
+                let m = e.to_string();
+                assert!(m.contains(needle), "{keys}: {m}");
+            }
+            other => panic!("{keys}: expected a parse error, got {other:?}"),
+        }
+    }
+    // c_s = 0 (or absent) is fine for the frictionless law.
+    let text = block_on_layer(0.0, 1.0, "law = \"frictionless\"\nc_s = 0.0", tail);
+    assert_eq!(parse(&text).unwrap().interfaces[0].c_s, 0.0);
+}
