@@ -27,12 +27,22 @@ fn hertz_converges() {
             n,
         )
         .expect("Hertz runs");
-        assert!((r.total / hertz::LOAD - 1.0).abs() < 1e-6, "load {}", r.total);
-        errors.push(((r.fit.a / a_ref - 1.0).abs(), (r.fit.p0 / p0_ref - 1.0).abs()));
+        assert!(
+            (r.total / hertz::LOAD - 1.0).abs() < 1e-6,
+            "load {}",
+            r.total
+        );
+        errors.push((
+            (r.fit.a / a_ref - 1.0).abs(),
+            (r.fit.p0 / p0_ref - 1.0).abs(),
+        ));
     }
     // Loose at these coarse levels: the finest run within 5 %, errors falling.
     assert!(errors[1].0 < 0.05 && errors[1].1 < 0.05, "{errors:?}");
-    assert!(errors[1].0 < errors[0].0 && errors[1].1 < errors[0].1, "{errors:?}");
+    assert!(
+        errors[1].0 < errors[0].0 && errors[1].1 < errors[0].1,
+        "{errors:?}"
+    );
 }
 
 /// Shrink fit: the frictionless interface with negative initial gaps gives

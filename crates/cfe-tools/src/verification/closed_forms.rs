@@ -122,14 +122,14 @@ pub struct Fitted {
 /// p² = p₀² − (p₀²/a²)(x − x₀)² is a quadratic in x, a least-squares parabola
 /// p² ≈ α + β x + γ x² gives γ = −p₀²/a², x₀ = −β/(2γ), p₀² = α − β²/(4γ), and
 /// a = √(−p₀²/γ). Every point carrying pressure counts except the outermost on
-/// each side (when there are more than 6): the outermost pair's tributary length
+/// each side (when there are more than 10): the outermost pair's tributary length
 /// straddles the edge of contact, so its pressure (force / tributary length)
-/// underestimates the local one. `None` with fewer than 3 points or a parabola
+/// underestimates the local one; on coarser profiles every point is needed. `None` with fewer than 3 points or a parabola
 /// that does not open downwards.
 pub fn fit_ellipse(points: &[(f64, f64)]) -> Option<Fitted> {
     let mut pts: Vec<(f64, f64)> = points.iter().copied().filter(|p| p.1 > 0.0).collect();
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    if pts.len() > 6 {
+    if pts.len() > 10 {
         pts = pts[1..pts.len() - 1].to_vec();
     }
     if pts.len() < 3 {

@@ -21,7 +21,8 @@
 //! **Extraction.** The pressure of a pair is its normal force over its tributary
 //! length on the cylinder's arc (half of each adjoining arc edge). a and p₀ come
 //! from a least-squares fit of p² = p₀² − (p₀²/a²)(x − x₀)² over the pairs carrying
-//! pressure, the outermost one on each side left out ([`fit_ellipse`]); the
+//! pressure, the outermost one on each side left out when there are more than
+//! ten ([`fit_ellipse`]); the
 //! "edge" half-width — from the outermost closed pair to half-way to its open
 //! neighbour ([`edge_half_width`]) — is shown beside it: it can only move in steps
 //! of the arc's spacing.
@@ -377,7 +378,7 @@ pub const PENETRATION_TOLERANCE: f64 = 4e-6;
 /// Hertz's a and p₀ over four decades of c_n, with the penalty alone and with
 /// augmented-Lagrangian enforcement.
 pub fn penalty_independence(quick: bool) -> Result<Case> {
-    let n = if quick { 4 } else { 16 };
+    let n = if quick { 8 } else { 16 };
     let (a_ref, p0_ref) = reference();
     let mut table = Table {
         caption: format!(
