@@ -71,3 +71,11 @@ fn receding() {
 fn augmented_independent_of_penalty() {
     check(hertz::penalty_independence(true));
 }
+
+/// Cattaneo–Mindlin (Coulomb, normal contact then a growing tangential shift):
+/// the stick zone's half-width within two pair spacings of a√(1 − Q/(μP′)) and
+/// the shear traction close to the closed-form profile.
+#[test]
+fn cattaneo_mindlin() {
+    check(hertz::cattaneo_mindlin(true));
+}

@@ -477,3 +477,249 @@ pub fn penalty_independence(quick: bool) -> Result<Case> {
         passed,
     })
 }
+
+/// Friction coefficient of the Cattaneo–Mindlin case.
+pub const MU: f64 = 0.3;
+/// The sideways displacement of the cylinder's diameter at full load in the
+/// Cattaneo–Mindlin case (mm), ramped with the load factor.
+pub const SHIFT: f64 = 0.03;
+/// How far the cylinder's mesh is moved into the block for the Cattaneo–Mindlin
+/// case (mm): the normal load comes from this overlap (module doc of
+/// [`cattaneo_mindlin`]).
+pub const OVERLAP: f64 = 0.1;
+
+/// The Cattaneo–Mindlin problem at mesh level `n`: both parts steel (Dundurs'
+/// β = 0), the cylinder's mesh moved down by [`OVERLAP`] into the block, its
+/// diameter held in y and moved sideways by `shift` (ramped over `increments`),
+/// Coulomb friction μ. Returns the problem text and
+/// the meshes it names.
+pub fn cattaneo_problem(
+    n: usize,
+    shift: f64,
+    increments: usize,
+) -> Result<(String, std::collections::BTreeMap<String, cfe::mesh::Mesh>)> {
+    use cfe::mesh::gmsh::{GmshMesh, Group};
+    let gm = GmshMesh::read(std::path::Path::new(&mesh_file(n)))?;
+    let block = gm.part_mesh("block", Some(&[Group::Name("block".into())]))?;
+    let mut cyl = gm.part_mesh("cylinder", Some(&[Group::Name("cylinder".into())]))?;
+    for x in &mut cyl.nodes {
+        x[1] -= OVERLAP;
+    }
+    let text = format!(
+        r#"plane = "strain"
+[materials.steel]
+E = {:?}
+nu = {:?}
+[[part]]
+name = "block"
+material = "steel"
+[[part]]
+name = "cylinder"
+material = "steel"
+[[interface]]
+name = "contact"
+host = "block"
+nodes = "cylinder"
+boundary = "arc"
+law = "coulomb"
+friction = {MU:?}
+search_distance = {:?}
+[[support]]
+part = "block"
+boundary = "base"
+fix = ["x", "y"]
+[[support]]
+part = "cylinder"
+boundary = "load"
+fix = ["x", "y"]
+value = [{shift:?}, 0.0]
+[analysis]
+increments = {increments}
+"#,
+        CYLINDER.0,
+        CYLINDER.1,
+        SEARCH + OVERLAP
+    );
+    Ok((
+        text,
+        [("block".to_string(), block), ("cylinder".to_string(), cyl)]
+            .into_iter()
+            .collect(),
+    ))
+}
+
+/// Cattaneo–Mindlin partial slip: the normal contact first, then a tangential
+/// force Q < μP′ ramped up.
+///
+/// The problem file has no load stages: every load and prescribed displacement
+/// grows with the load factor. The normal load is therefore made by the
+/// geometry: the cylinder's mesh is moved [`OVERLAP`] into the block and its
+/// diameter held in y, so that the initial gaps (which are not scaled by the
+/// load factor) press it fully from the first increment, while the diameter's
+/// sideways displacement, the only load that grows, moves it from [`SHIFT`]/N to
+/// [`SHIFT`] over N increments; Q is the tangential force the pairs carry (a
+/// prescribed displacement rather than a force, so that the cylinder is held
+/// in x whatever the pairs' states during the iteration). With one material for
+/// both bodies (β = 0) the shear does not change the pressure, so P′ (the
+/// pairs' total normal force) stays as it is and Q grows monotonically, the
+/// loading of Cattaneo and Mindlin. (The first increment applies the overlap
+/// and 1/N of the shift together, a small departure from "P′ first".)
+pub fn cattaneo_mindlin(quick: bool) -> Result<Case> {
+    let (n, increments) = if quick { (8, 5) } else { (16, 10) };
+    let (text, meshes) = cattaneo_problem(n, SHIFT, increments)?;
+    let model = cfe::model::Model::from_str_with_meshes(
+        &text,
+        std::path::Path::new("cattaneo.toml"),
+        1,
+        meshes,
+    )?;
+    let a = Analysis::new(model)?;
+    let incs = solve(&a)?;
+    let inc = incs.last().expect("increments");
+    let pairs = arc_pairs(&a, inc, "arc")?;
+    let rows = a.pair_rows(inc);
+    let p_total: f64 = pairs.iter().map(|p| p.f_n).sum();
+    let q_total: f64 = pairs.iter().map(|p| p.f_s).sum();
+    let sign = q_total.signum();
+    // Q: the tangential force the pairs carry (= the diameter's x reaction).
+    let q = sign * q_total;
+    let es = contact_modulus(CYLINDER.0, CYLINDER.1, CYLINDER.0, CYLINDER.1);
+    let a_h = hertz_half_width(p_total, R, es);
+    let p0 = hertz_peak(p_total, a_h);
+    let c_ref = super::closed_forms::stick_half_width(a_h, q, MU, p_total);
+    // The stick zone: the bonded (sticking) pairs among the closed ones.
+    let mut by_x: Vec<(f64, cfe::coupling::PairState)> = rows
+        .iter()
+        .filter(|r| r.interface == "contact")
+        .map(|r| (r.x, r.state))
+        .collect();
+    by_x.sort_by(|p, q| p.0.total_cmp(&q.0));
+    let stick_pts: Vec<(f64, f64)> = by_x
+        .iter()
+        .map(|&(x, s)| {
+            (
+                x,
+                f64::from(u8::from(s == cfe::coupling::PairState::Bonded)),
+            )
+        })
+        .collect();
+    let c_h = edge_half_width(&stick_pts).unwrap_or(0.0);
+    let contact_pts: Vec<(f64, f64)> = pairs.iter().map(|p| (p.x, p.pressure.max(0.0))).collect();
+    let fit = fit_ellipse(&contact_pts)
+        .ok_or_else(|| Error::Model("the Cattaneo–Mindlin pressure could not be fitted".into()))?;
+    let slip_pairs = by_x
+        .iter()
+        .filter(|p| p.1 == cfe::coupling::PairState::Slip)
+        .count();
+    let stick_pairs = by_x
+        .iter()
+        .filter(|p| p.1 == cfe::coupling::PairState::Bonded)
+        .count();
+    // Shear profile error over the contact: RMS of (q_h − q) / (μ p₀).
+    let (mut e2, mut m) = (0.0, 0usize);
+    for p in pairs.iter().filter(|p| p.x.abs() < a_h) {
+        let exact = super::closed_forms::mindlin_shear(p.x, a_h, c_ref, MU, p0);
+        e2 += ((sign * p.shear - exact) / (MU * p0)).powi(2);
+        m += 1;
+    }
+    let rms = (e2 / m.max(1) as f64).sqrt();
+    let err_c = c_h / c_ref - 1.0;
+    let err_a = fit.a / a_h - 1.0;
+    let table = Table {
+        caption: format!(
+            "Cattaneo–Mindlin at mesh level n = {n}, μ = {MU}, after {increments} increments of Q. P′ = the pairs' total normal force; a, p₀, c from the closed forms with that P′; the stick half-width of the run from the outermost sticking pair to half-way to its slipping neighbour, each side; the shear error is the RMS of (q_h − q)/(μ p₀) over the pairs within |x| < a."
+        ),
+        header: [
+            "P′ (N/mm)",
+            "Q (N/mm)",
+            "Q/(μP′)",
+            "a Hertz",
+            "a (fit)",
+            "error",
+            "stick pairs",
+            "slip pairs",
+            "c closed form",
+            "c (run)",
+            "error",
+            "shear RMS error",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows: vec![vec![
+            format!("{p_total:.1}"),
+            format!("{q:.1}"),
+            format!("{:.3}", q / (MU * p_total)),
+            format!("{a_h:.4}"),
+            format!("{:.4}", fit.a),
+            format!("{:+.2} %", 100.0 * err_a),
+            stick_pairs.to_string(),
+            slip_pairs.to_string(),
+            format!("{c_ref:.4}"),
+            format!("{c_h:.4}"),
+            format!("{:+.2} %", 100.0 * err_c),
+            format!("{:.3}", rms),
+        ]],
+    };
+    let mut series = vec![
+        Series {
+            name: "shear q_h (pairs)".into(),
+            points: pairs
+                .iter()
+                .filter(|p| p.x.abs() < 1.3 * a_h)
+                .map(|p| (p.x, sign * p.shear))
+                .collect(),
+            reference: false,
+        },
+        Series {
+            name: "μ × pressure (pairs)".into(),
+            points: pairs
+                .iter()
+                .filter(|p| p.x.abs() < 1.3 * a_h)
+                .map(|p| (p.x, MU * p.pressure))
+                .collect(),
+            reference: false,
+        },
+    ];
+    series.push(Series {
+        name: "Cattaneo–Mindlin q(x)".into(),
+        points: (0..=300)
+            .map(|i| {
+                let x = -1.3 * a_h + 2.6 * a_h * i as f64 / 300.0;
+                (x, super::closed_forms::mindlin_shear(x, a_h, c_ref, MU, p0))
+            })
+            .collect(),
+        reference: true,
+    });
+    // The spacing of the arc's nodes near the contact is 1/n: c within two
+    // spacings, the shear within 15 % of μp₀ (RMS), partial slip.
+    let spacing = 1.0 / n as f64;
+    let passed = (c_h - c_ref).abs() < 2.0 * spacing + 1e-12
+        && rms < 0.15
+        && q < MU * p_total
+        && slip_pairs > 0
+        && stick_pairs > 0;
+    Ok(Case {
+        title: "Cattaneo–Mindlin: partial slip under a tangential load (Coulomb)".into(),
+        setup: format!(
+            "The Hertz cylinder and block (mesh level n = {n}), both steel (E = {}, ν = {}: Dundurs' β = 0, as the closed form assumes), Coulomb friction μ = {MU}. The problem file has no load stages, so the normal load comes from the geometry: the cylinder's mesh is moved {OVERLAP} mm into the block and its diameter is held in y, so the initial gaps press it from the first increment on (they are not scaled by the load factor); the diameter is moved sideways by up to {SHIFT} mm over {increments} increments (the only load that grows; Q is the tangential force the pairs carry, {q:.0} N/mm at the end). The first increment applies the overlap and 1/{increments} of the shift together — a small departure from \"P′ first, then Q\".",
+            CYLINDER.0, CYLINDER.1
+        ),
+        reference: "Cattaneo (1938) and Mindlin (1949), for cylinders in K. L. Johnson, *Contact Mechanics*, 1985, §7.1: stick for |x| < c = a√(1 − Q/(μP′)), slip beyond; q(x) = μp₀√(1 − x²/a²) − μp₀(c/a)√(1 − x²/c²) in the stick zone, μ p(x) in the slip zones (`closed_forms.rs`).".into(),
+        tables: vec![table],
+        plots: vec![Plot {
+            file: "cattaneo_mindlin_shear.png".into(),
+            title: "Cattaneo–Mindlin: shear traction along the contact".into(),
+            x: "x (mm)".into(),
+            y: "traction (MPa)".into(),
+            log: (false, false),
+            series,
+        }],
+        verdict: format!(
+            "The stick zone's half-width is {c_h:.4} against c = {c_ref:.4} ({:+.1} %, the pairs {spacing:.4} apart), with {stick_pairs} pairs sticking and {slip_pairs} slipping; the shear traction follows Cattaneo–Mindlin's profile with an RMS error of {:.1} % of μp₀; Pass criteria (c within two pair spacings, shear RMS below 15 % of μp₀, partial slip: Q < μP′ with pairs both sticking and slipping): {}.",
+            100.0 * err_c,
+            100.0 * rms,
+            if passed { "met" } else { "NOT met" }
+        ),
+        passed,
+    })
+}

@@ -129,7 +129,7 @@ pub fn displacement_at(
 pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>> {
     let mut cases = Vec::new();
     type CaseFn = fn(bool) -> Result<Case>;
-    let all: [(&str, CaseFn); 15] = [
+    let all: [(&str, CaseFn); 16] = [
         ("patch tests", patch::constant_stress),
         ("contact patch test", patch::contact_patch),
         ("tied cantilever", cantilever::convergence),
@@ -142,6 +142,7 @@ pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>>
         ("contact iteration", contact::contact_iteration),
         ("Hertz", hertz::hertz),
         ("augmented Lagrangian", hertz::penalty_independence),
+        ("Cattaneo–Mindlin", hertz::cattaneo_mindlin),
         ("shrink fit", fits::shrink_fit),
         ("frictionless patch test", fits::frictionless_patch),
         ("receding contact", fits::receding),
