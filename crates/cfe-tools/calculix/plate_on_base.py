@@ -33,8 +33,8 @@ Usage (from the repository root):
     python3 crates/cfe-tools/calculix/plate_on_base.py [--cfe PATH] [--ccx PATH]
         [--work DIR] [--laws stick,frictionless,coulomb]
 Its output is pasted, as a static table clearly labelled as produced by this
-script, into the verification report (crates/cfe-tools/src/verification/
-receding.rs); the test suite does not need CalculiX.
+script, into the verification report (`CALCULIX` in crates/cfe-tools/src/verification/
+fits.rs); the test suite does not need CalculiX.
 """
 
 import argparse
