@@ -751,9 +751,11 @@ impl Analysis {
         for iface in self.interfaces.iter().filter(|i| i.law != Law::Rigid) {
             let mine: Vec<&PairRow> = rows.iter().filter(|r| r.interface == iface.name).collect();
             let span = |f: fn(&PairRow) -> f64| {
-                let (lo, hi) = mine.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
-                    (lo.min(f(r)), hi.max(f(r)))
-                });
+                let (lo, hi) = mine
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+                        (lo.min(f(r)), hi.max(f(r)))
+                    });
                 hi - lo
             };
             let use_y = span(|r| r.y) > span(|r| r.x);
