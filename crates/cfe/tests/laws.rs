@@ -497,3 +497,102 @@ fn friction_history_load_then_unload() {
     let direct = fresh.run(|_| Ok(())).unwrap();
     assert!(fx(&direct).abs() < 1e-9 * p);
 }
+
+/// Augmented Lagrangian: a block pressed on a base (frictionless, a load off the
+/// centre so the pressure varies) gives the same contact forces for c_n from 1e3
+/// to 1e6 × E (to 1e-6 of the load) once the Uzawa iterations have brought the
+/// penetration under the tolerance, while the penalty alone differs by far more;
+/// the summary reports the iterations and the final penetration.
+#[test]
+fn augmented_is_independent_of_the_penalty() {
+    let make = |factor: f64, augmented: bool| {
+        let keys = if augmented {
+            "enforcement = \"augmented\"\npenetration_tolerance = 1e-11"
+        } else {
+            ""
+        };
+        format!(
+            r#"
+plane = "stress"
+[materials.steel]
+E = 1000.0
+nu = 0.3
+[[part]]
+name = "base"
+material = "steel"
+rectangle = {{ x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [5, 3] }}
+[[part]]
+name = "block"
+material = "steel"
+rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [6, 4] }}
+[[interface]]
+host = "base"
+nodes = "block"
+boundary = "bottom"
+law = "frictionless"
+c_n = {c_n}
+{keys}
+[[support]]
+part = "base"
+boundary = "bottom"
+fix = ["x", "y"]
+[[support]]
+part = "block"
+boundary = "left"
+fix = ["x"]
+[[load]]
+part = "block"
+boundary = "top"
+from = [0.8, 1.0]
+to = [1.0, 1.0]
+force = [0.0, -1.5]
+[[load]]
+part = "block"
+boundary = "top"
+from = [0.0, 1.0]
+to = [0.2, 1.0]
+force = [0.0, 0.5]
+[analysis]
+increments = 1
+"#,
+            c_n = factor * 1000.0
+        )
+    };
+    let forces = |factor: f64, augmented: bool| {
+        let a = analysis(&make(factor, augmented));
+        let res = a.solve().unwrap();
+        assert_eq!(
+            res.summary.status,
+            RunStatus::Completed,
+            "{:?}",
+            res.summary.warnings
+        );
+        if augmented {
+            assert!(res.summary.augmented_penetration <= 1e-11);
+            assert!(res.summary.fixed_point_iterations[0] > 0);
+            for r in res.pairs.iter().filter(|r| r.state.is_closed()) {
+                assert!(r.gap.abs() <= 1e-11, "{}", r.gap);
+            }
+        }
+        res.pairs.iter().map(|r| r.force_n).collect::<Vec<f64>>()
+    };
+    let reference = forces(1e6, true);
+    assert!(
+        reference.iter().any(|&f| f == 0.0),
+        "part of the face lifts off"
+    );
+    for factor in [1e3, 1e4, 1e5] {
+        let f = forces(factor, true);
+        for (a, b) in f.iter().zip(&reference) {
+            assert!((a - b).abs() < 1e-6, "c_n = {factor} E: {a} vs {b}");
+        }
+    }
+    // The penalty alone depends on c_n visibly at 1e3 × E.
+    let soft = forces(1e3, false);
+    let worst = soft
+        .iter()
+        .zip(&reference)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst > 1e-4, "{worst}");
+}
