@@ -441,9 +441,7 @@ fn friction_history_load_then_unload() {
         -delta_n,
         l,
         &format!("law = \"coulomb\"\nfriction = {mu}\nsearch_distance = 0.05"),
-        &format!(
-            "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"x\", \"y\"]\nvalue = [0.05, 0.0]\n[analysis]\nincrements = 1",
-        ),
+        "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"x\", \"y\"]\nvalue = [0.05, 0.0]\n[analysis]\nincrements = 1",
     );
     let a = analysis(&text);
     let mut solver = a.solver().unwrap();
@@ -577,10 +575,7 @@ increments = 1
         res.pairs.iter().map(|r| r.force_n).collect::<Vec<f64>>()
     };
     let reference = forces(1e6, true);
-    assert!(
-        reference.iter().any(|&f| f == 0.0),
-        "part of the face lifts off"
-    );
+    assert!(reference.contains(&0.0), "part of the face lifts off");
     for factor in [1e3, 1e4, 1e5] {
         let f = forces(factor, true);
         for (a, b) in f.iter().zip(&reference) {
