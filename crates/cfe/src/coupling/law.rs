@@ -199,8 +199,8 @@ impl LawParams {
     /// next, and how it breaks the friction law if it does. `f_n` is the normal force
     /// (negative in compression), `u_s` the tangential jump, `f_s` the tangential
     /// force it carries, `tol` the force tolerance. A stick pair whose trial force
-    /// exceeds μ|f_n| slips; a slip pair whose trial force falls inside the cone
-    /// (its slip would reverse) sticks; a slip pair whose force differs from
+    /// exceeds μ|f_n| slips; a slip pair whose trial force falls inside the cone,
+    /// or points against its slip force (its slip would reverse), sticks; a slip pair whose force differs from
     /// μ|f_n| along the trial force (an unconverged fixed point) breaks the law but
     /// keeps its state.
     pub fn friction_check(
@@ -229,8 +229,14 @@ impl LawParams {
                     }),
                 )
             }
-            PairState::Slip if trial.abs() < limit - tol => {
-                let excess = limit - trial.abs();
+            PairState::Slip if trial.abs() < limit - tol || trial * f_s < 0.0 => {
+                // Inside the cone, or reversing against the slip force: the slip
+                // increment would not be along the force.
+                let excess = if trial * f_s < 0.0 {
+                    (trial - f_s).abs()
+                } else {
+                    limit - trial.abs()
+                };
                 (
                     PairState::Bonded,
                     Some(LawViolation {
