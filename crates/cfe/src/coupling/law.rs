@@ -121,6 +121,16 @@ pub enum Enforcement {
     Augmented,
 }
 
+impl Enforcement {
+    /// Lower-case name as in the problem file (`penalty`, `augmented`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Enforcement::Penalty => "penalty",
+            Enforcement::Augmented => "augmented",
+        }
+    }
+}
+
 /// The law of one interface with its parameters: what a pair's force and stiffness
 /// follow from.
 #[derive(Debug, Clone, Copy, PartialEq)]
