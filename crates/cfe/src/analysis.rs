@@ -208,6 +208,28 @@ impl Analysis {
                 i.c_s,
                 i.max_projection_distance
             );
+            // The contact extensions, only when used (the seed's lines unchanged).
+            let gaps = i.elements.iter().any(|c| c.gap0 != 0.0);
+            if i.law == Law::Coulomb
+                || i.enforcement == crate::coupling::Enforcement::Augmented
+                || gaps
+                || i.unpaired > 0
+            {
+                let (lo, hi) = i
+                    .elements
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
+                        (a.min(c.gap0), b.max(c.gap0))
+                    });
+                s += &format!(
+                    "    friction {}, enforcement {}, initial gaps from {:e} to {:e}, {} node(s) unpaired (beyond the search distance)\n",
+                    i.friction,
+                    i.enforcement.as_str(),
+                    if lo.is_finite() { lo } else { 0.0 },
+                    if hi.is_finite() { hi } else { 0.0 },
+                    i.unpaired
+                );
+            }
         }
         for sup in &self.model.supports {
             s += &format!(
