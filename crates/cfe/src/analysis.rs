@@ -231,6 +231,28 @@ impl Analysis {
             if i.coupling == Coupling::Segment {
                 s += "    segment coupling: each pair's gap is averaged over its node's face segments\n";
             }
+            // The contact extensions, only when used (the seed's lines unchanged).
+            let gaps = i.elements.iter().any(|c| c.gap0 != 0.0);
+            if i.law == Law::Coulomb
+                || i.enforcement == crate::coupling::Enforcement::Augmented
+                || gaps
+                || i.unpaired > 0
+            {
+                let (lo, hi) = i
+                    .elements
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
+                        (a.min(c.gap0), b.max(c.gap0))
+                    });
+                s += &format!(
+                    "    friction {}, enforcement {}, initial gaps from {} to {}, {} node(s) unpaired (beyond the search distance)\n",
+                    num(i.friction),
+                    i.enforcement.as_str(),
+                    num_rel(if lo.is_finite() { lo } else { 0.0 }, size),
+                    num_rel(if hi.is_finite() { hi } else { 0.0 }, size),
+                    i.unpaired
+                );
+            }
         }
         for sup in &self.model.supports {
             s += &format!(

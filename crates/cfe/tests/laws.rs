@@ -296,3 +296,298 @@ fn bad_law_keys_are_typed_errors() {
     let text = block_on_layer(0.0, 1.0, "law = \"frictionless\"\nc_s = 0.0", tail);
     assert_eq!(parse(&text).unwrap().interfaces[0].c_s, 0.0);
 }
+
+/// A block on a base (same material, touching faces), the Coulomb law with μ:
+/// `tail` holds the block's supports and loads.
+fn coulomb_block(mu: f64, tail: &str) -> String {
+    format!(
+        r#"
+plane = "stress"
+[materials.steel]
+E = 1000.0
+nu = 0.3
+[[part]]
+name = "base"
+material = "steel"
+rectangle = {{ x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [5, 3] }}
+[[part]]
+name = "block"
+material = "steel"
+rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [4, 4] }}
+[[interface]]
+host = "base"
+nodes = "block"
+boundary = "bottom"
+law = "coulomb"
+friction = {mu}
+[[support]]
+part = "base"
+boundary = "bottom"
+fix = ["x", "y"]
+{tail}
+"#
+    )
+}
+
+/// Checks Coulomb's law on every closed pair of an increment: stick pairs within
+/// the cone, slip pairs on it (|f_s| = μ f_n) with the force opposing their slip
+/// increment (same sign as the trial force c_s([[u_s]] − s_p)); returns the number
+/// of slipping pairs.
+fn check_coulomb(a: &Analysis, inc: &IncrementResult, mu: f64, tol: f64) -> usize {
+    let mut slipping = 0;
+    for r in a.pair_rows(inc) {
+        match r.state {
+            PairState::Bonded => assert!(
+                r.force_s.abs() <= mu * r.force_n + tol,
+                "stick pair at x = {} carries {} > μ {}",
+                r.x,
+                r.force_s,
+                r.force_n
+            ),
+            PairState::Slip => {
+                slipping += 1;
+                assert!(
+                    (r.force_s.abs() - mu * r.force_n).abs() <= tol,
+                    "slip pair at x = {}: |f_s| {} vs μ f_n {}",
+                    r.x,
+                    r.force_s,
+                    mu * r.force_n
+                );
+            }
+            PairState::Open => assert!(r.force_n == 0.0 && r.force_s == 0.0),
+        }
+    }
+    slipping
+}
+
+/// Coulomb, Q < μP: a block pressed by P and pushed sideways by Q = 0.2 P with
+/// μ = 0.5 stays put: the interface carries the whole of Q (Σ f_s = Q), every
+/// pair is inside the cone, the law holds (status `completed`).
+#[test]
+fn coulomb_below_the_limit_sticks() {
+    let mu = 0.5;
+    let text = coulomb_block(
+        mu,
+        "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.2, -1.0]\n[analysis]\nincrements = 2",
+    );
+    let a = analysis(&text);
+    let res = a.solve().unwrap();
+    assert_eq!(
+        res.summary.status,
+        RunStatus::Completed,
+        "{:?}",
+        res.summary.warnings
+    );
+    assert!(!res.summary.proportional_shortcut);
+    let rows = &res.pairs;
+    let fs: f64 = rows.iter().map(|r| r.force_s).sum();
+    let fnn: f64 = rows.iter().map(|r| r.force_n).sum();
+    // Force on the node part: −Q along s = (−n_y, n_x) = (−1, 0) is +Q... the
+    // interface pushes the block back by −Q in x.
+    assert!(
+        (fs.abs() - 0.2).abs() < 1e-9 && (fnn - 1.0).abs() < 1e-9,
+        "{fs} {fnn}"
+    );
+    let slipping = check_coulomb(&a, &res.last, mu, 1e-9);
+    assert!(
+        slipping < rows.len() / 2,
+        "{slipping} of {} slip",
+        rows.len()
+    );
+}
+
+/// Coulomb, sliding: the block's top is pushed sideways by a displacement far
+/// beyond the elastic range while P presses it down: every pair slips with
+/// |f_s| = μ f_n, and the sideways reaction is μ P.
+#[test]
+fn coulomb_beyond_the_limit_slips_on_every_pair() {
+    let mu = 0.3;
+    let text = coulomb_block(
+        mu,
+        "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"x\"]\nvalue = [0.005, 0.0]\n[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\n[analysis]\nincrements = 4",
+    );
+    let a = analysis(&text);
+    let res = a.solve().unwrap();
+    assert_eq!(
+        res.summary.status,
+        RunStatus::Completed,
+        "{:?}",
+        res.summary.warnings
+    );
+    let n = check_coulomb(&a, &res.last, mu, 1e-8);
+    let closed = res.pairs.iter().filter(|r| r.state.is_closed()).count();
+    assert!(
+        n == closed && n >= res.pairs.len() - 1,
+        "{n} of {closed} closed pairs slip"
+    );
+    let side = res.summary.reactions[1].fx;
+    assert!((side.abs() - mu * 1.0).abs() < 1e-8, "{side}");
+    // The slip history: the plastic slip is the jump less the elastic part.
+    for r in &res.pairs {
+        assert!(r.slip.abs() > 0.0 && r.slip.signum() == r.slip_s.signum());
+    }
+}
+
+/// Friction is path-dependent: a block pressed by an interference (constant
+/// pressure) is pushed sideways to δ and back to 0. Going out it slips with
+/// |F| = μ P; coming back, the first step unloads elastically (sticks), then it
+/// slips the other way (F = −μ P at δ = 0) and keeps a plastic slip — where a run
+/// straight to δ = 0 has no force at all.
+#[test]
+fn friction_history_load_then_unload() {
+    let mu = 0.4;
+    let (delta_n, l) = (0.01, 1.0);
+    let text = block_on_layer(
+        -delta_n,
+        l,
+        &format!("law = \"coulomb\"\nfriction = {mu}\nsearch_distance = 0.05"),
+        "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"x\", \"y\"]\nvalue = [0.05, 0.0]\n[analysis]\nincrements = 1",
+    );
+    let a = analysis(&text);
+    let mut solver = a.solver().unwrap();
+    solver.set_load_factors(vec![0.5, 1.0, 0.9, 0.5, 0.0]);
+    let mut incs = Vec::new();
+    solver
+        .run(|inc| {
+            incs.push(inc.clone());
+            Ok(())
+        })
+        .unwrap();
+    let fx = |inc: &IncrementResult| a.reactions(inc)[1][0];
+    let p = a.reactions(&incs[1])[1][1].abs();
+    assert!(p > 0.0);
+    for inc in &incs {
+        check_coulomb(&a, inc, mu, 1e-8);
+        assert!(inc.violations.is_empty());
+    }
+    let slips = |inc: &IncrementResult| {
+        a.pair_rows(inc)
+            .iter()
+            .filter(|r| r.state == PairState::Slip)
+            .count()
+    };
+    // Out: slipping at μP (the top's support pushes the block along +x against
+    // the friction).
+    assert!(
+        (fx(&incs[1]) - mu * p).abs() < 1e-6 * p,
+        "{} vs {}",
+        fx(&incs[1]),
+        mu * p
+    );
+    assert_eq!(slips(&incs[1]), 5);
+    // First step back: sticks, the force drops below μP.
+    assert_eq!(slips(&incs[2]), 0);
+    assert!(fx(&incs[2]).abs() < mu * p * (1.0 - 1e-3));
+    // Back at δ = 0: slipping the other way, F = −μP, plastic slip left behind.
+    let last = incs.last().unwrap();
+    assert_eq!(slips(last), 5);
+    let pl = a.reactions(last)[1][1].abs();
+    assert!(
+        (fx(last) + mu * pl).abs() < 1e-6 * pl,
+        "{} vs {}",
+        fx(last),
+        mu * pl
+    );
+    assert!(a.pair_rows(last).iter().all(|r| r.slip.abs() > 1e-6));
+    // Straight to δ = 0 (λ = 0 only): no tangential force.
+    let mut fresh = a.solver().unwrap();
+    fresh.set_load_factors(vec![0.0]);
+    let direct = fresh.run(|_| Ok(())).unwrap();
+    assert!(fx(&direct).abs() < 1e-9 * p);
+}
+
+/// Augmented Lagrangian: a block pressed on a base (frictionless, a load off the
+/// centre so the pressure varies) gives the same contact forces for c_n from 1e3
+/// to 1e6 × E (to 1e-6 of the load) once the Uzawa iterations have brought the
+/// penetration under the tolerance, while the penalty alone differs by far more;
+/// the summary reports the iterations and the final penetration.
+#[test]
+fn augmented_is_independent_of_the_penalty() {
+    let make = |factor: f64, augmented: bool| {
+        let keys = if augmented {
+            "enforcement = \"augmented\"\npenetration_tolerance = 1e-11"
+        } else {
+            ""
+        };
+        format!(
+            r#"
+plane = "stress"
+[materials.steel]
+E = 1000.0
+nu = 0.3
+[[part]]
+name = "base"
+material = "steel"
+rectangle = {{ x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [5, 3] }}
+[[part]]
+name = "block"
+material = "steel"
+rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [6, 4] }}
+[[interface]]
+host = "base"
+nodes = "block"
+boundary = "bottom"
+law = "frictionless"
+c_n = {c_n}
+{keys}
+[[support]]
+part = "base"
+boundary = "bottom"
+fix = ["x", "y"]
+[[support]]
+part = "block"
+boundary = "left"
+fix = ["x"]
+[[load]]
+part = "block"
+boundary = "top"
+from = [0.8, 1.0]
+to = [1.0, 1.0]
+force = [0.0, -1.5]
+[[load]]
+part = "block"
+boundary = "top"
+from = [0.0, 1.0]
+to = [0.2, 1.0]
+force = [0.0, 0.5]
+[analysis]
+increments = 1
+"#,
+            c_n = factor * 1000.0
+        )
+    };
+    let forces = |factor: f64, augmented: bool| {
+        let a = analysis(&make(factor, augmented));
+        let res = a.solve().unwrap();
+        assert_eq!(
+            res.summary.status,
+            RunStatus::Completed,
+            "{:?}",
+            res.summary.warnings
+        );
+        if augmented {
+            assert!(res.summary.augmented_penetration <= 1e-11);
+            assert!(res.summary.fixed_point_iterations[0] > 0);
+            for r in res.pairs.iter().filter(|r| r.state.is_closed()) {
+                assert!(r.gap.abs() <= 1e-11, "{}", r.gap);
+            }
+        }
+        res.pairs.iter().map(|r| r.force_n).collect::<Vec<f64>>()
+    };
+    let reference = forces(1e6, true);
+    assert!(reference.contains(&0.0), "part of the face lifts off");
+    for factor in [1e3, 1e4, 1e5] {
+        let f = forces(factor, true);
+        for (a, b) in f.iter().zip(&reference) {
+            assert!((a - b).abs() < 1e-6, "c_n = {factor} E: {a} vs {b}");
+        }
+    }
+    // The penalty alone depends on c_n visibly at 1e3 × E.
+    let soft = forces(1e3, false);
+    let worst = soft
+        .iter()
+        .zip(&reference)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst > 1e-4, "{worst}");
+}

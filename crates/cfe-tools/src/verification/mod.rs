@@ -5,8 +5,11 @@
 //! versions also run as tests.
 
 pub mod cantilever;
+pub mod closed_forms;
 pub mod contact;
 pub mod curved;
+pub mod fits;
+pub mod hertz;
 pub mod patch;
 pub mod punch;
 pub mod quads;
@@ -127,7 +130,7 @@ pub fn displacement_at(
 pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>> {
     let mut cases = Vec::new();
     type CaseFn = fn(bool) -> Result<Case>;
-    let all: [(&str, CaseFn); 12] = [
+    let all: [(&str, CaseFn); 18] = [
         ("patch tests", patch::constant_stress),
         ("contact patch test", patch::contact_patch),
         ("tied cantilever", cantilever::convergence),
@@ -140,6 +143,12 @@ pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>>
         ("contact iteration", contact::contact_iteration),
         ("segment patch test", segment::patch_comparison),
         ("segment convergence", segment::convergence),
+        ("Hertz", hertz::hertz),
+        ("augmented Lagrangian", hertz::penalty_independence),
+        ("Cattaneo–Mindlin", hertz::cattaneo_mindlin),
+        ("shrink fit", fits::shrink_fit),
+        ("frictionless patch test", fits::frictionless_patch),
+        ("receding contact", fits::receding),
     ];
     for (name, f) in all {
         progress(name);

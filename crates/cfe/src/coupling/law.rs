@@ -121,6 +121,16 @@ pub enum Enforcement {
     Augmented,
 }
 
+impl Enforcement {
+    /// Lower-case name as in the problem file (`penalty`, `augmented`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Enforcement::Penalty => "penalty",
+            Enforcement::Augmented => "augmented",
+        }
+    }
+}
+
 /// The law of one interface with its parameters: what a pair's force and stiffness
 /// follow from.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -199,8 +209,8 @@ impl LawParams {
     /// next, and how it breaks the friction law if it does. `f_n` is the normal force
     /// (negative in compression), `u_s` the tangential jump, `f_s` the tangential
     /// force it carries, `tol` the force tolerance. A stick pair whose trial force
-    /// exceeds μ|f_n| slips; a slip pair whose trial force falls inside the cone
-    /// (its slip would reverse) sticks; a slip pair whose force differs from
+    /// exceeds μ|f_n| slips; a slip pair whose trial force falls inside the cone,
+    /// or points against its slip force (its slip would reverse), sticks; a slip pair whose force differs from
     /// μ|f_n| along the trial force (an unconverged fixed point) breaks the law but
     /// keeps its state.
     pub fn friction_check(
@@ -229,8 +239,14 @@ impl LawParams {
                     }),
                 )
             }
-            PairState::Slip if trial.abs() < limit - tol => {
-                let excess = limit - trial.abs();
+            PairState::Slip if trial.abs() < limit - tol || trial * f_s < 0.0 => {
+                // Inside the cone, or reversing against the slip force: the slip
+                // increment would not be along the force.
+                let excess = if trial * f_s < 0.0 {
+                    (trial - f_s).abs()
+                } else {
+                    limit - trial.abs()
+                };
                 (
                     PairState::Bonded,
                     Some(LawViolation {
@@ -458,5 +474,107 @@ mod tests {
             Law::Rigid.next_state(PairState::Bonded, 1.0, c, tol),
             PairState::Bonded
         );
+    }
+
+    /// The laws' penalties and forces: frictionless and slip pairs have no
+    /// tangential stiffness, a stick pair's shear is measured from its plastic slip,
+    /// a slip pair carries its slip force, multipliers add to closed pairs' forces;
+    /// the seed's laws with a zero history give exactly the seed's forces.
+    #[test]
+    fn law_params_forces() {
+        let p = |law, friction| LawParams {
+            law,
+            c_n: 10.0,
+            c_s: 4.0,
+            friction,
+        };
+        let h = PairHistory {
+            slip: 0.5,
+            slip_force: -1.5,
+            multiplier: [0.0; 2],
+        };
+        let zero = PairHistory::default();
+        assert_eq!(
+            p(Law::Frictionless, 0.0).penalties(PairState::Bonded),
+            [10.0, 0.0]
+        );
+        assert_eq!(p(Law::Coulomb, 0.3).penalties(PairState::Slip), [10.0, 0.0]);
+        assert_eq!(
+            p(Law::Coulomb, 0.3).penalties(PairState::Bonded),
+            [10.0, 4.0]
+        );
+        assert_eq!(p(Law::Contact, 0.0).penalties(PairState::Open), [0.0, 0.0]);
+        let c = p(Law::Contact, 0.0);
+        for (g, u) in [(-0.3, 0.7), (0.2, -1.1), (-0.0, 0.0)] {
+            let seed = local_force(PairState::Bonded, 10.0, 4.0, [g, u]);
+            let now = c.local_force(PairState::Bonded, g, u, &zero);
+            assert_eq!(seed.map(f64::to_bits), now.map(f64::to_bits));
+        }
+        assert_eq!(
+            p(Law::Frictionless, 0.0).local_force(PairState::Bonded, -0.1, 3.0, &h),
+            [-1.0, 0.0]
+        );
+        let coulomb = p(Law::Coulomb, 0.3);
+        assert_eq!(
+            coulomb.local_force(PairState::Bonded, -0.1, 1.0, &h),
+            [-1.0, 2.0]
+        );
+        assert_eq!(
+            coulomb.local_force(PairState::Slip, -0.1, 1.0, &h),
+            [-1.0, -1.5]
+        );
+        let m = PairHistory {
+            multiplier: [-2.0, 0.25],
+            ..h
+        };
+        assert_eq!(
+            coulomb.local_force(PairState::Bonded, -0.1, 1.0, &m),
+            [-3.0, 2.25]
+        );
+        assert_eq!(
+            coulomb.local_force(PairState::Open, -0.1, 1.0, &m),
+            [0.0, 0.0]
+        );
+    }
+
+    /// The Coulomb return mapping: a stick pair whose trial force exceeds μ|f_n|
+    /// slips, one inside stays; a slip pair whose trial force falls inside the cone
+    /// or points against its slip force sticks; a slip pair on the cone along its
+    /// trial force satisfies the law, off it by more than the tolerance it breaks it.
+    #[test]
+    fn friction_return_mapping() {
+        let law = LawParams {
+            law: Law::Coulomb,
+            c_n: 10.0,
+            c_s: 4.0,
+            friction: 0.5,
+        };
+        let h = PairHistory::default();
+        let tol = 1e-9;
+        // f_n = −2 (compression): the cone is 1.
+        let (next, v) = law.friction_check(PairState::Bonded, -2.0, 0.3, 1.2, &h, tol);
+        assert_eq!(next, PairState::Slip);
+        assert_eq!(v.unwrap().kind, ViolationKind::Friction);
+        let (next, v) = law.friction_check(PairState::Bonded, -2.0, 0.2, 0.8, &h, tol);
+        assert_eq!((next, v), (PairState::Bonded, None));
+        // Slip along +s with trial 1.2 > 1 and force 1: consistent.
+        let (next, v) = law.friction_check(PairState::Slip, -2.0, 0.3, 1.0, &h, tol);
+        assert_eq!((next, v), (PairState::Slip, None));
+        // Slip force off the cone: a violation, state kept.
+        let (next, v) = law.friction_check(PairState::Slip, -2.0, 0.3, 0.9, &h, tol);
+        assert_eq!(next, PairState::Slip);
+        assert_eq!(v.unwrap().kind, ViolationKind::Slip);
+        // Trial inside the cone, or reversed against the slip force: sticks.
+        let (next, _) = law.friction_check(PairState::Slip, -2.0, 0.2, 1.0, &h, tol);
+        assert_eq!(next, PairState::Bonded);
+        let (next, _) = law.friction_check(PairState::Slip, -2.0, -0.3, 1.0, &h, tol);
+        assert_eq!(next, PairState::Bonded);
+        // Other laws have no friction check.
+        let contact = LawParams {
+            law: Law::Contact,
+            ..law
+        };
+        let (next, v) = contact.friction_check(PairState::Bonded, -2.0, 9.0, 36.0, &h, tol);
+        assert_eq!((next, v), (PairState::Bonded, None));
     }
 }

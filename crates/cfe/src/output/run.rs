@@ -5,9 +5,9 @@
 use super::memory::peak_memory_bytes;
 use super::report::{self, PairRow};
 use super::summary::{RunStatus, Summary};
-use super::{png, vtu};
+use super::{chart, png, vtu};
 use crate::analysis::Analysis;
-use crate::coupling::{PairState, ViolationKind};
+use crate::coupling::{Law, PairState, ViolationKind};
 use crate::error::{Error, Result};
 use crate::fem::recovery::PartStress;
 use crate::mesh::Element;
@@ -21,12 +21,13 @@ use std::thread::{Scope, ScopedJoinHandle};
 use std::time::Instant;
 
 /// The files a run writes into its output folder (besides `vtu/`).
-const RUN_FILES: [&str; 5] = [
+const RUN_FILES: [&str; 6] = [
     "summary.json",
     "pairs.csv",
     "results.pvd",
     "sigma_yy.png",
     "displacement.png",
+    "pressure.png",
 ];
 
 /// Removes what an earlier run left in `out`: its files, its VTU series
@@ -832,7 +833,56 @@ impl Analysis {
             )
         };
         let (a, b) = rayon::join(field, isolines);
-        a.and(b)
+        a.and(b)?;
+        self.write_pressure_chart(out, &rows).map(|_| ())
+    }
+
+    /// `pressure.png`: the contact pressure of every pair along each interface
+    /// with a contact law (one curve per interface, against x, or y where the
+    /// interface spans more in y); `false` when no interface has a contact law.
+    fn write_pressure_chart(&self, out: &Path, rows: &[PairRow]) -> Result<bool> {
+        let mut series = Vec::new();
+        let mut along_y = 0;
+        for iface in self.interfaces.iter().filter(|i| i.law != Law::Rigid) {
+            let mine: Vec<&PairRow> = rows.iter().filter(|r| r.interface == iface.name).collect();
+            let span = |f: fn(&PairRow) -> f64| {
+                let (lo, hi) = mine
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+                        (lo.min(f(r)), hi.max(f(r)))
+                    });
+                hi - lo
+            };
+            let use_y = span(|r| r.y) > span(|r| r.x);
+            along_y += usize::from(use_y);
+            let mut points: Vec<(f64, f64)> = mine
+                .iter()
+                .map(|r| (if use_y { r.y } else { r.x }, r.pressure))
+                .collect();
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            series.push(chart::Series {
+                name: iface.name.clone(),
+                points,
+                reference: false,
+            });
+        }
+        if series.is_empty() {
+            return Ok(false);
+        }
+        let units = &self.model.units;
+        let axis = if along_y == series.len() { "y" } else { "x" };
+        chart::line_chart(
+            &out.join("pressure.png"),
+            &chart::Axes {
+                title: &format!("{}: contact pressure along the interface", self.model.title),
+                x: &format!("{axis} [{}]", units.length),
+                y: &format!("pressure [{}]", units.stress),
+                log_x: false,
+                log_y: false,
+            },
+            &series,
+        )?;
+        Ok(true)
     }
 }
 

@@ -222,6 +222,8 @@ pub struct Solver<'a> {
     history: PairHistories,
     /// Fixed-point solves in the current increment.
     fixed_point: usize,
+    /// The load path, when not the default ramp.
+    load_factors: Option<Vec<f64>>,
     /// Largest augmented-Lagrangian error of the last fixed point.
     augmented_error: f64,
     /// Phase timings.
@@ -231,6 +233,11 @@ pub struct Solver<'a> {
 /// The smallest load scale of a model without the proportional shortcuts, as a
 /// fraction of (largest E·t) × (largest displacement).
 pub const FORCE_FLOOR: f64 = 1e-6;
+
+/// The fixed point on the slip forces stops when none changes by more than this
+/// fraction of the load scale (far below the law's force tolerance, so a converged
+/// slip force is μ |f_n| to round-off as the law check sees it).
+pub const FIXED_POINT_TOLERANCE: f64 = 1e-10;
 
 /// Most fixed-point solves (slip forces, Uzawa steps) per pattern.
 pub const MAX_FIXED_POINT: usize = 200;
@@ -287,6 +294,7 @@ impl<'a> Solver<'a> {
             proportional,
             history,
             fixed_point: 0,
+            load_factors: None,
             augmented_error: 0.0,
             timings,
         })
@@ -314,6 +322,16 @@ impl<'a> Solver<'a> {
     /// is then not proportional to the load, or depends on the path).
     pub fn proportional(&self) -> bool {
         self.proportional
+    }
+
+    /// Replaces the load path: the increments go through these load factors in
+    /// turn (the default is `k / increments`, k = 1, …, increments). A path that
+    /// goes back (unloading) matters for a path-dependent law (Coulomb friction);
+    /// the problem file has no such key — this is for studies and tests.
+    pub fn set_load_factors(&mut self, factors: Vec<f64>) {
+        if !factors.is_empty() && factors.iter().all(|f| f.is_finite()) {
+            self.load_factors = Some(factors);
+        }
     }
 
     /// Numeric factorizations and low-rank updates performed so far.
@@ -371,7 +389,11 @@ impl<'a> Solver<'a> {
         &mut self,
         mut on_increment: impl FnMut(&IncrementResult) -> Result<()>,
     ) -> Result<IncrementResult> {
-        let n_inc = self.settings.increments;
+        let factors = self.load_factors.clone().unwrap_or_else(|| {
+            let n = self.settings.increments;
+            (1..=n).map(|k| k as f64 / n as f64).collect()
+        });
+        let n_inc = factors.len();
         let all_bonded = self.all_bonded();
         let warm = match self.settings.scheme {
             Scheme::ActiveSet => self.initial.take(),
@@ -380,7 +402,7 @@ impl<'a> Solver<'a> {
         let mut states = warm.clone().unwrap_or_else(|| all_bonded.clone());
         let mut last = None;
         for inc in 1..=n_inc {
-            let lambda = inc as f64 / n_inc as f64;
+            let lambda = factors[inc - 1];
             self.fixed_point = 0;
             let mut result = match self.settings.scheme {
                 Scheme::ActiveSet => {
@@ -502,6 +524,7 @@ impl<'a> Solver<'a> {
             if seen.contains(&next) {
                 return self.settle(inc, lambda, &visits, history);
             }
+            self.touch_down(&states, &next, &u);
             states = next;
         }
         if cautious {
@@ -608,6 +631,15 @@ impl<'a> Solver<'a> {
                             iface.law.normal_violation(state, gap, f[0], law.c_n, tol)
                         {
                             push(v);
+                            // A stick pair pulling beyond its (zero) cone slips first:
+                            // its tension may come from the shear it cannot carry.
+                            if state == PairState::Bonded
+                                && let (PairState::Slip, Some(fv)) =
+                                    law.friction_check(state, f[0], jump[1], f[1], h, tol.tension)
+                            {
+                                push(fv);
+                                return PairState::Slip;
+                            }
                             return match state {
                                 PairState::Open => PairState::Bonded,
                                 _ => PairState::Open,
@@ -623,6 +655,19 @@ impl<'a> Solver<'a> {
                     .collect()
             })
             .collect();
+        let mut next: PairStates = next;
+        // Friction first: while some stick pair exceeds its cone, the tension of
+        // other pairs may come from that excess shear (a block tipped by a trial
+        // force friction cannot carry), so they are opened only once the stick
+        // pairs have slipped.
+        if violations.iter().any(|v| v.kind == ViolationKind::Friction) {
+            for v in &violations {
+                if v.kind == ViolationKind::Tension && next[v.interface][v.pair] == PairState::Open
+                {
+                    next[v.interface][v.pair] = states[v.interface][v.pair];
+                }
+            }
+        }
         LawCheck {
             next,
             violations,
@@ -772,7 +817,7 @@ impl<'a> Solver<'a> {
         }
         let (mut u, mut f_int, method) = first;
         for _ in 0..MAX_FIXED_POINT {
-            let tol = self.settings.force_tolerance * self.load_scale(lambda, &f_int, &u);
+            let tol = FIXED_POINT_TOLERANCE * self.load_scale(lambda, &f_int, &u);
             if self.update_right_hand_side(states, &u, tol) {
                 break;
             }
@@ -814,11 +859,19 @@ impl<'a> Solver<'a> {
                 }
                 if iface.law == Law::Coulomb {
                     let limit = iface.friction * (-f[0]).max(0.0);
-                    let target = limit * law.trial_shear(jump[1], h).signum();
-                    if state == PairState::Slip && (target - h.slip_force).abs() > tol {
+                    let trial = law.trial_shear(jump[1], h);
+                    let target = limit * trial.signum();
+                    // A slip pair whose trial force is inside the cone, or reverses
+                    // against its slip force, has no slip force to converge to in
+                    // this pattern: the law check makes it stick.
+                    let inside = state == PairState::Slip
+                        && (trial.abs() < limit || trial * h.slip_force < 0.0);
+                    if state == PairState::Slip && !inside && (target - h.slip_force).abs() > tol {
                         converged = false;
                     }
-                    h.slip_force = target;
+                    if !inside {
+                        h.slip_force = target;
+                    }
                 }
                 if augmented {
                     let stick = state == PairState::Bonded && law.penalties(state)[1] > 0.0;
@@ -850,6 +903,26 @@ impl<'a> Solver<'a> {
             self.history = next;
         }
         converged
+    }
+
+    /// Pairs of a Coulomb interface that close (open in `states`, bonded in `next`)
+    /// touch down where they are: their plastic slip becomes their tangential jump
+    /// in the solution `u`, so they close without tangential force.
+    fn touch_down(&mut self, states: &[Vec<PairState>], next: &[Vec<PairState>], u: &[f64]) {
+        if self.proportional {
+            return;
+        }
+        for (i, iface) in self.interfaces.iter().enumerate() {
+            if iface.law != Law::Coulomb {
+                continue;
+            }
+            for (k, c) in iface.elements.iter().enumerate() {
+                if states[i][k] == PairState::Open && next[i][k].is_closed() {
+                    let d = c.dofs(self.dofs, iface.host, iface.node_part).gather(u);
+                    self.history[i][k].slip = c.local_jump(&d)[1];
+                }
+            }
+        }
     }
 
     /// Ends an increment's history: a slipping Coulomb pair keeps its plastic slip

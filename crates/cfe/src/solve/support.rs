@@ -12,7 +12,8 @@ use crate::error::{Error, Result};
 use faer::{Mat, Side};
 
 /// Checks that the parts cannot move as rigid bodies under the supports and the
-/// bonded pairs in `states`. Returns an error naming every part that can.
+/// closed pairs in `states` (each along the directions its law stiffens).
+/// Returns an error naming every part that can.
 pub fn check(
     parts: &[Part],
     interfaces: &[Interface],
@@ -68,11 +69,18 @@ pub fn check(
     }
     for (iface, st) in interfaces.iter().zip(states) {
         let (h, q) = (iface.host, iface.node_part);
+        let law = iface.params();
         for (c, &s) in iface.elements.iter().zip(st) {
-            if s != PairState::Bonded {
-                continue;
-            }
-            for axis in AXES {
+            // A pair constrains the directions its penalties act in: both when
+            // bonded (x and y), the normal only when frictionless or slipping.
+            let [k_n, k_s] = law.penalties(s);
+            let directions: &[[f64; 2]] = match (k_n > 0.0, k_s > 0.0) {
+                (true, true) => &AXES,
+                (true, false) => &[c.normal],
+                (false, true) => &[[-c.normal[1], c.normal[0]]],
+                (false, false) => &[],
+            };
+            for &axis in directions {
                 let (rh, rq) = (row(h, c.position, axis), row(q, c.position, axis));
                 add(&[
                     (3 * q, rq[0]),

@@ -1,0 +1,725 @@
+//! Hertz contact of a cylinder on a block (plane strain, different materials),
+//! with the frictionless law: the contact half-width and the peak pressure
+//! against Hertz's closed form under refinement, the pressure profile against
+//! p₀√(1 − x²/a²), and the independence of the answer from the penalty c_n with
+//! augmented-Lagrangian enforcement.
+//!
+//! ```text
+//!              ↓ ↓ ↓ ↓  P′ on the diameter y = R ("load")
+//!        _______________________
+//!        \     cylinder (steel) /     node part: the arc's nodes within
+//!         '-._             _.-'       search_distance of the block's face pair
+//!   __________'-._______.-'__________  with it, at initial gap g₀ = R − √(R² − x²)
+//!  |     block (aluminium, host)     |
+//!  |_________________________________|  base clamped
+//! ```
+//!
+//! The meshes are examples/hertz/hertz.geo at n = 4, 8, 16, 32 elements per
+//! contact half-width a₀ = 1 mm (crates/cfe-tools/meshes/hertz_n*.msh; the
+//! example itself uses n = 10), graded from the contact outwards.
+//!
+//! **Extraction.** The pressure of a pair is its normal force over its tributary
+//! length on the cylinder's arc (half of each adjoining arc edge). a and p₀ come
+//! from a least-squares fit of p² = p₀² − (p₀²/a²)(x − x₀)² over the pairs carrying
+//! pressure, the outermost one on each side left out when there are more than
+//! ten ([`fit_ellipse`]); the
+//! "edge" half-width — from the outermost closed pair to half-way to its open
+//! neighbour ([`edge_half_width`]) — is shown beside it: it can only move in steps
+//! of the arc's spacing.
+
+use super::closed_forms::{
+    Fitted, contact_modulus, edge_half_width, fit_ellipse, hertz_half_width, hertz_peak,
+    hertz_pressure,
+};
+use super::{Case, Plot, Table, orders, prepare, sci, solve};
+use cfe::analysis::Analysis;
+use cfe::error::{Error, Result};
+use cfe::output::chart::Series;
+use cfe::solve::nonlinear::IncrementResult;
+use std::collections::HashMap;
+
+/// Cylinder (steel): E₁, ν₁.
+pub const CYLINDER: (f64, f64) = (210000.0, 0.3);
+/// Block (aluminium): E₂, ν₂.
+pub const BLOCK: (f64, f64) = (70000.0, 0.33);
+/// Cylinder radius.
+pub const R: f64 = 10.0;
+/// Load per unit length (N/mm).
+pub const LOAD: f64 = 4000.0;
+/// How far from the block's face the arc's nodes are paired (g₀ up to 0.5:
+/// |x| up to 3.2 mm, about 3.4 a).
+pub const SEARCH: f64 = 0.5;
+
+/// The mesh file of level n (elements per contact half-width).
+pub fn mesh_file(n: usize) -> String {
+    format!("{}/meshes/hertz_n{n}.msh", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Hertz's a and p₀ of the case.
+pub fn reference() -> (f64, f64) {
+    let es = contact_modulus(CYLINDER.0, CYLINDER.1, BLOCK.0, BLOCK.1);
+    let a = hertz_half_width(LOAD, R, es);
+    (a, hertz_peak(LOAD, a))
+}
+
+/// The problem at mesh level `n` with the interface's law and enforcement
+/// lines `law` (e.g. `law = "frictionless"`), cylinder material `cyl`, and the
+/// load `[q, −P′]` on the cylinder, the cylinder's axis held in x at `axis`
+/// (centre and bottom) when true.
+pub fn problem(n: usize, law: &str, cyl: (f64, f64), load: [f64; 2], axis: bool) -> String {
+    let file = mesh_file(n);
+    let axis_supports = if axis {
+        "[[support]]\npart = \"cylinder\"\nat = [0.0, 10.0]\nfix = [\"x\"]\n[[support]]\npart = \"cylinder\"\nat = [0.0, 0.0]\nfix = [\"x\"]\n"
+    } else {
+        ""
+    };
+    format!(
+        r#"plane = "strain"
+[materials.cyl]
+E = {:?}
+nu = {:?}
+[materials.block]
+E = {:?}
+nu = {:?}
+[[part]]
+name = "block"
+material = "block"
+gmsh = {{ file = "{file}", surfaces = ["block"] }}
+[[part]]
+name = "cylinder"
+material = "cyl"
+gmsh = {{ file = "{file}", surfaces = ["cylinder"] }}
+[[interface]]
+name = "contact"
+host = "block"
+nodes = "cylinder"
+boundary = "arc"
+search_distance = {SEARCH:?}
+{law}
+[[support]]
+part = "block"
+boundary = "base"
+fix = ["x", "y"]
+{axis_supports}[[load]]
+part = "cylinder"
+boundary = "load"
+force = [{:?}, {:?}]
+[analysis]
+increments = 1
+"#,
+        cyl.0, cyl.1, BLOCK.0, BLOCK.1, load[0], load[1]
+    )
+}
+
+/// One pair on the arc: its position, normal force (compression positive),
+/// tangential force, tributary length, pressure and shear traction.
+#[derive(Debug, Clone, Copy)]
+pub struct ArcPair {
+    /// x of the coupling node.
+    pub x: f64,
+    /// Normal force on the cylinder (compression positive).
+    pub f_n: f64,
+    /// Tangential force on the cylinder.
+    pub f_s: f64,
+    /// Tributary length on the arc.
+    pub length: f64,
+    /// f_n / length.
+    pub pressure: f64,
+    /// f_s / length.
+    pub shear: f64,
+}
+
+/// Tributary lengths of the nodes of boundary `name` of part `part`: half of
+/// each adjoining boundary edge.
+pub fn tributary(a: &Analysis, part: usize, name: &str) -> Result<HashMap<usize, f64>> {
+    let m = &a.model.parts[part].mesh;
+    let edges = m
+        .boundaries
+        .get(name)
+        .ok_or_else(|| Error::Model(format!("no boundary '{name}'")))?;
+    let mut t = HashMap::new();
+    for e in edges {
+        let l = cfe::mesh::dist(m.nodes[e.nodes[0]], m.nodes[e.nodes[1]]);
+        for &n in &e.nodes {
+            *t.entry(n).or_insert(0.0) += l / 2.0;
+        }
+    }
+    Ok(t)
+}
+
+/// The pairs of the first interface at increment `inc`, sorted by x, with their
+/// pressure and shear from the forces and the tributary lengths on `boundary`.
+pub fn arc_pairs(a: &Analysis, inc: &IncrementResult, boundary: &str) -> Result<Vec<ArcPair>> {
+    let iface = &a.interfaces[0];
+    let trib = tributary(a, iface.node_part, boundary)?;
+    let mut out: Vec<ArcPair> = a
+        .pair_rows(inc)
+        .iter()
+        .filter(|r| r.interface == iface.name)
+        .map(|r| {
+            let length = trib.get(&r.node).copied().unwrap_or(f64::NAN);
+            ArcPair {
+                x: r.x,
+                f_n: r.force_n,
+                f_s: r.force_s,
+                length,
+                pressure: r.force_n / length,
+                shear: r.force_s / length,
+            }
+        })
+        .collect();
+    out.sort_by(|p, q| p.x.total_cmp(&q.x));
+    Ok(out)
+}
+
+/// What one Hertz run gives.
+#[derive(Debug, Clone)]
+pub struct HertzRun {
+    /// Mesh level.
+    pub n: usize,
+    /// Pairs (all, sorted by x).
+    pub pairs: Vec<ArcPair>,
+    /// The ellipse fit.
+    pub fit: Fitted,
+    /// The edge half-width.
+    pub edge: f64,
+    /// Σ f_n over the pairs.
+    pub total: f64,
+    /// Largest pair pressure.
+    pub p_max: f64,
+    /// Pairs carrying pressure.
+    pub closed: usize,
+    /// Linear solves of the run.
+    pub solves: usize,
+}
+
+/// Solves the problem `text` and measures it.
+pub fn measure(text: &str, n: usize) -> Result<HertzRun> {
+    let a = prepare(text)?;
+    let incs = solve(&a)?;
+    let inc = incs.last().expect("one increment");
+    let pairs = arc_pairs(&a, inc, "arc")?;
+    let pts: Vec<(f64, f64)> = pairs.iter().map(|p| (p.x, p.pressure.max(0.0))).collect();
+    let fit = fit_ellipse(&pts)
+        .ok_or_else(|| Error::Model("the Hertz pressure profile could not be fitted".into()))?;
+    Ok(HertzRun {
+        n,
+        edge: edge_half_width(&pts).unwrap_or(0.0),
+        total: pairs.iter().map(|p| p.f_n).sum(),
+        p_max: pairs.iter().map(|p| p.pressure).fold(0.0, f64::max),
+        closed: pairs.iter().filter(|p| p.pressure > 0.0).count(),
+        solves: incs.iter().map(|i| i.iterations).sum(),
+        pairs,
+        fit,
+    })
+}
+
+/// The frictionless law's lines.
+const FRICTIONLESS: &str = "law = \"frictionless\"";
+
+/// The Hertz convergence study.
+pub fn hertz(quick: bool) -> Result<Case> {
+    let levels: &[usize] = if quick { &[4, 8] } else { &[4, 8, 16, 32] };
+    let (a_ref, p0_ref) = reference();
+    let mut runs = Vec::new();
+    for &n in levels {
+        runs.push(measure(
+            &problem(n, FRICTIONLESS, CYLINDER, [0.0, -LOAD], true),
+            n,
+        )?);
+    }
+    let err_a: Vec<f64> = runs.iter().map(|r| r.fit.a / a_ref - 1.0).collect();
+    let err_p: Vec<f64> = runs.iter().map(|r| r.fit.p0 / p0_ref - 1.0).collect();
+    let (oa, op) = (orders(&err_a), orders(&err_p));
+    let mut table = Table {
+        caption: format!(
+            "Hertz under refinement: n elements per a₀ = 1 mm on the cylinder near the contact (h = 1/n; the block 1.25/n). a and p₀ from the least-squares fit of p² (module doc); the edge half-width from the outermost closed pair and half-way to its open neighbour; p_max the largest pair pressure. Hertz: a = {a_ref:.5}, p₀ = {p0_ref:.2}. Σ f_n is the pairs' total normal force against P′ = {LOAD}."
+        ),
+        header: [
+            "n",
+            "pairs closed",
+            "a (fit)",
+            "error",
+            "order",
+            "a (edge)",
+            "error",
+            "p₀ (fit)",
+            "error",
+            "order",
+            "p_max",
+            "error",
+            "Σ f_n / P′ − 1",
+            "solves",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows: Vec::new(),
+    };
+    for (i, r) in runs.iter().enumerate() {
+        table.rows.push(vec![
+            r.n.to_string(),
+            r.closed.to_string(),
+            format!("{:.5}", r.fit.a),
+            format!("{:+.2} %", 100.0 * err_a[i]),
+            oa[i].clone(),
+            format!("{:.5}", r.edge),
+            format!("{:+.2} %", 100.0 * (r.edge / a_ref - 1.0)),
+            format!("{:.1}", r.fit.p0),
+            format!("{:+.2} %", 100.0 * err_p[i]),
+            op[i].clone(),
+            format!("{:.1}", r.p_max),
+            format!("{:+.2} %", 100.0 * (r.p_max / p0_ref - 1.0)),
+            sci(r.total / LOAD - 1.0),
+            r.solves.to_string(),
+        ]);
+    }
+    let last = runs.len() - 1;
+    let within = err_a[last].abs() < 0.02 && err_p[last].abs() < 0.02;
+    let falling = err_a[last].abs() < err_a[0].abs() && err_p[last].abs() < err_p[0].abs();
+    let balanced = runs.iter().all(|r| (r.total / LOAD - 1.0).abs() < 1e-6);
+    let passed = within && falling && balanced;
+    let plots = vec![
+        profile_plot(&runs, a_ref, p0_ref),
+        Plot {
+            file: "hertz_convergence.png".into(),
+            title: "Hertz: errors of a and p₀ under refinement".into(),
+            x: "elements per a₀ (n)".into(),
+            y: "|relative error|".into(),
+            log: (true, true),
+            series: vec![
+                Series {
+                    name: "a (fit)".into(),
+                    points: runs
+                        .iter()
+                        .zip(&err_a)
+                        .map(|(r, e)| (r.n as f64, e.abs().max(1e-6)))
+                        .collect(),
+                    reference: false,
+                },
+                Series {
+                    name: "p₀ (fit)".into(),
+                    points: runs
+                        .iter()
+                        .zip(&err_p)
+                        .map(|(r, e)| (r.n as f64, e.abs().max(1e-6)))
+                        .collect(),
+                    reference: false,
+                },
+            ],
+        },
+    ];
+    Ok(Case {
+        title: "Hertz: cylinder on a block (frictionless, initial gaps)".into(),
+        setup: format!(
+            "A steel cylinder (E₁ = {}, ν₁ = {}, R = {R}) pressed on an aluminium block (E₂ = {}, ν₂ = {}, 40 × 20, base clamped) by P′ = {LOAD} N/mm, plane strain — examples/hertz/hertz.toml at mesh levels n = {:?} (Gmsh, hertz.geo; graded towards the contact). The cylinder's arc is the node part's boundary; `search_distance = {SEARCH}` pairs its nodes with the block's face at their initial gaps g₀ = R − √(R² − x²) (nodes not moved); law `frictionless`, default penalty. The cylinder's axis is held in x at its centre and bottom (symmetry). One increment (the active set finds the contact zone).\n\n```text\n              ↓ ↓ ↓ ↓  P′ on the diameter y = R\n        _______________________\n        \\     cylinder (steel) /\n         '-._             _.-'\n   __________'-._______.-'__________\n  |     block (aluminium, host)     |\n  |_________________________________|  base clamped\n```",
+            CYLINDER.0, CYLINDER.1, BLOCK.0, BLOCK.1, levels
+        ),
+        reference: format!(
+            "Hertz, plane strain (K. L. Johnson, *Contact Mechanics*, 1985, §4.2, §5.6): 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂, a = √(4P′R/(πE*)) = {a_ref:.5}, p₀ = 2P′/(πa) = {p0_ref:.2}, p(x) = p₀√(1 − x²/a²). a/R = {:.3}: the bodies are large against a, as the half-plane theory assumes.",
+            a_ref / R
+        ),
+        tables: vec![table],
+        plots,
+        verdict: format!(
+            "At the finest level (n = {}) a is off by {:+.2} % and p₀ by {:+.2} % (criterion 2 %), both errors smaller than at the coarsest level; the pairs carry P′ to {:.1e}. Pass criteria (2 % at the finest level, errors falling, load balanced): {}.",
+            runs[last].n,
+            100.0 * err_a[last],
+            100.0 * err_p[last],
+            runs.iter()
+                .map(|r| (r.total / LOAD - 1.0).abs())
+                .fold(0.0, f64::max),
+            if passed { "met" } else { "NOT met" }
+        ),
+        passed,
+    })
+}
+
+/// The pressure profiles of the runs against Hertz's ellipse.
+fn profile_plot(runs: &[HertzRun], a: f64, p0: f64) -> Plot {
+    let mut series: Vec<Series> = runs
+        .iter()
+        .map(|r| Series {
+            name: format!("n = {}", r.n),
+            points: r
+                .pairs
+                .iter()
+                .filter(|p| p.x.abs() < 1.5 * a)
+                .map(|p| (p.x, p.pressure))
+                .collect(),
+            reference: false,
+        })
+        .collect();
+    series.push(Series {
+        name: "Hertz p₀√(1 − x²/a²)".into(),
+        points: (0..=200)
+            .map(|i| {
+                let x = -1.5 * a + 3.0 * a * i as f64 / 200.0;
+                (x, hertz_pressure(x, a, p0))
+            })
+            .collect(),
+        reference: true,
+    });
+    Plot {
+        file: "hertz_pressure.png".into(),
+        title: "Hertz: contact pressure along the block's face".into(),
+        x: "x (mm)".into(),
+        y: "pressure (MPa)".into(),
+        log: (false, false),
+        series,
+    }
+}
+
+/// The penalties of the c_n study, as multiples of the block's E·t.
+const PENALTY_FACTORS: [f64; 5] = [1.0, 10.0, 100.0, 1000.0, 10000.0];
+/// The augmented-Lagrangian penetration tolerance of the c_n study (mm): 1e-4 of
+/// the cylinder's approach at the contact (about a²/(2R) ≈ 0.04 mm).
+pub const PENETRATION_TOLERANCE: f64 = 4e-6;
+
+/// Hertz's a and p₀ over four decades of c_n, with the penalty alone and with
+/// augmented-Lagrangian enforcement.
+pub fn penalty_independence(quick: bool) -> Result<Case> {
+    let n = if quick { 8 } else { 16 };
+    let (a_ref, p0_ref) = reference();
+    let mut table = Table {
+        caption: format!(
+            "Hertz at mesh level n = {n} with c_n = factor × E_block·t (E_block·t = {}), penalty alone and augmented Lagrangian (`enforcement = \"augmented\"`, `penetration_tolerance = {PENETRATION_TOLERANCE:e}` mm). a and p₀ by the fit of p²; spread = (largest − smallest)/Hertz over the factors.",
+            BLOCK.0
+        ),
+        header: [
+            "c_n / (E·t)",
+            "penalty: a",
+            "p₀",
+            "augmented: a",
+            "p₀",
+            "augmented: solves",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows: Vec::new(),
+    };
+    let mut pen = Vec::new();
+    let mut aug = Vec::new();
+    for f in PENALTY_FACTORS {
+        let c = f * BLOCK.0;
+        let p = measure(
+            &problem(
+                n,
+                &format!("{FRICTIONLESS}\nc_n = {c:e}"),
+                CYLINDER,
+                [0.0, -LOAD],
+                true,
+            ),
+            n,
+        )?;
+        let g = measure(
+            &problem(
+                n,
+                &format!(
+                    "{FRICTIONLESS}\nc_n = {c:e}\nenforcement = \"augmented\"\npenetration_tolerance = {PENETRATION_TOLERANCE:e}"
+                ),
+                CYLINDER,
+                [0.0, -LOAD],
+                true,
+            ),
+            n,
+        )?;
+        table.rows.push(vec![
+            format!("{f:e}"),
+            format!("{:.5}", p.fit.a),
+            format!("{:.1}", p.fit.p0),
+            format!("{:.5}", g.fit.a),
+            format!("{:.1}", g.fit.p0),
+            g.solves.to_string(),
+        ]);
+        pen.push(p);
+        aug.push(g);
+    }
+    let spread = |runs: &[HertzRun], f: fn(&HertzRun) -> f64, r: f64| {
+        let v: Vec<f64> = runs.iter().map(f).collect();
+        (v.iter().cloned().fold(f64::MIN, f64::max) - v.iter().cloned().fold(f64::MAX, f64::min))
+            / r
+    };
+    let (pa, pp) = (
+        spread(&pen, |r| r.fit.a, a_ref),
+        spread(&pen, |r| r.fit.p0, p0_ref),
+    );
+    let (ga, gp) = (
+        spread(&aug, |r| r.fit.a, a_ref),
+        spread(&aug, |r| r.fit.p0, p0_ref),
+    );
+    table.rows.push(vec![
+        "spread".into(),
+        format!("{:.2} %", 100.0 * pa),
+        format!("{:.2} %", 100.0 * pp),
+        format!("{:.3} %", 100.0 * ga),
+        format!("{:.3} %", 100.0 * gp),
+        String::new(),
+    ]);
+    // Converged augmented runs agree to well under the discretization error;
+    // the penalty alone drifts with c_n.
+    let passed = ga < 0.002 && gp < 0.002 && pa.max(pp) > ga.max(gp);
+    Ok(Case {
+        title: "Augmented Lagrangian: Hertz independent of c_n".into(),
+        setup: format!(
+            "The Hertz case (previous section) at mesh level n = {n}, frictionless, with c_n from 1 to 10⁴ × E·t of the block (four decades), solved with the penalty alone and with augmented-Lagrangian (Uzawa) iterations until the largest penetration is below {PENETRATION_TOLERANCE:e} mm."
+        ),
+        reference: "Once the augmented iterations converge the multipliers carry the contact force and the answer is that of exact enforcement, whatever c_n; the penalty alone leaves a penetration f_n/c_n, which softens the contact and widens it as c_n falls.".into(),
+        tables: vec![table],
+        plots: vec![],
+        verdict: format!(
+            "With augmented enforcement a and p₀ vary by {:.3} % and {:.3} % of Hertz's values over four decades of c_n (criterion 0.2 %); with the penalty alone by {:.2} % and {:.2} %: {}.",
+            100.0 * ga,
+            100.0 * gp,
+            100.0 * pa,
+            100.0 * pp,
+            if passed { "met" } else { "NOT met" }
+        ),
+        passed,
+    })
+}
+
+/// Friction coefficient of the Cattaneo–Mindlin case.
+pub const MU: f64 = 0.3;
+/// The sideways displacement of the cylinder's diameter at full load in the
+/// Cattaneo–Mindlin case (mm), ramped with the load factor.
+pub const SHIFT: f64 = 0.03;
+/// How far the cylinder's mesh is moved into the block for the Cattaneo–Mindlin
+/// case (mm): the normal load comes from this overlap (module doc of
+/// [`cattaneo_mindlin`]).
+pub const OVERLAP: f64 = 0.1;
+
+/// The Cattaneo–Mindlin problem at mesh level `n`: both parts steel (Dundurs'
+/// β = 0), the cylinder's mesh moved down by [`OVERLAP`] into the block, its
+/// diameter held in y and moved sideways by `shift` (ramped over `increments`),
+/// Coulomb friction μ. Returns the problem text and
+/// the meshes it names.
+pub fn cattaneo_problem(
+    n: usize,
+    shift: f64,
+    increments: usize,
+) -> Result<(String, std::collections::BTreeMap<String, cfe::mesh::Mesh>)> {
+    use cfe::mesh::gmsh::{GmshMesh, Group};
+    let gm = GmshMesh::read(std::path::Path::new(&mesh_file(n)))?;
+    let block = gm.part_mesh("block", Some(&[Group::Name("block".into())]))?;
+    let mut cyl = gm.part_mesh("cylinder", Some(&[Group::Name("cylinder".into())]))?;
+    for x in &mut cyl.nodes {
+        x[1] -= OVERLAP;
+    }
+    let text = format!(
+        r#"plane = "strain"
+[materials.steel]
+E = {:?}
+nu = {:?}
+[[part]]
+name = "block"
+material = "steel"
+[[part]]
+name = "cylinder"
+material = "steel"
+[[interface]]
+name = "contact"
+host = "block"
+nodes = "cylinder"
+boundary = "arc"
+law = "coulomb"
+friction = {MU:?}
+search_distance = {:?}
+[[support]]
+part = "block"
+boundary = "base"
+fix = ["x", "y"]
+[[support]]
+part = "cylinder"
+boundary = "load"
+fix = ["x", "y"]
+value = [{shift:?}, 0.0]
+[analysis]
+increments = {increments}
+"#,
+        CYLINDER.0,
+        CYLINDER.1,
+        SEARCH + OVERLAP
+    );
+    Ok((
+        text,
+        [("block".to_string(), block), ("cylinder".to_string(), cyl)]
+            .into_iter()
+            .collect(),
+    ))
+}
+
+/// Cattaneo–Mindlin partial slip: the normal contact first, then a tangential
+/// force Q < μP′ ramped up.
+///
+/// The problem file has no load stages: every load and prescribed displacement
+/// grows with the load factor. The normal load is therefore made by the
+/// geometry: the cylinder's mesh is moved [`OVERLAP`] into the block and its
+/// diameter held in y, so that the initial gaps (which are not scaled by the
+/// load factor) press it fully from the first increment, while the diameter's
+/// sideways displacement, the only load that grows, moves it from [`SHIFT`]/N to
+/// [`SHIFT`] over N increments; Q is the tangential force the pairs carry (a
+/// prescribed displacement rather than a force, so that the cylinder is held
+/// in x whatever the pairs' states during the iteration). With one material for
+/// both bodies (β = 0) the shear does not change the pressure, so P′ (the
+/// pairs' total normal force) stays as it is and Q grows monotonically, the
+/// loading of Cattaneo and Mindlin. (The first increment applies the overlap
+/// and 1/N of the shift together, a small departure from "P′ first".)
+pub fn cattaneo_mindlin(quick: bool) -> Result<Case> {
+    let (n, increments) = if quick { (8, 5) } else { (16, 10) };
+    let (text, meshes) = cattaneo_problem(n, SHIFT, increments)?;
+    let model = cfe::model::Model::from_str_with_meshes(
+        &text,
+        std::path::Path::new("cattaneo.toml"),
+        1,
+        meshes,
+    )?;
+    let a = Analysis::new(model)?;
+    let incs = solve(&a)?;
+    let inc = incs.last().expect("increments");
+    let pairs = arc_pairs(&a, inc, "arc")?;
+    let rows = a.pair_rows(inc);
+    let p_total: f64 = pairs.iter().map(|p| p.f_n).sum();
+    let q_total: f64 = pairs.iter().map(|p| p.f_s).sum();
+    let sign = q_total.signum();
+    // Q: the tangential force the pairs carry (= the diameter's x reaction).
+    let q = sign * q_total;
+    let es = contact_modulus(CYLINDER.0, CYLINDER.1, CYLINDER.0, CYLINDER.1);
+    let a_h = hertz_half_width(p_total, R, es);
+    let p0 = hertz_peak(p_total, a_h);
+    let c_ref = super::closed_forms::stick_half_width(a_h, q, MU, p_total);
+    // The stick zone: the bonded (sticking) pairs among the closed ones.
+    let mut by_x: Vec<(f64, cfe::coupling::PairState)> = rows
+        .iter()
+        .filter(|r| r.interface == "contact")
+        .map(|r| (r.x, r.state))
+        .collect();
+    by_x.sort_by(|p, q| p.0.total_cmp(&q.0));
+    let stick_pts: Vec<(f64, f64)> = by_x
+        .iter()
+        .map(|&(x, s)| {
+            (
+                x,
+                f64::from(u8::from(s == cfe::coupling::PairState::Bonded)),
+            )
+        })
+        .collect();
+    let c_h = edge_half_width(&stick_pts).unwrap_or(0.0);
+    let contact_pts: Vec<(f64, f64)> = pairs.iter().map(|p| (p.x, p.pressure.max(0.0))).collect();
+    let fit = fit_ellipse(&contact_pts)
+        .ok_or_else(|| Error::Model("the Cattaneo–Mindlin pressure could not be fitted".into()))?;
+    let slip_pairs = by_x
+        .iter()
+        .filter(|p| p.1 == cfe::coupling::PairState::Slip)
+        .count();
+    let stick_pairs = by_x
+        .iter()
+        .filter(|p| p.1 == cfe::coupling::PairState::Bonded)
+        .count();
+    // Shear profile error over the contact: RMS of (q_h − q) / (μ p₀).
+    let (mut e2, mut m) = (0.0, 0usize);
+    for p in pairs.iter().filter(|p| p.x.abs() < a_h) {
+        let exact = super::closed_forms::mindlin_shear(p.x, a_h, c_ref, MU, p0);
+        e2 += ((sign * p.shear - exact) / (MU * p0)).powi(2);
+        m += 1;
+    }
+    let rms = (e2 / m.max(1) as f64).sqrt();
+    let err_c = c_h / c_ref - 1.0;
+    let err_a = fit.a / a_h - 1.0;
+    let table = Table {
+        caption: format!(
+            "Cattaneo–Mindlin at mesh level n = {n}, μ = {MU}, after {increments} increments of Q. P′ = the pairs' total normal force; a, p₀, c from the closed forms with that P′; the stick half-width of the run from the outermost sticking pair to half-way to its slipping neighbour, each side; the shear error is the RMS of (q_h − q)/(μ p₀) over the pairs within |x| < a."
+        ),
+        header: [
+            "P′ (N/mm)",
+            "Q (N/mm)",
+            "Q/(μP′)",
+            "a Hertz",
+            "a (fit)",
+            "error",
+            "stick pairs",
+            "slip pairs",
+            "c closed form",
+            "c (run)",
+            "error",
+            "shear RMS error",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows: vec![vec![
+            format!("{p_total:.1}"),
+            format!("{q:.1}"),
+            format!("{:.3}", q / (MU * p_total)),
+            format!("{a_h:.4}"),
+            format!("{:.4}", fit.a),
+            format!("{:+.2} %", 100.0 * err_a),
+            stick_pairs.to_string(),
+            slip_pairs.to_string(),
+            format!("{c_ref:.4}"),
+            format!("{c_h:.4}"),
+            format!("{:+.2} %", 100.0 * err_c),
+            format!("{:.3}", rms),
+        ]],
+    };
+    let mut series = vec![
+        Series {
+            name: "shear q_h (pairs)".into(),
+            points: pairs
+                .iter()
+                .filter(|p| p.x.abs() < 1.3 * a_h)
+                .map(|p| (p.x, sign * p.shear))
+                .collect(),
+            reference: false,
+        },
+        Series {
+            name: "μ × pressure (pairs)".into(),
+            points: pairs
+                .iter()
+                .filter(|p| p.x.abs() < 1.3 * a_h)
+                .map(|p| (p.x, MU * p.pressure))
+                .collect(),
+            reference: false,
+        },
+    ];
+    series.push(Series {
+        name: "Cattaneo–Mindlin q(x)".into(),
+        points: (0..=300)
+            .map(|i| {
+                let x = -1.3 * a_h + 2.6 * a_h * i as f64 / 300.0;
+                (x, super::closed_forms::mindlin_shear(x, a_h, c_ref, MU, p0))
+            })
+            .collect(),
+        reference: true,
+    });
+    // The spacing of the arc's nodes near the contact is 1/n: c within two
+    // spacings, the shear within 15 % of μp₀ (RMS), partial slip.
+    let spacing = 1.0 / n as f64;
+    let passed = (c_h - c_ref).abs() < 2.0 * spacing + 1e-12
+        && rms < 0.15
+        && q < MU * p_total
+        && slip_pairs > 0
+        && stick_pairs > 0;
+    Ok(Case {
+        title: "Cattaneo–Mindlin: partial slip under a tangential load (Coulomb)".into(),
+        setup: format!(
+            "The Hertz cylinder and block (mesh level n = {n}), both steel (E = {}, ν = {}: Dundurs' β = 0, as the closed form assumes), Coulomb friction μ = {MU}. The problem file has no load stages, so the normal load comes from the geometry: the cylinder's mesh is moved {OVERLAP} mm into the block and its diameter is held in y, so the initial gaps press it from the first increment on (they are not scaled by the load factor); the diameter is moved sideways by up to {SHIFT} mm over {increments} increments (the only load that grows; Q is the tangential force the pairs carry, {q:.0} N/mm at the end). The first increment applies the overlap and 1/{increments} of the shift together — a small departure from \"P′ first, then Q\".",
+            CYLINDER.0, CYLINDER.1
+        ),
+        reference: "Cattaneo (1938) and Mindlin (1949), for cylinders in K. L. Johnson, *Contact Mechanics*, 1985, §7.1: stick for |x| < c = a√(1 − Q/(μP′)), slip beyond; q(x) = μp₀√(1 − x²/a²) − μp₀(c/a)√(1 − x²/c²) in the stick zone, μ p(x) in the slip zones (`closed_forms.rs`).".into(),
+        tables: vec![table],
+        plots: vec![Plot {
+            file: "cattaneo_mindlin_shear.png".into(),
+            title: "Cattaneo–Mindlin: shear traction along the contact".into(),
+            x: "x (mm)".into(),
+            y: "traction (MPa)".into(),
+            log: (false, false),
+            series,
+        }],
+        verdict: format!(
+            "The stick zone's half-width is {c_h:.4} against c = {c_ref:.4} ({:+.1} %, the pairs {spacing:.4} apart), with {stick_pairs} pairs sticking and {slip_pairs} slipping; the shear traction follows Cattaneo–Mindlin's profile with an RMS error of {:.1} % of μp₀; Pass criteria (c within two pair spacings, shear RMS below 15 % of μp₀, partial slip: Q < μP′ with pairs both sticking and slipping): {}.",
+            100.0 * err_c,
+            100.0 * rms,
+            if passed { "met" } else { "NOT met" }
+        ),
+        passed,
+    })
+}
