@@ -247,49 +247,65 @@ fn parse(text: &str) -> Result<Model, Error> {
 /// `coulomb`, finite and ≥ 0; `c_s = 0` only for `frictionless`;
 /// `search_distance` a finite length ≥ 0 and not on a rigid tie;
 /// `penetration_tolerance` only with augmented enforcement; unknown values of
-/// `law` and `enforcement` rejected — each a parse error naming the key.
+/// `law` and `enforcement` rejected — a parse error naming the key, or, for a
+/// value out of its range, an `Invalid` error with the key's path and line.
 #[test]
 fn bad_law_keys_are_typed_errors() {
     let tail = "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"y\"]";
-    for (keys, needle) in [
+    // (keys, the key an `Invalid` error names, or the words of a parse error)
+    enum Expect {
+        Parse(&'static str),
+        Invalid(&'static str),
+    }
+    use Expect::{Invalid, Parse};
+    for (keys, expect) in [
         (
             "law = \"frictionless\"\nfriction = 0.3",
-            "`friction` applies",
+            Parse("`friction` applies"),
         ),
-        ("law = \"coulomb\"", "needs `friction`"),
-        ("law = \"coulomb\"\nfriction = -0.1", "`friction` = -0.1"),
-        ("law = \"coulomb\"\nfriction = nan", "`friction` = NaN"),
-        ("law = \"contact\"\nc_s = 0.0", "c_s = 0 is allowed only"),
+        ("law = \"coulomb\"", Parse("needs `friction`")),
+        ("law = \"coulomb\"\nfriction = -0.1", Invalid("friction")),
+        ("law = \"coulomb\"\nfriction = nan", Invalid("friction")),
+        ("law = \"contact\"\nc_s = 0.0", Invalid("c_s")),
         (
             "law = \"contact\"\nsearch_distance = -1.0",
-            "`search_distance`",
+            Invalid("search_distance"),
         ),
         (
             "law = \"contact\"\nsearch_distance = inf",
-            "`search_distance`",
+            Invalid("search_distance"),
         ),
         (
             "law = \"rigid\"\nsearch_distance = 0.1",
-            "needs a contact law",
+            Parse("needs a contact law"),
         ),
         (
             "law = \"frictionless\"\npenetration_tolerance = 1e-6",
-            "`penetration_tolerance` applies",
+            Parse("`penetration_tolerance` applies"),
         ),
         (
             "law = \"frictionless\"\nenforcement = \"augmented\"\npenetration_tolerance = 0.0",
-            "`penetration_tolerance` = 0",
+            Invalid("penetration_tolerance"),
         ),
-        ("law = \"sticky\"", "unknown variant"),
-        ("enforcement = \"lagrange\"", "unknown variant"),
+        ("law = \"sticky\"", Parse("unknown variant")),
+        ("enforcement = \"lagrange\"", Parse("unknown variant")),
     ] {
         let text = block_on_layer(0.0, 1.0, keys, tail);
-        match parse(&text) {
-            Err(e @ Error::Parse { .. }) => {
+        match (parse(&text), expect) {
+            (Err(e @ Error::Parse { .. }), Parse(needle)) => {
                 let m = e.to_string();
                 assert!(m.contains(needle), "{keys}: {m}");
             }
-            other => panic!("{keys}: expected a parse error, got {other:?}"),
+            (Err(Error::Invalid { key, line, .. }), Invalid(name)) => {
+                assert!(key.ends_with(&format!(".{name}")), "{keys}: {key}");
+                let line = line.expect("the line of the value");
+                let at = text.lines().nth(line - 1).unwrap_or("");
+                assert!(
+                    at.trim_start().starts_with(name),
+                    "{keys}: line {line} is {at}"
+                );
+            }
+            (other, _) => panic!("{keys}: not the expected error: {other:?}"),
         }
     }
     // c_s = 0 (or absent) is fine for the frictionless law.
