@@ -2,13 +2,21 @@
 //! low-level API: the symbolic analysis (AMD ordering, elimination tree, supernodes)
 //! is computed once for the fixed pattern; each new set of values is refactorized
 //! into the same factor storage with the same scratch buffer, and solves reuse it.
+//!
+//! The factor is always supernodal (dense column blocks along the elimination
+//! tree), so a right-hand side with a few nonzeros can be forward-solved through
+//! the supernodes on the tree paths from its rows to the root only (see
+//! [`super::columns`]), and the cost of a factorization is known in flops before it
+//! is done ([`CholeskySolver::factor_flops`]).
 
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::SparseColMatRef;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSupernodalCholesky};
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
     factorize_symbolic_cholesky,
 };
 use faer::{Conj, MatMut, Par, Side};
@@ -21,6 +29,13 @@ pub struct CholeskySolver {
     scratch_req: StackReq,
     scratch_bytes: usize,
     factorized: bool,
+    /// Supernode of each (permuted) column.
+    supernode_of: Vec<u32>,
+    /// Parent of each supernode in the supernodal elimination tree (`usize::MAX`
+    /// for a root).
+    parent: Vec<usize>,
+    /// Flops of one numeric factorization.
+    factor_flops: f64,
     /// Number of numeric factorizations performed.
     pub factorizations: usize,
 }
@@ -50,18 +65,23 @@ impl CholeskySolver {
             }
             None => SymmetricOrdering::Amd,
         };
-        let symbolic = factorize_symbolic_cholesky(
-            k.symbolic(),
-            Side::Lower,
-            ordering,
-            CholeskySymbolicParams::default(),
-        )
-        .map_err(|e| Error::Singular(format!("symbolic analysis failed: {e:?}")))?;
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
+        let symbolic = factorize_symbolic_cholesky(k.symbolic(), Side::Lower, ordering, params)
+            .map_err(|e| Error::Singular(format!("symbolic analysis failed: {e:?}")))?;
         let par = Par::rayon(0);
         let req = StackReq::any_of(&[
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
             symbolic.solve_in_place_scratch::<f64>(1, par),
         ]);
+        let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
+            return Err(Error::Singular(
+                "the symbolic analysis did not give a supernodal factor".into(),
+            ));
+        };
+        let (supernode_of, parent, factor_flops) = tree(sn);
         Ok(CholeskySolver {
             factor: vec![0.0; symbolic.len_val()],
             symbolic,
@@ -69,8 +89,94 @@ impl CholeskySolver {
             scratch_req: req,
             scratch_bytes: req.size_bytes(),
             factorized: false,
+            supernode_of,
+            parent,
+            factor_flops,
             factorizations: 0,
         })
+    }
+
+    /// The supernodal structure of the factor.
+    pub fn supernodal(&self) -> &SymbolicSupernodalCholesky<usize> {
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => sn,
+            SymbolicCholeskyRaw::Simplicial(_) => unreachable!("forced supernodal"),
+        }
+    }
+
+    /// The numeric factor (after a successful [`CholeskySolver::factorize`]).
+    pub fn factor(&self) -> SupernodalLltRef<'_, usize, f64> {
+        assert!(
+            self.factorized,
+            "factor used before a successful factorization"
+        );
+        llt(&self.symbolic, &self.factor)
+    }
+
+    /// Supernode holding (permuted) column `j` of the factor.
+    pub fn supernode_of(&self, j: usize) -> usize {
+        self.supernode_of[j] as usize
+    }
+
+    /// Parent of supernode `s` in the supernodal elimination tree, if any.
+    pub fn parent(&self, s: usize) -> Option<usize> {
+        let p = self.parent[s];
+        (p != usize::MAX).then_some(p)
+    }
+
+    /// Position of original equation `e` in the elimination order.
+    pub fn permuted(&self, e: usize) -> usize {
+        match self.symbolic.perm() {
+            Some(p) => p.arrays().1[e],
+            None => e,
+        }
+    }
+
+    /// Flops of one numeric factorization (multiply–adds counted as two), from the
+    /// supernode sizes: a deterministic measure of its cost.
+    pub fn factor_flops(&self) -> f64 {
+        self.factor_flops
+    }
+
+    /// Flops of one solve with one right-hand side (forward and backward).
+    pub fn solve_flops(&self) -> f64 {
+        4.0 * self.factor_nnz() as f64
+    }
+
+    /// `z ← L⁻¹ P b`: permutes the original-order `b` into `z` and forward-solves.
+    pub fn forward(&mut self, b: &[f64], z: &mut [f64]) {
+        assert!(self.factorized, "solve before a successful factorization");
+        match self.symbolic.perm() {
+            Some(p) => {
+                for (zj, &o) in z.iter_mut().zip(p.arrays().0) {
+                    *zj = b[o];
+                }
+            }
+            None => z.copy_from_slice(b),
+        }
+        let l = llt(&self.symbolic, &self.factor);
+        let stack = MemStack::new(&mut self.scratch);
+        let n = z.len();
+        let z = MatMut::from_column_major_slice_mut(z, n, 1);
+        l.l_solve_with_conj(Conj::No, z, Par::Seq, stack);
+    }
+
+    /// `x ← Pᵀ L⁻ᵀ z`: backward-solves `z` in place and un-permutes it into `x`.
+    pub fn backward(&mut self, z: &mut [f64], x: &mut [f64]) {
+        assert!(self.factorized, "solve before a successful factorization");
+        let l = llt(&self.symbolic, &self.factor);
+        let stack = MemStack::new(&mut self.scratch);
+        let n = z.len();
+        let zm = MatMut::from_column_major_slice_mut(z, n, 1);
+        l.l_transpose_solve_with_conj(Conj::No, zm, Par::Seq, stack);
+        match self.symbolic.perm() {
+            Some(p) => {
+                for (&zj, &o) in z.iter().zip(p.arrays().0) {
+                    x[o] = zj;
+                }
+            }
+            None => x.copy_from_slice(z),
+        }
     }
 
     /// Number of nonzeros of the factor L.
@@ -142,6 +248,44 @@ impl CholeskySolver {
             stack,
         );
     }
+}
+
+/// The supernodal factor of `symbolic` with values `factor`.
+fn llt<'a>(
+    symbolic: &'a SymbolicCholesky<usize>,
+    factor: &'a [f64],
+) -> SupernodalLltRef<'a, usize, f64> {
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(sn) => SupernodalLltRef::new(sn, factor),
+        SymbolicCholeskyRaw::Simplicial(_) => unreachable!("forced supernodal"),
+    }
+}
+
+/// The supernode of every column, the parent of every supernode and the flops of
+/// a numeric factorization: per supernode of `c` columns and `p` rows below them,
+/// `c³/3` for its diagonal block, `c² p` for the panel and `c p²` for the update of
+/// its ancestors.
+fn tree(sn: &SymbolicSupernodalCholesky<usize>) -> (Vec<u32>, Vec<usize>, f64) {
+    let ns = sn.n_supernodes();
+    let mut supernode_of = vec![0u32; sn.nrows()];
+    for s in 0..ns {
+        for j in sn.supernode_begin()[s]..sn.supernode_end()[s] {
+            supernode_of[j] = s as u32;
+        }
+    }
+    let mut flops = 0.0;
+    let parent = (0..ns)
+        .map(|s| {
+            let pattern = sn.supernode(s).pattern();
+            let c = (sn.supernode_end()[s] - sn.supernode_begin()[s]) as f64;
+            let p = pattern.len() as f64;
+            flops += c * c * c / 3.0 + c * c * p + c * p * p;
+            pattern
+                .first()
+                .map_or(usize::MAX, |&r| supernode_of[r] as usize)
+        })
+        .collect();
+    (supernode_of, parent, flops)
 }
 
 #[cfg(test)]
