@@ -64,6 +64,9 @@ pub struct ContactSystem {
     columns: Columns,
     /// Weight ±c_k of each cached column.
     weights: Vec<f64>,
+    /// The last right-hand side `b` of an update and its `z = L⁻¹ P b` (the
+    /// iterations of an increment share their right-hand side).
+    forward: Option<(Vec<f64>, Vec<f64>)>,
     /// Largest memory for cached columns (bytes).
     budget: usize,
     /// When to update instead of refactorizing.
@@ -94,6 +97,7 @@ impl ContactSystem {
             cached: HashMap::new(),
             columns: Columns::default(),
             weights: Vec::new(),
+            forward: None,
             budget,
             policy: UpdatePolicy::Auto,
             factorizations: 0,
@@ -121,6 +125,7 @@ impl ContactSystem {
         self.cached.clear();
         self.columns.clear();
         self.weights.clear();
+        self.forward = None;
     }
 
     /// Solves `K(states) x = rhs` in place. A non-positive pivot returns the
@@ -200,9 +205,18 @@ impl ContactSystem {
             }
             self.weights.extend(weights);
         }
-        let n = rhs.len();
-        let mut z = vec![0.0; n];
-        self.chol.forward(rhs, &mut z);
+        let mut z = match self.forward.take() {
+            Some((b, z)) if b == rhs => {
+                self.forward = Some((b, z.clone()));
+                z
+            }
+            _ => {
+                let mut z = vec![0.0; rhs.len()];
+                self.chol.forward(rhs, &mut z);
+                self.forward = Some((rhs.to_vec(), z.clone()));
+                z
+            }
+        };
         // Woodbury on the columns of the flipped pairs.
         let idx: Vec<usize> = flips
             .iter()
