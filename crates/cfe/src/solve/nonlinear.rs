@@ -257,6 +257,12 @@ impl<'a> Solver<'a> {
         self.system.first_factor_seconds
     }
 
+    /// Flops of the factorizations, solves and update columns so far (counted from
+    /// the factor's supernodes, not measured).
+    pub fn solve_flops(&self) -> f64 {
+        self.system.flops
+    }
+
     /// Numeric factorizations and low-rank updates performed so far.
     pub fn solve_counts(&self) -> (usize, usize) {
         (self.system.factorizations, self.system.updates)
