@@ -269,9 +269,7 @@ fn tree(sn: &SymbolicSupernodalCholesky<usize>) -> (Vec<u32>, Vec<usize>, f64) {
     let ns = sn.n_supernodes();
     let mut supernode_of = vec![0u32; sn.nrows()];
     for s in 0..ns {
-        for j in sn.supernode_begin()[s]..sn.supernode_end()[s] {
-            supernode_of[j] = s as u32;
-        }
+        supernode_of[sn.supernode_begin()[s]..sn.supernode_end()[s]].fill(s as u32);
     }
     let mut flops = 0.0;
     let parent = (0..ns)
