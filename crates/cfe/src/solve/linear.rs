@@ -69,8 +69,23 @@ impl CholeskySolver {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
         };
-        let symbolic = factorize_symbolic_cholesky(k.symbolic(), Side::Lower, ordering, params)
-            .map_err(|e| Error::Singular(format!("symbolic analysis failed: {e:?}")))?;
+        let failed = |e| Error::Singular(format!("symbolic analysis failed: {e:?}"));
+        let mut symbolic = factorize_symbolic_cholesky(k.symbolic(), Side::Lower, ordering, params)
+            .map_err(failed)?;
+        if let (SymbolicCholeskyRaw::Simplicial(_), Some(p)) = (symbolic.raw(), symbolic.perm()) {
+            // AMD counted no flops (a diagonal matrix): faer then chooses a simplicial
+            // factor whatever the threshold. Its order given as a custom one is
+            // counted by columns, and the factor is supernodal.
+            let (fwd, inv) = (p.arrays().0.to_vec(), p.arrays().1.to_vec());
+            let custom = faer::perm::PermRef::new_checked(&fwd, &inv, fwd.len());
+            symbolic = factorize_symbolic_cholesky(
+                k.symbolic(),
+                Side::Lower,
+                SymmetricOrdering::Custom(custom),
+                params,
+            )
+            .map_err(failed)?;
+        }
         let par = Par::rayon(0);
         let req = StackReq::any_of(&[
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
@@ -94,6 +109,15 @@ impl CholeskySolver {
             factor_flops,
             factorizations: 0,
         })
+    }
+
+    /// Frees the factor's values and the scratch buffer (the symbolic analysis
+    /// stays): the next [`CholeskySolver::factorize`] allocates them again.
+    pub fn release(&mut self) {
+        self.factor = Vec::new();
+        self.scratch = MemBuffer::new(StackReq::EMPTY);
+        self.scratch_bytes = 0;
+        self.factorized = false;
     }
 
     /// The supernodal structure of the factor.
@@ -179,7 +203,7 @@ impl CholeskySolver {
         }
     }
 
-    /// Number of nonzeros of the factor L.
+    /// Number of values stored for the factor L (its supernodes' dense blocks).
     pub fn factor_nnz(&self) -> usize {
         self.symbolic.len_val()
     }
@@ -191,6 +215,13 @@ impl CholeskySolver {
         k: SparseColMatRef<'_, usize, f64>,
     ) -> std::result::Result<(), usize> {
         self.factorized = false;
+        if self.factor.len() != self.symbolic.len_val() {
+            self.factor = vec![0.0; self.symbolic.len_val()];
+        }
+        if self.scratch_bytes < self.scratch_req.size_bytes() {
+            self.scratch = MemBuffer::new(self.scratch_req);
+            self.scratch_bytes = self.scratch_req.size_bytes();
+        }
         let stack = MemStack::new(&mut self.scratch);
         let res = self.symbolic.factorize_numeric_llt(
             &mut self.factor,
@@ -233,7 +264,9 @@ impl CholeskySolver {
         if ncols == 0 {
             return;
         }
-        let par = Par::rayon(0);
+        // Few right-hand sides: the solve is bound by reading the factor, and the
+        // second thread would mostly wait (spinning) between small supernodes.
+        let par = if ncols >= 8 { Par::rayon(0) } else { Par::Seq };
         let req = self.symbolic.solve_in_place_scratch::<f64>(ncols, par);
         if req.size_bytes() > self.scratch_bytes {
             self.scratch = MemBuffer::new(req.or(self.scratch_req));

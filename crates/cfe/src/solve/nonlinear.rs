@@ -32,6 +32,8 @@
 //! starts from the pattern the previous one ended on needs no new solve: the law is
 //! homogeneous in the load, so a consistent pattern stays consistent and a settled
 //! one breaks the law by the same fraction of the load at every level (and is kept).
+//! So with `active-set` the factorization is freed once an increment has converged,
+//! before its output is written (a later solve, if any, refactorizes).
 
 use super::linear::CholeskySolver;
 use super::ordering;
@@ -361,6 +363,13 @@ impl<'a> Solver<'a> {
                 }
             };
             self.check_precision(&result)?;
+            if self.settings.scheme == Scheme::ActiveSet {
+                // Loads are proportional, so the next increment starts from a pattern
+                // that holds at every load factor and is answered by scaling this
+                // solution: the factor is not needed again (were it needed, the next
+                // solve refactorizes). Free it before the increment is written.
+                self.system.release();
+            }
             on_increment(&result)?;
             // implex lags its states by design: only its final answer must obey the law.
             if self.settings.scheme == Scheme::ActiveSet || inc == n_inc {

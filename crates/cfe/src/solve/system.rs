@@ -128,6 +128,13 @@ impl ContactSystem {
         self.forward = None;
     }
 
+    /// Forgets the factorization and frees its memory (factor values, scratch,
+    /// correction columns); the next solve refactorizes.
+    pub fn release(&mut self) {
+        self.invalidate();
+        self.chol.release();
+    }
+
     /// Solves `K(states) x = rhs` in place. A non-positive pivot returns the
     /// equation where it occurred.
     pub fn solve(
