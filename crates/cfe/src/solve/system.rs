@@ -161,7 +161,8 @@ impl ContactSystem {
             .collect();
         if flips.is_empty() {
             let t = Instant::now();
-            self.chol.solve_in_place(rhs);
+            let mut z = self.forward_solve(rhs);
+            self.chol.backward(&mut z, rhs);
             self.solve_seconds += t.elapsed().as_secs_f64();
             self.flops += self.chol.solve_flops();
             return Ok(Method::Reuse);
@@ -212,18 +213,7 @@ impl ContactSystem {
             }
             self.weights.extend(weights);
         }
-        let mut z = match self.forward.take() {
-            Some((b, z)) if b == rhs => {
-                self.forward = Some((b, z.clone()));
-                z
-            }
-            _ => {
-                let mut z = vec![0.0; rhs.len()];
-                self.chol.forward(rhs, &mut z);
-                self.forward = Some((rhs.to_vec(), z.clone()));
-                z
-            }
-        };
+        let mut z = self.forward_solve(rhs);
         // Woodbury on the columns of the flipped pairs.
         let idx: Vec<usize> = flips
             .iter()
@@ -254,6 +244,20 @@ impl ContactSystem {
         Ok(Method::LowRank { rank: r })
     }
 
+    /// `z = L⁻¹ P b`, kept for the next solve with the same right-hand side (the
+    /// iterations of an increment share it).
+    fn forward_solve(&mut self, b: &[f64]) -> Vec<f64> {
+        if let Some((kept, z)) = &self.forward
+            && kept == b
+        {
+            return z.clone();
+        }
+        let mut z = vec![0.0; b.len()];
+        self.chol.forward(b, &mut z);
+        self.forward = Some((b.to_vec(), z.clone()));
+        z
+    }
+
     /// Rows of the factor on the supernodes of `path`.
     fn path_width(&self, path: &[u32]) -> usize {
         let sn = self.chol.supernodal();
@@ -280,7 +284,8 @@ impl ContactSystem {
         self.flops += self.chol.factor_flops() + self.chol.solve_flops();
         self.base = Some(states.to_vec());
         let t = Instant::now();
-        self.chol.solve_in_place(rhs);
+        let mut z = self.forward_solve(rhs);
+        self.chol.backward(&mut z, rhs);
         self.solve_seconds += t.elapsed().as_secs_f64();
         Ok(Method::Factorization)
     }
