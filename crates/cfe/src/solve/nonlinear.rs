@@ -711,9 +711,35 @@ impl<'a> Solver<'a> {
                 )));
             }
             let t = Instant::now();
-            let f_int =
+            let mut f_int =
                 assembly::internal_force(self.parts, self.interfaces, states, self.dofs, &u);
             self.timings.contact_update += t.elapsed().as_secs_f64();
+            if matches!(method, Method::LowRank { .. }) {
+                // One step of iterative refinement: the Woodbury correction of a
+                // stiff pair opening cancels large terms, and on soft models loses
+                // digits a factorization keeps; the residual's correction (the same
+                // update, one more forward and backward solve) restores them.
+                let mut r = vec![0.0; self.dofs.n_eq];
+                for (d, &e) in self.dofs.eq.iter().enumerate() {
+                    if e != FIXED {
+                        r[e] = lambda * self.f_ext[d] - f_int[d];
+                    }
+                }
+                self.system
+                    .solve(self.interfaces, self.dofs, states, &mut r)
+                    .map_err(|eq| self.pivot_error(eq, inc))?;
+                // Part of the same update, not another one.
+                self.system.updates -= 1;
+                for (d, &e) in self.dofs.eq.iter().enumerate() {
+                    if e != FIXED {
+                        u[d] += r[e];
+                    }
+                }
+                let t = Instant::now();
+                f_int =
+                    assembly::internal_force(self.parts, self.interfaces, states, self.dofs, &u);
+                self.timings.contact_update += t.elapsed().as_secs_f64();
+            }
             let residual = self.residual(lambda, &f_int, self.load_scale(lambda, &f_int));
             if residual > UPDATE_RESIDUAL_LIMIT
                 && matches!(method, Method::LowRank { .. })
