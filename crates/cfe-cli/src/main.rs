@@ -352,8 +352,14 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
         );
     }
     println!(
-        "  equilibrium error {:.2e}, total {:.3} s",
-        summary.equilibrium_error, summary.timings.total
+        "  equilibrium error {:.2e}, total {:.3} s{}",
+        summary.equilibrium_error,
+        summary.timings.total,
+        summary
+            .total_over_factorization
+            .map_or(String::new(), |r| format!(
+                " ({r:.2}× the numeric factorization)"
+            ))
     );
     println!("  status: {}", summary.status);
     // The last increment's warnings; earlier ones are in summary.json.

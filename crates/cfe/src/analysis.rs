@@ -397,6 +397,8 @@ impl Analysis {
         summary.timings.total =
             start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
         summary.peak_memory_bytes = peak_memory_bytes();
+        summary.solve_flops = solver.solve_flops();
+        summary.set_ratios();
         Ok(Results {
             pairs: self.pair_rows(&last),
             stresses,
@@ -462,6 +464,9 @@ impl Analysis {
             augmented_penetration: 0.0,
             notes: Vec::new(),
             peak_memory_bytes: None,
+            peak_over_factor: None,
+            solve_flops: 0.0,
+            total_over_factorization: None,
             timings: Timings {
                 meshing: self.timings.meshing,
                 pair_search: self.timings.pair_search,

@@ -1139,16 +1139,12 @@ fn line_of(text: &str, at: usize) -> usize {
     text[..at.min(text.len())].matches('\n').count() + 1
 }
 
-/// Memory per unknown of a contact run, bytes: the peak of the benchmark runs
-/// (factor, stiffness, update columns, stresses and output; 1.9–2.7 kB per unknown
-/// from 0.2 to 8 million unknowns), rounded up.
-const BYTES_PER_UNKNOWN: u64 = 3000;
-
 /// Refuses a model of `nodes` nodes (two unknowns each) whose estimated memory
-/// exceeds what the machine has available, before it is meshed.
+/// ([`crate::output::memory::estimated_peak_bytes`]) exceeds what the machine has
+/// available, before it is meshed.
 fn check_size(nodes: u64, refine: usize) -> Result<()> {
     let unknowns = nodes.saturating_mul(2);
-    let bytes = unknowns.saturating_mul(BYTES_PER_UNKNOWN);
+    let bytes = crate::output::memory::estimated_peak_bytes(unknowns);
     let Some(available) = crate::output::memory::available_memory_bytes() else {
         return Ok(());
     };

@@ -333,6 +333,7 @@ impl Analysis {
         summary.timings.solve = solver.timings.clone();
         (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
         summary.first_factorization_seconds = solver.first_factorization_seconds();
+        summary.solve_flops = solver.solve_flops();
         let r = r?;
         written.map(|_| r)
     }
@@ -444,6 +445,7 @@ impl Analysis {
         summary.timings.total =
             start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
         summary.peak_memory_bytes = peak_memory_bytes();
+        summary.set_ratios();
         report::write_json(&out.join("summary.json"), summary)?;
         self.timings = summary.timings.clone();
         Ok(summary.clone())

@@ -230,7 +230,18 @@ pub struct Reaction {
 }
 
 impl Summary {
-    /// The status of a run whose every increment converged: `completed` when no
+    /// Sets [`Summary::total_over_factorization`] and [`Summary::peak_over_factor`]
+    /// from the timings, the peak memory and the factor's size.
+    pub fn set_ratios(&mut self) {
+        let fact = self.timings.solve.factorization;
+        self.total_over_factorization = (fact > 0.0).then(|| self.timings.total / fact);
+        self.peak_over_factor = self
+            .peak_memory_bytes
+            .filter(|_| self.factor_nonzeros > 0)
+            .map(|b| b as f64 / (8.0 * self.factor_nonzeros as f64));
+    }
+
+    /// The status of a run whose increments all converged: `completed` unless an
     /// increment has a warning (a law violation or an imprecise solution), else
     /// `completed_with_violations`.
     pub fn final_status(&self) -> RunStatus {
@@ -321,6 +332,15 @@ pub struct Summary {
     pub notes: Vec<Warning>,
     /// Peak resident memory of the process (bytes; Linux).
     pub peak_memory_bytes: Option<u64>,
+    /// Peak memory relative to the Cholesky factor's values (8 bytes per nonzero).
+    pub peak_over_factor: Option<f64>,
+    /// Floating-point operations of the factorizations, solves and low-rank update
+    /// columns, counted from the factor's supernodes: the solver's work, the same
+    /// on every run of the same problem.
+    pub solve_flops: f64,
+    /// End-to-end time relative to the time in numeric factorizations (the floor of
+    /// a run: one factorization).
+    pub total_over_factorization: Option<f64>,
     /// Seconds per phase.
     pub timings: Timings,
 }

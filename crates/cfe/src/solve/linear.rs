@@ -2,13 +2,21 @@
 //! low-level API: the symbolic analysis (AMD ordering, elimination tree, supernodes)
 //! is computed once for the fixed pattern; each new set of values is refactorized
 //! into the same factor storage with the same scratch buffer, and solves reuse it.
+//!
+//! The factor is always supernodal (dense column blocks along the elimination
+//! tree), so a right-hand side with a few nonzeros can be forward-solved through
+//! the supernodes on the tree paths from its rows to the root only (see
+//! [`super::columns`]), and the cost of a factorization is known in flops before it
+//! is done ([`CholeskySolver::factor_flops`]).
 
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::SparseColMatRef;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSupernodalCholesky};
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
     factorize_symbolic_cholesky,
 };
 use faer::{Conj, MatMut, Par, Side};
@@ -21,6 +29,13 @@ pub struct CholeskySolver {
     scratch_req: StackReq,
     scratch_bytes: usize,
     factorized: bool,
+    /// Supernode of each (permuted) column.
+    supernode_of: Vec<u32>,
+    /// Parent of each supernode in the supernodal elimination tree (`usize::MAX`
+    /// for a root).
+    parent: Vec<usize>,
+    /// Flops of one numeric factorization.
+    factor_flops: f64,
     /// Number of numeric factorizations performed.
     pub factorizations: usize,
 }
@@ -50,18 +65,38 @@ impl CholeskySolver {
             }
             None => SymmetricOrdering::Amd,
         };
-        let symbolic = factorize_symbolic_cholesky(
-            k.symbolic(),
-            Side::Lower,
-            ordering,
-            CholeskySymbolicParams::default(),
-        )
-        .map_err(|e| Error::Singular(format!("symbolic analysis failed: {e:?}")))?;
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
+        let failed = |e| Error::Singular(format!("symbolic analysis failed: {e:?}"));
+        let mut symbolic = factorize_symbolic_cholesky(k.symbolic(), Side::Lower, ordering, params)
+            .map_err(failed)?;
+        if let (SymbolicCholeskyRaw::Simplicial(_), Some(p)) = (symbolic.raw(), symbolic.perm()) {
+            // AMD counted no flops (a diagonal matrix): faer then chooses a simplicial
+            // factor whatever the threshold. Its order given as a custom one is
+            // counted by columns, and the factor is supernodal.
+            let (fwd, inv) = (p.arrays().0.to_vec(), p.arrays().1.to_vec());
+            let custom = faer::perm::PermRef::new_checked(&fwd, &inv, fwd.len());
+            symbolic = factorize_symbolic_cholesky(
+                k.symbolic(),
+                Side::Lower,
+                SymmetricOrdering::Custom(custom),
+                params,
+            )
+            .map_err(failed)?;
+        }
         let par = Par::rayon(0);
         let req = StackReq::any_of(&[
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
             symbolic.solve_in_place_scratch::<f64>(1, par),
         ]);
+        let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
+            return Err(Error::Singular(
+                "the symbolic analysis did not give a supernodal factor".into(),
+            ));
+        };
+        let (supernode_of, parent, factor_flops) = tree(sn);
         Ok(CholeskySolver {
             factor: vec![0.0; symbolic.len_val()],
             symbolic,
@@ -69,11 +104,106 @@ impl CholeskySolver {
             scratch_req: req,
             scratch_bytes: req.size_bytes(),
             factorized: false,
+            supernode_of,
+            parent,
+            factor_flops,
             factorizations: 0,
         })
     }
 
-    /// Number of nonzeros of the factor L.
+    /// Frees the factor's values and the scratch buffer (the symbolic analysis
+    /// stays): the next [`CholeskySolver::factorize`] allocates them again.
+    pub fn release(&mut self) {
+        self.factor = Vec::new();
+        self.scratch = MemBuffer::new(StackReq::EMPTY);
+        self.scratch_bytes = 0;
+        self.factorized = false;
+    }
+
+    /// The supernodal structure of the factor.
+    pub fn supernodal(&self) -> &SymbolicSupernodalCholesky<usize> {
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => sn,
+            SymbolicCholeskyRaw::Simplicial(_) => unreachable!("forced supernodal"),
+        }
+    }
+
+    /// The numeric factor (after a successful [`CholeskySolver::factorize`]).
+    pub fn factor(&self) -> SupernodalLltRef<'_, usize, f64> {
+        assert!(
+            self.factorized,
+            "factor used before a successful factorization"
+        );
+        llt(&self.symbolic, &self.factor)
+    }
+
+    /// Supernode holding (permuted) column `j` of the factor.
+    pub fn supernode_of(&self, j: usize) -> usize {
+        self.supernode_of[j] as usize
+    }
+
+    /// Parent of supernode `s` in the supernodal elimination tree, if any.
+    pub fn parent(&self, s: usize) -> Option<usize> {
+        let p = self.parent[s];
+        (p != usize::MAX).then_some(p)
+    }
+
+    /// Position of original equation `e` in the elimination order.
+    pub fn permuted(&self, e: usize) -> usize {
+        match self.symbolic.perm() {
+            Some(p) => p.arrays().1[e],
+            None => e,
+        }
+    }
+
+    /// Flops of one numeric factorization (multiply–adds counted as two), from the
+    /// supernode sizes: a deterministic measure of its cost.
+    pub fn factor_flops(&self) -> f64 {
+        self.factor_flops
+    }
+
+    /// Flops of one solve with one right-hand side (forward and backward).
+    pub fn solve_flops(&self) -> f64 {
+        4.0 * self.factor_nnz() as f64
+    }
+
+    /// `z ← L⁻¹ P b`: permutes the original-order `b` into `z` and forward-solves.
+    pub fn forward(&mut self, b: &[f64], z: &mut [f64]) {
+        assert!(self.factorized, "solve before a successful factorization");
+        match self.symbolic.perm() {
+            Some(p) => {
+                for (zj, &o) in z.iter_mut().zip(p.arrays().0) {
+                    *zj = b[o];
+                }
+            }
+            None => z.copy_from_slice(b),
+        }
+        let l = llt(&self.symbolic, &self.factor);
+        let stack = MemStack::new(&mut self.scratch);
+        let n = z.len();
+        let z = MatMut::from_column_major_slice_mut(z, n, 1);
+        l.l_solve_with_conj(Conj::No, z, Par::Seq, stack);
+    }
+
+    /// `x ← Pᵀ L⁻ᵀ z`: backward-solves `z` in place and un-permutes it into `x`.
+    pub fn backward(&mut self, z: &mut [f64], x: &mut [f64]) {
+        assert!(self.factorized, "solve before a successful factorization");
+        let l = llt(&self.symbolic, &self.factor);
+        let stack = MemStack::new(&mut self.scratch);
+        let n = z.len();
+        let zm = MatMut::from_column_major_slice_mut(z, n, 1);
+        l.l_transpose_solve_with_conj(Conj::No, zm, Par::Seq, stack);
+        match self.symbolic.perm() {
+            Some(p) => {
+                for (&zj, &o) in z.iter().zip(p.arrays().0) {
+                    x[o] = zj;
+                }
+            }
+            None => x.copy_from_slice(z),
+        }
+    }
+
+    /// Number of values stored for the factor L (its supernodes' dense blocks).
     pub fn factor_nnz(&self) -> usize {
         self.symbolic.len_val()
     }
@@ -85,6 +215,13 @@ impl CholeskySolver {
         k: SparseColMatRef<'_, usize, f64>,
     ) -> std::result::Result<(), usize> {
         self.factorized = false;
+        if self.factor.len() != self.symbolic.len_val() {
+            self.factor = vec![0.0; self.symbolic.len_val()];
+        }
+        if self.scratch_bytes < self.scratch_req.size_bytes() {
+            self.scratch = MemBuffer::new(self.scratch_req);
+            self.scratch_bytes = self.scratch_req.size_bytes();
+        }
         let stack = MemStack::new(&mut self.scratch);
         let res = self.symbolic.factorize_numeric_llt(
             &mut self.factor,
@@ -127,7 +264,9 @@ impl CholeskySolver {
         if ncols == 0 {
             return;
         }
-        let par = Par::rayon(0);
+        // Few right-hand sides: the solve is bound by reading the factor, and the
+        // second thread would mostly wait (spinning) between small supernodes.
+        let par = if ncols >= 8 { Par::rayon(0) } else { Par::Seq };
         let req = self.symbolic.solve_in_place_scratch::<f64>(ncols, par);
         if req.size_bytes() > self.scratch_bytes {
             self.scratch = MemBuffer::new(req.or(self.scratch_req));
@@ -142,6 +281,42 @@ impl CholeskySolver {
             stack,
         );
     }
+}
+
+/// The supernodal factor of `symbolic` with values `factor`.
+fn llt<'a>(
+    symbolic: &'a SymbolicCholesky<usize>,
+    factor: &'a [f64],
+) -> SupernodalLltRef<'a, usize, f64> {
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(sn) => SupernodalLltRef::new(sn, factor),
+        SymbolicCholeskyRaw::Simplicial(_) => unreachable!("forced supernodal"),
+    }
+}
+
+/// The supernode of every column, the parent of every supernode and the flops of
+/// a numeric factorization: per supernode of `c` columns and `p` rows below them,
+/// `c³/3` for its diagonal block, `c² p` for the panel and `c p²` for the update of
+/// its ancestors.
+fn tree(sn: &SymbolicSupernodalCholesky<usize>) -> (Vec<u32>, Vec<usize>, f64) {
+    let ns = sn.n_supernodes();
+    let mut supernode_of = vec![0u32; sn.nrows()];
+    for s in 0..ns {
+        supernode_of[sn.supernode_begin()[s]..sn.supernode_end()[s]].fill(s as u32);
+    }
+    let mut flops = 0.0;
+    let parent = (0..ns)
+        .map(|s| {
+            let pattern = sn.supernode(s).pattern();
+            let c = (sn.supernode_end()[s] - sn.supernode_begin()[s]) as f64;
+            let p = pattern.len() as f64;
+            flops += c * c * c / 3.0 + c * c * p + c * p * p;
+            pattern
+                .first()
+                .map_or(usize::MAX, |&r| supernode_of[r] as usize)
+        })
+        .collect();
+    (supernode_of, parent, flops)
 }
 
 #[cfg(test)]

@@ -32,6 +32,8 @@
 //! starts from the pattern the previous one ended on needs no new solve: the law is
 //! homogeneous in the load, so a consistent pattern stays consistent and a settled
 //! one breaks the law by the same fraction of the load at every level (and is kept).
+//! So with `active-set` the factorization is freed once an increment has converged,
+//! before its output is written (a later solve, if any, refactorizes).
 
 use super::linear::CholeskySolver;
 use super::ordering;
@@ -334,6 +336,12 @@ impl<'a> Solver<'a> {
         }
     }
 
+    /// Flops of the factorizations, solves and update columns so far (counted from
+    /// the factor's supernodes, not measured).
+    pub fn solve_flops(&self) -> f64 {
+        self.system.flops
+    }
+
     /// Numeric factorizations and low-rank updates performed so far.
     pub fn solve_counts(&self) -> (usize, usize) {
         (self.system.factorizations, self.system.updates)
@@ -438,6 +446,15 @@ impl<'a> Solver<'a> {
             };
             self.commit_history(&mut result);
             self.check_precision(&result)?;
+            if self.settings.scheme == Scheme::ActiveSet && (self.proportional || inc == n_inc) {
+                // Loads are proportional, so the next increment starts from a pattern
+                // that holds at every load factor and is answered by scaling this
+                // solution: the factor is not needed again (were it needed, the next
+                // solve refactorizes). Free it before the increment is written. With
+                // initial gaps, friction or augmented enforcement every increment is
+                // solved, so the factor is kept until the last one.
+                self.system.release();
+            }
             on_increment(&result)?;
             // implex lags its states by design: only its final answer must obey the law.
             if self.settings.scheme == Scheme::ActiveSet || inc == n_inc {
@@ -1022,8 +1039,33 @@ impl<'a> Solver<'a> {
                 });
             }
             let t = Instant::now();
-            let f_int = self.internal_force(states, &u);
+            let mut f_int = self.internal_force(states, &u);
             self.timings.contact_update += t.elapsed().as_secs_f64();
+            if matches!(method, Method::LowRank { .. }) {
+                // One step of iterative refinement: the Woodbury correction of a
+                // stiff pair opening cancels large terms, and on soft models loses
+                // digits a factorization keeps; the residual's correction (the same
+                // update, one more forward and backward solve) restores them.
+                let mut r = vec![0.0; self.dofs.n_eq];
+                for (d, &e) in self.dofs.eq.iter().enumerate() {
+                    if e != FIXED {
+                        r[e] = lambda * self.f_ext[d] - f_int[d];
+                    }
+                }
+                self.system
+                    .solve(self.interfaces, self.dofs, states, &mut r)
+                    .map_err(|eq| self.pivot_error(eq, inc))?;
+                // Part of the same update, not another one.
+                self.system.updates -= 1;
+                for (d, &e) in self.dofs.eq.iter().enumerate() {
+                    if e != FIXED {
+                        u[d] += r[e];
+                    }
+                }
+                let t = Instant::now();
+                f_int = self.internal_force(states, &u);
+                self.timings.contact_update += t.elapsed().as_secs_f64();
+            }
             let residual = self.residual(lambda, &f_int, self.load_scale(lambda, &f_int, &u));
             if residual > UPDATE_RESIDUAL_LIMIT
                 && matches!(method, Method::LowRank { .. })

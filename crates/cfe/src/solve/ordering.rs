@@ -156,10 +156,33 @@ mod tests {
         }
         assert!(seen.iter().all(|&s| s));
         let k = crate::assembly::Stiffness::new(&parts, &dofs, &graph);
+        // Exact nonzeros of L: a simplicial symbolic factorization (the solver's
+        // supernodal one stores padded blocks).
         let nnz = |o: Option<&[usize]>| {
-            crate::solve::linear::CholeskySolver::new(k.matrix(), o)
+            use faer::sparse::linalg::SupernodalThreshold;
+            use faer::sparse::linalg::cholesky::{
+                CholeskySymbolicParams, SymmetricOrdering, factorize_symbolic_cholesky,
+            };
+            let inv: Vec<usize> = o.map_or(Vec::new(), |o| {
+                let mut inv = vec![0; o.len()];
+                for (new, &old) in o.iter().enumerate() {
+                    inv[old] = new;
+                }
+                inv
+            });
+            let ordering = match o {
+                Some(o) => {
+                    SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(o, &inv, o.len()))
+                }
+                None => SymmetricOrdering::Amd,
+            };
+            let params = CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+                ..Default::default()
+            };
+            factorize_symbolic_cholesky(k.matrix().symbolic(), faer::Side::Lower, ordering, params)
                 .unwrap()
-                .factor_nnz()
+                .len_val()
         };
         let natural: Vec<usize> = (0..dofs.n_eq).collect();
         let (nd, amd, nat) = (nnz(Some(&order)), nnz(None), nnz(Some(&natural)));

@@ -2,14 +2,18 @@
 //! work: the Cholesky factor of the stiffness for some *base* states is kept, and a
 //! new state set that differs from the base in a few pairs is solved by a low-rank
 //! (Sherman–Morrison–Woodbury) correction of that factor instead of a new
-//! factorization. A cost model chooses: refactorization costs one numeric
-//! factorization; an update costs two triangular solves per changed pair (cached
-//! between iterations) plus one. Each call reports what it did.
+//! factorization. A cost model in flops chooses (deterministic: the same choice on
+//! every run): refactorization costs one numeric factorization and a solve; an
+//! update costs the sparse forward solves of the correction columns not yet cached
+//! (two per changed pair, see [`super::columns`]), one solve of the right-hand side
+//! and a dense solve of the capacitance. Each call reports what it did.
 //!
 //! A CFE's stiffness is `K_e = Σ_k c_k w_k w_kᵀ` with `w_k = (R_k B_e)ᵀ` (k = n, s), so
-//! flipping a pair adds or removes a rank-2 term, and
-//! `K = K₀ + W Δ Wᵀ`, `K⁻¹ b = y − Z (Δ⁻¹ + Wᵀ Z)⁻¹ Wᵀ y`, with `y = K₀⁻¹ b`, `Z = K₀⁻¹ W`.
+//! flipping a pair adds or removes a rank-2 term, and with `K₀ = Pᵀ L Lᵀ P`,
+//! `K = K₀ + W Δ Wᵀ`, `V = L⁻¹ P W`, `z = L⁻¹ P b`:
+//! `K⁻¹ b = Pᵀ L⁻ᵀ (z − V t)`, `(Δ⁻¹ + VᵀV) t = Vᵀ z`.
 
+use super::columns::{Columns, SparseColumn};
 use super::linear::CholeskySolver;
 use crate::assembly::{DofMap, FIXED, Stiffness};
 use crate::coupling::{Interface, PairState, PairStates};
@@ -42,13 +46,10 @@ pub enum UpdatePolicy {
     Never,
 }
 
-/// One column of the correction: the free equations and values of `w_k` (its
-/// weight, the change of the penalty c_k between the base state and the current
-/// one, is taken at each solve).
-struct Column {
-    eq: Vec<usize>,
-    w: Vec<f64>,
-}
+/// A flop of a sparse forward solve of correction columns (small dense blocks,
+/// one thread) costs about this many flops of the numeric factorization (large
+/// blocks, all threads): measured on the plate on a base at 1 M unknowns.
+pub const UPDATE_FLOP_WEIGHT: f64 = 4.0;
 
 /// The stiffness, its factorization for the base states, and the cached
 /// low-rank correction columns.
@@ -57,15 +58,13 @@ pub struct ContactSystem {
     pub k: Stiffness,
     chol: CholeskySolver,
     base: Option<PairStates>,
-    /// Correction columns per changed pair (relative to `base`): (column index in `z`).
+    /// First of the two correction columns of each changed pair (relative to `base`).
     cached: HashMap<(usize, usize), usize>,
-    columns: Vec<Column>,
-    /// `Z = K₀⁻¹ W`, column-major, n × columns.len().
-    z: Vec<f64>,
-    /// Seconds of the last numeric factorization.
-    t_factor: f64,
-    /// Seconds per right-hand side of a multi-column solve.
-    t_column: f64,
+    /// `V = L⁻¹ P W` of the cached columns.
+    columns: Columns,
+    /// The last right-hand side `b` of an update and its `z = L⁻¹ P b` (the
+    /// iterations of an increment share their right-hand side).
+    forward: Option<(Vec<f64>, Vec<f64>)>,
     /// Largest memory for cached columns (bytes).
     budget: usize,
     /// When to update instead of refactorizing.
@@ -80,28 +79,30 @@ pub struct ContactSystem {
     pub first_factor_seconds: Option<f64>,
     /// Seconds in solves (including update columns).
     pub solve_seconds: f64,
+    /// Flops counted by the cost model for everything done so far (factorizations,
+    /// solves, update columns): the deterministic measure of the work.
+    pub flops: f64,
 }
 
 impl ContactSystem {
     /// Wraps the stiffness and its symbolic factorization.
     pub fn new(k: Stiffness, chol: CholeskySolver) -> Self {
-        let n = k.n();
+        let budget = (256usize << 20).max(8 * chol.factor_nnz() / 4);
         ContactSystem {
             k,
             chol,
             base: None,
             cached: HashMap::new(),
-            columns: Vec::new(),
-            z: Vec::new(),
-            t_factor: f64::INFINITY,
-            t_column: 0.0,
-            budget: (1usize << 30).max(64 * 8 * n),
+            columns: Columns::default(),
+            forward: None,
+            budget,
             policy: UpdatePolicy::Auto,
             factorizations: 0,
             updates: 0,
             factor_seconds: 0.0,
             first_factor_seconds: None,
             solve_seconds: 0.0,
+            flops: 0.0,
         }
     }
 
@@ -110,12 +111,24 @@ impl ContactSystem {
         self.chol.factor_nnz()
     }
 
+    /// Flops of one numeric factorization.
+    pub fn factor_flops(&self) -> f64 {
+        self.chol.factor_flops()
+    }
+
     /// Forgets the factorization, so the next solve refactorizes.
     pub fn invalidate(&mut self) {
         self.base = None;
         self.cached.clear();
         self.columns.clear();
-        self.z.clear();
+        self.forward = None;
+    }
+
+    /// Forgets the factorization and frees its memory (factor values, scratch,
+    /// correction columns); the next solve refactorizes.
+    pub fn release(&mut self) {
+        self.invalidate();
+        self.chol.release();
     }
 
     /// Solves `K(states) x = rhs` in place. A non-positive pivot returns the
@@ -127,7 +140,6 @@ impl ContactSystem {
         states: &[Vec<PairState>],
         rhs: &mut [f64],
     ) -> Result<Method, usize> {
-        let n = self.k.n();
         let Some(base) = &self.base else {
             return self.refactor_and_solve(interfaces, dofs, states, rhs);
         };
@@ -143,10 +155,21 @@ impl ContactSystem {
                     .map(move |(k, _)| (i, k))
             })
             .collect();
+        // The change of each flipped pair's penalties (c_n, c_s) from the base state.
+        let changes: Vec<[f64; 2]> = flips
+            .iter()
+            .map(|&(i, k)| {
+                let law = interfaces[i].elements[k].params(&interfaces[i].params());
+                let (now, was) = (law.penalties(states[i][k]), law.penalties(base[i][k]));
+                [now[0] - was[0], now[1] - was[1]]
+            })
+            .collect();
         if flips.is_empty() {
             let t = Instant::now();
-            self.chol.solve_in_place(rhs);
+            let mut z = self.forward_solve(rhs);
+            self.chol.backward(&mut z, rhs);
             self.solve_seconds += t.elapsed().as_secs_f64();
+            self.flops += self.chol.solve_flops();
             return Ok(Method::Reuse);
         }
         let new: Vec<(usize, usize)> = flips
@@ -154,54 +177,57 @@ impl ContactSystem {
             .copied()
             .filter(|p| !self.cached.contains_key(p))
             .collect();
-        let cost_update = (2 * new.len() + 1) as f64 * self.t_column.max(1e-9);
-        let memory = (self.columns.len() + 2 * new.len()) * n * 8;
+        let mut cols = Vec::with_capacity(2 * new.len());
+        for &(i, k) in &new {
+            for col in pair_columns(&interfaces[i], k, dofs) {
+                cols.push(SparseColumn {
+                    entries: col
+                        .eq
+                        .iter()
+                        .zip(&col.w)
+                        .map(|(&e, &w)| (self.chol.permuted(e), w))
+                        .collect(),
+                });
+            }
+        }
+        let paths: Vec<Vec<u32>> = cols.iter().map(|c| Columns::path(&self.chol, c)).collect();
+        let r = (2 * flips.len()) as f64;
+        let cost_update = self.columns.add_flops(&self.chol, &paths)
+            + self.chol.solve_flops()
+            + 2.0 / 3.0 * r * r * r;
+        let cost_factor = self.chol.factor_flops() + self.chol.solve_flops();
+        let memory = self.columns.bytes()
+            + 8 * paths.iter().map(|p| self.path_width(p)).sum::<usize>()
+            + 8 * (2 * self.cached.len() + cols.len()).pow(2);
         let cheaper = match self.policy {
-            UpdatePolicy::Auto => cost_update < self.t_factor,
+            UpdatePolicy::Auto => UPDATE_FLOP_WEIGHT * cost_update < cost_factor,
             UpdatePolicy::Always => true,
             UpdatePolicy::Never => false,
         };
         if !cheaper || memory > self.budget {
             return self.refactor_and_solve(interfaces, dofs, states, rhs);
         }
-        // New correction columns, solved in one blocked solve together with the
-        // right-hand side (y = K₀⁻¹ b).
         let t = Instant::now();
-        let first = self.columns.len();
-        for &(i, k) in &new {
-            self.cached.insert((i, k), self.columns.len());
-            let columns = pair_columns(&interfaces[i], k, dofs);
-            self.columns.extend(columns);
-        }
-        let added = self.columns.len() - first;
-        let start = self.z.len();
-        self.z.resize(start + (added + 1) * n, 0.0);
-        for (j, col) in self.columns[first..].iter().enumerate() {
-            for (&e, &w) in col.eq.iter().zip(&col.w) {
-                self.z[start + j * n + e] = w;
+        self.flops += cost_update;
+        if !cols.is_empty() {
+            let first = self.columns.add(&self.chol, &cols, paths);
+            for (j, &(i, k)) in new.iter().enumerate() {
+                self.cached.insert((i, k), first + 2 * j);
             }
         }
-        self.z[start + added * n..].copy_from_slice(rhs);
-        let ts = Instant::now();
-        self.chol.solve_columns(&mut self.z[start..], n, added + 1);
-        if added > 0 {
-            self.t_column = ts.elapsed().as_secs_f64() / (added + 1) as f64;
-        }
-        rhs.copy_from_slice(&self.z[start + added * n..]);
-        self.z.truncate(start + added * n);
+        let mut z = self.forward_solve(rhs);
         // Woodbury on the columns of the flipped pairs whose penalty changed (by
         // ±c_k: a pair bonding or opening changes both, a stick pair slipping or a
-        // frictionless pair closing only the normal one).
+        // frictionless pair closing only the normal one; a segment element's
+        // penalties include its weight).
         let mut idx: Vec<usize> = Vec::with_capacity(2 * flips.len());
         let mut weights: Vec<f64> = Vec::with_capacity(2 * flips.len());
-        for &(i, k) in &flips {
-            let law = interfaces[i].elements[k].params(&interfaces[i].params());
-            let (now, was) = (law.penalties(states[i][k]), law.penalties(base[i][k]));
-            let c = self.cached[&(i, k)];
-            for t in 0..2 {
-                if now[t] != was[t] {
+        for (p, change) in flips.iter().zip(&changes) {
+            let c = self.cached[p];
+            for (t, &dc) in change.iter().enumerate() {
+                if dc != 0.0 {
                     idx.push(c + t);
-                    weights.push(now[t] - was[t]);
+                    weights.push(dc);
                 }
             }
         }
@@ -209,11 +235,9 @@ impl ContactSystem {
         let mut m = faer::Mat::<f64>::zeros(r, r);
         let mut t_vec = faer::Mat::<f64>::zeros(r, 1);
         for (a, &ca) in idx.iter().enumerate() {
-            let col = &self.columns[ca];
-            t_vec[(a, 0)] = col.eq.iter().zip(&col.w).map(|(&e, &w)| w * rhs[e]).sum();
-            for (bcol, &cb) in idx.iter().enumerate() {
-                let zb = &self.z[cb * n..(cb + 1) * n];
-                m[(a, bcol)] = col.eq.iter().zip(&col.w).map(|(&e, &w)| w * zb[e]).sum();
+            t_vec[(a, 0)] = self.columns.dot(&self.chol, ca, &z);
+            for (b, &cb) in idx.iter().enumerate() {
+                m[(a, b)] = self.columns.gram(ca, cb);
             }
             m[(a, a)] += 1.0 / weights[a];
         }
@@ -221,15 +245,34 @@ impl ContactSystem {
         use faer::linalg::solvers::Solve;
         lu.solve_in_place(&mut t_vec);
         for (a, &ca) in idx.iter().enumerate() {
-            let v = t_vec[(a, 0)];
-            let za = &self.z[ca * n..(ca + 1) * n];
-            for (x, z) in rhs.iter_mut().zip(za) {
-                *x -= v * z;
-            }
+            self.columns.subtract(&self.chol, ca, t_vec[(a, 0)], &mut z);
         }
+        self.chol.backward(&mut z, rhs);
         self.solve_seconds += t.elapsed().as_secs_f64();
         self.updates += 1;
         Ok(Method::LowRank { rank: r })
+    }
+
+    /// `z = L⁻¹ P b`, kept for the next solve with the same right-hand side (the
+    /// iterations of an increment share it).
+    fn forward_solve(&mut self, b: &[f64]) -> Vec<f64> {
+        if let Some((kept, z)) = &self.forward
+            && kept == b
+        {
+            return z.clone();
+        }
+        let mut z = vec![0.0; b.len()];
+        self.chol.forward(b, &mut z);
+        self.forward = Some((b.to_vec(), z.clone()));
+        z
+    }
+
+    /// Rows of the factor on the supernodes of `path`.
+    fn path_width(&self, path: &[u32]) -> usize {
+        let sn = self.chol.supernodal();
+        path.iter()
+            .map(|&s| sn.supernode_end()[s as usize] - sn.supernode_begin()[s as usize])
+            .sum()
     }
 
     fn refactor_and_solve(
@@ -243,26 +286,30 @@ impl ContactSystem {
         self.k.assemble(interfaces, states, dofs);
         let t = Instant::now();
         self.chol.factorize(self.k.matrix())?;
-        self.t_factor = t.elapsed().as_secs_f64();
-        self.factor_seconds += self.t_factor;
-        self.first_factor_seconds.get_or_insert(self.t_factor);
+        let dt = t.elapsed().as_secs_f64();
+        self.factor_seconds += dt;
+        self.first_factor_seconds.get_or_insert(dt);
         self.factorizations += 1;
+        self.flops += self.chol.factor_flops() + self.chol.solve_flops();
         self.base = Some(states.to_vec());
         let t = Instant::now();
-        self.chol.solve_in_place(rhs);
-        let dt = t.elapsed().as_secs_f64();
-        self.solve_seconds += dt;
-        if self.t_column == 0.0 {
-            // Until a multi-column solve is timed: a column of a blocked solve costs
-            // about a third of a single solve.
-            self.t_column = dt / 3.0;
-        }
+        let mut z = self.forward_solve(rhs);
+        self.chol.backward(&mut z, rhs);
+        self.solve_seconds += t.elapsed().as_secs_f64();
         Ok(Method::Factorization)
     }
 }
 
+/// One correction column: the free equations and values of `w_k`.
+struct Column {
+    eq: Vec<usize>,
+    w: Vec<f64>,
+}
+
 /// The two correction columns (normal, tangential) of pair `k` of `iface`: the
-/// element's rank-2 terms `w_k` restricted to the free equations.
+/// element's rank-2 terms `w_k` restricted to the free equations (their weights,
+/// the change of the penalty c_k between the base state and the current one, are
+/// taken at each solve).
 fn pair_columns(iface: &Interface, k: usize, dofs: &DofMap) -> [Column; 2] {
     let c = &iface.elements[k];
     let g = c.dofs(dofs, iface.host, iface.node_part);

@@ -1,0 +1,280 @@
+//! Sparse forward solves of the low-rank correction columns, and their Gram matrix.
+//!
+//! With `K₀ = Pᵀ L Lᵀ P`, the Woodbury capacitance of a correction `W Δ Wᵀ` is
+//! `Wᵀ K₀⁻¹ W = Vᵀ V` with `V = L⁻¹ P W`. A column `w` of a coupling element has at
+//! most ten nonzeros, and `L⁻¹ w` is nonzero only on the supernodes on the paths of
+//! the elimination tree from those rows to the root: each column is forward-solved
+//! through those supernodes only, all new columns together supernode by supernode
+//! (a small dense triangular solve and product per supernode), and stored on them
+//! only. The Gram matrix `G = VᵀV` of every stored column is accumulated on the way
+//! (columns meet only on the supernodes they share). A solve then needs one full
+//! forward and backward solve of the right-hand side, `Vᵀ z` and `z − V t` on the
+//! stored supernodes, and a small dense solve: see [`super::system`].
+//!
+//! Every cost is counted in flops from the supernode sizes, so the choice between
+//! an update and a refactorization is the same on every run and every machine.
+
+use super::linear::CholeskySolver;
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::{Accum, Mat, MatMut, MatRef, Par};
+
+/// The columns stored on one supernode: their indices and values (supernode
+/// width × number of columns, column-major).
+#[derive(Default)]
+struct Block {
+    cols: Vec<u32>,
+    vals: Vec<f64>,
+}
+
+/// Forward-solved correction columns `V = L⁻¹ P W` on their supernodes, and `VᵀV`.
+#[derive(Default)]
+pub struct Columns {
+    blocks: Vec<Block>,
+    /// Supernodes holding some column (to clear them).
+    touched: Vec<usize>,
+    /// Per column: (supernode, position in its block), sorted by supernode.
+    paths: Vec<Vec<(u32, u32)>>,
+    /// `G = VᵀV` of the stored columns (row-major, `len() × len()`).
+    gram: Vec<f64>,
+    /// Values stored on all supernodes.
+    stored: usize,
+}
+
+/// A new column: its nonzero rows in the elimination order and their values.
+pub struct SparseColumn {
+    /// (permuted row, value) pairs.
+    pub entries: Vec<(usize, f64)>,
+}
+
+impl Columns {
+    /// Number of stored columns.
+    #[allow(dead_code)]
+    pub fn len(&self) -> usize {
+        self.paths.len()
+    }
+
+    /// True when no column is stored.
+    #[allow(dead_code)]
+    pub fn is_empty(&self) -> bool {
+        self.paths.is_empty()
+    }
+
+    /// Bytes of the stored values.
+    pub fn bytes(&self) -> usize {
+        8 * (self.stored + self.gram.len())
+    }
+
+    /// Forgets every column.
+    pub fn clear(&mut self) {
+        for &s in &self.touched {
+            self.blocks[s] = Block::default();
+        }
+        self.touched.clear();
+        self.paths.clear();
+        self.gram.clear();
+        self.stored = 0;
+    }
+
+    /// The supernodes on the tree paths from the rows of `col` to the root, sorted.
+    pub fn path(chol: &CholeskySolver, col: &SparseColumn) -> Vec<u32> {
+        let mut path: Vec<u32> = Vec::new();
+        for &(r, _) in &col.entries {
+            let mut s = Some(chol.supernode_of(r));
+            while let Some(t) = s {
+                path.push(t as u32);
+                s = chol.parent(t);
+            }
+        }
+        path.sort_unstable();
+        path.dedup();
+        path
+    }
+
+    /// Flops to add columns with these paths: per column and supernode of width
+    /// `c` with `p` rows below, `c²` (triangular solve) + `2 c p` (update of the
+    /// ancestors); per supernode `2 c m_new m_all` for the Gram matrix.
+    pub fn add_flops(&self, chol: &CholeskySolver, paths: &[Vec<u32>]) -> f64 {
+        let mut new_at: std::collections::HashMap<u32, usize> = Default::default();
+        let mut flops = 0.0;
+        for path in paths {
+            for &s in path {
+                let (c, p) = width(chol, s as usize);
+                flops += c * c + 2.0 * c * p;
+                *new_at.entry(s).or_default() += 1;
+            }
+        }
+        for (s, m_new) in new_at {
+            let (c, _) = width(chol, s as usize);
+            let m_all = self.blocks.get(s as usize).map_or(0, |b| b.cols.len()) + m_new;
+            flops += 2.0 * c * (m_new * m_all) as f64;
+        }
+        flops
+    }
+
+    /// Forward-solves the new columns (with their `paths` from [`Columns::path`])
+    /// through the factor of `chol`, stores them and extends the Gram matrix.
+    /// Returns the index of the first new column.
+    pub fn add(
+        &mut self,
+        chol: &CholeskySolver,
+        cols: &[SparseColumn],
+        paths: Vec<Vec<u32>>,
+    ) -> usize {
+        let sn = chol.supernodal();
+        if self.blocks.len() != sn.n_supernodes() {
+            self.blocks = (0..sn.n_supernodes()).map(|_| Block::default()).collect();
+            self.touched.clear();
+        }
+        let first = self.paths.len();
+        let mut union: Vec<usize> = Vec::new();
+        for path in paths {
+            let j = self.paths.len() as u32;
+            let mut placed = Vec::with_capacity(path.len());
+            for s in path {
+                let su = s as usize;
+                let blk = &mut self.blocks[su];
+                if blk.cols.is_empty() {
+                    self.touched.push(su);
+                }
+                if blk.cols.last().is_none_or(|&c| (c as usize) < first) {
+                    union.push(su);
+                }
+                let (c, _) = width(chol, su);
+                placed.push((s, blk.cols.len() as u32));
+                blk.cols.push(j);
+                blk.vals.resize(blk.vals.len() + c as usize, 0.0);
+                self.stored += c as usize;
+            }
+            self.paths.push(placed);
+        }
+        for (k, col) in cols.iter().enumerate() {
+            let j = first + k;
+            for &(r, w) in &col.entries {
+                let s = chol.supernode_of(r);
+                let pos = self.position(j, s);
+                let begin = sn.supernode_begin()[s];
+                let c = sn.supernode_end()[s] - begin;
+                self.blocks[s].vals[pos * c + r - begin] += w;
+            }
+        }
+        union.sort_unstable();
+        let m = self.paths.len();
+        let mut gram = vec![0.0; m * m];
+        for (a, row) in self.gram.chunks_exact(first.max(1)).enumerate().take(first) {
+            gram[a * m..a * m + first].copy_from_slice(row);
+        }
+        self.gram = gram;
+        let l = chol.factor();
+        for s in union {
+            let mut blk = std::mem::take(&mut self.blocks[s]);
+            let node = l.supernode(s);
+            let lv = node.val();
+            let c = lv.ncols();
+            let m_all = blk.cols.len();
+            let tail = blk.cols.partition_point(|&j| (j as usize) < first);
+            let m_new = m_all - tail;
+            {
+                let x = MatMut::from_column_major_slice_mut(&mut blk.vals[tail * c..], c, m_new);
+                let (top, _) = lv.split_at_row(c);
+                solve_lower_triangular_in_place(top, x, Par::Seq);
+            }
+            let x_new = MatRef::from_column_major_slice(&blk.vals[tail * c..], c, m_new);
+            let pattern = node.pattern();
+            if !pattern.is_empty() {
+                let (_, bottom) = lv.split_at_row(c);
+                let mut tmp = Mat::<f64>::zeros(pattern.len(), m_new);
+                matmul(tmp.as_mut(), Accum::Replace, bottom, x_new, 1.0, Par::Seq);
+                let mut i = 0;
+                while i < pattern.len() {
+                    let t = chol.supernode_of(pattern[i]);
+                    let begin = sn.supernode_begin()[t];
+                    let end = sn.supernode_end()[t];
+                    let run = pattern[i..].partition_point(|&r| r < end);
+                    let ct = end - begin;
+                    for k in 0..m_new {
+                        let j = blk.cols[tail + k] as usize;
+                        let pos = self.position(j, t);
+                        let dst = &mut self.blocks[t].vals[pos * ct..(pos + 1) * ct];
+                        for (q, &r) in pattern[i..i + run].iter().enumerate() {
+                            dst[r - begin] -= tmp[(i + q, k)];
+                        }
+                    }
+                    i += run;
+                }
+            }
+            let x_all = MatRef::from_column_major_slice(&blk.vals, c, m_all);
+            let mut h = Mat::<f64>::zeros(m_new, m_all);
+            matmul(
+                h.as_mut(),
+                Accum::Replace,
+                x_new.transpose(),
+                x_all,
+                1.0,
+                Par::Seq,
+            );
+            for a in 0..m_new {
+                let ja = blk.cols[tail + a] as usize;
+                for (k, &jk) in blk.cols.iter().enumerate() {
+                    let jk = jk as usize;
+                    self.gram[ja * m + jk] += h[(a, k)];
+                    if jk < first {
+                        self.gram[jk * m + ja] += h[(a, k)];
+                    }
+                }
+            }
+            self.blocks[s] = blk;
+        }
+        first
+    }
+
+    /// `G[a, b] = v_aᵀ v_b`.
+    pub fn gram(&self, a: usize, b: usize) -> f64 {
+        self.gram[a * self.paths.len() + b]
+    }
+
+    /// `v_jᵀ z` for a vector `z` in the elimination order.
+    pub fn dot(&self, chol: &CholeskySolver, j: usize, z: &[f64]) -> f64 {
+        let begin = chol.supernodal().supernode_begin();
+        self.paths[j]
+            .iter()
+            .map(|&(s, pos)| {
+                let (s, pos) = (s as usize, pos as usize);
+                let b = begin[s];
+                let c = chol.supernodal().supernode_end()[s] - b;
+                let v = &self.blocks[s].vals[pos * c..(pos + 1) * c];
+                v.iter().zip(&z[b..b + c]).map(|(x, y)| x * y).sum::<f64>()
+            })
+            .sum()
+    }
+
+    /// `z ← z − a v_j`.
+    pub fn subtract(&self, chol: &CholeskySolver, j: usize, a: f64, z: &mut [f64]) {
+        let sn = chol.supernodal();
+        for &(s, pos) in &self.paths[j] {
+            let (s, pos) = (s as usize, pos as usize);
+            let b = sn.supernode_begin()[s];
+            let c = sn.supernode_end()[s] - b;
+            let v = &self.blocks[s].vals[pos * c..(pos + 1) * c];
+            for (x, y) in z[b..b + c].iter_mut().zip(v) {
+                *x -= a * y;
+            }
+        }
+    }
+
+    /// Position of column `j` in the block of supernode `s` (on its path).
+    fn position(&self, j: usize, s: usize) -> usize {
+        let path = &self.paths[j];
+        let i = path
+            .binary_search_by_key(&(s as u32), |&(t, _)| t)
+            .expect("an ancestor of a column's supernode is on its path");
+        path[i].1 as usize
+    }
+}
+
+/// Width `c` and rows below `p` of supernode `s`.
+fn width(chol: &CholeskySolver, s: usize) -> (f64, f64) {
+    let sn = chol.supernodal();
+    let c = sn.supernode_end()[s] - sn.supernode_begin()[s];
+    (c as f64, sn.supernode(s).pattern().len() as f64)
+}
