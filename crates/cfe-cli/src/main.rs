@@ -24,6 +24,10 @@ enum LawArg {
     Rigid,
     /// Bonded in compression, open in tension.
     Contact,
+    /// Closed pairs resist penetration only; no tangential force.
+    Frictionless,
+    /// Stick, slip (|f_s| = μ f_n) or open; needs --friction.
+    Coulomb,
 }
 
 impl From<LawArg> for cfe::Law {
@@ -31,6 +35,8 @@ impl From<LawArg> for cfe::Law {
         match l {
             LawArg::Rigid => cfe::Law::Rigid,
             LawArg::Contact => cfe::Law::Contact,
+            LawArg::Frictionless => cfe::Law::Frictionless,
+            LawArg::Coulomb => cfe::Law::Coulomb,
         }
     }
 }
@@ -51,6 +57,9 @@ enum Command {
         /// Make every interface follow this law instead of the file's.
         #[arg(long, value_enum)]
         law: Option<LawArg>,
+        /// The friction coefficient μ with --law coulomb.
+        #[arg(long, value_name = "MU", required_if_eq("law", "coulomb"))]
+        friction: Option<f64>,
     },
     /// Benchmark: run a problem with the rigid and the contact law at growing
     /// refinement and write benchmarks.md and benchmarks.png.
@@ -175,7 +184,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             out,
             refine,
             law,
-        } => run_problem(&problem, out, refine, law),
+            friction,
+        } => run_problem(&problem, out, refine, law, friction),
     }
 }
 
@@ -206,6 +216,7 @@ fn run_problem(
     out: Option<PathBuf>,
     refine: usize,
     law: Option<LawArg>,
+    friction: Option<f64>,
 ) -> anyhow::Result<()> {
     let out = out.unwrap_or_else(|| {
         let stem = problem
@@ -215,8 +226,11 @@ fn run_problem(
         PathBuf::from("results").join(stem)
     });
     let mut a = Analysis::from_file(problem, refine)?;
-    if let Some(law) = law {
-        a.override_law(law.into());
+    match (law, friction) {
+        (Some(LawArg::Coulomb), Some(mu)) => a.override_friction(mu)?,
+        (_, Some(_)) => anyhow::bail!("--friction applies to --law coulomb only"),
+        (Some(law), None) => a.override_law(law.into()),
+        (None, None) => {}
     }
     eprint!("{}", a.describe());
     let bar = ProgressBar::new(a.model.settings.increments as u64);

@@ -67,3 +67,45 @@ fn segment_verification_cases_pass() {
         assert!(case.passed, "{}: {}", case.title, case.verdict);
     }
 }
+
+/// The segment coupling with the frictionless law passes the *contact* patch test
+/// (El-Abbasi & Bathe; Code_Aster SSNP121) on non-matching meshes: a uniform
+/// pressure crosses the interface between blocks of different Poisson's ratios
+/// with every pair's pressure (force / its share of the face) and the upper
+/// block's stress uniform to the penalty's accuracy, where the node CFE is off by
+/// per cents (verification case "frictionless patch test").
+#[test]
+fn segment_coupling_passes_the_frictionless_contact_patch_test() {
+    use cfe_tools::verification::fits::patch_problem;
+    use cfe_tools::verification::{prepare, solve};
+    let p = 5.0;
+    for (lower, upper) in [(3, 5), (4, 7)] {
+        let mut worst = [0.0f64; 2];
+        for (c, coupling) in ["segment", "node"].into_iter().enumerate() {
+            let text = patch_problem(lower, upper, "frictionless", p).replace(
+                "law = \"frictionless\"",
+                &format!("law = \"frictionless\"\ncoupling = \"{coupling}\""),
+            );
+            let a = prepare(&text).unwrap();
+            let inc = solve(&a).unwrap().pop().unwrap();
+            assert!(inc.violations.is_empty(), "{coupling}: {:?}", inc.violations);
+            let rows = a.pair_rows(&inc);
+            // Interior pairs (the two corner pairs of the node CFE carry the
+            // corner's averaged normal): every pair for the segment coupling.
+            for r in &rows {
+                let corner = r.x.abs() < 1e-9 || (r.x - 1.0).abs() < 1e-9;
+                if coupling == "node" && corner {
+                    continue;
+                }
+                worst[c] = worst[c].max((r.pressure / p - 1.0).abs());
+            }
+            let up = a.model.part_index("upper").unwrap();
+            for s in &a.recover(&inc.u)[up].element {
+                worst[c] = worst[c].max((s[1] / p + 1.0).abs());
+            }
+        }
+        eprintln!("{lower}:{upper}: segment {:.2e}, node {:.2e}", worst[0], worst[1]);
+        assert!(worst[0] < 1e-5, "{lower}:{upper}: segment {:e}", worst[0]);
+        assert!(worst[1] > 1e-3, "{lower}:{upper}: node CFE passes? {:e}", worst[1]);
+    }
+}

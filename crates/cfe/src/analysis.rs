@@ -181,6 +181,25 @@ impl Analysis {
         }
     }
 
+    /// Makes every interface follow the Coulomb law with friction coefficient `mu`
+    /// (e.g. a frictional variant of a model written for the seed's law). `mu` must
+    /// be finite and ≥ 0 ([`Error::Model`] otherwise).
+    pub fn override_friction(&mut self, mu: f64) -> Result<()> {
+        if !(mu.is_finite() && mu >= 0.0) {
+            return Err(Error::Model(format!(
+                "the friction coefficient must be finite and ≥ 0, not {mu}"
+            )));
+        }
+        self.override_law(Law::Coulomb);
+        for def in &mut self.model.interfaces {
+            def.friction = mu;
+        }
+        for iface in &mut self.interfaces {
+            iface.friction = mu;
+        }
+        Ok(())
+    }
+
     /// A human-readable description of the prepared model (for `cfe check`).
     pub fn describe(&self) -> String {
         use crate::output::fmt::{num, num_rel};
