@@ -681,8 +681,13 @@ class InterfaceResult:
     against the contact law to settle an active-set cycle) booleans, ``gap_n`` =
     [[u_n]] (> 0: separated), ``slip_s`` = [[u_s]], ``force_n`` (> 0: pressing)
     and ``force_s`` on the node part in the local frame, ``violation`` (0: the law
-    holds, 1: a bonded pair pulls, 2: an open pair penetrates) and
-    ``violation_amount`` (the tensile force, or the penetration depth)."""
+    holds, 1: a bonded pair pulls, 2: an open pair penetrates, 3: a stick pair
+    beyond μ f_n, 4: a slip pair off μ f_n) and ``violation_amount`` (the tensile
+    force, or the penetration depth). The contact laws add ``friction`` (μ),
+    ``unpaired`` (nodes beyond the search distance), ``gap0`` (initial normal
+    gap), ``gap`` (g0 + [[u_n]]), ``slip`` (the slip not carried elastically),
+    ``pressure`` and ``shear`` (forces / ``tributary`` length), and ``state``
+    (``"bonded"``, ``"open"`` or ``"slip"``)."""
 
     name: str
     host: str
@@ -702,6 +707,14 @@ class InterfaceResult:
     force_s: np.ndarray
     violation: np.ndarray
     violation_amount: np.ndarray
+    friction: float
+    unpaired: int
+    gap0: np.ndarray
+    gap: np.ndarray
+    slip: np.ndarray
+    pressure: np.ndarray
+    shear: np.ndarray
+    tributary: np.ndarray
     extra: Dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
@@ -716,7 +729,9 @@ class InterfaceResult:
 
     @property
     def state(self) -> np.ndarray:
-        """``"bonded"`` or ``"open"`` per pair."""
+        """``"bonded"``, ``"open"`` or ``"slip"`` per pair."""
+        if "state" in self.extra:
+            return np.array(self.extra["state"])
         return np.where(self.bonded, "bonded", "open")
 
     def __len__(self) -> int:

@@ -158,6 +158,14 @@ class InterfaceResult:
     force_s: _Floats
     violation: npt.NDArray[np.int32]
     violation_amount: _Floats
+    friction: float
+    unpaired: int
+    gap0: _Floats
+    gap: _Floats
+    slip: _Floats
+    pressure: _Floats
+    shear: _Floats
+    tributary: _Floats
     extra: Dict[str, npt.NDArray[Any]]
     @property
     def x(self) -> _Floats: ...

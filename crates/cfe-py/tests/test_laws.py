@@ -1,0 +1,66 @@
+"""The contact laws from Python (issue 12): an interference between a block and a
+stiff, rigidly supported layer found within a search distance gives the closed-form
+pressure p = E δ / L on every pair, with the initial gap, the pressure, the shear,
+the slip and the states in the result's arrays and the summary."""
+
+import numpy as np
+import pytest
+
+import cfe
+
+TEXT = """
+plane = "stress"
+[materials.soft]
+E = 1000.0
+nu = 0.3
+[materials.hard]
+E = 1.0e6
+nu = 0.3
+[[part]]
+name = "base"
+material = "hard"
+rectangle = { x = [-0.5, 1.5], y = [-0.1, 0.0], cells = [5, 1], elements = "q4" }
+[[part]]
+name = "block"
+material = "soft"
+rectangle = { x = [0.0, 1.0], y = [-0.01, 9.99], cells = [4, 8], elements = "q4" }
+[[interface]]
+name = "fit"
+host = "base"
+nodes = "block"
+boundary = "bottom"
+law = "frictionless"
+search_distance = 0.05
+[[support]]
+part = "base"
+boundary = "bottom"
+fix = ["x", "y"]
+[[support]]
+part = "block"
+boundary = "top"
+fix = ["y"]
+[[support]]
+part = "block"
+at = [0.0, 9.99]
+fix = ["x"]
+[analysis]
+increments = 1
+"""
+
+
+def test_interference_pressure_and_arrays():
+    result = cfe.Model.from_toml(TEXT).solve()
+    assert result.summary["status"] == "completed"
+    assert result.summary["proportional_shortcut"] is False
+    fit = result.interfaces["fit"]
+    p = 1000.0 * 0.01 / 10.0
+    assert fit.gap0 == pytest.approx(np.full(5, -0.01), abs=1e-12)
+    assert fit.pressure == pytest.approx(np.full(5, p), rel=1e-3)
+    assert np.all(fit.shear == 0.0)
+    assert list(fit.state) == ["bonded"] * 5
+    assert np.all(fit.gap == fit.gap0 + fit.gap_n)
+    assert fit.tributary == pytest.approx([0.125, 0.25, 0.25, 0.25, 0.125])
+    assert fit.slip.shape == (5,)
+    summary = result.summary["interfaces"][0]
+    assert summary["max_pressure"] == pytest.approx(p, rel=1e-3)
+    assert summary["unpaired"] == 0 and summary["contact_length"] == pytest.approx(1.0)
