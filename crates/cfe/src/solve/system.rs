@@ -62,8 +62,8 @@ pub struct ContactSystem {
     cached: HashMap<(usize, usize), usize>,
     /// `V = L⁻¹ P W` of the cached columns.
     columns: Columns,
-    /// The last right-hand side `b` of an update and its `z = L⁻¹ P b` (the
-    /// iterations of an increment share their right-hand side).
+    /// The first right-hand side `b` solved with the current factorization and its
+    /// `z = L⁻¹ P b` (the iterations of an increment share their right-hand side).
     forward: Option<(Vec<f64>, Vec<f64>)>,
     /// Largest memory for cached columns (bytes).
     budget: usize,
@@ -253,8 +253,9 @@ impl ContactSystem {
         Ok(Method::LowRank { rank: r })
     }
 
-    /// `z = L⁻¹ P b`, kept for the next solve with the same right-hand side (the
-    /// iterations of an increment share it).
+    /// `z = L⁻¹ P b`. The first right-hand side solved with a factorization is kept
+    /// with its `z` (the iterations of an increment share it; the residuals of
+    /// their refinement steps do not replace it).
     fn forward_solve(&mut self, b: &[f64]) -> Vec<f64> {
         if let Some((kept, z)) = &self.forward
             && kept == b
@@ -263,7 +264,9 @@ impl ContactSystem {
         }
         let mut z = vec![0.0; b.len()];
         self.chol.forward(b, &mut z);
-        self.forward = Some((b.to_vec(), z.clone()));
+        if self.forward.is_none() {
+            self.forward = Some((b.to_vec(), z.clone()));
+        }
         z
     }
 
