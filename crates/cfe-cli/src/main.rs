@@ -316,7 +316,7 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
     for i in &summary.interfaces {
         if i.law == cfe::Law::Frictionless || i.law == cfe::Law::Coulomb || i.unpaired > 0 {
             println!(
-                "  interface '{}' ({}{}): {} slipping, {} unpaired, max pressure {:.4e}, contact length {:.4e}",
+                "  interface '{}' ({}{}): {} slipping, {} unpaired, max pressure {}, contact length {}",
                 i.name,
                 i.law.as_str(),
                 if i.law == cfe::Law::Coulomb {
@@ -326,16 +326,16 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
                 },
                 i.slip,
                 i.unpaired,
-                i.max_pressure,
-                i.contact_length
+                num(i.max_pressure),
+                num(i.contact_length)
             );
         }
         if i.enforcement == cfe::Enforcement::Augmented {
             println!(
-                "  interface '{}': augmented Lagrangian, {} Uzawa/fixed-point solves, final penetration {:.3e}",
+                "  interface '{}': augmented Lagrangian, {} Uzawa/fixed-point solves, final penetration {}",
                 i.name,
                 summary.fixed_point_iterations.iter().sum::<usize>(),
-                summary.augmented_penetration
+                num(summary.augmented_penetration)
             );
         }
     }

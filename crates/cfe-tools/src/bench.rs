@@ -82,7 +82,13 @@ pub fn run(
         let child = Command::new(exe)
             .arg("run")
             .arg(problem)
-            .args(["--refine", &refine.to_string(), "--law", law, "--out"])
+            .args(["--refine", &refine.to_string(), "--law", law])
+            .args(if law == "coulomb" {
+                vec!["--friction".to_string(), FRICTION.to_string()]
+            } else {
+                vec![]
+            })
+            .arg("--out")
             .arg(&dir)
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::piped())
@@ -173,6 +179,26 @@ pub fn run(
             summary,
         });
     }
+    // One frictional run: the plate with the Coulomb law (μ = FRICTION), every
+    // increment solved (no proportional shortcut), at about a quarter of the
+    // largest size (at most a million unknowns).
+    {
+        let target = (max_unknowns as f64 / 4.0).min(1e6);
+        let k = ((target / n1.max(1) as f64).sqrt().floor() as usize).max(1);
+        let summary = run_in(problem, "coulomb", k)?;
+        progress(&format!(
+            "coulomb K = {k:>3}: {:>9} unknowns, {:>8.2} s, {:>7.0} MiB",
+            summary["unknowns"],
+            summary["timings"]["total"].as_f64().unwrap_or(0.0),
+            summary["peak_memory_bytes"].as_f64().unwrap_or(0.0) / 1048576.0
+        ));
+        cases.push(Case {
+            problem: "friction",
+            law: "coulomb",
+            refine: k,
+            summary,
+        });
+    }
     let _ = std::fs::remove_dir_all(&scratch);
     let raw: Vec<Value> = cases
         .iter()
@@ -183,6 +209,9 @@ pub fn run(
     write_report(out, &header)?;
     Ok(cases)
 }
+
+/// Friction coefficient of the benchmark's frictional run.
+pub const FRICTION: f64 = 0.2;
 
 /// The cost of one coupling formulation on a benchmark problem (see
 /// [`coupling_cost`]).
@@ -282,11 +311,15 @@ pub fn write_report(out: &Path, raw: &Value) -> Result<()> {
                 .map(|c| Case {
                     problem: if c["problem"] == "gmsh" {
                         "gmsh"
+                    } else if c["problem"] == "friction" {
+                        "friction"
                     } else {
                         "plate"
                     },
                     law: if c["law"] == "rigid" {
                         "rigid"
+                    } else if c["law"] == "coulomb" {
+                        "coulomb"
                     } else {
                         "contact"
                     },
@@ -360,7 +393,9 @@ fn report(problem: &Path, machine: &str, commit: &str, cases: &[Case]) -> String
         s,
         "Phases: *mesh* meshing, *pairs* pair search and DOF numbering, *coarse* solving the 4× coarser model for the active-set's starting pattern, *symbolic* node graph + nested-dissection ordering + sparsity pattern + symbolic factorization, *asm* assembly of values and right-hand sides, *# fact* and *# upd* the numbers of numeric factorizations and of low-rank updates, *fact* the seconds in numeric factorizations, *1st fact* the first of them, *solve* triangular solves including low-rank update columns, *later it.* the slowest active-set iteration after the first (and its ratio to the first factorization), *update* state updates, support checks and internal forces, *stress* stress recovery, *output* VTU/CSV/JSON of all increments, *png* the two pictures, *Gflop* the solver's work counted from the factor's supernodes (factorizations, solves, update columns; the same on every machine), *total / fact* end-to-end time over the time in numeric factorizations, *peak / factor* peak resident memory over the factor's values (8 bytes per nonzero).\n"
     );
-    let (gmsh, plate): (Vec<&Case>, Vec<&Case>) = cases.iter().partition(|c| c.problem == "gmsh");
+    let (gmsh, rest): (Vec<&Case>, Vec<&Case>) = cases.iter().partition(|c| c.problem == "gmsh");
+    let (friction, plate): (Vec<&Case>, Vec<&Case>) =
+        rest.into_iter().partition(|c| c.problem == "friction");
     let plate: Vec<Case> = plate.into_iter().map(Case::clone_ref).collect();
     for law in ["rigid", "contact"] {
         let rows: Vec<&Case> = plate.iter().filter(|c| c.law == law).collect();
@@ -371,6 +406,15 @@ fn report(problem: &Path, machine: &str, commit: &str, cases: &[Case]) -> String
             &mut s,
             "A Gmsh problem: the roller in its cradle (examples/roller_in_cradle), `contact` law, meshes subdivided K times",
             &gmsh,
+        );
+    }
+    if !friction.is_empty() {
+        timing_table(
+            &mut s,
+            &format!(
+                "A frictional run: the plate with the `coulomb` law (μ = {FRICTION}, `--law coulomb --friction {FRICTION}`); path-dependent, so every increment is solved"
+            ),
+            &friction,
         );
     }
     targets(&mut s, &plate);

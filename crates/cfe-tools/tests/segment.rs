@@ -88,7 +88,11 @@ fn segment_coupling_passes_the_frictionless_contact_patch_test() {
             );
             let a = prepare(&text).unwrap();
             let inc = solve(&a).unwrap().pop().unwrap();
-            assert!(inc.violations.is_empty(), "{coupling}: {:?}", inc.violations);
+            assert!(
+                inc.violations.is_empty(),
+                "{coupling}: {:?}",
+                inc.violations
+            );
             let rows = a.pair_rows(&inc);
             // Interior pairs (the two corner pairs of the node CFE carry the
             // corner's averaged normal): every pair for the segment coupling.
@@ -104,8 +108,15 @@ fn segment_coupling_passes_the_frictionless_contact_patch_test() {
                 worst[c] = worst[c].max((s[1] / p + 1.0).abs());
             }
         }
-        eprintln!("{lower}:{upper}: segment {:.2e}, node {:.2e}", worst[0], worst[1]);
+        eprintln!(
+            "{lower}:{upper}: segment {:.2e}, node {:.2e}",
+            worst[0], worst[1]
+        );
         assert!(worst[0] < 1e-5, "{lower}:{upper}: segment {:e}", worst[0]);
-        assert!(worst[1] > 1e-3, "{lower}:{upper}: node CFE passes? {:e}", worst[1]);
+        assert!(
+            worst[1] > 1e-3,
+            "{lower}:{upper}: node CFE passes? {:e}",
+            worst[1]
+        );
     }
 }
