@@ -65,6 +65,10 @@ pub struct ContactSystem {
     /// The first right-hand side `b` solved with the current factorization and its
     /// `z = L⁻¹ P b` (the iterations of an increment share their right-hand side).
     forward: Option<(Vec<f64>, Vec<f64>)>,
+    /// The factorized capacitance `Δ⁻¹ + VᵀV` of the last update, with the
+    /// columns and weights it was built for: a solve with the same states and
+    /// another right-hand side (a slip-force or Uzawa step) reuses it.
+    capacitance: Option<Capacitance>,
     /// Largest memory for cached columns (bytes).
     budget: usize,
     /// When to update instead of refactorizing.
@@ -95,6 +99,7 @@ impl ContactSystem {
             cached: HashMap::new(),
             columns: Columns::default(),
             forward: None,
+            capacitance: None,
             budget,
             policy: UpdatePolicy::Auto,
             factorizations: 0,
@@ -122,6 +127,7 @@ impl ContactSystem {
         self.cached.clear();
         self.columns.clear();
         self.forward = None;
+        self.capacitance = None;
     }
 
     /// Forgets the factorization and frees its memory (factor values, scratch,
@@ -177,6 +183,34 @@ impl ContactSystem {
             .copied()
             .filter(|p| !self.cached.contains_key(p))
             .collect();
+        if new.is_empty() {
+            let (idx, weights) = self.correction(&flips, &changes);
+            if let Some(cap) = self.capacitance.take() {
+                if cap.idx == idx && cap.weights == weights {
+                    // The same correction as the last update (only the right-hand
+                    // side changed): the forward solve, r products, the small
+                    // triangular solves and the backward solve.
+                    let t = Instant::now();
+                    let mut z = self.forward_solve(rhs);
+                    let r = idx.len();
+                    let mut t_vec = faer::Mat::<f64>::zeros(r, 1);
+                    for (a, &ca) in idx.iter().enumerate() {
+                        t_vec[(a, 0)] = self.columns.dot(&self.chol, ca, &z);
+                    }
+                    use faer::linalg::solvers::Solve;
+                    cap.lu.solve_in_place(&mut t_vec);
+                    for (a, &ca) in idx.iter().enumerate() {
+                        self.columns.subtract(&self.chol, ca, t_vec[(a, 0)], &mut z);
+                    }
+                    self.chol.backward(&mut z, rhs);
+                    self.solve_seconds += t.elapsed().as_secs_f64();
+                    self.flops += self.chol.solve_flops() + 2.0 * (r * r) as f64;
+                    self.updates += 1;
+                    self.capacitance = Some(cap);
+                    return Ok(Method::LowRank { rank: r });
+                }
+            }
+        }
         let mut cols = Vec::with_capacity(2 * new.len());
         for &(i, k) in &new {
             for col in pair_columns(&interfaces[i], k, dofs) {
@@ -216,21 +250,7 @@ impl ContactSystem {
             }
         }
         let mut z = self.forward_solve(rhs);
-        // Woodbury on the columns of the flipped pairs whose penalty changed (by
-        // ±c_k: a pair bonding or opening changes both, a stick pair slipping or a
-        // frictionless pair closing only the normal one; a segment element's
-        // penalties include its weight).
-        let mut idx: Vec<usize> = Vec::with_capacity(2 * flips.len());
-        let mut weights: Vec<f64> = Vec::with_capacity(2 * flips.len());
-        for (p, change) in flips.iter().zip(&changes) {
-            let c = self.cached[p];
-            for (t, &dc) in change.iter().enumerate() {
-                if dc != 0.0 {
-                    idx.push(c + t);
-                    weights.push(dc);
-                }
-            }
-        }
+        let (idx, weights) = self.correction(&flips, &changes);
         let r = idx.len();
         let mut m = faer::Mat::<f64>::zeros(r, r);
         let mut t_vec = faer::Mat::<f64>::zeros(r, 1);
@@ -250,7 +270,27 @@ impl ContactSystem {
         self.chol.backward(&mut z, rhs);
         self.solve_seconds += t.elapsed().as_secs_f64();
         self.updates += 1;
+        self.capacitance = Some(Capacitance { idx, weights, lu });
         Ok(Method::LowRank { rank: r })
+    }
+
+    /// The Woodbury correction of the flipped pairs: the cached columns whose
+    /// penalty changed and the change (±c_k: a pair bonding or opening changes
+    /// both, a stick pair slipping or a frictionless pair closing only the normal
+    /// one; a segment element's penalties include its weight).
+    fn correction(&self, flips: &[(usize, usize)], changes: &[[f64; 2]]) -> (Vec<usize>, Vec<f64>) {
+        let mut idx: Vec<usize> = Vec::with_capacity(2 * flips.len());
+        let mut weights: Vec<f64> = Vec::with_capacity(2 * flips.len());
+        for (p, change) in flips.iter().zip(changes) {
+            let c = self.cached[p];
+            for (t, &dc) in change.iter().enumerate() {
+                if dc != 0.0 {
+                    idx.push(c + t);
+                    weights.push(dc);
+                }
+            }
+        }
+        (idx, weights)
     }
 
     /// `z = L⁻¹ P b`. The first right-hand side solved with a factorization is kept
@@ -301,6 +341,16 @@ impl ContactSystem {
         self.solve_seconds += t.elapsed().as_secs_f64();
         Ok(Method::Factorization)
     }
+}
+
+/// The factorized capacitance matrix of an update and what it was built for.
+struct Capacitance {
+    /// The correction's columns (indices into the cached columns).
+    idx: Vec<usize>,
+    /// Their weights (the penalty changes).
+    weights: Vec<f64>,
+    /// LU of `Δ⁻¹ + VᵀV`.
+    lu: faer::linalg::solvers::PartialPivLu<f64>,
 }
 
 /// One correction column: the free equations and values of `w_k`.
