@@ -120,3 +120,38 @@ fn segment_coupling_passes_the_frictionless_contact_patch_test() {
         );
     }
 }
+
+/// The segment coupling under the Coulomb law (μ = 0.2) on the plate on a base
+/// (its top centre held in x, as in the receding-contact case): every increment
+/// ends satisfying the friction law on every pair (stick pairs inside the cone,
+/// slip pairs on it, against their slip), some pairs slip, and the pairs' forces
+/// carry the 1500 N load.
+#[test]
+fn segment_coupling_with_the_coulomb_law() {
+    use cfe::PairState;
+    use cfe_tools::verification::fits::receding_problem;
+    use cfe_tools::verification::{prepare, solve};
+    let a = prepare(&receding_problem(
+        "law = \"coulomb\"\nfriction = 0.2\ncoupling = \"segment\"",
+    ))
+    .unwrap();
+    let incs = solve(&a).unwrap();
+    for inc in &incs {
+        assert!(inc.violations.is_empty(), "increment {}", inc.index);
+    }
+    let last = incs.last().unwrap();
+    let rows = a.pair_rows(last);
+    let mut fy = 0.0;
+    for (r, c) in rows.iter().zip(&a.interfaces[0].elements) {
+        // The force on the node part from the local frame (n, s), s = n turned +90°.
+        fy += -(r.force_n * c.normal[1]) + r.force_s * c.normal[0];
+        if r.state != PairState::Open {
+            assert!(
+                r.force_s.abs() <= 0.2 * r.force_n * (1.0 + 1e-6) + 1e-6,
+                "{r:?}"
+            );
+        }
+    }
+    assert!(rows.iter().any(|r| r.state == PairState::Slip));
+    assert!((fy.abs() - 1500.0).abs() < 1e-6 * 1500.0, "{fy}");
+}
