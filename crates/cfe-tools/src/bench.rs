@@ -153,6 +153,30 @@ pub fn run(
             cases.push(case);
         }
     }
+    cases.extend(extra_rows(problem, max_unknowns, n1, &run_in, progress)?);
+    let _ = std::fs::remove_dir_all(&scratch);
+    let raw: Vec<Value> = cases
+        .iter()
+        .map(|c| serde_json::json!({"problem": c.problem, "law": c.law, "refine": c.refine, "summary": c.summary}))
+        .collect();
+    let header = serde_json::json!({"problem": problem, "machine": machine(), "commit": commit(), "cases": raw});
+    cfe::output::report::write_json(&out.join("benchmarks.json"), &header)?;
+    write_report(out, &header)?;
+    Ok(cases)
+}
+
+/// The benchmark's two extra rows, each at about a quarter of the largest size (at
+/// most a million unknowns): one Gmsh problem (the roller in its cradle, next to
+/// the problem file's folder as in the repository's examples, subdivided), and
+/// one frictional run of `problem` (`n1` unknowns at K = 1).
+fn extra_rows(
+    problem: &Path,
+    max_unknowns: usize,
+    n1: usize,
+    run_in: &dyn Fn(&Path, &'static str, usize) -> Result<Value>,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Vec<Case>> {
+    let mut cases = Vec::new();
     // One Gmsh problem, refined by subdivision to about a quarter of the largest
     // size (at most a million unknowns): the roller in its cradle, next to the
     // problem file's folder as in the repository's examples.
@@ -199,14 +223,6 @@ pub fn run(
             summary,
         });
     }
-    let _ = std::fs::remove_dir_all(&scratch);
-    let raw: Vec<Value> = cases
-        .iter()
-        .map(|c| serde_json::json!({"problem": c.problem, "law": c.law, "refine": c.refine, "summary": c.summary}))
-        .collect();
-    let header = serde_json::json!({"problem": problem, "machine": machine(), "commit": commit(), "cases": raw});
-    cfe::output::report::write_json(&out.join("benchmarks.json"), &header)?;
-    write_report(out, &header)?;
     Ok(cases)
 }
 
@@ -650,10 +666,21 @@ fn targets(s: &mut String, cases: &[Case]) {
             verdict(p_total <= p_fact + 0.05)
         );
     }
+    slowest_iteration(s, &big);
+    if let Some(c) = contact.last() {
+        time_split(s, c);
+    }
+    let _ = writeln!(s);
+}
+
+/// The slowest contact iteration after the first, relative to the first
+/// factorization, among the runs `big` (the issue's ≤ 0.1 target).
+fn slowest_iteration(s: &mut String, big: &[&&Case]) {
+    let verdict = |ok: bool| if ok { "met" } else { "**not met**" };
     // The slowest iteration after the first, relative to the first factorization:
     // (ratio, run, the iteration's record).
     let mut worst: Option<(f64, &Case, Value)> = None;
-    for c in &big {
+    for &&c in big {
         let first = f(&c.summary["first_factorization_seconds"]).max(1e-12);
         let iterations: Vec<Value> = c.summary["iteration_history"]
             .as_array()
@@ -686,35 +713,37 @@ fn targets(s: &mut String, cases: &[Case]) {
             c.refine
         );
     }
-    if let Some(c) = contact.last() {
-        let t = &c.summary["timings"];
-        let mut phases: Vec<(&str, f64)> = [
-            ("numeric factorization", "factorization"),
-            ("solves and update columns", "solve"),
-            ("output files", "output"),
-            ("pictures", "pictures"),
-            ("ordering and symbolic analysis", "pattern_and_symbolic"),
-            ("state updates and internal forces", "contact_update"),
-            ("stress recovery", "stress_recovery"),
-            ("coarse start", "coarse_start"),
-            ("pair search", "pair_search"),
-        ]
+}
+
+/// Where the time of run `c` goes: its four largest phases.
+fn time_split(s: &mut String, c: &Case) {
+    let total = |c: &Case| f(&c.summary["timings"]["total"]);
+    let t = &c.summary["timings"];
+    let mut phases: Vec<(&str, f64)> = [
+        ("numeric factorization", "factorization"),
+        ("solves and update columns", "solve"),
+        ("output files", "output"),
+        ("pictures", "pictures"),
+        ("ordering and symbolic analysis", "pattern_and_symbolic"),
+        ("state updates and internal forces", "contact_update"),
+        ("stress recovery", "stress_recovery"),
+        ("coarse start", "coarse_start"),
+        ("pair search", "pair_search"),
+    ]
+    .iter()
+    .map(|(name, key)| (*name, f(&t[*key])))
+    .collect();
+    phases.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let list: Vec<String> = phases
         .iter()
-        .map(|(name, key)| (*name, f(&t[*key])))
+        .take(4)
+        .map(|(name, v)| format!("{name} {v:.1} s ({:.0} %)", 100.0 * v / total(c).max(1e-12)))
         .collect();
-        phases.sort_by(|a, b| b.1.total_cmp(&a.1));
-        let list: Vec<String> = phases
-            .iter()
-            .take(4)
-            .map(|(name, v)| format!("{name} {v:.1} s ({:.0} %)", 100.0 * v / total(c).max(1e-12)))
-            .collect();
-        let _ = writeln!(
-            s,
-            "- Where the time goes in the largest contact run: {}.",
-            list.join(", ")
-        );
-    }
-    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "- Where the time goes in the largest contact run: {}.",
+        list.join(", ")
+    );
 }
 
 fn plot(path: &Path, cases: &[Case]) -> Result<()> {

@@ -836,6 +836,60 @@ impl Builder<'_> {
                 ));
             }
         }
+        let (friction, search_distance, penetration_tolerance) =
+            self.contact_keys(spec, &name, parts, host, node_part)?;
+        // A penalty beyond 1/ε × E·t of the softer part hides that part's stiffness
+        // in round-off: refused here with its name rather than as a failed pivot.
+        let softer = if parts[host].material.stiffness_scale()
+            <= parts[node_part].material.stiffness_scale()
+        {
+            host
+        } else {
+            node_part
+        };
+        let et = parts[softer].material.stiffness_scale();
+        for (key, c) in [("c_n", c_n), ("c_s", c_s)] {
+            self.values.penalty(
+                &[
+                    check::Seg::K("interface"),
+                    check::Seg::I(index),
+                    check::Seg::K(key),
+                ],
+                c,
+                et,
+                &parts[softer].name,
+            )?;
+        }
+        Ok(InterfaceDef {
+            name,
+            host,
+            node_part,
+            nodes,
+            boundary: spec.boundary.get_ref().clone(),
+            law: spec.law,
+            c_n,
+            c_s,
+            tolerance,
+            friction,
+            search_distance,
+            enforcement: spec.enforcement,
+            penetration_tolerance,
+            coupling: spec.coupling,
+        })
+    }
+
+    /// The keys of the contact laws of interface `name`: `friction` (only with, and
+    /// required by, `coulomb`), `search_distance` (a length ≥ 0; not on a rigid tie
+    /// nor with the segment coupling) and `penetration_tolerance` (augmented
+    /// enforcement only; by default 1e-6 × the two parts' bounding diagonal).
+    fn contact_keys(
+        &self,
+        spec: &InterfaceSpec,
+        name: &str,
+        parts: &[Part],
+        host: usize,
+        node_part: usize,
+    ) -> Result<(f64, f64, f64)> {
         let friction = match (spec.law, spec.friction) {
             (Law::Coulomb, Some(mu)) if mu.is_finite() && mu >= 0.0 => mu,
             (Law::Coulomb, Some(mu)) => {
@@ -914,44 +968,7 @@ impl Builder<'_> {
                 ),
             ));
         }
-        // A penalty beyond 1/ε × E·t of the softer part hides that part's stiffness
-        // in round-off: refused here with its name rather than as a failed pivot.
-        let softer = if parts[host].material.stiffness_scale()
-            <= parts[node_part].material.stiffness_scale()
-        {
-            host
-        } else {
-            node_part
-        };
-        let et = parts[softer].material.stiffness_scale();
-        for (key, c) in [("c_n", c_n), ("c_s", c_s)] {
-            self.values.penalty(
-                &[
-                    check::Seg::K("interface"),
-                    check::Seg::I(index),
-                    check::Seg::K(key),
-                ],
-                c,
-                et,
-                &parts[softer].name,
-            )?;
-        }
-        Ok(InterfaceDef {
-            name,
-            host,
-            node_part,
-            nodes,
-            boundary: spec.boundary.get_ref().clone(),
-            law: spec.law,
-            c_n,
-            c_s,
-            tolerance,
-            friction,
-            search_distance,
-            enforcement: spec.enforcement,
-            penetration_tolerance,
-            coupling: spec.coupling,
-        })
+        Ok((friction, search_distance, penetration_tolerance))
     }
 
     /// A Dirichlet condition on a boundary or at a node.

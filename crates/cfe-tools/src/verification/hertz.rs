@@ -616,13 +616,7 @@ pub fn cattaneo_mindlin(quick: bool) -> Result<Case> {
         .filter(|p| p.1 == cfe::coupling::PairState::Bonded)
         .count();
     // Shear profile error over the contact: RMS of (q_h − q) / (μ p₀).
-    let (mut e2, mut m) = (0.0, 0usize);
-    for p in pairs.iter().filter(|p| p.x.abs() < a_h) {
-        let exact = super::closed_forms::mindlin_shear(p.x, a_h, c_ref, MU, p0);
-        e2 += ((sign * p.shear - exact) / (MU * p0)).powi(2);
-        m += 1;
-    }
-    let rms = (e2 / m.max(1) as f64).sqrt();
+    let rms = shear_rms(&pairs, a_h, c_ref, p0, sign);
     let err_c = c_h / c_ref - 1.0;
     let err_a = fit.a / a_h - 1.0;
     let table = Table {
@@ -660,36 +654,7 @@ pub fn cattaneo_mindlin(quick: bool) -> Result<Case> {
             format!("{:.3}", rms),
         ]],
     };
-    let mut series = vec![
-        Series {
-            name: "shear q_h (pairs)".into(),
-            points: pairs
-                .iter()
-                .filter(|p| p.x.abs() < 1.3 * a_h)
-                .map(|p| (p.x, sign * p.shear))
-                .collect(),
-            reference: false,
-        },
-        Series {
-            name: "μ × pressure (pairs)".into(),
-            points: pairs
-                .iter()
-                .filter(|p| p.x.abs() < 1.3 * a_h)
-                .map(|p| (p.x, MU * p.pressure))
-                .collect(),
-            reference: false,
-        },
-    ];
-    series.push(Series {
-        name: "Cattaneo–Mindlin q(x)".into(),
-        points: (0..=300)
-            .map(|i| {
-                let x = -1.3 * a_h + 2.6 * a_h * i as f64 / 300.0;
-                (x, super::closed_forms::mindlin_shear(x, a_h, c_ref, MU, p0))
-            })
-            .collect(),
-        reference: true,
-    });
+    let series = cattaneo_series(&pairs, a_h, c_ref, p0, sign);
     // The spacing of the arc's nodes near the contact is 1/n: c within two
     // spacings, the shear within 15 % of μp₀ (RMS), partial slip.
     let spacing = 1.0 / n as f64;
@@ -722,4 +687,52 @@ pub fn cattaneo_mindlin(quick: bool) -> Result<Case> {
         ),
         passed,
     })
+}
+
+/// The RMS of the shear traction's error over the contact, (q_h − q)/(μ p₀) at
+/// the pairs within |x| < a, against Cattaneo–Mindlin's q(x).
+fn shear_rms(pairs: &[ArcPair], a_h: f64, c_ref: f64, p0: f64, sign: f64) -> f64 {
+    let (mut e2, mut m) = (0.0, 0usize);
+    for p in pairs.iter().filter(|p| p.x.abs() < a_h) {
+        let exact = super::closed_forms::mindlin_shear(p.x, a_h, c_ref, MU, p0);
+        e2 += ((sign * p.shear - exact) / (MU * p0)).powi(2);
+        m += 1;
+    }
+    (e2 / m.max(1) as f64).sqrt()
+}
+
+/// The curves of the Cattaneo–Mindlin plot: the pairs' shear, μ × their pressure,
+/// and the closed form's q(x).
+fn cattaneo_series(pairs: &[ArcPair], a_h: f64, c_ref: f64, p0: f64, sign: f64) -> Vec<Series> {
+    let mut series = vec![
+        Series {
+            name: "shear q_h (pairs)".into(),
+            points: pairs
+                .iter()
+                .filter(|p| p.x.abs() < 1.3 * a_h)
+                .map(|p| (p.x, sign * p.shear))
+                .collect(),
+            reference: false,
+        },
+        Series {
+            name: "μ × pressure (pairs)".into(),
+            points: pairs
+                .iter()
+                .filter(|p| p.x.abs() < 1.3 * a_h)
+                .map(|p| (p.x, MU * p.pressure))
+                .collect(),
+            reference: false,
+        },
+    ];
+    series.push(Series {
+        name: "Cattaneo–Mindlin q(x)".into(),
+        points: (0..=300)
+            .map(|i| {
+                let x = -1.3 * a_h + 2.6 * a_h * i as f64 / 300.0;
+                (x, super::closed_forms::mindlin_shear(x, a_h, c_ref, MU, p0))
+            })
+            .collect(),
+        reference: true,
+    });
+    series
 }

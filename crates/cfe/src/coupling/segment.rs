@@ -261,24 +261,7 @@ fn gauss_points(
             // the lowest host element, then edge), within the tolerance.
             let tm = 0.5 * (t0 + t1);
             let mid = [a[0] + tm * ab[0], a[1] + tm * ab[1]];
-            let mut best: Option<(f64, usize, usize)> = None;
-            for &e in &candidates {
-                let [p, q] = segment(&edges[e]);
-                let elen = dist(p, q);
-                let (_, d) = project(mid, p, q);
-                if d > tolerance * elen {
-                    continue;
-                }
-                let key = (d, edges[e].element, e);
-                let same = best.is_some_and(|cur| (d - cur.0).abs() <= 1e-12 * elen);
-                best = match best {
-                    None => Some(key),
-                    Some(cur) if same && (key.1, key.2) < (cur.1, cur.2) => Some(key),
-                    Some(cur) if !same && d < cur.0 => Some(key),
-                    cur => cur,
-                };
-            }
-            let Some((_, element, e)) = best else {
+            let Some((element, e)) = edge_under(host, &edges, &candidates, mid, tolerance) else {
                 continue;
             };
             let [p, q] = segment(&edges[e]);
@@ -318,6 +301,36 @@ fn gauss_points(
     Ok(points)
 }
 
+
+/// The host boundary edge (among `candidates`, indices into `edges`) under the
+/// point `mid` of a face piece: the nearest within `tolerance` × its length, ties
+/// to the lowest host element, then edge. Returns (host element, edge).
+fn edge_under(
+    host: &Mesh,
+    edges: &[BoundaryEdge],
+    candidates: &[usize],
+    mid: [f64; 2],
+    tolerance: f64,
+) -> Option<(usize, usize)> {
+    let mut best: Option<(f64, usize, usize)> = None;
+    for &e in candidates {
+        let [p, q] = edges[e].nodes.map(|n| host.nodes[n]);
+        let elen = dist(p, q);
+        let (_, d) = project(mid, p, q);
+        if d > tolerance * elen {
+            continue;
+        }
+        let key = (d, edges[e].element, e);
+        let same = best.is_some_and(|cur| (d - cur.0).abs() <= 1e-12 * elen);
+        best = match best {
+            None => Some(key),
+            Some(cur) if same && (key.1, key.2) < (cur.1, cur.2) => Some(key),
+            Some(cur) if !same && d < cur.0 => Some(key),
+            cur => cur,
+        };
+    }
+    best.map(|(_, element, e)| (element, e))
+}
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -641,73 +641,21 @@ impl Analysis {
             }
         }
         let mut point_data = vec![
-            vtu::DataArray {
-                name: "displacement",
-                components: 2,
-                values: vtu::Values::F64(&disp),
-            },
-            vtu::DataArray {
-                name: "bonded",
-                components: 1,
-                values: vtu::Values::I32(&bonded),
-            },
-            vtu::DataArray {
-                name: "settled",
-                components: 1,
-                values: vtu::Values::I32(&settled),
-            },
-            vtu::DataArray {
-                name: "violation",
-                components: 1,
-                values: vtu::Values::I32(&violation),
-            },
-            vtu::DataArray {
-                name: "violation_amount",
-                components: 1,
-                values: vtu::Values::F64(&violation_amount),
-            },
-            vtu::DataArray {
-                name: "gap_n",
-                components: 1,
-                values: vtu::Values::F64(&gap),
-            },
-            vtu::DataArray {
-                name: "slip_s",
-                components: 1,
-                values: vtu::Values::F64(&slip),
-            },
-            vtu::DataArray {
-                name: "force_n",
-                components: 1,
-                values: vtu::Values::F64(&fn_),
-            },
-            vtu::DataArray {
-                name: "force_s",
-                components: 1,
-                values: vtu::Values::F64(&fs),
-            },
-            vtu::DataArray {
-                name: "normal",
-                components: 2,
-                values: vtu::Values::F64(&normal),
-            },
-            vtu::DataArray {
-                name: "interface_id",
-                components: 1,
-                values: vtu::Values::I32(&iface_id),
-            },
-            vtu::DataArray {
-                name: "state",
-                components: 1,
-                values: vtu::Values::I32(&state),
-            },
+            vtu::DataArray::f64("displacement", 2, &disp),
+            vtu::DataArray::i32("bonded", &bonded),
+            vtu::DataArray::i32("settled", &settled),
+            vtu::DataArray::i32("violation", &violation),
+            vtu::DataArray::f64("violation_amount", 1, &violation_amount),
+            vtu::DataArray::f64("gap_n", 1, &gap),
+            vtu::DataArray::f64("slip_s", 1, &slip),
+            vtu::DataArray::f64("force_n", 1, &fn_),
+            vtu::DataArray::f64("force_s", 1, &fs),
+            vtu::DataArray::f64("normal", 2, &normal),
+            vtu::DataArray::i32("interface_id", &iface_id),
+            vtu::DataArray::i32("state", &state),
         ];
         for (name, values) in &contact {
-            point_data.push(vtu::DataArray {
-                name,
-                components: 1,
-                values: vtu::Values::F64(values),
-            });
+            point_data.push(vtu::DataArray::f64(name, 1, values));
         }
         vtu::write_vtu(
             path,

@@ -82,6 +82,26 @@ pub struct DataArray<'a> {
     pub values: Values<'a>,
 }
 
+impl<'a> DataArray<'a> {
+    /// A Float64 array of `components` values per point or cell.
+    pub fn f64(name: &'a str, components: usize, values: &'a [f64]) -> Self {
+        DataArray {
+            name,
+            components,
+            values: Values::F64(values),
+        }
+    }
+
+    /// An Int32 array of one value per point or cell.
+    pub fn i32(name: &'a str, values: &'a [i32]) -> Self {
+        DataArray {
+            name,
+            components: 1,
+            values: Values::I32(values),
+        }
+    }
+}
+
 /// A mesh of mixed cells in the plane (z = 0 is written).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Grid<'a> {

@@ -189,27 +189,7 @@ impl ContactSystem {
                 && cap.idx == idx
                 && cap.weights == weights
             {
-                // The same correction as the last update (only the right-hand
-                // side changed): the forward solve, r products, the small
-                // triangular solves and the backward solve.
-                let t = Instant::now();
-                let mut z = self.forward_solve(rhs);
-                let r = idx.len();
-                let mut t_vec = faer::Mat::<f64>::zeros(r, 1);
-                for (a, &ca) in idx.iter().enumerate() {
-                    t_vec[(a, 0)] = self.columns.dot(&self.chol, ca, &z);
-                }
-                use faer::linalg::solvers::Solve;
-                cap.lu.solve_in_place(&mut t_vec);
-                for (a, &ca) in idx.iter().enumerate() {
-                    self.columns.subtract(&self.chol, ca, t_vec[(a, 0)], &mut z);
-                }
-                self.chol.backward(&mut z, rhs);
-                self.solve_seconds += t.elapsed().as_secs_f64();
-                self.flops += self.chol.solve_flops() + 2.0 * (r * r) as f64;
-                self.updates += 1;
-                self.capacitance = Some(cap);
-                return Ok(Method::LowRank { rank: r });
+                return Ok(self.solve_same_correction(cap, rhs));
             }
         }
         let mut cols = Vec::with_capacity(2 * new.len());
@@ -273,6 +253,30 @@ impl ContactSystem {
         self.updates += 1;
         self.capacitance = Some(Capacitance { idx, weights, lu });
         Ok(Method::LowRank { rank: r })
+    }
+
+    /// A solve with the same correction as the last update (only the right-hand
+    /// side changed): the forward solve, r products with the kept columns, the
+    /// capacitance's triangular solves and the backward solve.
+    fn solve_same_correction(&mut self, cap: Capacitance, rhs: &mut [f64]) -> Method {
+        let t = Instant::now();
+        let mut z = self.forward_solve(rhs);
+        let r = cap.idx.len();
+        let mut t_vec = faer::Mat::<f64>::zeros(r, 1);
+        for (a, &ca) in cap.idx.iter().enumerate() {
+            t_vec[(a, 0)] = self.columns.dot(&self.chol, ca, &z);
+        }
+        use faer::linalg::solvers::Solve;
+        cap.lu.solve_in_place(&mut t_vec);
+        for (a, &ca) in cap.idx.iter().enumerate() {
+            self.columns.subtract(&self.chol, ca, t_vec[(a, 0)], &mut z);
+        }
+        self.chol.backward(&mut z, rhs);
+        self.solve_seconds += t.elapsed().as_secs_f64();
+        self.flops += self.chol.solve_flops() + 2.0 * (r * r) as f64;
+        self.updates += 1;
+        self.capacitance = Some(cap);
+        Method::LowRank { rank: r }
     }
 
     /// The Woodbury correction of the flipped pairs: the cached columns whose
