@@ -141,10 +141,29 @@ fn unsupported(
                 .filter(|(i, _)| i.host == p || i.node_part == p)
                 .map(|(_, st)| st.iter().filter(|&&s| s == PairState::Open).count())
                 .sum();
-            format!(
-                "'{}' ({open} of its {pairs} coupling pairs open)",
-                parts[p].name
-            )
+            // Closed pairs with no tangential stiffness: frictionless, or slipping.
+            let sliding: usize = interfaces
+                .iter()
+                .zip(states)
+                .filter(|(i, _)| i.host == p || i.node_part == p)
+                .map(|(i, st)| {
+                    let law = i.params();
+                    st.iter()
+                        .filter(|&&s| s != PairState::Open && law.penalties(s)[1] == 0.0)
+                        .count()
+                })
+                .sum();
+            if sliding > 0 {
+                format!(
+                    "'{}' ({open} of its {pairs} coupling pairs open, {sliding} closed but sliding freely: frictionless or slipping pairs carry no tangential stiffness, so hold the part tangentially with a [[support]])",
+                    parts[p].name
+                )
+            } else {
+                format!(
+                    "'{}' ({open} of its {pairs} coupling pairs open)",
+                    parts[p].name
+                )
+            }
         })
         .collect();
     Error::Unsupported {
