@@ -272,33 +272,52 @@ impl PyModel {
     /// iterations); an exception it raises (or Ctrl-C) stops the solve. With `out`,
     /// every converged increment is also written there as `cfe run` does (the
     /// callback then cannot stop the run: its exception is raised at the end).
-    /// `law` ("rigid" or "contact") overrides every interface's law. Returns a
-    /// dict of the raw results (see `cfe.Results`).
-    #[pyo3(signature = (progress=None, out=None, law=None))]
+    /// `law` ("rigid", "contact", "frictionless" or "coulomb", the last with
+    /// `friction` = μ) overrides every interface's law. Returns a dict of the raw
+    /// results (see `cfe.Results`).
+    #[pyo3(signature = (progress=None, out=None, law=None, friction=None))]
     fn solve<'py>(
         &self,
         py: Python<'py>,
         progress: Option<Py<PyAny>>,
         out: Option<PathBuf>,
         law: Option<&str>,
+        friction: Option<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let law = match law {
             None => None,
             Some("rigid") => Some(Law::Rigid),
             Some("contact") => Some(Law::Contact),
+            Some("frictionless") => Some(Law::Frictionless),
+            Some("coulomb") => Some(Law::Coulomb),
             Some(other) => {
                 return Err(errors::ModelError::new_err(format!(
-                    "law '{other}' is not known: use 'rigid' or 'contact'"
+                    "law '{other}' is not known: use 'rigid', 'contact', 'frictionless' or 'coulomb'"
                 )));
             }
         };
+        match (law, friction) {
+            (Some(Law::Coulomb), None) => {
+                return Err(errors::ModelError::new_err(
+                    "law 'coulomb' needs friction = μ (the friction coefficient)",
+                ));
+            }
+            (l, Some(_)) if l != Some(Law::Coulomb) => {
+                return Err(errors::ModelError::new_err(
+                    "friction applies to law = 'coulomb' only",
+                ));
+            }
+            _ => {}
+        }
         let model = self.model.clone();
         let increments = model.settings.increments;
         let mut stopped: Option<PyErr> = None;
         let outcome = py.detach(|| -> cfe::Result<(Analysis, Results)> {
             let mut analysis = Analysis::new(model)?;
-            if let Some(law) = law {
-                analysis.override_law(law);
+            match (law, friction) {
+                (Some(Law::Coulomb), Some(mu)) => analysis.override_friction(mu)?,
+                (Some(law), _) => analysis.override_law(law),
+                (None, _) => {}
             }
             let mut on_increment = |inc: &IncrementResult| -> cfe::Result<()> {
                 Python::attach(|py| {

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import cfe
+from conftest import EXAMPLES
 
 TEXT = """
 plane = "stress"
@@ -64,3 +65,23 @@ def test_interference_pressure_and_arrays():
     summary = result.summary["interfaces"][0]
     assert summary["max_pressure"] == pytest.approx(p, rel=1e-3)
     assert summary["unpaired"] == 0 and summary["contact_length"] == pytest.approx(1.0)
+
+
+def test_law_override_with_friction():
+    """`solve(law="coulomb", friction=μ)` makes every interface follow the Coulomb
+    law, as `cfe run --law coulomb --friction μ`: the friction law holds on every
+    closed pair (|f_s| ≤ μ f_n), some pairs slip, and the load is carried; a
+    coulomb override without friction, or friction with another law, is refused."""
+    model = cfe.Model.from_file(EXAMPLES / "plate_on_base.toml")
+    r = model.solve(law="coulomb", friction=0.2)
+    assert r.summary["status"] == "completed"
+    pairs = r.interfaces["plate-base"]
+    closed = pairs.force_n > 0
+    limit = 0.2 * pairs.force_n[closed] * (1 + 1e-6) + 1e-6
+    assert np.all(np.abs(pairs.force_s[closed]) <= limit)
+    assert "slip" in list(pairs.state)
+    assert abs(pairs.force_n.sum() - 1500.0) < 1e-6 * 1500.0
+    with pytest.raises(cfe.ModelError, match="friction"):
+        model.solve(law="coulomb")
+    with pytest.raises(cfe.ModelError, match="friction"):
+        model.solve(law="contact", friction=0.2)

@@ -495,6 +495,7 @@ class Model:
         *,
         out: Optional[PathLike] = None,
         law: Optional[str] = None,
+        friction: Optional[float] = None,
     ) -> "Results":
         """Solves every increment in memory, with the GIL released, and returns the
         :class:`Results` of the last one.
@@ -504,12 +505,14 @@ class Model:
         propagates. With ``out``, every converged increment is also written into
         that folder as ``cfe run`` does (VTU series, pairs.csv, summary.json, PNGs);
         the callback cannot stop such a run, its exception is raised at the end.
-        ``law`` (``"rigid"`` or ``"contact"``) makes every interface follow that
-        law, as ``cfe run --law``. The model is not changed: it can be solved again.
+        ``law`` (``"rigid"``, ``"contact"``, ``"frictionless"`` or ``"coulomb"``,
+        the last with ``friction`` = μ) makes every interface follow that law, as
+        ``cfe run --law … --friction …``. The model is not changed: it can be
+        solved again.
         """
         callback = None if progress is None else _increments_to(progress)
-        raw = self._native.solve(callback, None if out is None else Path(out), law)
-        return Results(raw, self, law)
+        raw = self._native.solve(callback, None if out is None else Path(out), law, friction)
+        return Results(raw, self, law, friction)
 
     def __repr__(self) -> str:
         return repr(self._native)
@@ -532,6 +535,7 @@ def run(
     progress: Optional[Callable[[Increment], Any]] = None,
     out: Optional[PathLike] = None,
     law: Optional[str] = None,
+    friction: Optional[float] = None,
 ) -> "Results":
     """Builds and solves a model in one call: ``problem`` is a :class:`Model`, a
     dict (see :class:`Model`), a path to a problem file, or TOML text (a string
@@ -544,7 +548,7 @@ def run(
         model = Model.from_toml(problem, refine=refine)
     else:
         model = Model.from_file(problem, refine=refine)
-    return model.solve(progress, out=out, law=law)
+    return model.solve(progress, out=out, law=law, friction=friction)
 
 
 def _from_dict_error(e: ParseError, text: str, path: Path) -> ParseError:
@@ -748,9 +752,16 @@ class Results:
     order), of which every part's ``displacement`` is a view.
     """
 
-    def __init__(self, raw: Dict[str, Any], model: Model, law: Optional[str] = None) -> None:
+    def __init__(
+        self,
+        raw: Dict[str, Any],
+        model: Model,
+        law: Optional[str] = None,
+        friction: Optional[float] = None,
+    ) -> None:
         self._model = model
         self._law = law
+        self._friction = friction
         self.summary: Dict[str, Any] = raw["summary"]
         self.load_factor: float = raw["load_factor"]
         self.displacements: np.ndarray = raw["u"]
@@ -807,7 +818,7 @@ class Results:
         results do not keep, so the model is solved again (the solve is
         deterministic: the same numbers); ``Model.solve(out=folder)`` does both
         in one pass. Returns the new summary."""
-        raw = self._model._native.solve(None, Path(folder), self._law)
+        raw = self._model._native.solve(None, Path(folder), self._law, self._friction)
         return raw["summary"]
 
     def __repr__(self) -> str:

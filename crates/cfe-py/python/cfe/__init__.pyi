@@ -99,6 +99,7 @@ class Model:
         *,
         out: Optional[_Path] = None,
         law: Optional[str] = None,
+        friction: Optional[float] = None,
     ) -> Results: ...
 
 def run(
@@ -108,6 +109,7 @@ def run(
     progress: Optional[Callable[[Increment], Any]] = None,
     out: Optional[_Path] = None,
     law: Optional[str] = None,
+    friction: Optional[float] = None,
 ) -> Results: ...
 
 @dataclass

@@ -123,6 +123,7 @@ class Model:
         progress: Optional[Callable[[Dict[str, Any]], Any]] = None,
         out: Optional[Union[str, PathLike[str]]] = None,
         law: Optional[str] = None,
+        friction: Optional[float] = None,
     ) -> Dict[str, Any]:
         """Solves with the GIL released; the raw results: `u`, `parts`, `interfaces`,
         `summary`, `load_factor`."""
