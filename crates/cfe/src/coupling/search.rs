@@ -12,6 +12,34 @@ use crate::mesh::{BoundaryEdge, Element, Mesh, dist};
 use rstar::{RTree, primitives::GeomWithData, primitives::Line};
 use std::collections::HashMap;
 
+/// An R-tree of boundary edges: each a segment carrying its index in the list.
+pub(super) type EdgeTree = RTree<GeomWithData<Line<[f64; 2]>, usize>>;
+
+/// The host's boundary edges, their R-tree (for the searches of the pair search
+/// and of the segment coupling) and the longest edge's length.
+pub(super) fn edge_tree(host: &Mesh) -> (Vec<BoundaryEdge>, EdgeTree, f64) {
+    let edges = host.boundary_edges();
+    let segment = |e: &BoundaryEdge| e.nodes.map(|n| host.nodes[n]);
+    let tree = RTree::bulk_load(
+        edges
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let [a, b] = segment(e);
+                GeomWithData::new(Line::new(a, b), i)
+            })
+            .collect(),
+    );
+    let max_len = edges
+        .iter()
+        .map(|e| {
+            let [a, b] = segment(e);
+            dist(a, b)
+        })
+        .fold(0.0, f64::max);
+    (edges, tree, max_len)
+}
+
 /// A coupling node closer than this fraction of the host edge's length to one of
 /// the edge's ends is *at* that host vertex: it takes the vertex's averaged normal.
 pub const VERTEX_TOLERANCE: f64 = 1e-6;
@@ -57,25 +85,8 @@ pub fn find_pairs_within(
     search_distance: f64,
 ) -> Result<(Vec<CouplingElement>, usize)> {
     let gaps = search_distance > 0.0;
-    let edges = host.boundary_edges();
+    let (edges, tree, max_len) = edge_tree(host);
     let segment = |e: &BoundaryEdge| e.nodes.map(|n| host.nodes[n]);
-    let tree = RTree::bulk_load(
-        edges
-            .iter()
-            .enumerate()
-            .map(|(i, e)| {
-                let [a, b] = segment(e);
-                GeomWithData::new(Line::new(a, b), i)
-            })
-            .collect(),
-    );
-    let max_len = edges
-        .iter()
-        .map(|e| {
-            let [a, b] = segment(e);
-            dist(a, b)
-        })
-        .fold(0.0, f64::max);
     let radius = if gaps {
         search_distance
     } else {

@@ -24,10 +24,10 @@
 //! curved host face — so no linear displacement field has a jump.
 
 use super::element::{CouplingElement, MAX_NODES, SegmentSide};
-use super::search::{edge_normal, project, shape_at};
+use super::search::{edge_normal, edge_tree, project, shape_at};
 use crate::error::{Error, Result};
 use crate::mesh::{BoundaryEdge, Mesh, dist};
-use rstar::{AABB, RTree, primitives::GeomWithData, primitives::Line};
+use rstar::AABB;
 use std::collections::HashMap;
 
 /// Projections of host vertices closer than this fraction of a face segment to one
@@ -196,25 +196,8 @@ fn gauss_points(
     tolerance: f64,
 ) -> Result<Vec<Point>> {
     let x = |n: usize| node_mesh.nodes[n];
-    let edges = host.boundary_edges();
+    let (edges, tree, max_len) = edge_tree(host);
     let segment = |e: &BoundaryEdge| e.nodes.map(|n| host.nodes[n]);
-    let tree = RTree::bulk_load(
-        edges
-            .iter()
-            .enumerate()
-            .map(|(i, e)| {
-                let [a, b] = segment(e);
-                GeomWithData::new(Line::new(a, b), i)
-            })
-            .collect(),
-    );
-    let max_len = edges
-        .iter()
-        .map(|e| {
-            let [a, b] = segment(e);
-            dist(a, b)
-        })
-        .fold(0.0, f64::max);
     let radius = tolerance * max_len;
     let gauss = [0.5 - 0.5 / 3f64.sqrt(), 0.5 + 0.5 / 3f64.sqrt()];
 
