@@ -141,6 +141,8 @@ impl Analysis {
                     def.tolerance * model.refine as f64,
                 )?;
             }
+            let c_slip =
+                slip_stiffness(def.law, &model.parts[def.host], &model.parts[def.node_part]);
             interfaces.push(Interface {
                 name: def.name.clone(),
                 host: def.host,
@@ -148,6 +150,7 @@ impl Analysis {
                 law: def.law,
                 c_n: def.c_n,
                 c_s: def.c_s,
+                c_slip,
                 elements,
                 max_projection_distance,
                 friction: def.friction,
@@ -178,6 +181,8 @@ impl Analysis {
         }
         for iface in &mut self.interfaces {
             iface.law = law;
+            let parts = &self.model.parts;
+            iface.c_slip = slip_stiffness(law, &parts[iface.host], &parts[iface.node_part]);
         }
     }
 
@@ -783,6 +788,18 @@ impl Analysis {
 
 /// The positions of the closed (bonded or slipping) pairs with the smallest and
 /// the largest x (then y); `None` when no pair is closed.
+/// The stabilising tangential stiffness of a slipping pair between `host` and
+/// `node` under `law`: [`crate::coupling::SLIP_STIFFNESS`] × the softer side's E·t
+/// for the Coulomb law, 0 for the others (they have no slip state).
+fn slip_stiffness(law: Law, host: &crate::domain::Part, node: &crate::domain::Part) -> f64 {
+    let et = |p: &crate::domain::Part| p.material.young * p.material.thickness;
+    if law == Law::Coulomb {
+        crate::coupling::SLIP_STIFFNESS * et(host).min(et(node))
+    } else {
+        0.0
+    }
+}
+
 fn contact_extent(rows: &[&PairRow]) -> Option<[[f64; 2]; 2]> {
     let by_x = |a: &&&PairRow, b: &&&PairRow| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y));
     let closed = || rows.iter().filter(|r| r.state.is_closed());

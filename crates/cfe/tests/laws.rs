@@ -444,6 +444,56 @@ fn coulomb_beyond_the_limit_slips_on_every_pair() {
     }
 }
 
+/// A part held tangentially by friction alone: the plate of the seed's second
+/// example (no x support on the plate) pressed on its base with μ = 0.2, meshes
+/// refined twice. Its face stretches outwards from the middle, so the active-set
+/// iteration passes through a pattern where every pair slips (a stiffness with no
+/// tangential support, until slipping pairs kept a stabilising spring). The run
+/// completes with Coulomb's law on every pair, and the friction forces balance:
+/// Σ f_s = 0, as the plate carries no tangential load.
+#[test]
+fn a_part_held_only_by_friction_finds_its_stick_zone() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plate_on_base.toml");
+    let mut a = Analysis::new(Model::from_file(&path, 2).unwrap()).unwrap();
+    let mu = 0.2;
+    a.override_friction(mu).unwrap();
+    let res = a.solve().unwrap();
+    assert_eq!(
+        res.summary.status,
+        RunStatus::Completed,
+        "{:?}",
+        res.summary.warnings
+    );
+    let slipping = check_coulomb(&a, &res.last, mu, 1e-6 * 1500.0);
+    let closed = res.pairs.iter().filter(|r| r.state.is_closed()).count();
+    let sticking = closed - slipping;
+    assert!(
+        slipping > 0 && sticking > 0,
+        "{slipping} slip, {sticking} stick"
+    );
+    let fs: f64 = res.pairs.iter().map(|r| r.force_s).sum();
+    let fnn: f64 = res.pairs.iter().map(|r| r.force_n).sum();
+    assert!(fs.abs() < 1e-9 * 1500.0, "Σ f_s = {fs}");
+    assert!((fnn - 1500.0).abs() < 1e-8 * 1500.0, "Σ f_n = {fnn}");
+}
+
+/// A block pushed sideways beyond friction with nothing else to hold it
+/// (Q = 0.45 P > μ P, μ = 0.3, too little to tip it): no state satisfies the law,
+/// and the run says so with a typed error instead of completing.
+#[test]
+fn a_block_pushed_beyond_friction_is_not_reported_as_held() {
+    let text = coulomb_block(
+        0.3,
+        "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.45, -1.0]\n[analysis]\nincrements = 2",
+    );
+    let a = analysis(&text);
+    match a.solve() {
+        Err(Error::LawViolation { .. } | Error::NoConvergence(_)) => {}
+        Err(e) => panic!("unexpected error {e}"),
+        Ok(res) => panic!("completed as {:?}", res.summary.status),
+    }
+}
+
 /// Friction is path-dependent: a block pressed by an interference (constant
 /// pressure) is pushed sideways to δ and back to 0. Going out it slips with
 /// |F| = μ P; coming back, the first step unloads elastically (sticks), then it

@@ -268,6 +268,7 @@ impl CouplingElement {
             LawParams {
                 c_n: w * law.c_n,
                 c_s: w * law.c_s,
+                c_slip: w * law.c_slip,
                 ..*law
             }
         }

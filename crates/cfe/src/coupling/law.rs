@@ -15,6 +15,13 @@
 //!   `c_s ([[u_s]] − s_p)`, a constant of the pair's [`PairHistory`] iterated to a
 //!   fixed point, so the stiffness stays symmetric) or open.
 //!
+//! While the fixed point runs, a slipping pair also keeps a small tangential
+//! stiffness `c_slip` (see [`SLIP_STIFFNESS`]) anchored at its previous iterate's
+//! jump: `f_s = μ |f_n| + c_slip ([[u_s]] − u_anchor)`. The spring's force vanishes
+//! at the fixed point (the anchor is the jump), so the converged answer is the
+//! law's; on the way it keeps the stiffness nonsingular when every pair holding a
+//! part slips (friction then holds it, as it does physically).
+//!
 //! State diagram (a transition is taken after a solve when the law is broken;
 //! `tol` are the law tolerances, so a pair at the boundary does not flip back and
 //! forth on round-off):
@@ -143,7 +150,21 @@ pub struct LawParams {
     pub c_s: f64,
     /// Friction coefficient μ (Coulomb law; 0 otherwise).
     pub friction: f64,
+    /// Tangential stiffness a slipping pair keeps while its slip force is iterated
+    /// (Coulomb law; 0 otherwise): see [`SLIP_STIFFNESS`].
+    pub c_slip: f64,
 }
+
+/// The stabilising tangential stiffness of a slipping Coulomb pair, as a fraction
+/// of the softer part's E·t (the stiffness of the body behind a coupling node is of
+/// the order of E·t). A part held only by slipping pairs keeps a nonsingular
+/// stiffness (its sliding mode is held by the springs of all its pairs); the
+/// springs are anchored at the previous fixed-point iterate, so they carry no
+/// force once it converges. Small, so they barely slow the fixed point of the
+/// modes the body holds (a plate's stretching along a face of a thousand pairs is
+/// still far stiffer than their springs together); the sliding drift they let
+/// through is what the Anderson acceleration of the fixed point removes.
+pub const SLIP_STIFFNESS: f64 = 1e-3;
 
 /// What a pair's force depends on besides its jump: the plastic slip carried
 /// between increments (Coulomb), the tangential force of a slipping pair (iterated
@@ -155,6 +176,9 @@ pub struct PairHistory {
     pub slip: f64,
     /// Tangential force of a slipping pair, `μ |f_n|` signed along the trial force.
     pub slip_force: f64,
+    /// The tangential jump a slipping pair's stabilising spring (`c_slip`) is
+    /// anchored at: the jump of the previous fixed-point iterate.
+    pub anchor: f64,
     /// Multipliers (normal, tangential) added to the penalty forces of a closed pair
     /// (augmented Lagrangian).
     pub multiplier: [f64; 2],
@@ -172,20 +196,21 @@ fn plus(a: f64, b: f64) -> f64 {
 impl LawParams {
     /// The penalties (normal, tangential) that act in the stiffness of a pair in
     /// `state`: both when bonded (the tangential one zero for the frictionless law),
-    /// the normal one when slipping, none when open.
+    /// the normal one and the stabilising `c_slip` when slipping, none when open.
     pub fn penalties(&self, state: PairState) -> [f64; 2] {
         match state {
             PairState::Open => [0.0, 0.0],
             PairState::Bonded if self.law == Law::Frictionless => [self.c_n, 0.0],
             PairState::Bonded => [self.c_n, self.c_s],
-            PairState::Slip => [self.c_n, 0.0],
+            PairState::Slip => [self.c_n, self.c_slip],
         }
     }
 
     /// The local force `f = (f_n, f_s)` (the force the host side exerts on the pair)
     /// for the normal gap `g_n` (g₀ + [[u_n]]) and the tangential jump `u_s`:
     /// bonded `(c_n g_n, c_s (u_s − s_p))` (tangential 0 when frictionless), slip
-    /// `(c_n g_n, slip_force)`, open 0; plus the multipliers when closed.
+    /// `(c_n g_n, slip_force + c_slip (u_s − anchor))`, open 0; plus the
+    /// multipliers when closed.
     pub fn local_force(&self, state: PairState, g_n: f64, u_s: f64, h: &PairHistory) -> [f64; 2] {
         let m = h.multiplier;
         match state {
@@ -195,7 +220,10 @@ impl LawParams {
                 plus(self.c_n * g_n, m[0]),
                 plus(self.c_s * plus(u_s, -h.slip), m[1]),
             ],
-            PairState::Slip => [plus(self.c_n * g_n, m[0]), h.slip_force],
+            PairState::Slip => [
+                plus(self.c_n * g_n, m[0]),
+                plus(h.slip_force, self.c_slip * (u_s - h.anchor)),
+            ],
         }
     }
 
@@ -476,8 +504,8 @@ mod tests {
         );
     }
 
-    /// The laws' penalties and forces: frictionless and slip pairs have no
-    /// tangential stiffness, a stick pair's shear is measured from its plastic slip,
+    /// The laws' penalties and forces: frictionless pairs have no tangential
+    /// stiffness, slip pairs only the stabilising one, a stick pair's shear is measured from its plastic slip,
     /// a slip pair carries its slip force, multipliers add to closed pairs' forces;
     /// the seed's laws with a zero history give exactly the seed's forces.
     #[test]
@@ -487,10 +515,12 @@ mod tests {
             c_n: 10.0,
             c_s: 4.0,
             friction,
+            c_slip: if law == Law::Coulomb { 0.5 } else { 0.0 },
         };
         let h = PairHistory {
             slip: 0.5,
             slip_force: -1.5,
+            anchor: 1.0,
             multiplier: [0.0; 2],
         };
         let zero = PairHistory::default();
@@ -498,7 +528,7 @@ mod tests {
             p(Law::Frictionless, 0.0).penalties(PairState::Bonded),
             [10.0, 0.0]
         );
-        assert_eq!(p(Law::Coulomb, 0.3).penalties(PairState::Slip), [10.0, 0.0]);
+        assert_eq!(p(Law::Coulomb, 0.3).penalties(PairState::Slip), [10.0, 0.5]);
         assert_eq!(
             p(Law::Coulomb, 0.3).penalties(PairState::Bonded),
             [10.0, 4.0]
@@ -519,9 +549,15 @@ mod tests {
             coulomb.local_force(PairState::Bonded, -0.1, 1.0, &h),
             [-1.0, 2.0]
         );
+        // At its anchor a slip pair carries its slip force; away from it, the
+        // stabilising spring's force adds.
         assert_eq!(
             coulomb.local_force(PairState::Slip, -0.1, 1.0, &h),
             [-1.0, -1.5]
+        );
+        assert_eq!(
+            coulomb.local_force(PairState::Slip, -0.1, 3.0, &h),
+            [-1.0, -0.5]
         );
         let m = PairHistory {
             multiplier: [-2.0, 0.25],
@@ -548,6 +584,7 @@ mod tests {
             c_n: 10.0,
             c_s: 4.0,
             friction: 0.5,
+            c_slip: 0.4,
         };
         let h = PairHistory::default();
         let tol = 1e-9;

@@ -11,7 +11,7 @@ pub mod segment;
 pub use element::{CouplingElement, SegmentSide};
 pub use law::{
     Enforcement, Law, LawParams, LawTolerance, LawViolation, PairHistories, PairHistory, PairState,
-    PairStates, ViolationKind,
+    PairStates, SLIP_STIFFNESS, ViolationKind,
 };
 
 /// An interface between a host part and a node part, with its coupling elements.
@@ -30,6 +30,9 @@ pub struct Interface {
     pub c_n: f64,
     /// Tangential penalty c_s (force per length).
     pub c_s: f64,
+    /// The stabilising tangential stiffness of a slipping pair
+    /// ([`law::SLIP_STIFFNESS`] × the softer part's E·t; Coulomb law only, else 0).
+    pub c_slip: f64,
     /// One coupling element per coupling node.
     pub elements: Vec<CouplingElement>,
     /// Largest distance from a coupling node to its host edge (geometric check).
@@ -57,6 +60,7 @@ impl Interface {
             c_n: self.c_n,
             c_s: self.c_s,
             friction: self.friction,
+            c_slip: self.c_slip,
         }
     }
 

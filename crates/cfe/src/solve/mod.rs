@@ -3,6 +3,7 @@
 //! the incremental contact schemes (`active-set`, `implex`) and their warm start
 //! from a coarser model.
 
+pub(crate) mod anderson;
 pub(crate) mod columns;
 pub mod linear;
 pub mod nonlinear;

@@ -72,7 +72,8 @@ pub fn check(
         let law = iface.params();
         for (c, &s) in iface.elements.iter().zip(st) {
             // A pair constrains the directions its penalties act in: both when
-            // bonded (x and y), the normal only when frictionless or slipping.
+            // bonded or slipping (x and y: a slipping pair keeps its stabilising
+            // spring), the normal only when frictionless.
             let [k_n, k_s] = law.penalties(s);
             let directions: &[[f64; 2]] = match (k_n > 0.0, k_s > 0.0) {
                 (true, true) => &AXES,
@@ -141,7 +142,7 @@ fn unsupported(
                 .filter(|(i, _)| i.host == p || i.node_part == p)
                 .map(|(_, st)| st.iter().filter(|&&s| s == PairState::Open).count())
                 .sum();
-            // Closed pairs with no tangential stiffness: frictionless, or slipping.
+            // Closed pairs with no tangential stiffness: frictionless.
             let sliding: usize = interfaces
                 .iter()
                 .zip(states)
@@ -155,7 +156,7 @@ fn unsupported(
                 .sum();
             if sliding > 0 {
                 format!(
-                    "'{}' ({open} of its {pairs} coupling pairs open, {sliding} closed but sliding freely: frictionless or slipping pairs carry no tangential stiffness, so hold the part tangentially with a [[support]])",
+                    "'{}' ({open} of its {pairs} coupling pairs open, {sliding} closed but sliding freely: frictionless pairs carry no tangential force, so hold the part tangentially with a [[support]])",
                     parts[p].name
                 )
             } else {
