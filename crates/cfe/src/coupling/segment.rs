@@ -433,7 +433,11 @@ fn gauss_points(
 
 /// The host boundary edge (among `candidates`, indices into `edges`) under the
 /// point `mid` of a face piece: the nearest within `reach`, ties to the lowest
-/// host element, then edge. Returns (host element, edge).
+/// host element, then edge. Returns (host element, edge). Within a search
+/// distance a tie is first broken by how far the point's projection on the edge's
+/// line falls beyond the edge: off a host corner, where the clamped projections on
+/// both edges are the corner and the distances equal, the piece takes the edge on
+/// its side of the corner's bisector, so that g₀ is continuous along the face.
 fn edge_under(
     host: &Mesh,
     edges: &[BoundaryEdge],
@@ -441,7 +445,8 @@ fn edge_under(
     mid: [f64; 2],
     reach: Reach,
 ) -> Option<(usize, usize)> {
-    let mut best: Option<(f64, usize, usize)> = None;
+    // (distance, overshoot beyond the edge's ends, element, edge)
+    let mut best: Option<(f64, f64, usize, usize)> = None;
     for &e in candidates {
         let [p, q] = edges[e].nodes.map(|n| host.nodes[n]);
         let elen = dist(p, q);
@@ -449,17 +454,35 @@ fn edge_under(
         if !reach.within(d, elen) {
             continue;
         }
-        let key = (d, edges[e].element, e);
-        let same = best.is_some_and(|cur| (d - cur.0).abs() <= 1e-12 * elen);
-        best = match best {
-            None => Some(key),
-            Some(cur) if same && (key.1, key.2) < (cur.1, cur.2) => Some(key),
-            Some(cur) if !same && d < cur.0 => Some(key),
-            cur => cur,
+        let over = match reach {
+            Reach::Tolerance(_) => 0.0,
+            Reach::Distance(_) => {
+                let xi = ((mid[0] - p[0]) * (q[0] - p[0]) + (mid[1] - p[1]) * (q[1] - p[1]))
+                    / (elen * elen);
+                (-xi).max(xi - 1.0).max(0.0) * elen
+            }
         };
+        let key = (d, over, edges[e].element, e);
+        let better = match best {
+            None => true,
+            Some(cur) => {
+                let tie = |a: f64, b: f64| (a - b).abs() <= 1e-12 * elen;
+                if !tie(d, cur.0) {
+                    d < cur.0
+                } else if !tie(over, cur.1) {
+                    over < cur.1
+                } else {
+                    (key.2, key.3) < (cur.2, cur.3)
+                }
+            }
+        };
+        if better {
+            best = Some(key);
+        }
     }
-    best.map(|(_, element, e)| (element, e))
+    best.map(|(_, _, element, e)| (element, e))
 }
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -628,6 +651,53 @@ mod tests {
             assert!((el.normal[1] - 1.0).abs() < 1e-14);
         }
         assert!(els.len() >= 10 && unpaired >= 20, "{} {unpaired}", els.len());
+    }
+
+    /// Overclosure on a curved host: a shaft (node part, 2N segments around, radius
+    /// b + δ) inside a ring's bore (host, N chords, radius b), as in a shrink fit.
+    /// Along a shaft segment over the ring chord of mid-angle φ the gap is
+    /// g₀ = −(X · u_φ − b cos(θ/2)) (θ = 2π/N; also where the projection is clamped
+    /// to a ring vertex), linear, so a node's mean over its two segments is
+    /// (2 g₀(X_a) + g₀(X_b)) / 3 averaged over them: at the ring's vertices' angles
+    /// −(2δ cos(θ/2) + δ + b(1 − cos(θ/2)))/3, between them
+    /// −(2δ + 2b(1 − cos(θ/2)) + δ cos(θ/2))/3 — checked on every node, with the
+    /// normal the inward radial direction.
+    #[test]
+    fn overclosure_on_a_curved_host() {
+        let (b, delta, n) = (10.0f64, 0.05, 24usize);
+        let ring = Mesh::annulus([0.0, 0.0], [b, 12.0], [0.0, 360.0], [1, n], ElementKind::Q4);
+        let shaft = Mesh::annulus(
+            [0.0, 0.0],
+            [8.0, b + delta],
+            [0.0, 360.0],
+            [1, 2 * n],
+            ElementKind::T3,
+        );
+        let nodes = shaft.boundary_nodes("outer").unwrap();
+        let (els, unpaired) =
+            segment_elements_within("fit", &ring, &shaft, "outer", &nodes, 1e-6, 5.0 * delta)
+                .unwrap();
+        assert_eq!((els.len(), unpaired), (2 * n, 0));
+        let half = std::f64::consts::PI / n as f64;
+        let (g_vertex, g_mid) = (-delta * half.cos(), -delta - b * (1.0 - half.cos()));
+        for c in &els {
+            let x = shaft.nodes[c.node];
+            let angle = x[1].atan2(x[0]).rem_euclid(std::f64::consts::TAU);
+            let at_vertex = ((angle / (2.0 * half)).round() * 2.0 * half - angle).abs() < 1e-9;
+            let expected = if at_vertex {
+                (2.0 * g_vertex + g_mid) / 3.0
+            } else {
+                (2.0 * g_mid + g_vertex) / 3.0
+            };
+            assert!(
+                (c.gap0 - expected).abs() < 1e-12,
+                "node at {:.2}°: {} vs {expected}",
+                angle.to_degrees(),
+                c.gap0
+            );
+            assert!((c.normal[0] + angle.cos()).abs() < 1e-12);
+            assert!((c.normal[1] + angle.sin()).abs() < 1e-12);
+        }
     }
 
     /// Coupling nodes on no boundary edge cannot be integrated over: an error
