@@ -215,3 +215,59 @@ fn gap_patch_test_augmented_is_exact() {
         );
     }
 }
+
+/// Coulomb friction across a closed initial gap with the segment coupling: the
+/// upper block pushed down past g₀ and dragged sideways (its top) far enough for
+/// every pair to slip over the clamped lower block carries on every pair a shear traction of μ × its pressure (slip
+/// state, no law violation), and in total μ × the normal force — equilibrium and
+/// the cone, independent of the discretization.
+#[test]
+fn coulomb_slip_across_a_closed_gap() {
+    let (g0, push, shift, mu) = (0.01, 0.05, 0.1, 0.3);
+    let text = gap_blocks(g0, push, 1e6, "segment", "q4")
+        .replace(
+            "law = \"frictionless\"",
+            &format!("law = \"coulomb\"\nfriction = {mu}\nc_s = 1e6"),
+        )
+        .replace(
+            &format!("fix = [\"y\"]\nvalue = [0.0, {}]", -push),
+            &format!("fix = [\"x\", \"y\"]\nvalue = [{shift}, {}]", -push),
+        )
+        .replace(
+            &format!("[[support]]\npart = \"upper\"\nat = [0.0, {}]\nfix = [\"x\"]\n", 2.0 + g0),
+            "",
+        )
+        .replace(
+            "part = \"lower\"\nboundary = \"bottom\"\nfix = [\"y\"]\n[[support]]\npart = \"lower\"\nat = [0.0, 0.0]\nfix = [\"x\"]",
+            "part = \"lower\"\nboundary = \"bottom\"\nfix = [\"x\", \"y\"]",
+        )
+        .replace("increments = 1", "increments = 4");
+    assert!(
+        text.contains("value = [0.1, -0.05]")
+            && !text.contains("at = [0.0, 2.01]")
+            && !text.contains("at = [0.0, 0.0]")
+    );
+    let a = common::analysis(&text);
+    let incs = common::solve(&a);
+    let last = incs.last().unwrap();
+    let rows = a.pair_rows(last);
+    assert_eq!(rows.len(), 8);
+    // The slip forces are converged to a fraction of the load scale.
+    let scale = rows.iter().map(|r| r.pressure).fold(0.0, f64::max);
+    let (mut fn_sum, mut fs_sum) = (0.0, 0.0);
+    for r in &rows {
+        assert_eq!(r.state, PairState::Slip, "pair at x = {}", r.x);
+        assert!(r.violation.is_none());
+        assert!(r.pressure > 0.0);
+        assert!(
+            (r.shear.abs() - mu * r.pressure).abs() < 1e-6 * scale,
+            "x = {}: shear {} pressure {}",
+            r.x,
+            r.shear,
+            r.pressure
+        );
+        fn_sum += r.force_n;
+        fs_sum += r.force_s;
+    }
+    assert!((fs_sum.abs() - mu * fn_sum).abs() < 1e-6 * fn_sum);
+}
