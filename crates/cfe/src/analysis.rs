@@ -99,14 +99,21 @@ impl Analysis {
             // The tolerance is a fraction of the host's edges as meshed in the
             // problem file: `--refine K` subdivides edges K times but leaves the gap
             // between two faces meshed apart (a Gmsh part keeps its polygons) as it is.
-            let (mut elements, unpaired) = search::find_pairs_within(
-                &def.name,
-                &host.mesh,
-                &node_part.mesh,
-                &def.nodes,
-                def.tolerance * model.refine as f64,
-                def.search_distance,
-            )?;
+            // The segment coupling within a search distance moves no node and
+            // finds its own host edges, point by point along the face.
+            let segment_gaps = def.coupling == Coupling::Segment && def.search_distance > 0.0;
+            let (mut elements, mut unpaired) = if segment_gaps {
+                (Vec::new(), 0)
+            } else {
+                search::find_pairs_within(
+                    &def.name,
+                    &host.mesh,
+                    &node_part.mesh,
+                    &def.nodes,
+                    def.tolerance * model.refine as f64,
+                    def.search_distance,
+                )?
+            };
             // Within a search distance the nodes stay where they are (their gaps
             // are kept): nothing is moved.
             let max_projection_distance = if def.search_distance > 0.0 {
@@ -130,16 +137,22 @@ impl Analysis {
                 })?;
             }
             if def.coupling == Coupling::Segment {
-                // The nodes now lie on the host boundary: integrate over their
-                // face segments.
-                elements = segment::segment_elements(
+                // The nodes now lie on the host boundary (or, within a search
+                // distance, stay where they are): integrate over their face
+                // segments.
+                let (segment_elements, segment_unpaired) = segment::segment_elements_within(
                     &def.name,
                     &model.parts[def.host].mesh,
                     &model.parts[def.node_part].mesh,
                     &def.boundary,
                     &def.nodes,
                     def.tolerance * model.refine as f64,
+                    def.search_distance,
                 )?;
+                elements = segment_elements;
+                if segment_gaps {
+                    unpaired = segment_unpaired;
+                }
             }
             let c_slip =
                 slip_stiffness(def.law, &model.parts[def.host], &model.parts[def.node_part]);

@@ -879,8 +879,7 @@ impl Builder<'_> {
     }
 
     /// The keys of the contact laws of interface `name`: `friction` (only with, and
-    /// required by, `coulomb`), `search_distance` (a length ≥ 0; not on a rigid tie
-    /// nor with the segment coupling) and `penetration_tolerance` (augmented
+    /// required by, `coulomb`), `search_distance` (a length ≥ 0; not on a rigid tie) and `penetration_tolerance` (augmented
     /// enforcement only; by default 1e-6 × the two parts' bounding diagonal).
     fn contact_keys(
         &self,
@@ -933,14 +932,6 @@ impl Builder<'_> {
                 &spec.host,
                 format!(
                     "interface '{name}': `search_distance` needs a contact law (contact, frictionless, coulomb); a rigid tie joins faces that touch (use `tolerance`)"
-                ),
-            ));
-        }
-        if search_distance > 0.0 && spec.coupling == Coupling::Segment {
-            return Err(self.err(
-                &spec.host,
-                format!(
-                    "interface '{name}': `search_distance` works with the node coupling only; the segment coupling integrates over faces that touch (remove `coupling = \"segment\"` or `search_distance`)"
                 ),
             ));
         }

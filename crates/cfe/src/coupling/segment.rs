@@ -28,7 +28,7 @@ use super::search::{edge_normal, edge_tree, project, shape_at};
 use crate::error::{Error, Result};
 use crate::mesh::{BoundaryEdge, Mesh, dist};
 use rstar::AABB;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// Projections of host vertices closer than this fraction of a face segment to one
 /// of its ends, or to each other, are merged (no sliver sub-segments).
@@ -62,6 +62,9 @@ struct Point {
     normal: [f64; 2],
     /// Distance from the point to the host edge.
     distance: f64,
+    /// Initial normal gap (X − P) · n to its projection P on the host edge (0
+    /// for touching faces).
+    gap0: f64,
 }
 
 /// The segment coupling elements of an interface, one per coupling node a with a
@@ -84,6 +87,33 @@ pub fn segment_elements(
     nodes: &[usize],
     tolerance: f64,
 ) -> Result<Vec<CouplingElement>> {
+    segment_elements_within(interface, host, node_mesh, boundary, nodes, tolerance, 0.0)
+        .map(|(elements, _)| elements)
+}
+
+/// As [`segment_elements`] when `search_distance` is 0 (faces that touch, nodes
+/// already moved onto the host). With a search distance d > 0 (a length) the
+/// faces may be apart or overlap and nothing is moved: every piece of a face
+/// segment takes the host boundary edge nearest to its midpoint, the segments
+/// being cut where that choice or the projection's clamping can change (the lines
+/// through the host's vertices along their edges' normals and along the vertices'
+/// bisectors); each Gauss point X is tied to its projection P on that edge (the
+/// host's shape functions are taken at P) and carries the pointwise initial gap
+/// `g₀(X) = (X − P) · n_e` (n_e the edge's outward normal; > 0 apart, < 0
+/// overlapping). The element's initial gap is the N_a-weighted mean
+/// `g₀_a = ∫ N_a g₀ ds / m_a`, with the weight of its averaged jump. A coupling node
+/// with a Gauss point on its face segments farther than d from every host edge is
+/// left unpaired, as the node coupling leaves a node beyond d; their number is
+/// returned second (0 when d = 0, where the node search has placed every node).
+pub fn segment_elements_within(
+    interface: &str,
+    host: &Mesh,
+    node_mesh: &Mesh,
+    boundary: &str,
+    nodes: &[usize],
+    tolerance: f64,
+    search_distance: f64,
+) -> Result<(Vec<CouplingElement>, usize)> {
     let segments = face_segments(node_mesh, boundary);
     if segments.is_empty() {
         return Err(Error::Coupling {
@@ -97,7 +127,13 @@ pub fn segment_elements(
     let x = |n: usize| node_mesh.nodes[n];
     let mean_length =
         segments.iter().map(|&[a, b]| dist(x(a), x(b))).sum::<f64>() / segments.len() as f64;
-    let points = gauss_points(interface, host, node_mesh, &segments, tolerance)?;
+    let gaps = search_distance > 0.0;
+    let reach = if gaps {
+        Reach::Distance(search_distance)
+    } else {
+        Reach::Tolerance(tolerance)
+    };
+    let (points, unreached) = gauss_points(interface, host, node_mesh, &segments, reach)?;
 
     // Accumulate, per coupling node a: m_a, ∫ N_a N_b, ∫ N_a N̄_i, ∫ N_a n.
     #[derive(Default)]
@@ -108,6 +144,7 @@ pub fn segment_elements(
         normal: [f64; 2],
         element: (f64, usize),
         distance: f64,
+        gap0: f64,
     }
     fn add(list: &mut Vec<(usize, f64)>, id: usize, v: f64) {
         match list.iter_mut().find(|(i, _)| *i == id) {
@@ -135,10 +172,14 @@ pub fn segment_elements(
                 e.element = (wa, p.element);
             }
             e.distance = e.distance.max(p.distance);
+            e.gap0 += wa * p.gap0;
         }
     }
     let mut elements = Vec::with_capacity(nodes.len());
     for &a in nodes {
+        if unreached.contains(&a) {
+            continue;
+        }
         let Some(e) = acc.remove(&a) else { continue };
         if e.m <= 1e-12 * mean_length {
             continue;
@@ -169,7 +210,9 @@ pub fn segment_elements(
             normal: [e.normal[0] / l, e.normal[1] / l],
             position: x(a),
             distance: e.distance,
-            gap0: 0.0,
+            // The N_a-weighted mean of the pointwise initial gap (0 without a
+            // search distance: the faces touch).
+            gap0: if gaps { e.gap0 / e.m } else { 0.0 },
             tributary: e.m,
             // The geometrically linear limit's scale: the face's mean segment.
             edge_length: mean_length,
@@ -181,27 +224,82 @@ pub fn segment_elements(
             }),
         });
     }
-    Ok(elements)
+    let unpaired = if gaps {
+        nodes.len() - elements.len()
+    } else {
+        0
+    };
+    Ok((elements, unpaired))
+}
+
+/// How far a face point may lie from its host edge.
+#[derive(Debug, Clone, Copy)]
+enum Reach {
+    /// Faces that touch: within this fraction of the edge's length (the nodes
+    /// were moved onto the host).
+    Tolerance(f64),
+    /// Faces apart or overlapping: within this length (`search_distance`).
+    Distance(f64),
+}
+
+impl Reach {
+    /// Whether a point `d` from an edge of length `len` is within reach.
+    fn within(self, d: f64, len: f64) -> bool {
+        match self {
+            Reach::Tolerance(t) => d <= t * len,
+            Reach::Distance(r) => d <= r,
+        }
+    }
 }
 
 /// Two Gauss points on every piece of the face `segments` cut at the projections
 /// of the host's boundary vertices, each over the host boundary edge nearest to its
-/// piece's midpoint (within `tolerance` × that edge's length; pieces over no host
-/// edge, beyond the host's end, get none).
+/// piece's midpoint within `reach`. Touching faces (`Reach::Tolerance`): the
+/// host's shape functions at the point itself, no initial gap; pieces over no host
+/// edge (beyond the host's end) get none. Faces within a search distance
+/// (`Reach::Distance`): the pieces are also cut where the nearest edge or the
+/// clamping of the projection can change, each point is tied to its projection on
+/// the edge with its initial gap, and the nodes of a segment with a point beyond
+/// the distance are returned (second) to be left unpaired.
 fn gauss_points(
     interface: &str,
     host: &Mesh,
     node_mesh: &Mesh,
     segments: &[[usize; 2]],
-    tolerance: f64,
-) -> Result<Vec<Point>> {
+    reach: Reach,
+) -> Result<(Vec<Point>, HashSet<usize>)> {
     let x = |n: usize| node_mesh.nodes[n];
     let (edges, tree, max_len) = edge_tree(host);
     let segment = |e: &BoundaryEdge| e.nodes.map(|n| host.nodes[n]);
-    let radius = tolerance * max_len;
+    let (radius, gaps) = match reach {
+        Reach::Tolerance(t) => (t * max_len, false),
+        Reach::Distance(d) => (d, true),
+    };
+    // With gaps: the bisector direction at each host boundary vertex (the
+    // normalised sum of the normals of the edges meeting there), where the nearest
+    // of two edges changes.
+    let bisectors: HashMap<usize, [f64; 2]> = if gaps {
+        let mut sum: HashMap<usize, [f64; 2]> = HashMap::new();
+        for e in &edges {
+            let n = edge_normal(segment(e));
+            for v in e.nodes {
+                let s = sum.entry(v).or_default();
+                *s = [s[0] + n[0], s[1] + n[1]];
+            }
+        }
+        sum.into_iter()
+            .filter_map(|(v, s)| {
+                let l = s[0].hypot(s[1]);
+                (l > 1e-12).then(|| (v, [s[0] / l, s[1] / l]))
+            })
+            .collect()
+    } else {
+        HashMap::new()
+    };
     let gauss = [0.5 - 0.5 / 3f64.sqrt(), 0.5 + 0.5 / 3f64.sqrt()];
 
     let mut points = Vec::with_capacity(4 * segments.len());
+    let mut unreached = HashSet::new();
     let mut candidates = Vec::new();
     let mut cuts = Vec::new();
     for &[na, nb] in segments {
@@ -219,17 +317,49 @@ fn gauss_points(
                 .map(|c| c.data),
         );
         candidates.sort_unstable();
+        if gaps && candidates.is_empty() {
+            unreached.extend([na, nb]);
+            continue;
+        }
         // Cut the segment at the projections of the host vertices near it.
         cuts.clear();
         cuts.extend([0.0, 1.0]);
         for &e in &candidates {
             let [p, q] = segment(&edges[e]);
-            let tol = tolerance * dist(p, q);
-            for v in [p, q] {
-                let t = ((v[0] - a[0]) * ab[0] + (v[1] - a[1]) * ab[1]) / (len * len);
-                let off = ((v[0] - a[0]) * ab[1] - (v[1] - a[1]) * ab[0]).abs() / len;
-                if t > MERGE && t < 1.0 - MERGE && off <= tol {
-                    cuts.push(t);
+            match reach {
+                Reach::Distance(_) => {
+                    // Where the line through a vertex along `dir` (its edge's
+                    // normal, and the vertex's bisector) crosses the segment:
+                    // (a + t ab − v) · dir⊥ = 0.
+                    let n = edge_normal([p, q]);
+                    for (v, id) in [(p, edges[e].nodes[0]), (q, edges[e].nodes[1])] {
+                        for dir in [Some(n), bisectors.get(&id).copied()]
+                            .into_iter()
+                            .flatten()
+                        {
+                            let perp = [-dir[1], dir[0]];
+                            let den = ab[0] * perp[0] + ab[1] * perp[1];
+                            if den.abs() > 1e-12 * len {
+                                let t = ((v[0] - a[0]) * perp[0] + (v[1] - a[1]) * perp[1])
+                                    / den;
+                                if t > MERGE && t < 1.0 - MERGE {
+                                    cuts.push(t);
+                                }
+                            }
+                        }
+                    }
+                }
+                Reach::Tolerance(tolerance) => {
+                    let tol = tolerance * dist(p, q);
+                    for v in [p, q] {
+                        let t =
+                            ((v[0] - a[0]) * ab[0] + (v[1] - a[1]) * ab[1]) / (len * len);
+                        let off =
+                            ((v[0] - a[0]) * ab[1] - (v[1] - a[1]) * ab[0]).abs() / len;
+                        if t > MERGE && t < 1.0 - MERGE && off <= tol {
+                            cuts.push(t);
+                        }
+                    }
                 }
             }
         }
@@ -241,10 +371,13 @@ fn gauss_points(
                 continue;
             }
             // The host edge under the piece: the nearest to its midpoint (ties to
-            // the lowest host element, then edge), within the tolerance.
+            // the lowest host element, then edge), within reach.
             let tm = 0.5 * (t0 + t1);
             let mid = [a[0] + tm * ab[0], a[1] + tm * ab[1]];
-            let Some((element, e)) = edge_under(host, &edges, &candidates, mid, tolerance) else {
+            let Some((element, e)) = edge_under(host, &edges, &candidates, mid, reach) else {
+                if gaps {
+                    unreached.extend([na, nb]);
+                }
                 continue;
             };
             let [p, q] = segment(&edges[e]);
@@ -253,21 +386,34 @@ fn gauss_points(
             for g in gauss {
                 let t = t0 + g * (t1 - t0);
                 let at = [a[0] + t * ab[0], a[1] + t * ab[1]];
-                let (_, distance) = project(at, p, q);
-                // The host's shape functions at the point itself, not at its
-                // projection: where the face segment cuts a corner of the host's
-                // polygon (a curved face) the point lies off the host edge, and
-                // extrapolating the host element there keeps every linear field
-                // free of jump (as the node CFE does by moving its nodes).
-                let host_shape = shape_at(&host.elements[element], &corners, at).ok_or_else(
-                    || Error::Coupling {
+                let (xi, distance) = project(at, p, q);
+                // Touching faces: the host's shape functions at the point itself,
+                // not at its projection: where the face segment cuts a corner of
+                // the host's polygon (a curved face) the point lies off the host
+                // edge, and extrapolating the host element there keeps every
+                // linear field free of jump (as the node CFE does by moving its
+                // nodes). Faces apart: at the projection P, the host point the
+                // face point meets when the gap closes, as the node coupling does
+                // within a search distance; the point carries its initial gap
+                // (X − P) · n.
+                let (on_host, gap0) = if gaps {
+                    if !reach.within(distance, dist(p, q)) {
+                        unreached.extend([na, nb]);
+                    }
+                    let proj = [p[0] + xi * (q[0] - p[0]), p[1] + xi * (q[1] - p[1])];
+                    let g0 = (at[0] - proj[0]) * normal[0] + (at[1] - proj[1]) * normal[1];
+                    (proj, g0)
+                } else {
+                    (at, 0.0)
+                };
+                let host_shape = shape_at(&host.elements[element], &corners, on_host)
+                    .ok_or_else(|| Error::Coupling {
                         interface: interface.to_string(),
                         message: format!(
                             "the inverse map of host element {element} (corners {corners:?}) does not converge at the face point ({}, {})",
-                            at[0], at[1]
+                            on_host[0], on_host[1]
                         ),
-                    },
-                )?;
+                    })?;
                 points.push(Point {
                     segment: [na, nb],
                     n: [1.0 - t, t],
@@ -277,43 +423,66 @@ fn gauss_points(
                     host_shape,
                     normal,
                     distance,
+                    gap0,
                 });
             }
         }
     }
-    Ok(points)
+    Ok((points, unreached))
 }
 
-
 /// The host boundary edge (among `candidates`, indices into `edges`) under the
-/// point `mid` of a face piece: the nearest within `tolerance` × its length, ties
-/// to the lowest host element, then edge. Returns (host element, edge).
+/// point `mid` of a face piece: the nearest within `reach`, ties to the lowest
+/// host element, then edge. Returns (host element, edge). Within a search
+/// distance a tie is first broken by how far the point's projection on the edge's
+/// line falls beyond the edge: off a host corner, where the clamped projections on
+/// both edges are the corner and the distances equal, the piece takes the edge on
+/// its side of the corner's bisector, so that g₀ is continuous along the face.
 fn edge_under(
     host: &Mesh,
     edges: &[BoundaryEdge],
     candidates: &[usize],
     mid: [f64; 2],
-    tolerance: f64,
+    reach: Reach,
 ) -> Option<(usize, usize)> {
-    let mut best: Option<(f64, usize, usize)> = None;
+    // (distance, overshoot beyond the edge's ends, element, edge)
+    let mut best: Option<(f64, f64, usize, usize)> = None;
     for &e in candidates {
         let [p, q] = edges[e].nodes.map(|n| host.nodes[n]);
         let elen = dist(p, q);
         let (_, d) = project(mid, p, q);
-        if d > tolerance * elen {
+        if !reach.within(d, elen) {
             continue;
         }
-        let key = (d, edges[e].element, e);
-        let same = best.is_some_and(|cur| (d - cur.0).abs() <= 1e-12 * elen);
-        best = match best {
-            None => Some(key),
-            Some(cur) if same && (key.1, key.2) < (cur.1, cur.2) => Some(key),
-            Some(cur) if !same && d < cur.0 => Some(key),
-            cur => cur,
+        let over = match reach {
+            Reach::Tolerance(_) => 0.0,
+            Reach::Distance(_) => {
+                let xi = ((mid[0] - p[0]) * (q[0] - p[0]) + (mid[1] - p[1]) * (q[1] - p[1]))
+                    / (elen * elen);
+                (-xi).max(xi - 1.0).max(0.0) * elen
+            }
         };
+        let key = (d, over, edges[e].element, e);
+        let better = match best {
+            None => true,
+            Some(cur) => {
+                let tie = |a: f64, b: f64| (a - b).abs() <= 1e-12 * elen;
+                if !tie(d, cur.0) {
+                    d < cur.0
+                } else if !tie(over, cur.1) {
+                    over < cur.1
+                } else {
+                    (key.2, key.3) < (cur.2, cur.3)
+                }
+            }
+        };
+        if better {
+            best = Some(key);
+        }
     }
-    best.map(|(_, element, e)| (element, e))
+    best.map(|(_, _, element, e)| (element, e))
 }
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -361,6 +530,173 @@ mod tests {
                 assert!((s.weight - expected).abs() < 1e-12, "{}", s.weight);
                 assert_eq!(s.nodes.len(), if end { 2 } else { 3 });
             }
+        }
+    }
+
+    /// Flat faces apart by a uniform gap g₀ (and overlapping by it) on 3:9
+    /// non-matching meshes, T3 and Q4 hosts: within a search distance every
+    /// coupling node gets an element whose initial gap is g₀ to round-off, with
+    /// the normal +y, coefficient rows summing to 1, host nodes on the host's face
+    /// only (tied to the projections), and the face shift of its points equal to
+    /// g₀ n (Σ M̂_b X_b − Σ N̂_i X_i = g₀ n: no jump but the gap for a linear field).
+    #[test]
+    fn uniform_gap_on_non_matching_faces() {
+        for kind in [ElementKind::T3, ElementKind::Q4] {
+            for g0 in [0.01, -0.01] {
+                // The host wider than the face: an overlapping face point near a
+                // host corner would otherwise be nearer to the host's side.
+                let host = Mesh::rectangle([-1.0, 8.0], [0.0, 2.0], [9, 2], kind);
+                let top = Mesh::rectangle([0.0, 7.0], [2.0 + g0, 3.0], [3, 1], kind);
+                let nodes = top.boundary_nodes("bottom").unwrap();
+                let (els, unpaired) =
+                    segment_elements_within("i", &host, &top, "bottom", &nodes, 1e-6, 0.05)
+                        .unwrap();
+                assert_eq!((els.len(), unpaired), (4, 0), "{kind:?}");
+                for c in &els {
+                    assert!((c.gap0 - g0).abs() < 1e-14, "{kind:?}: {} vs {g0}", c.gap0);
+                    assert!((c.normal[1] - 1.0).abs() < 1e-14);
+                    assert!((c.distance - g0.abs()).abs() < 1e-14);
+                    let s = c.segment.as_ref().unwrap();
+                    assert!((s.shape.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+                    assert!((c.shape.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+                    assert!(c.host_nodes.iter().zip(&c.shape).all(|(&i, v)| {
+                        host.nodes[i][1] > 1.5 || v.abs() < 1e-14
+                    }));
+                    for k in 0..2 {
+                        let side: f64 = s
+                            .nodes
+                            .iter()
+                            .zip(&s.shape)
+                            .map(|(&b, m)| m * top.nodes[b][k])
+                            .sum();
+                        let hosted: f64 = c
+                            .host_nodes
+                            .iter()
+                            .zip(&c.shape)
+                            .map(|(&i, n)| n * host.nodes[i][k])
+                            .sum();
+                        let shift = if k == 1 { g0 } else { 0.0 };
+                        assert!((side - hosted - shift).abs() < 1e-13, "{kind:?} {k}");
+                    }
+                }
+                // Beyond the search distance nothing pairs.
+                let (none, unpaired) =
+                    segment_elements_within("i", &host, &top, "bottom", &nodes, 1e-6, 0.005)
+                        .unwrap();
+                assert_eq!((none.len(), unpaired), (0, 4));
+            }
+        }
+    }
+
+    /// A circle's polygon (radius R, its lowest vertex at height c) over a flat
+    /// host face y = 0 meshed non-matching: each coupling node's initial gap is the
+    /// N_a-weighted mean of the height of its two chords, ∫ N_a y ds / ∫ N_a ds =
+    /// Σ L (2 y_a + y_b)/6 / Σ L/2 (y linear along a chord), computed here
+    /// independently; the nodes whose chords reach beyond the search distance are
+    /// unpaired, the others paired.
+    #[test]
+    fn curved_face_mean_gap() {
+        let (r, c, d) = (10.0f64, 0.02, 0.5);
+        let host = Mesh::rectangle([-6.0, 6.0], [-3.0, 0.0], [13, 3], ElementKind::Q4);
+        // 80 vertices on the lower half of the circle, a boundary `arc` of 79 edges.
+        let m = 80usize;
+        let at = |k: usize| {
+            let t = -std::f64::consts::PI * (k as f64 + 0.5) / m as f64;
+            [r * t.cos(), r + c + r * t.sin()]
+        };
+        let mut arc = Mesh {
+            nodes: (0..m).map(at).collect(),
+            ..Default::default()
+        };
+        arc.boundaries.insert(
+            "arc".into(),
+            (0..m - 1)
+                .map(|k| BoundaryEdge {
+                    nodes: [k + 1, k],
+                    element: 0,
+                })
+                .collect(),
+        );
+        let nodes: Vec<usize> = (0..m).collect();
+        let (els, unpaired) =
+            segment_elements_within("arc", &host, &arc, "arc", &nodes, 1e-6, d).unwrap();
+        assert_eq!(els.len() + unpaired, m);
+        let y = |k: usize| arc.nodes[k][1];
+        let len = |i: usize, j: usize| dist(arc.nodes[i], arc.nodes[j]);
+        for k in 0..m {
+            let mut chords = Vec::new();
+            if k > 0 {
+                chords.push(k - 1);
+            }
+            if k + 1 < m {
+                chords.push(k + 1);
+            }
+            // Paired exactly when every point of its chords is within d.
+            let reached = chords.iter().all(|&j| y(j).max(y(k)) <= d);
+            let el = els.iter().find(|e| e.node == k);
+            assert_eq!(el.is_some(), reached, "node {k} at {:?}", arc.nodes[k]);
+            let Some(el) = el else { continue };
+            let num: f64 = chords
+                .iter()
+                .map(|&j| len(k, j) * (2.0 * y(k) + y(j)) / 6.0)
+                .sum();
+            let den: f64 = chords.iter().map(|&j| len(k, j) / 2.0).sum();
+            assert!(
+                (el.gap0 - num / den).abs() < 1e-13,
+                "node {k}: {} vs {}",
+                el.gap0,
+                num / den
+            );
+            assert!((el.tributary - den).abs() < 1e-13);
+            assert!((el.normal[1] - 1.0).abs() < 1e-14);
+        }
+        assert!(els.len() >= 10 && unpaired >= 20, "{} {unpaired}", els.len());
+    }
+
+    /// Overclosure on a curved host: a shaft (node part, 2N segments around, radius
+    /// b + δ) inside a ring's bore (host, N chords, radius b), as in a shrink fit.
+    /// Along a shaft segment over the ring chord of mid-angle φ the gap is
+    /// g₀ = −(X · u_φ − b cos(θ/2)) (θ = 2π/N; also where the projection is clamped
+    /// to a ring vertex), linear, so a node's mean over its two segments is
+    /// (2 g₀(X_a) + g₀(X_b)) / 3 averaged over them: at the ring's vertices' angles
+    /// −(2δ cos(θ/2) + δ + b(1 − cos(θ/2)))/3, between them
+    /// −(2δ + 2b(1 − cos(θ/2)) + δ cos(θ/2))/3 — checked on every node, with the
+    /// normal the inward radial direction.
+    #[test]
+    fn overclosure_on_a_curved_host() {
+        let (b, delta, n) = (10.0f64, 0.05, 24usize);
+        let ring = Mesh::annulus([0.0, 0.0], [b, 12.0], [0.0, 360.0], [1, n], ElementKind::Q4);
+        let shaft = Mesh::annulus(
+            [0.0, 0.0],
+            [8.0, b + delta],
+            [0.0, 360.0],
+            [1, 2 * n],
+            ElementKind::T3,
+        );
+        let nodes = shaft.boundary_nodes("outer").unwrap();
+        let (els, unpaired) =
+            segment_elements_within("fit", &ring, &shaft, "outer", &nodes, 1e-6, 5.0 * delta)
+                .unwrap();
+        assert_eq!((els.len(), unpaired), (2 * n, 0));
+        let half = std::f64::consts::PI / n as f64;
+        let (g_vertex, g_mid) = (-delta * half.cos(), -delta - b * (1.0 - half.cos()));
+        for c in &els {
+            let x = shaft.nodes[c.node];
+            let angle = x[1].atan2(x[0]).rem_euclid(std::f64::consts::TAU);
+            let at_vertex = ((angle / (2.0 * half)).round() * 2.0 * half - angle).abs() < 1e-9;
+            let expected = if at_vertex {
+                (2.0 * g_vertex + g_mid) / 3.0
+            } else {
+                (2.0 * g_mid + g_vertex) / 3.0
+            };
+            assert!(
+                (c.gap0 - expected).abs() < 1e-12,
+                "node at {:.2}°: {} vs {expected}",
+                angle.to_degrees(),
+                c.gap0
+            );
+            assert!((c.normal[0] + angle.cos()).abs() < 1e-12);
+            assert!((c.normal[1] + angle.sin()).abs() < 1e-12);
         }
     }
 
