@@ -143,7 +143,8 @@ impl<'scope> Series<'scope> {
         Ok(())
     }
 
-    /// Registers the writer of the increment at `lambda` whose files (in `vtu/`)
+    /// Registers the writer of the increment at time `lambda` (step index − 1 +
+    /// the step's load factor) whose files (in `vtu/`)
     /// are `parts_file` and `pairs_file`.
     fn push(
         &mut self,
@@ -384,12 +385,12 @@ impl Analysis {
         let parts_file = format!("parts_{:04}.vtu", inc.index);
         let pairs_file = format!("pairs_{:04}.vtu", inc.index);
         series.make_room()?;
-        let (path, lambda, u) = (series.vtu_dir.join(&parts_file), inc.lambda, inc.u.clone());
+        let (path, fields, u) = (series.vtu_dir.join(&parts_file), time_fields(inc), inc.u.clone());
         let stresses = Arc::new(stresses);
         log.last_stresses = Some(Arc::clone(&stresses));
-        let handle = scope.spawn(move || self.write_parts_vtu(&path, grid, lambda, &u, &stresses));
+        let handle = scope.spawn(move || self.write_parts_vtu(&path, grid, &fields, &u, &stresses));
         self.write_pairs_vtu(&series.vtu_dir.join(&pairs_file), inc, &rows)?;
-        series.push(handle, inc.lambda, parts_file, pairs_file);
+        series.push(handle, inc.time, parts_file, pairs_file);
         report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
         self.fill_summary(&mut log.summary, inc, &rows);
         if rewrite_due(&mut log.summary_written, inc.index) {
@@ -513,7 +514,7 @@ impl Analysis {
         &self,
         path: &Path,
         grid: &PartsGrid,
-        lambda: f64,
+        fields: &[(&str, f64)],
         u: &[f64],
         stresses: &[PartStress],
     ) -> Result<()> {
@@ -577,7 +578,7 @@ impl Analysis {
                 kinds,
                 point_data: &point_data,
                 cell_data: &cell_data,
-                field_data: &[("TIME", lambda)],
+                field_data: fields,
             },
         )
     }
@@ -666,7 +667,7 @@ impl Analysis {
                 kinds: &kinds,
                 point_data: &point_data,
                 cell_data: &[],
-                field_data: &[("TIME", inc.lambda)],
+                field_data: &time_fields(inc),
             },
         )
     }
@@ -857,4 +858,14 @@ struct PartsGrid {
     kinds: Vec<vtu::CellKind>,
     part_point: Vec<i32>,
     part_cell: Vec<i32>,
+}
+
+/// The field data of an increment's VTU files: the total time (step index − 1 +
+/// load factor), the step's 1-based index and its load factor.
+fn time_fields(inc: &IncrementResult) -> [(&'static str, f64); 3] {
+    [
+        ("TIME", inc.time),
+        ("STEP", (inc.step + 1) as f64),
+        ("LOAD_FACTOR", inc.lambda),
+    ]
 }
