@@ -322,8 +322,7 @@ impl Analysis {
             .any(|i| i.law == crate::coupling::Law::Contact);
         // With loads in steps the first increment is not a fraction of the total
         // load the coarse problem would be solved at: no warm start.
-        if m.refine < 4 || m.settings.scheme != Scheme::ActiveSet || !contact || m.steps.len() > 1
-        {
+        if m.refine < 4 || m.settings.scheme != Scheme::ActiveSet || !contact || m.steps.len() > 1 {
             return None;
         }
         let mut coarse = Analysis::new(m.with_refine(m.refine / 4).ok()?).ok()?;

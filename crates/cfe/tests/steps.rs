@@ -69,8 +69,10 @@ fn rel_diff(u: &[f64], v: &[f64]) -> f64 {
 fn two_steps_of_a_linear_model_superpose() {
     let down = "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\n";
     let side = "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.3, 0.0]\n";
-    let corner = "[[support]]\npart = \"block\"\nat = [1.0, 1.0]\nfix = [\"y\"]\nvalue = [0.0, 0.002]\n";
-    let steps = "[[step]]\nname = \"press\"\nincrements = 2\n[[step]]\nname = \"shear\"\nincrements = 3\n";
+    let corner =
+        "[[support]]\npart = \"block\"\nat = [1.0, 1.0]\nfix = [\"y\"]\nvalue = [0.0, 0.002]\n";
+    let steps =
+        "[[step]]\nname = \"press\"\nincrements = 2\n[[step]]\nname = \"shear\"\nincrements = 3\n";
     let in_step2 = |s: &str| s.replacen('\n', "\nstep = \"shear\"\n", 1);
     let text = block(
         "law = \"rigid\"",
@@ -78,8 +80,10 @@ fn two_steps_of_a_linear_model_superpose() {
     );
     let (a, incs) = solve(&text);
     assert_eq!(incs.len(), 5);
-    let labels: Vec<(usize, usize, f64, f64)> =
-        incs.iter().map(|i| (i.index, i.step, i.lambda, i.time)).collect();
+    let labels: Vec<(usize, usize, f64, f64)> = incs
+        .iter()
+        .map(|i| (i.index, i.step, i.lambda, i.time))
+        .collect();
     let expect = [
         (1, 0, 0.5, 0.5),
         (2, 0, 1.0, 1.0),
@@ -135,7 +139,11 @@ fn two_steps_of_a_linear_model_superpose() {
         .map(|s| s.step.as_str())
         .collect();
     assert_eq!(names, ["press", "press", "shear", "shear", "shear"]);
-    assert!(res.pairs.iter().all(|r| r.step == "shear" && r.increment == 5));
+    assert!(
+        res.pairs
+            .iter()
+            .all(|r| r.step == "shear" && r.increment == 5)
+    );
 }
 
 /// A step without loads holds the earlier steps' loads: with one loaded step
@@ -163,8 +171,10 @@ fn a_step_without_load_holds_the_load() {
 /// |f_s| = μ f_n and the sideways reaction is μN — to round-off.
 #[test]
 fn friction_block_pressed_then_pushed() {
-    let steps = "[[step]]\nname = \"press\"\nincrements = 1\n[[step]]\nname = \"push\"\nincrements = 3\n";
-    let press = "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\nstep = \"press\"\n";
+    let steps =
+        "[[step]]\nname = \"press\"\nincrements = 1\n[[step]]\nname = \"push\"\nincrements = 3\n";
+    let press =
+        "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\nstep = \"press\"\n";
     // Below the limit: a sideways force in step 2.
     let mu = 0.5;
     let text = block(
@@ -175,10 +185,18 @@ fn friction_block_pressed_then_pushed() {
     );
     let a = common::analysis(&text);
     let res = a.solve().unwrap();
-    assert_eq!(res.summary.status, RunStatus::Completed, "{:?}", res.summary.warnings);
+    assert_eq!(
+        res.summary.status,
+        RunStatus::Completed,
+        "{:?}",
+        res.summary.warnings
+    );
     let fs: f64 = res.pairs.iter().map(|r| r.force_s).sum();
     let fnn: f64 = res.pairs.iter().map(|r| r.force_n).sum();
-    assert!((fs.abs() - 0.2).abs() < 1e-9 && (fnn - 1.0).abs() < 1e-9, "{fs} {fnn}");
+    assert!(
+        (fs.abs() - 0.2).abs() < 1e-9 && (fnn - 1.0).abs() < 1e-9,
+        "{fs} {fnn}"
+    );
     let mut stick = 0;
     for r in &res.pairs {
         match r.state {
@@ -190,7 +208,11 @@ fn friction_block_pressed_then_pushed() {
             PairState::Open => {}
         }
     }
-    assert!(stick > res.pairs.len() / 2, "{stick} of {} stick", res.pairs.len());
+    assert!(
+        stick > res.pairs.len() / 2,
+        "{stick} of {} stick",
+        res.pairs.len()
+    );
     // No sliding: the tangential jumps are a small fraction of the displacements.
     let jump = res.pairs.iter().map(|r| r.slip_s.abs()).fold(0.0, f64::max);
     let umax = res.last.u.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
@@ -220,7 +242,11 @@ fn friction_block_pressed_then_pushed() {
         assert_eq!(r.state, PairState::Slip, "pair at x = {}", r.x);
         assert!((r.force_s.abs() - mu * r.force_n).abs() < 1e-8);
     }
-    assert!(closed >= rows.len() - 1, "{closed} of {} closed", rows.len());
+    assert!(
+        closed >= rows.len() - 1,
+        "{closed} of {} closed",
+        rows.len()
+    );
 }
 
 fn parse(text: &str) -> Result<Model, Error> {
@@ -243,12 +269,12 @@ fn invalid(text: &str) -> (String, Option<usize>, String) {
 #[test]
 fn step_input_errors_name_key_and_line() {
     let load = |step: &str| {
-        format!("[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\nstep = \"{step}\"\n")
+        format!(
+            "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\nstep = \"{step}\"\n"
+        )
     };
     let two = "[[step]]\nname = \"a\"\nincrements = 1\n[[step]]\nname = \"b\"\nincrements = 2\n";
-    let line_of = |text: &str, pat: &str| {
-        text[..text.find(pat).unwrap()].matches('\n').count() + 1
-    };
+    let line_of = |text: &str, pat: &str| text[..text.find(pat).unwrap()].matches('\n').count() + 1;
 
     let text = block("law = \"rigid\"", &format!("{two}{}", load("c")));
     let (key, line, msg) = invalid(&text);
@@ -263,7 +289,9 @@ fn step_input_errors_name_key_and_line() {
 
     let text = block(
         "law = \"rigid\"",
-        &format!("{two}[[support]]\npart = \"block\"\nat = [0.0, 1.0]\nfix = [\"x\"]\nstep = \"x\"\n"),
+        &format!(
+            "{two}[[support]]\npart = \"block\"\nat = [0.0, 1.0]\nfix = [\"x\"]\nstep = \"x\"\n"
+        ),
     );
     assert_eq!(invalid(&text).0, "support#2.step");
 
@@ -272,10 +300,16 @@ fn step_input_errors_name_key_and_line() {
     assert_eq!(key, "step.a.name");
     assert_eq!(line, Some(line_of(&text, "name = \"a\"\nincrements = 2")));
 
-    let text = block("law = \"rigid\"", &two.replace("increments = 2", "increments = 0"));
+    let text = block(
+        "law = \"rigid\"",
+        &two.replace("increments = 2", "increments = 0"),
+    );
     assert_eq!(invalid(&text).0, "step.b.increments");
 
-    let text = block("law = \"rigid\"", &format!("[analysis]\nincrements = 3\n{two}"));
+    let text = block(
+        "law = \"rigid\"",
+        &format!("[analysis]\nincrements = 3\n{two}"),
+    );
     let (key, line, msg) = invalid(&text);
     assert_eq!(key, "analysis.increments");
     assert_eq!(line, Some(line_of(&text, "increments = 3")));

@@ -305,7 +305,8 @@ fn steps(v: &Values, f: &ProblemFile) -> Result<()> {
         ));
     }
     let known = if names.is_empty() {
-        "there are no [[step]] tables: define the step with [[step]] name = \"…\", increments = N".to_string()
+        "there are no [[step]] tables: define the step with [[step]] name = \"…\", increments = N"
+            .to_string()
     } else {
         format!("steps: {}", names.join(", "))
     };
@@ -326,10 +327,7 @@ fn steps(v: &Values, f: &ProblemFile) -> Result<()> {
         {
             return Err(v.invalid(
                 &[K(table), I(i), K("step")],
-                format!(
-                    "= \"{}\" names no step ({known})",
-                    step.get_ref()
-                ),
+                format!("= \"{}\" names no step ({known})", step.get_ref()),
             ));
         }
     }

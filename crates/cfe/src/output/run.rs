@@ -385,7 +385,11 @@ impl Analysis {
         let parts_file = format!("parts_{:04}.vtu", inc.index);
         let pairs_file = format!("pairs_{:04}.vtu", inc.index);
         series.make_room()?;
-        let (path, fields, u) = (series.vtu_dir.join(&parts_file), time_fields(inc), inc.u.clone());
+        let (path, fields, u) = (
+            series.vtu_dir.join(&parts_file),
+            time_fields(inc),
+            inc.u.clone(),
+        );
         let stresses = Arc::new(stresses);
         log.last_stresses = Some(Arc::clone(&stresses));
         let handle = scope.spawn(move || self.write_parts_vtu(&path, grid, &fields, &u, &stresses));

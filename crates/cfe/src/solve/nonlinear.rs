@@ -430,6 +430,15 @@ impl<'a> Solver<'a> {
         self.total_load = total_force(&self.f_ext);
     }
 
+    /// Where increment `inc` (1-based, solved at factor `lambda`) is on the load
+    /// path, for messages: its load factor, and with load steps its step.
+    fn where_in_path(&self, inc: usize, lambda: f64) -> String {
+        match self.step_labels.as_ref().and_then(|s| s.get(inc - 1)) {
+            Some(&(step, l)) => format!("step {}, load factor {l:.4}", step + 1),
+            None => format!("load factor {lambda:.4}"),
+        }
+    }
+
     /// Replaces the load path: the increments go through these load factors in
     /// turn (the default is `k / increments`, k = 1, …, increments). A path that
     /// goes back (unloading) matters for a path-dependent law (Coulomb friction);
@@ -663,7 +672,8 @@ impl<'a> Solver<'a> {
             .filter(|&&s| s == PairState::Open)
             .count();
         Err(Error::NoConvergence(format!(
-            "increment {inc} (load factor {lambda:.4}): the contact states did not settle within {} iterations ({open} pairs open at the last one, no pattern repeated). Raise [analysis] max_iterations or use more increments",
+            "increment {inc} ({}): the contact states did not settle within {} iterations ({open} pairs open at the last one, no pattern repeated). Raise [analysis] max_iterations or use more increments",
+            self.where_in_path(inc, lambda),
             self.settings.max_iterations,
         )))
     }
