@@ -2,7 +2,8 @@
 //! with the frictionless law: the contact half-width and the peak pressure
 //! against Hertz's closed form under refinement, the pressure profile against
 //! p₀√(1 − x²/a²), and the independence of the answer from the penalty c_n with
-//! augmented-Lagrangian enforcement.
+//! augmented-Lagrangian enforcement; and Cattaneo–Mindlin's partial slip with
+//! the Coulomb law, loaded in two steps (normal force, then tangential force).
 //!
 //! ```text
 //!              ↓ ↓ ↓ ↓  P′ on the diameter y = R ("load")
