@@ -65,7 +65,8 @@ pub struct Settings {
     /// the run stops. Results above 1e-8 are flagged in any case.
     pub max_residual: f64,
     /// Write the VTU files of every N-th increment (default 1: all); the last
-    /// increment is always written. Bounds the output of runs with many increments.
+    /// increment (with load steps, the last of every step) is always written.
+    /// Bounds the output of runs with many increments.
     pub output_every: usize,
 }
 

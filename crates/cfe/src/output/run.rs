@@ -354,9 +354,9 @@ impl Analysis {
 
     /// Writes one converged increment: recovers its stresses, starts its parts VTU
     /// in the background, writes its pairs VTU and the pairs table, and updates
-    /// the summary on disk. Only every `output_every`-th increment and the last
-    /// have their files written; the summary is rewritten at a bounded rate
-    /// (see [`REWRITE_FREELY`]).
+    /// the summary on disk. Only every `output_every`-th increment, the last and
+    /// (with load steps) the last of each step have their files written; the
+    /// summary is rewritten at a bounded rate (see [`REWRITE_FREELY`]).
     fn write_increment<'scope, 'env: 'scope>(
         &'env self,
         scope: &'scope Scope<'scope, 'env>,
@@ -367,8 +367,12 @@ impl Analysis {
         out: &Path,
     ) -> Result<()> {
         let settings = &self.model.settings;
+        // The last increment of the run, and with load steps of every step, is
+        // always written.
+        let step_end = self.model.steps.len() > 1 && inc.lambda >= 1.0;
         let files = inc.index.is_multiple_of(settings.output_every.max(1))
-            || inc.index >= settings.increments;
+            || inc.index >= settings.increments
+            || step_end;
         let t = Instant::now();
         if !files {
             self.fill_summary(&mut log.summary, inc, &self.pair_rows(inc));
