@@ -321,3 +321,48 @@ fn step_input_errors_name_key_and_line() {
     assert_eq!(m.loads[0].step, 1);
     assert_eq!(m.steps().len(), 2);
 }
+
+/// The files of a run in steps: `results.pvd` times are step index − 1 + the
+/// step's factor (monotonic), the last increment of each step is written even
+/// between `output_every`, `pairs.csv` names the step, `summary.json` lists the
+/// steps and each increment's step.
+#[test]
+fn outputs_name_the_steps() {
+    let text = block(
+        "law = \"contact\"",
+        "[analysis]\noutput_every = 2\n[[step]]\nname = \"press\"\nincrements = 1\n[[step]]\nname = \"shear\"\nincrements = 2\n[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\n[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.1, 0.0]\nstep = \"shear\"\n",
+    );
+    let mut a = common::analysis(&text);
+    let out = std::env::temp_dir().join(format!("cfe-test-steps-{}", std::process::id()));
+    let summary = a.run(&out, &mut |_| {}).unwrap();
+    assert_eq!(summary.status, RunStatus::Completed);
+    let pvd = std::fs::read_to_string(out.join("results.pvd")).unwrap();
+    let times: Vec<&str> = pvd
+        .split("timestep=\"")
+        .skip(1)
+        .map(|t| &t[..t.find('"').unwrap()])
+        .collect();
+    // Increments 1 (end of "press"), 2 (every 2nd) and 3 (the last), two blocks each.
+    assert_eq!(times, ["1.0", "1.0", "1.5", "1.5", "2.0", "2.0"], "{pvd}");
+    // The VTU is binary-appended: look for the field data's names in its header.
+    let vtu = String::from_utf8_lossy(&std::fs::read(out.join("vtu/pairs_0002.vtu")).unwrap())
+        .into_owned();
+    assert!(vtu.contains("Name=\"STEP\"") && vtu.contains("Name=\"LOAD_FACTOR\""));
+    let csv = std::fs::read_to_string(out.join("pairs.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert!(
+        lines
+            .next()
+            .unwrap()
+            .ends_with(",increment,step,load_factor")
+    );
+    assert!(lines.all(|l| l.ends_with(",3,shear,1")), "{csv}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(json["steps"][1]["name"], "shear");
+    assert_eq!(json["increment_steps"][1]["step"], "shear");
+    assert_eq!(json["increment_steps"][1]["load_factor"], 0.5);
+    assert_eq!(json["increment_steps"][2]["time"], 2.0);
+    assert_eq!(json["increments"], 3);
+    let _ = std::fs::remove_dir_all(&out);
+}
