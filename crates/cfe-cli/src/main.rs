@@ -234,6 +234,7 @@ fn run_problem(
     }
     eprint!("{}", a.describe());
     let bar = ProgressBar::new(a.model.settings.increments as u64);
+    let steps = a.model.steps();
     bar.set_style(
         ProgressStyle::with_template("{spinner} increment {pos}/{len} [{bar:30}] {elapsed} {msg}")
             .expect("valid template")
@@ -248,8 +249,15 @@ fn run_problem(
     let summary = a.run_until(
         &out,
         &mut |inc| {
+            // The step is named when the problem has several.
+            let step = match steps.get(inc.step) {
+                Some(s) if steps.len() > 1 => {
+                    format!("step '{}' ({}/{}), ", s.name, inc.step + 1, steps.len())
+                }
+                _ => String::new(),
+            };
             bar.set_message(format!(
-                "λ = {:.3}, {} iteration(s)",
+                "{step}λ = {:.3}, {} iteration(s)",
                 inc.lambda, inc.iterations
             ));
             bar.inc(1);
@@ -341,8 +349,20 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
     }
     if !summary.proportional_shortcut {
         println!(
-            "  proportional-load shortcut off (initial gaps, friction or augmented Lagrangian): every increment solved"
+            "  proportional-load shortcut off ({}): every increment solved",
+            summary
+                .proportional_shortcut_off
+                .as_deref()
+                .unwrap_or("initial gaps, friction or augmented Lagrangian")
         );
+    }
+    if summary.steps.len() > 1 {
+        let list: Vec<String> = summary
+            .steps
+            .iter()
+            .map(|s| format!("'{}' ({} increments)", s.name, s.increments))
+            .collect();
+        println!("  load steps: {}", list.join(", "));
     }
     for n in &summary.notes {
         eprintln!("note: increment {}: {}", n.increment, n.message);

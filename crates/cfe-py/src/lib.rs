@@ -14,7 +14,7 @@ use cfe::mesh::{BoundarySelection, Element, Mesh};
 use cfe::{Analysis, Law, Results};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -246,6 +246,20 @@ impl PyModel {
         Ok(d.into_any())
     }
 
+    /// The load steps, in order: dicts of name and increments (one step,
+    /// `step-1`, without `[[step]]` tables).
+    #[getter]
+    fn steps<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let out = PyList::empty(py);
+        for s in self.model.steps() {
+            let d = PyDict::new(py);
+            d.set_item("name", s.name)?;
+            d.set_item("increments", s.increments)?;
+            out.append(d)?;
+        }
+        Ok(out)
+    }
+
     /// The mesh of part `name` (as meshed, before coupling nodes are moved).
     fn mesh(&self, name: &str) -> PyResult<PyMesh> {
         let p = self.model.part_index(name).ok_or_else(|| {
@@ -269,7 +283,7 @@ impl PyModel {
 
     /// Solves the model with the GIL released. `progress(info)` is called after
     /// each converged increment with a dict (increment, increments, load_factor,
-    /// iterations); an exception it raises (or Ctrl-C) stops the solve. With `out`,
+    /// iterations, step, time: the step's name, and step index − 1 + load factor); an exception it raises (or Ctrl-C) stops the solve. With `out`,
     /// every converged increment is also written there as `cfe run` does (the
     /// callback then cannot stop the run: its exception is raised at the end).
     /// `law` ("rigid", "contact", "frictionless" or "coulomb", the last with
@@ -311,6 +325,7 @@ impl PyModel {
         }
         let model = self.model.clone();
         let increments = model.settings.increments;
+        let step_names: Vec<String> = model.steps().into_iter().map(|s| s.name).collect();
         let mut stopped: Option<PyErr> = None;
         let outcome = py.detach(|| -> cfe::Result<(Analysis, Results)> {
             let mut analysis = Analysis::new(model)?;
@@ -328,6 +343,11 @@ impl PyModel {
                             info.set_item("increments", increments)?;
                             info.set_item("load_factor", inc.lambda)?;
                             info.set_item("iterations", inc.iterations)?;
+                            info.set_item(
+                                "step",
+                                step_names.get(inc.step).map_or("", String::as_str),
+                            )?;
+                            info.set_item("time", inc.time)?;
                             callback.call1(py, (info,)).map(|_| ())
                         }
                         None => Ok(()),

@@ -62,7 +62,8 @@ pub fn boundaries<'py>(py: Python<'py>, mesh: &Mesh) -> PyResult<Bound<'py, PyDi
 /// The results as a dict: `u` (all DOFs), `parts` (per part: name, node offset,
 /// points, connectivity, boundaries, material, nodal and element stresses and
 /// von Mises), `interfaces` (per interface: its pairs' arrays), `summary`
-/// (`summary.json`'s content as Python objects).
+/// (`summary.json`'s content as Python objects), `load_factor`, `step` and `time`
+/// of the last increment.
 pub fn to_dict<'py>(
     py: Python<'py>,
     analysis: &Analysis,
@@ -82,6 +83,8 @@ pub fn to_dict<'py>(
         py.import("json")?.call_method1("loads", (json,))?,
     )?;
     out.set_item("load_factor", last.lambda)?;
+    out.set_item("step", analysis.step_name(last.step))?;
+    out.set_item("time", last.time)?;
     out.set_item("u", PyArray1::from_vec(py, last.u))?;
 
     let parts = PyList::empty(py);

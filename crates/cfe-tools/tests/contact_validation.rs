@@ -110,7 +110,8 @@ fn augmented_independent_of_penalty() {
     check(hertz::penalty_independence(true));
 }
 
-/// Cattaneo–Mindlin (Coulomb, normal contact then a growing tangential shift):
+/// Cattaneo–Mindlin (Coulomb; load step 1 the normal force P′, step 2 a growing
+/// tangential force Q = ½ μP′):
 /// the stick zone's half-width within two pair spacings of a√(1 − Q/(μP′)) and
 /// the shear traction close to the closed-form profile.
 #[test]

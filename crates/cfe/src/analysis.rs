@@ -16,10 +16,10 @@ use crate::model::{Model, Scheme};
 use crate::output::memory::peak_memory_bytes;
 use crate::output::report::PairRow;
 pub use crate::output::summary::{
-    InterfaceSummary, MaxDisplacement, PartSummary, Reaction, RunStatus, SettledPair, Summary,
-    Timings, Tolerances, ViolationRecord, Warning,
+    IncrementStep, InterfaceSummary, MaxDisplacement, PartSummary, Reaction, RunStatus,
+    SettledPair, StepSummary, Summary, Timings, Tolerances, ViolationRecord, Warning,
 };
-use crate::solve::nonlinear::{IncrementResult, RESIDUAL_WARN, Solver};
+use crate::solve::nonlinear::{IncrementResult, LoadSteps, RESIDUAL_WARN, Solver};
 use crate::solve::warm_start;
 use std::path::Path;
 use std::time::Instant;
@@ -300,14 +300,30 @@ impl Analysis {
                 sup.fix[1]
             );
         }
+        let steps = self.model.steps.len() > 1;
         for l in &self.model.loads {
             s += &format!(
-                "  load '{}': resultant ({}, {}) on {} nodal forces\n",
+                "  load '{}': resultant ({}, {}) on {} nodal forces{}\n",
                 l.name,
                 num_rel(l.resultant[0], load),
                 num_rel(l.resultant[1], load),
-                l.nodal.len()
+                l.nodal.len(),
+                if steps {
+                    format!(", step '{}'", self.step_name(l.step))
+                } else {
+                    String::new()
+                }
             );
+        }
+        if steps {
+            for (k, st) in self.model.steps.iter().enumerate() {
+                s += &format!(
+                    "  step {} '{}': {} increments\n",
+                    k + 1,
+                    st.name,
+                    st.increments
+                );
+            }
         }
         s
     }
@@ -322,7 +338,9 @@ impl Analysis {
             .interfaces
             .iter()
             .any(|i| i.law == crate::coupling::Law::Contact);
-        if m.refine < 4 || m.settings.scheme != Scheme::ActiveSet || !contact {
+        // With loads in steps the first increment is not a fraction of the total
+        // load the coarse problem would be solved at: no warm start.
+        if m.refine < 4 || m.settings.scheme != Scheme::ActiveSet || !contact || m.steps.len() > 1 {
             return None;
         }
         let mut coarse = Analysis::new(m.with_refine(m.refine / 4).ok()?).ok()?;
@@ -348,13 +366,73 @@ impl Analysis {
     /// and settings (the pattern and the symbolic factorization are built here).
     pub fn solver(&self) -> Result<Solver<'_>> {
         let f = assembly::external_force(&self.model.loads, &self.dofs);
-        Solver::new(
+        let mut solver = Solver::new(
             &self.model.parts,
             &self.interfaces,
             &self.dofs,
             f,
             &self.model.settings,
-        )
+        )?;
+        if let Some(steps) = self.load_steps() {
+            solver.set_steps(steps);
+        }
+        Ok(solver)
+    }
+
+    /// The loads of a model with several `[[step]]`s, step by step (`None` for one
+    /// step: the solver's default ramp). Each support's prescribed values belong to
+    /// its step; its DOFs are held in every step.
+    pub fn load_steps(&self) -> Option<LoadSteps> {
+        let steps = &self.model.steps;
+        if steps.len() < 2 {
+            return None;
+        }
+        let forces = (0..steps.len())
+            .map(|s| {
+                let loads: Vec<crate::domain::Load> = self
+                    .model
+                    .loads
+                    .iter()
+                    .filter(|l| l.step == s)
+                    .cloned()
+                    .collect();
+                assembly::external_force(&loads, &self.dofs)
+            })
+            .collect();
+        let mut prescribed = vec![vec![0.0; self.dofs.prescribed.len()]; steps.len()];
+        for (d, sup) in self.dofs.support_of.iter().enumerate() {
+            if let Some(k) = sup {
+                let s = self.model.supports[*k].step.min(steps.len() - 1);
+                prescribed[s][d] = self.dofs.prescribed[d];
+            }
+        }
+        Some(LoadSteps {
+            forces,
+            prescribed,
+            increments: crate::domain::Step::factors(steps),
+        })
+    }
+
+    /// Why the proportional-load shortcuts are off (`None` when they are on):
+    /// an interface whose answer is not proportional to the load or depends on
+    /// its path, or loads applied in more than one step.
+    pub fn shortcut_off_reason(&self) -> Option<String> {
+        let mut why = Vec::new();
+        if self
+            .interfaces
+            .iter()
+            .any(crate::coupling::Interface::non_proportional)
+        {
+            why.push("initial gaps, friction or augmented Lagrangian".to_string());
+        }
+        let loaded = self.model.loaded_steps();
+        if self.model.steps.len() > 1 && loaded.len() > 1 {
+            why.push(format!(
+                "loads in {} steps: the loading is not proportional",
+                loaded.len()
+            ));
+        }
+        (!why.is_empty()).then(|| why.join("; "))
     }
 
     /// Solves every increment in memory, as `cfe run` does (the contact iteration
@@ -493,10 +571,18 @@ impl Analysis {
             applied: [0.0; 2],
             equilibrium_error: 0.0,
             residual: 0.0,
-            proportional_shortcut: !self
-                .interfaces
-                .iter()
-                .any(crate::coupling::Interface::non_proportional),
+            proportional_shortcut: self.shortcut_off_reason().is_none(),
+            proportional_shortcut_off: self.shortcut_off_reason(),
+            steps: self
+                .model
+                .steps()
+                .into_iter()
+                .map(|s| StepSummary {
+                    name: s.name,
+                    increments: s.increments,
+                })
+                .collect(),
+            increment_steps: Vec::new(),
             fixed_point_iterations: Vec::new(),
             augmented_penetration: 0.0,
             notes: Vec::new(),
@@ -520,6 +606,14 @@ impl Analysis {
             .reactions(self.model.supports.len(), &inc.f_int, &inc.f_ext, 1.0)
     }
 
+    /// The name of step `step` (0-based) of the model.
+    pub fn step_name(&self, step: usize) -> String {
+        match self.model.steps.get(step) {
+            Some(s) => s.name.clone(),
+            None => crate::model::DEFAULT_STEP.into(),
+        }
+    }
+
     /// Stresses of every part for displacements `u` (all DOFs).
     pub fn recover(&self, u: &[f64]) -> Vec<PartStress> {
         self.model
@@ -540,6 +634,7 @@ impl Analysis {
     /// One row per coupling pair: state, jumps and forces on the node part.
     pub fn pair_rows(&self, inc: &IncrementResult) -> Vec<PairRow> {
         let mut rows = Vec::new();
+        let step = self.step_name(inc.step);
         let mut violations = inc.violations.iter().peekable();
         for (i, iface) in self.interfaces.iter().enumerate() {
             for (k, c) in iface.elements.iter().enumerate() {
@@ -600,6 +695,9 @@ impl Analysis {
                             .collect::<Vec<_>>()
                             .join("-")
                     }),
+                    increment: inc.index,
+                    step: step.clone(),
+                    load_factor: inc.lambda,
                 });
             }
         }
@@ -608,6 +706,12 @@ impl Analysis {
 
     pub(crate) fn fill_summary(&self, s: &mut Summary, inc: &IncrementResult, rows: &[PairRow]) {
         s.converged_increments = inc.index;
+        s.increment_steps.push(IncrementStep {
+            increment: inc.index,
+            step: self.step_name(inc.step),
+            load_factor: inc.lambda,
+            time: inc.time,
+        });
         self.record_violations(s, inc);
         s.iterations.push(inc.iterations);
         s.iteration_history.push(inc.history.clone());

@@ -37,7 +37,9 @@ pub enum StartPattern {
 #[derive(Debug, Clone, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Settings {
-    /// Number of load increments (the load grows linearly to its full value).
+    /// Number of load increments (the load grows linearly to its full value). With
+    /// `[[step]]` tables, the total of the steps' increments (set by the model; the
+    /// file may not give it).
     pub increments: usize,
     /// `active-set` or `implex`.
     pub scheme: Scheme,
@@ -63,7 +65,8 @@ pub struct Settings {
     /// the run stops. Results above 1e-8 are flagged in any case.
     pub max_residual: f64,
     /// Write the VTU files of every N-th increment (default 1: all); the last
-    /// increment is always written. Bounds the output of runs with many increments.
+    /// increment (with load steps, the last of every step) is always written.
+    /// Bounds the output of runs with many increments.
     pub output_every: usize,
 }
 
@@ -143,6 +146,9 @@ pub struct Support {
     pub fix: [bool; 2],
     /// Prescribed values of the fixed components at full load.
     pub value: [f64; 2],
+    /// The load step (index into the model's steps, 0: the first) in which the
+    /// prescribed values ramp from 0 to `value`; the DOFs are held in every step.
+    pub step: usize,
 }
 
 /// An external load resolved to nodal forces at full load.
@@ -156,4 +162,42 @@ pub struct Load {
     pub nodal: Vec<(usize, [f64; 2])>,
     /// The resultant the user asked for.
     pub resultant: [f64; 2],
+    /// The load step (index into the model's steps, 0: the first) in which the
+    /// load ramps from 0 to full; it stays at full value in the later steps.
+    pub step: usize,
+}
+
+/// A load step (`[[step]]`, as Abaqus's or CalculiX's *STEP): the loads and
+/// prescribed values of the step ramp linearly from 0 to full over its
+/// increments, those of earlier steps stay at full value, those of later steps
+/// are 0.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Step {
+    /// Name, as the loads and supports refer to it.
+    pub name: String,
+    /// Number of increments of the step (≥ 1).
+    pub increments: usize,
+}
+
+impl Step {
+    /// The load factors of every increment of `steps` in turn: for each increment,
+    /// its step and every step's factor λ_s (the Abaqus convention: the step's own
+    /// factor goes k / n over its n increments, earlier steps stay at 1, later
+    /// ones at 0).
+    pub fn factors(steps: &[Step]) -> Vec<(usize, Vec<f64>)> {
+        let mut out = Vec::with_capacity(steps.iter().map(|s| s.increments).sum());
+        for (s, step) in steps.iter().enumerate() {
+            for k in 1..=step.increments {
+                let f = (0..steps.len())
+                    .map(|j| match j.cmp(&s) {
+                        std::cmp::Ordering::Less => 1.0,
+                        std::cmp::Ordering::Equal => k as f64 / step.increments as f64,
+                        std::cmp::Ordering::Greater => 0.0,
+                    })
+                    .collect();
+                out.push((s, f));
+            }
+        }
+        out
+    }
 }

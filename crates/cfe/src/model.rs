@@ -5,7 +5,7 @@
 //! The problem-file reference is in README.md; `examples/` holds complete files.
 
 use crate::coupling::{Coupling, Enforcement, Law};
-pub use crate::domain::{InterfaceDef, Load, Part, Scheme, Settings, Support};
+pub use crate::domain::{InterfaceDef, Load, Part, Scheme, Settings, Step, Support};
 use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, loads};
 use crate::mesh::gmsh::{GmshMesh, Group};
@@ -52,7 +52,20 @@ struct ProblemFile {
     loads: Vec<LoadSpec>,
     #[serde(default)]
     analysis: Settings,
+    #[serde(rename = "step", default)]
+    steps: Vec<StepSpec>,
 }
+
+/// `[[step]]`: a load step.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StepSpec {
+    name: Spanned<String>,
+    increments: usize,
+}
+
+/// The name of the one step of a problem without `[[step]]` tables.
+pub const DEFAULT_STEP: &str = "step-1";
 
 fn default_plane() -> PlaneKind {
     PlaneKind::Stress
@@ -268,6 +281,7 @@ struct SupportSpec {
     fix: Vec<Component>,
     #[serde(default, deserialize_with = "pair")]
     value: [f64; 2],
+    step: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -284,6 +298,7 @@ struct LoadSpec {
     #[serde(default, deserialize_with = "opt_pair")]
     force: Option<[f64; 2]>,
     pressure: Option<f64>,
+    step: Option<Spanned<String>>,
 }
 
 /// A checked, meshed model ready for analysis.
@@ -305,6 +320,9 @@ pub struct Model {
     pub loads: Vec<Load>,
     /// Analysis settings.
     pub settings: Settings,
+    /// The load steps of `[[step]]` tables, in order; empty without them (one
+    /// step of `settings.increments`, see [`Model::steps`]).
+    pub steps: Vec<Step>,
     /// Refinement factor: the structured meshes' cell counts are multiplied by it,
     /// the Gmsh meshes subdivided uniformly by it.
     pub refine: usize,
@@ -364,9 +382,42 @@ impl Model {
             supports,
             loads,
             settings,
+            steps: Vec::new(),
             refine: 1,
             text: String::new(),
         }
+    }
+
+    /// The load steps: those of the `[[step]]` tables, or without them one step
+    /// named [`DEFAULT_STEP`] of `settings.increments`.
+    pub fn steps(&self) -> Vec<Step> {
+        if self.steps.is_empty() {
+            vec![Step {
+                name: DEFAULT_STEP.into(),
+                increments: self.settings.increments,
+            }]
+        } else {
+            self.steps.clone()
+        }
+    }
+
+    /// The steps in which some load or prescribed value is applied (sorted).
+    pub fn loaded_steps(&self) -> Vec<usize> {
+        let mut s: Vec<usize> = self
+            .loads
+            .iter()
+            .filter(|l| l.nodal.iter().any(|(_, f)| f[0] != 0.0 || f[1] != 0.0))
+            .map(|l| l.step)
+            .chain(
+                self.supports
+                    .iter()
+                    .filter(|s| (0..2).any(|c| s.fix[c] && s.value[c] != 0.0))
+                    .map(|s| s.step),
+            )
+            .collect();
+        s.sort_unstable();
+        s.dedup();
+        s
     }
 
     /// Reads, checks and meshes a problem given as text; `path` is used in messages
@@ -570,7 +621,8 @@ impl Builder<'_> {
             interfaces: iface_specs,
             supports: support_specs,
             loads: load_specs,
-            analysis,
+            mut analysis,
+            steps: step_specs,
         } = file;
         if part_specs.is_empty() {
             return Err(Error::Model("the problem defines no [[part]]".into()));
@@ -595,13 +647,39 @@ impl Builder<'_> {
             .enumerate()
             .map(|(i, spec)| self.interface(i, spec, &parts, &mut claimed))
             .collect::<Result<Vec<_>>>()?;
+        let steps: Vec<Step> = step_specs
+            .iter()
+            .map(|s| Step {
+                name: s.name.get_ref().clone(),
+                increments: s.increments,
+            })
+            .collect();
+        if !steps.is_empty() {
+            analysis.increments = steps.iter().map(|s| s.increments).sum();
+        }
+        let step_of = |s: &Option<Spanned<String>>| -> usize {
+            // Checked by `check::steps`: a named step exists.
+            s.as_ref()
+                .and_then(|s| steps.iter().position(|t| &t.name == s.get_ref()))
+                .unwrap_or(0)
+        };
         let supports = support_specs
             .iter()
-            .map(|spec| self.support(spec, &parts))
+            .map(|spec| {
+                self.support(spec, &parts).map(|s| Support {
+                    step: step_of(&spec.step),
+                    ..s
+                })
+            })
             .collect::<Result<Vec<_>>>()?;
         let loads_out = load_specs
             .iter()
-            .map(|spec| self.load(spec, &parts))
+            .map(|spec| {
+                self.load(spec, &parts).map(|l| Load {
+                    step: step_of(&spec.step),
+                    ..l
+                })
+            })
             .collect::<Result<Vec<_>>>()?;
         let title = title.unwrap_or_else(|| {
             self.path
@@ -618,6 +696,7 @@ impl Builder<'_> {
             supports,
             loads: loads_out,
             settings: analysis,
+            steps,
             refine,
             text: self.text.to_string(),
         })
@@ -1029,6 +1108,7 @@ impl Builder<'_> {
                 spec.fix.contains(&Component::Y),
             ],
             value: spec.value,
+            step: 0,
         })
     }
 
@@ -1075,6 +1155,7 @@ impl Builder<'_> {
                 part: p,
                 nodal,
                 resultant,
+                step: 0,
             });
         }
         let Some(force) = spec.force else {
@@ -1091,6 +1172,7 @@ impl Builder<'_> {
                     part: p,
                     nodal: vec![(n, force)],
                     resultant: force,
+                    step: 0,
                 }
             }
             (Some(b), None, None, None) => {
@@ -1100,6 +1182,7 @@ impl Builder<'_> {
                     part: p,
                     nodal: loads::chain_forces(&edges, force),
                     resultant: force,
+                    step: 0,
                 }
             }
             (b, Some(from), Some(to), None) => {
@@ -1130,6 +1213,7 @@ impl Builder<'_> {
                     part: p,
                     nodal,
                     resultant: force,
+                    step: 0,
                 }
             }
             _ => {

@@ -67,7 +67,7 @@ fn plate_on_base() {
     let csv = std::fs::read_to_string(out.join("pairs.csv")).unwrap();
     assert_eq!(
         csv.lines().next().unwrap(),
-        "interface,node,x,y,host_element,state,gap_n,slip_s,force_n,force_s,settled,violation,violation_amount,gap0,gap,slip,pressure,shear,tributary,segment"
+        "interface,node,x,y,host_element,state,gap_n,slip_s,force_n,force_s,settled,violation,violation_amount,gap0,gap,slip,pressure,shear,tributary,segment,increment,step,load_factor"
     );
     assert_eq!(csv.lines().count(), 30);
     let json: serde_json::Value =

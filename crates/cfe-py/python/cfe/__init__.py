@@ -79,10 +79,14 @@ class Increment(NamedTuple):
     increment: int
     #: Number of increments of the analysis.
     increments: int
-    #: Load factor (1 at the last increment).
+    #: Load factor of the increment's step (1 at the step's last increment).
     load_factor: float
     #: Linear solves (active-set iterations) of the increment.
     iterations: int
+    #: The increment's load step (its name; ``step-1`` without ``[[step]]``).
+    step: str = "step-1"
+    #: Total time: step index − 1 + load factor (monotonic over the steps).
+    time: float = 0.0
 
 
 # ---------------------------------------------------------------- meshes
@@ -472,6 +476,12 @@ class Model:
         return dict(self._native.settings)
 
     @property
+    def steps(self) -> List[Dict[str, Any]]:
+        """The load steps in order, each a dict of ``name`` and ``increments``
+        (one step, ``step-1``, without ``[[step]]`` tables)."""
+        return [dict(s) for s in self._native.steps]
+
+    @property
     def refine(self) -> int:
         """The refinement factor the model was meshed with."""
         return self._native.refine
@@ -764,6 +774,9 @@ class Results:
         self._friction = friction
         self.summary: Dict[str, Any] = raw["summary"]
         self.load_factor: float = raw["load_factor"]
+        #: The last increment's load step (its name) and total time.
+        self.step: str = raw["step"]
+        self.time: float = raw["time"]
         self.displacements: np.ndarray = raw["u"]
         self.parts: Dict[str, PartResult] = {}
         for p in raw["parts"]:

@@ -34,6 +34,8 @@ class Increment(NamedTuple):
     increments: int
     load_factor: float
     iterations: int
+    step: str = "step-1"
+    time: float = 0.0
 
 class Mesh:
     """A part's mesh given as arrays, checked by the library."""
@@ -87,6 +89,8 @@ class Model:
     def interfaces(self) -> List[str]: ...
     @property
     def settings(self) -> Dict[str, Any]: ...
+    @property
+    def steps(self) -> List[Dict[str, Any]]: ...
     @property
     def refine(self) -> int: ...
     @property
@@ -180,6 +184,8 @@ class InterfaceResult:
 class Results:
     summary: Dict[str, Any]
     load_factor: float
+    step: str
+    time: float
     displacements: _Floats
     parts: Dict[str, PartResult]
     interfaces: Dict[str, InterfaceResult]

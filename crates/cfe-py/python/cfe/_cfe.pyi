@@ -116,6 +116,8 @@ class Model:
     def interfaces(self) -> List[str]: ...
     @property
     def settings(self) -> Dict[str, Any]: ...
+    @property
+    def steps(self) -> List[Dict[str, Any]]: ...
     def mesh(self, name: str) -> Mesh: ...
     def check(self) -> str: ...
     def solve(
@@ -126,7 +128,7 @@ class Model:
         friction: Optional[float] = None,
     ) -> Dict[str, Any]:
         """Solves with the GIL released; the raw results: `u`, `parts`, `interfaces`,
-        `summary`, `load_factor`."""
+        `summary`, `load_factor`, `step`, `time`."""
 
 def dict_to_toml(problem: Mapping[str, Any]) -> str:
     """The TOML text of a problem given as dicts and lists (None leaves a key out)."""

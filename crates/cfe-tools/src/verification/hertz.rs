@@ -2,7 +2,8 @@
 //! with the frictionless law: the contact half-width and the peak pressure
 //! against Hertz's closed form under refinement, the pressure profile against
 //! p₀√(1 − x²/a²), and the independence of the answer from the penalty c_n with
-//! augmented-Lagrangian enforcement.
+//! augmented-Lagrangian enforcement; and Cattaneo–Mindlin's partial slip with
+//! the Coulomb law, loaded in two steps (normal force, then tangential force).
 //!
 //! ```text
 //!              ↓ ↓ ↓ ↓  P′ on the diameter y = R ("load")
@@ -613,32 +614,21 @@ pub fn penalty_independence(quick: bool) -> Result<Case> {
 
 /// Friction coefficient of the Cattaneo–Mindlin case.
 pub const MU: f64 = 0.3;
-/// The sideways displacement of the cylinder's diameter at full load in the
-/// Cattaneo–Mindlin case (mm), ramped with the load factor.
-pub const SHIFT: f64 = 0.03;
-/// How far the cylinder's mesh is moved into the block for the Cattaneo–Mindlin
-/// case (mm): the normal load comes from this overlap (module doc of
-/// [`cattaneo_mindlin`]).
-pub const OVERLAP: f64 = 0.1;
+/// The tangential force of the Cattaneo–Mindlin case as a fraction of μP′.
+pub const Q_RATIO: f64 = 0.5;
 
-/// The Cattaneo–Mindlin problem at mesh level `n`: both parts steel (Dundurs'
-/// β = 0), the cylinder's mesh moved down by [`OVERLAP`] into the block, its
-/// diameter held in y and moved sideways by `shift` (ramped over `increments`),
-/// Coulomb friction μ. Returns the problem text and
-/// the meshes it names.
-pub fn cattaneo_problem(
-    n: usize,
-    shift: f64,
-    increments: usize,
-) -> Result<(String, std::collections::BTreeMap<String, cfe::mesh::Mesh>)> {
-    use cfe::mesh::gmsh::{GmshMesh, Group};
-    let gm = GmshMesh::read(std::path::Path::new(&mesh_file(n)))?;
-    let block = gm.part_mesh("block", Some(&[Group::Name("block".into())]))?;
-    let mut cyl = gm.part_mesh("cylinder", Some(&[Group::Name("cylinder".into())]))?;
-    for x in &mut cyl.nodes {
-        x[1] -= OVERLAP;
-    }
-    let text = format!(
+/// The Cattaneo–Mindlin problem at mesh level `n`, in two load steps: `normal`
+/// (`normal_increments`) presses the cylinder on the block with P′ = [`LOAD`]
+/// on its diameter; `shear` (`shear_increments`) adds the tangential force
+/// Q = [`Q_RATIO`] μP′ on the diameter with the couple that puts its line of
+/// action through the first point of contact (±Q/2 vertical at the diameter's
+/// ends), so that the contact carries P′ and Q without a moment, as the
+/// closed form assumes. Both parts steel (Dundurs' β = 0), Coulomb friction μ;
+/// the cylinder is held by the contact alone.
+pub fn cattaneo_problem(n: usize, normal_increments: usize, shear_increments: usize) -> String {
+    let file = mesh_file(n);
+    let q = Q_RATIO * MU * LOAD;
+    format!(
         r#"plane = "strain"
 [materials.steel]
 E = {:?}
@@ -646,9 +636,11 @@ nu = {:?}
 [[part]]
 name = "block"
 material = "steel"
+gmsh = {{ file = "{file}", surfaces = ["block"] }}
 [[part]]
 name = "cylinder"
 material = "steel"
+gmsh = {{ file = "{file}", surfaces = ["cylinder"] }}
 [[interface]]
 name = "contact"
 host = "block"
@@ -656,65 +648,83 @@ nodes = "cylinder"
 boundary = "arc"
 law = "coulomb"
 friction = {MU:?}
-search_distance = {:?}
+search_distance = {SEARCH:?}
 [[support]]
 part = "block"
 boundary = "base"
 fix = ["x", "y"]
-[[support]]
+[[step]]
+name = "normal"
+increments = {normal_increments}
+[[step]]
+name = "shear"
+increments = {shear_increments}
+[[load]]
 part = "cylinder"
 boundary = "load"
-fix = ["x", "y"]
-value = [{shift:?}, 0.0]
-[analysis]
-increments = {increments}
+force = [0.0, {:?}]
+step = "normal"
+[[load]]
+part = "cylinder"
+boundary = "load"
+force = [{q:?}, 0.0]
+step = "shear"
+[[load]]
+part = "cylinder"
+at = [{R:?}, {R:?}]
+force = [0.0, {:?}]
+step = "shear"
+[[load]]
+part = "cylinder"
+at = [{:?}, {R:?}]
+force = [0.0, {:?}]
+step = "shear"
 "#,
         CYLINDER.0,
         CYLINDER.1,
-        SEARCH + OVERLAP
-    );
-    Ok((
-        text,
-        [("block".to_string(), block), ("cylinder".to_string(), cyl)]
-            .into_iter()
-            .collect(),
-    ))
+        -LOAD,
+        q / 2.0,
+        -R,
+        -q / 2.0
+    )
 }
 
-/// Cattaneo–Mindlin partial slip: the normal contact first, then a tangential
-/// force Q < μP′ ramped up.
-///
-/// The problem file has no load stages: every load and prescribed displacement
-/// grows with the load factor. The normal load is therefore made by the
-/// geometry: the cylinder's mesh is moved [`OVERLAP`] into the block and its
-/// diameter held in y, so that the initial gaps (which are not scaled by the
-/// load factor) press it fully from the first increment, while the diameter's
-/// sideways displacement, the only load that grows, moves it from [`SHIFT`]/N to
-/// [`SHIFT`] over N increments; Q is the tangential force the pairs carry (a
-/// prescribed displacement rather than a force, so that the cylinder is held
-/// in x whatever the pairs' states during the iteration). With one material for
-/// both bodies (β = 0) the shear does not change the pressure, so P′ (the
-/// pairs' total normal force) stays as it is and Q grows monotonically, the
-/// loading of Cattaneo and Mindlin. (The first increment applies the overlap
-/// and 1/N of the shift together, a small departure from "P′ first".)
-pub fn cattaneo_mindlin(quick: bool) -> Result<Case> {
-    let (n, increments) = if quick { (8, 5) } else { (16, 10) };
-    let (text, meshes) = cattaneo_problem(n, SHIFT, increments)?;
-    let model = cfe::model::Model::from_str_with_meshes(
-        &text,
-        std::path::Path::new("cattaneo.toml"),
-        1,
-        meshes,
-    )?;
-    let a = Analysis::new(model)?;
+/// One level of the Cattaneo–Mindlin study: the measures of its last increment.
+struct CattaneoRun {
+    n: usize,
+    p_total: f64,
+    q: f64,
+    a_h: f64,
+    p0: f64,
+    fit_a: f64,
+    c_ref: f64,
+    c_h: f64,
+    stick: usize,
+    slip: usize,
+    rms: f64,
+    /// The pairs' normal force at the end of the normal step and at the end,
+    /// the largest change relative to the largest force (β = 0: none expected).
+    pressure_change: f64,
+    sign: f64,
+    pairs: Vec<ArcPair>,
+}
+
+/// Solves the Cattaneo–Mindlin problem at mesh level `n` and measures it.
+fn cattaneo_run(n: usize, shear_increments: usize) -> Result<CattaneoRun> {
+    let a = prepare(&cattaneo_problem(n, 1, shear_increments))?;
     let incs = solve(&a)?;
     let inc = incs.last().expect("increments");
+    let normal = incs
+        .iter()
+        .rfind(|i| i.step == 0)
+        .ok_or_else(|| Error::Model("the normal step has no increment".into()))?;
+    let before = arc_pairs(&a, normal, "arc")?;
     let pairs = arc_pairs(&a, inc, "arc")?;
     let rows = a.pair_rows(inc);
     let p_total: f64 = pairs.iter().map(|p| p.f_n).sum();
     let q_total: f64 = pairs.iter().map(|p| p.f_s).sum();
     let sign = q_total.signum();
-    // Q: the tangential force the pairs carry (= the diameter's x reaction).
+    // Q: the tangential force the pairs carry (= the applied Q, by equilibrium).
     let q = sign * q_total;
     let es = contact_modulus(CYLINDER.0, CYLINDER.1, CYLINDER.0, CYLINDER.1);
     let a_h = hertz_half_width(p_total, R, es);
@@ -740,23 +750,54 @@ pub fn cattaneo_mindlin(quick: bool) -> Result<Case> {
     let contact_pts: Vec<(f64, f64)> = pairs.iter().map(|p| (p.x, p.pressure.max(0.0))).collect();
     let fit = fit_ellipse(&contact_pts)
         .ok_or_else(|| Error::Model("the Cattaneo–Mindlin pressure could not be fitted".into()))?;
-    let slip_pairs = by_x
+    let count = |s| by_x.iter().filter(|p| p.1 == s).count();
+    let f_max = pairs.iter().map(|p| p.f_n).fold(0.0, f64::max);
+    let pressure_change = before
         .iter()
-        .filter(|p| p.1 == cfe::coupling::PairState::Slip)
-        .count();
-    let stick_pairs = by_x
-        .iter()
-        .filter(|p| p.1 == cfe::coupling::PairState::Bonded)
-        .count();
-    // Shear profile error over the contact: RMS of (q_h − q) / (μ p₀).
-    let rms = shear_rms(&pairs, a_h, c_ref, p0, sign);
-    let err_c = c_h / c_ref - 1.0;
-    let err_a = fit.a / a_h - 1.0;
+        .zip(&pairs)
+        .map(|(b, p)| (p.f_n - b.f_n).abs())
+        .fold(0.0, f64::max)
+        / f_max.max(f64::MIN_POSITIVE);
+    Ok(CattaneoRun {
+        n,
+        p_total,
+        q,
+        a_h,
+        p0,
+        fit_a: fit.a,
+        c_ref,
+        c_h,
+        stick: count(cfe::coupling::PairState::Bonded),
+        slip: count(cfe::coupling::PairState::Slip),
+        rms: shear_rms(&pairs, a_h, c_ref, p0, sign),
+        pressure_change,
+        sign,
+        pairs,
+    })
+}
+
+/// Cattaneo–Mindlin partial slip, as the load history of the closed form: a
+/// first load step presses the cylinder with P′, a second adds a tangential
+/// force Q = ½ μP′ (ramped over its increments) while P′ stays. Measured under
+/// refinement: the stick half-width against c = a√(1 − Q/(μP′)) and the shear
+/// traction against q(x).
+pub fn cattaneo_mindlin(quick: bool) -> Result<Case> {
+    let (levels, increments): (&[usize], usize) = if quick {
+        (&[8], 4)
+    } else {
+        (&[4, 8, 16, 32], 8)
+    };
+    let mut runs = Vec::new();
+    for &n in levels {
+        runs.push(cattaneo_run(n, increments)?);
+    }
+    let finest = runs.last().expect("one level");
     let table = Table {
         caption: format!(
-            "Cattaneo–Mindlin at mesh level n = {n}, μ = {MU}, after {increments} increments of Q. P′ = the pairs' total normal force; a, p₀, c from the closed forms with that P′; the stick half-width of the run from the outermost sticking pair to half-way to its slipping neighbour, each side; the shear error is the RMS of (q_h − q)/(μ p₀) over the pairs within |x| < a."
+            "Cattaneo–Mindlin under refinement (n elements per mm on the cylinder near the contact), μ = {MU}; step 1 \"normal\" applies P′ in one increment, step 2 \"shear\" Q in {increments}. P′ and Q are the pairs' total normal and tangential forces (equal to the applied loads by equilibrium); a, p₀, c from the closed forms with them; the stick half-width of the run from the outermost sticking pair to half-way to its slipping neighbour, each side; the shear error is the RMS of (q_h − q)/(μ p₀) over the pairs within |x| < a; \"ΔP step 2\" is the largest change of a pair's normal force during the shear step relative to the largest (β = 0: Q leaves the pressure unchanged)."
         ),
         header: [
+            "n",
             "P′ (N/mm)",
             "Q (N/mm)",
             "Q/(μP′)",
@@ -769,53 +810,80 @@ pub fn cattaneo_mindlin(quick: bool) -> Result<Case> {
             "c (run)",
             "error",
             "shear RMS error",
+            "ΔP step 2",
         ]
         .map(String::from)
         .to_vec(),
-        rows: vec![vec![
-            format!("{p_total:.1}"),
-            format!("{q:.1}"),
-            format!("{:.3}", q / (MU * p_total)),
-            format!("{a_h:.4}"),
-            format!("{:.4}", fit.a),
-            format!("{:+.2} %", 100.0 * err_a),
-            stick_pairs.to_string(),
-            slip_pairs.to_string(),
-            format!("{c_ref:.4}"),
-            format!("{c_h:.4}"),
-            format!("{:+.2} %", 100.0 * err_c),
-            format!("{:.3}", rms),
-        ]],
+        rows: runs
+            .iter()
+            .map(|r| {
+                vec![
+                    r.n.to_string(),
+                    format!("{:.1}", r.p_total),
+                    format!("{:.1}", r.q),
+                    format!("{:.3}", r.q / (MU * r.p_total)),
+                    format!("{:.4}", r.a_h),
+                    format!("{:.4}", r.fit_a),
+                    format!("{:+.2} %", 100.0 * (r.fit_a / r.a_h - 1.0)),
+                    r.stick.to_string(),
+                    r.slip.to_string(),
+                    format!("{:.4}", r.c_ref),
+                    format!("{:.4}", r.c_h),
+                    format!("{:+.2} %", 100.0 * (r.c_h / r.c_ref - 1.0)),
+                    format!("{:.3}", r.rms),
+                    format!("{:.1e}", r.pressure_change),
+                ]
+            })
+            .collect(),
     };
-    let series = cattaneo_series(&pairs, a_h, c_ref, p0, sign);
-    // The spacing of the arc's nodes near the contact is 1/n: c within two
-    // spacings, the shear within 15 % of μp₀ (RMS), partial slip.
-    let spacing = 1.0 / n as f64;
-    let passed = (c_h - c_ref).abs() < 2.0 * spacing + 1e-12
-        && rms < 0.15
-        && q < MU * p_total
-        && slip_pairs > 0
-        && stick_pairs > 0;
+    let series = cattaneo_series(
+        &finest.pairs,
+        finest.a_h,
+        finest.c_ref,
+        finest.p0,
+        finest.sign,
+    );
+    // The spacing of the arc's nodes near the contact is 1/n: at every level c
+    // within two spacings, the shear within 15 % of μp₀ (RMS), partial slip.
+    let ok = |r: &CattaneoRun| {
+        (r.c_h - r.c_ref).abs() < 2.0 / r.n as f64 + 1e-12
+            && r.rms < 0.15
+            && r.q < MU * r.p_total
+            && r.slip > 0
+            && r.stick > 0
+    };
+    let passed = runs.iter().all(ok);
+    let (n, c_h, c_ref) = (finest.n, finest.c_h, finest.c_ref);
     Ok(Case {
         title: "Cattaneo–Mindlin: partial slip under a tangential load (Coulomb)".into(),
         setup: format!(
-            "The Hertz cylinder and block (mesh level n = {n}), both steel (E = {}, ν = {}: Dundurs' β = 0, as the closed form assumes), Coulomb friction μ = {MU}. The problem file has no load stages, so the normal load comes from the geometry: the cylinder's mesh is moved {OVERLAP} mm into the block and its diameter is held in y, so the initial gaps press it from the first increment on (they are not scaled by the load factor); the diameter is moved sideways by up to {SHIFT} mm over {increments} increments (the only load that grows; Q is the tangential force the pairs carry, {q:.0} N/mm at the end). The first increment applies the overlap and 1/{increments} of the shift together — a small departure from \"P′ first, then Q\".",
-            CYLINDER.0, CYLINDER.1
+            "The Hertz cylinder and block (mesh levels n = {}), both steel (E = {}, ν = {}: Dundurs' β = 0, as the closed form assumes), Coulomb friction μ = {MU}; the cylinder is held by the contact alone. Two load steps (`[[step]]`, examples/hertz/cattaneo.toml): \"normal\" applies P′ = {LOAD} N/mm on the cylinder's diameter; \"shear\" keeps it and ramps a tangential force Q = {Q_RATIO} μP′ = {} N/mm on the diameter, with the couple ±Q/2 (vertical, at the diameter's ends) that moves its line of action down to the first point of contact, so that the contact carries P′ and Q without a moment.",
+            levels
+                .iter()
+                .map(|n| n.to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
+            CYLINDER.0,
+            CYLINDER.1,
+            Q_RATIO * MU * LOAD
         ),
-        reference: "Cattaneo (1938) and Mindlin (1949), for cylinders in K. L. Johnson, *Contact Mechanics*, 1985, §7.1: stick for |x| < c = a√(1 − Q/(μP′)), slip beyond; q(x) = μp₀√(1 − x²/a²) − μp₀(c/a)√(1 − x²/c²) in the stick zone, μ p(x) in the slip zones (`closed_forms.rs`).".into(),
+        reference: "Cattaneo (1938) and Mindlin (1949), for cylinders in K. L. Johnson, *Contact Mechanics*, 1985, §7.1: under P′ then a growing Q < μP′, stick for |x| < c = a√(1 − Q/(μP′)), slip beyond; q(x) = μp₀√(1 − x²/a²) − μp₀(c/a)√(1 − x²/c²) in the stick zone, μ p(x) in the slip zones (`closed_forms.rs`).".into(),
         tables: vec![table],
         plots: vec![Plot {
             file: "cattaneo_mindlin_shear.png".into(),
-            title: "Cattaneo–Mindlin: shear traction along the contact".into(),
+            title: format!("Cattaneo–Mindlin: shear traction along the contact (n = {n})"),
             x: "x (mm)".into(),
             y: "traction (MPa)".into(),
             log: (false, false),
             series,
         }],
         verdict: format!(
-            "The stick zone's half-width is {c_h:.4} against c = {c_ref:.4} ({:+.1} %, the pairs {spacing:.4} apart), with {stick_pairs} pairs sticking and {slip_pairs} slipping; the shear traction follows Cattaneo–Mindlin's profile with an RMS error of {:.1} % of μp₀; Pass criteria (c within two pair spacings, shear RMS below 15 % of μp₀, partial slip: Q < μP′ with pairs both sticking and slipping): {}.",
-            100.0 * err_c,
-            100.0 * rms,
+            "At the finest level the stick zone's half-width is {c_h:.4} against c = {c_ref:.4} ({:+.1} %, the pairs {:.4} apart), with {} pairs sticking and {} slipping; the shear traction follows Cattaneo–Mindlin's profile with an RMS error of {:.1} % of μp₀. Pass criteria at every level (c within two pair spacings, shear RMS below 15 % of μp₀, partial slip: Q < μP′ with pairs both sticking and slipping): {}.",
+            100.0 * (c_h / c_ref - 1.0),
+            1.0 / n as f64,
+            finest.stick,
+            finest.slip,
+            100.0 * finest.rms,
             if passed { "met" } else { "NOT met" }
         ),
         passed,

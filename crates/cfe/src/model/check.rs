@@ -78,6 +78,27 @@ impl<'a> Values<'a> {
         (value, span)
     }
 
+    /// Whether the file gives the value at `at` (the whole path is present).
+    pub fn has(&self, at: &[Seg]) -> bool {
+        let Some(root) = &self.root else {
+            return false;
+        };
+        let mut value: Option<&DeValue<'a>> = None;
+        for (i, seg) in at.iter().enumerate() {
+            let next = match (i, seg, value) {
+                (0, Seg::K(k), _) => root.get(*k),
+                (_, Seg::K(k), Some(DeValue::Table(t))) => t.get(*k),
+                (_, Seg::I(j), Some(DeValue::Array(a))) => a.get(*j),
+                _ => None,
+            };
+            match next {
+                Some(n) => value = Some(n.get_ref()),
+                None => return false,
+            }
+        }
+        true
+    }
+
     /// The 1-based line of the value at `at` (or of its deepest enclosing item).
     pub fn line(&self, at: &[Seg]) -> Option<usize> {
         self.lookup(at).1.map(|s| {
@@ -214,7 +235,7 @@ impl<'a> Values<'a> {
 
 // ------------------------------------------------------- the problem file's keys
 
-use super::{InterfaceSpec, LoadSpec, MaterialSpec, PartSpec, ProblemFile, SupportSpec};
+use super::{InterfaceSpec, LoadSpec, MaterialSpec, PartSpec, ProblemFile, StepSpec, SupportSpec};
 use Seg::{I, K};
 
 /// Checks every number of the problem file before anything is meshed.
@@ -234,7 +255,83 @@ pub(super) fn problem(v: &Values, f: &ProblemFile) -> Result<()> {
     for (i, l) in f.loads.iter().enumerate() {
         load(v, i, l)?;
     }
+    steps(v, f)?;
     analysis(v, &f.analysis)
+}
+
+/// `[[step]]`: unique, non-empty names, at least one increment each (at most
+/// [`MAX_INCREMENTS`] in all), no `[analysis] increments` beside them (each step
+/// gives its own), and every `step` key of a load or support naming one of them.
+fn steps(v: &Values, f: &ProblemFile) -> Result<()> {
+    let names: Vec<&str> = f.steps.iter().map(|s| s.name.get_ref().as_str()).collect();
+    let mut total: usize = 0;
+    for (i, s) in f.steps.iter().enumerate() {
+        let StepSpec { name, increments } = s;
+        if name.get_ref().trim().is_empty() {
+            return Err(v.invalid(
+                &[K("step"), I(i), K("name")],
+                "is empty: a step needs a name the loads and supports can refer to",
+            ));
+        }
+        if names[..i].contains(&name.get_ref().as_str()) {
+            return Err(v.invalid(
+                &[K("step"), I(i), K("name")],
+                format!(
+                    "= \"{}\" names an earlier step too: step names must be unique",
+                    name.get_ref()
+                ),
+            ));
+        }
+        if *increments == 0 {
+            return Err(v.invalid(
+                &[K("step"), I(i), K("increments")],
+                "= 0 must be at least 1: a step applies its loads over its increments",
+            ));
+        }
+        total = total.saturating_add(*increments);
+    }
+    if total > MAX_INCREMENTS {
+        return Err(v.invalid(
+            &[K("step")],
+            format!(
+                "the steps have {total} increments in all, more than {MAX_INCREMENTS}: each increment is at least one solve and a line of summary.json"
+            ),
+        ));
+    }
+    if !f.steps.is_empty() && v.has(&[K("analysis"), K("increments")]) {
+        return Err(v.invalid(
+            &[K("analysis"), K("increments")],
+            "is given together with [[step]] tables: with steps, each step gives its own `increments` (their total is the run's); remove `[analysis] increments`",
+        ));
+    }
+    let known = if names.is_empty() {
+        "there are no [[step]] tables: define the step with [[step]] name = \"…\", increments = N"
+            .to_string()
+    } else {
+        format!("steps: {}", names.join(", "))
+    };
+    let refs = f
+        .loads
+        .iter()
+        .enumerate()
+        .map(|(i, l)| ("load", i, &l.step))
+        .chain(
+            f.supports
+                .iter()
+                .enumerate()
+                .map(|(i, s)| ("support", i, &s.step)),
+        );
+    for (table, i, step) in refs {
+        if let Some(step) = step
+            && !names.contains(&step.get_ref().as_str())
+        {
+            return Err(v.invalid(
+                &[K(table), I(i), K("step")],
+                format!("= \"{}\" names no step ({known})", step.get_ref()),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// `[materials.NAME]`: 0 < E (within the computable range), −1 < ν < 0.5.

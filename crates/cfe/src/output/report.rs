@@ -66,10 +66,17 @@ pub struct PairRow {
     /// With segment coupling, the node-part nodes of the pair's averaged jump (the
     /// coupling node and its face neighbours), as `a-b-c`; empty for the node CFE.
     pub segment: Option<String>,
+    /// The increment (1-based, over all steps).
+    pub increment: usize,
+    /// The increment's load step (its name).
+    pub step: String,
+    /// The step's load factor at this increment.
+    #[serde(serialize_with = "plain")]
+    pub load_factor: f64,
 }
 
 /// The columns of `pairs.csv` (the serialized fields of [`PairRow`]).
-pub const PAIR_COLUMNS: [&str; 20] = [
+pub const PAIR_COLUMNS: [&str; 23] = [
     "interface",
     "node",
     "x",
@@ -90,6 +97,9 @@ pub const PAIR_COLUMNS: [&str; 20] = [
     "shear",
     "tributary",
     "segment",
+    "increment",
+    "step",
+    "load_factor",
 ];
 
 /// Writes the pairs table (one row per coupling pair; the header is the field
@@ -158,6 +168,9 @@ mod tests {
             shear: 0.0,
             tributary: 2.0,
             segment: None,
+            increment: 2,
+            step: "shear".into(),
+            load_factor: 0.5,
         };
         let pulling = PairRow {
             state: PairState::Bonded,
@@ -172,7 +185,7 @@ mod tests {
         assert_eq!(
             text,
             format!(
-                "{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0,false,,0e0,-1e0,5e-1,0e0,2.5e-1,0e0,2e0,\n\"a,b\",3,100,-6.5,7,bonded,1.25e-3,0e0,-5e-1,2e0,true,tension,5e-1,-1e0,5e-1,0e0,2.5e-1,0e0,2e0,3-4\n",
+                "{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0,false,,0e0,-1e0,5e-1,0e0,2.5e-1,0e0,2e0,,2,shear,0.5\n\"a,b\",3,100,-6.5,7,bonded,1.25e-3,0e0,-5e-1,2e0,true,tension,5e-1,-1e0,5e-1,0e0,2.5e-1,0e0,2e0,3-4,2,shear,0.5\n",
                 PAIR_COLUMNS.join(",")
             )
         );

@@ -143,7 +143,8 @@ impl<'scope> Series<'scope> {
         Ok(())
     }
 
-    /// Registers the writer of the increment at `lambda` whose files (in `vtu/`)
+    /// Registers the writer of the increment at time `lambda` (step index − 1 +
+    /// the step's load factor) whose files (in `vtu/`)
     /// are `parts_file` and `pairs_file`.
     fn push(
         &mut self,
@@ -353,9 +354,9 @@ impl Analysis {
 
     /// Writes one converged increment: recovers its stresses, starts its parts VTU
     /// in the background, writes its pairs VTU and the pairs table, and updates
-    /// the summary on disk. Only every `output_every`-th increment and the last
-    /// have their files written; the summary is rewritten at a bounded rate
-    /// (see [`REWRITE_FREELY`]).
+    /// the summary on disk. Only every `output_every`-th increment, the last and
+    /// (with load steps) the last of each step have their files written; the
+    /// summary is rewritten at a bounded rate (see [`REWRITE_FREELY`]).
     fn write_increment<'scope, 'env: 'scope>(
         &'env self,
         scope: &'scope Scope<'scope, 'env>,
@@ -366,8 +367,12 @@ impl Analysis {
         out: &Path,
     ) -> Result<()> {
         let settings = &self.model.settings;
+        // The last increment of the run, and with load steps of every step, is
+        // always written.
+        let step_end = self.model.steps.len() > 1 && inc.lambda >= 1.0;
         let files = inc.index.is_multiple_of(settings.output_every.max(1))
-            || inc.index >= settings.increments;
+            || inc.index >= settings.increments
+            || step_end;
         let t = Instant::now();
         if !files {
             self.fill_summary(&mut log.summary, inc, &self.pair_rows(inc));
@@ -384,12 +389,16 @@ impl Analysis {
         let parts_file = format!("parts_{:04}.vtu", inc.index);
         let pairs_file = format!("pairs_{:04}.vtu", inc.index);
         series.make_room()?;
-        let (path, lambda, u) = (series.vtu_dir.join(&parts_file), inc.lambda, inc.u.clone());
+        let (path, fields, u) = (
+            series.vtu_dir.join(&parts_file),
+            time_fields(inc),
+            inc.u.clone(),
+        );
         let stresses = Arc::new(stresses);
         log.last_stresses = Some(Arc::clone(&stresses));
-        let handle = scope.spawn(move || self.write_parts_vtu(&path, grid, lambda, &u, &stresses));
+        let handle = scope.spawn(move || self.write_parts_vtu(&path, grid, &fields, &u, &stresses));
         self.write_pairs_vtu(&series.vtu_dir.join(&pairs_file), inc, &rows)?;
-        series.push(handle, inc.lambda, parts_file, pairs_file);
+        series.push(handle, inc.time, parts_file, pairs_file);
         report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
         self.fill_summary(&mut log.summary, inc, &rows);
         if rewrite_due(&mut log.summary_written, inc.index) {
@@ -513,7 +522,7 @@ impl Analysis {
         &self,
         path: &Path,
         grid: &PartsGrid,
-        lambda: f64,
+        fields: &[(&str, f64)],
         u: &[f64],
         stresses: &[PartStress],
     ) -> Result<()> {
@@ -577,7 +586,7 @@ impl Analysis {
                 kinds,
                 point_data: &point_data,
                 cell_data: &cell_data,
-                field_data: &[("TIME", lambda)],
+                field_data: fields,
             },
         )
     }
@@ -666,7 +675,7 @@ impl Analysis {
                 kinds: &kinds,
                 point_data: &point_data,
                 cell_data: &[],
-                field_data: &[("TIME", inc.lambda)],
+                field_data: &time_fields(inc),
             },
         )
     }
@@ -857,4 +866,14 @@ struct PartsGrid {
     kinds: Vec<vtu::CellKind>,
     part_point: Vec<i32>,
     part_cell: Vec<i32>,
+}
+
+/// The field data of an increment's VTU files: the total time (step index − 1 +
+/// load factor), the step's 1-based index and its load factor.
+fn time_fields(inc: &IncrementResult) -> [(&'static str, f64); 3] {
+    [
+        ("TIME", inc.time),
+        ("STEP", (inc.step + 1) as f64),
+        ("LOAD_FACTOR", inc.lambda),
+    ]
 }

@@ -253,6 +253,28 @@ impl Summary {
     }
 }
 
+/// A load step in the summary.
+#[derive(Debug, Clone, Serialize)]
+pub struct StepSummary {
+    /// Name.
+    pub name: String,
+    /// Its increments.
+    pub increments: usize,
+}
+
+/// The step of one converged increment in the summary.
+#[derive(Debug, Clone, Serialize)]
+pub struct IncrementStep {
+    /// 1-based increment number over all steps.
+    pub increment: usize,
+    /// The step's name.
+    pub step: String,
+    /// The step's load factor (0 to 1 over the step).
+    pub load_factor: f64,
+    /// Total time: step index − 1 + load factor (monotonic over the steps).
+    pub time: f64,
+}
+
 /// The JSON summary of a run (`summary.json`).
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
@@ -321,6 +343,14 @@ pub struct Summary {
     /// initial gap, follows the Coulomb law or uses the augmented Lagrangian —
     /// then every increment is solved.
     pub proportional_shortcut: bool,
+    /// Why the proportional-load shortcuts were off (null when on): initial gaps,
+    /// friction or augmented Lagrangian, or loads in more than one step.
+    pub proportional_shortcut_off: Option<String>,
+    /// The load steps (one, named `step-1`, without `[[step]]` tables).
+    pub steps: Vec<StepSummary>,
+    /// Per converged increment: its step and that step's load factor, and the
+    /// total time (step index − 1 + load factor).
+    pub increment_steps: Vec<IncrementStep>,
     /// Fixed-point solves (slip forces, Uzawa steps) per converged increment, each
     /// a triangular solve with the pattern's factorization.
     pub fixed_point_iterations: Vec<usize>,

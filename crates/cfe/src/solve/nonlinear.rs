@@ -91,10 +91,15 @@ fn method_or_reuse<S: serde::Serializer>(
 /// The converged result of one increment.
 #[derive(Debug, Clone)]
 pub struct IncrementResult {
-    /// 1-based increment number.
+    /// 1-based increment number (counted over all steps).
     pub index: usize,
-    /// Load factor λ (1 at the last increment).
+    /// Load factor λ of the increment's step (1 at its last increment).
     pub lambda: f64,
+    /// The increment's load step (0-based index; 0 without steps).
+    pub step: usize,
+    /// The total time: step index + λ (0-based step, so λ without steps; grows
+    /// monotonically over the steps).
+    pub time: f64,
     /// Linear solves in this increment.
     pub iterations: usize,
     /// What each solve did.
@@ -227,12 +232,45 @@ pub struct Solver<'a> {
     fixed_point: usize,
     /// The load path, when not the default ramp.
     load_factors: Option<Vec<f64>>,
+    /// Prescribed values of all DOFs at load factor 1, when not those of the DOF
+    /// map (load steps).
+    prescribed: Option<Vec<f64>>,
+    /// Loads in several steps: the per-step vectors, combined into `f_ext` and
+    /// `prescribed` at every increment (then the load factor is 1).
+    steps: Option<LoadSteps>,
+    /// Per increment, its step and that step's load factor (load steps).
+    step_labels: Option<Vec<(usize, f64)>>,
     /// Largest augmented-Lagrangian error of the last fixed point.
     augmented_error: f64,
     /// Whether the last pattern's fixed point converged.
     fixed_point_converged: bool,
     /// Phase timings.
     pub timings: SolveTimings,
+}
+
+/// The loads of a run in load steps (the problem file's `[[step]]`): every step's
+/// external forces and prescribed values at full value, and every increment's
+/// factors. The load of increment k is Σ_s λ_s(k) f_s, its prescribed values
+/// Σ_s λ_s(k) p_s.
+#[derive(Debug, Clone)]
+pub struct LoadSteps {
+    /// Per step: the external force of every DOF at full value.
+    pub forces: Vec<Vec<f64>>,
+    /// Per step: the prescribed value of every DOF at full value (0 at the DOFs
+    /// another step prescribes, and at free DOFs).
+    pub prescribed: Vec<Vec<f64>>,
+    /// Per increment: its step and every step's load factor λ_s.
+    pub increments: Vec<(usize, Vec<f64>)>,
+}
+
+impl LoadSteps {
+    /// The steps that apply some force or prescribed value.
+    pub fn loaded(&self) -> Vec<usize> {
+        let nonzero = |v: &Vec<f64>| v.iter().any(|&x| x != 0.0);
+        (0..self.forces.len())
+            .filter(|&s| nonzero(&self.forces[s]) || nonzero(&self.prescribed[s]))
+            .collect()
+    }
 }
 
 /// The smallest load scale of a model without the proportional shortcuts, as a
@@ -293,7 +331,7 @@ impl<'a> Solver<'a> {
             pattern_and_symbolic: t.elapsed().as_secs_f64(),
             ..Default::default()
         };
-        let total_load = f_ext.chunks_exact(2).map(|f| f[0].hypot(f[1])).sum::<f64>();
+        let total_load = total_force(&f_ext);
         let proportional = !interfaces.iter().any(Interface::non_proportional);
         let history = interfaces
             .iter()
@@ -314,6 +352,9 @@ impl<'a> Solver<'a> {
             history,
             fixed_point: 0,
             load_factors: None,
+            prescribed: None,
+            steps: None,
+            step_labels: None,
             augmented_error: 0.0,
             fixed_point_converged: true,
             timings,
@@ -342,6 +383,78 @@ impl<'a> Solver<'a> {
     /// is then not proportional to the load, or depends on the path).
     pub fn proportional(&self) -> bool {
         self.proportional
+    }
+
+    /// Applies the loads in steps: increment k carries the load Σ_s λ_s(k) f_s and
+    /// the prescribed values Σ_s λ_s(k) p_s, and reports its step and that step's
+    /// factor. When at most one step carries load the loading stays proportional
+    /// (that step's vectors scaled by its factor, the shortcuts kept); otherwise
+    /// the proportional shortcuts are off and the combined vectors are formed
+    /// once per increment. Ignored when the vectors' lengths do not match the DOFs
+    /// or an increment's factors do not match the steps.
+    pub fn set_steps(&mut self, mut steps: LoadSteps) {
+        let n = self.f_ext.len();
+        let m = steps.forces.len();
+        if m == 0
+            || steps.prescribed.len() != m
+            || steps.increments.is_empty()
+            || steps.forces.iter().chain(&steps.prescribed).any(|v| v.len() != n)
+            || steps
+                .increments
+                .iter()
+                .any(|(s, f)| *s >= m || f.len() != m || f.iter().any(|x| !x.is_finite()))
+        {
+            return;
+        }
+        self.step_labels = Some(steps.increments.iter().map(|(s, f)| (*s, f[*s])).collect());
+        let loaded = steps.loaded();
+        if loaded.len() <= 1 {
+            // Proportional: one step's load, scaled by its factor.
+            let s = loaded.first().copied().unwrap_or(0);
+            self.load_factors = Some(steps.increments.iter().map(|(_, f)| f[s]).collect());
+            self.f_ext = std::mem::take(&mut steps.forces[s]);
+            self.prescribed = Some(std::mem::take(&mut steps.prescribed[s]));
+            self.total_load = total_force(&self.f_ext);
+        } else {
+            self.proportional = false;
+            self.load_factors = Some(vec![1.0; steps.increments.len()]);
+            self.prescribed = Some(vec![0.0; n]);
+            self.steps = Some(steps);
+        }
+    }
+
+    /// With loads in several steps, sets `f_ext`, `prescribed` and the total load
+    /// to those of increment `k` (0-based).
+    fn combine_steps(&mut self, k: usize) {
+        let Some(steps) = &self.steps else {
+            return;
+        };
+        let factors = &steps.increments[k].1;
+        let prescribed = self.prescribed.get_or_insert_with(Vec::new);
+        prescribed.resize(self.f_ext.len(), 0.0);
+        self.f_ext.iter_mut().for_each(|f| *f = 0.0);
+        prescribed.iter_mut().for_each(|p| *p = 0.0);
+        for (s, &l) in factors.iter().enumerate() {
+            if l == 0.0 {
+                continue;
+            }
+            for (f, g) in self.f_ext.iter_mut().zip(&steps.forces[s]) {
+                *f += l * g;
+            }
+            for (p, q) in prescribed.iter_mut().zip(&steps.prescribed[s]) {
+                *p += l * q;
+            }
+        }
+        self.total_load = total_force(&self.f_ext);
+    }
+
+    /// Where increment `inc` (1-based, solved at factor `lambda`) is on the load
+    /// path, for messages: its load factor, and with load steps its step.
+    fn where_in_path(&self, inc: usize, lambda: f64) -> String {
+        match self.step_labels.as_ref().and_then(|s| s.get(inc - 1)) {
+            Some(&(step, l)) => format!("step {}, load factor {l:.4}", step + 1),
+            None => format!("load factor {lambda:.4}"),
+        }
     }
 
     /// Replaces the load path: the increments go through these load factors in
@@ -430,6 +543,7 @@ impl<'a> Solver<'a> {
         for inc in 1..=n_inc {
             let lambda = factors[inc - 1];
             self.fixed_point = 0;
+            self.combine_steps(inc - 1);
             let mut result = match self.settings.scheme {
                 Scheme::ActiveSet => {
                     let mut r = self.active_set_increment(inc, lambda, states.clone())?;
@@ -463,6 +577,11 @@ impl<'a> Solver<'a> {
                 }
             };
             self.commit_history(&mut result);
+            if let Some(&(step, l)) = self.step_labels.as_ref().and_then(|s| s.get(inc - 1)) {
+                result.step = step;
+                result.lambda = l;
+                result.time = step as f64 + l;
+            }
             self.check_precision(&result)?;
             if self.settings.scheme == Scheme::ActiveSet && (self.proportional || inc == n_inc) {
                 // Loads are proportional, so the next increment starts from a pattern
@@ -581,7 +700,8 @@ impl<'a> Solver<'a> {
             .filter(|&&s| s == PairState::Open)
             .count();
         Err(Error::NoConvergence(format!(
-            "increment {inc} (load factor {lambda:.4}): the contact states did not settle within {} iterations ({open} pairs open at the last one, no pattern repeated). Raise [analysis] max_iterations or use more increments",
+            "increment {inc} ({}): the contact states did not settle within {} iterations ({open} pairs open at the last one, no pattern repeated). Raise [analysis] max_iterations or use more increments",
+            self.where_in_path(inc, lambda),
             self.settings.max_iterations,
         )))
     }
@@ -1108,7 +1228,8 @@ impl<'a> Solver<'a> {
         self.timings.contact_update += t.elapsed().as_secs_f64();
 
         let t = Instant::now();
-        let mut u: Vec<f64> = self.dofs.prescribed.iter().map(|v| lambda * v).collect();
+        let prescribed = self.prescribed.as_deref().unwrap_or(&self.dofs.prescribed);
+        let mut u: Vec<f64> = prescribed.iter().map(|v| lambda * v).collect();
         // The pairs' constant terms (initial gaps, slip history, slip forces,
         // multipliers) enter the right-hand side with the prescribed values.
         let has_prescribed = u.iter().any(|&v| v != 0.0) || !self.proportional;
@@ -1263,6 +1384,8 @@ impl<'a> Solver<'a> {
         IncrementResult {
             index,
             lambda,
+            step: 0,
+            time: lambda,
             iterations: history.len(),
             history,
             u,
@@ -1309,6 +1432,11 @@ fn penalty_advice(parts: &[Part], interfaces: &[Interface]) -> String {
         ),
         _ => "The model is ill-conditioned: check for very different stiffnesses (E, thickness) between parts, or elements of very different sizes.".into(),
     }
+}
+
+/// Σ ‖f‖ over the nodes of the force vector `f`.
+fn total_force(f: &[f64]) -> f64 {
+    f.chunks_exact(2).map(|f| f[0].hypot(f[1])).sum()
 }
 
 fn count_changes(a: &[Vec<PairState>], b: &[Vec<PairState>]) -> usize {

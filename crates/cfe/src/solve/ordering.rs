@@ -145,6 +145,7 @@ mod tests {
             nodes: parts[0].mesh.boundary_nodes("bottom").unwrap(),
             fix: [true, true],
             value: [0.0, 0.0],
+            step: 0,
         }];
         let dofs = DofMap::new(&parts, &supports);
         let graph = NodeGraph::new(&parts, &[], &dofs);
