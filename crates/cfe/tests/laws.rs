@@ -494,6 +494,70 @@ fn a_block_pushed_beyond_friction_is_not_reported_as_held() {
     }
 }
 
+/// Coulomb with augmented-Lagrangian enforcement: below the limit (Q = 0.2 P,
+/// μ = 0.5) the interface carries Q with every stick pair inside the cone; pushed
+/// far sideways (μ = 0.3) every closed pair slips with |f_s| = μ f_n and the
+/// sideways reaction is μ P — and in both, no closed pair penetrates by more than
+/// the penetration tolerance (1e-9), whatever the penalty.
+#[test]
+fn coulomb_with_augmented_enforcement() {
+    let augmented = |mu: f64, tail: &str| {
+        coulomb_block(mu, tail).replace(
+            &format!("friction = {mu}"),
+            &format!("friction = {mu}\nenforcement = \"augmented\"\npenetration_tolerance = 1e-9"),
+        )
+    };
+    let no_penetration = |res: &cfe::analysis::Results| {
+        for r in res.pairs.iter().filter(|r| r.state.is_closed()) {
+            assert!(
+                r.gap.abs() <= 1e-9,
+                "pair at x = {} penetrates {}",
+                r.x,
+                r.gap
+            );
+        }
+    };
+    let below = augmented(
+        0.5,
+        "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.2, -1.0]\n[analysis]\nincrements = 2",
+    );
+    let a = analysis(&below);
+    let res = a.solve().unwrap();
+    assert_eq!(
+        res.summary.status,
+        RunStatus::Completed,
+        "{:?}",
+        res.summary.warnings
+    );
+    let fs: f64 = res.pairs.iter().map(|r| r.force_s).sum();
+    assert!((fs.abs() - 0.2).abs() < 1e-9, "Σ f_s = {fs}");
+    check_coulomb(&a, &res.last, 0.5, 1e-9);
+    no_penetration(&res);
+
+    let mu = 0.3;
+    let slide = augmented(
+        mu,
+        "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"x\"]\nvalue = [0.005, 0.0]\n[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\n[analysis]\nincrements = 4",
+    );
+    let a = analysis(&slide);
+    let res = a.solve().unwrap();
+    assert_eq!(
+        res.summary.status,
+        RunStatus::Completed,
+        "{:?}",
+        res.summary.warnings
+    );
+    let n = check_coulomb(&a, &res.last, mu, 1e-8);
+    let closed = res.pairs.iter().filter(|r| r.state.is_closed()).count();
+    assert!(
+        n == closed && n >= res.pairs.len() - 1,
+        "{n} of {closed} closed pairs slip"
+    );
+    let side = res.summary.reactions[1].fx;
+    assert!((side.abs() - mu).abs() < 1e-8, "{side}");
+    no_penetration(&res);
+}
+
 /// Friction is path-dependent: a block pressed by an interference (constant
 /// pressure) is pushed sideways to δ and back to 0. Going out it slips with
 /// |F| = μ P; coming back, the first step unloads elastically (sticks), then it
