@@ -361,6 +361,11 @@ impl<'a> Solver<'a> {
         })
     }
 
+    /// Number of unknowns (free equations).
+    pub fn dofs_count(&self) -> usize {
+        self.dofs.n_eq
+    }
+
     /// Number of nonzeros in the lower triangle of K.
     pub fn matrix_nnz(&self) -> usize {
         self.system.k.row_idx.len()
