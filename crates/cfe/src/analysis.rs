@@ -376,7 +376,41 @@ impl Analysis {
         if let Some(steps) = self.load_steps() {
             solver.set_steps(steps);
         }
+        Self::check_memory(&solver, crate::output::memory::available_memory_bytes())?;
         Ok(solver)
+    }
+
+    /// Refuses a solve whose estimated peak memory
+    /// ([`crate::output::memory::estimated_peak_from_factor`], from the factor's
+    /// nonzeros the symbolic factorization counted) exceeds `available` bytes
+    /// (the machine's `MemAvailable`; `None`: unknown, no check). Called before
+    /// the numeric factorization, so a run that cannot fit stops at once with
+    /// [`Error::TooLarge`] instead of being killed midway.
+    pub fn check_memory(solver: &Solver<'_>, available: Option<u64>) -> Result<()> {
+        let Some(available) = available else {
+            return Ok(());
+        };
+        let unknowns = solver.dofs_count() as u64;
+        let bytes = crate::output::memory::estimated_peak_from_factor(
+            unknowns,
+            solver.matrix_nnz() as u64,
+            solver.factor_nnz() as u64,
+        );
+        if bytes <= available {
+            return Ok(());
+        }
+        let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+        Err(Error::TooLarge {
+            unknowns,
+            bytes,
+            available,
+            message: format!(
+                "{unknowns} unknowns with a Cholesky factor of {} nonzeros need about {:.2} GiB at the peak, but {:.2} GiB of memory are available; use a smaller refinement or fewer cells (the peak grows a little faster than the unknowns), or free memory",
+                solver.factor_nnz(),
+                gib(bytes),
+                gib(available)
+            ),
+        })
     }
 
     /// The loads of a model with several `[[step]]`s, step by step (`None` for one

@@ -167,7 +167,8 @@ pub enum Error {
         /// The message, with the interface whose penalty is too large if any.
         message: String,
     },
-    /// The model is too large for this machine: refused before meshing it.
+    /// The model is too large for this machine: refused before meshing it, or
+    /// before its numeric factorization once the factor's size is known.
     #[error("model too large: {message}")]
     TooLarge {
         /// Estimated unknowns.

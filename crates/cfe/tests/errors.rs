@@ -402,3 +402,25 @@ fn interrupted_run_leaves_a_consistent_folder() {
     );
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// The memory check after the symbolic factorization refuses, with a typed
+/// error naming the estimate and the available memory, a solve whose estimated
+/// peak exceeds an (injected) available amount, and passes one that fits.
+#[test]
+fn memory_check_refuses_before_the_factorization() {
+    let a = common::analysis(&format!("{BASE}{LOAD_DOWN}"));
+    let solver = a.solver().unwrap();
+    let e = cfe::Analysis::check_memory(&solver, Some(1 << 20)).unwrap_err();
+    match &e {
+        Error::TooLarge {
+            bytes, available, ..
+        } => assert!(*bytes > *available && *available == 1 << 20, "{e:?}"),
+        other => panic!("{other:?}"),
+    }
+    assert!(
+        e.to_string().contains("GiB") && e.to_string().contains("nonzeros"),
+        "{e}"
+    );
+    assert!(cfe::Analysis::check_memory(&solver, Some(u64::MAX)).is_ok());
+    assert!(cfe::Analysis::check_memory(&solver, None).is_ok());
+}

@@ -232,6 +232,17 @@ impl CholeskySolver {
             stack,
             Default::default(),
         );
+        // The factorization's scratch holds a permuted copy of K (16 bytes per
+        // nonzero) besides the frontal blocks; the solves need far less. Free it
+        // now so it is not held beside the factor and the update columns: the
+        // next factorization allocates it again.
+        let solve_req = self
+            .symbolic
+            .solve_in_place_scratch::<f64>(1, Par::rayon(0));
+        if solve_req.size_bytes() < self.scratch_bytes {
+            self.scratch = MemBuffer::new(solve_req);
+            self.scratch_bytes = solve_req.size_bytes();
+        }
         self.factorizations += 1;
         match res {
             Ok(_) => {

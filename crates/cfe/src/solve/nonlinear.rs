@@ -361,6 +361,11 @@ impl<'a> Solver<'a> {
         })
     }
 
+    /// Number of unknowns (free equations).
+    pub fn dofs_count(&self) -> usize {
+        self.dofs.n_eq
+    }
+
     /// Number of nonzeros in the lower triangle of K.
     pub fn matrix_nnz(&self) -> usize {
         self.system.k.row_idx.len()
@@ -583,13 +588,14 @@ impl<'a> Solver<'a> {
                 result.time = step as f64 + l;
             }
             self.check_precision(&result)?;
-            if self.settings.scheme == Scheme::ActiveSet && (self.proportional || inc == n_inc) {
+            if (self.settings.scheme == Scheme::ActiveSet && self.proportional) || inc == n_inc {
                 // Loads are proportional, so the next increment starts from a pattern
                 // that holds at every load factor and is answered by scaling this
                 // solution: the factor is not needed again (were it needed, the next
                 // solve refactorizes). Free it before the increment is written. With
                 // initial gaps, friction or augmented enforcement every increment is
-                // solved, so the factor is kept until the last one.
+                // solved, so the factor is kept until the last one (with either
+                // scheme), and freed before the last increment's stresses and files.
                 self.system.release();
             }
             on_increment(&result)?;
