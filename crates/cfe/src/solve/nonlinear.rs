@@ -1039,25 +1039,14 @@ impl<'a> Solver<'a> {
     /// constant terms: slip forces, spring anchors, multipliers) from the
     /// histories `before` to the current ones, over all DOFs.
     fn pair_term_change(&self, states: &[Vec<PairState>], before: &PairHistories) -> Vec<f64> {
-        let mut change = vec![0.0; self.f_ext.len()];
-        let zero = [0.0; crate::coupling::element::MAX_DOFS];
-        for (i, iface) in self.interfaces.iter().enumerate() {
-            let law = iface.params();
-            for (k, c) in iface.elements.iter().enumerate() {
-                let (old, new) = (&before[i][k], &self.history[i][k]);
-                if old == new || !states[i][k].is_closed() {
-                    continue;
-                }
-                let d = &zero[..c.n_dofs()];
-                let (f_new, _) = c.law_force(&law, states[i][k], new, d);
-                let (f_old, _) = c.law_force(&law, states[i][k], old, d);
-                let ids = c.dofs(self.dofs, iface.host, iface.node_part);
-                for ((&g, a), b) in ids.as_slice().iter().zip(&f_new).zip(&f_old) {
-                    change[g] += a - b;
-                }
-            }
-        }
-        change
+        let zero = vec![0.0; self.f_ext.len()];
+        let force = |h: &[Vec<PairHistory>]| {
+            let pairs = assembly::CouplingElements::new(self.interfaces, Some(states), self.dofs)
+                .with_history(Some(h));
+            assembly::internal_force_of(&[&pairs], &zero)
+        };
+        let (now, was) = (force(&self.history), force(before));
+        now.iter().zip(&was).map(|(a, b)| a - b).collect()
     }
 
     /// One fixed-point step on the pairs' right-hand-side terms for the solution
