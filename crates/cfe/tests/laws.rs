@@ -376,17 +376,15 @@ fn check_coulomb(a: &Analysis, inc: &IncrementResult, mu: f64, tol: f64) -> usiz
     slipping
 }
 
-/// Coulomb, Q < μP: a block pressed by P and pushed sideways by Q = 0.2 P with
-/// μ = 0.5 stays put: the interface carries the whole of Q (Σ f_s = Q), every
-/// pair is inside the cone, the law holds (status `completed`).
-#[test]
-fn coulomb_below_the_limit_sticks() {
-    let mu = 0.5;
-    let text = coulomb_block(
-        mu,
-        "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.2, -1.0]\n[analysis]\nincrements = 2",
-    );
-    let a = analysis(&text);
+/// The Coulomb block's tail: P = 1 down and Q = 0.2 sideways on its top.
+const PUSH_BELOW: &str = "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.2, -1.0]\n[analysis]\nincrements = 2";
+
+/// The Coulomb block's tail: P = 1 down on its top, which is pushed sideways by a
+/// displacement far beyond the elastic range.
+const PUSH_FAR: &str = "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"x\"]\nvalue = [0.005, 0.0]\n[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\n[analysis]\nincrements = 4";
+
+/// Solves `a` and asserts the run completed with the law on every pair.
+fn solve_completed(a: &Analysis) -> cfe::analysis::Results {
     let res = a.solve().unwrap();
     assert_eq!(
         res.summary.status,
@@ -394,6 +392,31 @@ fn coulomb_below_the_limit_sticks() {
         "{:?}",
         res.summary.warnings
     );
+    res
+}
+
+/// A block pushed far sideways (`PUSH_FAR`): every closed pair slips with
+/// |f_s| = μ f_n (all but at most one closed), and the sideways reaction is μ P.
+fn assert_slides_at_mu(a: &Analysis, res: &cfe::analysis::Results, mu: f64) {
+    let n = check_coulomb(a, &res.last, mu, 1e-8);
+    let closed = res.pairs.iter().filter(|r| r.state.is_closed()).count();
+    assert!(
+        n == closed && n >= res.pairs.len() - 1,
+        "{n} of {closed} closed pairs slip"
+    );
+    let side = res.summary.reactions[1].fx;
+    assert!((side.abs() - mu).abs() < 1e-8, "{side}");
+}
+
+/// Coulomb, Q < μP: a block pressed by P and pushed sideways by Q = 0.2 P with
+/// μ = 0.5 stays put: the interface carries the whole of Q (Σ f_s = Q), every
+/// pair is inside the cone, the law holds (status `completed`).
+#[test]
+fn coulomb_below_the_limit_sticks() {
+    let mu = 0.5;
+    let text = coulomb_block(mu, PUSH_BELOW);
+    let a = analysis(&text);
+    let res = solve_completed(&a);
     assert!(!res.summary.proportional_shortcut);
     let rows = &res.pairs;
     let fs: f64 = rows.iter().map(|r| r.force_s).sum();
@@ -418,26 +441,10 @@ fn coulomb_below_the_limit_sticks() {
 #[test]
 fn coulomb_beyond_the_limit_slips_on_every_pair() {
     let mu = 0.3;
-    let text = coulomb_block(
-        mu,
-        "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"x\"]\nvalue = [0.005, 0.0]\n[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\n[analysis]\nincrements = 4",
-    );
+    let text = coulomb_block(mu, PUSH_FAR);
     let a = analysis(&text);
-    let res = a.solve().unwrap();
-    assert_eq!(
-        res.summary.status,
-        RunStatus::Completed,
-        "{:?}",
-        res.summary.warnings
-    );
-    let n = check_coulomb(&a, &res.last, mu, 1e-8);
-    let closed = res.pairs.iter().filter(|r| r.state.is_closed()).count();
-    assert!(
-        n == closed && n >= res.pairs.len() - 1,
-        "{n} of {closed} closed pairs slip"
-    );
-    let side = res.summary.reactions[1].fx;
-    assert!((side.abs() - mu * 1.0).abs() < 1e-8, "{side}");
+    let res = solve_completed(&a);
+    assert_slides_at_mu(&a, &res, mu);
     // The slip history: the plastic slip is the jump less the elastic part.
     for r in &res.pairs {
         assert!(r.slip.abs() > 0.0 && r.slip.signum() == r.slip_s.signum());
@@ -457,13 +464,7 @@ fn a_part_held_only_by_friction_finds_its_stick_zone() {
     let mut a = Analysis::new(Model::from_file(&path, 2).unwrap()).unwrap();
     let mu = 0.2;
     a.override_friction(mu).unwrap();
-    let res = a.solve().unwrap();
-    assert_eq!(
-        res.summary.status,
-        RunStatus::Completed,
-        "{:?}",
-        res.summary.warnings
-    );
+    let res = solve_completed(&a);
     let slipping = check_coulomb(&a, &res.last, mu, 1e-6 * 1500.0);
     let closed = res.pairs.iter().filter(|r| r.state.is_closed()).count();
     let sticking = closed - slipping;
@@ -517,44 +518,19 @@ fn coulomb_with_augmented_enforcement() {
             );
         }
     };
-    let below = augmented(
-        0.5,
-        "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.2, -1.0]\n[analysis]\nincrements = 2",
-    );
+    let below = augmented(0.5, PUSH_BELOW);
     let a = analysis(&below);
-    let res = a.solve().unwrap();
-    assert_eq!(
-        res.summary.status,
-        RunStatus::Completed,
-        "{:?}",
-        res.summary.warnings
-    );
+    let res = solve_completed(&a);
     let fs: f64 = res.pairs.iter().map(|r| r.force_s).sum();
     assert!((fs.abs() - 0.2).abs() < 1e-9, "Σ f_s = {fs}");
     check_coulomb(&a, &res.last, 0.5, 1e-9);
     no_penetration(&res);
 
     let mu = 0.3;
-    let slide = augmented(
-        mu,
-        "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"x\"]\nvalue = [0.005, 0.0]\n[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\n[analysis]\nincrements = 4",
-    );
+    let slide = augmented(mu, PUSH_FAR);
     let a = analysis(&slide);
-    let res = a.solve().unwrap();
-    assert_eq!(
-        res.summary.status,
-        RunStatus::Completed,
-        "{:?}",
-        res.summary.warnings
-    );
-    let n = check_coulomb(&a, &res.last, mu, 1e-8);
-    let closed = res.pairs.iter().filter(|r| r.state.is_closed()).count();
-    assert!(
-        n == closed && n >= res.pairs.len() - 1,
-        "{n} of {closed} closed pairs slip"
-    );
-    let side = res.summary.reactions[1].fx;
-    assert!((side.abs() - mu).abs() < 1e-8, "{side}");
+    let res = solve_completed(&a);
+    assert_slides_at_mu(&a, &res, mu);
     no_penetration(&res);
 }
 
