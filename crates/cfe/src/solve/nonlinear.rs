@@ -647,16 +647,37 @@ impl<'a> Solver<'a> {
         let mut history = Vec::new();
         let mut states = start;
         let mut cautious = false;
+        // The load scale of the increment's last complete solution: the law checks
+        // of trial solutions (seed laws) use it.
+        let mut scale: Option<f64> = None;
         for _ in 0..self.settings.max_iterations {
             let t = Instant::now();
-            let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
-            let check = self.check_law(&states, &u, &f_int, lambda);
+            let trial = match scale {
+                Some(sc) if self.proportional => {
+                    let (u, method) = self.solve_interface(lambda, &states, inc)?;
+                    let check = self.check_law_scaled(&states, &u, sc);
+                    (!check.violations.is_empty()).then_some((u, method, check))
+                }
+                _ => None,
+            };
+            // A pattern is accepted only on a complete solution (with its internal
+            // force, refinement and residual check): either no trial was made, or
+            // the trial found no violation.
+            let (u, f_int, method, check) = match trial {
+                Some((u, method, check)) => (u, None, method, check),
+                None => {
+                    let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
+                    let check = self.check_law(&states, &u, &f_int, lambda);
+                    scale = Some(check.load_scale);
+                    (u, Some(f_int), method, check)
+                }
+            };
             seen.insert(states.clone());
             visits.push(Visit {
                 states: states.clone(),
                 score: check.score(),
             });
-            if check.violations.is_empty() {
+            if let (true, Some(f_int)) = (check.violations.is_empty(), f_int) {
                 history.push(Iteration {
                     method,
                     changed: 0,
@@ -756,7 +777,12 @@ impl<'a> Solver<'a> {
         f_int: &[f64],
         lambda: f64,
     ) -> LawCheck {
-        let load_scale = self.load_scale(lambda, f_int, u);
+        self.check_law_scaled(states, u, self.load_scale(lambda, f_int, u))
+    }
+
+    /// [`Solver::check_law`] with a given load scale (reads `u` at the coupling
+    /// elements' DOFs only).
+    fn check_law_scaled(&self, states: &[Vec<PairState>], u: &[f64], load_scale: f64) -> LawCheck {
         let mut violations = Vec::new();
         let next = self
             .interfaces
@@ -1280,26 +1306,7 @@ impl<'a> Solver<'a> {
         let t = Instant::now();
         support::check(self.parts, self.interfaces, states, self.dofs)?;
         self.timings.contact_update += t.elapsed().as_secs_f64();
-
-        let t = Instant::now();
-        let prescribed = self.prescribed.as_deref().unwrap_or(&self.dofs.prescribed);
-        let mut u: Vec<f64> = prescribed.iter().map(|v| lambda * v).collect();
-        // The pairs' constant terms (initial gaps, slip history, slip forces,
-        // multipliers) enter the right-hand side with the prescribed values.
-        let has_prescribed = u.iter().any(|&v| v != 0.0) || !self.proportional;
-        let f_p = if has_prescribed {
-            self.internal_force(states, &u)
-        } else {
-            Vec::new()
-        };
-        let mut rhs = vec![0.0; self.dofs.n_eq];
-        for (d, &e) in self.dofs.eq.iter().enumerate() {
-            if e != FIXED {
-                rhs[e] = lambda * self.f_ext[d] - if has_prescribed { f_p[d] } else { 0.0 };
-            }
-        }
-        self.timings.assembly += t.elapsed().as_secs_f64();
-
+        let (mut u, rhs) = self.right_hand_side(lambda, states);
         let mut refactored = false;
         loop {
             let mut x = rhs.clone();
@@ -1313,14 +1320,7 @@ impl<'a> Solver<'a> {
                 }
             }
             if u.iter().any(|v| !v.is_finite()) {
-                return Err(Error::Overflow {
-                    path: None,
-                    line: None,
-                    key: String::new(),
-                    message: format!(
-                        "increment {inc}: the solution is not finite (a load, a prescribed value or a stiffness is too large or too small for double precision; rescale the units)"
-                    ),
-                });
+                return Err(self.not_finite(inc));
             }
             let t = Instant::now();
             let mut f_int = self.internal_force(states, &u);
@@ -1339,8 +1339,6 @@ impl<'a> Solver<'a> {
                 self.system
                     .solve(self.interfaces, self.dofs, states, &mut r)
                     .map_err(|eq| self.pivot_error(eq, inc))?;
-                // Part of the same update, not another one.
-                self.system.updates -= 1;
                 for (d, &e) in self.dofs.eq.iter().enumerate() {
                     if e != FIXED {
                         u[d] += r[e];
@@ -1367,6 +1365,84 @@ impl<'a> Solver<'a> {
                 f_int: f_int.clone(),
             });
             return Ok((u, f_int, Some(method)));
+        }
+    }
+
+    /// The prescribed displacements at load factor `lambda` (all DOFs, zero at the
+    /// free ones) and the right-hand side of the free equations: the loads less
+    /// the internal force of the prescribed values, which carries the pairs'
+    /// constant terms (initial gaps, slip history, slip forces, multipliers).
+    fn right_hand_side(&mut self, lambda: f64, states: &[Vec<PairState>]) -> (Vec<f64>, Vec<f64>) {
+        let t = Instant::now();
+        let prescribed = self.prescribed.as_deref().unwrap_or(&self.dofs.prescribed);
+        let u: Vec<f64> = prescribed.iter().map(|v| lambda * v).collect();
+        let has_prescribed = u.iter().any(|&v| v != 0.0) || !self.proportional;
+        let f_p = if has_prescribed {
+            self.internal_force(states, &u)
+        } else {
+            Vec::new()
+        };
+        let mut rhs = vec![0.0; self.dofs.n_eq];
+        for (d, &e) in self.dofs.eq.iter().enumerate() {
+            if e != FIXED {
+                rhs[e] = lambda * self.f_ext[d] - if has_prescribed { f_p[d] } else { 0.0 };
+            }
+        }
+        self.timings.assembly += t.elapsed().as_secs_f64();
+        (u, rhs)
+    }
+
+    /// A trial solution of `states` for the law check of an active-set iteration
+    /// (seed laws only): the displacements at the coupling elements' DOFs, from a
+    /// solve on the elimination-tree paths of their equations
+    /// ([`ContactSystem::solve_interface`]); every other free DOF is NaN. No
+    /// internal force, residual or refinement: a pattern the trial finds
+    /// consistent is solved in full before it is accepted.
+    fn solve_interface(
+        &mut self,
+        lambda: f64,
+        states: &[Vec<PairState>],
+        inc: usize,
+    ) -> Result<(Vec<f64>, Option<Method>)> {
+        let t = Instant::now();
+        support::check(self.parts, self.interfaces, states, self.dofs)?;
+        self.timings.contact_update += t.elapsed().as_secs_f64();
+        let (mut u, mut x) = self.right_hand_side(lambda, states);
+        let (method, complete) = self
+            .system
+            .solve_interface(self.interfaces, self.dofs, states, &mut x)
+            .map_err(|eq| self.pivot_error(eq, inc))?;
+        for (d, &e) in self.dofs.eq.iter().enumerate() {
+            if e != FIXED {
+                u[d] = if complete { x[e] } else { f64::NAN };
+            }
+        }
+        if !complete {
+            for iface in self.interfaces {
+                for c in &iface.elements {
+                    for &d in c.dofs(self.dofs, iface.host, iface.node_part).as_slice() {
+                        let e = self.dofs.eq[d];
+                        if e != FIXED {
+                            u[d] = x[e];
+                        }
+                    }
+                }
+            }
+        }
+        if u.iter().any(|v| v.is_infinite()) {
+            return Err(self.not_finite(inc));
+        }
+        Ok((u, Some(method)))
+    }
+
+    fn not_finite(&self, inc: usize) -> Error {
+        Error::Overflow {
+            path: None,
+            line: None,
+            key: String::new(),
+            message: format!(
+                "increment {inc}: the solution is not finite (a load, a prescribed value or a stiffness is too large or too small for double precision; rescale the units)"
+            ),
         }
     }
 

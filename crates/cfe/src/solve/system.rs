@@ -69,13 +69,18 @@ pub struct ContactSystem {
     /// columns and weights it was built for: a solve with the same states and
     /// another right-hand side (a slip-force or Uzawa step) reuses it.
     capacitance: Option<Capacitance>,
+    /// The coupling elements' free equations and the supernodes of their
+    /// elimination-tree paths (for [`ContactSystem::solve_interface`]; the
+    /// pattern, hence the tree, is fixed).
+    interface_set: Option<(Vec<usize>, Vec<usize>)>,
     /// Largest memory for cached columns (bytes).
     budget: usize,
     /// When to update instead of refactorizing.
     pub policy: UpdatePolicy,
     /// Numeric factorizations so far.
     pub factorizations: usize,
-    /// Low-rank updates so far.
+    /// Low-rank updates so far (capacitance matrices built; further solves with
+    /// the same correction and another right-hand side are not counted).
     pub updates: usize,
     /// Seconds in numeric factorizations.
     pub factor_seconds: f64,
@@ -100,6 +105,7 @@ impl ContactSystem {
             columns: Columns::default(),
             forward: None,
             capacitance: None,
+            interface_set: None,
             budget,
             policy: UpdatePolicy::Auto,
             factorizations: 0,
@@ -146,8 +152,70 @@ impl ContactSystem {
         states: &[Vec<PairState>],
         rhs: &mut [f64],
     ) -> Result<Method, usize> {
+        match self.forward_half(interfaces, dofs, states, rhs)? {
+            Half::Solved(method) => Ok(method),
+            Half::Forward(mut y, method) => {
+                let t = Instant::now();
+                self.chol.backward(&mut y, rhs);
+                self.solve_seconds += t.elapsed().as_secs_f64();
+                self.flops += self.chol.solve_flops() / 2.0;
+                Ok(method)
+            }
+        }
+    }
+
+    /// Solves `K(states) x = rhs` for the entries of `x` at the coupling elements'
+    /// free equations only, written into `rhs` there; the other entries of `rhs`
+    /// are left meaningless unless the returned flag says the solve was complete
+    /// (a refactorization solves for every entry).
+    ///
+    /// With the factor kept, the backward solve runs on the supernodes of the
+    /// elimination-tree paths from those equations to the root only
+    /// ([`CholeskySolver::backward_on`]): the same values as the full solve there,
+    /// for a fraction of its work. This is what an active-set iteration needs to
+    /// check the law on every pair.
+    pub fn solve_interface(
+        &mut self,
+        interfaces: &[Interface],
+        dofs: &DofMap,
+        states: &[Vec<PairState>],
+        rhs: &mut [f64],
+    ) -> Result<(Method, bool), usize> {
+        match self.forward_half(interfaces, dofs, states, rhs)? {
+            Half::Solved(method) => Ok((method, true)),
+            Half::Forward(mut y, method) => {
+                let t = Instant::now();
+                if self.interface_set.is_none() {
+                    let eqs = interface_equations(interfaces, dofs);
+                    let set = self.chol.ancestors(eqs.iter().map(|&e| self.chol.permuted(e)));
+                    self.interface_set = Some((eqs, set));
+                }
+                let (eqs, set) = self.interface_set.as_ref().expect("just computed");
+                self.chol.backward_on(set, &mut y);
+                for &e in eqs {
+                    rhs[e] = y[self.chol.permuted(e)];
+                }
+                self.flops += 2.0 * self.chol.values_on(set) as f64;
+                self.solve_seconds += t.elapsed().as_secs_f64();
+                Ok((method, false))
+            }
+        }
+    }
+
+    /// The forward half of a solve with the kept factor: `y = z − V t` (in the
+    /// elimination order) for the backward solve, or, when a new factorization is
+    /// needed or cheaper, the complete solution in `rhs`.
+    fn forward_half(
+        &mut self,
+        interfaces: &[Interface],
+        dofs: &DofMap,
+        states: &[Vec<PairState>],
+        rhs: &mut [f64],
+    ) -> Result<Half, usize> {
         let Some(base) = &self.base else {
-            return self.refactor_and_solve(interfaces, dofs, states, rhs);
+            return self
+                .refactor_and_solve(interfaces, dofs, states, rhs)
+                .map(Half::Solved);
         };
         let flips: Vec<(usize, usize)> = states
             .iter()
@@ -172,11 +240,10 @@ impl ContactSystem {
             .collect();
         if flips.is_empty() {
             let t = Instant::now();
-            let mut z = self.forward_solve(rhs);
-            self.chol.backward(&mut z, rhs);
+            let z = self.forward_solve(rhs);
             self.solve_seconds += t.elapsed().as_secs_f64();
-            self.flops += self.chol.solve_flops();
-            return Ok(Method::Reuse);
+            self.flops += self.chol.solve_flops() / 2.0;
+            return Ok(Half::Forward(z, Method::Reuse));
         }
         let new: Vec<(usize, usize)> = flips
             .iter()
@@ -189,7 +256,7 @@ impl ContactSystem {
                 && cap.idx == idx
                 && cap.weights == weights
             {
-                return Ok(self.solve_same_correction(cap, rhs));
+                return Ok(self.same_correction(cap, rhs));
             }
         }
         let mut cols = Vec::with_capacity(2 * new.len());
@@ -220,10 +287,13 @@ impl ContactSystem {
             UpdatePolicy::Never => false,
         };
         if !cheaper || memory > self.budget {
-            return self.refactor_and_solve(interfaces, dofs, states, rhs);
+            return self
+                .refactor_and_solve(interfaces, dofs, states, rhs)
+                .map(Half::Solved);
         }
         let t = Instant::now();
-        self.flops += cost_update;
+        // The backward half is counted by the caller (full or on the interface).
+        self.flops += cost_update - self.chol.solve_flops() / 2.0;
         if !cols.is_empty() {
             let first = self.columns.add(&self.chol, &cols, paths);
             for (j, &(i, k)) in new.iter().enumerate() {
@@ -248,17 +318,16 @@ impl ContactSystem {
         for (a, &ca) in idx.iter().enumerate() {
             self.columns.subtract(&self.chol, ca, t_vec[(a, 0)], &mut z);
         }
-        self.chol.backward(&mut z, rhs);
         self.solve_seconds += t.elapsed().as_secs_f64();
         self.updates += 1;
         self.capacitance = Some(Capacitance { idx, weights, lu });
-        Ok(Method::LowRank { rank: r })
+        Ok(Half::Forward(z, Method::LowRank { rank: r }))
     }
 
-    /// A solve with the same correction as the last update (only the right-hand
-    /// side changed): the forward solve, r products with the kept columns, the
-    /// capacitance's triangular solves and the backward solve.
-    fn solve_same_correction(&mut self, cap: Capacitance, rhs: &mut [f64]) -> Method {
+    /// The forward half of a solve with the same correction as the last update
+    /// (only the right-hand side changed): the forward solve, r products with the
+    /// kept columns and the capacitance's triangular solves.
+    fn same_correction(&mut self, cap: Capacitance, rhs: &[f64]) -> Half {
         let t = Instant::now();
         let mut z = self.forward_solve(rhs);
         let r = cap.idx.len();
@@ -271,12 +340,10 @@ impl ContactSystem {
         for (a, &ca) in cap.idx.iter().enumerate() {
             self.columns.subtract(&self.chol, ca, t_vec[(a, 0)], &mut z);
         }
-        self.chol.backward(&mut z, rhs);
         self.solve_seconds += t.elapsed().as_secs_f64();
-        self.flops += self.chol.solve_flops() + 2.0 * (r * r) as f64;
-        self.updates += 1;
+        self.flops += self.chol.solve_flops() / 2.0 + 2.0 * (r * r) as f64;
         self.capacitance = Some(cap);
-        Method::LowRank { rank: r }
+        Half::Forward(z, Method::LowRank { rank: r })
     }
 
     /// The Woodbury correction of the flipped pairs: the cached columns whose
@@ -346,6 +413,34 @@ impl ContactSystem {
         self.solve_seconds += t.elapsed().as_secs_f64();
         Ok(Method::Factorization)
     }
+}
+
+/// The forward half of a solve.
+enum Half {
+    /// The solve is complete (after a new factorization).
+    Solved(Method),
+    /// `y = z − V t` in the elimination order, for the backward solve.
+    Forward(Vec<f64>, Method),
+}
+
+/// The free equations of every coupling element's DOFs, sorted.
+fn interface_equations(interfaces: &[Interface], dofs: &DofMap) -> Vec<usize> {
+    let mut eqs: Vec<usize> = interfaces
+        .iter()
+        .flat_map(|iface| {
+            iface.elements.iter().flat_map(move |c| {
+                c.dofs(dofs, iface.host, iface.node_part)
+                    .as_slice()
+                    .iter()
+                    .map(|&d| dofs.eq[d])
+                    .filter(|&e| e != FIXED)
+                    .collect::<Vec<_>>()
+            })
+        })
+        .collect();
+    eqs.sort_unstable();
+    eqs.dedup();
+    eqs
 }
 
 /// The factorized capacitance matrix of an update and what it was built for.
