@@ -149,8 +149,9 @@ fn coarse_start_reaches_a_law_consistent_pattern() {
 /// (what an active-set iteration checks the law with) gives a fresh
 /// factorization's values at every coupling element's DOFs to 1e-10 relative:
 /// with the factorized states themselves (no correction) and after Woodbury
-/// corrections of rank 12 and 2⌈n/3⌉; a first solve (a factorization) is
-/// complete.
+/// corrections of rank 12 and 2⌈n/3⌉, for the load and for forces on the
+/// coupling equations alone (forward-solved on the paths too); a first solve
+/// (a factorization) is complete.
 #[test]
 fn interface_solve_equals_full_solve_at_the_pairs() {
     let a = plate(2);
@@ -189,7 +190,7 @@ fn interface_solve_equals_full_solve_at_the_pairs() {
     s.policy = UpdatePolicy::Always;
     let mut x = rhs.clone();
     let (m, complete) = s
-        .solve_interface(&a.interfaces, &a.dofs, &bonded, &mut x)
+        .solve_interface(&a.interfaces, &a.dofs, &bonded, &mut x, false)
         .unwrap();
     assert_eq!((m, complete), (Method::Factorization, true));
     for (states, method) in [
@@ -204,7 +205,7 @@ fn interface_solve_equals_full_solve_at_the_pairs() {
     ] {
         let mut x = rhs.clone();
         let (m, complete) = s
-            .solve_interface(&a.interfaces, &a.dofs, states, &mut x)
+            .solve_interface(&a.interfaces, &a.dofs, states, &mut x, false)
             .unwrap();
         assert_eq!((m, complete), (method, false));
         let full = fresh(&a, states, &rhs);
@@ -215,6 +216,25 @@ fn interface_solve_equals_full_solve_at_the_pairs() {
                 "{method:?}: equation {e}: {} against {}",
                 x[e],
                 full[e]
+            );
+        }
+        // A right-hand side on the coupling equations only (a change of the
+        // pairs' forces), forward-solved on the paths too.
+        let mut pair_forces = vec![0.0; rhs.len()];
+        for (i, &e) in coupling_eqs.iter().enumerate() {
+            pair_forces[e] = (0.7 * i as f64).cos();
+        }
+        let mut x = pair_forces.clone();
+        let (_, complete) = s
+            .solve_interface(&a.interfaces, &a.dofs, states, &mut x, true)
+            .unwrap();
+        assert!(!complete);
+        let full = fresh(&a, states, &pair_forces);
+        let scale = full.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for &e in &coupling_eqs {
+            assert!(
+                (x[e] - full[e]).abs() < 1e-10 * scale,
+                "{method:?}: pair forces"
             );
         }
     }

@@ -244,6 +244,9 @@ pub struct Solver<'a> {
     augmented_error: f64,
     /// Whether the last pattern's fixed point converged.
     fixed_point_converged: bool,
+    /// Every coupling element's DOFs (sorted): the DOFs a solve restricted to the
+    /// interface gives.
+    coupling_dofs: Vec<usize>,
     /// Phase timings.
     pub timings: SolveTimings,
 }
@@ -357,6 +360,7 @@ impl<'a> Solver<'a> {
             step_labels: None,
             augmented_error: 0.0,
             fixed_point_converged: true,
+            coupling_dofs: coupling_dofs(interfaces, dofs),
             timings,
         })
     }
@@ -1016,6 +1020,11 @@ impl<'a> Solver<'a> {
         let mut anderson = Anderson::new(ANDERSON_DEPTH);
         self.fixed_point_converged = false;
         let mut moved = false;
+        // The steps move `u` at the coupling elements' DOFs only (all the pairs'
+        // forces depend on); the sum of the force changes is solved in full once
+        // the terms have settled.
+        let u_first = u.clone();
+        let mut total = vec![0.0; self.dofs.n_eq];
         for _ in 0..MAX_FIXED_POINT {
             let tol = FIXED_POINT_TOLERANCE * self.load_scale(lambda, &f_first, &u);
             let before = self.history.clone();
@@ -1026,28 +1035,48 @@ impl<'a> Solver<'a> {
             self.fixed_point += 1;
             // K is the pattern's: only the pairs' constant terms changed, so the
             // solution moves by K⁻¹ of their change (a right-hand side on the pairs'
-            // DOFs alone; its solve's round-off shrinks with the change).
+            // DOFs alone, solved on their elimination-tree paths).
             let t = Instant::now();
             let change = self.pair_term_change(states, &before);
             let mut du = vec![0.0; self.dofs.n_eq];
             for (d, &e) in self.dofs.eq.iter().enumerate() {
                 if e != FIXED {
                     du[e] = -change[d];
+                    total[e] -= change[d];
                 }
             }
             self.timings.contact_update += t.elapsed().as_secs_f64();
-            self.system
-                .solve(self.interfaces, self.dofs, states, &mut du)
+            let (_, complete) = self
+                .system
+                .solve_interface(self.interfaces, self.dofs, states, &mut du, true)
                 .map_err(|eq| self.pivot_error(eq, inc))?;
-            for (d, &e) in self.dofs.eq.iter().enumerate() {
-                if e != FIXED {
-                    u[d] += du[e];
+            if complete {
+                for (d, &e) in self.dofs.eq.iter().enumerate() {
+                    if e != FIXED {
+                        u[d] += du[e];
+                    }
+                }
+            } else {
+                for &d in &self.coupling_dofs {
+                    let e = self.dofs.eq[d];
+                    if e != FIXED {
+                        u[d] += du[e];
+                    }
                 }
             }
             moved = true;
         }
         if !moved {
             return Ok((u, f_first, method));
+        }
+        self.system
+            .solve(self.interfaces, self.dofs, states, &mut total)
+            .map_err(|eq| self.pivot_error(eq, inc))?;
+        let mut u = u_first;
+        for (d, &e) in self.dofs.eq.iter().enumerate() {
+            if e != FIXED {
+                u[d] += total[e];
+            }
         }
         let t = Instant::now();
         let f_int = self.internal_force(states, &u);
@@ -1410,7 +1439,7 @@ impl<'a> Solver<'a> {
         let (mut u, mut x) = self.right_hand_side(lambda, states);
         let (method, complete) = self
             .system
-            .solve_interface(self.interfaces, self.dofs, states, &mut x)
+            .solve_interface(self.interfaces, self.dofs, states, &mut x, false)
             .map_err(|eq| self.pivot_error(eq, inc))?;
         for (d, &e) in self.dofs.eq.iter().enumerate() {
             if e != FIXED {
@@ -1418,14 +1447,10 @@ impl<'a> Solver<'a> {
             }
         }
         if !complete {
-            for iface in self.interfaces {
-                for c in &iface.elements {
-                    for &d in c.dofs(self.dofs, iface.host, iface.node_part).as_slice() {
-                        let e = self.dofs.eq[d];
-                        if e != FIXED {
-                            u[d] = x[e];
-                        }
-                    }
+            for &d in &self.coupling_dofs {
+                let e = self.dofs.eq[d];
+                if e != FIXED {
+                    u[d] = x[e];
                 }
             }
         }
@@ -1532,6 +1557,23 @@ impl<'a> Solver<'a> {
             augmented_error: 0.0,
         }
     }
+}
+
+/// The DOFs of every coupling element of `interfaces`, sorted.
+fn coupling_dofs(interfaces: &[Interface], dofs: &DofMap) -> Vec<usize> {
+    let mut all: Vec<usize> = interfaces
+        .iter()
+        .flat_map(|iface| {
+            iface.elements.iter().flat_map(move |c| {
+                c.dofs(dofs, iface.host, iface.node_part)
+                    .as_slice()
+                    .to_vec()
+            })
+        })
+        .collect();
+    all.sort_unstable();
+    all.dedup();
+    all
 }
 
 /// `states` with the law's verdict applied to the worst violating pair only.
