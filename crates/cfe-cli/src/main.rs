@@ -69,7 +69,7 @@ enum Command {
         #[arg(long)]
         problem: Option<PathBuf>,
         /// Refine until about this many unknowns.
-        #[arg(long, default_value_t = 4_000_000)]
+        #[arg(long, default_value_t = 8_100_000)]
         max_unknowns: usize,
         /// Where to write the report (regenerate the committed one with `--out docs`).
         #[arg(long, default_value = "results/bench")]

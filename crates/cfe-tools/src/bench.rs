@@ -23,20 +23,30 @@ pub struct Case {
 }
 
 /// The refinement factors to run: 1, 2, 4, … doubling while within
-/// `max_unknowns`, then the factor that reaches it (replacing the last doubling when
-/// within 25 % of it), plus the first with a million unknowns. `unknowns(K)`
-/// predicts the unknowns at refinement K.
+/// `max_unknowns` and a million unknowns, then the first factors that reach the
+/// reference sizes of 1 M and 4 M unknowns and `max_unknowns` itself (the last
+/// replacing the last doubling when within 25 % of it). `unknowns(K)` predicts the
+/// unknowns at refinement K.
 pub fn refinements(unknowns: impl Fn(usize) -> f64, max_unknowns: usize) -> Vec<usize> {
     let max = max_unknowns as f64;
     let mut ks = vec![1usize];
-    while unknowns(2 * ks.last().unwrap()) <= max {
+    while unknowns(2 * ks.last().unwrap()) <= max.min(1e6) {
         ks.push(ks.last().unwrap() * 2);
     }
-    let last = *ks.last().unwrap();
-    let mut reach = last;
-    while unknowns(reach) < max {
-        reach += 1;
+    let reaching = |size: f64| {
+        let mut k = 1;
+        while unknowns(k) < size {
+            k += 1;
+        }
+        k
+    };
+    for size in [1e6, 4e6] {
+        if size <= max {
+            ks.push(reaching(size));
+        }
     }
+    let last = *ks.last().unwrap();
+    let reach = reaching(max);
     if reach > last {
         if reach as f64 <= 1.25 * last as f64 && ks.len() > 1 {
             *ks.last_mut().unwrap() = reach;
@@ -44,16 +54,8 @@ pub fn refinements(unknowns: impl Fn(usize) -> f64, max_unknowns: usize) -> Vec<
             ks.push(reach);
         }
     }
-    // The first refinement with a million unknowns, a reference size.
-    if max >= 1e6 {
-        let mut k = 1;
-        while unknowns(k) < 1e6 {
-            k += 1;
-        }
-        ks.push(k);
-        ks.sort_unstable();
-        ks.dedup();
-    }
+    ks.sort_unstable();
+    ks.dedup();
     ks
 }
 
@@ -831,7 +833,8 @@ fn plot(path: &Path, cases: &[Case]) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    /// Refinements double up to the target and end with the factor that reaches it;
+    /// Refinements double up to the target (or a million unknowns), then reach
+    /// 1 M, 4 M and the target;
     /// the unknowns model reproduces the plate-on-base counts it is fitted to.
     #[test]
     fn refinement_sequence() {
@@ -841,6 +844,11 @@ mod tests {
             super::refinements(&n, 4_000_000),
             vec![1, 2, 4, 8, 16, 32, 35, 70]
         );
+        assert_eq!(
+            super::refinements(&n, 8_100_000),
+            vec![1, 2, 4, 8, 16, 32, 35, 70, 100]
+        );
+        assert_eq!(super::refinements(&n, 100_000), vec![1, 2, 4, 8, 12]);
         assert_eq!(super::refinements(&n, 910), vec![1]);
     }
 }
