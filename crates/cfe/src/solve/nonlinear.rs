@@ -302,6 +302,16 @@ enum Term {
     Multiplier(usize),
 }
 
+/// The load scale a fixed point's tolerance is taken from.
+#[derive(Clone, Copy)]
+enum FixedPointScale<'f> {
+    /// From the internal force of the pattern's first solution and the current
+    /// displacements, at this load factor ([`Solver::load_scale`]).
+    Forces(f64, &'f [f64]),
+    /// A given scale (a trial solution, which has no internal force).
+    Given(f64),
+}
+
 /// Out-of-balance tolerance above which a low-rank solution is redone by factorization.
 const UPDATE_RESIDUAL_LIMIT: f64 = 1e-8;
 
@@ -657,8 +667,11 @@ impl<'a> Solver<'a> {
         for _ in 0..self.settings.max_iterations {
             let t = Instant::now();
             let trial = match scale {
-                Some(sc) if self.proportional => {
-                    let (u, method) = self.solve_interface(lambda, &states, inc)?;
+                Some(sc) => {
+                    let (mut u, method) = self.solve_interface(lambda, &states, inc)?;
+                    if !self.proportional {
+                        self.fixed_point(&states, inc, &mut u, FixedPointScale::Given(sc))?;
+                    }
                     let check = self.check_law_scaled(&states, &u, sc);
                     (!check.violations.is_empty()).then_some((u, method, check))
                 }
@@ -1017,27 +1030,65 @@ impl<'a> Solver<'a> {
             return Ok(first);
         }
         let (mut u, f_first, method) = first;
+        let u_first = u.clone();
+        let Some(mut total) =
+            self.fixed_point(states, inc, &mut u, FixedPointScale::Forces(lambda, &f_first))?
+        else {
+            return Ok((u, f_first, method));
+        };
+        self.system
+            .solve(self.interfaces, self.dofs, states, &mut total)
+            .map_err(|eq| self.pivot_error(eq, inc))?;
+        let mut u = u_first;
+        for (d, &e) in self.dofs.eq.iter().enumerate() {
+            if e != FIXED {
+                u[d] += total[e];
+            }
+        }
+        let t = Instant::now();
+        let f_int = self.internal_force(states, &u);
+        self.timings.contact_update += t.elapsed().as_secs_f64();
+        let residual = self.residual(lambda, &f_int, self.load_scale(lambda, &f_int, &u));
+        if residual > UPDATE_RESIDUAL_LIMIT {
+            // The corrections lost accuracy: solve the converged terms afresh.
+            let (u, f_int, _) = self.solve_once(lambda, states, inc)?;
+            return Ok((u, f_int, method));
+        }
+        Ok((u, f_int, method))
+    }
+
+    /// Iterates the pairs' right-hand-side terms of `states` to their fixed point
+    /// from the solution `u` (valid at the coupling elements' DOFs at least),
+    /// Anderson-accelerated. K is the pattern's: only the pairs' constant terms
+    /// change, so each step moves `u` by K⁻¹ of their change, a right-hand side on
+    /// the pairs' DOFs solved on the interface's tree paths (`u` moves at the
+    /// coupling DOFs only, all the pairs' forces read). Returns the summed force
+    /// change (free equations) for one complete solve, or `None` when the terms
+    /// were already at their fixed point.
+    fn fixed_point(
+        &mut self,
+        states: &[Vec<PairState>],
+        inc: usize,
+        u: &mut [f64],
+        scale: FixedPointScale<'_>,
+    ) -> Result<Option<Vec<f64>>> {
         let mut anderson = Anderson::new(ANDERSON_DEPTH);
         self.fixed_point_converged = false;
-        let mut moved = false;
-        // The steps move `u` at the coupling elements' DOFs only (all the pairs'
-        // forces depend on); the sum of the force changes is solved in full once
-        // the terms have settled.
-        let u_first = u.clone();
-        let mut total = vec![0.0; self.dofs.n_eq];
+        let mut total: Option<Vec<f64>> = None;
         for _ in 0..MAX_FIXED_POINT {
-            let tol = FIXED_POINT_TOLERANCE * self.load_scale(lambda, &f_first, &u);
+            let scale = match scale {
+                FixedPointScale::Forces(lambda, f) => self.load_scale(lambda, f, u),
+                FixedPointScale::Given(s) => s,
+            };
             let before = self.history.clone();
-            if self.update_right_hand_side(states, &u, tol, &mut anderson) {
+            if self.update_right_hand_side(states, u, FIXED_POINT_TOLERANCE * scale, &mut anderson) {
                 self.fixed_point_converged = true;
                 break;
             }
             self.fixed_point += 1;
-            // K is the pattern's: only the pairs' constant terms changed, so the
-            // solution moves by K⁻¹ of their change (a right-hand side on the pairs'
-            // DOFs alone, solved on their elimination-tree paths).
             let t = Instant::now();
             let change = self.pair_term_change(states, &before);
+            let total = total.get_or_insert_with(|| vec![0.0; self.dofs.n_eq]);
             let mut du = vec![0.0; self.dofs.n_eq];
             for (d, &e) in self.dofs.eq.iter().enumerate() {
                 if e != FIXED {
@@ -1064,30 +1115,8 @@ impl<'a> Solver<'a> {
                     }
                 }
             }
-            moved = true;
         }
-        if !moved {
-            return Ok((u, f_first, method));
-        }
-        self.system
-            .solve(self.interfaces, self.dofs, states, &mut total)
-            .map_err(|eq| self.pivot_error(eq, inc))?;
-        let mut u = u_first;
-        for (d, &e) in self.dofs.eq.iter().enumerate() {
-            if e != FIXED {
-                u[d] += total[e];
-            }
-        }
-        let t = Instant::now();
-        let f_int = self.internal_force(states, &u);
-        self.timings.contact_update += t.elapsed().as_secs_f64();
-        let residual = self.residual(lambda, &f_int, self.load_scale(lambda, &f_int, &u));
-        if residual > UPDATE_RESIDUAL_LIMIT {
-            // The corrections lost accuracy: solve the converged terms afresh.
-            let (u, f_int, _) = self.solve_once(lambda, states, inc)?;
-            return Ok((u, f_int, method));
-        }
-        Ok((u, f_int, method))
+        Ok(total)
     }
 
     /// The change of the pairs' internal force at zero displacement (their
@@ -1405,9 +1434,17 @@ impl<'a> Solver<'a> {
         let t = Instant::now();
         let prescribed = self.prescribed.as_deref().unwrap_or(&self.dofs.prescribed);
         let u: Vec<f64> = prescribed.iter().map(|v| lambda * v).collect();
-        let has_prescribed = u.iter().any(|&v| v != 0.0) || !self.proportional;
-        let f_p = if has_prescribed {
+        let moved = u.iter().any(|&v| v != 0.0);
+        let has_prescribed = moved || !self.proportional;
+        let f_p = if moved {
             self.internal_force(states, &u)
+        } else if has_prescribed {
+            // No prescribed motion: the parts' forces vanish, only the pairs'
+            // constant terms remain.
+            let history = (!self.proportional).then_some(self.history.as_slice());
+            let pairs = assembly::CouplingElements::new(self.interfaces, Some(states), self.dofs)
+                .with_history(history);
+            assembly::internal_force_of(&[&pairs], &u)
         } else {
             Vec::new()
         };
