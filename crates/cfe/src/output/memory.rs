@@ -37,9 +37,12 @@ pub fn cpu_model() -> Option<String> {
 /// stiffness with a nested-dissection ordering has about `6.2 n log₂ n` nonzeros
 /// (123.5 per unknown at 1.0 M), and the peak resident set is about 1.9× the
 /// factor (stiffness, factorization scratch, mesh, stresses and the VTU writers in
-/// flight): 1.87 GB measured at 1.0 M unknowns (estimate 2.06 GB), 17.6 GiB at
-/// 8.2 M before the sparse updates (estimate 17.6 GiB). In 24 GiB (about
-/// 22.5 GiB available) this admits about 10 million unknowns.
+/// flight) in the runs it was fitted to: 1.87 GB measured at 1.0 M unknowns
+/// (estimate 2.06 GB), 17.6 GiB at 8.2 M before the sparse updates (estimate
+/// 17.6 GiB). The peak has since fallen to 1.5–1.6× the factor (1.56 GB at 1.0 M,
+/// 6.73 GB at 4.0 M), so the estimate is now about 1.3× the peak: a first, generous
+/// check before meshing. In 24 GiB (about 22.5 GiB available) it admits about 10
+/// million unknowns.
 pub fn estimated_peak_bytes(unknowns: u64) -> u64 {
     let n = unknowns as f64;
     let bytes = 64.0 * (1u64 << 20) as f64 + n * 100.0 * n.max(2.0).log2();
@@ -59,7 +62,8 @@ pub fn estimated_peak_bytes(unknowns: u64) -> u64 {
 /// structures, the update columns and the per-increment vectors. Measured with
 /// `--law contact` on `examples/plate_on_base.toml`: the estimate is 1.77× the
 /// measured peak at K = 8 (75 MB; the 64 MiB constant dominates), 1.15× at
-/// K = 16 (309 MB) and 1.01× at K = 32 (1322 MB).
+/// K = 16 (309 MB), 1.01× at K = 32 (1322 MB), 1.03× at K = 35 (1558 MB) and
+/// 1.01× at K = 70 (6730 MB).
 pub fn estimated_peak_from_factor(unknowns: u64, matrix_nnz: u64, factor_nnz: u64) -> u64 {
     (64u64 << 20)
         .saturating_add(factor_nnz.saturating_mul(8))
