@@ -38,6 +38,33 @@ fn fresh(a: &Analysis, states: &[Vec<PairState>], rhs: &[f64]) -> Vec<f64> {
     x
 }
 
+/// The load of `a` on its free equations.
+fn load(a: &Analysis) -> Vec<f64> {
+    let f = external_force(&a.model.loads, &a.dofs);
+    a.dofs
+        .eq
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| **e != usize::MAX)
+        .map(|(d, _)| f[d])
+        .collect()
+}
+
+/// Three patterns of one interface with `n` pairs: all bonded; the three
+/// outermost pairs at each end open; every third pair open.
+fn patterns(n: usize) -> [Vec<Vec<PairState>>; 3] {
+    let bonded = vec![vec![PairState::Bonded; n]];
+    let mut ends = bonded.clone();
+    for k in [0, 1, 2, n - 3, n - 2, n - 1] {
+        ends[0][k] = PairState::Open;
+    }
+    let mut thirds = bonded.clone();
+    for k in (0..n).step_by(3) {
+        thirds[0][k] = PairState::Open;
+    }
+    [bonded, ends, thirds]
+}
+
 /// Largest difference of `x` from `y`, relative to the largest entry of `y`.
 fn relative_difference(x: &[f64], y: &[f64]) -> f64 {
     let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -56,25 +83,9 @@ fn relative_difference(x: &[f64], y: &[f64]) -> f64 {
 #[test]
 fn low_rank_update_equals_refactorization() {
     let a = plate(2);
-    let f = external_force(&a.model.loads, &a.dofs);
-    let rhs: Vec<f64> = a
-        .dofs
-        .eq
-        .iter()
-        .enumerate()
-        .filter(|(_, e)| **e != usize::MAX)
-        .map(|(d, _)| f[d])
-        .collect();
-    let bonded = vec![vec![PairState::Bonded; a.interfaces[0].elements.len()]];
-    let n = bonded[0].len();
-    let mut ends = bonded.clone();
-    for k in [0, 1, 2, n - 3, n - 2, n - 1] {
-        ends[0][k] = PairState::Open;
-    }
-    let mut thirds = bonded.clone();
-    for k in (0..n).step_by(3) {
-        thirds[0][k] = PairState::Open;
-    }
+    let rhs = load(&a);
+    let n = a.interfaces[0].elements.len();
+    let [bonded, ends, thirds] = patterns(n);
     let mut back = ends.clone();
     back[0][0] = PairState::Bonded;
     back[0][n - 1] = PairState::Bonded;
@@ -155,26 +166,10 @@ fn coarse_start_reaches_a_law_consistent_pattern() {
 #[test]
 fn interface_solve_equals_full_solve_at_the_pairs() {
     let a = plate(2);
-    let f = external_force(&a.model.loads, &a.dofs);
-    let rhs: Vec<f64> = a
-        .dofs
-        .eq
-        .iter()
-        .enumerate()
-        .filter(|(_, e)| **e != usize::MAX)
-        .map(|(d, _)| f[d])
-        .collect();
+    let rhs = load(&a);
     let iface = &a.interfaces[0];
     let n = iface.elements.len();
-    let bonded = vec![vec![PairState::Bonded; n]];
-    let mut ends = bonded.clone();
-    for k in [0, 1, 2, n - 3, n - 2, n - 1] {
-        ends[0][k] = PairState::Open;
-    }
-    let mut thirds = bonded.clone();
-    for k in (0..n).step_by(3) {
-        thirds[0][k] = PairState::Open;
-    }
+    let [bonded, ends, thirds] = patterns(n);
     let coupling_eqs: Vec<usize> = iface
         .elements
         .iter()

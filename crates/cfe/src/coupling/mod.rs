@@ -74,6 +74,24 @@ impl Interface {
     }
 }
 
+/// The DOFs of every coupling element of `interfaces`, sorted and without
+/// repeats: all the displacements the pairs' jumps, forces and gaps read.
+pub fn coupling_dofs(interfaces: &[Interface], dofs: &crate::dofs::DofMap) -> Vec<usize> {
+    let mut all: Vec<usize> = interfaces
+        .iter()
+        .flat_map(|iface| {
+            iface.elements.iter().flat_map(move |c| {
+                c.dofs(dofs, iface.host, iface.node_part)
+                    .as_slice()
+                    .to_vec()
+            })
+        })
+        .collect();
+    all.sort_unstable();
+    all.dedup();
+    all
+}
+
 /// The coupling formulation of an interface (`coupling` in the problem file).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]

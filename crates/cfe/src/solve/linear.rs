@@ -237,6 +237,21 @@ impl CholeskySolver {
             .sum()
     }
 
+    /// Supernode `s` of the factor: its first column, its width `c`, its diagonal
+    /// block (c × c, lower triangular), the block below it and that block's rows.
+    #[allow(clippy::type_complexity)]
+    fn supernode_blocks(
+        &self,
+        s: usize,
+    ) -> (usize, usize, MatRef<'_, f64>, MatRef<'_, f64>, &[usize]) {
+        let sn = self.supernodal();
+        let begin = sn.supernode_begin()[s];
+        let c = sn.supernode_end()[s] - begin;
+        let node = self.factor().supernode(s);
+        let (top, bottom) = node.val().split_at_row(c);
+        (begin, c, top, bottom, node.pattern())
+    }
+
     /// `z ← L⁻¹ z` for a `z` (in the elimination order) that is zero outside the
     /// supernodes of `set` (from [`CholeskySolver::ancestors`]): the forward solve
     /// carries a row's value only up its elimination-tree path, so `L⁻¹ z` is zero
@@ -244,16 +259,9 @@ impl CholeskySolver {
     /// `x_s = L_ss⁻¹ z_s`, then `z_p ← z_p − L_ps x_s` on the rows `p` below.
     pub fn forward_on(&self, set: &[usize], z: &mut [f64]) {
         assert!(self.factorized, "solve before a successful factorization");
-        let l = self.factor();
-        let sn = self.supernodal();
         let mut below: Vec<f64> = Vec::new();
         for &s in set.iter().rev() {
-            let begin = sn.supernode_begin()[s];
-            let c = sn.supernode_end()[s] - begin;
-            let node = l.supernode(s);
-            let lv = node.val();
-            let pattern = node.pattern();
-            let (top, bottom) = lv.split_at_row(c);
+            let (begin, c, top, bottom, pattern) = self.supernode_blocks(s);
             let mut x = MatMut::from_column_major_slice_mut(&mut z[begin..begin + c], c, 1);
             solve_lower_triangular_in_place(top, x.as_mut(), Par::Seq);
             if !pattern.is_empty() {
@@ -279,16 +287,9 @@ impl CholeskySolver {
     /// left as they were.
     pub fn backward_on(&self, set: &[usize], z: &mut [f64]) {
         assert!(self.factorized, "solve before a successful factorization");
-        let l = self.factor();
-        let sn = self.supernodal();
         let mut below: Vec<f64> = Vec::new();
         for &s in set {
-            let begin = sn.supernode_begin()[s];
-            let c = sn.supernode_end()[s] - begin;
-            let node = l.supernode(s);
-            let lv = node.val();
-            let pattern = node.pattern();
-            let (top, bottom) = lv.split_at_row(c);
+            let (begin, c, top, bottom, pattern) = self.supernode_blocks(s);
             below.clear();
             below.extend(pattern.iter().map(|&r| z[r]));
             let mut x = MatMut::from_column_major_slice_mut(&mut z[begin..begin + c], c, 1);

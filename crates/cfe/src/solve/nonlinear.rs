@@ -370,7 +370,7 @@ impl<'a> Solver<'a> {
             step_labels: None,
             augmented_error: 0.0,
             fixed_point_converged: true,
-            coupling_dofs: coupling_dofs(interfaces, dofs),
+            coupling_dofs: crate::coupling::coupling_dofs(interfaces, dofs),
             timings,
         })
     }
@@ -1594,23 +1594,6 @@ impl<'a> Solver<'a> {
             augmented_error: 0.0,
         }
     }
-}
-
-/// The DOFs of every coupling element of `interfaces`, sorted.
-fn coupling_dofs(interfaces: &[Interface], dofs: &DofMap) -> Vec<usize> {
-    let mut all: Vec<usize> = interfaces
-        .iter()
-        .flat_map(|iface| {
-            iface.elements.iter().flat_map(move |c| {
-                c.dofs(dofs, iface.host, iface.node_part)
-                    .as_slice()
-                    .to_vec()
-            })
-        })
-        .collect();
-    all.sort_unstable();
-    all.dedup();
-    all
 }
 
 /// `states` with the law's verdict applied to the worst violating pair only.

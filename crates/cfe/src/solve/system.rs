@@ -444,21 +444,12 @@ enum Half {
 
 /// The free equations of every coupling element's DOFs, sorted.
 fn interface_equations(interfaces: &[Interface], dofs: &DofMap) -> Vec<usize> {
-    let mut eqs: Vec<usize> = interfaces
-        .iter()
-        .flat_map(|iface| {
-            iface.elements.iter().flat_map(move |c| {
-                c.dofs(dofs, iface.host, iface.node_part)
-                    .as_slice()
-                    .iter()
-                    .map(|&d| dofs.eq[d])
-                    .filter(|&e| e != FIXED)
-                    .collect::<Vec<_>>()
-            })
-        })
+    let mut eqs: Vec<usize> = crate::coupling::coupling_dofs(interfaces, dofs)
+        .into_iter()
+        .map(|d| dofs.eq[d])
+        .filter(|&e| e != FIXED)
         .collect();
     eqs.sort_unstable();
-    eqs.dedup();
     eqs
 }
 
