@@ -158,9 +158,9 @@ impl Stiffness {
         let mut nnz = 0;
         for (a, c) in counts.iter().enumerate() {
             node_start.push(nnz);
-            for ca in 0..2 {
+            for (ca, &count) in c.iter().enumerate() {
                 if free(a, ca) {
-                    nnz += c[ca];
+                    nnz += count;
                     col_ptr.push(nnz);
                 }
             }
