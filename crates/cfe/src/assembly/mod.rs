@@ -110,41 +110,101 @@ impl Stiffness {
         dofs: &DofMap,
         graph: &NodeGraph,
     ) -> Stiffness {
+        let mut k = Stiffness::pattern(dofs, graph);
+        let base = k.base_values(sources, dofs);
+        k.base = base;
+        k
+    }
+
+    /// The pattern of `graph` over the equations of `dofs`, every value zero: the
+    /// symbolic analysis needs no more, and [`Stiffness::base_values`] can be
+    /// assembled beside it.
+    pub fn pattern(dofs: &DofMap, graph: &NodeGraph) -> Stiffness {
+        use rayon::prelude::*;
         let n_nodes = dofs.n_nodes();
-        let (nbr_ptr, nbr) = (&graph.ptr, &graph.adj);
-        // DOF-level lower-triangular CSC over equations. Equation numbers increase with
-        // DOF index, so rows come out sorted.
-        let mut col_ptr = Vec::with_capacity(dofs.n_eq + 1);
-        col_ptr.push(0);
-        let mut row_idx = Vec::with_capacity(nbr.len() * 2);
-        for a in 0..n_nodes {
-            for ca in 0..2 {
-                let j = dofs.eq[2 * a + ca];
-                if j == FIXED {
-                    continue;
-                }
-                for &b in &nbr[nbr_ptr[a]..nbr_ptr[a + 1]] {
-                    for cb in 0..2 {
-                        let i = dofs.eq[2 * b + cb];
-                        if i != FIXED && i >= j {
-                            row_idx.push(i);
-                        }
+        // DOF-level lower-triangular CSC over equations. Equation numbers increase
+        // with DOF index, so rows come out sorted, and the columns of node a follow
+        // those of node a − 1: the nodes are done in parallel blocks, each into its
+        // own slice of the row indices (counted first).
+        let rows_of = |a: usize, ca: usize, out: &mut dyn FnMut(usize)| {
+            let j = dofs.eq[2 * a + ca];
+            for &b in graph.neighbours(a) {
+                for cb in 0..2 {
+                    let i = dofs.eq[2 * b + cb];
+                    if i != FIXED && i >= j {
+                        out(i);
                     }
                 }
-                col_ptr.push(row_idx.len());
+            }
+        };
+        let free = |a: usize, ca: usize| dofs.eq[2 * a + ca] != FIXED;
+        // Row count of each node's columns (0, 1 or 2 columns).
+        let counts: Vec<[usize; 2]> = (0..n_nodes)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|a| {
+                std::array::from_fn(|ca| {
+                    let mut n = 0;
+                    if free(a, ca) {
+                        rows_of(a, ca, &mut |_| n += 1);
+                    }
+                    n
+                })
+            })
+            .collect();
+        let mut col_ptr = Vec::with_capacity(dofs.n_eq + 1);
+        col_ptr.push(0);
+        let mut node_start = Vec::with_capacity(n_nodes + 1);
+        let mut nnz = 0;
+        for (a, c) in counts.iter().enumerate() {
+            node_start.push(nnz);
+            for (ca, &count) in c.iter().enumerate() {
+                if free(a, ca) {
+                    nnz += count;
+                    col_ptr.push(nnz);
+                }
             }
         }
-        let nnz = row_idx.len();
-        let mut k = Stiffness {
+        node_start.push(nnz);
+        drop(counts);
+        let mut row_idx = vec![0usize; nnz];
+        // Blocks of nodes, each with its slice of the row indices.
+        const BLOCK: usize = 8192;
+        let mut slices = Vec::with_capacity(n_nodes.div_ceil(BLOCK));
+        let mut rest: &mut [usize] = &mut row_idx;
+        for first in (0..n_nodes).step_by(BLOCK) {
+            let last = (first + BLOCK).min(n_nodes);
+            let (head, tail) = rest.split_at_mut(node_start[last] - node_start[first]);
+            slices.push((first..last, head));
+            rest = tail;
+        }
+        slices.into_par_iter().for_each(|(nodes, slice)| {
+            let mut k = 0;
+            for a in nodes {
+                for ca in 0..2 {
+                    if free(a, ca) {
+                        rows_of(a, ca, &mut |i| {
+                            slice[k] = i;
+                            k += 1;
+                        });
+                    }
+                }
+            }
+        });
+        Stiffness {
             col_ptr,
             row_idx,
             base: vec![0.0; nnz],
             values: vec![0.0; nnz],
-        };
-        let mut base = std::mem::take(&mut k.base);
-        k.add_sources(&mut base, sources, dofs);
-        k.base = base;
-        k
+        }
+    }
+
+    /// The values of the elements of `sources` (the constant part, `base`) on this
+    /// pattern.
+    pub fn base_values(&self, sources: &[&dyn ElementSource], dofs: &DofMap) -> Vec<f64> {
+        let mut base = vec![0.0; self.row_idx.len()];
+        self.add_sources(&mut base, sources, dofs);
+        base
     }
 
     /// Number of equations.

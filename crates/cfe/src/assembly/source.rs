@@ -123,6 +123,25 @@ impl<'a> PartElements<'a> {
         let (g, n) = self.dofs.element_dofs(self.parts, p, e);
         (ke, g, n)
     }
+
+    /// The internal force `K_e u_e` and global DOFs of source element `e` for the
+    /// displacements `u` of all DOFs (without forming `K_e`).
+    #[inline(always)]
+    fn element_force(
+        &self,
+        e: usize,
+        u: &[f64],
+    ) -> ([f64; element::MAX_DOFS], [usize; element::MAX_DOFS], usize) {
+        let (p, e) = self.locate(e);
+        let part = &self.parts[p];
+        let el = &part.mesh.elements[e];
+        let x = element::coordinates(&part.mesh, el);
+        let (g, n) = self.dofs.element_dofs(self.parts, p, e);
+        let ue: [f64; element::MAX_DOFS] =
+            std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
+        let fe = element::internal_force(el, &x, &self.d[p], part.material.thickness, &ue);
+        (fe, g, n)
+    }
 }
 
 impl ElementSource for PartElements<'_> {
@@ -146,10 +165,7 @@ impl ElementSource for PartElements<'_> {
     }
 
     fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>) {
-        let (ke, g, n) = self.element(e);
-        let ue: [f64; element::MAX_DOFS] =
-            std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
-        let fe = element::mul(&ke, &ue, n);
+        let (fe, g, n) = self.element_force(e, u);
         sink(&g[..n], &fe[..n]);
     }
 
@@ -178,13 +194,31 @@ impl ElementSource for PartElements<'_> {
     }
 
     fn add_internal_forces(&self, range: std::ops::Range<usize>, u: &[f64], f: &mut [f64]) {
-        for e in range {
-            let (ke, g, n) = self.element(e);
-            let ue: [f64; element::MAX_DOFS] =
-                std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
-            let fe = element::mul(&ke, &ue, n);
-            for (a, &ga) in g[..n].iter().enumerate() {
-                f[ga] += fe[a];
+        // Part by part over the elements of `range` in it (no search per element).
+        for (p, part) in self.parts.iter().enumerate() {
+            let (first, last) = (
+                range.start.max(self.offset[p]),
+                range.end.min(self.offset[p + 1]),
+            );
+            if first >= last {
+                continue;
+            }
+            let base = 2 * self.dofs.node(p, 0);
+            let (d, t) = (&self.d[p], part.material.thickness);
+            let elements = &part.mesh.elements[first - self.offset[p]..last - self.offset[p]];
+            for el in elements {
+                let nodes = el.nodes();
+                let x = element::coordinates(&part.mesh, el);
+                let mut ue = [0.0; element::MAX_DOFS];
+                for (a, &n) in nodes.iter().enumerate() {
+                    ue[2 * a] = u[base + 2 * n];
+                    ue[2 * a + 1] = u[base + 2 * n + 1];
+                }
+                let fe = element::internal_force(el, &x, d, t, &ue);
+                for (a, &n) in nodes.iter().enumerate() {
+                    f[base + 2 * n] += fe[2 * a];
+                    f[base + 2 * n + 1] += fe[2 * a + 1];
+                }
             }
         }
     }

@@ -112,6 +112,23 @@ pub fn stiffness(x: &[[f64; 2]; 4], d: &[[f64; 3]; 3], thickness: f64) -> [[f64;
     std::array::from_fn(|i| std::array::from_fn(|j| k[i.min(j)][i.max(j)]))
 }
 
+/// Element internal force `K_e u_e = Σ_g t det J_g B_gᵀ (D (B_g u_e))` over the
+/// 2×2 Gauss points, without forming `K_e`.
+pub fn internal_force(x: &[[f64; 2]; 4], d: &[[f64; 3]; 3], thickness: f64, u: &[f64; 8]) -> [f64; 8] {
+    let mut f = [0.0; 8];
+    for xi in GAUSS {
+        let (b, det) = b_matrix(x, xi);
+        let w = thickness * det;
+        let eps: [f64; 3] = std::array::from_fn(|i| (0..8).map(|j| b[i][j] * u[j]).sum());
+        let sigma: [f64; 3] =
+            std::array::from_fn(|i| w * (0..3).map(|j| d[i][j] * eps[j]).sum::<f64>());
+        for (j, fj) in f.iter_mut().enumerate() {
+            *fj += (0..3).map(|i| b[i][j] * sigma[i]).sum::<f64>();
+        }
+    }
+    f
+}
+
 /// Stress `σ = D B(ξ, η) u_e` (σxx, σyy, σxy) at natural coordinates `xi`.
 pub fn stress_at(x: &[[f64; 2]; 4], d: &[[f64; 3]; 3], u: &[f64; 8], xi: [f64; 2]) -> [f64; 3] {
     let (b, _) = b_matrix(x, xi);

@@ -11,7 +11,7 @@ mod refine;
 pub use arrays::BoundarySelection;
 
 use crate::error::{Error, Result};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
 /// The element types a part may be meshed with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Deserialize, serde::Serialize)]
@@ -267,25 +267,53 @@ impl Mesh {
     /// Every boundary edge of the mesh (edges used by exactly one element), oriented
     /// counter-clockwise with respect to the part, in a deterministic order.
     pub fn boundary_edges(&self) -> Vec<BoundaryEdge> {
-        let mut count: HashMap<(usize, usize), (usize, BoundaryEdge)> =
-            HashMap::with_capacity(2 * self.elements.len());
-        for (e, el) in self.elements.iter().enumerate() {
+        // Bucket the edges by their lower node (a counting sort: O(edges)), then
+        // sort each small bucket by the upper node; an edge is on the boundary when
+        // no other element has it (a run of length one).
+        let size = self
+            .elements
+            .iter()
+            .flat_map(|el| el.nodes().iter().copied())
+            .max()
+            .map_or(0, |n| n + 1);
+        let mut start = vec![0usize; size + 1];
+        for el in &self.elements {
             for [a, b] in el.edges() {
-                let key = (a.min(b), a.max(b));
-                count.entry(key).and_modify(|c| c.0 += 1).or_insert((
-                    1,
-                    BoundaryEdge {
-                        nodes: [a, b],
-                        element: e,
-                    },
-                ));
+                start[a.min(b) + 1] += 1;
             }
         }
-        let mut edges: Vec<BoundaryEdge> = count
-            .into_values()
-            .filter(|(n, _)| *n == 1)
-            .map(|(_, edge)| edge)
-            .collect();
+        for i in 0..size {
+            start[i + 1] += start[i];
+        }
+        // (upper node, element, whether the element runs lower → upper)
+        let mut bucket = vec![(0usize, 0usize, false); start[size]];
+        let mut fill = start.clone();
+        for (e, el) in self.elements.iter().enumerate() {
+            for [a, b] in el.edges() {
+                let lo = a.min(b);
+                bucket[fill[lo]] = (a.max(b), e, a < b);
+                fill[lo] += 1;
+            }
+        }
+        drop(fill);
+        let mut edges = Vec::new();
+        for lo in 0..size {
+            let run = &mut bucket[start[lo]..start[lo + 1]];
+            run.sort_unstable();
+            let mut i = 0;
+            while i < run.len() {
+                let mut j = i + 1;
+                while j < run.len() && run[j].0 == run[i].0 {
+                    j += 1;
+                }
+                if j == i + 1 {
+                    let (hi, element, forward) = run[i];
+                    let nodes = if forward { [lo, hi] } else { [hi, lo] };
+                    edges.push(BoundaryEdge { nodes, element });
+                }
+                i = j;
+            }
+        }
         edges.sort_by_key(|e| (e.element, e.nodes));
         edges
     }
@@ -487,9 +515,18 @@ impl Mesh {
     /// Checks only the elements that contain one of `nodes` (after those nodes
     /// moved), as [`Mesh::validate`] does for all.
     pub fn validate_around(&self, part: &str, nodes: &[usize]) -> Result<()> {
-        let moved: std::collections::HashSet<usize> = nodes.iter().copied().collect();
+        let mut moved = vec![false; self.nodes.len()];
+        for &n in nodes {
+            if let Some(m) = moved.get_mut(n) {
+                *m = true;
+            }
+        }
         for (e, el) in self.elements.iter().enumerate() {
-            if el.nodes().iter().any(|n| moved.contains(n)) {
+            if el
+                .nodes()
+                .iter()
+                .any(|&n| moved.get(n).copied().unwrap_or(false))
+            {
                 self.check_element(e).map_err(|message| Error::Mesh {
                     part: part.to_string(),
                     message,
@@ -652,6 +689,40 @@ fn corner_crosses(x: &[[f64; 2]]) -> impl Iterator<Item = f64> + '_ {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The boundary edges are exactly the edges one element has, counted by an
+    /// independent map over undirected edges, each oriented as its element runs
+    /// it, on a T3 and a Q4 mesh with a hole (some elements removed).
+    #[test]
+    fn boundary_edges_match_a_counting_map() {
+        for kind in [ElementKind::T3, ElementKind::Q4] {
+            let mut m = Mesh::rectangle([0.0, 3.0], [0.0, 2.0], [6, 4], kind);
+            let n = m.elements.len();
+            m.elements.remove(n / 2);
+            m.elements.remove(n / 2 - 1);
+            let mut count: BTreeMap<(usize, usize), Vec<BoundaryEdge>> = BTreeMap::new();
+            for (e, el) in m.elements.iter().enumerate() {
+                for [a, b] in el.edges() {
+                    count
+                        .entry((a.min(b), a.max(b)))
+                        .or_default()
+                        .push(BoundaryEdge {
+                            nodes: [a, b],
+                            element: e,
+                        });
+                }
+            }
+            let mut expected: Vec<BoundaryEdge> = count
+                .into_values()
+                .filter(|v| v.len() == 1)
+                .map(|v| v[0])
+                .collect();
+            expected.sort_by_key(|e| (e.element, e.nodes));
+            let got = m.boundary_edges();
+            assert!(got.len() > 2 * (6 + 4), "{kind:?}: the hole adds edges");
+            assert_eq!(got, expected, "{kind:?}");
+        }
+    }
 
     /// The structured mesher gives the expected counts, positive areas that sum to the
     /// rectangle's area, and boundaries that are exactly the mesh's free edges, with

@@ -8,6 +8,7 @@ pub(crate) mod columns;
 pub mod linear;
 pub mod nonlinear;
 pub(crate) mod ordering;
+pub(crate) mod setup;
 pub(crate) mod support;
 pub mod system;
 pub(crate) mod warm_start;

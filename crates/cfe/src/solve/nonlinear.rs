@@ -36,11 +36,9 @@
 //! before its output is written (a later solve, if any, refactorizes).
 
 use super::anderson::Anderson;
-use super::linear::CholeskySolver;
-use super::ordering;
 use super::support;
 use super::system::{ContactSystem, Method, UpdatePolicy};
-use crate::assembly::{self, DofMap, FIXED, NodeGraph, Stiffness};
+use crate::assembly::{self, DofMap, FIXED};
 use crate::coupling::{
     Enforcement, Interface, Law, LawTolerance, PairHistories, PairHistory, PairState, PairStates,
     ViolationKind,
@@ -331,15 +329,7 @@ impl<'a> Solver<'a> {
             ));
         }
         let t = Instant::now();
-        let graph = NodeGraph::new(parts, interfaces, dofs);
-        let coords: Vec<[f64; 2]> = parts
-            .iter()
-            .flat_map(|p| p.mesh.nodes.iter().copied())
-            .collect();
-        let order = ordering::nested_dissection(&coords, &graph, dofs);
-        let k = Stiffness::new(parts, dofs, &graph);
-        drop(graph);
-        let chol = CholeskySolver::new(k.matrix(), Some(&order))?;
+        let (k, chol) = super::setup::pattern_and_symbolic(parts, interfaces, dofs)?;
         let timings = SolveTimings {
             pattern_and_symbolic: t.elapsed().as_secs_f64(),
             ..Default::default()
