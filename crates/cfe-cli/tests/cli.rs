@@ -179,7 +179,10 @@ fn write_every_flag() {
     vtu.sort();
     assert_eq!(vtu, ["pairs_0010.vtu", "parts_0010.vtu"]);
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
-    assert!(summary.contains("\"converged_increments\": 10"), "{summary}");
+    assert!(
+        summary.contains("\"converged_increments\": 10"),
+        "{summary}"
+    );
     let _ = std::fs::remove_dir_all(&out);
     for bad in ["0", "-1", "first", "2.5"] {
         let o = cfe(&[
@@ -191,6 +194,10 @@ fn write_every_flag() {
             bad,
         ]);
         assert_eq!(o.status.code(), Some(2), "{bad}");
-        assert!(stderr(&o).contains("--write-every"), "{bad}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("--write-every"),
+            "{bad}: {}",
+            stderr(&o)
+        );
     }
 }

@@ -107,7 +107,8 @@ mod output_every {
                 })
             }
             fn visit_u64<E: de::Error>(self, v: u64) -> Result<usize, E> {
-                usize::try_from(v).map_err(|_| E::custom(format!("output_every = {v} is too large")))
+                usize::try_from(v)
+                    .map_err(|_| E::custom(format!("output_every = {v} is too large")))
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<usize, E> {
                 match v {

@@ -161,9 +161,10 @@ fn full_disk_and_output_every() {
     // `output_every = "last"`: only the last increment's files; pairs.csv and
     // the summary still cover all 10.
     let out = base.join("last");
-    let mut a = common::analysis(
-        &PROBLEM.replace("increments = 10", "increments = 10\noutput_every = \"last\""),
-    );
+    let mut a = common::analysis(&PROBLEM.replace(
+        "increments = 10",
+        "increments = 10\noutput_every = \"last\"",
+    ));
     assert_eq!(a.model.settings.output_every, cfe::OUTPUT_LAST);
     a.run(&out, &mut |_| {}).unwrap();
     assert_eq!(pvd_files_exist(&out), 2);
