@@ -60,6 +60,11 @@ enum Command {
         /// The friction coefficient μ with --law coulomb.
         #[arg(long, value_name = "MU", required_if_eq("law", "coulomb"))]
         friction: Option<f64>,
+        /// Write the VTU files of every N-th increment only, or with `last` of the
+        /// last increment (of each load step) only; overrides the file's
+        /// `[analysis] output_every`. pairs.csv and summary.json stay complete.
+        #[arg(long, value_name = "N|last", value_parser = parse_write_every, allow_negative_numbers = true)]
+        write_every: Option<usize>,
     },
     /// Benchmark: run a problem with the rigid and the contact law at growing
     /// refinement and write benchmarks.md and benchmarks.png.
@@ -185,7 +190,22 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             refine,
             law,
             friction,
-        } => run_problem(&problem, out, refine, law, friction),
+            write_every,
+        } => run_problem(&problem, out, refine, law, friction, write_every),
+    }
+}
+
+/// `--write-every`: a positive integer N, or `last` ([`cfe::OUTPUT_LAST`]).
+fn parse_write_every(text: &str) -> Result<usize, String> {
+    match text.trim() {
+        "last" => Ok(cfe::OUTPUT_LAST),
+        t => match t.parse::<usize>() {
+            Ok(0) => Err("0 writes nothing: use N ≥ 1 (every N-th increment) or `last`".into()),
+            Ok(n) => Ok(n),
+            Err(_) => Err(format!(
+                "'{t}' is not a positive integer N (every N-th increment) or `last`"
+            )),
+        },
     }
 }
 
@@ -217,6 +237,7 @@ fn run_problem(
     refine: usize,
     law: Option<LawArg>,
     friction: Option<f64>,
+    write_every: Option<usize>,
 ) -> anyhow::Result<()> {
     let out = out.unwrap_or_else(|| {
         let stem = problem
@@ -231,6 +252,9 @@ fn run_problem(
         (_, Some(_)) => anyhow::bail!("--friction applies to --law coulomb only"),
         (Some(law), None) => a.override_law(law.into()),
         (None, None) => {}
+    }
+    if let Some(n) = write_every {
+        a.model.settings.output_every = n;
     }
     eprint!("{}", a.describe());
     let bar = ProgressBar::new(a.model.settings.increments as u64);

@@ -155,3 +155,49 @@ fn refine_help_mentions_gmsh() {
     let o = cfe(&["run", "--help"]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("Gmsh"));
 }
+
+/// `--write-every last` writes only the last increment's VTU files (pairs.csv and
+/// the summary stay complete); 0, negative and other words are refused before
+/// anything is solved, naming the flag.
+#[test]
+fn write_every_flag() {
+    let out = std::env::temp_dir().join(format!("cfe-cli-write-every-{}", std::process::id()));
+    let plate = repo().join("examples/plate_on_base.toml");
+    let o = cfe(&[
+        "run",
+        plate.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--write-every",
+        "last",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut vtu: Vec<String> = std::fs::read_dir(out.join("vtu"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    vtu.sort();
+    assert_eq!(vtu, ["pairs_0010.vtu", "parts_0010.vtu"]);
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(
+        summary.contains("\"converged_increments\": 10"),
+        "{summary}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+    for bad in ["0", "-1", "first", "2.5"] {
+        let o = cfe(&[
+            "run",
+            plate.to_str().unwrap(),
+            "--out",
+            "/nonexistent-never-written",
+            "--write-every",
+            bad,
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{bad}");
+        assert!(
+            stderr(&o).contains("--write-every"),
+            "{bad}: {}",
+            stderr(&o)
+        );
+    }
+}

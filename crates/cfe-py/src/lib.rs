@@ -287,9 +287,11 @@ impl PyModel {
     /// every converged increment is also written there as `cfe run` does (the
     /// callback then cannot stop the run: its exception is raised at the end).
     /// `law` ("rigid", "contact", "frictionless" or "coulomb", the last with
-    /// `friction` = μ) overrides every interface's law. Returns a dict of the raw
-    /// results (see `cfe.Results`).
-    #[pyo3(signature = (progress=None, out=None, law=None, friction=None))]
+    /// `friction` = μ) overrides every interface's law. `write_every` (N ≥ 1 or
+    /// "last", with `out`) writes the VTU files of every N-th increment only (the
+    /// last of each step always), overriding the file's `output_every`. Returns a
+    /// dict of the raw results (see `cfe.Results`).
+    #[pyo3(signature = (progress=None, out=None, law=None, friction=None, write_every=None))]
     fn solve<'py>(
         &self,
         py: Python<'py>,
@@ -297,7 +299,31 @@ impl PyModel {
         out: Option<PathBuf>,
         law: Option<&str>,
         friction: Option<f64>,
+        write_every: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let write_every = match write_every {
+            None => None,
+            Some(v) => {
+                let bad = || {
+                    errors::ModelError::new_err(format!(
+                        "write_every = {v}: expected a positive integer N (write every N-th increment) or 'last'"
+                    ))
+                };
+                if let Ok(text) = v.extract::<String>() {
+                    if text != "last" {
+                        return Err(bad());
+                    }
+                    Some(cfe::OUTPUT_LAST)
+                } else {
+                    match v.extract::<i64>() {
+                        Ok(n) if n >= 1 && !v.is_instance_of::<pyo3::types::PyBool>() => {
+                            Some(n as usize)
+                        }
+                        _ => return Err(bad()),
+                    }
+                }
+            }
+        };
         let law = match law {
             None => None,
             Some("rigid") => Some(Law::Rigid),
@@ -323,7 +349,10 @@ impl PyModel {
             }
             _ => {}
         }
-        let model = self.model.clone();
+        let mut model = self.model.clone();
+        if let Some(n) = write_every {
+            model.settings.output_every = n;
+        }
         let increments = model.settings.increments;
         let step_names: Vec<String> = model.steps().into_iter().map(|s| s.name).collect();
         let mut stopped: Option<PyErr> = None;

@@ -96,3 +96,21 @@ def test_solve_with_out_writes_the_cli_files(tmp_path):
     for f in ("results.pvd", "pairs.csv", "summary.json", "sigma_yy.png", "displacement.png", "vtu/parts_0010.vtu"):
         assert (tmp_path / f).is_file(), f
     assert r.max_displacement["value"] == pytest.approx(1.279561e-2, rel=1e-6)
+
+
+def test_solve_write_every_writes_only_those_increments(tmp_path):
+    """write_every = 4 writes the VTU files of increments 4, 8 and the last (10),
+    "last" only the last; the pairs table and summary stay complete; bad values
+    are refused before solving."""
+    model = cfe.Model(plate_on_base_dict())
+    for every, written in ((4, [4, 8, 10]), ("last", [10])):
+        out = tmp_path / str(every)
+        r = model.solve(out=out, write_every=every)
+        parts = sorted(p.name for p in (out / "vtu").glob("parts_*.vtu"))
+        assert parts == [f"parts_{i:04d}.vtu" for i in written]
+        pvd = (out / "results.pvd").read_text()
+        assert pvd.count("parts_") == len(written)
+        assert r.summary["converged_increments"] == 10
+    for bad in (0, -1, "first", 2.5, True):
+        with pytest.raises(cfe.ModelError, match="write_every"):
+            model.solve(out=tmp_path / "bad", write_every=bad)

@@ -66,8 +66,61 @@ pub struct Settings {
     pub max_residual: f64,
     /// Write the VTU files of every N-th increment (default 1: all); the last
     /// increment (with load steps, the last of every step) is always written.
-    /// Bounds the output of runs with many increments.
+    /// Bounds the output of runs with many increments. [`OUTPUT_LAST`] (the file's
+    /// `output_every = "last"`) writes only those.
+    #[serde(with = "output_every")]
     pub output_every: usize,
+}
+
+/// [`Settings::output_every`] for "write only the last increment (of each step)":
+/// no increment index is a multiple of it.
+pub const OUTPUT_LAST: usize = usize::MAX;
+
+/// `output_every` in the problem file: a positive integer or `"last"`
+/// ([`OUTPUT_LAST`]); 0 is read here and refused by the model's checks with its
+/// line.
+mod output_every {
+    use super::OUTPUT_LAST;
+    use serde::de::{self, Visitor};
+    use serde::{Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(n: &usize, s: S) -> Result<S::Ok, S::Error> {
+        if *n == OUTPUT_LAST {
+            s.serialize_str("last")
+        } else {
+            s.serialize_u64(*n as u64)
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<usize, D::Error> {
+        struct Every;
+        impl Visitor<'_> for Every {
+            type Value = usize;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a positive integer N (write every N-th increment) or \"last\"")
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<usize, E> {
+                usize::try_from(v).map_err(|_| {
+                    E::custom(format!(
+                        "output_every = {v}: expected a positive integer N (write every N-th increment) or \"last\""
+                    ))
+                })
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<usize, E> {
+                usize::try_from(v)
+                    .map_err(|_| E::custom(format!("output_every = {v} is too large")))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<usize, E> {
+                match v {
+                    "last" => Ok(OUTPUT_LAST),
+                    other => Err(E::custom(format!(
+                        "output_every = \"{other}\": expected a positive integer N (write every N-th increment) or \"last\""
+                    ))),
+                }
+            }
+        }
+        d.deserialize_any(Every)
+    }
 }
 
 impl Default for Settings {

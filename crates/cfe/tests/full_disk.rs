@@ -157,5 +157,21 @@ fn full_disk_and_output_every() {
     assert_eq!(s["status"], "completed");
     assert_eq!(s["converged_increments"], 300);
     assert_eq!(s["iterations"].as_array().unwrap().len(), 300);
+
+    // `output_every = "last"`: only the last increment's files; pairs.csv and
+    // the summary still cover all 10.
+    let out = base.join("last");
+    let mut a = common::analysis(&PROBLEM.replace(
+        "increments = 10",
+        "increments = 10\noutput_every = \"last\"",
+    ));
+    assert_eq!(a.model.settings.output_every, cfe::OUTPUT_LAST);
+    a.run(&out, &mut |_| {}).unwrap();
+    assert_eq!(pvd_files_exist(&out), 2);
+    assert!(out.join("vtu/parts_0010.vtu").is_file());
+    assert!(!out.join("vtu/parts_0009.vtu").exists());
+    let s = summary(&out);
+    assert_eq!(s["converged_increments"], 10);
+    assert_eq!(s["iterations"].as_array().unwrap().len(), 10);
     let _ = std::fs::remove_dir_all(&base);
 }

@@ -678,6 +678,24 @@ fn hostile_values_are_refused_with_file_line_and_key() {
             &["at least 1"],
         ),
         (
+            "output_every negative",
+            with("output_every = 1", "output_every = -2"),
+            Parse,
+            &["output_every = -2", "positive integer", "\"last\""],
+        ),
+        (
+            "output_every unknown word",
+            with("output_every = 1", "output_every = \"first\""),
+            Parse,
+            &["output_every = \"first\"", "\"last\""],
+        ),
+        (
+            "output_every fraction",
+            with("output_every = 1", "output_every = 2.5"),
+            Parse,
+            &["positive integer"],
+        ),
+        (
             "gap_tolerance negative",
             with("gap_tolerance = 1e-9", "gap_tolerance = -1.0"),
             Invalid("analysis.gap_tolerance"),

@@ -506,6 +506,7 @@ class Model:
         out: Optional[PathLike] = None,
         law: Optional[str] = None,
         friction: Optional[float] = None,
+        write_every: Optional[Union[int, str]] = None,
     ) -> "Results":
         """Solves every increment in memory, with the GIL released, and returns the
         :class:`Results` of the last one.
@@ -517,11 +518,15 @@ class Model:
         the callback cannot stop such a run, its exception is raised at the end.
         ``law`` (``"rigid"``, ``"contact"``, ``"frictionless"`` or ``"coulomb"``,
         the last with ``friction`` = μ) makes every interface follow that law, as
-        ``cfe run --law … --friction …``. The model is not changed: it can be
-        solved again.
+        ``cfe run --law … --friction …``. ``write_every`` (with ``out``: N ≥ 1 or
+        ``"last"``, as ``cfe run --write-every``) writes the VTU files of every N-th
+        increment only (the last of each step always), overriding the file's
+        ``output_every``. The model is not changed: it can be solved again.
         """
         callback = None if progress is None else _increments_to(progress)
-        raw = self._native.solve(callback, None if out is None else Path(out), law, friction)
+        raw = self._native.solve(
+            callback, None if out is None else Path(out), law, friction, write_every
+        )
         return Results(raw, self, law, friction)
 
     def __repr__(self) -> str:
@@ -546,6 +551,7 @@ def run(
     out: Optional[PathLike] = None,
     law: Optional[str] = None,
     friction: Optional[float] = None,
+    write_every: Optional[Union[int, str]] = None,
 ) -> "Results":
     """Builds and solves a model in one call: ``problem`` is a :class:`Model`, a
     dict (see :class:`Model`), a path to a problem file, or TOML text (a string
@@ -558,7 +564,7 @@ def run(
         model = Model.from_toml(problem, refine=refine)
     else:
         model = Model.from_file(problem, refine=refine)
-    return model.solve(progress, out=out, law=law, friction=friction)
+    return model.solve(progress, out=out, law=law, friction=friction, write_every=write_every)
 
 
 def _from_dict_error(e: ParseError, text: str, path: Path) -> ParseError:

@@ -104,6 +104,7 @@ class Model:
         out: Optional[_Path] = None,
         law: Optional[str] = None,
         friction: Optional[float] = None,
+        write_every: Optional[Union[int, str]] = None,
     ) -> Results: ...
 
 def run(
@@ -114,6 +115,7 @@ def run(
     out: Optional[_Path] = None,
     law: Optional[str] = None,
     friction: Optional[float] = None,
+    write_every: Optional[Union[int, str]] = None,
 ) -> Results: ...
 
 @dataclass

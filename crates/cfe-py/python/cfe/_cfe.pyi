@@ -126,6 +126,7 @@ class Model:
         out: Optional[Union[str, PathLike[str]]] = None,
         law: Optional[str] = None,
         friction: Optional[float] = None,
+        write_every: Optional[Union[int, str]] = None,
     ) -> Dict[str, Any]:
         """Solves with the GIL released; the raw results: `u`, `parts`, `interfaces`,
         `summary`, `load_factor`, `step`, `time`."""

@@ -6,7 +6,11 @@
 
 use super::Material;
 use super::element;
-use crate::mesh::{Element, Mesh};
+use crate::mesh::Mesh;
+
+/// Elements per block of [`recover`]: large enough for the threads, small enough
+/// that the block's corner stresses stay in cache.
+const BLOCK: usize = 1 << 13;
 
 /// Stresses of one part: per element and averaged per node, (σxx, σyy, σxy).
 #[derive(Debug, Clone)]
@@ -20,35 +24,35 @@ pub struct PartStress {
 /// Recovers the stresses of a part (its `mesh` and `material`) from its nodal
 /// displacements `u` (2 per node, the part's own numbering).
 pub fn recover(mesh: &Mesh, material: &Material, u: &[f64]) -> PartStress {
+    use rayon::prelude::*;
     let d = material.d_matrix();
     let mut nodal = vec![[0.0; 3]; mesh.nodes.len()];
     let mut weight = vec![0.0; mesh.nodes.len()];
-    use rayon::prelude::*;
-    // Element values in parallel; only these are kept for every element (a T3's
-    // corner values equal its element value, a Q4's are recomputed below), so a
+    let mut element = Vec::with_capacity(mesh.elements.len());
+    // Blocks of elements: each element's stresses (its value and its corner
+    // values) and area computed once, in parallel, into a small buffer, then
+    // added to the nodes in element order (so the sums do not depend on the
+    // threads). Only the element values are kept for every element: a
     // million-element part does not hold four corner stresses per element.
-    let element: Vec<[f64; 3]> = mesh
-        .elements
-        .par_iter()
-        .map(|el| {
-            let x = element::coordinates(mesh, el);
-            element::stresses(el, &x, &d, &element::gather(el, u)).element
-        })
-        .collect();
-    for (e, el) in mesh.elements.iter().enumerate() {
-        let a = mesh.element_area(e);
-        let corners = match el {
-            Element::T3(_) => [element[e]; element::MAX_NODES],
-            Element::Q4(_) => {
+    let mut block: Vec<(element::ElementStress, f64)> = Vec::with_capacity(BLOCK);
+    for (b, els) in mesh.elements.chunks(BLOCK).enumerate() {
+        els.par_iter()
+            .enumerate()
+            .map(|(i, el)| {
                 let x = element::coordinates(mesh, el);
-                element::stresses(el, &x, &d, &element::gather(el, u)).corners
+                let s = element::stresses(el, &x, &d, &element::gather(el, u));
+                (s, mesh.element_area(b * BLOCK + i))
+            })
+            .collect_into_vec(&mut block);
+        for (el, (s, a)) in els.iter().zip(&block) {
+            element.push(s.element);
+            let corners = &s.corners;
+            for (&n, c) in el.nodes().iter().zip(corners) {
+                for (v, s) in nodal[n].iter_mut().zip(c) {
+                    *v += a * s;
+                }
+                weight[n] += a;
             }
-        };
-        for (&n, c) in el.nodes().iter().zip(&corners) {
-            for (v, s) in nodal[n].iter_mut().zip(c) {
-                *v += a * s;
-            }
-            weight[n] += a;
         }
     }
     for (s, w) in nodal.iter_mut().zip(&weight) {

@@ -95,10 +95,16 @@ struct RunLog {
 /// A parts-VTU writer thread with the series entries of its increment.
 type Writer<'scope> = (ScopedJoinHandle<'scope, Result<()>>, [vtu::PvdEntry; 2]);
 
+/// Parts-VTU writers a run keeps in flight: one, so at most one written
+/// increment's displacements and stresses are held besides those of the
+/// increment being solved (the output adds a bounded amount to the solve's peak
+/// memory, whatever the number of increments).
+const WRITERS_IN_FLIGHT: usize = 1;
+
 /// The VTU series of a run. The large parts VTU of each increment is written by a
-/// background thread (at most two in flight) while the next increment is solved
-/// and the small files are written; an increment's entries are added to
-/// `results.pvd` once its writer has finished.
+/// background thread (at most [`WRITERS_IN_FLIGHT`]) while the next increment is
+/// solved, its stresses recovered and the small files written; an increment's
+/// entries are added to `results.pvd` once its writer has finished.
 struct Series<'scope> {
     /// The `vtu/` folder.
     vtu_dir: PathBuf,
@@ -129,11 +135,11 @@ impl<'scope> Series<'scope> {
             .unwrap_or_else(|_| Err(Error::output(&self.vtu_dir, "a VTU writer thread panicked")))
     }
 
-    /// With two writers in flight, waits for the oldest and adds its increment to
-    /// `results.pvd`.
+    /// With [`WRITERS_IN_FLIGHT`] writers in flight, waits for the oldest and
+    /// adds its increment to `results.pvd`.
     fn make_room(&mut self) -> Result<()> {
-        if self.writers.len() >= 2 {
-            let (h, entries) = self.writers.pop_front().expect("two writers");
+        while self.writers.len() >= WRITERS_IN_FLIGHT {
+            let (h, entries) = self.writers.pop_front().expect("a writer in flight");
             self.join(h)?;
             self.pvd.extend(entries);
             if rewrite_due(&mut self.written, self.pvd.len() / 2) {

@@ -348,20 +348,13 @@ impl Payload<'_> {
     /// Streams the payload bytes.
     fn write(&self, out: &mut Chunked) -> io::Result<()> {
         match self {
-            Payload::Points(points) => {
-                for p in *points {
-                    out.put(&p[0].to_le_bytes())?;
-                    out.put(&p[1].to_le_bytes())?;
-                    out.put(&0f64.to_le_bytes())?;
-                }
-                Ok(())
-            }
-            Payload::Indices(indices) => {
-                for &i in *indices {
-                    out.put(&(i as i64).to_le_bytes())?;
-                }
-                Ok(())
-            }
+            Payload::Points(points) => out.put_each(points, |p| {
+                let mut b = [0u8; 24];
+                b[..8].copy_from_slice(&p[0].to_le_bytes());
+                b[8..16].copy_from_slice(&p[1].to_le_bytes());
+                b
+            }),
+            Payload::Indices(indices) => out.put_each(indices, |i| (i as i64).to_le_bytes()),
             Payload::Types(kinds) => {
                 for &k in *kinds {
                     out.put(&[k.vtk_type()])?;
@@ -390,12 +383,10 @@ fn put_padded<T: Copy + Default, const N: usize>(
             out.put(&bytes(pair[1]))?;
             out.put(&zero)?;
         }
+        Ok(())
     } else {
-        for &v in values {
-            out.put(&bytes(v))?;
-        }
+        out.put_each(values, bytes)
     }
-    Ok(())
 }
 
 /// Components as written: 2 becomes 3 (a vector with z = 0).
@@ -536,6 +527,25 @@ impl Chunked<'_> {
         self.buf.extend_from_slice(bytes);
         if self.buf.len() >= CHUNK {
             self.flush_chunk()?;
+        }
+        Ok(())
+    }
+
+    /// Puts every value of `values` as its `bytes`, a chunk's worth at a time
+    /// (the bulk path of the large arrays: no size check per value).
+    fn put_each<T: Copy, const N: usize>(
+        &mut self,
+        values: &[T],
+        bytes: impl Fn(T) -> [u8; N],
+    ) -> io::Result<()> {
+        for block in values.chunks(CHUNK / N) {
+            self.buf.reserve(block.len() * N);
+            for &v in block {
+                self.buf.extend_from_slice(&bytes(v));
+            }
+            if self.buf.len() >= CHUNK {
+                self.flush_chunk()?;
+            }
         }
         Ok(())
     }
