@@ -728,7 +728,7 @@ fn slowest_iteration(s: &mut String, big: &[&&Case]) {
     if let Some((ratio, c, it)) = worst {
         let how = match it["method"]["low-rank"]["rank"].as_u64() {
             Some(r) => format!(
-                "a low-rank update of rank {r} (sparse forward solves of its new columns, one backward solve, with a factor of {:.0} million nonzeros)",
+                "a low-rank update of rank {r} (sparse forward solves of its new columns and a solve on the interface's tree paths, or, for the pattern accepted, a complete solve with its refinement; a factor of {:.0} million nonzeros)",
                 f(&c.summary["factor_nonzeros"]) / 1e6
             ),
             None => format!("solved by {}", it["method"]),
