@@ -187,3 +187,71 @@ fn schemes_reach_the_same_pattern() {
         assert!(ua.iter().zip(ub).all(|(x, y)| (x - y).abs() < 1e-9 * umax));
     }
 }
+
+/// Every increment the solver reports as a multiple of a linear solution is that
+/// multiple of it (to round-off), and so are its stresses: the scaled stresses the
+/// run writes equal stresses recovered from the increment's own displacements.
+/// With friction the shortcut is off and no increment claims to be a multiple.
+#[test]
+fn multiples_of_a_solution_scale_their_stresses() {
+    let a = Analysis::new(example("plate_on_base.toml")).unwrap();
+    let incs = common::solve(&a);
+    let scale = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let mut scaled = 0;
+    for inc in &incs {
+        let m = inc
+            .multiple_of
+            .expect("contact law: proportional shortcuts on");
+        // The increment solved for the solution (factor 1) it is a multiple of.
+        let source = incs
+            .iter()
+            .find(|s| {
+                s.multiple_of
+                    .is_some_and(|n| n.solution == m.solution && n.factor == 1.0)
+            })
+            .expect("the solution's own increment");
+        let (u, us) = (&inc.u, &source.u);
+        assert!(
+            u.iter()
+                .zip(us)
+                .all(|(x, y)| (x - m.factor * y).abs() <= 1e-14 * scale(u)),
+            "increment {}: not {} × increment {}",
+            inc.index,
+            m.factor,
+            source.index
+        );
+        if m.factor != 1.0 {
+            scaled += 1;
+            let direct = a.recover(u);
+            for (d, s) in direct.iter().zip(a.recover(us)) {
+                let s = s.scaled(m.factor);
+                let big = d
+                    .element
+                    .iter()
+                    .flatten()
+                    .fold(0.0f64, |m, x| m.max(x.abs()));
+                for (x, y) in d
+                    .element
+                    .iter()
+                    .zip(&s.element)
+                    .chain(d.nodal.iter().zip(&s.nodal))
+                {
+                    assert!(x.iter().zip(y).all(|(p, q)| (p - q).abs() <= 1e-13 * big));
+                }
+            }
+        }
+    }
+    assert!(scaled >= 8, "only {scaled} increments scaled");
+
+    let mut model = example("plate_on_base.toml");
+    for i in &mut model.interfaces {
+        i.law = cfe::coupling::Law::Coulomb;
+        i.friction = 0.2;
+    }
+    let b = Analysis::new(model).unwrap();
+    assert!(
+        common::solve(&b)
+            .iter()
+            .all(|inc| inc.multiple_of.is_none())
+    );
+}

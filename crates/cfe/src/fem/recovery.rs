@@ -21,6 +21,21 @@ pub struct PartStress {
     pub nodal: Vec<[f64; 3]>,
 }
 
+impl PartStress {
+    /// The stresses of `factor` × the displacements these were recovered from:
+    /// recovery is linear in the displacements (no initial strain), so scaling the
+    /// values equals recovering from the scaled displacements to round-off.
+    pub fn scaled(&self, factor: f64) -> PartStress {
+        let scale = |v: &[[f64; 3]]| -> Vec<[f64; 3]> {
+            v.iter().map(|s| s.map(|x| factor * x)).collect()
+        };
+        PartStress {
+            element: scale(&self.element),
+            nodal: scale(&self.nodal),
+        }
+    }
+}
+
 /// Recovers the stresses of a part (its `mesh` and `material`) from its nodal
 /// displacements `u` (2 per node, the part's own numbering).
 pub fn recover(mesh: &Mesh, material: &Material, u: &[f64]) -> PartStress {

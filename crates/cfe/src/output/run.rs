@@ -11,8 +11,8 @@ use crate::coupling::{Law, PairState, ViolationKind};
 use crate::error::{Error, Result};
 use crate::fem::recovery::PartStress;
 use crate::mesh::Element;
-use crate::solve::nonlinear::IncrementResult;
 use crate::solve::nonlinear::Solver;
+use crate::solve::nonlinear::{IncrementResult, MultipleOf};
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -90,6 +90,10 @@ struct RunLog {
     output_time: f64,
     /// The stresses of the last converged increment, kept for the pictures.
     last_stresses: Option<Arc<Vec<PartStress>>>,
+    /// The linear solution `last_stresses` were recovered from a multiple of
+    /// (proportional shortcuts): an increment that is another multiple of it
+    /// scales them instead of recovering again.
+    last_multiple: Option<MultipleOf>,
 }
 
 /// A parts-VTU writer thread with the series entries of its increment.
@@ -275,6 +279,7 @@ impl Analysis {
             recovery_time: 0.0,
             output_time: 0.0,
             last_stresses: None,
+            last_multiple: None,
         };
         let grid = self.parts_grid();
         // All VTU writer threads are joined before the scope ends.
@@ -388,7 +393,14 @@ impl Analysis {
             log.output_time += t.elapsed().as_secs_f64();
             return Ok(());
         }
-        let stresses = self.recover(&inc.u);
+        let stresses = match (&log.last_stresses, log.last_multiple, inc.multiple_of) {
+            (Some(s), Some(a), Some(b)) if a.solution == b.solution && a.factor != 0.0 => {
+                let f = b.factor / a.factor;
+                s.iter().map(|p| p.scaled(f)).collect()
+            }
+            _ => self.recover(&inc.u),
+        };
+        log.last_multiple = inc.multiple_of;
         log.recovery_time += t.elapsed().as_secs_f64();
         let t = Instant::now();
         let rows = self.pair_rows(inc);

@@ -133,6 +133,21 @@ pub struct IncrementResult {
     /// Augmented Lagrangian: the largest penetration of a closed pair (and stick
     /// error) at the end of the increment (0 without augmented interfaces).
     pub augmented_error: f64,
+    /// With the proportional-load shortcuts, the linear solution these
+    /// displacements are a multiple of (`None` otherwise): everything linear in
+    /// `u` (strains, stresses) is that multiple of the solution's.
+    pub multiple_of: Option<MultipleOf>,
+}
+
+/// `u = factor × u_s`, where `u_s` is the displacement vector of the run's linear
+/// solution number `solution` (one per pattern solved with the proportional
+/// shortcuts on).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MultipleOf {
+    /// The solution's number (counted over the run).
+    pub solution: usize,
+    /// The multiple.
+    pub factor: f64,
 }
 
 impl IncrementResult {
@@ -200,6 +215,8 @@ struct Visit {
 
 /// The solution of one state set, kept to answer the same states at another λ.
 struct Solved {
+    /// The solution's number over the run.
+    number: usize,
     states: PairStates,
     lambda: f64,
     u: Vec<f64>,
@@ -1406,7 +1423,9 @@ impl<'a> Solver<'a> {
                 refactored = true;
                 continue;
             }
+            let number = self.last.as_ref().map_or(0, |s| s.number + 1);
             self.last = Some(Solved {
+                number,
                 states: states.to_vec(),
                 lambda,
                 u: u.clone(),
@@ -1554,6 +1573,15 @@ impl<'a> Solver<'a> {
             total[d % 2] += if e == FIXED { f_int[d] } else { f_ext[d] };
         }
         let balance = total[0].hypot(total[1]) / check.load_scale.max(f64::MIN_POSITIVE);
+        // With the proportional shortcuts the final solve either is the last
+        // solution (a method) or scales it (no method); see `solve_once`.
+        let multiple_of = match (&self.last, history.last()) {
+            (Some(s), Some(it)) if self.proportional => Some(MultipleOf {
+                solution: s.number,
+                factor: if it.method.is_some() { 1.0 } else { lambda / s.lambda },
+            }),
+            _ => None,
+        };
         let settled = if settled {
             check
                 .violations
@@ -1582,6 +1610,7 @@ impl<'a> Solver<'a> {
             pair_history: Vec::new(),
             fixed_point_iterations: 0,
             augmented_error: 0.0,
+            multiple_of,
         }
     }
 }
