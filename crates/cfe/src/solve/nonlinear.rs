@@ -231,6 +231,8 @@ pub struct Solver<'a> {
     settings: &'a Settings,
     f_ext: Vec<f64>,
     system: ContactSystem,
+    /// The support check's constant part (frames and fixed DOFs).
+    supports: support::SupportCheck,
     last: Option<Solved>,
     initial: Option<PairStates>,
     /// The pattern the previous active-set increment settled on, if it settled.
@@ -364,6 +366,7 @@ impl<'a> Solver<'a> {
             settings,
             f_ext,
             system: ContactSystem::new(k, chol),
+            supports: support::SupportCheck::new(parts, dofs),
             last: None,
             initial: None,
             settled_pattern: None,
@@ -1369,7 +1372,7 @@ impl<'a> Solver<'a> {
             return Ok((u, f_int, None));
         }
         let t = Instant::now();
-        support::check(self.parts, self.interfaces, states, self.dofs)?;
+        self.supports.check(self.parts, self.interfaces, states)?;
         self.timings.contact_update += t.elapsed().as_secs_f64();
         let (mut u, rhs) = self.right_hand_side(lambda, states);
         let mut refactored = false;
@@ -1480,7 +1483,7 @@ impl<'a> Solver<'a> {
         inc: usize,
     ) -> Result<(Vec<f64>, Option<Method>)> {
         let t = Instant::now();
-        support::check(self.parts, self.interfaces, states, self.dofs)?;
+        self.supports.check(self.parts, self.interfaces, states)?;
         self.timings.contact_update += t.elapsed().as_secs_f64();
         let (mut u, mut x) = self.right_hand_side(lambda, states);
         let (method, complete) = self
