@@ -640,9 +640,14 @@ fn targets(s: &mut String, cases: &[Case]) {
                 ),
                 None => format!(", peak {:.2} GiB", gib(c)),
             };
+            let why = if total(c) <= t_max {
+                String::new()
+            } else {
+                format!("; {}", why_slow(c, Some(t_max)))
+            };
             let _ = writeln!(
                 s,
-                "- Contact, {label} unknowns (K = {}, {} unknowns): {:.1} s (target ≤ {t_max} s: {}){memory}.",
+                "- Contact, {label} unknowns (K = {}, {} unknowns): {:.1} s (target ≤ {t_max} s: {}){memory}{why}.",
                 c.refine,
                 c.summary["unknowns"],
                 total(c),
@@ -662,9 +667,14 @@ fn targets(s: &mut String, cases: &[Case]) {
                 .total_cmp(&f(&b.summary["total_over_factorization"]))
         }) {
             let r = f(&worst.summary["total_over_factorization"]);
+            let why = if r <= limit {
+                String::new()
+            } else {
+                format!("; {}", why_slow(worst, None))
+            };
             let _ = writeln!(
                 s,
-                "- `{law}` end to end relative to the numeric factorization (runs ≥ 1 M unknowns): at most {r:.2}× at K = {} (target ≤ {limit}×: {}).",
+                "- `{law}` end to end relative to the numeric factorization (runs ≥ 1 M unknowns): at most {r:.2}× at K = {} (target ≤ {limit}×: {}){why}.",
                 worst.refine,
                 verdict(r <= limit)
             );
@@ -674,9 +684,23 @@ fn targets(s: &mut String, cases: &[Case]) {
         f(&a.summary["peak_over_factor"]).total_cmp(&f(&b.summary["peak_over_factor"]))
     }) {
         let r = f(&worst.summary["peak_over_factor"]);
+        let mib = |b: f64| b / 1048576.0;
+        let peak = f(&worst.summary["peak_memory_bytes"]);
+        let factor = 8.0 * f(&worst.summary["factor_nonzeros"]);
+        let matrix = f(&worst.summary["matrix_nonzeros"]);
+        let why = if r <= 1.3 {
+            String::new()
+        } else {
+            format!(
+                "; why: {:.0} MiB beside the factor's {:.0} MiB, held while it is: the stiffness ({:.0} million stored nonzeros), the factorization's scratch, the correction columns, the meshes and the vectors (docs/method.md §3)",
+                mib(peak - factor),
+                mib(factor),
+                matrix / 1e6
+            )
+        };
         let _ = writeln!(
             s,
-            "- Peak memory relative to the factor's values (runs ≥ 1 M unknowns): at most {r:.2}× ({} K = {}; target ≤ 1.3×: {}).",
+            "- Peak memory relative to the factor's values (runs ≥ 1 M unknowns): at most {r:.2}× ({} K = {}; target ≤ 1.3×: {}){why}.",
             worst.law,
             worst.refine,
             verdict(r <= 1.3)
@@ -742,9 +766,8 @@ fn slowest_iteration(s: &mut String, big: &[&&Case]) {
     }
 }
 
-/// Where the time of run `c` goes: its four largest phases.
-fn time_split(s: &mut String, c: &Case) {
-    let total = |c: &Case| f(&c.summary["timings"]["total"]);
+/// The phases of run `c` with their seconds, largest first.
+fn phases(c: &Case) -> Vec<(&'static str, f64)> {
     let t = &c.summary["timings"];
     let mut phases: Vec<(&str, f64)> = [
         ("numeric factorization", "factorization"),
@@ -756,15 +779,46 @@ fn time_split(s: &mut String, c: &Case) {
         ("stress recovery", "stress_recovery"),
         ("coarse start", "coarse_start"),
         ("pair search", "pair_search"),
+        ("meshing", "meshing"),
+        ("assembly", "assembly"),
     ]
     .iter()
     .map(|(name, key)| (*name, f(&t[*key])))
     .collect();
     phases.sort_by(|a, b| b.1.total_cmp(&a.1));
-    let list: Vec<String> = phases
+    phases
+}
+
+/// Why run `c` misses a time target of `t_max` seconds (or a ratio target): the
+/// numeric factorization's share, and the largest phases beyond it.
+fn why_slow(c: &Case, t_max: Option<f64>) -> String {
+    let fact = f(&c.summary["timings"]["factorization"]);
+    let rest: Vec<String> = phases(c)
+        .into_iter()
+        .filter(|(name, _)| *name != "numeric factorization")
+        .take(3)
+        .map(|(name, v)| format!("{name} {v:.1} s"))
+        .collect();
+    let beyond = f(&c.summary["timings"]["total"]) - fact;
+    match t_max {
+        Some(t) if fact >= t => format!(
+            "why: the numeric factorization alone takes {fact:.1} s, at or above the target, so it needs a faster factorization, not less overhead; beyond it {beyond:.1} s, largest {}",
+            rest.join(", ")
+        ),
+        _ => format!(
+            "why: {beyond:.1} s beyond the numeric factorization ({fact:.1} s), largest {}",
+            rest.join(", ")
+        ),
+    }
+}
+
+/// Where the time of run `c` goes: its four largest phases.
+fn time_split(s: &mut String, c: &Case) {
+    let total = f(&c.summary["timings"]["total"]).max(1e-12);
+    let list: Vec<String> = phases(c)
         .iter()
         .take(4)
-        .map(|(name, v)| format!("{name} {v:.1} s ({:.0} %)", 100.0 * v / total(c).max(1e-12)))
+        .map(|(name, v)| format!("{name} {v:.1} s ({:.0} %)", 100.0 * v / total))
         .collect();
     let _ = writeln!(
         s,
@@ -850,5 +904,29 @@ mod tests {
         );
         assert_eq!(super::refinements(&n, 100_000), vec![1, 2, 4, 8, 12]);
         assert_eq!(super::refinements(&n, 910), vec![1]);
+    }
+
+    /// A missed target names its cause from the run's own phases: the
+    /// factorization when it alone exceeds the target, else the time beyond it
+    /// with the largest other phases, largest first.
+    #[test]
+    fn why_a_target_is_missed() {
+        let case = |fact: f64, total: f64| super::Case {
+            problem: "plate",
+            law: "contact",
+            refine: 100,
+            summary: serde_json::json!({"timings": {
+                "factorization": fact, "total": total, "solve": 20.0, "output": 11.0,
+                "stress_recovery": 1.0, "pattern_and_symbolic": 9.0, "pictures": 2.0,
+            }}),
+        };
+        let slow = super::why_slow(&case(90.0, 150.0), Some(80.0));
+        assert!(slow.contains("factorization alone takes 90.0 s"), "{slow}");
+        assert!(slow.contains("beyond it 60.0 s, largest solves and update columns 20.0 s, output files 11.0 s, ordering and symbolic analysis 9.0 s"), "{slow}");
+        let over = super::why_slow(&case(3.0, 8.0), Some(5.0));
+        assert!(
+            over.starts_with("why: 5.0 s beyond the numeric factorization (3.0 s)"),
+            "{over}"
+        );
     }
 }
