@@ -20,11 +20,11 @@ fn plate(refine: usize) -> Analysis {
     Analysis::new(Model::from_file(&path, refine).unwrap()).unwrap()
 }
 
-fn system(a: &Analysis) -> ContactSystem {
+fn system(a: &Analysis) -> ContactSystem<'_> {
     let graph = NodeGraph::new(&a.model.parts, &a.interfaces, &a.dofs);
     let k = Stiffness::new(&a.model.parts, &a.dofs, &graph);
     let chol = CholeskySolver::new(k.matrix(), None).unwrap();
-    ContactSystem::new(k, chol)
+    ContactSystem::new(&a.model.parts, k, chol)
 }
 
 /// The solution of `states` by a fresh factorization.

@@ -213,7 +213,7 @@ pub struct Solver<'a> {
     dofs: &'a DofMap,
     settings: &'a Settings,
     f_ext: Vec<f64>,
-    system: ContactSystem,
+    system: ContactSystem<'a>,
     last: Option<Solved>,
     initial: Option<PairStates>,
     /// The pattern the previous active-set increment settled on, if it settled.
@@ -346,7 +346,7 @@ impl<'a> Solver<'a> {
             dofs,
             settings,
             f_ext,
-            system: ContactSystem::new(k, chol),
+            system: ContactSystem::new(parts, k, chol),
             last: None,
             initial: None,
             settled_pattern: None,
