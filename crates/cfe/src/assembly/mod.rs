@@ -218,16 +218,44 @@ impl Stiffness {
     /// there are none). Later assemblies place each equation's entries at its
     /// position in the order.
     pub fn in_order(&self, order: &[usize], inverse: &[usize]) -> Stiffness {
+        let zeros;
+        let values = if self.values.len() == self.row_idx.len() {
+            &self.values
+        } else {
+            zeros = vec![0.0; self.row_idx.len()];
+            &zeros
+        };
+        self.permuted(values, self.parts_only, order, inverse)
+    }
+
+    /// As [`Stiffness::in_order`], with the values of the elements of `sources`
+    /// (the parts; assembled in the equations' order, where the element's entries
+    /// lie close together, then permuted along): the values
+    /// [`Stiffness::assemble_parts`] would give in that order.
+    pub fn in_order_with_parts(
+        &self,
+        sources: &[&dyn ElementSource],
+        dofs: &DofMap,
+        order: &[usize],
+        inverse: &[usize],
+    ) -> Stiffness {
+        let mut values = vec![0.0; self.row_idx.len()];
+        self.add_sources(&mut values, sources, dofs);
+        self.permuted(&values, true, order, inverse)
+    }
+
+    /// This matrix with `values` in the elimination order (see
+    /// [`Stiffness::in_order`]).
+    fn permuted(
+        &self,
+        values: &[f64],
+        parts_only: bool,
+        order: &[usize],
+        inverse: &[usize],
+    ) -> Stiffness {
         use faer::dyn_stack::{MemBuffer, MemStack};
         let n = self.n();
         let nnz = self.row_idx.len();
-        let zeros;
-        let values = if self.values.len() == nnz {
-            &self.values
-        } else {
-            zeros = vec![0.0; nnz];
-            &zeros
-        };
         // The stored matrix's original equations: compose with its own order.
         let (order, inverse): (Vec<usize>, Vec<usize>) = if self.position.is_empty() {
             (order.to_vec(), inverse.to_vec())
@@ -270,7 +298,7 @@ impl Stiffness {
             row_idx,
             values: new_values,
             position,
-            parts_only: self.parts_only,
+            parts_only,
         }
     }
 

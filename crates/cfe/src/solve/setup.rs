@@ -37,11 +37,7 @@ pub fn pattern_and_symbolic(
     let part_elements = PartElements::new(parts, dofs);
     let (chol, k) = rayon::join(
         || CholeskySolver::new(k.matrix(), Some(&order)),
-        || {
-            let mut permuted = k.in_order(&order, &inverse);
-            permuted.assemble_parts(&[&part_elements], dofs);
-            permuted
-        },
+        || k.in_order_with_parts(&[&part_elements], dofs, &order, &inverse),
     );
     Ok((k, chol?))
 }
