@@ -350,24 +350,25 @@ impl Stiffness {
     }
 
     /// Adds an element matrix (entry `(a, b)` over local DOFs `g` at
-    /// `k[a * stride + b]`) into `values`, lower triangle of the stored matrix,
-    /// free DOFs only.
+    /// `k[a * stride + b]`) into `values`, free DOFs only: the entries of its
+    /// lower triangle in the equations' order (so the values do not depend on the
+    /// order the matrix is stored in, to the last bit, whatever the rounding of
+    /// the element matrix's symmetry), each at its place in the lower triangle of
+    /// the stored matrix.
     fn scatter(&self, values: &mut [f64], dofs: &DofMap, g: &[usize], k: &[f64], stride: usize) {
-        let at = |d: usize| {
-            let e = dofs.eq[d];
-            if e == FIXED { FIXED } else { self.stored(e) }
-        };
         for (b, &gb) in g.iter().enumerate() {
-            let j = at(gb);
-            if j == FIXED {
+            let eb = dofs.eq[gb];
+            if eb == FIXED {
                 continue;
             }
+            let j = self.stored(eb);
             for (a, &ga) in g.iter().enumerate() {
-                let i = at(ga);
-                if i == FIXED || i < j {
+                let ea = dofs.eq[ga];
+                if ea == FIXED || ea < eb {
                     continue;
                 }
-                let pos = self.position(i, j);
+                let i = self.stored(ea);
+                let pos = self.position(i.max(j), i.min(j));
                 values[pos] += k[a * stride + b];
             }
         }
