@@ -82,18 +82,32 @@ impl NodeGraph {
 }
 
 /// The global stiffness matrix K (lower triangle, compressed sparse columns over the
-/// free DOFs) with a fixed pattern. `base` holds the parts' contribution, assembled
-/// once; [`Stiffness::assemble`] adds the coupling elements for a set of pair states.
+/// free DOFs) with a fixed pattern, stored either in the equations' order or — for
+/// the solver, see [`Stiffness::in_order`] — in the elimination order of its
+/// Cholesky factorization, `P K Pᵀ`, so the factorization reads it as it is (no
+/// permuted copy beside the factor).
+///
+/// Only the pattern is kept for the whole solve. The values are those of the
+/// parts plus the coupling elements in some pair states
+/// ([`Stiffness::assemble`]): they are needed by a numeric factorization only
+/// (residuals are summed element by element), so the solver frees them after
+/// each one ([`Stiffness::free_values`]) and assembles them anew, parts
+/// included, for the next.
 #[derive(Debug, Clone)]
 pub struct Stiffness {
     /// Column pointers (length n_eq + 1).
     pub col_ptr: Vec<usize>,
     /// Row indices, sorted within each column, all ≥ the column.
     pub row_idx: Vec<usize>,
-    /// The parts' contribution to the values.
-    pub base: Vec<f64>,
-    /// Current values: base + coupling elements.
+    /// Current values (empty when freed).
     pub values: Vec<f64>,
+    /// Row and column of each equation in the stored matrix (empty: the
+    /// equation itself).
+    position: Vec<usize>,
+    /// Whether `values` hold the parts' contribution only (from
+    /// [`Stiffness::assemble_parts`]): the next [`Stiffness::assemble`] then
+    /// adds the coupling elements to them.
+    parts_only: bool,
 }
 
 impl Stiffness {
@@ -103,22 +117,20 @@ impl Stiffness {
         Stiffness::from_sources(&[&PartElements::new(parts, dofs)], dofs, graph)
     }
 
-    /// Builds the pattern from `graph` and assembles the constant part of the values,
-    /// `base`, from the elements of `sources`.
+    /// Builds the pattern from `graph` and assembles the constant part of the values
+    /// from the elements of `sources`.
     pub fn from_sources(
         sources: &[&dyn ElementSource],
         dofs: &DofMap,
         graph: &NodeGraph,
     ) -> Stiffness {
         let mut k = Stiffness::pattern(dofs, graph);
-        let base = k.base_values(sources, dofs);
-        k.base = base;
+        k.assemble_parts(sources, dofs);
         k
     }
 
-    /// The pattern of `graph` over the equations of `dofs`, every value zero: the
-    /// symbolic analysis needs no more, and [`Stiffness::base_values`] can be
-    /// assembled beside it.
+    /// The pattern of `graph` over the equations of `dofs` (in the equations'
+    /// order), every value zero: the symbolic analysis needs no more.
     pub fn pattern(dofs: &DofMap, graph: &NodeGraph) -> Stiffness {
         use rayon::prelude::*;
         let n_nodes = dofs.n_nodes();
@@ -194,17 +206,134 @@ impl Stiffness {
         Stiffness {
             col_ptr,
             row_idx,
-            base: vec![0.0; nnz],
             values: vec![0.0; nnz],
+            position: Vec::new(),
+            parts_only: false,
         }
     }
 
-    /// The values of the elements of `sources` (the constant part, `base`) on this
-    /// pattern.
-    pub fn base_values(&self, sources: &[&dyn ElementSource], dofs: &DofMap) -> Vec<f64> {
-        let mut base = vec![0.0; self.row_idx.len()];
-        self.add_sources(&mut base, sources, dofs);
-        base
+    /// This matrix stored in the elimination order `order` (`order[k]` = equation
+    /// eliminated k-th, `inverse` its inverse): `P K Pᵀ`, lower triangle, rows
+    /// sorted, with the current values permuted along (the values are zero when
+    /// there are none). Later assemblies place each equation's entries at its
+    /// position in the order.
+    pub fn in_order(&self, order: &[usize], inverse: &[usize]) -> Stiffness {
+        let zeros;
+        let values = if self.values.len() == self.row_idx.len() {
+            &self.values
+        } else {
+            zeros = vec![0.0; self.row_idx.len()];
+            &zeros
+        };
+        self.permuted(values, self.parts_only, order, inverse)
+    }
+
+    /// As [`Stiffness::in_order`], with the values of the elements of `sources`
+    /// (the parts; assembled in the equations' order, where the element's entries
+    /// lie close together, then permuted along): the values
+    /// [`Stiffness::assemble_parts`] would give in that order.
+    pub fn in_order_with_parts(
+        &self,
+        sources: &[&dyn ElementSource],
+        dofs: &DofMap,
+        order: &[usize],
+        inverse: &[usize],
+    ) -> Stiffness {
+        let mut values = vec![0.0; self.row_idx.len()];
+        self.add_sources(&mut values, sources, dofs);
+        self.permuted(&values, true, order, inverse)
+    }
+
+    /// This matrix with `values` in the elimination order (see
+    /// [`Stiffness::in_order`]).
+    fn permuted(
+        &self,
+        values: &[f64],
+        parts_only: bool,
+        order: &[usize],
+        inverse: &[usize],
+    ) -> Stiffness {
+        use faer::dyn_stack::{MemBuffer, MemStack};
+        let n = self.n();
+        let nnz = self.row_idx.len();
+        // The stored matrix's original equations: compose with its own order.
+        let (order, inverse): (Vec<usize>, Vec<usize>) = if self.position.is_empty() {
+            (order.to_vec(), inverse.to_vec())
+        } else {
+            let mut fwd = vec![0; n];
+            for (k, &e) in order.iter().enumerate() {
+                fwd[k] = self.position[e];
+            }
+            let mut inv = vec![0; n];
+            for (k, &p) in fwd.iter().enumerate() {
+                inv[p] = k;
+            }
+            (fwd, inv)
+        };
+        let perm = faer::perm::PermRef::new_checked(&order, &inverse, n);
+        let mut col_ptr = vec![0usize; n + 1];
+        let mut row_idx = vec![0usize; nnz];
+        let mut new_values = vec![0.0; nnz];
+        let mut scratch =
+            MemBuffer::new(faer::sparse::utils::permute_self_adjoint_scratch::<usize>(n));
+        faer::sparse::utils::permute_self_adjoint(
+            &mut new_values,
+            &mut col_ptr,
+            &mut row_idx,
+            self.matrix_of(values),
+            perm,
+            faer::Side::Lower,
+            faer::Side::Lower,
+            MemStack::new(&mut scratch),
+        );
+        let mut position = vec![0usize; n];
+        for (e, p) in position.iter_mut().enumerate() {
+            *p = self.stored(e);
+        }
+        for p in position.iter_mut() {
+            *p = inverse[*p];
+        }
+        Stiffness {
+            col_ptr,
+            row_idx,
+            values: new_values,
+            position,
+            parts_only,
+        }
+    }
+
+    /// Sets the values to those of the elements of `sources` (the constant part,
+    /// usually the parts), to which the next [`Stiffness::assemble`] adds the
+    /// coupling elements.
+    pub fn assemble_parts(&mut self, sources: &[&dyn ElementSource], dofs: &DofMap) {
+        let mut values = std::mem::take(&mut self.values);
+        values.clear();
+        values.resize(self.row_idx.len(), 0.0);
+        self.add_sources(&mut values, sources, dofs);
+        self.values = values;
+        self.parts_only = true;
+    }
+
+    /// Frees the values (the pattern stays); the next [`Stiffness::assemble`]
+    /// assembles them anew.
+    pub fn free_values(&mut self) {
+        self.values = Vec::new();
+        self.parts_only = false;
+    }
+
+    /// Row (and column) of equation `e` in the stored matrix.
+    pub fn stored(&self, e: usize) -> usize {
+        if self.position.is_empty() {
+            e
+        } else {
+            self.position[e]
+        }
+    }
+
+    /// The row (and column) in the stored matrix of every equation, when it is
+    /// stored in an elimination order (`None`: the equations' order).
+    pub fn positions(&self) -> Option<&[usize]> {
+        (!self.position.is_empty()).then_some(&self.position[..])
     }
 
     /// Number of equations.
@@ -221,19 +350,25 @@ impl Stiffness {
     }
 
     /// Adds an element matrix (entry `(a, b)` over local DOFs `g` at
-    /// `k[a * stride + b]`) into `values`, lower triangle, free DOFs only.
+    /// `k[a * stride + b]`) into `values`, free DOFs only: the entries of its
+    /// lower triangle in the equations' order (so the values do not depend on the
+    /// order the matrix is stored in, to the last bit, whatever the rounding of
+    /// the element matrix's symmetry), each at its place in the lower triangle of
+    /// the stored matrix.
     fn scatter(&self, values: &mut [f64], dofs: &DofMap, g: &[usize], k: &[f64], stride: usize) {
         for (b, &gb) in g.iter().enumerate() {
-            let j = dofs.eq[gb];
-            if j == FIXED {
+            let eb = dofs.eq[gb];
+            if eb == FIXED {
                 continue;
             }
+            let j = self.stored(eb);
             for (a, &ga) in g.iter().enumerate() {
-                let i = dofs.eq[ga];
-                if i == FIXED || i < j {
+                let ea = dofs.eq[ga];
+                if ea == FIXED || ea < eb {
                     continue;
                 }
-                let pos = self.position(i, j);
+                let i = self.stored(ea);
+                let pos = self.position(i.max(j), i.min(j));
                 values[pos] += k[a * stride + b];
             }
         }
@@ -246,30 +381,52 @@ impl Stiffness {
         }
     }
 
-    /// Sets `values` = parts + the coupling elements in their `states`
+    /// Sets the values to parts + the coupling elements in their `states`
     /// (`states[i][k]` for pair k of interface i).
-    pub fn assemble(&mut self, interfaces: &[Interface], states: &[Vec<PairState>], dofs: &DofMap) {
+    pub fn assemble(
+        &mut self,
+        parts: &[Part],
+        interfaces: &[Interface],
+        states: &[Vec<PairState>],
+        dofs: &DofMap,
+    ) {
         self.assemble_sources(
+            &[&PartElements::new(parts, dofs)],
             &[&CouplingElements::new(interfaces, Some(states), dofs)],
             dofs,
         );
     }
 
-    /// Sets `values` = `base` + the elements of `sources` (those whose stiffness
-    /// changes between solves).
-    pub fn assemble_sources(&mut self, sources: &[&dyn ElementSource], dofs: &DofMap) {
+    /// Sets the values to the elements of `constant` (unless they are there
+    /// already, from [`Stiffness::assemble_parts`]) plus those of `varying` (the
+    /// elements whose stiffness changes between solves).
+    pub fn assemble_sources(
+        &mut self,
+        constant: &[&dyn ElementSource],
+        varying: &[&dyn ElementSource],
+        dofs: &DofMap,
+    ) {
+        if !self.parts_only || self.values.len() != self.row_idx.len() {
+            self.assemble_parts(constant, dofs);
+        }
         let mut values = std::mem::take(&mut self.values);
-        values.copy_from_slice(&self.base);
-        self.add_sources(&mut values, sources, dofs);
+        self.add_sources(&mut values, varying, dofs);
         self.values = values;
+        self.parts_only = false;
     }
 
-    /// The current matrix as a faer sparse view (lower triangle).
+    /// The current matrix as a faer sparse view (lower triangle of the stored
+    /// matrix). The values must be there (assembled, not freed).
     pub fn matrix(&self) -> SparseColMatRef<'_, usize, f64> {
+        self.matrix_of(&self.values)
+    }
+
+    /// The stored pattern with `values`.
+    fn matrix_of<'v>(&'v self, values: &'v [f64]) -> SparseColMatRef<'v, usize, f64> {
         let n = self.n();
         let symbolic =
             SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
-        SparseColMatRef::new(symbolic, &self.values)
+        SparseColMatRef::new(symbolic, values)
     }
 }
 

@@ -14,7 +14,9 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSupernodalCholesky};
+use faer::sparse::linalg::cholesky::supernodal::{
+    self, SupernodalLltRef, SymbolicSupernodalCholesky,
+};
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
     factorize_symbolic_cholesky,
@@ -91,15 +93,21 @@ impl CholeskySolver {
             .map_err(failed)?;
         }
         let par = Par::rayon(0);
-        let req = StackReq::any_of(&[
-            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-            symbolic.solve_in_place_scratch::<f64>(1, par),
-        ]);
         let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
             return Err(Error::Singular(
                 "the symbolic analysis did not give a supernodal factor".into(),
             ));
         };
+        // The supernodal factorization's own scratch: the matrix is given in the
+        // elimination order, so faer's permuted copy of it is not needed.
+        let req = StackReq::any_of(&[
+            supernodal::factorize_supernodal_numeric_llt_scratch::<usize, f64>(
+                sn,
+                par,
+                Default::default(),
+            ),
+            symbolic.solve_in_place_scratch::<f64>(1, par),
+        ]);
         let (supernode_of, parent, factor_flops) = tree(sn);
         Ok(CholeskySolver {
             factor: vec![0.0; symbolic.len_val()],
@@ -313,11 +321,20 @@ impl CholeskySolver {
         self.symbolic.len_val()
     }
 
-    /// Numeric factorization of `k` (same pattern as at construction). A non-positive
-    /// pivot is returned as the original equation number where it occurred.
+    /// The elimination order (`order[k]` = equation eliminated k-th) and its
+    /// inverse (the position of each equation), if not the identity.
+    pub fn order(&self) -> Option<(&[usize], &[usize])> {
+        self.symbolic.perm().map(|p| p.arrays())
+    }
+
+    /// Numeric factorization of `k_ordered`, the lower triangle of `P K Pᵀ`: the
+    /// matrix of the pattern given at construction stored in the elimination
+    /// order ([`CholeskySolver::order`]; see [`crate::assembly::Stiffness::in_order`]),
+    /// which faer's supernodal factorization reads as it is. A non-positive pivot
+    /// is returned as the original equation number where it occurred.
     pub fn factorize(
         &mut self,
-        k: SparseColMatRef<'_, usize, f64>,
+        k_ordered: SparseColMatRef<'_, usize, f64>,
     ) -> std::result::Result<(), usize> {
         self.factorized = false;
         if self.factor.len() != self.symbolic.len_val() {
@@ -328,19 +345,21 @@ impl CholeskySolver {
             self.scratch_bytes = self.scratch_req.size_bytes();
         }
         let stack = MemStack::new(&mut self.scratch);
-        let res = self.symbolic.factorize_numeric_llt(
+        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
+            unreachable!("forced supernodal")
+        };
+        let res = supernodal::factorize_supernodal_numeric_llt(
             &mut self.factor,
-            k,
-            Side::Lower,
+            k_ordered,
             LltRegularization::default(),
+            sn,
             Par::rayon(0),
             stack,
             Default::default(),
         );
-        // The factorization's scratch holds a permuted copy of K (16 bytes per
-        // nonzero) besides the frontal blocks; the solves need far less. Free it
-        // now so it is not held beside the factor and the update columns: the
-        // next factorization allocates it again.
+        // The factorization's scratch holds the frontal update blocks; the solves
+        // need less. Free it now so it is not held beside the factor and the
+        // update columns: the next factorization allocates it again.
         let solve_req = self
             .symbolic
             .solve_in_place_scratch::<f64>(1, Par::rayon(0));
@@ -440,6 +459,38 @@ mod tests {
     use super::*;
     use faer::sparse::SymbolicSparseColMatRef;
 
+    /// The lower triangle of `P K Pᵀ` in the elimination order of `s`, for
+    /// [`CholeskySolver::factorize`].
+    fn ordered(
+        k: SparseColMatRef<'_, usize, f64>,
+        s: &CholeskySolver,
+    ) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+        let n = k.nrows();
+        let (fwd, inv) = s.order().expect("AMD gives an order");
+        let nnz = k.compute_nnz();
+        let (mut col_ptr, mut row, mut val) = (vec![0; n + 1], vec![0; nnz], vec![0.0; nnz]);
+        let mut mem = MemBuffer::new(faer::sparse::utils::permute_self_adjoint_scratch::<usize>(n));
+        faer::sparse::utils::permute_self_adjoint(
+            &mut val,
+            &mut col_ptr,
+            &mut row,
+            k,
+            faer::perm::PermRef::new_checked(fwd, inv, n),
+            Side::Lower,
+            Side::Lower,
+            MemStack::new(&mut mem),
+        );
+        (col_ptr, row, val)
+    }
+
+    /// Factorizes `k` (in the equations' order) with `s`.
+    fn factorize(s: &mut CholeskySolver, k: SparseColMatRef<'_, usize, f64>) -> std::result::Result<(), usize> {
+        let (col_ptr, row, val) = ordered(k, s);
+        let n = k.nrows();
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
+        s.factorize(SparseColMatRef::new(sym, &val))
+    }
+
     /// A tridiagonal SPD system (−1, 2, −1 plus identity) is solved to round-off,
     /// twice with different values on the same symbolic analysis.
     #[test]
@@ -467,7 +518,7 @@ mod tests {
                 .collect();
             let k = SparseColMatRef::new(sym, &vals);
             let mut s = CholeskySolver::new(k, None).unwrap();
-            s.factorize(k).unwrap();
+            factorize(&mut s, k).unwrap();
             let x: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
             let mut b: Vec<f64> = (0..n)
                 .map(|i| {
@@ -513,7 +564,7 @@ mod tests {
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
         let k = SparseColMatRef::new(sym, &vals);
         let mut s = CholeskySolver::new(k, None).unwrap();
-        s.factorize(k).unwrap();
+        factorize(&mut s, k).unwrap();
         let b: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
         let mut z = vec![0.0; n];
         s.forward(&b, &mut z);
@@ -561,6 +612,6 @@ mod tests {
         let vals = [1.0, -1.0];
         let k = SparseColMatRef::new(sym, &vals);
         let mut s = CholeskySolver::new(k, None).unwrap();
-        assert!(s.factorize(k).is_err());
+        assert!(factorize(&mut s, k).is_err());
     }
 }

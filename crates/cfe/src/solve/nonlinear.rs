@@ -230,7 +230,7 @@ pub struct Solver<'a> {
     dofs: &'a DofMap,
     settings: &'a Settings,
     f_ext: Vec<f64>,
-    system: ContactSystem,
+    system: ContactSystem<'a>,
     /// The support check's constant part (frames and fixed DOFs).
     supports: support::SupportCheck,
     last: Option<Solved>,
@@ -365,7 +365,7 @@ impl<'a> Solver<'a> {
             dofs,
             settings,
             f_ext,
-            system: ContactSystem::new(k, chol),
+            system: ContactSystem::new(parts, k, chol),
             supports: support::SupportCheck::new(parts, dofs),
             last: None,
             initial: None,

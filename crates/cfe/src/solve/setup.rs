@@ -2,7 +2,8 @@
 //! sparsity pattern, the parts' constant stiffness and the symbolic factorization,
 //! with the independent steps side by side on two threads: the ordering beside
 //! the pattern (both read the graph only), then faer's symbolic analysis (one
-//! thread, the pattern only) beside the assembly of the parts' values.
+//! thread, the pattern only) beside the pattern's copy in the elimination order
+//! and the assembly of the parts' values into it.
 
 use super::linear::CholeskySolver;
 use super::ordering;
@@ -11,9 +12,9 @@ use crate::coupling::Interface;
 use crate::domain::Part;
 use crate::error::Result;
 
-/// The stiffness (pattern of every part and coupling element, values of the
-/// parts) and its Cholesky solver after the symbolic analysis in the
-/// nested-dissection order.
+/// The stiffness (pattern of every part and coupling element in the
+/// nested-dissection elimination order, values of the parts) and its Cholesky
+/// solver after the symbolic analysis in that order.
 pub fn pattern_and_symbolic(
     parts: &[Part],
     interfaces: &[Interface],
@@ -24,16 +25,19 @@ pub fn pattern_and_symbolic(
         .iter()
         .flat_map(|p| p.mesh.nodes.iter().copied())
         .collect();
-    let (order, mut k) = rayon::join(
+    let (order, k) = rayon::join(
         || ordering::nested_dissection(&coords, &graph, dofs),
         || Stiffness::pattern(dofs, &graph),
     );
     drop(graph);
+    let mut inverse = vec![0usize; order.len()];
+    for (new, &old) in order.iter().enumerate() {
+        inverse[old] = new;
+    }
     let part_elements = PartElements::new(parts, dofs);
-    let (chol, base) = rayon::join(
+    let (chol, k) = rayon::join(
         || CholeskySolver::new(k.matrix(), Some(&order)),
-        || k.base_values(&[&part_elements], dofs),
+        || k.in_order_with_parts(&[&part_elements], dofs, &order, &inverse),
     );
-    k.base = base;
     Ok((k, chol?))
 }

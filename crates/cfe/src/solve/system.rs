@@ -17,6 +17,7 @@ use super::columns::{Columns, SparseColumn};
 use super::linear::CholeskySolver;
 use crate::assembly::{DofMap, FIXED, Stiffness};
 use crate::coupling::{Interface, PairState, PairStates};
+use crate::domain::Part;
 use std::collections::HashMap;
 use std::time::Instant;
 
@@ -53,8 +54,11 @@ pub const UPDATE_FLOP_WEIGHT: f64 = 4.0;
 
 /// The stiffness, its factorization for the base states, and the cached
 /// low-rank correction columns.
-pub struct ContactSystem {
-    /// The stiffness with its fixed pattern.
+pub struct ContactSystem<'a> {
+    /// The parts, whose stiffness is assembled anew for each factorization.
+    parts: &'a [Part],
+    /// The stiffness with its fixed pattern, in the factorization's elimination
+    /// order; its values are there only while a factorization needs them.
     pub k: Stiffness,
     chol: CholeskySolver,
     base: Option<PairStates>,
@@ -93,11 +97,22 @@ pub struct ContactSystem {
     pub flops: f64,
 }
 
-impl ContactSystem {
-    /// Wraps the stiffness and its symbolic factorization.
-    pub fn new(k: Stiffness, chol: CholeskySolver) -> Self {
+impl<'a> ContactSystem<'a> {
+    /// Wraps the stiffness of `parts` (and of coupling elements) and its symbolic
+    /// factorization; the stiffness is put in the factorization's elimination
+    /// order if it is not already (its values permuted along).
+    pub fn new(parts: &'a [Part], k: Stiffness, chol: CholeskySolver) -> Self {
         let budget = (256usize << 20).max(8 * chol.factor_nnz() / 4);
+        let k = match chol.order() {
+            Some((order, inverse)) if k.positions() != Some(inverse) => k.in_order(order, inverse),
+            None if k.positions().is_some() => {
+                let identity: Vec<usize> = (0..k.n()).collect();
+                k.in_order(&identity, &identity)
+            }
+            _ => k,
+        };
         ContactSystem {
+            parts,
             k,
             chol,
             base: None,
@@ -416,9 +431,12 @@ impl ContactSystem {
         rhs: &mut [f64],
     ) -> Result<Method, usize> {
         self.invalidate();
-        self.k.assemble(interfaces, states, dofs);
+        self.k.assemble(self.parts, interfaces, states, dofs);
         let t = Instant::now();
-        self.chol.factorize(self.k.matrix())?;
+        let factorized = self.chol.factorize(self.k.matrix());
+        // The values are needed by a factorization only: free them until the next.
+        self.k.free_values();
+        factorized?;
         let dt = t.elapsed().as_secs_f64();
         self.factor_seconds += dt;
         self.first_factor_seconds.get_or_insert(dt);
