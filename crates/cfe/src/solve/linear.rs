@@ -143,6 +143,12 @@ impl CholeskySolver {
         self.split.as_ref().map_or(1, |s| s.parts())
     }
 
+    /// Number of parts the full and restricted solves run in parallel (1:
+    /// sequential).
+    pub fn solve_parts(&self) -> usize {
+        self.split.as_ref().map_or(1, |s| s.parts())
+    }
+
     /// The supernodal structure of the factor.
     pub fn supernodal(&self) -> &SymbolicSupernodalCholesky<usize> {
         match self.symbolic.raw() {
@@ -203,7 +209,7 @@ impl CholeskySolver {
         }
         let l = llt(&self.symbolic, &self.factor);
         if let Some(split) = &self.split {
-            split.forward(l, &self.supernode_of, z);
+            split.forward(l, &self.supernode_of, None, z);
             return;
         }
         let stack = MemStack::new(&mut self.scratch);
@@ -217,7 +223,7 @@ impl CholeskySolver {
         assert!(self.factorized, "solve before a successful factorization");
         let l = llt(&self.symbolic, &self.factor);
         if let Some(split) = &self.split {
-            split.backward(l, &self.supernode_of, z);
+            split.backward(l, &self.supernode_of, None, z);
         } else {
             let stack = MemStack::new(&mut self.scratch);
             let n = z.len();
@@ -286,6 +292,10 @@ impl CholeskySolver {
     /// `x_s = L_ss⁻¹ z_s`, then `z_p ← z_p − L_ps x_s` on the rows `p` below.
     pub fn forward_on(&self, set: &[usize], z: &mut [f64]) {
         assert!(self.factorized, "solve before a successful factorization");
+        if let Some(split) = &self.split {
+            split.forward(self.factor(), &self.supernode_of, Some(set), z);
+            return;
+        }
         let mut below: Vec<f64> = Vec::new();
         for &s in set.iter().rev() {
             let (begin, c, top, bottom, pattern) = self.supernode_blocks(s);
@@ -314,6 +324,10 @@ impl CholeskySolver {
     /// left as they were.
     pub fn backward_on(&self, set: &[usize], z: &mut [f64]) {
         assert!(self.factorized, "solve before a successful factorization");
+        if let Some(split) = &self.split {
+            split.backward(self.factor(), &self.supernode_of, Some(set), z);
+            return;
+        }
         let mut below: Vec<f64> = Vec::new();
         for &s in set {
             let (begin, c, top, bottom, pattern) = self.supernode_blocks(s);
@@ -640,6 +654,29 @@ mod tests {
             s.backward(&mut z, &mut x);
             assert!(rel(&x, &x_seq) < 1e-12, "{}", rel(&x, &x_seq));
         }
+        // The restricted solves on the tree paths of a few rows, split and not.
+        let rows = [5usize, 4000, 8099];
+        let set = s.ancestors(rows.iter().map(|&e| s.permuted(e)));
+        let mut on = Vec::new();
+        for parts in [1, 2] {
+            s.set_solve_parts(parts);
+            let mut z = vec![0.0; n];
+            for (i, &e) in rows.iter().enumerate() {
+                z[s.permuted(e)] = 1.0 + i as f64;
+            }
+            s.forward_on(&set, &mut z);
+            let f = z.clone();
+            s.backward_on(&set, &mut z);
+            on.push((f, z));
+        }
+        assert!(rel(&on[1].0, &on[0].0) < 1e-12);
+        let sn = s.supernodal();
+        let on_set = |z: &[f64]| -> Vec<f64> {
+            set.iter()
+                .flat_map(|&t| z[sn.supernode_begin()[t]..sn.supernode_end()[t]].to_vec())
+                .collect()
+        };
+        assert!(rel(&on_set(&on[1].1), &on_set(&on[0].1)) < 1e-12);
     }
 
     /// An indefinite matrix is reported as a failed factorization, not a panic.

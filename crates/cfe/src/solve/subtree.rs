@@ -185,11 +185,15 @@ impl SubtreeSplit {
     }
 
     /// `z ← L⁻¹ z` (in the elimination order), the parts in parallel.
-    /// `supernode_of[j]` is the supernode of column `j`.
+    /// `supernode_of[j]` is the supernode of column `j`. With `set` (supernodes
+    /// closed under the parent, descending, as from
+    /// [`super::linear::CholeskySolver::ancestors`]), `z` is zero outside `set` and
+    /// only its supernodes are visited (as [`super::linear::CholeskySolver::forward_on`]).
     pub fn forward<I: Index>(
         &self,
         l: SupernodalLltRef<'_, I, f64>,
         supernode_of: &[u32],
+        set: Option<&[usize]>,
         z: &mut [f64],
     ) {
         let begin = l.symbolic().supernode_begin();
@@ -206,7 +210,7 @@ impl SubtreeSplit {
                     top_offset: &self.top_offset,
                     begin,
                 };
-                forward_nodes(l, t.supernodes.clone(), zt, t.columns.clone(), |r, v| {
+                forward_nodes(l, nodes_in(set, &t.supernodes).rev(), zt, t.columns.clone(), |r, v| {
                     spill[top.position(r)] += v
                 }, &mut below);
             }
@@ -222,24 +226,26 @@ impl SubtreeSplit {
             }
         }
         let n = z.len();
-        forward_nodes(l, self.top.iter().copied(), z, 0..n, |_, _| {
+        forward_nodes(l, self.top_nodes(set).rev(), z, 0..n, |_, _| {
             unreachable!("the top is closed under the parent")
         }, &mut Vec::new());
     }
 
     /// `z ← L⁻ᵀ z` (in the elimination order): the top in sequence, then the parts
-    /// in parallel.
+    /// in parallel. With `set` (as for [`SubtreeSplit::forward`]), only its
+    /// supernodes are solved (as [`super::linear::CholeskySolver::backward_on`]).
     pub fn backward<I: Index>(
         &self,
         l: SupernodalLltRef<'_, I, f64>,
         supernode_of: &[u32],
+        set: Option<&[usize]>,
         z: &mut [f64],
     ) {
         let begin = l.symbolic().supernode_begin();
         let end = l.symbolic().supernode_end();
         let n = z.len();
         let mut below = Vec::new();
-        backward_nodes(l, self.top.iter().rev().copied(), z, 0..n, |_| {
+        backward_nodes(l, self.top_nodes(set), z, 0..n, |_| {
             unreachable!("the top is closed under the parent")
         }, &mut below);
         let mut top_z = vec![0.0; self.top_len];
@@ -257,11 +263,19 @@ impl SubtreeSplit {
         tasks.par_iter_mut().for_each(|subtrees| {
             let mut below = Vec::new();
             for (t, zt) in subtrees.iter_mut() {
-                backward_nodes(l, t.supernodes.clone().rev(), zt, t.columns.clone(), |r| {
+                backward_nodes(l, nodes_in(set, &t.supernodes), zt, t.columns.clone(), |r| {
                     top_z[top.position(r)]
                 }, &mut below);
             }
         });
+    }
+
+    /// The top supernodes (of `set` if given), descending.
+    fn top_nodes<'a>(&'a self, set: Option<&'a [usize]>) -> Box<dyn DoubleEndedIterator<Item = usize> + 'a> {
+        match set {
+            Some(set) => Box::new(set.iter().copied().filter(|&s| self.top_offset[s] != usize::MAX)),
+            None => Box::new(self.top.iter().rev().copied()),
+        }
     }
 
     /// `z` cut into the columns of each part's subtrees.
@@ -285,6 +299,21 @@ impl SubtreeSplit {
             at = t.columns.end;
         }
         out
+    }
+}
+
+/// The supernodes of `range` (of `set` if given: descending), descending.
+fn nodes_in<'a>(
+    set: Option<&'a [usize]>,
+    range: &Range<usize>,
+) -> Box<dyn DoubleEndedIterator<Item = usize> + 'a> {
+    match set {
+        Some(set) => {
+            let from = set.partition_point(|&s| s >= range.end);
+            let to = set.partition_point(|&s| s >= range.start);
+            Box::new(set[from..to].iter().copied())
+        }
+        None => Box::new(range.clone().rev()),
     }
 }
 
