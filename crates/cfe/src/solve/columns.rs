@@ -247,7 +247,7 @@ impl Columns {
         }
         // Per group and union supernode: the first position of the group's
         // columns in the block, the block's columns and the group's values.
-        let mut slices: Vec<Vec<(usize, &[u32], &mut [f64])>> =
+        let mut slices: Vec<Vec<GroupSlice>> =
             (0..groups).map(|_| Vec::with_capacity(union.len())).collect();
         for (s, blk) in self.blocks.iter_mut().enumerate() {
             if index[s] == u32::MAX {
@@ -270,7 +270,7 @@ impl Columns {
         }
         let paths = &self.paths;
         let l = chol.factor();
-        let solve = |slices: &mut Vec<(usize, &[u32], &mut [f64])>| {
+        let solve = |slices: &mut Vec<GroupSlice>| {
             let mut tmp: Vec<f64> = Vec::new();
             for (u, &s) in union.iter().enumerate() {
                 let node = l.supernode(s);
@@ -360,6 +360,10 @@ impl Columns {
         position(&self.paths, j, s)
     }
 }
+
+/// A column group's share of one block: the position of its first column in the
+/// block, the block's columns and the group's values.
+type GroupSlice<'a> = (usize, &'a [u32], &'a mut [f64]);
 
 /// Position of column `j` in the block of supernode `s` (on its path).
 fn position(paths: &[Vec<(u32, u32)>], j: usize, s: usize) -> usize {

@@ -197,7 +197,7 @@ impl SubtreeSplit {
         z: &mut [f64],
     ) {
         let begin = l.symbolic().supernode_begin();
-        let mut tasks: Vec<(Vec<(&Subtree, &mut [f64])>, Vec<f64>)> = self
+        let mut tasks: Vec<(Vec<Piece>, Vec<f64>)> = self
             .split(z)
             .into_iter()
             .map(|t| (t, vec![0.0; self.top_len]))
@@ -279,7 +279,7 @@ impl SubtreeSplit {
     }
 
     /// `z` cut into the columns of each part's subtrees.
-    fn split<'z>(&'z self, z: &'z mut [f64]) -> Vec<Vec<(&'z Subtree, &'z mut [f64])>> {
+    fn split<'z>(&'z self, z: &'z mut [f64]) -> Vec<Vec<Piece<'z>>> {
         let mut all: Vec<(usize, &Subtree)> = self
             .parts
             .iter()
@@ -287,7 +287,7 @@ impl SubtreeSplit {
             .flat_map(|(p, ts)| ts.iter().map(move |t| (p, t)))
             .collect();
         all.sort_by_key(|(_, t)| t.columns.start);
-        let mut out: Vec<Vec<(&Subtree, &mut [f64])>> =
+        let mut out: Vec<Vec<Piece>> =
             (0..self.parts.len()).map(|_| Vec::new()).collect();
         let mut rest = z;
         let mut at = 0;
@@ -316,6 +316,9 @@ fn nodes_in<'a>(
         None => Box::new(range.clone().rev()),
     }
 }
+
+/// A subtree and its columns of the solution vector.
+type Piece<'z> = (&'z Subtree, &'z mut [f64]);
 
 /// The position of a top row in the compact vector of the top rows.
 struct Spill<'a, I> {
