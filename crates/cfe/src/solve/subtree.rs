@@ -42,6 +42,9 @@ pub const PARALLEL_MIN_VALUES: usize = 1 << 18;
 /// the top).
 const MAX_SPLITS: usize = 4096;
 
+/// Splits tried past the best one before the search stops.
+const MAX_STALE: usize = 64;
+
 /// A subtree of the supernodal tree: its supernodes and columns (both contiguous).
 #[derive(Debug, Clone)]
 struct Subtree {
@@ -113,13 +116,16 @@ impl SubtreeSplit {
         let mut frontier = roots;
         let mut top_work = 0.0;
         let mut best: Option<(f64, Vec<usize>)> = None;
+        let mut stale = 0;
         for _ in 0..MAX_SPLITS.min(ns) {
             let loads = pack(&frontier, &work, parts).1;
             let cost = top_work + loads.iter().cloned().fold(0.0, f64::max);
             if best.as_ref().is_none_or(|(c, _)| cost < *c) {
                 best = Some((cost, frontier.clone()));
+                stale = 0;
             }
-            if top_work > 0.5 * total {
+            stale += 1;
+            if top_work > 0.5 * total || stale > MAX_STALE {
                 break;
             }
             let Some((i, _)) = frontier
