@@ -7,7 +7,9 @@
 //! tree), so a right-hand side with a few nonzeros can be forward-solved through
 //! the supernodes on the tree paths from its rows to the root only (see
 //! [`super::columns`]), and the cost of a factorization is known in flops before it
-//! is done ([`CholeskySolver::factor_flops`]).
+//! is done ([`CholeskySolver::factor_flops`]). On a factor big enough the full and
+//! restricted solves run disjoint subtrees of the elimination tree on different
+//! threads ([`super::subtree`]).
 
 use super::subtree::{PARALLEL_MIN_VALUES, SubtreeSplit};
 use crate::error::{Error, Result};
