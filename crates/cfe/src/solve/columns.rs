@@ -166,35 +166,55 @@ impl Columns {
             gram[a * m..a * m + first].copy_from_slice(row);
         }
         self.gram = gram;
-        self.solve_new(chol, &union, first);
-        for s in union {
-            let blk = std::mem::take(&mut self.blocks[s]);
-            let c = sn.supernode_end()[s] - sn.supernode_begin()[s];
-            let m_all = blk.cols.len();
-            let tail = blk.cols.partition_point(|&j| (j as usize) < first);
-            let m_new = m_all - tail;
-            let x_new = MatRef::from_column_major_slice(&blk.vals[tail * c..], c, m_new);
-            let x_all = MatRef::from_column_major_slice(&blk.vals, c, m_all);
-            let mut h = Mat::<f64>::zeros(m_new, m_all);
-            matmul(
-                h.as_mut(),
-                Accum::Replace,
-                x_new.transpose(),
-                x_all,
-                1.0,
-                Par::Seq,
-            );
-            for a in 0..m_new {
-                let ja = blk.cols[tail + a] as usize;
-                for (k, &jk) in blk.cols.iter().enumerate() {
-                    let jk = jk as usize;
-                    self.gram[ja * m + jk] += h[(a, k)];
-                    if jk < first {
-                        self.gram[jk * m + ja] += h[(a, k)];
+        let bounds = self.solve_new(chol, &union, first);
+        // Rows `ja` of the Gram matrix for each group of new columns: per supernode
+        // `x_groupᵀ x_all` (the groups in parallel, each into its own rows).
+        let blocks = &self.blocks;
+        let group_rows = |w: &[usize]| -> Vec<f64> {
+            let (a0, a1) = (w[0], w[1]);
+            let mut g = vec![0.0; (a1 - a0) * m];
+            for &s in &union {
+                let blk = &blocks[s];
+                let c = sn.supernode_end()[s] - sn.supernode_begin()[s];
+                let lo = blk.cols.partition_point(|&j| (j as usize) < a0);
+                let hi = blk.cols.partition_point(|&j| (j as usize) < a1);
+                if lo == hi {
+                    continue;
+                }
+                let x_group = MatRef::from_column_major_slice(&blk.vals[lo * c..hi * c], c, hi - lo);
+                let x_all = MatRef::from_column_major_slice(&blk.vals, c, blk.cols.len());
+                let mut h = Mat::<f64>::zeros(hi - lo, blk.cols.len());
+                matmul(
+                    h.as_mut(),
+                    Accum::Replace,
+                    x_group.transpose(),
+                    x_all,
+                    1.0,
+                    Par::Seq,
+                );
+                for a in 0..hi - lo {
+                    let row = &mut g[(blk.cols[lo + a] as usize - a0) * m..][..m];
+                    for (k, &jk) in blk.cols.iter().enumerate() {
+                        row[jk as usize] += h[(a, k)];
                     }
                 }
             }
-            self.blocks[s] = blk;
+            g
+        };
+        let windows: Vec<&[usize]> = bounds.windows(2).collect();
+        let rows: Vec<Vec<f64>> = if windows.len() > 1 {
+            windows.par_iter().map(|w| group_rows(w)).collect()
+        } else {
+            windows.iter().map(|w| group_rows(w)).collect()
+        };
+        for (w, g) in windows.iter().zip(&rows) {
+            for ja in w[0]..w[1] {
+                let row = &g[(ja - w[0]) * m..][..m];
+                self.gram[ja * m..(ja + 1) * m].copy_from_slice(row);
+                for (jk, &v) in row.iter().enumerate().take(first) {
+                    self.gram[jk * m + ja] = v;
+                }
+            }
         }
         first
     }
@@ -209,11 +229,12 @@ impl Columns {
     /// a group's columns are contiguous in every block (columns are stored in
     /// index order), so each group owns a slice of each block, and a column's
     /// values do not depend on the grouping.
-    fn solve_new(&mut self, chol: &CholeskySolver, union: &[usize], first: usize) {
+    /// Returns the groups' bounds (`first`, …, `m`).
+    fn solve_new(&mut self, chol: &CholeskySolver, union: &[usize], first: usize) -> Vec<usize> {
         let sn = chol.supernodal();
         let m = self.paths.len();
         if m == first {
-            return;
+            return vec![first, m];
         }
         // Work of each new column (c² + 2 c p per supernode on its path).
         let work: Vec<f64> = self.paths[first..]
@@ -319,6 +340,7 @@ impl Columns {
         } else {
             slices.iter_mut().for_each(solve);
         }
+        bounds
     }
 
     /// `G[a, b] = v_aᵀ v_b`.
