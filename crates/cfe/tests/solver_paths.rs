@@ -20,16 +20,19 @@ fn plate(refine: usize) -> Analysis {
     Analysis::new(Model::from_file(&path, refine).unwrap()).unwrap()
 }
 
-fn system(a: &Analysis) -> ContactSystem<'_> {
+/// The contact system of `a`, its solves cut into `parts` parallel subtrees (1:
+/// sequential; the fast paths under test use 2, whatever the size).
+fn system(a: &Analysis, parts: usize) -> ContactSystem<'_> {
     let graph = NodeGraph::new(&a.model.parts, &a.interfaces, &a.dofs);
     let k = Stiffness::new(&a.model.parts, &a.dofs, &graph);
-    let chol = CholeskySolver::new(k.matrix(), None).unwrap();
+    let mut chol = CholeskySolver::new(k.matrix(), None).unwrap();
+    assert_eq!(chol.set_solve_parts(parts), parts);
     ContactSystem::new(&a.model.parts, k, chol)
 }
 
 /// The solution of `states` by a fresh factorization.
 fn fresh(a: &Analysis, states: &[Vec<PairState>], rhs: &[f64]) -> Vec<f64> {
-    let mut s = system(a);
+    let mut s = system(a, 1);
     let mut x = rhs.to_vec();
     assert_eq!(
         s.solve(&a.interfaces, &a.dofs, states, &mut x).unwrap(),
@@ -89,7 +92,7 @@ fn low_rank_update_equals_refactorization() {
     let mut back = ends.clone();
     back[0][0] = PairState::Bonded;
     back[0][n - 1] = PairState::Bonded;
-    let mut s = system(&a);
+    let mut s = system(&a, 2);
     s.policy = UpdatePolicy::Always;
     let mut x0 = rhs.clone();
     assert_eq!(
@@ -181,7 +184,7 @@ fn interface_solve_equals_full_solve_at_the_pairs() {
         .map(|d| a.dofs.eq[d])
         .filter(|&e| e != usize::MAX)
         .collect();
-    let mut s = system(&a);
+    let mut s = system(&a, 2);
     s.policy = UpdatePolicy::Always;
     let mut x = rhs.clone();
     let (m, complete) = s

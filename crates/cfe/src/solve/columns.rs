@@ -18,6 +18,7 @@ use super::linear::CholeskySolver;
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
+use rayon::prelude::*;
 
 /// The columns stored on one supernode: their indices and values (supernode
 /// width × number of columns, column-major).
@@ -165,26 +166,154 @@ impl Columns {
             gram[a * m..a * m + first].copy_from_slice(row);
         }
         self.gram = gram;
-        let l = chol.factor();
-        for s in union {
-            let mut blk = std::mem::take(&mut self.blocks[s]);
-            let node = l.supernode(s);
-            let lv = node.val();
-            let c = lv.ncols();
-            let m_all = blk.cols.len();
-            let tail = blk.cols.partition_point(|&j| (j as usize) < first);
-            let m_new = m_all - tail;
-            {
-                let x = MatMut::from_column_major_slice_mut(&mut blk.vals[tail * c..], c, m_new);
-                let (top, _) = lv.split_at_row(c);
-                solve_lower_triangular_in_place(top, x, Par::Seq);
+        let bounds = self.solve_new(chol, &union, first);
+        // Rows `ja` of the Gram matrix for each group of new columns: per supernode
+        // `x_groupᵀ x_all` (the groups in parallel, each into its own rows).
+        let blocks = &self.blocks;
+        let group_rows = |w: &[usize]| -> Vec<f64> {
+            let (a0, a1) = (w[0], w[1]);
+            let mut g = vec![0.0; (a1 - a0) * m];
+            for &s in &union {
+                let blk = &blocks[s];
+                let c = sn.supernode_end()[s] - sn.supernode_begin()[s];
+                let lo = blk.cols.partition_point(|&j| (j as usize) < a0);
+                let hi = blk.cols.partition_point(|&j| (j as usize) < a1);
+                if lo == hi {
+                    continue;
+                }
+                let x_group = MatRef::from_column_major_slice(&blk.vals[lo * c..hi * c], c, hi - lo);
+                let x_all = MatRef::from_column_major_slice(&blk.vals, c, blk.cols.len());
+                let mut h = Mat::<f64>::zeros(hi - lo, blk.cols.len());
+                matmul(
+                    h.as_mut(),
+                    Accum::Replace,
+                    x_group.transpose(),
+                    x_all,
+                    1.0,
+                    Par::Seq,
+                );
+                for a in 0..hi - lo {
+                    let row = &mut g[(blk.cols[lo + a] as usize - a0) * m..][..m];
+                    for (k, &jk) in blk.cols.iter().enumerate() {
+                        row[jk as usize] += h[(a, k)];
+                    }
+                }
             }
-            let x_new = MatRef::from_column_major_slice(&blk.vals[tail * c..], c, m_new);
-            let pattern = node.pattern();
-            if !pattern.is_empty() {
-                let (_, bottom) = lv.split_at_row(c);
-                let mut tmp = Mat::<f64>::zeros(pattern.len(), m_new);
-                matmul(tmp.as_mut(), Accum::Replace, bottom, x_new, 1.0, Par::Seq);
+            g
+        };
+        let windows: Vec<&[usize]> = bounds.windows(2).collect();
+        let rows: Vec<Vec<f64>> = if windows.len() > 1 {
+            windows.par_iter().map(|w| group_rows(w)).collect()
+        } else {
+            windows.iter().map(|w| group_rows(w)).collect()
+        };
+        for (w, g) in windows.iter().zip(&rows) {
+            for ja in w[0]..w[1] {
+                let row = &g[(ja - w[0]) * m..][..m];
+                self.gram[ja * m..(ja + 1) * m].copy_from_slice(row);
+                for (jk, &v) in row.iter().enumerate().take(first) {
+                    self.gram[jk * m + ja] = v;
+                }
+            }
+        }
+        first
+    }
+
+    /// Forward-solves the new columns `first..` (scattered into their blocks) on
+    /// the supernodes `union` of their paths (ascending): per supernode a dense
+    /// triangular solve and product for all of a group's columns there, and the
+    /// product subtracted from the ancestors' rows. The columns are cut into
+    /// contiguous groups of balanced work, as many as the full solves use parallel
+    /// parts ([`CholeskySolver::solve_parts`]: one per rayon thread on a factor
+    /// big enough), solved in parallel:
+    /// a group's columns are contiguous in every block (columns are stored in
+    /// index order), so each group owns a slice of each block, and a column's
+    /// values do not depend on the grouping.
+    /// Returns the groups' bounds (`first`, …, `m`).
+    fn solve_new(&mut self, chol: &CholeskySolver, union: &[usize], first: usize) -> Vec<usize> {
+        let sn = chol.supernodal();
+        let m = self.paths.len();
+        if m == first {
+            return vec![first, m];
+        }
+        // Work of each new column (c² + 2 c p per supernode on its path).
+        let work: Vec<f64> = self.paths[first..]
+            .iter()
+            .map(|path| {
+                path.iter()
+                    .map(|&(s, _)| {
+                        let (c, p) = width(chol, s as usize);
+                        c * c + 2.0 * c * p
+                    })
+                    .sum()
+            })
+            .collect();
+        let total: f64 = work.iter().sum();
+        let threads = chol.solve_parts().clamp(1, m - first);
+        // Contiguous groups of columns of about equal work.
+        let mut bounds = vec![first];
+        let mut acc = 0.0;
+        for (k, w) in work.iter().enumerate() {
+            acc += w;
+            if bounds.len() < threads && acc >= total * bounds.len() as f64 / threads as f64 {
+                bounds.push(first + k + 1);
+            }
+        }
+        bounds.push(m);
+        bounds.dedup();
+        let groups = bounds.len() - 1;
+        let mut index = vec![u32::MAX; self.blocks.len()];
+        for (u, &s) in union.iter().enumerate() {
+            index[s] = u as u32;
+        }
+        // Per group and union supernode: the first position of the group's
+        // columns in the block, the block's columns and the group's values.
+        let mut slices: Vec<Vec<GroupSlice>> =
+            (0..groups).map(|_| Vec::with_capacity(union.len())).collect();
+        for (s, blk) in self.blocks.iter_mut().enumerate() {
+            if index[s] == u32::MAX {
+                continue;
+            }
+            let c = sn.supernode_end()[s] - sn.supernode_begin()[s];
+            let Block { cols, vals } = blk;
+            let cols: &[u32] = cols;
+            let mut rest: &mut [f64] = vals;
+            let mut at = 0;
+            for (g, w) in bounds.windows(2).enumerate() {
+                let lo = cols.partition_point(|&j| (j as usize) < w[0]);
+                let hi = cols.partition_point(|&j| (j as usize) < w[1]);
+                let tail = std::mem::take(&mut rest).split_at_mut((lo - at) * c).1;
+                let (mine, after) = tail.split_at_mut((hi - lo) * c);
+                slices[g].push((lo, cols, mine));
+                rest = after;
+                at = hi;
+            }
+        }
+        let paths = &self.paths;
+        let l = chol.factor();
+        let solve = |slices: &mut Vec<GroupSlice>| {
+            let mut tmp: Vec<f64> = Vec::new();
+            for (u, &s) in union.iter().enumerate() {
+                let node = l.supernode(s);
+                let lv = node.val();
+                let c = lv.ncols();
+                let (head, after) = slices.split_at_mut(u + 1);
+                let (lo, cols, x) = &mut head[u];
+                let k = x.len() / c;
+                if k == 0 {
+                    continue;
+                }
+                let (top, bottom) = lv.split_at_row(c);
+                let mut xm = MatMut::from_column_major_slice_mut(x, c, k);
+                solve_lower_triangular_in_place(top, xm.as_mut(), Par::Seq);
+                let pattern = node.pattern();
+                if pattern.is_empty() {
+                    continue;
+                }
+                tmp.clear();
+                tmp.resize(pattern.len() * k, 0.0);
+                let tm = MatMut::from_column_major_slice_mut(&mut tmp, pattern.len(), k);
+                matmul(tm, Accum::Replace, bottom, xm.as_ref(), 1.0, Par::Seq);
                 let mut i = 0;
                 while i < pattern.len() {
                     let t = chol.supernode_of(pattern[i]);
@@ -192,40 +321,26 @@ impl Columns {
                     let end = sn.supernode_end()[t];
                     let run = pattern[i..].partition_point(|&r| r < end);
                     let ct = end - begin;
-                    for k in 0..m_new {
-                        let j = blk.cols[tail + k] as usize;
-                        let pos = self.position(j, t);
-                        let dst = &mut self.blocks[t].vals[pos * ct..(pos + 1) * ct];
-                        for (q, &r) in pattern[i..i + run].iter().enumerate() {
-                            dst[r - begin] -= tmp[(i + q, k)];
+                    let (lo_t, _, dst_all) = &mut after[index[t] as usize - u - 1];
+                    for q in 0..k {
+                        let j = cols[*lo + q] as usize;
+                        let pos = position(paths, j, t) - *lo_t;
+                        let dst = &mut dst_all[pos * ct..(pos + 1) * ct];
+                        let src = &tmp[q * pattern.len() + i..q * pattern.len() + i + run];
+                        for (&r, &v) in pattern[i..i + run].iter().zip(src) {
+                            dst[r - begin] -= v;
                         }
                     }
                     i += run;
                 }
             }
-            let x_all = MatRef::from_column_major_slice(&blk.vals, c, m_all);
-            let mut h = Mat::<f64>::zeros(m_new, m_all);
-            matmul(
-                h.as_mut(),
-                Accum::Replace,
-                x_new.transpose(),
-                x_all,
-                1.0,
-                Par::Seq,
-            );
-            for a in 0..m_new {
-                let ja = blk.cols[tail + a] as usize;
-                for (k, &jk) in blk.cols.iter().enumerate() {
-                    let jk = jk as usize;
-                    self.gram[ja * m + jk] += h[(a, k)];
-                    if jk < first {
-                        self.gram[jk * m + ja] += h[(a, k)];
-                    }
-                }
-            }
-            self.blocks[s] = blk;
+        };
+        if groups > 1 {
+            slices.par_iter_mut().for_each(solve);
+        } else {
+            slices.iter_mut().for_each(solve);
         }
-        first
+        bounds
     }
 
     /// `G[a, b] = v_aᵀ v_b`.
@@ -264,13 +379,23 @@ impl Columns {
 
     /// Position of column `j` in the block of supernode `s` (on its path).
     fn position(&self, j: usize, s: usize) -> usize {
-        let path = &self.paths[j];
-        let i = path
-            .binary_search_by_key(&(s as u32), |&(t, _)| t)
-            .expect("an ancestor of a column's supernode is on its path");
-        path[i].1 as usize
+        position(&self.paths, j, s)
     }
 }
+
+/// A column group's share of one block: the position of its first column in the
+/// block, the block's columns and the group's values.
+type GroupSlice<'a> = (usize, &'a [u32], &'a mut [f64]);
+
+/// Position of column `j` in the block of supernode `s` (on its path).
+fn position(paths: &[Vec<(u32, u32)>], j: usize, s: usize) -> usize {
+    let path = &paths[j];
+    let i = path
+        .binary_search_by_key(&(s as u32), |&(t, _)| t)
+        .expect("an ancestor of a column's supernode is on its path");
+    path[i].1 as usize
+}
+
 
 /// Width `c` and rows below `p` of supernode `s`.
 fn width(chol: &CholeskySolver, s: usize) -> (f64, f64) {

@@ -9,6 +9,7 @@ pub mod linear;
 pub mod nonlinear;
 pub(crate) mod ordering;
 pub(crate) mod setup;
+pub mod subtree;
 pub(crate) mod support;
 pub mod system;
 pub(crate) mod warm_start;
