@@ -674,7 +674,7 @@ mod tests {
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
         let k = SparseColMatRef::new(sym, &vals);
         let mut s = CholeskySolver::new(k, None).unwrap();
-        s.factorize(k).unwrap();
+        factorize(&mut s, k).unwrap();
         let b: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin() + 0.1).collect();
         assert_eq!(s.set_solve_parts(1), 1);
         let (mut z_seq, mut x_seq) = (vec![0.0; n], vec![0.0; n]);
