@@ -577,23 +577,16 @@ mod tests {
         }
     }
 
-    /// The backward solve restricted to the tree paths of a few rows gives the full
-    /// solve's values on those rows (to round-off) and touches no other supernode,
-    /// and the forward solve of a right-hand side on those rows, restricted to the
-    /// same paths, equals the full forward solve,
-    /// on a 5-point Laplacian of a 30 × 30 grid (plus identity) whose AMD ordering
-    /// has a branching elimination tree.
-    #[test]
-    fn backward_on_paths_matches_full_solve() {
-        let m = 30;
-        let n = m * m;
+    /// The lower triangle (CSC: column pointers, rows, values) of the 5-point
+    /// Laplacian of an `m` × `m` grid with `diagonal` on the diagonal.
+    fn laplacian(m: usize, diagonal: f64) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
         let mut col_ptr = vec![0];
         let mut row = vec![];
         let mut vals = vec![];
-        for j in 0..n {
+        for j in 0..m * m {
             let (x, y) = (j % m, j / m);
             row.push(j);
-            vals.push(5.0);
+            vals.push(diagonal);
             if x + 1 < m {
                 row.push(j + 1);
                 vals.push(-1.0);
@@ -604,6 +597,20 @@ mod tests {
             }
             col_ptr.push(row.len());
         }
+        (col_ptr, row, vals)
+    }
+
+    /// The backward solve restricted to the tree paths of a few rows gives the full
+    /// solve's values on those rows (to round-off) and touches no other supernode,
+    /// and the forward solve of a right-hand side on those rows, restricted to the
+    /// same paths, equals the full forward solve,
+    /// on a 5-point Laplacian of a 30 × 30 grid (plus identity) whose AMD ordering
+    /// has a branching elimination tree.
+    #[test]
+    fn backward_on_paths_matches_full_solve() {
+        let m = 30;
+        let n = m * m;
+        let (col_ptr, row, vals) = laplacian(m, 5.0);
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
         let k = SparseColMatRef::new(sym, &vals);
         let mut s = CholeskySolver::new(k, None).unwrap();
@@ -654,23 +661,7 @@ mod tests {
     fn subtree_parallel_solves_match_sequential() {
         let m = 90;
         let n = m * m;
-        let mut col_ptr = vec![0];
-        let mut row = vec![];
-        let mut vals = vec![];
-        for j in 0..n {
-            let (x, y) = (j % m, j / m);
-            row.push(j);
-            vals.push(4.01);
-            if x + 1 < m {
-                row.push(j + 1);
-                vals.push(-1.0);
-            }
-            if y + 1 < m {
-                row.push(j + m);
-                vals.push(-1.0);
-            }
-            col_ptr.push(row.len());
-        }
+        let (col_ptr, row, vals) = laplacian(m, 4.01);
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
         let k = SparseColMatRef::new(sym, &vals);
         let mut s = CholeskySolver::new(k, None).unwrap();

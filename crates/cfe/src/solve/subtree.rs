@@ -208,14 +208,10 @@ impl SubtreeSplit {
             .into_iter()
             .map(|t| (t, vec![0.0; self.top_len]))
             .collect();
+        let top = self.spill(supernode_of, begin);
         tasks.par_iter_mut().for_each(|(subtrees, spill)| {
             let mut below = Vec::new();
             for (t, zt) in subtrees.iter_mut() {
-                let top = Spill {
-                    supernode_of,
-                    top_offset: &self.top_offset,
-                    begin,
-                };
                 forward_nodes(l, nodes_in(set, &t.supernodes).rev(), zt, t.columns.clone(), |r, v| {
                     spill[top.position(r)] += v
                 }, &mut below);
@@ -223,10 +219,8 @@ impl SubtreeSplit {
         });
         let spills: Vec<Vec<f64>> = tasks.into_iter().map(|(_, spill)| spill).collect();
         for spill in &spills {
-            for &s in &self.top {
-                let (b, c) = (begin[s].zx(), l.symbolic().supernode_end()[s].zx() - begin[s].zx());
-                let o = self.top_offset[s];
-                for (x, v) in z[b..b + c].iter_mut().zip(&spill[o..o + c]) {
+            for (rows, at) in self.top_blocks(l) {
+                for (x, v) in z[rows].iter_mut().zip(&spill[at]) {
                     *x -= v;
                 }
             }
@@ -248,23 +242,16 @@ impl SubtreeSplit {
         z: &mut [f64],
     ) {
         let begin = l.symbolic().supernode_begin();
-        let end = l.symbolic().supernode_end();
         let n = z.len();
         let mut below = Vec::new();
         backward_nodes(l, self.top_nodes(set), z, 0..n, |_| {
             unreachable!("the top is closed under the parent")
         }, &mut below);
         let mut top_z = vec![0.0; self.top_len];
-        for &s in &self.top {
-            let (b, e) = (begin[s].zx(), end[s].zx());
-            let o = self.top_offset[s];
-            top_z[o..o + e - b].copy_from_slice(&z[b..e]);
+        for (rows, at) in self.top_blocks(l) {
+            top_z[at].copy_from_slice(&z[rows]);
         }
-        let top = Spill {
-            supernode_of,
-            top_offset: &self.top_offset,
-            begin,
-        };
+        let top = self.spill(supernode_of, begin);
         let mut tasks = self.split(z);
         tasks.par_iter_mut().for_each(|subtrees| {
             let mut below = Vec::new();
@@ -274,6 +261,29 @@ impl SubtreeSplit {
                 }, &mut below);
             }
         });
+    }
+
+    /// Per top supernode: its rows in `z` and where they sit in the compact
+    /// vector of the top rows.
+    fn top_blocks<'a, I: Index>(
+        &'a self,
+        l: SupernodalLltRef<'a, I, f64>,
+    ) -> impl Iterator<Item = (Range<usize>, Range<usize>)> + 'a {
+        let (begin, end) = (l.symbolic().supernode_begin(), l.symbolic().supernode_end());
+        self.top.iter().map(move |&s| {
+            let (b, e, o) = (begin[s].zx(), end[s].zx(), self.top_offset[s]);
+            (b..e, o..o + e - b)
+        })
+    }
+
+    /// The map from a top row to its position in the compact vector of the top
+    /// rows.
+    fn spill<'a, I: Index>(&'a self, supernode_of: &'a [u32], begin: &'a [I]) -> Spill<'a, I> {
+        Spill {
+            supernode_of,
+            top_offset: &self.top_offset,
+            begin,
+        }
     }
 
     /// The top supernodes (of `set` if given), descending.
