@@ -10,7 +10,9 @@
 //! written, and the file is written atomically (see [`super::write_atomic`]).
 //!
 //! Types written: point coordinates Float64 (3 components, z = 0), connectivity and
-//! offsets Int64, cell types UInt8, data arrays Float64 or Int32, field data Float64.
+//! offsets Int32 when every index and offset fits (see [`index_type`]; half the bytes
+//! of Int64), Int64 otherwise, cell types UInt8, data arrays Float64 or Int32, field
+//! data Float64.
 
 use super::write_atomic;
 use crate::error::{Error, Result};
@@ -316,8 +318,8 @@ enum Section {
 enum Payload<'a> {
     /// Points written as (x, y, 0) Float64.
     Points(&'a [[f64; 2]]),
-    /// Connectivity or offsets written as Int64.
-    Indices(&'a [usize]),
+    /// Connectivity or offsets written as the grid's [`IndexType`].
+    Indices(&'a [usize], IndexType),
     /// Cell types written as UInt8.
     Types(&'a [CellKind]),
     /// A data array; 2 components are padded to 3.
@@ -332,7 +334,7 @@ impl Payload<'_> {
     fn byte_len(&self) -> u64 {
         let n = match self {
             Payload::Points(p) => p.len() * 24,
-            Payload::Indices(i) => i.len() * 8,
+            Payload::Indices(i, t) => i.len() * t.bytes(),
             Payload::Types(t) => t.len(),
             Payload::Data { values, components } => {
                 let scalar = match values {
@@ -354,7 +356,13 @@ impl Payload<'_> {
                 b[8..16].copy_from_slice(&p[1].to_le_bytes());
                 b
             }),
-            Payload::Indices(indices) => out.put_each(indices, |i| (i as i64).to_le_bytes()),
+            // `index_type` chose a type every value fits.
+            Payload::Indices(indices, IndexType::Int32) => {
+                out.put_each(indices, |i| (i as i32).to_le_bytes())
+            }
+            Payload::Indices(indices, IndexType::Int64) => {
+                out.put_each(indices, |i| (i as i64).to_le_bytes())
+            }
             Payload::Types(kinds) => {
                 for &k in *kinds {
                     out.put(&[k.vtk_type()])?;
@@ -457,9 +465,27 @@ fn layout<'a>(grid: &Grid<'a>) -> Vec<Array<'a>> {
         range: None,
         payload: Payload::Points(grid.points),
     });
+    // The largest value of either array: the last offset is the connectivity's
+    // length, and every connectivity entry is below the number of points.
+    let largest = grid
+        .connectivity
+        .iter()
+        .copied()
+        .max()
+        .unwrap_or(0)
+        .max(grid.connectivity.len());
+    let index = index_type(largest);
     for (name, vtk_type, payload) in [
-        ("connectivity", "Int64", Payload::Indices(grid.connectivity)),
-        ("offsets", "Int64", Payload::Indices(grid.offsets)),
+        (
+            "connectivity",
+            index.vtk_name(),
+            Payload::Indices(grid.connectivity, index),
+        ),
+        (
+            "offsets",
+            index.vtk_name(),
+            Payload::Indices(grid.offsets, index),
+        ),
         ("types", "UInt8", Payload::Types(grid.kinds)),
     ] {
         arrays.push(Array {
@@ -473,6 +499,44 @@ fn layout<'a>(grid: &Grid<'a>) -> Vec<Array<'a>> {
         });
     }
     arrays
+}
+
+/// The integer type of a grid's connectivity and offsets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum IndexType {
+    /// 4 bytes per value.
+    Int32,
+    /// 8 bytes per value.
+    Int64,
+}
+
+impl IndexType {
+    /// The VTK type name of the `<DataArray>`.
+    fn vtk_name(self) -> &'static str {
+        match self {
+            IndexType::Int32 => "Int32",
+            IndexType::Int64 => "Int64",
+        }
+    }
+
+    /// Bytes per value.
+    fn bytes(self) -> usize {
+        match self {
+            IndexType::Int32 => 4,
+            IndexType::Int64 => 8,
+        }
+    }
+}
+
+/// The type the connectivity and offsets of a grid are written in, given the
+/// largest value either holds: Int32 when it fits (every mesh below ~2·10⁹ point
+/// references), Int64 otherwise. Both arrays share it.
+fn index_type(largest: usize) -> IndexType {
+    if i32::try_from(largest).is_ok() {
+        IndexType::Int32
+    } else {
+        IndexType::Int64
+    }
 }
 
 /// The range ParaView expects in RangeMin / RangeMax: of the values for one
@@ -741,15 +805,6 @@ mod tests {
                 .collect()
         }
 
-        fn i64s(&self, tag: &str, name: &str) -> Vec<i64> {
-            let a = self.array(tag, name);
-            assert_eq!(a["type"], "Int64");
-            let p = self.payload(&a);
-            p.chunks_exact(8)
-                .map(|c| i64::from_le_bytes(c.try_into().unwrap()))
-                .collect()
-        }
-
         fn u8s(&self, tag: &str, name: &str) -> Vec<u8> {
             let a = self.array(tag, name);
             assert_eq!(a["type"], "UInt8");
@@ -859,8 +914,8 @@ mod tests {
             0.0,
         ];
         assert_eq!(bits(&points), bits(&expected));
-        assert_eq!(vtu.i64s("Cells", "connectivity"), [0, 1, 2, 0, 2, 3]);
-        assert_eq!(vtu.i64s("Cells", "offsets"), [3, 6]);
+        assert_eq!(vtu.i32s("Cells", "connectivity"), [0, 1, 2, 0, 2, 3]);
+        assert_eq!(vtu.i32s("Cells", "offsets"), [3, 6]);
         assert_eq!(vtu.u8s("Cells", "types"), [5, 5]);
 
         let vector = vtu.f64s("PointData", "displacement");
@@ -887,6 +942,44 @@ mod tests {
         assert_eq!(time["NumberOfTuples"], "1");
         assert_eq!(vtu.f64s("FieldData", "TIME"), [0.25]);
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// Connectivity and offsets are Int32 up to i32::MAX and Int64 beyond it, and an
+    /// Int64 index block holds every value as 8 little-endian bytes (what a grid of
+    /// more than 2³¹ point references is written with, without building one).
+    #[test]
+    fn indices_beyond_i32_are_int64() {
+        let max = i32::MAX as usize;
+        assert_eq!(index_type(0), IndexType::Int32);
+        assert_eq!(index_type(max), IndexType::Int32);
+        assert_eq!(index_type(max + 1), IndexType::Int64);
+        assert_eq!(index_type(usize::MAX), IndexType::Int64);
+        let values = [0, 3, max, max + 1, 5 * max];
+        for (t, width) in [(IndexType::Int32, 4), (IndexType::Int64, 8)] {
+            let values = if t == IndexType::Int32 {
+                &values[..3]
+            } else {
+                &values[..]
+            };
+            let payload = Payload::Indices(values, t);
+            let mut bytes = Vec::new();
+            let mut out = Chunked {
+                w: &mut bytes,
+                buf: Vec::new(),
+            };
+            payload.write(&mut out).unwrap();
+            out.flush_chunk().unwrap();
+            assert_eq!(payload.byte_len(), (width * values.len()) as u64);
+            assert_eq!(bytes.len(), width * values.len());
+            let back: Vec<usize> = bytes
+                .chunks_exact(width)
+                .map(|c| match t {
+                    IndexType::Int32 => i32::from_le_bytes(c.try_into().unwrap()) as usize,
+                    IndexType::Int64 => i64::from_le_bytes(c.try_into().unwrap()) as usize,
+                })
+                .collect();
+            assert_eq!(back, values, "{t:?}");
+        }
     }
 
     fn bits(v: &[f64]) -> Vec<u64> {
@@ -918,9 +1011,9 @@ mod tests {
         let vtu = Vtu::read(&path);
         vtu.check_tiling();
         assert_eq!(vtu.u8s("Cells", "types"), [1, 3, 5, 9]);
-        assert_eq!(vtu.i64s("Cells", "offsets"), [1, 3, 6, 10]);
+        assert_eq!(vtu.i32s("Cells", "offsets"), [1, 3, 6, 10]);
         assert_eq!(
-            vtu.i64s("Cells", "connectivity"),
+            vtu.i32s("Cells", "connectivity"),
             [4, 1, 4, 0, 1, 2, 0, 1, 2, 3]
         );
         for tag in ["PointData", "CellData", "FieldData"] {
