@@ -1,6 +1,7 @@
 //! Running an analysis to disk: solves the increments and writes each converged
 //! one (VTU + PVD series, pairs CSV, JSON summary) as soon as it converges, so
-//! results survive a later failure; pictures at the end.
+//! results survive a later failure; the pictures of the last increment are drawn
+//! while its parts VTU is still being written.
 
 use super::memory::peak_memory_bytes;
 use super::report::{self, PairRow};
@@ -20,15 +21,26 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::thread::{Scope, ScopedJoinHandle};
 use std::time::Instant;
 
+/// The pictures a successful run draws into its output folder.
+const PICTURES: [&str; 3] = ["sigma_yy.png", "displacement.png", "pressure.png"];
+
 /// The files a run writes into its output folder (besides `vtu/`).
 const RUN_FILES: [&str; 6] = [
     "summary.json",
     "pairs.csv",
     "results.pvd",
-    "sigma_yy.png",
-    "displacement.png",
-    "pressure.png",
+    PICTURES[0],
+    PICTURES[1],
+    PICTURES[2],
 ];
+
+/// Removes the pictures of a run that failed after drawing them (best effort:
+/// the run's error is what gets reported).
+fn remove_pictures(out: &Path) {
+    for f in PICTURES {
+        let _ = std::fs::remove_file(out.join(f));
+    }
+}
 
 /// Removes what an earlier run left in `out`: its files, its VTU series
 /// (`vtu/parts_NNNN.vtu`, `vtu/pairs_NNNN.vtu`) and temporary files of an
@@ -287,7 +299,7 @@ impl Analysis {
         let result = std::thread::scope(|scope| {
             this.solve_and_write(scope, &grid, out, &mut log, progress, stop)
         });
-        let result = result.and_then(|inc| self.finish_run(out, &inc, &mut log, start));
+        let result = result.and_then(|_| self.finish_run(out, &mut log, start));
         match result {
             Ok(summary) => Ok(summary),
             Err(e) => match self.record_stop(out, &mut log.summary, start, &e) {
@@ -313,8 +325,11 @@ impl Analysis {
     }
 
     /// Solves the increments, writing each converged one (see
-    /// [`Analysis::write_increment`]) and stopping once `stop` is nonzero; the
-    /// last converged increment. Solver statistics go into the summary either way.
+    /// [`Analysis::write_increment`]) and stopping once `stop` is nonzero, then
+    /// draws the pictures of the last increment while the last writers finish.
+    /// Solver statistics go into the summary either way. An error of the solver
+    /// comes first, then one of a writer, then one of the pictures; after an
+    /// error no picture stays on disk.
     fn solve_and_write<'scope, 'env: 'scope>(
         &'env self,
         scope: &'scope Scope<'scope, 'env>,
@@ -323,7 +338,7 @@ impl Analysis {
         log: &mut RunLog,
         progress: &mut dyn FnMut(&IncrementResult),
         stop: &AtomicUsize,
-    ) -> Result<IncrementResult> {
+    ) -> Result<()> {
         let mut solver = self.solver()?;
         self.prepare_solver(&mut solver, &mut log.summary);
         let mut series = Series::new(out);
@@ -338,16 +353,42 @@ impl Analysis {
                 }),
             }
         });
-        let t = Instant::now();
-        let written = series.finish();
-        log.output_time += t.elapsed().as_secs_f64();
         let summary = &mut log.summary;
         summary.timings.solve = solver.timings.clone();
         (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
         summary.first_factorization_seconds = solver.first_factorization_seconds();
         summary.solve_flops = solver.solve_flops();
-        let r = r?;
-        written.map(|_| r)
+        // The factor is not needed for the pictures or the writers still in flight.
+        drop(solver);
+        // The pictures of the last increment are drawn while its parts VTU (and
+        // any other writer in flight) still streams in the background.
+        let pictures = r.as_ref().ok().map(|inc| {
+            let t = Instant::now();
+            let drawn = self.draw_pictures(out, inc, log);
+            log.summary.timings.pictures = t.elapsed().as_secs_f64();
+            drawn
+        });
+        let t = Instant::now();
+        let written = series.finish();
+        log.output_time += t.elapsed().as_secs_f64();
+        r?;
+        let drawn = pictures.unwrap_or(Ok(()));
+        if written.is_err() || drawn.is_err() {
+            // Pictures belong to a successful run only (after a writer's failure
+            // they would show an increment whose parts VTU is missing).
+            remove_pictures(out);
+        }
+        written.and(drawn)
+    }
+
+    /// The pictures of the last converged increment `inc`, from the stresses the
+    /// run kept for it (recovered anew only if it kept none).
+    fn draw_pictures(&self, out: &Path, inc: &IncrementResult, log: &mut RunLog) -> Result<()> {
+        let stresses = match log.last_stresses.take() {
+            Some(s) => s,
+            None => Arc::new(self.recover(&inc.u)),
+        };
+        self.write_pictures(out, inc, &stresses)
     }
 
     /// The coarse start (if the settings ask for it) and the matrix sizes.
@@ -447,23 +488,10 @@ impl Analysis {
         report::write_json(&out.join("summary.json"), summary)
     }
 
-    /// Finishes a run whose increments all converged: the pictures of the last
-    /// increment `inc`, the final status and timings in `summary.json`.
-    fn finish_run(
-        &mut self,
-        out: &Path,
-        inc: &IncrementResult,
-        log: &mut RunLog,
-        start: Instant,
-    ) -> Result<Summary> {
-        let t = Instant::now();
-        let stresses = match log.last_stresses.take() {
-            Some(s) => s,
-            None => Arc::new(self.recover(&inc.u)),
-        };
-        self.write_pictures(out, inc, &stresses)?;
+    /// Finishes a run whose increments all converged and whose files (pictures
+    /// included) are all written: the final status and timings in `summary.json`.
+    fn finish_run(&mut self, out: &Path, log: &mut RunLog, start: Instant) -> Result<Summary> {
         let summary = &mut log.summary;
-        summary.timings.pictures = t.elapsed().as_secs_f64();
         summary.status = summary.final_status();
         summary.timings.meshing = self.timings.meshing;
         summary.timings.pair_search = self.timings.pair_search;
