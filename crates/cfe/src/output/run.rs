@@ -459,7 +459,15 @@ impl Analysis {
         );
         let stresses = Arc::new(stresses);
         log.last_stresses = Some(Arc::clone(&stresses));
-        let handle = scope.spawn(move || self.write_parts_vtu(&path, grid, &fields, &u, &stresses));
+        // A named thread ("cfe-vtu"), so profiles and debuggers tell it apart.
+        let handle = std::thread::Builder::new()
+            .name("cfe-vtu".into())
+            .spawn_scoped(scope, move || {
+                self.write_parts_vtu(&path, grid, &fields, &u, &stresses)
+            })
+            .map_err(|e| {
+                Error::output(&series.vtu_dir, format!("cannot start a VTU writer: {e}"))
+            })?;
         self.write_pairs_vtu(&series.vtu_dir.join(&pairs_file), inc, &rows)?;
         series.push(handle, inc.time, parts_file, pairs_file);
         report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;

@@ -370,31 +370,35 @@ impl Payload<'_> {
                 Ok(())
             }
             Payload::Data { values, components } => match values {
-                Values::F64(v) => put_padded(out, v, *components, f64::to_le_bytes),
-                Values::I32(v) => put_padded(out, v, *components, i32::to_le_bytes),
+                Values::F64(v) if *components == 2 => {
+                    out.put_each(bytemuck::cast_slice::<f64, [f64; 2]>(v), |[x, y]| {
+                        let mut b = [0u8; 24];
+                        b[..8].copy_from_slice(&x.to_le_bytes());
+                        b[8..16].copy_from_slice(&y.to_le_bytes());
+                        b
+                    })
+                }
+                Values::F64(v) => out.put_le(v, f64::to_le_bytes),
+                Values::I32(v) if *components == 2 => put_padded(out, v, i32::to_le_bytes),
+                Values::I32(v) => out.put_le(v, i32::to_le_bytes),
             },
         }
     }
 }
 
-/// Writes `values` as little-endian bytes, padding 2-component tuples with a zero.
+/// Writes 2-component tuples as little-endian bytes, padded with a zero.
 fn put_padded<T: Copy + Default, const N: usize>(
     out: &mut Chunked,
     values: &[T],
-    components: usize,
     bytes: fn(T) -> [u8; N],
 ) -> io::Result<()> {
-    if components == 2 {
-        let zero = bytes(T::default());
-        for pair in values.chunks_exact(2) {
-            out.put(&bytes(pair[0]))?;
-            out.put(&bytes(pair[1]))?;
-            out.put(&zero)?;
-        }
-        Ok(())
-    } else {
-        out.put_each(values, bytes)
+    let zero = bytes(T::default());
+    for pair in values.chunks_exact(2) {
+        out.put(&bytes(pair[0]))?;
+        out.put(&bytes(pair[1]))?;
+        out.put(&zero)?;
     }
+    Ok(())
 }
 
 /// Components as written: 2 becomes 3 (a vector with z = 0).
@@ -603,15 +607,31 @@ impl Chunked<'_> {
         bytes: impl Fn(T) -> [u8; N],
     ) -> io::Result<()> {
         for block in values.chunks(CHUNK / N) {
-            self.buf.reserve(block.len() * N);
-            for &v in block {
-                self.buf.extend_from_slice(&bytes(v));
+            let start = self.buf.len();
+            self.buf.resize(start + block.len() * N, 0);
+            for (to, &v) in self.buf[start..].chunks_exact_mut(N).zip(block) {
+                to.copy_from_slice(&bytes(v));
             }
             if self.buf.len() >= CHUNK {
                 self.flush_chunk()?;
             }
         }
         Ok(())
+    }
+
+    /// Puts `values` as their little-endian `bytes`: on a little-endian machine
+    /// their memory is handed to the writer as it is (no copy, no encoding).
+    fn put_le<T: bytemuck::Pod, const N: usize>(
+        &mut self,
+        values: &[T],
+        bytes: impl Fn(T) -> [u8; N],
+    ) -> io::Result<()> {
+        if cfg!(target_endian = "little") {
+            self.flush_chunk()?;
+            self.w.write_all(bytemuck::cast_slice(values))
+        } else {
+            self.put_each(values, bytes)
+        }
     }
 
     fn flush_chunk(&mut self) -> io::Result<()> {
