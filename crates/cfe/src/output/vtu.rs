@@ -5,8 +5,10 @@
 //! block holding every array as raw little-endian binary, each preceded by its byte
 //! count as a UInt64 (`header_type="UInt64"`). The header gives each array's
 //! `offset` into that block, so the sizes are computed first and the data is then
-//! streamed to the file in fixed-size chunks: no copy of the mesh, no text per value,
-//! so it scales to millions of points. Everything is validated before a byte is
+//! streamed to the file: Float64 and Int32 arrays are handed to the (buffered)
+//! writer as their memory on a little-endian machine, padded vectors and indices
+//! are encoded a fixed-size chunk at a time. No copy of the mesh, no text per
+//! value, so it scales to millions of points. Everything is validated before a byte is
 //! written, and the file is written atomically (see [`super::write_atomic`]).
 //!
 //! Types written: point coordinates Float64 (3 components, z = 0), connectivity and
