@@ -10,7 +10,7 @@ use super::{chart, png, vtu};
 use crate::analysis::Analysis;
 use crate::coupling::{Law, PairState, ViolationKind};
 use crate::error::{Error, Result};
-use crate::fem::recovery::PartStress;
+use crate::fem::recovery::{PartStress, scaled_in_turn};
 use crate::mesh::Element;
 use crate::solve::nonlinear::Solver;
 use crate::solve::nonlinear::{IncrementResult, MultipleOf};
@@ -100,8 +100,8 @@ struct RunLog {
     recovery_time: f64,
     /// Time spent writing the per-increment files [s].
     output_time: f64,
-    /// The stresses of the last converged increment, kept for the pictures.
-    last_stresses: Option<Arc<Vec<PartStress>>>,
+    /// The stresses of the last written increment, kept for the pictures.
+    last_stresses: Option<Stresses>,
     /// The linear solution `last_stresses` were recovered from a multiple of
     /// (proportional shortcuts): an increment that is another multiple of it
     /// scales them instead of recovering again.
@@ -390,7 +390,10 @@ impl Analysis {
     fn draw_pictures(&self, out: &Path, inc: &IncrementResult, log: &mut RunLog) -> Result<()> {
         let stresses = match log.last_stresses.take() {
             Some(s) => s,
-            None => Arc::new(self.recover(&inc.u)),
+            None => Stresses {
+                base: Arc::new(self.recover(&inc.u)),
+                factors: Vec::new(),
+            },
         };
         self.write_pictures(out, inc, &stresses)
     }
@@ -440,10 +443,12 @@ impl Analysis {
         }
         let stresses = match (&log.last_stresses, log.last_multiple, inc.multiple_of) {
             (Some(s), Some(a), Some(b)) if a.solution == b.solution && a.factor != 0.0 => {
-                let f = b.factor / a.factor;
-                s.iter().map(|p| p.scaled(f)).collect()
+                s.times(b.factor / a.factor)
             }
-            _ => self.recover(&inc.u),
+            _ => Stresses {
+                base: Arc::new(self.recover(&inc.u)),
+                factors: Vec::new(),
+            },
         };
         log.last_multiple = inc.multiple_of;
         log.recovery_time += t.elapsed().as_secs_f64();
@@ -457,8 +462,7 @@ impl Analysis {
             time_fields(inc),
             inc.u.clone(),
         );
-        let stresses = Arc::new(stresses);
-        log.last_stresses = Some(Arc::clone(&stresses));
+        log.last_stresses = Some(stresses.clone());
         // A named thread ("cfe-vtu"), so profiles and debuggers tell it apart.
         let handle = std::thread::Builder::new()
             .name("cfe-vtu".into())
@@ -582,25 +586,27 @@ impl Analysis {
         grid: &PartsGrid,
         fields: &[(&str, f64)],
         u: &[f64],
-        stresses: &[PartStress],
+        stresses: &Stresses,
     ) -> Result<()> {
         let (points, connectivity, offsets, kinds) =
             (&grid.points, &grid.connectivity, &grid.offsets, &grid.kinds);
         let (part_point, part_cell) = (&grid.part_point, &grid.part_cell);
         let mut nodal: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(points.len()));
         let mut cell: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(part_cell.len()));
-        for (part, s) in self.model.parts.iter().zip(stresses) {
+        for (part, s) in self.model.parts.iter().zip(stresses.base.iter()) {
             for v in &s.nodal {
+                let v = stresses.value(*v);
                 for c in 0..3 {
                     nodal[c].push(v[c]);
                 }
-                nodal[3].push(part.material.von_mises(*v));
+                nodal[3].push(part.material.von_mises(v));
             }
             for v in &s.element {
+                let v = stresses.value(*v);
                 for c in 0..3 {
                     cell[c].push(v[c]);
                 }
-                cell[3].push(part.material.von_mises(*v));
+                cell[3].push(part.material.von_mises(v));
             }
         }
         let names = ["sigma_xx", "sigma_yy", "sigma_xy", "von_mises"];
@@ -738,18 +744,14 @@ impl Analysis {
         )
     }
 
-    fn write_pictures(
-        &self,
-        out: &Path,
-        inc: &IncrementResult,
-        stresses: &[PartStress],
-    ) -> Result<()> {
+    fn write_pictures(&self, out: &Path, inc: &IncrementResult, stresses: &Stresses) -> Result<()> {
         let points = self.global_points();
         let tris = self.plot_triangles();
         let outline = png::outline_edges(&tris);
         let syy: Vec<f64> = stresses
+            .base
             .iter()
-            .flat_map(|s| s.nodal.iter().map(|v| v[1]))
+            .flat_map(|s| s.nodal.iter().map(|v| stresses.value(*v)[1]))
             .collect();
         let rows = self.pair_rows(inc);
         let markers: Vec<png::PairMarker> = rows
@@ -916,6 +918,56 @@ fn nice_floor(x: f64) -> f64 {
     }
 }
 
+/// Scaling factors a [`Stresses`] applies in turn before it materializes the
+/// scaled values (so a long run of multiples costs a bounded number of
+/// multiplications per value).
+const MAX_FACTORS: usize = 8;
+
+/// The stresses of a written increment: `base` (recovered from a solution)
+/// scaled by each of `factors` in turn. An increment that is a multiple of the
+/// same linear solution shares `base` with the increments before it (the
+/// writers scale while they read) instead of holding a scaled copy; the values
+/// are bit for bit those of successive [`PartStress::scaled`] calls.
+#[derive(Clone)]
+struct Stresses {
+    base: Arc<Vec<PartStress>>,
+    factors: Vec<f64>,
+}
+
+impl Stresses {
+    /// The stress `v` of `base` as this increment's.
+    fn value(&self, v: [f64; 3]) -> [f64; 3] {
+        scaled_in_turn(v, &self.factors)
+    }
+
+    /// These stresses times `factor`: shares `base`, or, once [`MAX_FACTORS`]
+    /// factors are pending, a new base holding the scaled values.
+    fn times(&self, factor: f64) -> Stresses {
+        if self.factors.len() < MAX_FACTORS {
+            let mut factors = self.factors.clone();
+            factors.push(factor);
+            return Stresses {
+                base: Arc::clone(&self.base),
+                factors,
+            };
+        }
+        let scale = |v: &[[f64; 3]]| v.iter().map(|&v| self.value(v)).collect();
+        let base = self
+            .base
+            .iter()
+            .map(|p| PartStress {
+                element: scale(&p.element),
+                nodal: scale(&p.nodal),
+            })
+            .collect();
+        Stresses {
+            base: Arc::new(base),
+            factors: Vec::new(),
+        }
+        .times(factor)
+    }
+}
+
 /// The parts' points and cells as written to every VTU of a run.
 struct PartsGrid {
     points: Vec<[f64; 2]>,
@@ -934,4 +986,56 @@ fn time_fields(inc: &IncrementResult) -> [(&'static str, f64); 3] {
         ("STEP", (inc.step + 1) as f64),
         ("LOAD_FACTOR", inc.lambda),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Awkward stresses (round-off in every scaling) of two small parts.
+    fn sample() -> Vec<PartStress> {
+        let v = |k: f64| [1.0 / 3.0 * k, -7.1e5 / k, 0.1 + k];
+        vec![
+            PartStress {
+                element: (1..4).map(|k| v(k as f64)).collect(),
+                nodal: (1..6).map(|k| v(k as f64 * 0.7)).collect(),
+            },
+            PartStress {
+                element: vec![v(11.0)],
+                nodal: vec![v(0.3), v(1e-9)],
+            },
+        ]
+    }
+
+    /// A run of multiples scaled in turn through shared stresses (past the
+    /// materialization after `MAX_FACTORS`) gives, bit for bit, the values of
+    /// scaling a copy at every increment, as the run did before sharing.
+    #[test]
+    fn shared_stresses_scale_like_copies() {
+        let factors: Vec<f64> = (0..3 * MAX_FACTORS + 2)
+            .map(|i| 1.0 + 0.1 * (i as f64 + 1.0) / 3.0)
+            .collect();
+        let mut copies = sample();
+        let first = Arc::new(sample());
+        let mut shared = Stresses {
+            base: Arc::clone(&first),
+            factors: Vec::new(),
+        };
+        for (i, &f) in factors.iter().enumerate() {
+            copies = copies.iter().map(|p| p.scaled(f)).collect();
+            shared = shared.times(f);
+            // Shared until MAX_FACTORS are pending, then materialized.
+            assert_eq!(Arc::ptr_eq(&shared.base, &first), i < MAX_FACTORS, "{i}");
+            assert!(shared.factors.len() <= MAX_FACTORS);
+            for (c, s) in copies.iter().zip(shared.base.iter()) {
+                for (a, b) in [(&c.element, &s.element), (&c.nodal, &s.nodal)] {
+                    let b: Vec<[f64; 3]> = b.iter().map(|&v| shared.value(v)).collect();
+                    let bits = |v: &[[f64; 3]]| -> Vec<[u64; 3]> {
+                        v.iter().map(|s| s.map(f64::to_bits)).collect()
+                    };
+                    assert_eq!(bits(a), bits(&b));
+                }
+            }
+        }
+    }
 }
