@@ -2,9 +2,10 @@
 //! runs unprivileged): the run fails with the write error, `summary.json` says
 //! `failed` with the reason, and `results.pvd` names only files that exist; when
 //! not even the summary can be written, no stale summary saying `running` stays
-//! behind and the error says so. Also: `output_every` writes every N-th increment
-//! and the last, and a run of many increments ends with complete files. One
-//! test, as the fault injection is process-wide.
+//! behind and the error says so; a disk that fills up while the last increment is
+//! written and the pictures drawn leaves no picture. Also: `output_every` writes
+//! every N-th increment and the last, and a run of many increments ends with
+//! complete files. One test, as the fault injection is process-wide.
 
 mod common;
 
@@ -117,6 +118,35 @@ fn full_disk_and_output_every() {
     }
     assert_eq!(pvd_files_exist(&out), 0);
     no_tmp_left(&out);
+
+    // A disk that fills up at the very end, while the last parts VTU streams
+    // and the pictures are drawn beside it: whichever of the last writes fails
+    // (the order between the writer and the pictures varies), the run fails with
+    // the write error, no picture stays behind and `results.pvd` names only
+    // files that exist. `writes` is the number of writes of a whole run (the
+    // smallest budget that succeeds).
+    let out = base.join("end");
+    let writes = (0..200)
+        .find(|&n| {
+            cfe::output::inject_write_faults(Some(n), true);
+            let ok = a.run(&out, &mut |_| {}).is_ok();
+            cfe::output::inject_write_faults(None, false);
+            ok
+        })
+        .expect("a run writes fewer than 200 files");
+    assert!(out.join("sigma_yy.png").is_file());
+    for n in writes.saturating_sub(4)..writes {
+        cfe::output::inject_write_faults(Some(n), true);
+        let e = a.run(&out, &mut |_| {}).unwrap_err();
+        cfe::output::inject_write_faults(None, false);
+        assert!(e.to_string().contains("No space left"), "{n}: {e}");
+        assert_eq!(summary(&out)["status"], "failed", "{n}");
+        for f in ["sigma_yy.png", "displacement.png", "pressure.png"] {
+            assert!(!out.join(f).exists(), "{n}: {f} after a failure");
+        }
+        pvd_files_exist(&out);
+        no_tmp_left(&out);
+    }
 
     // `output_every = 4` of 10 increments: files of 4, 8 and the last, 10.
     let out = base.join("every");

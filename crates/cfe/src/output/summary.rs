@@ -106,9 +106,12 @@ pub struct Timings {
     pub solve: SolveTimings,
     /// Stress recovery.
     pub stress_recovery: f64,
-    /// Writing the per-increment files (VTU, PVD, CSV, JSON).
+    /// Writing the per-increment files (VTU, PVD, CSV, JSON) on the main
+    /// thread, including its waits for the background parts-VTU writers (their
+    /// own time overlaps the solve and the pictures and is not counted).
     pub output: f64,
-    /// Rendering the PNG pictures.
+    /// Rendering the PNG pictures (wall time; the last parts VTU files are
+    /// written meanwhile).
     pub pictures: f64,
     /// Wall time of the whole run.
     pub total: f64,

@@ -5,12 +5,16 @@
 //! block holding every array as raw little-endian binary, each preceded by its byte
 //! count as a UInt64 (`header_type="UInt64"`). The header gives each array's
 //! `offset` into that block, so the sizes are computed first and the data is then
-//! streamed to the file in fixed-size chunks: no copy of the mesh, no text per value,
-//! so it scales to millions of points. Everything is validated before a byte is
+//! streamed to the file: Float64 and Int32 arrays are handed to the (buffered)
+//! writer as their memory on a little-endian machine, padded vectors and indices
+//! are encoded a fixed-size chunk at a time. No copy of the mesh, no text per
+//! value, so it scales to millions of points. Everything is validated before a byte is
 //! written, and the file is written atomically (see [`super::write_atomic`]).
 //!
 //! Types written: point coordinates Float64 (3 components, z = 0), connectivity and
-//! offsets Int64, cell types UInt8, data arrays Float64 or Int32, field data Float64.
+//! offsets Int32 when every index and offset fits (see [`index_type`]; half the bytes
+//! of Int64), Int64 otherwise, cell types UInt8, data arrays Float64 or Int32, field
+//! data Float64.
 
 use super::write_atomic;
 use crate::error::{Error, Result};
@@ -316,8 +320,8 @@ enum Section {
 enum Payload<'a> {
     /// Points written as (x, y, 0) Float64.
     Points(&'a [[f64; 2]]),
-    /// Connectivity or offsets written as Int64.
-    Indices(&'a [usize]),
+    /// Connectivity or offsets written as the grid's [`IndexType`].
+    Indices(&'a [usize], IndexType),
     /// Cell types written as UInt8.
     Types(&'a [CellKind]),
     /// A data array; 2 components are padded to 3.
@@ -332,7 +336,7 @@ impl Payload<'_> {
     fn byte_len(&self) -> u64 {
         let n = match self {
             Payload::Points(p) => p.len() * 24,
-            Payload::Indices(i) => i.len() * 8,
+            Payload::Indices(i, t) => i.len() * t.bytes(),
             Payload::Types(t) => t.len(),
             Payload::Data { values, components } => {
                 let scalar = match values {
@@ -354,7 +358,13 @@ impl Payload<'_> {
                 b[8..16].copy_from_slice(&p[1].to_le_bytes());
                 b
             }),
-            Payload::Indices(indices) => out.put_each(indices, |i| (i as i64).to_le_bytes()),
+            // `index_type` chose a type every value fits.
+            Payload::Indices(indices, IndexType::Int32) => {
+                out.put_each(indices, |i| (i as i32).to_le_bytes())
+            }
+            Payload::Indices(indices, IndexType::Int64) => {
+                out.put_each(indices, |i| (i as i64).to_le_bytes())
+            }
             Payload::Types(kinds) => {
                 for &k in *kinds {
                     out.put(&[k.vtk_type()])?;
@@ -362,31 +372,35 @@ impl Payload<'_> {
                 Ok(())
             }
             Payload::Data { values, components } => match values {
-                Values::F64(v) => put_padded(out, v, *components, f64::to_le_bytes),
-                Values::I32(v) => put_padded(out, v, *components, i32::to_le_bytes),
+                Values::F64(v) if *components == 2 => {
+                    out.put_each(bytemuck::cast_slice::<f64, [f64; 2]>(v), |[x, y]| {
+                        let mut b = [0u8; 24];
+                        b[..8].copy_from_slice(&x.to_le_bytes());
+                        b[8..16].copy_from_slice(&y.to_le_bytes());
+                        b
+                    })
+                }
+                Values::F64(v) => out.put_le(v, f64::to_le_bytes),
+                Values::I32(v) if *components == 2 => put_padded(out, v, i32::to_le_bytes),
+                Values::I32(v) => out.put_le(v, i32::to_le_bytes),
             },
         }
     }
 }
 
-/// Writes `values` as little-endian bytes, padding 2-component tuples with a zero.
+/// Writes 2-component tuples as little-endian bytes, padded with a zero.
 fn put_padded<T: Copy + Default, const N: usize>(
     out: &mut Chunked,
     values: &[T],
-    components: usize,
     bytes: fn(T) -> [u8; N],
 ) -> io::Result<()> {
-    if components == 2 {
-        let zero = bytes(T::default());
-        for pair in values.chunks_exact(2) {
-            out.put(&bytes(pair[0]))?;
-            out.put(&bytes(pair[1]))?;
-            out.put(&zero)?;
-        }
-        Ok(())
-    } else {
-        out.put_each(values, bytes)
+    let zero = bytes(T::default());
+    for pair in values.chunks_exact(2) {
+        out.put(&bytes(pair[0]))?;
+        out.put(&bytes(pair[1]))?;
+        out.put(&zero)?;
     }
+    Ok(())
 }
 
 /// Components as written: 2 becomes 3 (a vector with z = 0).
@@ -457,9 +471,27 @@ fn layout<'a>(grid: &Grid<'a>) -> Vec<Array<'a>> {
         range: None,
         payload: Payload::Points(grid.points),
     });
+    // The largest value of either array: the last offset is the connectivity's
+    // length, and every connectivity entry is below the number of points.
+    let largest = grid
+        .connectivity
+        .iter()
+        .copied()
+        .max()
+        .unwrap_or(0)
+        .max(grid.connectivity.len());
+    let index = index_type(largest);
     for (name, vtk_type, payload) in [
-        ("connectivity", "Int64", Payload::Indices(grid.connectivity)),
-        ("offsets", "Int64", Payload::Indices(grid.offsets)),
+        (
+            "connectivity",
+            index.vtk_name(),
+            Payload::Indices(grid.connectivity, index),
+        ),
+        (
+            "offsets",
+            index.vtk_name(),
+            Payload::Indices(grid.offsets, index),
+        ),
         ("types", "UInt8", Payload::Types(grid.kinds)),
     ] {
         arrays.push(Array {
@@ -473,6 +505,44 @@ fn layout<'a>(grid: &Grid<'a>) -> Vec<Array<'a>> {
         });
     }
     arrays
+}
+
+/// The integer type of a grid's connectivity and offsets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum IndexType {
+    /// 4 bytes per value.
+    Int32,
+    /// 8 bytes per value.
+    Int64,
+}
+
+impl IndexType {
+    /// The VTK type name of the `<DataArray>`.
+    fn vtk_name(self) -> &'static str {
+        match self {
+            IndexType::Int32 => "Int32",
+            IndexType::Int64 => "Int64",
+        }
+    }
+
+    /// Bytes per value.
+    fn bytes(self) -> usize {
+        match self {
+            IndexType::Int32 => 4,
+            IndexType::Int64 => 8,
+        }
+    }
+}
+
+/// The type the connectivity and offsets of a grid are written in, given the
+/// largest value either holds: Int32 when it fits (every mesh below ~2·10⁹ point
+/// references), Int64 otherwise. Both arrays share it.
+fn index_type(largest: usize) -> IndexType {
+    if i32::try_from(largest).is_ok() {
+        IndexType::Int32
+    } else {
+        IndexType::Int64
+    }
 }
 
 /// The range ParaView expects in RangeMin / RangeMax: of the values for one
@@ -539,15 +609,31 @@ impl Chunked<'_> {
         bytes: impl Fn(T) -> [u8; N],
     ) -> io::Result<()> {
         for block in values.chunks(CHUNK / N) {
-            self.buf.reserve(block.len() * N);
-            for &v in block {
-                self.buf.extend_from_slice(&bytes(v));
+            let start = self.buf.len();
+            self.buf.resize(start + block.len() * N, 0);
+            for (to, &v) in self.buf[start..].chunks_exact_mut(N).zip(block) {
+                to.copy_from_slice(&bytes(v));
             }
             if self.buf.len() >= CHUNK {
                 self.flush_chunk()?;
             }
         }
         Ok(())
+    }
+
+    /// Puts `values` as their little-endian `bytes`: on a little-endian machine
+    /// their memory is handed to the writer as it is (no copy, no encoding).
+    fn put_le<T: bytemuck::Pod, const N: usize>(
+        &mut self,
+        values: &[T],
+        bytes: impl Fn(T) -> [u8; N],
+    ) -> io::Result<()> {
+        if cfg!(target_endian = "little") {
+            self.flush_chunk()?;
+            self.w.write_all(bytemuck::cast_slice(values))
+        } else {
+            self.put_each(values, bytes)
+        }
     }
 
     fn flush_chunk(&mut self) -> io::Result<()> {
@@ -741,15 +827,6 @@ mod tests {
                 .collect()
         }
 
-        fn i64s(&self, tag: &str, name: &str) -> Vec<i64> {
-            let a = self.array(tag, name);
-            assert_eq!(a["type"], "Int64");
-            let p = self.payload(&a);
-            p.chunks_exact(8)
-                .map(|c| i64::from_le_bytes(c.try_into().unwrap()))
-                .collect()
-        }
-
         fn u8s(&self, tag: &str, name: &str) -> Vec<u8> {
             let a = self.array(tag, name);
             assert_eq!(a["type"], "UInt8");
@@ -859,8 +936,8 @@ mod tests {
             0.0,
         ];
         assert_eq!(bits(&points), bits(&expected));
-        assert_eq!(vtu.i64s("Cells", "connectivity"), [0, 1, 2, 0, 2, 3]);
-        assert_eq!(vtu.i64s("Cells", "offsets"), [3, 6]);
+        assert_eq!(vtu.i32s("Cells", "connectivity"), [0, 1, 2, 0, 2, 3]);
+        assert_eq!(vtu.i32s("Cells", "offsets"), [3, 6]);
         assert_eq!(vtu.u8s("Cells", "types"), [5, 5]);
 
         let vector = vtu.f64s("PointData", "displacement");
@@ -887,6 +964,44 @@ mod tests {
         assert_eq!(time["NumberOfTuples"], "1");
         assert_eq!(vtu.f64s("FieldData", "TIME"), [0.25]);
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// Connectivity and offsets are Int32 up to i32::MAX and Int64 beyond it, and an
+    /// Int64 index block holds every value as 8 little-endian bytes (what a grid of
+    /// more than 2³¹ point references is written with, without building one).
+    #[test]
+    fn indices_beyond_i32_are_int64() {
+        let max = i32::MAX as usize;
+        assert_eq!(index_type(0), IndexType::Int32);
+        assert_eq!(index_type(max), IndexType::Int32);
+        assert_eq!(index_type(max + 1), IndexType::Int64);
+        assert_eq!(index_type(usize::MAX), IndexType::Int64);
+        let values = [0, 3, max, max + 1, 5 * max];
+        for (t, width) in [(IndexType::Int32, 4), (IndexType::Int64, 8)] {
+            let values = if t == IndexType::Int32 {
+                &values[..3]
+            } else {
+                &values[..]
+            };
+            let payload = Payload::Indices(values, t);
+            let mut bytes = Vec::new();
+            let mut out = Chunked {
+                w: &mut bytes,
+                buf: Vec::new(),
+            };
+            payload.write(&mut out).unwrap();
+            out.flush_chunk().unwrap();
+            assert_eq!(payload.byte_len(), (width * values.len()) as u64);
+            assert_eq!(bytes.len(), width * values.len());
+            let back: Vec<usize> = bytes
+                .chunks_exact(width)
+                .map(|c| match t {
+                    IndexType::Int32 => i32::from_le_bytes(c.try_into().unwrap()) as usize,
+                    IndexType::Int64 => i64::from_le_bytes(c.try_into().unwrap()) as usize,
+                })
+                .collect();
+            assert_eq!(back, values, "{t:?}");
+        }
     }
 
     fn bits(v: &[f64]) -> Vec<u64> {
@@ -918,9 +1033,9 @@ mod tests {
         let vtu = Vtu::read(&path);
         vtu.check_tiling();
         assert_eq!(vtu.u8s("Cells", "types"), [1, 3, 5, 9]);
-        assert_eq!(vtu.i64s("Cells", "offsets"), [1, 3, 6, 10]);
+        assert_eq!(vtu.i32s("Cells", "offsets"), [1, 3, 6, 10]);
         assert_eq!(
-            vtu.i64s("Cells", "connectivity"),
+            vtu.i32s("Cells", "connectivity"),
             [4, 1, 4, 0, 1, 2, 0, 1, 2, 3]
         );
         for tag in ["PointData", "CellData", "FieldData"] {
