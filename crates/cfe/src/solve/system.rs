@@ -431,7 +431,8 @@ impl<'a> ContactSystem<'a> {
         self.invalidate();
         self.k.assemble(self.parts, interfaces, states, dofs);
         let t = Instant::now();
-        let factorized = self.chol.factorize(self.k.matrix());
+        let chol = &mut self.chol;
+        let factorized = self.k.with_matrix(|m| chol.factorize(m));
         // The values are needed by a factorization only: free them until the next.
         self.k.free_values();
         factorized?;
