@@ -97,8 +97,10 @@ impl NodeGraph {
 pub struct Stiffness {
     /// Column pointers (length n_eq + 1).
     pub col_ptr: Vec<usize>,
-    /// Row indices, sorted within each column, all ≥ the column.
-    pub row_idx: Vec<usize>,
+    /// Row indices, sorted within each column, all ≥ the column; 4 bytes each
+    /// (the matrix is held for the whole solve, beside the factor), widened for
+    /// faer by [`Stiffness::with_matrix`].
+    pub row_idx: Vec<u32>,
     /// Current values (empty when freed).
     pub values: Vec<f64>,
     /// Row and column of each equation in the stored matrix (empty: the
@@ -179,11 +181,11 @@ impl Stiffness {
         }
         node_start.push(nnz);
         drop(counts);
-        let mut row_idx = vec![0usize; nnz];
+        let mut row_idx = vec![0u32; nnz];
         // Blocks of nodes, each with its slice of the row indices.
         const BLOCK: usize = 8192;
         let mut slices = Vec::with_capacity(n_nodes.div_ceil(BLOCK));
-        let mut rest: &mut [usize] = &mut row_idx;
+        let mut rest: &mut [u32] = &mut row_idx;
         for first in (0..n_nodes).step_by(BLOCK) {
             let last = (first + BLOCK).min(n_nodes);
             let (head, tail) = rest.split_at_mut(node_start[last] - node_start[first]);
@@ -196,7 +198,7 @@ impl Stiffness {
                 for ca in 0..2 {
                     if free(a, ca) {
                         rows_of(a, ca, &mut |i| {
-                            slice[k] = i;
+                            slice[k] = narrow(i);
                             k += 1;
                         });
                     }
@@ -272,20 +274,24 @@ impl Stiffness {
         };
         let perm = faer::perm::PermRef::new_checked(&order, &inverse, n);
         let mut col_ptr = vec![0usize; n + 1];
-        let mut row_idx = vec![0usize; nnz];
+        let mut wide = vec![0usize; nnz];
         let mut new_values = vec![0.0; nnz];
         let mut scratch =
             MemBuffer::new(faer::sparse::utils::permute_self_adjoint_scratch::<usize>(n));
-        faer::sparse::utils::permute_self_adjoint(
-            &mut new_values,
-            &mut col_ptr,
-            &mut row_idx,
-            self.matrix_of(values),
-            perm,
-            faer::Side::Lower,
-            faer::Side::Lower,
-            MemStack::new(&mut scratch),
-        );
+        self.with_matrix_of(values, |m| {
+            faer::sparse::utils::permute_self_adjoint(
+                &mut new_values,
+                &mut col_ptr,
+                &mut wide,
+                m,
+                perm,
+                faer::Side::Lower,
+                faer::Side::Lower,
+                MemStack::new(&mut scratch),
+            )
+        });
+        let row_idx: Vec<u32> = wide.iter().map(|&i| narrow(i)).collect();
+        drop(wide);
         let mut position = vec![0usize; n];
         for (e, p) in position.iter_mut().enumerate() {
             *p = self.stored(e);
@@ -345,7 +351,7 @@ impl Stiffness {
     fn position(&self, i: usize, j: usize) -> usize {
         let (s, e) = (self.col_ptr[j], self.col_ptr[j + 1]);
         s + self.row_idx[s..e]
-            .binary_search(&i)
+            .binary_search(&narrow(i))
             .expect("entry is in the sparsity pattern")
     }
 
@@ -417,16 +423,21 @@ impl Stiffness {
 
     /// The current matrix as a faer sparse view (lower triangle of the stored
     /// matrix). The values must be there (assembled, not freed).
-    pub fn matrix(&self) -> SparseColMatRef<'_, usize, f64> {
-        self.matrix_of(&self.values)
+    pub fn with_matrix<R>(&self, f: impl FnOnce(SparseColMatRef<'_, usize, f64>) -> R) -> R {
+        self.with_matrix_of(&self.values, f)
     }
 
-    /// The stored pattern with `values`.
-    fn matrix_of<'v>(&'v self, values: &'v [f64]) -> SparseColMatRef<'v, usize, f64> {
+    /// [`Stiffness::with_matrix`] with `values`: the row indices are widened to
+    /// `usize` for the call (a copy of 8 bytes per stored entry, freed after it).
+    fn with_matrix_of<R>(
+        &self,
+        values: &[f64],
+        f: impl FnOnce(SparseColMatRef<'_, usize, f64>) -> R,
+    ) -> R {
         let n = self.n();
-        let symbolic =
-            SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
-        SparseColMatRef::new(symbolic, values)
+        let rows: Vec<usize> = self.row_idx.iter().map(|&i| i as usize).collect();
+        let symbolic = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &rows);
+        f(SparseColMatRef::new(symbolic, values))
     }
 }
 
@@ -515,4 +526,14 @@ pub fn external_force(loads: &[Load], dofs: &DofMap) -> Vec<f64> {
         }
     }
     f
+}
+
+/// Most equations a [`Stiffness`] can hold: its row indices take 4 bytes.
+/// `solve::setup` refuses larger systems with [`crate::Error::TooLarge`] before
+/// the pattern is built (they would need terabytes of memory anyway).
+pub const MAX_EQUATIONS: usize = u32::MAX as usize;
+
+/// A row index stored in 4 bytes (at most [`MAX_EQUATIONS`] equations).
+fn narrow(i: usize) -> u32 {
+    u32::try_from(i).expect("at most MAX_EQUATIONS equations (checked by solve::setup)")
 }

@@ -54,8 +54,9 @@ pub fn estimated_peak_bytes(unknowns: u64) -> u64 {
 /// Estimated peak memory of a run once its symbolic factorization is known, bytes:
 /// `64 MiB + 8 nnz(L) + 16 nnz(K) + 350 n` for `n` unknowns, `nnz(K)` nonzeros in
 /// the stiffness's lower triangle and `nnz(L)` in the Cholesky factor. The factor's
-/// values (8 B each) are held with the stiffness's pattern and, during a
-/// factorization, its values (8 B per nonzero each; the stiffness is stored in
+/// values (8 B each) are held with the stiffness's pattern (row indices of 4 B,
+/// widened to 8 B for the length of a factorization) and, during a
+/// factorization, its values (8 B per nonzero; the stiffness is stored in
 /// the elimination order, so faer makes no permuted copy of it, and its values are
 /// freed between factorizations); the `350 n` covers the meshes, DOF map,
 /// elimination order, symbolic structures, the update columns, the

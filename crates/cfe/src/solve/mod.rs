@@ -4,6 +4,7 @@
 //! from a coarser model.
 
 pub(crate) mod anderson;
+pub(crate) mod capacitance;
 pub(crate) mod columns;
 pub mod linear;
 pub mod nonlinear;

@@ -7,10 +7,10 @@
 
 use super::linear::CholeskySolver;
 use super::ordering;
-use crate::assembly::{DofMap, NodeGraph, PartElements, Stiffness};
+use crate::assembly::{DofMap, MAX_EQUATIONS, NodeGraph, PartElements, Stiffness};
 use crate::coupling::Interface;
 use crate::domain::Part;
-use crate::error::Result;
+use crate::error::{Error, Result};
 
 /// The stiffness (pattern of every part and coupling element in the
 /// nested-dissection elimination order, values of the parts) and its Cholesky
@@ -20,6 +20,17 @@ pub fn pattern_and_symbolic(
     interfaces: &[Interface],
     dofs: &DofMap,
 ) -> Result<(Stiffness, CholeskySolver)> {
+    if dofs.n_eq > MAX_EQUATIONS {
+        return Err(Error::TooLarge {
+            unknowns: dofs.n_eq as u64,
+            bytes: 0,
+            available: 0,
+            message: format!(
+                "{} equations, more than the {MAX_EQUATIONS} a stiffness matrix can index; use a smaller refinement or fewer cells",
+                dofs.n_eq
+            ),
+        });
+    }
     let graph = NodeGraph::new(parts, interfaces, dofs);
     let coords: Vec<[f64; 2]> = parts
         .iter()
@@ -36,8 +47,30 @@ pub fn pattern_and_symbolic(
     }
     let part_elements = PartElements::new(parts, dofs);
     let (chol, k) = rayon::join(
-        || CholeskySolver::new(k.matrix(), Some(&order)),
+        || k.with_matrix(|m| CholeskySolver::new(m, Some(&order))),
         || k.in_order_with_parts(&[&part_elements], dofs, &order, &inverse),
     );
     Ok((k, chol?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A system with more equations than a stiffness can index is refused with
+    /// `Error::TooLarge` before anything is built.
+    #[test]
+    fn too_many_equations_are_refused() {
+        let dofs = DofMap {
+            node_offset: vec![0],
+            eq: Vec::new(),
+            n_eq: MAX_EQUATIONS + 1,
+            prescribed: Vec::new(),
+            support_of: Vec::new(),
+        };
+        match pattern_and_symbolic(&[], &[], &dofs) {
+            Err(Error::TooLarge { unknowns, .. }) => assert_eq!(unknowns, MAX_EQUATIONS as u64 + 1),
+            other => panic!("expected TooLarge, got {:?}", other.map(|_| ())),
+        }
+    }
 }

@@ -13,6 +13,7 @@
 //! `K = K₀ + W Δ Wᵀ`, `V = L⁻¹ P W`, `z = L⁻¹ P b`:
 //! `K⁻¹ b = Pᵀ L⁻ᵀ (z − V t)`, `(Δ⁻¹ + VᵀV) t = Vᵀ z`.
 
+use super::capacitance::{Capacitance, Entry};
 use super::columns::{Columns, SparseColumn};
 use super::linear::CholeskySolver;
 use crate::assembly::{DofMap, FIXED, Stiffness};
@@ -69,6 +70,10 @@ pub struct ContactSystem<'a> {
     /// The first right-hand side `b` solved with the current factorization and its
     /// `z = L⁻¹ P b` (the iterations of an increment share their right-hand side).
     forward: Option<(Vec<f64>, Vec<f64>)>,
+    /// A vector of the equations' length kept between solves for the forward
+    /// half's result (`z − V t`), so an iteration reuses its memory instead of
+    /// allocating and first-touching a new one (65 MB at 8 M unknowns).
+    spare: Vec<f64>,
     /// The factorized capacitance `Δ⁻¹ + VᵀV` of the last update, with the
     /// columns and weights it was built for: a solve with the same states and
     /// another right-hand side (a slip-force or Uzawa step) reuses it.
@@ -119,6 +124,7 @@ impl<'a> ContactSystem<'a> {
             cached: HashMap::new(),
             columns: Columns::default(),
             forward: None,
+            spare: Vec::new(),
             capacitance: None,
             interface_set: None,
             budget,
@@ -155,6 +161,7 @@ impl<'a> ContactSystem<'a> {
     /// correction columns); the next solve refactorizes.
     pub fn release(&mut self) {
         self.invalidate();
+        self.spare = Vec::new();
         self.chol.release();
     }
 
@@ -172,6 +179,7 @@ impl<'a> ContactSystem<'a> {
             Half::Forward(mut y, method) => {
                 let t = Instant::now();
                 self.chol.backward(&mut y, rhs);
+                self.spare = y;
                 self.solve_seconds += t.elapsed().as_secs_f64();
                 self.flops += self.chol.solve_flops() / 2.0;
                 Ok(method)
@@ -217,6 +225,7 @@ impl<'a> ContactSystem<'a> {
                 for &e in eqs {
                     rhs[e] = y[self.chol.permuted(e)];
                 }
+                self.spare = y;
                 self.flops += 2.0 * self.chol.values_on(set) as f64;
                 self.solve_seconds += t.elapsed().as_secs_f64();
                 Ok((method, false))
@@ -273,11 +282,8 @@ impl<'a> ContactSystem<'a> {
             .filter(|p| !self.cached.contains_key(p))
             .collect();
         if new.is_empty() {
-            let (idx, weights) = self.correction(&flips, &changes);
-            if let Some(cap) = self.capacitance.take()
-                && cap.idx == idx
-                && cap.weights == weights
-            {
+            let entries = self.correction(&flips, &changes);
+            if let Some(cap) = self.capacitance.take_if(|c| c.entries() == entries.as_slice()) {
                 return Ok(self.same_correction(cap, rhs, rhs_on_interface));
             }
         }
@@ -296,9 +302,10 @@ impl<'a> ContactSystem<'a> {
         }
         let paths: Vec<Vec<u32>> = cols.iter().map(|c| Columns::path(&self.chol, c)).collect();
         let r = (2 * flips.len()) as f64;
-        let cost_update = self.columns.add_flops(&self.chol, &paths)
-            + self.chol.solve_flops()
-            + 2.0 / 3.0 * r * r * r;
+        // The dense system costed as one LU of it (an upper bound: a change of a
+        // few entries is bordered, see `super::capacitance`).
+        let dense = 2.0 / 3.0 * r * r * r;
+        let cost_update = self.columns.add_flops(&self.chol, &paths) + self.chol.solve_flops() + dense;
         let cost_factor = self.chol.factor_flops() + self.chol.solve_flops();
         let memory = self.columns.bytes()
             + 8 * paths.iter().map(|p| self.path_width(p)).sum::<usize>()
@@ -316,7 +323,7 @@ impl<'a> ContactSystem<'a> {
         let t = Instant::now();
         // The solve's halves are counted where they are done (the forward one only
         // when it is not kept, the backward one full or on the interface).
-        self.flops += cost_update - self.chol.solve_flops();
+        self.flops += cost_update - self.chol.solve_flops() - dense;
         if !cols.is_empty() {
             let first = self.columns.add(&self.chol, &cols, paths);
             for (j, &(i, k)) in new.iter().enumerate() {
@@ -324,26 +331,19 @@ impl<'a> ContactSystem<'a> {
             }
         }
         let mut z = self.forward_solve(rhs, rhs_on_interface);
-        let (idx, weights) = self.correction(&flips, &changes);
-        let r = idx.len();
-        let mut m = faer::Mat::<f64>::zeros(r, r);
-        let mut t_vec = faer::Mat::<f64>::zeros(r, 1);
-        for (a, &ca) in idx.iter().enumerate() {
-            t_vec[(a, 0)] = self.columns.dot(&self.chol, ca, &z);
-            for (b, &cb) in idx.iter().enumerate() {
-                m[(a, b)] = self.columns.gram(ca, cb);
-            }
-            m[(a, a)] += 1.0 / weights[a];
-        }
-        let lu = m.partial_piv_lu();
-        use faer::linalg::solvers::Solve;
-        lu.solve_in_place(&mut t_vec);
-        for (a, &ca) in idx.iter().enumerate() {
-            self.columns.subtract(&self.chol, ca, t_vec[(a, 0)], &mut z);
-        }
+        let entries = self.correction(&flips, &changes);
+        let r = entries.len();
+        let columns = &self.columns;
+        let gram = |a: usize, b: usize| columns.gram(a, b);
+        let cap = match self.capacitance.take() {
+            Some(cap) => cap.update(entries, gram),
+            None => Capacitance::new(entries, gram),
+        };
+        self.flops += cap.flops();
+        self.apply_correction(&cap, &mut z);
         self.solve_seconds += t.elapsed().as_secs_f64();
         self.updates += 1;
-        self.capacitance = Some(Capacitance { idx, weights, lu });
+        self.capacitance = Some(cap);
         Ok(Half::Forward(z, Method::LowRank { rank: r }))
     }
 
@@ -353,39 +353,45 @@ impl<'a> ContactSystem<'a> {
     fn same_correction(&mut self, cap: Capacitance, rhs: &[f64], rhs_on_interface: bool) -> Half {
         let t = Instant::now();
         let mut z = self.forward_solve(rhs, rhs_on_interface);
-        let r = cap.idx.len();
-        let mut t_vec = faer::Mat::<f64>::zeros(r, 1);
-        for (a, &ca) in cap.idx.iter().enumerate() {
-            t_vec[(a, 0)] = self.columns.dot(&self.chol, ca, &z);
-        }
-        use faer::linalg::solvers::Solve;
-        cap.lu.solve_in_place(&mut t_vec);
-        for (a, &ca) in cap.idx.iter().enumerate() {
-            self.columns.subtract(&self.chol, ca, t_vec[(a, 0)], &mut z);
-        }
+        let r = cap.entries().len();
+        self.apply_correction(&cap, &mut z);
         self.solve_seconds += t.elapsed().as_secs_f64();
         self.flops += 2.0 * (r * r) as f64;
         self.capacitance = Some(cap);
         Half::Forward(z, Method::LowRank { rank: r })
     }
 
+    /// `z ← z − V_S t` with `M_S t = V_Sᵀ z` (the correction's entries S).
+    fn apply_correction(&self, cap: &Capacitance, z: &mut [f64]) {
+        let mut t: Vec<f64> = cap
+            .entries()
+            .iter()
+            .map(|e| self.columns.dot(&self.chol, e.column, z))
+            .collect();
+        cap.solve_in_place(&mut t);
+        for (e, &te) in cap.entries().iter().zip(&t) {
+            self.columns.subtract(&self.chol, e.column, te, z);
+        }
+    }
+
     /// The Woodbury correction of the flipped pairs: the cached columns whose
     /// penalty changed and the change (±c_k: a pair bonding or opening changes
     /// both, a stick pair slipping or a frictionless pair closing only the normal
     /// one; a segment element's penalties include its weight).
-    fn correction(&self, flips: &[(usize, usize)], changes: &[[f64; 2]]) -> (Vec<usize>, Vec<f64>) {
-        let mut idx: Vec<usize> = Vec::with_capacity(2 * flips.len());
-        let mut weights: Vec<f64> = Vec::with_capacity(2 * flips.len());
+    fn correction(&self, flips: &[(usize, usize)], changes: &[[f64; 2]]) -> Vec<Entry> {
+        let mut entries = Vec::with_capacity(2 * flips.len());
         for (p, change) in flips.iter().zip(changes) {
             let c = self.cached[p];
             for (t, &dc) in change.iter().enumerate() {
                 if dc != 0.0 {
-                    idx.push(c + t);
-                    weights.push(dc);
+                    entries.push(Entry {
+                        column: c + t,
+                        weight: dc,
+                    });
                 }
             }
         }
-        (idx, weights)
+        entries
     }
 
     /// `z = L⁻¹ P b`. The first right-hand side solved with a factorization is kept
@@ -393,7 +399,9 @@ impl<'a> ContactSystem<'a> {
     /// their refinement steps do not replace it).
     fn forward_solve(&mut self, b: &[f64], on_interface: bool) -> Vec<f64> {
         if on_interface && let Some((eqs, set)) = &self.interface_set {
-            let mut z = vec![0.0; b.len()];
+            let mut z = std::mem::take(&mut self.spare);
+            z.clear();
+            z.resize(b.len(), 0.0);
             for &e in eqs {
                 z[self.chol.permuted(e)] = b[e];
             }
@@ -404,7 +412,10 @@ impl<'a> ContactSystem<'a> {
         if let Some((kept, z)) = &self.forward
             && kept == b
         {
-            return z.clone();
+            let mut copy = std::mem::take(&mut self.spare);
+            copy.clear();
+            copy.extend_from_slice(z);
+            return copy;
         }
         let mut z = vec![0.0; b.len()];
         self.chol.forward(b, &mut z);
@@ -433,7 +444,8 @@ impl<'a> ContactSystem<'a> {
         self.invalidate();
         self.k.assemble(self.parts, interfaces, states, dofs);
         let t = Instant::now();
-        let factorized = self.chol.factorize(self.k.matrix());
+        let chol = &mut self.chol;
+        let factorized = self.k.with_matrix(|m| chol.factorize(m));
         // The values are needed by a factorization only: free them until the next.
         self.k.free_values();
         factorized?;
@@ -469,16 +481,6 @@ fn interface_equations(interfaces: &[Interface], dofs: &DofMap) -> Vec<usize> {
         .collect();
     eqs.sort_unstable();
     eqs
-}
-
-/// The factorized capacitance matrix of an update and what it was built for.
-struct Capacitance {
-    /// The correction's columns (indices into the cached columns).
-    idx: Vec<usize>,
-    /// Their weights (the penalty changes).
-    weights: Vec<f64>,
-    /// LU of `Δ⁻¹ + VᵀV`.
-    lu: faer::linalg::solvers::PartialPivLu<f64>,
 }
 
 /// One correction column: the free equations and values of `w_k`.
