@@ -16,8 +16,8 @@ use crate::solve::nonlinear::Solver;
 use crate::solve::nonlinear::{IncrementResult, MultipleOf};
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, OnceLock};
 use std::thread::{Scope, ScopedJoinHandle};
 use std::time::Instant;
 
@@ -297,7 +297,10 @@ impl Analysis {
             last_stresses: None,
             last_multiple: None,
         };
-        let grid = self.parts_grid();
+        // The parts' geometry, built when the first increment is written: after
+        // the solver has freed the factor if it is not needed again (proportional
+        // loads), so the grid is not held beside it (45 MB at 1 M unknowns).
+        let grid = OnceLock::new();
         // All VTU writer threads are joined before the scope ends.
         let this = &*self;
         let result = std::thread::scope(|scope| {
@@ -337,7 +340,7 @@ impl Analysis {
     fn solve_and_write<'scope, 'env: 'scope>(
         &'env self,
         scope: &'scope Scope<'scope, 'env>,
-        grid: &'env PartsGrid,
+        grid: &'env OnceLock<PartsGrid>,
         out: &Path,
         log: &mut RunLog,
         progress: &mut dyn FnMut(&IncrementResult),
@@ -419,7 +422,7 @@ impl Analysis {
     fn write_increment<'scope, 'env: 'scope>(
         &'env self,
         scope: &'scope Scope<'scope, 'env>,
-        grid: &'env PartsGrid,
+        grid: &'env OnceLock<PartsGrid>,
         inc: &IncrementResult,
         series: &mut Series<'scope>,
         log: &mut RunLog,
@@ -463,6 +466,7 @@ impl Analysis {
             inc.u.clone(),
         );
         log.last_stresses = Some(stresses.clone());
+        let grid = grid.get_or_init(|| self.parts_grid());
         // A named thread ("cfe-vtu"), so profiles and debuggers tell it apart.
         let handle = std::thread::Builder::new()
             .name("cfe-vtu".into())
@@ -549,7 +553,8 @@ impl Analysis {
         out
     }
 
-    /// The parts' geometry for the VTU files, built once per run.
+    /// The parts' geometry for the VTU files, built once per run (at its first
+    /// written increment).
     fn parts_grid(&self) -> PartsGrid {
         let n_cells: usize = self.model.parts.iter().map(|p| p.mesh.elements.len()).sum();
         let mut part_point = Vec::with_capacity(self.dofs.n_nodes());
