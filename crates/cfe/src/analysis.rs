@@ -395,6 +395,7 @@ impl Analysis {
             unknowns,
             solver.matrix_nnz() as u64,
             solver.factor_nnz() as u64,
+            solver.keeps_factor_between_increments(),
         );
         if bytes <= available {
             return Ok(());

@@ -405,6 +405,14 @@ impl<'a> Solver<'a> {
         self.system.factor_nnz()
     }
 
+    /// Whether the factor is kept from one increment to the next, so the files
+    /// of an increment are written beside it: every increment is solved (friction,
+    /// gaps, augmented enforcement, load steps, or the `implex` scheme). With the
+    /// active set under proportional loads it is freed after the first increment.
+    pub fn keeps_factor_between_increments(&self) -> bool {
+        !(self.settings.scheme == Scheme::ActiveSet && self.proportional)
+    }
+
     /// Seconds of the first numeric factorization (None before it).
     pub fn first_factorization_seconds(&self) -> Option<f64> {
         self.system.first_factor_seconds
