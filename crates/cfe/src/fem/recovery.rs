@@ -33,8 +33,15 @@ impl PartStress {
     /// recovery is linear in the displacements (no initial strain), so scaling the
     /// values equals recovering from the scaled displacements to round-off.
     pub fn scaled(&self, factor: f64) -> PartStress {
+        self.scaled_in_turn(&[factor])
+    }
+
+    /// These stresses scaled by each of `factors` in turn ([`scaled_in_turn`]
+    /// on every value): bit for bit as many successive [`PartStress::scaled`]
+    /// calls.
+    pub fn scaled_in_turn(&self, factors: &[f64]) -> PartStress {
         let scale = |v: &[[f64; 3]]| -> Vec<[f64; 3]> {
-            v.iter().map(|s| s.map(|x| factor * x)).collect()
+            v.iter().map(|&s| scaled_in_turn(s, factors)).collect()
         };
         PartStress {
             element: scale(&self.element),

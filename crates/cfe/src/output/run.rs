@@ -956,14 +956,10 @@ impl Stresses {
                 factors,
             };
         }
-        let scale = |v: &[[f64; 3]]| v.iter().map(|&v| self.value(v)).collect();
         let base = self
             .base
             .iter()
-            .map(|p| PartStress {
-                element: scale(&p.element),
-                nodal: scale(&p.nodal),
-            })
+            .map(|p| p.scaled_in_turn(&self.factors))
             .collect();
         Stresses {
             base: Arc::new(base),
