@@ -11,15 +11,13 @@
 //! restricted solves run disjoint subtrees of the elimination tree on different
 //! threads ([`super::subtree`]).
 
+use super::factor::NumericPlan;
 use super::subtree::{PARALLEL_MIN_VALUES, SubtreeSplit};
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::cholesky::supernodal::{
-    self, SupernodalLltRef, SymbolicSupernodalCholesky,
-};
+use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSupernodalCholesky};
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
     factorize_symbolic_cholesky,
@@ -48,6 +46,8 @@ pub struct CholeskySolver {
     /// The elimination tree cut into subtrees solved in parallel by the full
     /// forward and backward solves (`None`: sequential).
     split: Option<SubtreeSplit>,
+    /// The numeric factorization's schedule (updaters, parallel subtrees).
+    plan: NumericPlan,
     /// Number of numeric factorizations performed.
     pub factorizations: usize,
 }
@@ -104,22 +104,17 @@ impl CholeskySolver {
                 "the symbolic analysis did not give a supernodal factor".into(),
             ));
         };
-        // The supernodal factorization's own scratch: the matrix is given in the
-        // elimination order, so faer's permuted copy of it is not needed.
-        let req = StackReq::any_of(&[
-            supernodal::factorize_supernodal_numeric_llt_scratch::<usize, f64>(
-                sn,
-                par,
-                Default::default(),
-            ),
-            symbolic.solve_in_place_scratch::<f64>(1, par),
-        ]);
+        // The solves' scratch (the numeric factorization has its own, per thread).
+        let req = symbolic.solve_in_place_scratch::<f64>(1, par);
         let (supernode_of, parent, factor_flops) = tree(sn);
-        let split = (symbolic.len_val() >= PARALLEL_MIN_VALUES)
-            .then(|| SubtreeSplit::new(sn, &parent, rayon::current_num_threads()))
+        let big = symbolic.len_val() >= PARALLEL_MIN_VALUES;
+        let threads = if big { rayon::current_num_threads() } else { 1 };
+        let split = big
+            .then(|| SubtreeSplit::new(sn, &parent, threads))
             .flatten();
+        let plan = NumericPlan::new(sn, &supernode_of, &parent, threads);
         Ok(CholeskySolver {
-            factor: vec![0.0; symbolic.len_val()],
+            factor: Vec::new(),
             symbolic,
             scratch: MemBuffer::new(req),
             scratch_req: req,
@@ -129,6 +124,7 @@ impl CholeskySolver {
             parent,
             factor_flops,
             split,
+            plan,
             factorizations: 0,
         })
     }
@@ -381,44 +377,23 @@ impl CholeskySolver {
     ) -> std::result::Result<(), usize> {
         self.factorized = false;
         if self.factor.len() != self.symbolic.len_val() {
-            self.factor = vec![0.0; self.symbolic.len_val()];
+            self.factor = factor_storage(self.symbolic.len_val());
         }
         if self.scratch_bytes < self.scratch_req.size_bytes() {
             self.scratch = MemBuffer::new(self.scratch_req);
             self.scratch_bytes = self.scratch_req.size_bytes();
         }
-        let stack = MemStack::new(&mut self.scratch);
         let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
             unreachable!("forced supernodal")
         };
-        let res = supernodal::factorize_supernodal_numeric_llt(
-            &mut self.factor,
-            k_ordered,
-            LltRegularization::default(),
-            sn,
-            Par::rayon(0),
-            stack,
-            Default::default(),
-        );
-        // The factorization's scratch holds the frontal update blocks; the solves
-        // need less. Free it now so it is not held beside the factor and the
-        // update columns: the next factorization allocates it again.
-        let solve_req = self
-            .symbolic
-            .solve_in_place_scratch::<f64>(1, Par::rayon(0));
-        if solve_req.size_bytes() < self.scratch_bytes {
-            self.scratch = MemBuffer::new(solve_req);
-            self.scratch_bytes = solve_req.size_bytes();
-        }
+        let res = self.plan.factorize(sn, k_ordered, &mut self.factor);
         self.factorizations += 1;
         match res {
             Ok(_) => {
                 self.factorized = true;
                 Ok(())
             }
-            Err(e) => {
-                let faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index: idx } =
-                    e;
+            Err(idx) => {
                 // Map the permuted pivot back to the original equation.
                 let original = match self.symbolic.perm() {
                     Some(p) => p.arrays().0.get(idx).copied().unwrap_or(idx),
@@ -476,6 +451,32 @@ fn llt<'a>(
 /// a numeric factorization: per supernode of `c` columns and `p` rows below them,
 /// `c³/3` for its diagonal block, `c² p` for the panel and `c p²` for the update of
 /// its ancestors.
+/// Zeroed storage for `len` factor values, on transparent huge pages where the
+/// system offers them on request (Linux with THP in `madvise` mode): the factor is
+/// the largest array of a run, first written by the factorization, and 2 MiB pages
+/// take 512 times fewer page faults to touch than 4 KiB ones.
+fn factor_storage(len: usize) -> Vec<f64> {
+    // Zeroed by the allocator from fresh pages (nothing touched yet).
+    let v = vec![0.0f64; len];
+    #[cfg(target_os = "linux")]
+    {
+        const HUGE: usize = 2 << 20;
+        let start = v.as_ptr() as usize;
+        let end = start + std::mem::size_of_val(v.as_slice());
+        let (first, last) = (start.next_multiple_of(HUGE), end / HUGE * HUGE);
+        if last > first {
+            // SAFETY: MADV_HUGEPAGE only advises the kernel how to back the pages of
+            // `first..last`, which lies inside the allocation of `v`; it changes
+            // neither their contents nor their protection, and a refusal is harmless
+            // (the pages stay ordinary).
+            unsafe {
+                libc::madvise(first as *mut libc::c_void, last - first, libc::MADV_HUGEPAGE);
+            }
+        }
+    }
+    v
+}
+
 fn tree(sn: &SymbolicSupernodalCholesky<usize>) -> (Vec<u32>, Vec<usize>, f64) {
     let ns = sn.n_supernodes();
     let mut supernode_of = vec![0u32; sn.nrows()];
@@ -721,6 +722,78 @@ mod tests {
                 .collect()
         };
         assert!(rel(&on_set(&on[1].1), &on_set(&on[0].1)) < 1e-12);
+    }
+
+    /// The subtree-parallel left-looking factorization (1, 2 and 3 parts) gives
+    /// faer's own supernodal factor to 1e-13 relative, value by value, on a
+    /// 5-point Laplacian of a 90 × 90 grid with varied coefficients (AMD order, a
+    /// branching tree): the same supernodal arithmetic, scheduled differently.
+    #[test]
+    fn parallel_factorization_matches_faer() {
+        use faer::linalg::cholesky::llt::factor::LltRegularization;
+        use faer::sparse::linalg::cholesky::supernodal::{
+            factorize_supernodal_numeric_llt, factorize_supernodal_numeric_llt_scratch,
+        };
+        let m = 90;
+        let n = m * m;
+        let (col_ptr, row, mut vals) = laplacian(m, 4.0);
+        // Off-diagonals shrunk (≤ 1 in size) and diagonals grown, unevenly: still
+        // diagonally dominant, so positive definite.
+        for (p, v) in vals.iter_mut().enumerate() {
+            let f = (0.7 * p as f64).sin().abs();
+            *v *= if *v > 0.0 { 1.0 + 0.3 * f } else { 0.5 + 0.5 * f };
+        }
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
+        let k = SparseColMatRef::new(sym, &vals);
+        let mut s = CholeskySolver::new(k, None).unwrap();
+        let (cp, rw, vl) = ordered(k, &s);
+        let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(n, n, &cp, None, &rw), &vl);
+        let sn = s.supernodal();
+        let mut reference = vec![0.0; sn.len_val()];
+        let mut mem = MemBuffer::new(factorize_supernodal_numeric_llt_scratch::<usize, f64>(
+            sn,
+            Par::Seq,
+            Default::default(),
+        ));
+        factorize_supernodal_numeric_llt(
+            &mut reference,
+            a,
+            LltRegularization::default(),
+            sn,
+            Par::Seq,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .unwrap();
+        let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for parts in [1, 2, 3] {
+            s.plan = NumericPlan::new(s.supernodal(), &s.supernode_of, &s.parent, parts);
+            assert_eq!(s.plan.parts(), parts);
+            s.factorize(a).unwrap();
+            let worst = s.factor.iter().zip(&reference).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+            assert!(worst < 1e-13 * scale, "{parts} parts: {worst:e}");
+        }
+    }
+
+    /// A non-positive pivot is reported at its equation, whichever part of the tree
+    /// (or the top) meets it: a grid Laplacian with one diagonal made negative.
+    #[test]
+    fn non_positive_pivot_is_located() {
+        let m = 60;
+        let n = m * m;
+        for bad in [0, 1234, n / 2 + m / 2, n - 1] {
+            let (col_ptr, row, mut vals) = laplacian(m, 4.5);
+            vals[col_ptr[bad]] = -1.0;
+            let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
+            let k = SparseColMatRef::new(sym, &vals);
+            let mut s = CholeskySolver::new(k, None).unwrap();
+            s.plan = NumericPlan::new(s.supernodal(), &s.supernode_of, &s.parent, 2);
+            assert_eq!(s.plan.parts(), 2);
+            // The pivot fails at `bad` itself or, when the negative diagonal is
+            // absorbed by later eliminations, at the first column after it that
+            // turns non-positive; with a diagonal of −1 among 4.5s it is `bad`.
+            assert_eq!(factorize(&mut s, k), Err(bad));
+        }
     }
 
     /// An indefinite matrix is reported as a failed factorization, not a panic.

@@ -6,6 +6,7 @@
 pub(crate) mod anderson;
 pub(crate) mod capacitance;
 pub(crate) mod columns;
+pub mod factor;
 pub mod linear;
 pub mod nonlinear;
 pub(crate) mod ordering;

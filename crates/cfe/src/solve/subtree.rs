@@ -79,18 +79,29 @@ impl SubtreeSplit {
         parent: &[usize],
         parts: usize,
     ) -> Option<Self> {
+        let (begin, end) = (sn.supernode_begin(), sn.supernode_end());
+        Self::with_work(sn, parent, parts, |s| {
+            let c = end[s].zx() - begin[s].zx();
+            (c * (c + sn.supernode(s).pattern().len())) as f64
+        })
+    }
+
+    /// [`SubtreeSplit::new`] with the work of supernode `s` given by `own_work(s)`
+    /// (factor values for a solve, flops for a factorization).
+    pub fn with_work<I: Index>(
+        sn: &SymbolicSupernodalCholesky<I>,
+        parent: &[usize],
+        parts: usize,
+        own_work: impl Fn(usize) -> f64,
+    ) -> Option<Self> {
         let ns = sn.n_supernodes();
         if parts < 2 || ns < 2 || parent.len() != ns {
             return None;
         }
         let begin = sn.supernode_begin();
         let end = sn.supernode_end();
-        let values = |s: usize| {
-            let c = end[s].zx() - begin[s].zx();
-            (c * (c + sn.supernode(s).pattern().len())) as f64
-        };
         // Subtree work, first supernode and size (children are numbered first).
-        let mut work: Vec<f64> = (0..ns).map(values).collect();
+        let mut work: Vec<f64> = (0..ns).map(own_work).collect();
         let mut first: Vec<usize> = (0..ns).collect();
         let mut size = vec![1usize; ns];
         let mut children: Vec<Vec<usize>> = vec![Vec::new(); ns];
@@ -182,6 +193,18 @@ impl SubtreeSplit {
     /// Number of parts solved in parallel.
     pub fn parts(&self) -> usize {
         self.parts.len()
+    }
+
+    /// The subtrees of each part: their supernodes (each a contiguous range).
+    pub fn part_subtrees(&self) -> impl Iterator<Item = Vec<Range<usize>>> + '_ {
+        self.parts
+            .iter()
+            .map(|ts| ts.iter().map(|t| t.supernodes.clone()).collect())
+    }
+
+    /// The top supernodes (closed under the parent), ascending.
+    pub fn top(&self) -> &[usize] {
+        &self.top
     }
 
     /// The critical path (top supernodes and heaviest part) over the whole work,

@@ -1,0 +1,434 @@
+//! Numeric supernodal Cholesky factorization `P K Pᵀ = L Lᵀ`, left-looking, with
+//! disjoint subtrees of the elimination tree factorized on different threads.
+//!
+//! The factor has faer's supernodal layout ([`SymbolicSupernodalCholesky`]): the
+//! columns `s0..s1` of supernode `s` are one dense column-major block of
+//! `(c + p) × c` values, its `c × c` diagonal block on top of the `p` rows of its
+//! pattern (ascending, all past `s1`). Supernode `s` is computed from `A = P K Pᵀ`
+//! and the supernodes `d` of its subtree whose pattern meets its columns (its
+//! *updaters*):
+//!
+//! ```text
+//!   L_s ← A[s0.., s0..s1]                       (rows s0..s1 and the pattern of s)
+//!   L_s[r_d, c_d] −= L_d[r_d, :] · L_d[c_d, :]ᵀ  for each updater d, ascending
+//!   L_ss ← chol(L_ss),  L_ps ← L_ps · L_ssᵀ⁻¹
+//! ```
+//!
+//! with `c_d` the rows of `d` among the columns of `s` and `r_d` the rows of `d`
+//! from `s0` on (each a row of `s`: the pattern of a descendant past `s0` lies in
+//! the columns and pattern of its ancestor). The product is formed in a small
+//! dense block and subtracted through the row map of `s`.
+//!
+//! A supernode reads only its descendants, so the subtrees of a
+//! [`SubtreeSplit`] (cut by flops) are factorized at the same time, one part per
+//! thread with sequential kernels, each zeroing (first touching) its own values;
+//! the top supernodes (the large separators) follow in order with faer's
+//! parallel dense kernels, their updates split over column ranges on every
+//! thread. A supernode's updates are always subtracted in the same order
+//! (ascending `d`), so the schedule changes the factor only through the rounding
+//! of faer's parallel kernels on the top supernodes.
+//!
+//! The block operations are faer's dense kernels (matrix product, Cholesky of the
+//! diagonal block, triangular solve); this file owns only the schedule and the
+//! scatter, which faer's own supernodal factorization runs one supernode after
+//! another.
+
+use super::subtree::SubtreeSplit;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{
+    LltError, LltRegularization, cholesky_in_place, cholesky_in_place_scratch,
+};
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::sparse::SparseColMatRef;
+use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
+use faer::{Accum, MatMut, MatRef, Par};
+use rayon::prelude::*;
+use std::ops::Range;
+
+/// Entries of the dense update block formed at once (8 MiB): wider updates are
+/// formed a group of columns at a time.
+const BLOCK_VALUES: usize = 1 << 20;
+
+/// Supernodes with at least this many flops use faer's parallel dense kernels
+/// (top supernodes only; below the top each thread has its own subtrees).
+const PARALLEL_KERNEL_FLOPS: f64 = 4.0e6;
+
+/// What a numeric factorization needs beyond faer's symbolic structure: the
+/// updaters of each supernode and the split of the tree into parallel parts.
+#[derive(Debug, Clone)]
+pub struct NumericPlan {
+    /// `updaters[ptr[s]..ptr[s + 1]]`: the supernodes whose pattern meets the
+    /// columns of `s`, ascending.
+    ptr: Vec<usize>,
+    updaters: Vec<u32>,
+    /// Flops of each supernode's left-looking work (its diagonal block, the
+    /// solve below it and the updates it receives).
+    flops: Vec<f64>,
+    /// Subtrees factorized in parallel (`None`: one thread).
+    split: Option<SubtreeSplit>,
+    /// Widest supernode (columns).
+    max_cols: usize,
+}
+
+/// The scratch of one update loop: the rows of an updater mapped into the
+/// supernode and the dense update block.
+#[derive(Default)]
+struct Scratch {
+    rows: Vec<u32>,
+    block: Vec<f64>,
+}
+
+/// One thread's scratch: the row map of the current supernode (row of the factor
+/// → row of its block), the update loops' scratch (one per column range of a
+/// large supernode) and the Cholesky kernel's stack.
+struct Workspace {
+    local: Vec<u32>,
+    scratch: Vec<Scratch>,
+    stack: MemBuffer,
+}
+
+impl Workspace {
+    fn new(n: usize, max_cols: usize) -> Self {
+        Workspace {
+            local: vec![0; n],
+            scratch: vec![Scratch::default()],
+            stack: MemBuffer::new(cholesky_in_place_scratch::<f64>(
+                max_cols,
+                Par::rayon(0),
+                Default::default(),
+            )),
+        }
+    }
+}
+
+impl NumericPlan {
+    /// The plan of `sn`, with `supernode_of[j]` the supernode of column `j` and
+    /// `parent[s]` the parent of supernode `s` (`usize::MAX` for a root), split
+    /// into `parts` parallel parts (1: sequential) when the tree allows it.
+    pub fn new(
+        sn: &SymbolicSupernodalCholesky<usize>,
+        supernode_of: &[u32],
+        parent: &[usize],
+        parts: usize,
+    ) -> Self {
+        let ns = sn.n_supernodes();
+        let (begin, end) = (sn.supernode_begin(), sn.supernode_end());
+        // Each (updater d, supernode s) pair once, with the rows of d from the
+        // first column of s on (`m`) and those among its columns (`mid`).
+        let each_update = |f: &mut dyn FnMut(usize, usize, usize, usize)| {
+            for d in 0..ns {
+                let pattern = sn.supernode(d).pattern();
+                let mut i = 0;
+                while i < pattern.len() {
+                    let s = supernode_of[pattern[i]] as usize;
+                    let mid = pattern[i..].partition_point(|&r| r < end[s]);
+                    f(d, s, pattern.len() - i, mid);
+                    i += mid;
+                }
+            }
+        };
+        let mut ptr = vec![0usize; ns + 1];
+        // Left-looking work of each supernode: the Cholesky of its diagonal block,
+        // the triangular solve below it and the updates it receives (the lower
+        // trapezoid of an m × mid product of depth dc, multiply–adds counted twice).
+        let mut flops: Vec<f64> = (0..ns)
+            .map(|s| {
+                let c = (end[s] - begin[s]) as f64;
+                let p = sn.supernode(s).pattern().len() as f64;
+                c * c * c / 3.0 + c * c * p
+            })
+            .collect();
+        each_update(&mut |d, s, m, mid| {
+            ptr[s + 1] += 1;
+            let dc = (end[d] - begin[d]) as f64;
+            flops[s] += dc * mid as f64 * (2 * m - mid) as f64;
+        });
+        for s in 0..ns {
+            ptr[s + 1] += ptr[s];
+        }
+        let mut fill = ptr.clone();
+        let mut updaters = vec![0u32; ptr[ns]];
+        each_update(&mut |d, s, _, _| {
+            updaters[fill[s]] = d as u32;
+            fill[s] += 1;
+        });
+        let split = SubtreeSplit::with_work(sn, parent, parts, |s| flops[s]);
+        let max_cols = (0..ns).map(|s| end[s] - begin[s]).max().unwrap_or(0);
+        NumericPlan {
+            ptr,
+            updaters,
+            flops,
+            split,
+            max_cols,
+        }
+    }
+
+    /// Number of parts factorized in parallel (1: sequentially).
+    pub fn parts(&self) -> usize {
+        self.split.as_ref().map_or(1, |s| s.parts())
+    }
+
+    /// Factorizes `a`, the lower triangle of `P K Pᵀ` with the pattern `sn` was
+    /// analysed from, into `values` (faer's layout, `sn.len_val()` values; every
+    /// value is overwritten). A non-positive pivot is returned as its column in
+    /// the elimination order (the smallest one if parts fail at the same time).
+    pub fn factorize(
+        &self,
+        sn: &SymbolicSupernodalCholesky<usize>,
+        a: SparseColMatRef<'_, usize, f64>,
+        values: &mut [f64],
+    ) -> Result<(), usize> {
+        assert_eq!(values.len(), sn.len_val(), "factor storage of another size");
+        let n = sn.nrows();
+        let val_ptr = sn.col_ptr_for_val();
+        let Some(split) = &self.split else {
+            let mut ws = Workspace::new(n, self.max_cols);
+            for s in 0..sn.n_supernodes() {
+                self.supernode(sn, a, s, values, 0, &mut ws, self.kernel_par(s))?;
+            }
+            return Ok(());
+        };
+        // The values of each subtree (a contiguous range of supernodes, so of
+        // values), handed to the thread of its part.
+        let mut pieces: Vec<(usize, Range<usize>)> = split
+            .part_subtrees()
+            .enumerate()
+            .flat_map(|(p, ts)| ts.into_iter().map(move |t| (p, t)))
+            .collect();
+        pieces.sort_by_key(|(_, t)| t.start);
+        let mut tasks: Vec<Vec<(Range<usize>, &mut [f64])>> =
+            (0..split.parts()).map(|_| Vec::new()).collect();
+        let mut rest: &mut [f64] = values;
+        let mut at = 0;
+        for (p, t) in pieces {
+            let (from, to) = (val_ptr[t.start], val_ptr[t.end]);
+            let tail = std::mem::take(&mut rest).split_at_mut(from - at).1;
+            let (mine, after) = tail.split_at_mut(to - from);
+            tasks[p].push((t, mine));
+            rest = after;
+            at = to;
+        }
+        let failed = tasks
+            .into_par_iter()
+            .map(|subtrees| {
+                let mut ws = Workspace::new(n, self.max_cols);
+                for (t, vals) in subtrees {
+                    let base = val_ptr[t.start];
+                    for s in t {
+                        self.supernode(sn, a, s, vals, base, &mut ws, Par::Seq)?;
+                    }
+                }
+                Ok(())
+            })
+            .filter_map(|r: Result<(), usize>| r.err())
+            .min();
+        if let Some(col) = failed {
+            return Err(col);
+        }
+        let mut ws = Workspace::new(n, self.max_cols);
+        for &s in split.top() {
+            self.supernode(sn, a, s, values, 0, &mut ws, self.kernel_par(s))?;
+        }
+        Ok(())
+    }
+
+    /// faer's parallel kernels for a large supernode, sequential ones otherwise.
+    fn kernel_par(&self, s: usize) -> Par {
+        if self.flops[s] >= PARALLEL_KERNEL_FLOPS && rayon::current_num_threads() > 1 {
+            Par::rayon(0)
+        } else {
+            Par::Seq
+        }
+    }
+
+    /// Computes supernode `s` into `vals`, which holds the values from offset
+    /// `base` of the factor on (`s` and every supernode of its subtree before it).
+    #[allow(clippy::too_many_arguments)]
+    fn supernode(
+        &self,
+        sn: &SymbolicSupernodalCholesky<usize>,
+        a: SparseColMatRef<'_, usize, f64>,
+        s: usize,
+        vals: &mut [f64],
+        base: usize,
+        ws: &mut Workspace,
+        par: Par,
+    ) -> Result<(), usize> {
+        let val_ptr = sn.col_ptr_for_val();
+        let (s0, s1) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
+        let nc = s1 - s0;
+        let pattern = sn.supernode(s).pattern();
+        let nr = nc + pattern.len();
+        let (done, rest) = vals.split_at_mut(val_ptr[s] - base);
+        let done: &[f64] = done;
+        let ls = &mut rest[..nr * nc];
+        ls.fill(0.0);
+        for (i, &r) in pattern.iter().enumerate() {
+            ws.local[r] = (nc + i) as u32;
+        }
+        // The columns of A (lower triangle, in the elimination order).
+        for j in s0..s1 {
+            let col = &mut ls[(j - s0) * nr..(j - s0 + 1) * nr];
+            for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+                if i >= j {
+                    let at = if i < s1 { i - s0 } else { ws.local[i] as usize };
+                    col[at] += v;
+                }
+            }
+        }
+        // The updates of its descendants, over column ranges of balanced work
+        // in parallel when the supernode is large.
+        let updaters = &self.updaters[self.ptr[s]..self.ptr[s + 1]];
+        let ranges = match par {
+            Par::Rayon(t) if updaters.len() > 1 => column_ranges(nr, nc, t.get()),
+            _ => std::iter::once(0..nc).collect(),
+        };
+        if ws.scratch.len() < ranges.len() {
+            ws.scratch.resize_with(ranges.len(), Scratch::default);
+        }
+        let update = Update {
+            sn,
+            done,
+            base,
+            local: &ws.local,
+            s0,
+            s1,
+            nr,
+        };
+        if ranges.len() == 1 {
+            update.apply(updaters, 0..nc, ls, &mut ws.scratch[0]);
+        } else {
+            let mut pieces = Vec::with_capacity(ranges.len());
+            let mut rest: &mut [f64] = ls;
+            for r in &ranges {
+                let (mine, after) = std::mem::take(&mut rest).split_at_mut(r.len() * nr);
+                pieces.push((r.clone(), mine));
+                rest = after;
+            }
+            pieces
+                .into_par_iter()
+                .zip(ws.scratch.par_iter_mut())
+                .for_each(|((r, cols), scratch)| update.apply(updaters, r, cols, scratch));
+        }
+        let ls = &mut rest[..nr * nc];
+        let l = MatMut::from_column_major_slice_mut(ls, nr, nc);
+        let (mut top, bottom) = l.split_at_row_mut(nc);
+        let stack = MemStack::new(&mut ws.stack);
+        let factored = cholesky_in_place(
+            top.as_mut(),
+            LltRegularization::default(),
+            par,
+            stack,
+            Default::default(),
+        );
+        for &r in pattern {
+            ws.local[r] = 0;
+        }
+        if let Err(LltError::NonPositivePivot { index }) = factored {
+            return Err(s0 + index);
+        }
+        solve_lower_triangular_in_place(top.as_ref(), bottom.transpose_mut(), par);
+        Ok(())
+    }
+}
+
+/// The updates of one supernode `s` by its descendants, read from the finished
+/// part of the factor.
+struct Update<'a> {
+    sn: &'a SymbolicSupernodalCholesky<usize>,
+    /// The factor's values from offset `base` on (up to `s`).
+    done: &'a [f64],
+    base: usize,
+    /// Row of the factor → row of the block of `s`.
+    local: &'a [u32],
+    s0: usize,
+    s1: usize,
+    /// Rows of the block of `s`.
+    nr: usize,
+}
+
+impl Update<'_> {
+    /// `L_s[:, cols] −= L_d[r_d, :] · L_d[c_d ∩ cols, :]ᵀ` for each updater `d`,
+    /// ascending, with `ls` the columns `cols` of the block of `s`.
+    fn apply(&self, updaters: &[u32], cols: Range<usize>, ls: &mut [f64], scratch: &mut Scratch) {
+        let (sn, nr) = (self.sn, self.nr);
+        let val_ptr = sn.col_ptr_for_val();
+        for &d in updaters {
+            let d = d as usize;
+            let d_pattern = sn.supernode(d).pattern();
+            let dc = sn.supernode_end()[d] - sn.supernode_begin()[d];
+            let ld = MatRef::from_column_major_slice(
+                &self.done[val_ptr[d] - self.base..val_ptr[d + 1] - self.base],
+                dc + d_pattern.len(),
+                dc,
+            );
+            // The rows of d from s0 on; the first `mid` are columns of s, of which
+            // `lo..hi` fall in `cols`.
+            let first = d_pattern.partition_point(|&r| r < self.s0);
+            let below = &d_pattern[first..];
+            let mid = below.partition_point(|&r| r < self.s1);
+            let lo = below[..mid].partition_point(|&r| r < self.s0 + cols.start);
+            let hi = below[..mid].partition_point(|&r| r < self.s0 + cols.end);
+            if lo == hi {
+                continue;
+            }
+            scratch.rows.clear();
+            scratch.rows.extend(below.iter().enumerate().map(|(i, &r)| {
+                if i < mid {
+                    (r - self.s0) as u32
+                } else {
+                    self.local[r]
+                }
+            }));
+            let m = below.len();
+            let lb = ld.subrows(dc + first, m);
+            let group = (BLOCK_VALUES / m).max(1);
+            let mut c0 = lo;
+            while c0 < hi {
+                let c1 = (c0 + group).min(hi);
+                // Rows c0.. of the product (the lower part of its columns c0..c1).
+                let h = m - c0;
+                scratch.block.resize(h * (c1 - c0), 0.0);
+                let w = MatMut::from_column_major_slice_mut(&mut scratch.block, h, c1 - c0);
+                matmul(
+                    w,
+                    Accum::Replace,
+                    lb.subrows(c0, h),
+                    lb.subrows(c0, c1 - c0).transpose(),
+                    1.0,
+                    Par::Seq,
+                );
+                for jj in c0..c1 {
+                    let target = (scratch.rows[jj] as usize - cols.start) * nr;
+                    let wcol = &scratch.block[(jj - c0) * h..(jj - c0 + 1) * h];
+                    for (&r, &x) in scratch.rows[jj..].iter().zip(&wcol[jj - c0..]) {
+                        ls[target + r as usize] -= x;
+                    }
+                }
+                c0 = c1;
+            }
+        }
+    }
+}
+
+/// The columns `0..nc` of a supernode block with `nr` rows cut into at most
+/// `parts` ranges of about equal lower-triangle area (column `j` holds `nr − j`
+/// values on and below the diagonal).
+fn column_ranges(nr: usize, nc: usize, parts: usize) -> Vec<Range<usize>> {
+    let area = |j: usize| (nr - j) as f64;
+    let total: f64 = (0..nc).map(area).sum();
+    let mut out = Vec::with_capacity(parts);
+    let (mut start, mut acc) = (0, 0.0);
+    for j in 0..nc {
+        acc += area(j);
+        if acc >= total * (out.len() + 1) as f64 / parts as f64 && out.len() + 1 < parts {
+            out.push(start..j + 1);
+            start = j + 1;
+        }
+    }
+    if start < nc || out.is_empty() {
+        out.push(start..nc);
+    }
+    out
+}
