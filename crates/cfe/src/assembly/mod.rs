@@ -220,6 +220,12 @@ impl Stiffness {
     /// there are none). Later assemblies place each equation's entries at its
     /// position in the order.
     pub fn in_order(&self, order: &[usize], inverse: &[usize]) -> Stiffness {
+        self.in_order_wide(&self.wide_rows(), order, inverse)
+    }
+
+    /// [`Stiffness::in_order`] with the row indices already widened
+    /// ([`Stiffness::wide_rows`]), e.g. shared with the symbolic analysis.
+    pub fn in_order_wide(&self, rows: &[usize], order: &[usize], inverse: &[usize]) -> Stiffness {
         let zeros;
         let values = if self.values.len() == self.row_idx.len() {
             &self.values
@@ -227,29 +233,14 @@ impl Stiffness {
             zeros = vec![0.0; self.row_idx.len()];
             &zeros
         };
-        self.permuted(values, self.parts_only, order, inverse)
-    }
-
-    /// As [`Stiffness::in_order`], with the values of the elements of `sources`
-    /// (the parts; assembled in the equations' order, where the element's entries
-    /// lie close together, then permuted along): the values
-    /// [`Stiffness::assemble_parts`] would give in that order.
-    pub fn in_order_with_parts(
-        &self,
-        sources: &[&dyn ElementSource],
-        dofs: &DofMap,
-        order: &[usize],
-        inverse: &[usize],
-    ) -> Stiffness {
-        let mut values = vec![0.0; self.row_idx.len()];
-        self.add_sources(&mut values, sources, dofs);
-        self.permuted(&values, true, order, inverse)
+        self.permuted(rows, values, self.parts_only, order, inverse)
     }
 
     /// This matrix with `values` in the elimination order (see
-    /// [`Stiffness::in_order`]).
+    /// [`Stiffness::in_order`]); `rows` are its row indices widened.
     fn permuted(
         &self,
+        rows: &[usize],
         values: &[f64],
         parts_only: bool,
         order: &[usize],
@@ -278,7 +269,7 @@ impl Stiffness {
         let mut new_values = vec![0.0; nnz];
         let mut scratch =
             MemBuffer::new(faer::sparse::utils::permute_self_adjoint_scratch::<usize>(n));
-        self.with_matrix_of(values, |m| {
+        self.with_matrix_wide(rows, values, |m| {
             faer::sparse::utils::permute_self_adjoint(
                 &mut new_values,
                 &mut col_ptr,
@@ -361,7 +352,70 @@ impl Stiffness {
     /// order the matrix is stored in, to the last bit, whatever the rounding of
     /// the element matrix's symmetry), each at its place in the lower triangle of
     /// the stored matrix.
+    ///
+    /// The element's DOFs are sorted by their stored row; each stored column is
+    /// then walked once for all the element's rows at or below it (sorted too),
+    /// instead of a binary search per entry. Each entry of `values` still gets
+    /// one term per element, so the sums are those of any other visiting order.
     fn scatter(&self, values: &mut [f64], dofs: &DofMap, g: &[usize], k: &[f64], stride: usize) {
+        /// DOFs of the largest element walked column by column (larger ones are
+        /// searched entry by entry).
+        const MERGE_MAX: usize = 32;
+        if g.len() > MERGE_MAX {
+            return self.scatter_searched(values, dofs, g, k, stride);
+        }
+        // (stored row, equation, local DOF) of each free DOF, sorted by row.
+        let mut free = [(0u32, 0usize, 0usize); MERGE_MAX];
+        let mut m = 0;
+        for (a, &ga) in g.iter().enumerate() {
+            let e = dofs.eq[ga];
+            if e == FIXED {
+                continue;
+            }
+            let entry = (narrow(self.stored(e)), e, a);
+            let mut at = m;
+            while at > 0 && free[at - 1].0 > entry.0 {
+                free[at] = free[at - 1];
+                at -= 1;
+            }
+            free[at] = entry;
+            m += 1;
+        }
+        let free = &free[..m];
+        if free.windows(2).any(|w| w[0].0 == w[1].0) {
+            // A DOF twice in one element: the entry-by-entry order.
+            return self.scatter_searched(values, dofs, g, k, stride);
+        }
+        for (c, &(j, ej, b)) in free.iter().enumerate() {
+            let start = self.col_ptr[j as usize];
+            let rows = &self.row_idx[start..self.col_ptr[j as usize + 1]];
+            let mut p = 0;
+            for &(i, ei, a) in &free[c..] {
+                p += rows[p..]
+                    .iter()
+                    .position(|&r| r == i)
+                    .expect("entry is in the sparsity pattern");
+                // The lower triangle in the equations' order: entry (a, b) with
+                // equation a ≥ equation b.
+                values[start + p] += if ei >= ej {
+                    k[a * stride + b]
+                } else {
+                    k[b * stride + a]
+                };
+            }
+        }
+    }
+
+    /// [`Stiffness::scatter`] entry by entry, each found by a binary search in
+    /// its column.
+    fn scatter_searched(
+        &self,
+        values: &mut [f64],
+        dofs: &DofMap,
+        g: &[usize],
+        k: &[f64],
+        stride: usize,
+    ) {
         for (b, &gb) in g.iter().enumerate() {
             let eb = dofs.eq[gb];
             if eb == FIXED {
@@ -422,21 +476,30 @@ impl Stiffness {
     }
 
     /// The current matrix as a faer sparse view (lower triangle of the stored
-    /// matrix). The values must be there (assembled, not freed).
+    /// matrix). The values must be there (assembled, not freed). The row indices
+    /// are widened to `usize` for the call (a copy of 8 bytes per stored entry,
+    /// freed after it).
     pub fn with_matrix<R>(&self, f: impl FnOnce(SparseColMatRef<'_, usize, f64>) -> R) -> R {
-        self.with_matrix_of(&self.values, f)
+        self.with_matrix_wide(&self.wide_rows(), &self.values, f)
     }
 
-    /// [`Stiffness::with_matrix`] with `values`: the row indices are widened to
-    /// `usize` for the call (a copy of 8 bytes per stored entry, freed after it).
-    fn with_matrix_of<R>(
+    /// The row indices widened to `usize`, as faer takes them: made once, they
+    /// can serve several calls ([`Stiffness::with_matrix_wide`],
+    /// [`Stiffness::in_order_wide`]).
+    pub fn wide_rows(&self) -> Vec<usize> {
+        self.row_idx.iter().map(|&i| i as usize).collect()
+    }
+
+    /// The matrix with row indices `rows` (from [`Stiffness::wide_rows`]) and
+    /// values `values` as a faer sparse view.
+    pub fn with_matrix_wide<R>(
         &self,
+        rows: &[usize],
         values: &[f64],
         f: impl FnOnce(SparseColMatRef<'_, usize, f64>) -> R,
     ) -> R {
         let n = self.n();
-        let rows: Vec<usize> = self.row_idx.iter().map(|&i| i as usize).collect();
-        let symbolic = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &rows);
+        let symbolic = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, rows);
         f(SparseColMatRef::new(symbolic, values))
     }
 }
@@ -536,4 +599,59 @@ pub const MAX_EQUATIONS: usize = u32::MAX as usize;
 /// A row index stored in 4 bytes (at most [`MAX_EQUATIONS`] equations).
 fn narrow(i: usize) -> u32 {
     u32::try_from(i).expect("at most MAX_EQUATIONS equations (checked by solve::setup)")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::{Material, PlaneKind};
+    use crate::mesh::{ElementKind, Mesh};
+
+    /// The column-walking scatter puts every term of an element matrix (here
+    /// unsymmetric, so a wrong triangle shows) where the entry-by-entry binary
+    /// search does, bit for bit, with fixed DOFs, in the equations' order and
+    /// in a reversed elimination order, for T3 and Q4 elements.
+    #[test]
+    fn walked_scatter_matches_searched_scatter() {
+        for kind in [ElementKind::T3, ElementKind::Q4] {
+            let parts = vec![Part {
+                name: "p".into(),
+                mesh: Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [5, 4], kind),
+                material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
+            }];
+            let supports = vec![crate::domain::Support {
+                name: "s".into(),
+                part: 0,
+                nodes: parts[0].mesh.boundary_nodes("bottom").unwrap(),
+                fix: [true, false],
+                value: [0.0, 0.0],
+                step: 0,
+            }];
+            let dofs = DofMap::new(&parts, &supports);
+            let graph = NodeGraph::new(&parts, &[], &dofs);
+            let k = Stiffness::pattern(&dofs, &graph);
+            let order: Vec<usize> = (0..dofs.n_eq).rev().collect();
+            let reversed = k.in_order(&order, &order);
+            for k in [&k, &reversed] {
+                let (mut walked, mut searched) =
+                    (vec![0.0; k.row_idx.len()], vec![0.0; k.row_idx.len()]);
+                let elements = PartElements::new(&parts, &dofs);
+                let mut e = 0.0;
+                elements.for_each_nodes(&mut |nodes| {
+                    let g: Vec<usize> = nodes.iter().flat_map(|&a| [2 * a, 2 * a + 1]).collect();
+                    let n = g.len();
+                    let m: Vec<f64> = (0..n * n)
+                        .map(|i| (i as f64 * 0.37 + e).sin() / 3.0)
+                        .collect();
+                    k.scatter(&mut walked, &dofs, &g, &m, n);
+                    k.scatter_searched(&mut searched, &dofs, &g, &m, n);
+                    e += 1.0;
+                });
+                assert!(walked.iter().any(|&v| v != 0.0));
+                for (w, s) in walked.iter().zip(&searched) {
+                    assert_eq!(w.to_bits(), s.to_bits());
+                }
+            }
+        }
+    }
 }
