@@ -58,19 +58,44 @@ impl NodeGraph {
                 }
             }
         });
-        let mut ptr = vec![0usize; n_nodes + 1];
-        let mut out = Vec::with_capacity(adj.len() / 2);
-        for a in 0..n_nodes {
-            let row = &mut adj[count[a]..count[a + 1]];
-            row.sort_unstable();
-            let mut last = usize::MAX;
-            for &b in row.iter() {
-                if b != last {
-                    out.push(b);
-                    last = b;
+        // Each row sorted and deduplicated in place, blocks of rows in parallel,
+        // then the rows' unique prefixes gathered.
+        use rayon::prelude::*;
+        const BLOCK: usize = 4096;
+        let mut blocks = Vec::with_capacity(n_nodes.div_ceil(BLOCK));
+        let mut rest: &mut [usize] = &mut adj;
+        for first in (0..n_nodes).step_by(BLOCK) {
+            let last = (first + BLOCK).min(n_nodes);
+            let (head, tail) = rest.split_at_mut(count[last] - count[first]);
+            blocks.push((first..last, head));
+            rest = tail;
+        }
+        let mut unique = vec![0usize; n_nodes];
+        blocks
+            .into_par_iter()
+            .zip(unique.par_chunks_mut(BLOCK))
+            .for_each(|((nodes, block), unique)| {
+                let base = count[nodes.start];
+                for (a, u) in nodes.zip(unique) {
+                    let row = &mut block[count[a] - base..count[a + 1] - base];
+                    row.sort_unstable();
+                    let mut k = 0;
+                    for i in 0..row.len() {
+                        if k == 0 || row[i] != row[k - 1] {
+                            row[k] = row[i];
+                            k += 1;
+                        }
+                    }
+                    *u = k;
                 }
-            }
-            ptr[a + 1] = out.len();
+            });
+        let mut ptr = vec![0usize; n_nodes + 1];
+        for a in 0..n_nodes {
+            ptr[a + 1] = ptr[a] + unique[a];
+        }
+        let mut out = Vec::with_capacity(ptr[n_nodes]);
+        for a in 0..n_nodes {
+            out.extend_from_slice(&adj[count[a]..count[a] + unique[a]]);
         }
         NodeGraph { ptr, adj: out }
     }
@@ -220,12 +245,6 @@ impl Stiffness {
     /// there are none). Later assemblies place each equation's entries at its
     /// position in the order.
     pub fn in_order(&self, order: &[usize], inverse: &[usize]) -> Stiffness {
-        self.in_order_wide(&self.wide_rows(), order, inverse)
-    }
-
-    /// [`Stiffness::in_order`] with the row indices already widened
-    /// ([`Stiffness::wide_rows`]), e.g. shared with the symbolic analysis.
-    pub fn in_order_wide(&self, rows: &[usize], order: &[usize], inverse: &[usize]) -> Stiffness {
         let zeros;
         let values = if self.values.len() == self.row_idx.len() {
             &self.values
@@ -233,56 +252,92 @@ impl Stiffness {
             zeros = vec![0.0; self.row_idx.len()];
             &zeros
         };
-        self.permuted(rows, values, self.parts_only, order, inverse)
+        self.permuted(values, self.parts_only, order, inverse)
+    }
+
+    /// As [`Stiffness::in_order`], with the values of the elements of `sources`
+    /// (the parts; assembled in the equations' order, where the element's entries
+    /// lie close together, then permuted along): the values
+    /// [`Stiffness::assemble_parts`] would give in that order.
+    pub fn in_order_with_parts(
+        &self,
+        sources: &[&dyn ElementSource],
+        dofs: &DofMap,
+        order: &[usize],
+        inverse: &[usize],
+    ) -> Stiffness {
+        let mut values = vec![0.0; self.row_idx.len()];
+        self.add_sources(&mut values, sources, dofs);
+        self.permuted(&values, true, order, inverse)
     }
 
     /// This matrix with `values` in the elimination order (see
-    /// [`Stiffness::in_order`]); `rows` are its row indices widened.
+    /// [`Stiffness::in_order`]).
     fn permuted(
         &self,
-        rows: &[usize],
         values: &[f64],
         parts_only: bool,
         order: &[usize],
         inverse: &[usize],
     ) -> Stiffness {
-        use faer::dyn_stack::{MemBuffer, MemStack};
         let n = self.n();
         let nnz = self.row_idx.len();
-        // The stored matrix's original equations: compose with its own order.
-        let (order, inverse): (Vec<usize>, Vec<usize>) = if self.position.is_empty() {
-            (order.to_vec(), inverse.to_vec())
+        // The stored matrix's rows are its equations' positions: compose with
+        // its own order.
+        let composed;
+        let inverse = if self.position.is_empty() {
+            inverse
         } else {
-            let mut fwd = vec![0; n];
-            for (k, &e) in order.iter().enumerate() {
-                fwd[k] = self.position[e];
-            }
             let mut inv = vec![0; n];
-            for (k, &p) in fwd.iter().enumerate() {
-                inv[p] = k;
+            for (k, &e) in order.iter().enumerate() {
+                inv[self.position[e]] = k;
             }
-            (fwd, inv)
+            composed = inv;
+            &composed[..]
         };
-        let perm = faer::perm::PermRef::new_checked(&order, &inverse, n);
+        // Entry (i, j) of the stored lower triangle goes to column min(i', j'),
+        // row max(i', j') (i' = inverse[i]): counted, placed column by column,
+        // then each (short) column sorted by row; the values move along.
         let mut col_ptr = vec![0usize; n + 1];
-        let mut wide = vec![0usize; nnz];
+        for j in 0..n {
+            let pj = inverse[j];
+            for &i in &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]] {
+                col_ptr[inverse[i as usize].min(pj) + 1] += 1;
+            }
+        }
+        for c in 0..n {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let mut next = col_ptr.clone();
+        let mut row_idx = vec![0u32; nnz];
         let mut new_values = vec![0.0; nnz];
-        let mut scratch =
-            MemBuffer::new(faer::sparse::utils::permute_self_adjoint_scratch::<usize>(n));
-        self.with_matrix_wide(rows, values, |m| {
-            faer::sparse::utils::permute_self_adjoint(
-                &mut new_values,
-                &mut col_ptr,
-                &mut wide,
-                m,
-                perm,
-                faer::Side::Lower,
-                faer::Side::Lower,
-                MemStack::new(&mut scratch),
-            )
-        });
-        let row_idx: Vec<u32> = wide.iter().map(|&i| narrow(i)).collect();
-        drop(wide);
+        for j in 0..n {
+            let pj = inverse[j];
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let pi = inverse[self.row_idx[p] as usize];
+                let (r, c) = (pi.max(pj), pi.min(pj));
+                let at = next[c];
+                next[c] += 1;
+                row_idx[at] = narrow(r);
+                new_values[at] = values[p];
+            }
+        }
+        drop(next);
+        for c in 0..n {
+            let (s, e) = (col_ptr[c], col_ptr[c + 1]);
+            let (rows, vals) = (&mut row_idx[s..e], &mut new_values[s..e]);
+            for k in 1..rows.len() {
+                let (r, v) = (rows[k], vals[k]);
+                let mut at = k;
+                while at > 0 && rows[at - 1] > r {
+                    rows[at] = rows[at - 1];
+                    vals[at] = vals[at - 1];
+                    at -= 1;
+                }
+                rows[at] = r;
+                vals[at] = v;
+            }
+        }
         let mut position = vec![0usize; n];
         for (e, p) in position.iter_mut().enumerate() {
             *p = self.stored(e);
@@ -480,27 +535,26 @@ impl Stiffness {
     /// are widened to `usize` for the call (a copy of 8 bytes per stored entry,
     /// freed after it).
     pub fn with_matrix<R>(&self, f: impl FnOnce(SparseColMatRef<'_, usize, f64>) -> R) -> R {
-        self.with_matrix_wide(&self.wide_rows(), &self.values, f)
+        self.with_matrix_wide(&self.wide_rows(), f)
     }
 
-    /// The row indices widened to `usize`, as faer takes them: made once, they
-    /// can serve several calls ([`Stiffness::with_matrix_wide`],
-    /// [`Stiffness::in_order_wide`]).
+    /// The row indices widened to `usize`, as faer takes them, for
+    /// [`Stiffness::with_matrix_wide`]: made ahead, e.g. while another thread
+    /// computes what the call needs besides.
     pub fn wide_rows(&self) -> Vec<usize> {
         self.row_idx.iter().map(|&i| i as usize).collect()
     }
 
-    /// The matrix with row indices `rows` (from [`Stiffness::wide_rows`]) and
-    /// values `values` as a faer sparse view.
+    /// [`Stiffness::with_matrix`] with the row indices already widened
+    /// ([`Stiffness::wide_rows`]).
     pub fn with_matrix_wide<R>(
         &self,
         rows: &[usize],
-        values: &[f64],
         f: impl FnOnce(SparseColMatRef<'_, usize, f64>) -> R,
     ) -> R {
         let n = self.n();
         let symbolic = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, rows);
-        f(SparseColMatRef::new(symbolic, values))
+        f(SparseColMatRef::new(symbolic, &self.values))
     }
 }
 
@@ -653,5 +707,37 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Storing a matrix in an elimination order and that copy back in the
+    /// equations' order gives the matrix again, pattern and values bit for bit
+    /// (the copy composes the order it is stored in with the one asked for).
+    #[test]
+    fn reordering_a_reordered_matrix_composes_the_orders() {
+        let parts = vec![Part {
+            name: "p".into(),
+            mesh: Mesh::rectangle([0.0, 2.0], [0.0, 1.0], [6, 3], ElementKind::Q4),
+            material: Material::new(1.0, 0.3, PlaneKind::Strain, 1.0, "p").unwrap(),
+        }];
+        let dofs = DofMap::new(&parts, &[]);
+        let graph = NodeGraph::new(&parts, &[], &dofs);
+        let k = Stiffness::new(&parts, &dofs, &graph);
+        let n = dofs.n_eq;
+        // A scrambled order (5 is prime to the 56 equations) and its inverse.
+        assert_eq!(n, 56);
+        let order: Vec<usize> = (0..n).map(|i| (i * 5 + 3) % n).collect();
+        let mut inverse = vec![0; n];
+        for (new, &old) in order.iter().enumerate() {
+            inverse[old] = new;
+        }
+        let scrambled = k.in_order(&order, &inverse);
+        assert_ne!(scrambled.row_idx, k.row_idx);
+        let identity: Vec<usize> = (0..n).collect();
+        let back = scrambled.in_order(&identity, &identity);
+        assert_eq!(back.col_ptr, k.col_ptr);
+        assert_eq!(back.row_idx, k.row_idx);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&back.values), bits(&k.values));
+        assert!((0..n).all(|e| back.stored(e) == e && scrambled.stored(e) == inverse[e]));
     }
 }

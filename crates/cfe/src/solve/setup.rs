@@ -1,10 +1,10 @@
 //! The setup of a solve: the node graph, the fill-reducing ordering, the fixed
 //! sparsity pattern, the parts' constant stiffness and the symbolic factorization,
 //! with the independent steps side by side on two threads: the ordering beside
-//! the pattern and the assembly of the parts' values into it (both read the
-//! graph only), then faer's symbolic analysis (one thread, the pattern only)
-//! beside the copy of the pattern and values in the elimination order. The row
-//! indices are widened for faer once, for both.
+//! the pattern and its row indices widened for faer (both read the graph only),
+//! then faer's symbolic analysis (one thread, the pattern only) beside the
+//! assembly of the parts' values and the copy of the pattern and values in the
+//! elimination order.
 
 use super::linear::CholeskySolver;
 use super::ordering;
@@ -37,16 +37,10 @@ pub fn pattern_and_symbolic(
         .iter()
         .flat_map(|p| p.mesh.nodes.iter().copied())
         .collect();
-    let part_elements = PartElements::new(parts, dofs);
-    // The ordering beside the pattern, the parts' values in it (in the equations'
-    // order, where an element's entries lie close together) and its row indices
-    // widened for faer (once, for both the symbolic analysis and the permuted
-    // copy).
     let (order, (k, rows)) = rayon::join(
         || ordering::nested_dissection(&coords, &graph, dofs),
         || {
-            let mut k = Stiffness::pattern(dofs, &graph);
-            k.assemble_parts(&[&part_elements], dofs);
+            let k = Stiffness::pattern(dofs, &graph);
             let rows = k.wide_rows();
             (k, rows)
         },
@@ -56,9 +50,10 @@ pub fn pattern_and_symbolic(
     for (new, &old) in order.iter().enumerate() {
         inverse[old] = new;
     }
+    let part_elements = PartElements::new(parts, dofs);
     let (chol, k) = rayon::join(
-        || k.with_matrix_wide(&rows, &k.values, |m| CholeskySolver::new(m, Some(&order))),
-        || k.in_order_wide(&rows, &order, &inverse),
+        || k.with_matrix_wide(&rows, |m| CholeskySolver::new(m, Some(&order))),
+        || k.in_order_with_parts(&[&part_elements], dofs, &order, &inverse),
     );
     Ok((k, chol?))
 }
