@@ -33,34 +33,65 @@ impl NodeGraph {
 
     /// The graph of the elements of `sources` over `n_nodes` global nodes.
     pub fn from_sources(sources: &[&dyn ElementSource], n_nodes: usize) -> NodeGraph {
-        // Two passes (count, fill), then sort and dedup each row.
-        let mut count = vec![0usize; n_nodes + 1];
+        // Two passes (count, fill), then sort and dedup each row. The nodes are
+        // cut into one range per thread; every thread goes through all the
+        // elements and counts and fills the rows of its range only (an element's
+        // nodes are cheap to list; the rows are the memory traffic).
+        use rayon::prelude::*;
         let each_element = |f: &mut dyn FnMut(&[usize])| {
             for source in sources {
                 source.for_each_nodes(f);
             }
         };
-        each_element(&mut |nodes| {
-            for &a in nodes {
-                count[a + 1] += nodes.len();
-            }
+        let threads = rayon::current_num_threads().clamp(1, 8);
+        let bounds: Vec<usize> = (0..=threads).map(|t| t * n_nodes / threads).collect();
+        let mut count = vec![0usize; n_nodes + 1];
+        let mut ranges = Vec::with_capacity(threads);
+        let mut rest: &mut [usize] = &mut count[1..];
+        for t in 0..threads {
+            let (head, tail) = rest.split_at_mut(bounds[t + 1] - bounds[t]);
+            ranges.push((bounds[t], head));
+            rest = tail;
+        }
+        ranges.into_par_iter().for_each(|(first, count)| {
+            let end = first + count.len();
+            each_element(&mut |nodes| {
+                for &a in nodes {
+                    if (first..end).contains(&a) {
+                        count[a - first] += nodes.len();
+                    }
+                }
+            });
         });
         for i in 0..n_nodes {
             count[i + 1] += count[i];
         }
         let mut adj = vec![0usize; count[n_nodes]];
-        let mut fill = count.clone();
-        each_element(&mut |nodes| {
-            for &a in nodes {
-                for &b in nodes {
-                    adj[fill[a]] = b;
-                    fill[a] += 1;
+        let mut ranges = Vec::with_capacity(threads);
+        let mut rest: &mut [usize] = &mut adj;
+        for t in 0..threads {
+            let (first, end) = (bounds[t], bounds[t + 1]);
+            let (head, tail) = rest.split_at_mut(count[end] - count[first]);
+            ranges.push((first..end, head));
+            rest = tail;
+        }
+        ranges.into_par_iter().for_each(|(range, adj)| {
+            let base = count[range.start];
+            let mut fill: Vec<usize> = count[range.clone()].iter().map(|&c| c - base).collect();
+            each_element(&mut |nodes| {
+                for &a in nodes {
+                    if range.contains(&a) {
+                        let at = &mut fill[a - range.start];
+                        for &b in nodes {
+                            adj[*at] = b;
+                            *at += 1;
+                        }
+                    }
                 }
-            }
+            });
         });
         // Each row sorted and deduplicated in place, blocks of rows in parallel,
         // then the rows' unique prefixes gathered.
-        use rayon::prelude::*;
         const BLOCK: usize = 4096;
         let mut blocks = Vec::with_capacity(n_nodes.div_ceil(BLOCK));
         let mut rest: &mut [usize] = &mut adj;
