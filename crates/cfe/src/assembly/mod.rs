@@ -740,6 +740,36 @@ mod tests {
         }
     }
 
+    /// The node graph built one range of rows per thread (here three threads on
+    /// a Q4 and a T3 part) is, row by row, the sorted set of the nodes sharing an
+    /// element with the node, listed element by element.
+    #[test]
+    fn node_graph_rows_are_the_nodes_sharing_an_element() {
+        let parts: Vec<Part> = [ElementKind::Q4, ElementKind::T3]
+            .into_iter()
+            .map(|kind| Part {
+                name: "p".into(),
+                mesh: Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [7, 5], kind),
+                material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
+            })
+            .collect();
+        let dofs = DofMap::new(&parts, &[]);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let graph = pool.install(|| NodeGraph::new(&parts, &[], &dofs));
+        let mut expected = vec![std::collections::BTreeSet::new(); dofs.n_nodes()];
+        PartElements::new(&parts, &dofs).for_each_nodes(&mut |nodes| {
+            for &a in nodes {
+                expected[a].extend(nodes.iter().copied());
+            }
+        });
+        for (a, row) in expected.iter().enumerate() {
+            assert_eq!(graph.neighbours(a), row.iter().copied().collect::<Vec<_>>());
+        }
+    }
+
     /// Storing a matrix in an elimination order and that copy back in the
     /// equations' order gives the matrix again, pattern and values bit for bit
     /// (the copy composes the order it is stored in with the one asked for).
