@@ -33,44 +33,100 @@ impl NodeGraph {
 
     /// The graph of the elements of `sources` over `n_nodes` global nodes.
     pub fn from_sources(sources: &[&dyn ElementSource], n_nodes: usize) -> NodeGraph {
-        // Two passes (count, fill), then sort and dedup each row.
-        let mut count = vec![0usize; n_nodes + 1];
+        // Two passes (count, fill), then sort and dedup each row. The nodes are
+        // cut into one range per thread; every thread goes through all the
+        // elements and counts and fills the rows of its range only (an element's
+        // nodes are cheap to list; the rows are the memory traffic).
+        use rayon::prelude::*;
         let each_element = |f: &mut dyn FnMut(&[usize])| {
             for source in sources {
                 source.for_each_nodes(f);
             }
         };
-        each_element(&mut |nodes| {
-            for &a in nodes {
-                count[a + 1] += nodes.len();
-            }
+        let threads = rayon::current_num_threads().clamp(1, 8);
+        let bounds: Vec<usize> = (0..=threads).map(|t| t * n_nodes / threads).collect();
+        let mut count = vec![0usize; n_nodes + 1];
+        let mut ranges = Vec::with_capacity(threads);
+        let mut rest: &mut [usize] = &mut count[1..];
+        for t in 0..threads {
+            let (head, tail) = rest.split_at_mut(bounds[t + 1] - bounds[t]);
+            ranges.push((bounds[t], head));
+            rest = tail;
+        }
+        ranges.into_par_iter().for_each(|(first, count)| {
+            let end = first + count.len();
+            each_element(&mut |nodes| {
+                for &a in nodes {
+                    if (first..end).contains(&a) {
+                        count[a - first] += nodes.len();
+                    }
+                }
+            });
         });
         for i in 0..n_nodes {
             count[i + 1] += count[i];
         }
         let mut adj = vec![0usize; count[n_nodes]];
-        let mut fill = count.clone();
-        each_element(&mut |nodes| {
-            for &a in nodes {
-                for &b in nodes {
-                    adj[fill[a]] = b;
-                    fill[a] += 1;
+        let mut ranges = Vec::with_capacity(threads);
+        let mut rest: &mut [usize] = &mut adj;
+        for t in 0..threads {
+            let (first, end) = (bounds[t], bounds[t + 1]);
+            let (head, tail) = rest.split_at_mut(count[end] - count[first]);
+            ranges.push((first..end, head));
+            rest = tail;
+        }
+        ranges.into_par_iter().for_each(|(range, adj)| {
+            let base = count[range.start];
+            let mut fill: Vec<usize> = count[range.clone()].iter().map(|&c| c - base).collect();
+            each_element(&mut |nodes| {
+                for &a in nodes {
+                    if range.contains(&a) {
+                        let at = &mut fill[a - range.start];
+                        for &b in nodes {
+                            adj[*at] = b;
+                            *at += 1;
+                        }
+                    }
                 }
-            }
+            });
         });
-        let mut ptr = vec![0usize; n_nodes + 1];
-        let mut out = Vec::with_capacity(adj.len() / 2);
-        for a in 0..n_nodes {
-            let row = &mut adj[count[a]..count[a + 1]];
-            row.sort_unstable();
-            let mut last = usize::MAX;
-            for &b in row.iter() {
-                if b != last {
-                    out.push(b);
-                    last = b;
+        // Each row sorted and deduplicated in place, blocks of rows in parallel,
+        // then the rows' unique prefixes gathered.
+        const BLOCK: usize = 4096;
+        let mut blocks = Vec::with_capacity(n_nodes.div_ceil(BLOCK));
+        let mut rest: &mut [usize] = &mut adj;
+        for first in (0..n_nodes).step_by(BLOCK) {
+            let last = (first + BLOCK).min(n_nodes);
+            let (head, tail) = rest.split_at_mut(count[last] - count[first]);
+            blocks.push((first..last, head));
+            rest = tail;
+        }
+        let mut unique = vec![0usize; n_nodes];
+        blocks
+            .into_par_iter()
+            .zip(unique.par_chunks_mut(BLOCK))
+            .for_each(|((nodes, block), unique)| {
+                let base = count[nodes.start];
+                for (a, u) in nodes.zip(unique) {
+                    let row = &mut block[count[a] - base..count[a + 1] - base];
+                    row.sort_unstable();
+                    let mut k = 0;
+                    for i in 0..row.len() {
+                        if k == 0 || row[i] != row[k - 1] {
+                            row[k] = row[i];
+                            k += 1;
+                        }
+                    }
+                    *u = k;
                 }
-            }
-            ptr[a + 1] = out.len();
+            });
+        let mut ptr = vec![0usize; n_nodes + 1];
+        for a in 0..n_nodes {
+            ptr[a + 1] = ptr[a] + unique[a];
+        }
+        let mut out = Vec::with_capacity(ptr[n_nodes]);
+        for a in 0..n_nodes {
+            out.extend_from_slice(&adj[count[a]..count[a] + unique[a]]);
         }
         NodeGraph { ptr, adj: out }
     }
@@ -255,43 +311,64 @@ impl Stiffness {
         order: &[usize],
         inverse: &[usize],
     ) -> Stiffness {
-        use faer::dyn_stack::{MemBuffer, MemStack};
         let n = self.n();
         let nnz = self.row_idx.len();
-        // The stored matrix's original equations: compose with its own order.
-        let (order, inverse): (Vec<usize>, Vec<usize>) = if self.position.is_empty() {
-            (order.to_vec(), inverse.to_vec())
+        // The stored matrix's rows are its equations' positions: compose with
+        // its own order.
+        let composed;
+        let inverse = if self.position.is_empty() {
+            inverse
         } else {
-            let mut fwd = vec![0; n];
-            for (k, &e) in order.iter().enumerate() {
-                fwd[k] = self.position[e];
-            }
             let mut inv = vec![0; n];
-            for (k, &p) in fwd.iter().enumerate() {
-                inv[p] = k;
+            for (k, &e) in order.iter().enumerate() {
+                inv[self.position[e]] = k;
             }
-            (fwd, inv)
+            composed = inv;
+            &composed[..]
         };
-        let perm = faer::perm::PermRef::new_checked(&order, &inverse, n);
+        // Entry (i, j) of the stored lower triangle goes to column min(i', j'),
+        // row max(i', j') (i' = inverse[i]): counted, placed column by column,
+        // then each (short) column sorted by row; the values move along.
         let mut col_ptr = vec![0usize; n + 1];
-        let mut wide = vec![0usize; nnz];
+        for j in 0..n {
+            let pj = inverse[j];
+            for &i in &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]] {
+                col_ptr[inverse[i as usize].min(pj) + 1] += 1;
+            }
+        }
+        for c in 0..n {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let mut next = col_ptr.clone();
+        let mut row_idx = vec![0u32; nnz];
         let mut new_values = vec![0.0; nnz];
-        let mut scratch =
-            MemBuffer::new(faer::sparse::utils::permute_self_adjoint_scratch::<usize>(n));
-        self.with_matrix_of(values, |m| {
-            faer::sparse::utils::permute_self_adjoint(
-                &mut new_values,
-                &mut col_ptr,
-                &mut wide,
-                m,
-                perm,
-                faer::Side::Lower,
-                faer::Side::Lower,
-                MemStack::new(&mut scratch),
-            )
-        });
-        let row_idx: Vec<u32> = wide.iter().map(|&i| narrow(i)).collect();
-        drop(wide);
+        for j in 0..n {
+            let pj = inverse[j];
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let pi = inverse[self.row_idx[p] as usize];
+                let (r, c) = (pi.max(pj), pi.min(pj));
+                let at = next[c];
+                next[c] += 1;
+                row_idx[at] = narrow(r);
+                new_values[at] = values[p];
+            }
+        }
+        drop(next);
+        for c in 0..n {
+            let (s, e) = (col_ptr[c], col_ptr[c + 1]);
+            let (rows, vals) = (&mut row_idx[s..e], &mut new_values[s..e]);
+            for k in 1..rows.len() {
+                let (r, v) = (rows[k], vals[k]);
+                let mut at = k;
+                while at > 0 && rows[at - 1] > r {
+                    rows[at] = rows[at - 1];
+                    vals[at] = vals[at - 1];
+                    at -= 1;
+                }
+                rows[at] = r;
+                vals[at] = v;
+            }
+        }
         let mut position = vec![0usize; n];
         for (e, p) in position.iter_mut().enumerate() {
             *p = self.stored(e);
@@ -361,7 +438,70 @@ impl Stiffness {
     /// order the matrix is stored in, to the last bit, whatever the rounding of
     /// the element matrix's symmetry), each at its place in the lower triangle of
     /// the stored matrix.
+    ///
+    /// The element's DOFs are sorted by their stored row; each stored column is
+    /// then walked once for all the element's rows at or below it (sorted too),
+    /// instead of a binary search per entry. Each entry of `values` still gets
+    /// one term per element, so the sums are those of any other visiting order.
     fn scatter(&self, values: &mut [f64], dofs: &DofMap, g: &[usize], k: &[f64], stride: usize) {
+        /// DOFs of the largest element walked column by column (larger ones are
+        /// searched entry by entry).
+        const MERGE_MAX: usize = 32;
+        if g.len() > MERGE_MAX {
+            return self.scatter_searched(values, dofs, g, k, stride);
+        }
+        // (stored row, equation, local DOF) of each free DOF, sorted by row.
+        let mut free = [(0u32, 0usize, 0usize); MERGE_MAX];
+        let mut m = 0;
+        for (a, &ga) in g.iter().enumerate() {
+            let e = dofs.eq[ga];
+            if e == FIXED {
+                continue;
+            }
+            let entry = (narrow(self.stored(e)), e, a);
+            let mut at = m;
+            while at > 0 && free[at - 1].0 > entry.0 {
+                free[at] = free[at - 1];
+                at -= 1;
+            }
+            free[at] = entry;
+            m += 1;
+        }
+        let free = &free[..m];
+        if free.windows(2).any(|w| w[0].0 == w[1].0) {
+            // A DOF twice in one element: the entry-by-entry order.
+            return self.scatter_searched(values, dofs, g, k, stride);
+        }
+        for (c, &(j, ej, b)) in free.iter().enumerate() {
+            let start = self.col_ptr[j as usize];
+            let rows = &self.row_idx[start..self.col_ptr[j as usize + 1]];
+            let mut p = 0;
+            for &(i, ei, a) in &free[c..] {
+                p += rows[p..]
+                    .iter()
+                    .position(|&r| r == i)
+                    .expect("entry is in the sparsity pattern");
+                // The lower triangle in the equations' order: entry (a, b) with
+                // equation a ≥ equation b.
+                values[start + p] += if ei >= ej {
+                    k[a * stride + b]
+                } else {
+                    k[b * stride + a]
+                };
+            }
+        }
+    }
+
+    /// [`Stiffness::scatter`] entry by entry, each found by a binary search in
+    /// its column.
+    fn scatter_searched(
+        &self,
+        values: &mut [f64],
+        dofs: &DofMap,
+        g: &[usize],
+        k: &[f64],
+        stride: usize,
+    ) {
         for (b, &gb) in g.iter().enumerate() {
             let eb = dofs.eq[gb];
             if eb == FIXED {
@@ -422,22 +562,30 @@ impl Stiffness {
     }
 
     /// The current matrix as a faer sparse view (lower triangle of the stored
-    /// matrix). The values must be there (assembled, not freed).
+    /// matrix). The values must be there (assembled, not freed). The row indices
+    /// are widened to `usize` for the call (a copy of 8 bytes per stored entry,
+    /// freed after it).
     pub fn with_matrix<R>(&self, f: impl FnOnce(SparseColMatRef<'_, usize, f64>) -> R) -> R {
-        self.with_matrix_of(&self.values, f)
+        self.with_matrix_wide(&self.wide_rows(), f)
     }
 
-    /// [`Stiffness::with_matrix`] with `values`: the row indices are widened to
-    /// `usize` for the call (a copy of 8 bytes per stored entry, freed after it).
-    fn with_matrix_of<R>(
+    /// The row indices widened to `usize`, as faer takes them, for
+    /// [`Stiffness::with_matrix_wide`]: made ahead, e.g. while another thread
+    /// computes what the call needs besides.
+    pub fn wide_rows(&self) -> Vec<usize> {
+        self.row_idx.iter().map(|&i| i as usize).collect()
+    }
+
+    /// [`Stiffness::with_matrix`] with the row indices already widened
+    /// ([`Stiffness::wide_rows`]).
+    pub fn with_matrix_wide<R>(
         &self,
-        values: &[f64],
+        rows: &[usize],
         f: impl FnOnce(SparseColMatRef<'_, usize, f64>) -> R,
     ) -> R {
         let n = self.n();
-        let rows: Vec<usize> = self.row_idx.iter().map(|&i| i as usize).collect();
-        let symbolic = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &rows);
-        f(SparseColMatRef::new(symbolic, values))
+        let symbolic = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, rows);
+        f(SparseColMatRef::new(symbolic, &self.values))
     }
 }
 
@@ -536,4 +684,121 @@ pub const MAX_EQUATIONS: usize = u32::MAX as usize;
 /// A row index stored in 4 bytes (at most [`MAX_EQUATIONS`] equations).
 fn narrow(i: usize) -> u32 {
     u32::try_from(i).expect("at most MAX_EQUATIONS equations (checked by solve::setup)")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::{Material, PlaneKind};
+    use crate::mesh::{ElementKind, Mesh};
+
+    /// The column-walking scatter puts every term of an element matrix (here
+    /// unsymmetric, so a wrong triangle shows) where the entry-by-entry binary
+    /// search does, bit for bit, with fixed DOFs, in the equations' order and
+    /// in a reversed elimination order, for T3 and Q4 elements.
+    #[test]
+    fn walked_scatter_matches_searched_scatter() {
+        for kind in [ElementKind::T3, ElementKind::Q4] {
+            let parts = vec![Part {
+                name: "p".into(),
+                mesh: Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [5, 4], kind),
+                material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
+            }];
+            let supports = vec![crate::domain::Support {
+                name: "s".into(),
+                part: 0,
+                nodes: parts[0].mesh.boundary_nodes("bottom").unwrap(),
+                fix: [true, false],
+                value: [0.0, 0.0],
+                step: 0,
+            }];
+            let dofs = DofMap::new(&parts, &supports);
+            let graph = NodeGraph::new(&parts, &[], &dofs);
+            let k = Stiffness::pattern(&dofs, &graph);
+            let order: Vec<usize> = (0..dofs.n_eq).rev().collect();
+            let reversed = k.in_order(&order, &order);
+            for k in [&k, &reversed] {
+                let (mut walked, mut searched) =
+                    (vec![0.0; k.row_idx.len()], vec![0.0; k.row_idx.len()]);
+                let elements = PartElements::new(&parts, &dofs);
+                let mut e = 0.0;
+                elements.for_each_nodes(&mut |nodes| {
+                    let g: Vec<usize> = nodes.iter().flat_map(|&a| [2 * a, 2 * a + 1]).collect();
+                    let n = g.len();
+                    let m: Vec<f64> = (0..n * n)
+                        .map(|i| (i as f64 * 0.37 + e).sin() / 3.0)
+                        .collect();
+                    k.scatter(&mut walked, &dofs, &g, &m, n);
+                    k.scatter_searched(&mut searched, &dofs, &g, &m, n);
+                    e += 1.0;
+                });
+                assert!(walked.iter().any(|&v| v != 0.0));
+                for (w, s) in walked.iter().zip(&searched) {
+                    assert_eq!(w.to_bits(), s.to_bits());
+                }
+            }
+        }
+    }
+
+    /// The node graph built one range of rows per thread (here three threads on
+    /// a Q4 and a T3 part) is, row by row, the sorted set of the nodes sharing an
+    /// element with the node, listed element by element.
+    #[test]
+    fn node_graph_rows_are_the_nodes_sharing_an_element() {
+        let parts: Vec<Part> = [ElementKind::Q4, ElementKind::T3]
+            .into_iter()
+            .map(|kind| Part {
+                name: "p".into(),
+                mesh: Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [7, 5], kind),
+                material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
+            })
+            .collect();
+        let dofs = DofMap::new(&parts, &[]);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let graph = pool.install(|| NodeGraph::new(&parts, &[], &dofs));
+        let mut expected = vec![std::collections::BTreeSet::new(); dofs.n_nodes()];
+        PartElements::new(&parts, &dofs).for_each_nodes(&mut |nodes| {
+            for &a in nodes {
+                expected[a].extend(nodes.iter().copied());
+            }
+        });
+        for (a, row) in expected.iter().enumerate() {
+            assert_eq!(graph.neighbours(a), row.iter().copied().collect::<Vec<_>>());
+        }
+    }
+
+    /// Storing a matrix in an elimination order and that copy back in the
+    /// equations' order gives the matrix again, pattern and values bit for bit
+    /// (the copy composes the order it is stored in with the one asked for).
+    #[test]
+    fn reordering_a_reordered_matrix_composes_the_orders() {
+        let parts = vec![Part {
+            name: "p".into(),
+            mesh: Mesh::rectangle([0.0, 2.0], [0.0, 1.0], [6, 3], ElementKind::Q4),
+            material: Material::new(1.0, 0.3, PlaneKind::Strain, 1.0, "p").unwrap(),
+        }];
+        let dofs = DofMap::new(&parts, &[]);
+        let graph = NodeGraph::new(&parts, &[], &dofs);
+        let k = Stiffness::new(&parts, &dofs, &graph);
+        let n = dofs.n_eq;
+        // A scrambled order (5 is prime to the 56 equations) and its inverse.
+        assert_eq!(n, 56);
+        let order: Vec<usize> = (0..n).map(|i| (i * 5 + 3) % n).collect();
+        let mut inverse = vec![0; n];
+        for (new, &old) in order.iter().enumerate() {
+            inverse[old] = new;
+        }
+        let scrambled = k.in_order(&order, &inverse);
+        assert_ne!(scrambled.row_idx, k.row_idx);
+        let identity: Vec<usize> = (0..n).collect();
+        let back = scrambled.in_order(&identity, &identity);
+        assert_eq!(back.col_ptr, k.col_ptr);
+        assert_eq!(back.row_idx, k.row_idx);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&back.values), bits(&k.values));
+        assert!((0..n).all(|e| back.stored(e) == e && scrambled.stored(e) == inverse[e]));
+    }
 }

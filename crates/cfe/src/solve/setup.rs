@@ -1,9 +1,10 @@
 //! The setup of a solve: the node graph, the fill-reducing ordering, the fixed
 //! sparsity pattern, the parts' constant stiffness and the symbolic factorization,
 //! with the independent steps side by side on two threads: the ordering beside
-//! the pattern (both read the graph only), then faer's symbolic analysis (one
-//! thread, the pattern only) beside the pattern's copy in the elimination order
-//! and the assembly of the parts' values into it.
+//! the pattern and its row indices widened for faer (both read the graph only),
+//! then faer's symbolic analysis (one thread, the pattern only) beside the
+//! assembly of the parts' values and the copy of the pattern and values in the
+//! elimination order.
 
 use super::linear::CholeskySolver;
 use super::ordering;
@@ -36,9 +37,13 @@ pub fn pattern_and_symbolic(
         .iter()
         .flat_map(|p| p.mesh.nodes.iter().copied())
         .collect();
-    let (order, k) = rayon::join(
+    let (order, (k, rows)) = rayon::join(
         || ordering::nested_dissection(&coords, &graph, dofs),
-        || Stiffness::pattern(dofs, &graph),
+        || {
+            let k = Stiffness::pattern(dofs, &graph);
+            let rows = k.wide_rows();
+            (k, rows)
+        },
     );
     drop(graph);
     let mut inverse = vec![0usize; order.len()];
@@ -47,7 +52,7 @@ pub fn pattern_and_symbolic(
     }
     let part_elements = PartElements::new(parts, dofs);
     let (chol, k) = rayon::join(
-        || k.with_matrix(|m| CholeskySolver::new(m, Some(&order))),
+        || k.with_matrix_wide(&rows, |m| CholeskySolver::new(m, Some(&order))),
         || k.in_order_with_parts(&[&part_elements], dofs, &order, &inverse),
     );
     Ok((k, chol?))
