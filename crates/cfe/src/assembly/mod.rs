@@ -313,6 +313,14 @@ impl Stiffness {
     ) -> Stiffness {
         let n = self.n();
         let nnz = self.row_idx.len();
+        // A wrong order would misplace entries silently: checked here (O(n), next
+        // to the O(nnz) copy), as faer's permute did.
+        assert!(
+            order.len() == n
+                && inverse.len() == n
+                && order.iter().enumerate().all(|(k, &e)| inverse.get(e) == Some(&k)),
+            "the elimination order and its inverse are not inverse permutations"
+        );
         // The stored matrix's rows are its equations' positions: compose with
         // its own order.
         let composed;
