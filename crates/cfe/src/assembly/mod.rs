@@ -46,36 +46,22 @@ impl NodeGraph {
         let threads = rayon::current_num_threads().clamp(1, 8);
         let bounds: Vec<usize> = (0..=threads).map(|t| t * n_nodes / threads).collect();
         let mut count = vec![0usize; n_nodes + 1];
-        let mut ranges = Vec::with_capacity(threads);
-        let mut rest: &mut [usize] = &mut count[1..];
-        for t in 0..threads {
-            let (head, tail) = rest.split_at_mut(bounds[t + 1] - bounds[t]);
-            ranges.push((bounds[t], head));
-            rest = tail;
-        }
-        ranges.into_par_iter().for_each(|(first, count)| {
-            let end = first + count.len();
-            each_element(&mut |nodes| {
-                for &a in nodes {
-                    if (first..end).contains(&a) {
-                        count[a - first] += nodes.len();
+        cut_at(&mut count[1..], &bounds, |b| b)
+            .into_par_iter()
+            .for_each(|(range, count)| {
+                each_element(&mut |nodes| {
+                    for &a in nodes {
+                        if range.contains(&a) {
+                            count[a - range.start] += nodes.len();
+                        }
                     }
-                }
+                });
             });
-        });
         for i in 0..n_nodes {
             count[i + 1] += count[i];
         }
         let mut adj = vec![0usize; count[n_nodes]];
-        let mut ranges = Vec::with_capacity(threads);
-        let mut rest: &mut [usize] = &mut adj;
-        for t in 0..threads {
-            let (first, end) = (bounds[t], bounds[t + 1]);
-            let (head, tail) = rest.split_at_mut(count[end] - count[first]);
-            ranges.push((first..end, head));
-            rest = tail;
-        }
-        ranges.into_par_iter().for_each(|(range, adj)| {
+        cut_at(&mut adj, &bounds, |b| count[b]).into_par_iter().for_each(|(range, adj)| {
             let base = count[range.start];
             let mut fill: Vec<usize> = count[range.clone()].iter().map(|&c| c - base).collect();
             each_element(&mut |nodes| {
@@ -93,14 +79,7 @@ impl NodeGraph {
         // Each row sorted and deduplicated in place, blocks of rows in parallel,
         // then the rows' unique prefixes gathered.
         const BLOCK: usize = 4096;
-        let mut blocks = Vec::with_capacity(n_nodes.div_ceil(BLOCK));
-        let mut rest: &mut [usize] = &mut adj;
-        for first in (0..n_nodes).step_by(BLOCK) {
-            let last = (first + BLOCK).min(n_nodes);
-            let (head, tail) = rest.split_at_mut(count[last] - count[first]);
-            blocks.push((first..last, head));
-            rest = tail;
-        }
+        let blocks = cut_at(&mut adj, &blocks_of(n_nodes, BLOCK), |b| count[b]);
         let mut unique = vec![0usize; n_nodes];
         blocks
             .into_par_iter()
@@ -240,14 +219,7 @@ impl Stiffness {
         let mut row_idx = vec![0u32; nnz];
         // Blocks of nodes, each with its slice of the row indices.
         const BLOCK: usize = 8192;
-        let mut slices = Vec::with_capacity(n_nodes.div_ceil(BLOCK));
-        let mut rest: &mut [u32] = &mut row_idx;
-        for first in (0..n_nodes).step_by(BLOCK) {
-            let last = (first + BLOCK).min(n_nodes);
-            let (head, tail) = rest.split_at_mut(node_start[last] - node_start[first]);
-            slices.push((first..last, head));
-            rest = tail;
-        }
+        let slices = cut_at(&mut row_idx, &blocks_of(n_nodes, BLOCK), |b| node_start[b]);
         slices.into_par_iter().for_each(|(nodes, slice)| {
             let mut k = 0;
             for a in nodes {
@@ -690,6 +662,30 @@ pub fn external_force(loads: &[Load], dofs: &DofMap) -> Vec<f64> {
 pub const MAX_EQUATIONS: usize = u32::MAX as usize;
 
 /// A row index stored in 4 bytes (at most [`MAX_EQUATIONS`] equations).
+/// `data` cut into the pieces of the consecutive ranges `bounds[i]..bounds[i + 1]`:
+/// the piece of a range holds `data[offset(start) − offset(bounds[0]) ..
+/// offset(end) − offset(bounds[0])]` (`offset` non-decreasing, the last piece
+/// ending at most at the end of `data`). Each piece goes to its own thread.
+fn cut_at<'a, T>(
+    data: &'a mut [T],
+    bounds: &[usize],
+    offset: impl Fn(usize) -> usize,
+) -> Vec<(std::ops::Range<usize>, &'a mut [T])> {
+    let mut pieces = Vec::with_capacity(bounds.len().saturating_sub(1));
+    let mut rest = data;
+    for w in bounds.windows(2) {
+        let (head, tail) = std::mem::take(&mut rest).split_at_mut(offset(w[1]) - offset(w[0]));
+        pieces.push((w[0]..w[1], head));
+        rest = tail;
+    }
+    pieces
+}
+
+/// `0, block, 2 block, …, n`: the bounds of `n` items in blocks of `block`.
+fn blocks_of(n: usize, block: usize) -> Vec<usize> {
+    (0..n).step_by(block).chain(std::iter::once(n)).collect()
+}
+
 fn narrow(i: usize) -> u32 {
     u32::try_from(i).expect("at most MAX_EQUATIONS equations (checked by solve::setup)")
 }
