@@ -50,8 +50,9 @@ use std::ops::Range;
 /// formed a group of columns at a time.
 const BLOCK_VALUES: usize = 1 << 20;
 
-/// Supernodes with at least this many flops use faer's parallel dense kernels
-/// (top supernodes only; below the top each thread has its own subtrees).
+/// Supernodes with at least this many flops use faer's parallel dense kernels:
+/// the top supernodes, or any when the tree is not split (below the top each
+/// thread has subtrees of its own and uses sequential kernels).
 const PARALLEL_KERNEL_FLOPS: f64 = 4.0e6;
 
 /// What a numeric factorization needs beyond faer's symbolic structure: the
