@@ -447,10 +447,6 @@ fn llt<'a>(
     }
 }
 
-/// The supernode of every column, the parent of every supernode and the flops of
-/// a numeric factorization: per supernode of `c` columns and `p` rows below them,
-/// `c³/3` for its diagonal block, `c² p` for the panel and `c p²` for the update of
-/// its ancestors.
 /// Zeroed storage for `len` factor values, on transparent huge pages where the
 /// system offers them on request (Linux with THP in `madvise` mode): the factor is
 /// the largest array of a run, first written by the factorization, and 2 MiB pages
@@ -477,6 +473,10 @@ fn factor_storage(len: usize) -> Vec<f64> {
     v
 }
 
+/// The supernode of every column, the parent of every supernode and the flops of
+/// a numeric factorization: per supernode of `c` columns and `p` rows below them,
+/// `c³/3` for its diagonal block, `c² p` for the panel and `c p²` for the update of
+/// its ancestors.
 fn tree(sn: &SymbolicSupernodalCholesky<usize>) -> (Vec<u32>, Vec<usize>, f64) {
     let ns = sn.n_supernodes();
     let mut supernode_of = vec![0u32; sn.nrows()];
