@@ -14,9 +14,11 @@
 //! - backward: the top supernodes in sequence first, then the parts in parallel, which
 //!   read the top rows (from a copy) and write only their own rows.
 //!
-//! Supernodes are numbered so that every subtree is a contiguous range (faer orders
-//! them in postorder; the split is not built otherwise), so a subtree owns a
-//! contiguous range of `z`, split off safely with `split_at_mut`.
+//! faer numbers the supernodes children before parents, but not always in
+//! postorder (a subtree's range of numbers can hold a supernode of another
+//! subtree), so the split is built only when each subtree it hands out is a
+//! contiguous range; such a subtree owns a contiguous range of `z` (and of the
+//! factor's values), split off safely with `split_at_mut`.
 //!
 //! The result equals the sequential solve's up to the order in which the updates of
 //! a top row are summed (per part, then the parts), and both are backward-stable
