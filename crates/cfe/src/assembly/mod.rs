@@ -661,7 +661,6 @@ pub fn external_force(loads: &[Load], dofs: &DofMap) -> Vec<f64> {
 /// the pattern is built (they would need terabytes of memory anyway).
 pub const MAX_EQUATIONS: usize = u32::MAX as usize;
 
-/// A row index stored in 4 bytes (at most [`MAX_EQUATIONS`] equations).
 /// `data` cut into the pieces of the consecutive ranges `bounds[i]..bounds[i + 1]`:
 /// the piece of a range holds `data[offset(start) − offset(bounds[0]) ..
 /// offset(end) − offset(bounds[0])]` (`offset` non-decreasing, the last piece
@@ -686,6 +685,7 @@ fn blocks_of(n: usize, block: usize) -> Vec<usize> {
     (0..n).step_by(block).chain(std::iter::once(n)).collect()
 }
 
+/// A row index stored in 4 bytes (at most [`MAX_EQUATIONS`] equations).
 fn narrow(i: usize) -> u32 {
     u32::try_from(i).expect("at most MAX_EQUATIONS equations (checked by solve::setup)")
 }
