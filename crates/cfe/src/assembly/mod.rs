@@ -133,8 +133,9 @@ pub struct Stiffness {
     /// Column pointers (length n_eq + 1).
     pub col_ptr: Vec<usize>,
     /// Row indices, sorted within each column, all ≥ the column; 4 bytes each
-    /// (the matrix is held for the whole solve, beside the factor), widened for
-    /// faer by [`Stiffness::with_matrix`].
+    /// (the matrix is held for the whole solve, beside the factor). The numeric
+    /// factorization reads them as they are; faer's symbolic analysis takes them
+    /// widened ([`Stiffness::with_matrix`]).
     pub row_idx: Vec<u32>,
     /// Current values (empty when freed).
     pub values: Vec<f64>,

@@ -40,7 +40,7 @@ use faer::linalg::cholesky::llt::factor::{
 };
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
-use faer::sparse::SparseColMatRef;
+use super::linear::LowerMatrix;
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
@@ -177,7 +177,7 @@ impl NumericPlan {
     pub fn factorize(
         &self,
         sn: &SymbolicSupernodalCholesky<usize>,
-        a: SparseColMatRef<'_, usize, f64>,
+        a: LowerMatrix<'_>,
         values: &mut [f64],
     ) -> Result<(), usize> {
         assert_eq!(values.len(), sn.len_val(), "factor storage of another size");
@@ -249,7 +249,7 @@ impl NumericPlan {
     fn supernode(
         &self,
         sn: &SymbolicSupernodalCholesky<usize>,
-        a: SparseColMatRef<'_, usize, f64>,
+        a: LowerMatrix<'_>,
         s: usize,
         vals: &mut [f64],
         base: usize,
@@ -271,7 +271,9 @@ impl NumericPlan {
         // The columns of A (lower triangle, in the elimination order).
         for j in s0..s1 {
             let col = &mut ls[(j - s0) * nr..(j - s0 + 1) * nr];
-            for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            let (rows, values) = a.column(j);
+            for (&i, &v) in rows.iter().zip(values) {
+                let i = i as usize;
                 if i >= j {
                     let at = if i < s1 { i - s0 } else { ws.local[i] as usize };
                     col[at] += v;

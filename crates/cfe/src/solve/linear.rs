@@ -28,6 +28,52 @@ use faer::linalg::triangular_solve::{
 };
 use faer::{Accum, Conj, MatMut, MatRef, Par, Side};
 
+/// The lower triangle of a symmetric matrix in compressed columns, with row
+/// indices of 4 bytes (as [`crate::assembly::Stiffness`] stores them): what
+/// [`CholeskySolver::factorize`] reads, without a widened copy of the indices.
+#[derive(Debug, Clone, Copy)]
+pub struct LowerMatrix<'a> {
+    col_ptr: &'a [usize],
+    row_idx: &'a [u32],
+    values: &'a [f64],
+}
+
+impl<'a> LowerMatrix<'a> {
+    /// The matrix of `n = col_ptr.len() − 1` columns whose column `j` has the rows
+    /// `row_idx[col_ptr[j]..col_ptr[j + 1]]` (each ≥ j) and their `values`.
+    ///
+    /// # Panics
+    /// If the arrays do not describe such a matrix (pointers not ascending from 0
+    /// to the number of rows stored, values and rows of different lengths). A row
+    /// out of range panics where the factorization meets it.
+    pub fn new(col_ptr: &'a [usize], row_idx: &'a [u32], values: &'a [f64]) -> Self {
+        let n = col_ptr.len().saturating_sub(1);
+        assert!(
+            col_ptr.first() == Some(&0)
+                && col_ptr.windows(2).all(|w| w[0] <= w[1])
+                && col_ptr[n] == row_idx.len()
+                && values.len() == row_idx.len(),
+            "not a compressed-column matrix"
+        );
+        LowerMatrix {
+            col_ptr,
+            row_idx,
+            values,
+        }
+    }
+
+    /// Number of rows and columns.
+    pub fn n(&self) -> usize {
+        self.col_ptr.len() - 1
+    }
+
+    /// The rows and values stored in column `j`.
+    pub fn column(&self, j: usize) -> (&'a [u32], &'a [f64]) {
+        let r = self.col_ptr[j]..self.col_ptr[j + 1];
+        (&self.row_idx[r.clone()], &self.values[r])
+    }
+}
+
 /// A sparse Cholesky solver bound to one sparsity pattern.
 pub struct CholeskySolver {
     symbolic: SymbolicCholesky<usize>,
@@ -371,10 +417,8 @@ impl CholeskySolver {
     /// order ([`CholeskySolver::order`]; see [`crate::assembly::Stiffness::in_order`]),
     /// which faer's supernodal factorization reads as it is. A non-positive pivot
     /// is returned as the original equation number where it occurred.
-    pub fn factorize(
-        &mut self,
-        k_ordered: SparseColMatRef<'_, usize, f64>,
-    ) -> std::result::Result<(), usize> {
+    pub fn factorize(&mut self, k_ordered: LowerMatrix<'_>) -> std::result::Result<(), usize> {
+        assert_eq!(k_ordered.n(), self.symbolic.nrows(), "a matrix of another size");
         self.factorized = false;
         if self.factor.len() != self.symbolic.len_val() {
             self.factor = factor_storage(self.symbolic.len_val());
@@ -530,9 +574,8 @@ mod tests {
     /// Factorizes `k` (in the equations' order) with `s`.
     fn factorize(s: &mut CholeskySolver, k: SparseColMatRef<'_, usize, f64>) -> std::result::Result<(), usize> {
         let (col_ptr, row, val) = ordered(k, s);
-        let n = k.nrows();
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
-        s.factorize(SparseColMatRef::new(sym, &val))
+        let row: Vec<u32> = row.iter().map(|&i| i as u32).collect();
+        s.factorize(LowerMatrix::new(&col_ptr, &row, &val))
     }
 
     /// A tridiagonal SPD system (−1, 2, −1 plus identity) is solved to round-off,
@@ -748,6 +791,7 @@ mod tests {
         let mut s = CholeskySolver::new(k, None).unwrap();
         let (cp, rw, vl) = ordered(k, &s);
         let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(n, n, &cp, None, &rw), &vl);
+        let rw32: Vec<u32> = rw.iter().map(|&i| i as u32).collect();
         let sn = s.supernodal();
         let mut reference = vec![0.0; sn.len_val()];
         let mut mem = MemBuffer::new(factorize_supernodal_numeric_llt_scratch::<usize, f64>(
@@ -769,7 +813,7 @@ mod tests {
         for parts in [1, 2, 3] {
             s.plan = NumericPlan::new(s.supernodal(), &s.supernode_of, &s.parent, parts);
             assert_eq!(s.plan.parts(), parts);
-            s.factorize(a).unwrap();
+            s.factorize(LowerMatrix::new(&cp, &rw32, &vl)).unwrap();
             let worst = s.factor.iter().zip(&reference).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
             assert!(worst < 1e-13 * scale, "{parts} parts: {worst:e}");
         }

@@ -15,7 +15,7 @@
 
 use super::capacitance::{Capacitance, Entry};
 use super::columns::{Columns, SparseColumn};
-use super::linear::CholeskySolver;
+use super::linear::{CholeskySolver, LowerMatrix};
 use crate::assembly::{DofMap, FIXED, Stiffness};
 use crate::coupling::{Interface, PairState, PairStates};
 use crate::domain::Part;
@@ -445,7 +445,8 @@ impl<'a> ContactSystem<'a> {
         self.k.assemble(self.parts, interfaces, states, dofs);
         let t = Instant::now();
         let chol = &mut self.chol;
-        let factorized = self.k.with_matrix(|m| chol.factorize(m));
+        let k = &self.k;
+        let factorized = chol.factorize(LowerMatrix::new(&k.col_ptr, &k.row_idx, &k.values));
         // The values are needed by a factorization only: free them until the next.
         self.k.free_values();
         factorized?;
