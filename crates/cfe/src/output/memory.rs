@@ -55,18 +55,19 @@ pub fn estimated_peak_bytes(unknowns: u64) -> u64 {
 /// Estimated peak memory of a run once its symbolic factorization is known, bytes:
 /// `64 MiB + 8 nnz(L) + 16 nnz(K) + 350 n` for `n` unknowns, `nnz(K)` nonzeros in
 /// the stiffness's lower triangle and `nnz(L)` in the Cholesky factor. The factor's
-/// values (8 B each) are held with the stiffness's pattern (row indices of 4 B,
-/// widened to 8 B for the length of a factorization) and, during a
-/// factorization, its values (8 B per nonzero; the stiffness is stored in
-/// the elimination order, so faer makes no permuted copy of it, and its values are
-/// freed between factorizations); the `350 n` covers the meshes, DOF map,
-/// elimination order, symbolic structures, the update columns, the
+/// values (8 B each) are held with the stiffness's pattern (row indices of 4 B)
+/// and, during a factorization, its values (8 B per nonzero; the stiffness is
+/// stored in the elimination order, so the factorization reads it as it is and
+/// makes no copy, and its values are freed between factorizations): 12 B per
+/// stored nonzero, counted as 16 for a margin (until the factorization was ours
+/// it also held the row indices widened to 8 B). The `350 n` covers the meshes,
+/// DOF map, elimination order, symbolic structures, the update columns, the
 /// per-iteration vectors and the allocator's free but still resident memory.
 /// Measured on `examples/plate_on_base.toml` (docs/benchmarks.md): with the
 /// contact law the estimate is 1.52× the measured peak at K = 8 (85 MB; the
-/// 64 MiB constant dominates), 1.00× at K = 16 (338 MB), 1.06× at K = 35
-/// (1446 MB), 1.03× at K = 70 (6285 MB) and 1.06× at K = 100 (12.9 GB); with the
-/// rigid law 1.05–1.09× from K = 16 to 100.
+/// 64 MiB constant dominates) and 1.04–1.09× from K = 16 to 100 (1.07× at K = 35,
+/// 1.36 GiB; 1.06× at K = 100, 12.0 GiB); with the rigid law 1.12–1.14× from
+/// K = 16 to 100.
 ///
 /// When the factor is kept from one increment to the next
 /// (`factor_beside_writers`: friction, gaps, augmented enforcement, load steps,
