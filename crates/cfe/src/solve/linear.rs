@@ -1,7 +1,8 @@
-//! Sparse Cholesky (LLᵀ) of the symmetric positive definite stiffness with faer's
-//! low-level API: the symbolic analysis (AMD ordering, elimination tree, supernodes)
-//! is computed once for the fixed pattern; each new set of values is refactorized
-//! into the same factor storage with the same scratch buffer, and solves reuse it.
+//! Sparse Cholesky (LLᵀ) of the symmetric positive definite stiffness: the symbolic
+//! analysis is computed once for the fixed pattern (the given elimination order or
+//! faer's AMD; the elimination tree and column counts in [`super::symbolic`]; the
+//! supernodes by faer's low-level API); each new set of values is refactorized
+//! into the same factor storage ([`super::factor`]), and solves reuse it.
 //!
 //! The factor is always supernodal (dense column blocks along the elimination
 //! tree), so a right-hand side with a few nonzeros can be forward-solved through
@@ -12,21 +13,23 @@
 //! threads ([`super::subtree`]).
 
 use super::factor::NumericPlan;
+use super::symbolic;
 use super::subtree::{PARALLEL_MIN_VALUES, SubtreeSplit};
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::sparse::SparseColMatRef;
-use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSupernodalCholesky};
-use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
-    factorize_symbolic_cholesky,
-};
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
-use faer::{Accum, Conj, MatMut, MatRef, Par, Side};
+use faer::sparse::linalg::SymbolicSupernodalParams;
+use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::simplicial::EliminationTreeRef;
+use faer::sparse::linalg::cholesky::supernodal::{
+    SupernodalLltRef, SymbolicSupernodalCholesky, factorize_supernodal_symbolic_cholesky,
+    factorize_supernodal_symbolic_cholesky_scratch,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Accum, Conj, MatMut, MatRef, Par};
 
 /// The lower triangle of a symmetric matrix in compressed columns, with row
 /// indices of 4 bytes (as [`crate::assembly::Stiffness`] stores them): what
@@ -76,7 +79,12 @@ impl<'a> LowerMatrix<'a> {
 
 /// A sparse Cholesky solver bound to one sparsity pattern.
 pub struct CholeskySolver {
-    symbolic: SymbolicCholesky<usize>,
+    /// The supernodal structure of the factor.
+    sn: SymbolicSupernodalCholesky<usize>,
+    /// The elimination order (`order[k]` = equation eliminated k-th) and its
+    /// inverse (the position of each equation).
+    order: Vec<usize>,
+    inverse: Vec<usize>,
     factor: Vec<f64>,
     scratch: MemBuffer,
     scratch_req: StackReq,
@@ -102,66 +110,72 @@ impl CholeskySolver {
     /// Symbolic analysis of the lower-triangular pattern of `k`, with the
     /// elimination order `order` (`order[k]` = equation eliminated k-th), or AMD.
     pub fn new(k: SparseColMatRef<'_, usize, f64>, order: Option<&[usize]>) -> Result<Self> {
-        let inverse: Vec<usize> = match order {
+        let n = k.nrows();
+        let (order, inverse) = match order {
             Some(o) => {
                 let mut inv = vec![usize::MAX; o.len()];
                 for (new, &old) in o.iter().enumerate() {
-                    inv[old] = new;
+                    if old < inv.len() {
+                        inv[old] = new;
+                    }
                 }
-                if o.len() != k.nrows() || inv.contains(&usize::MAX) {
+                if o.len() != n || inv.contains(&usize::MAX) {
                     return Err(Error::Singular(
                         "the elimination order is not a permutation".into(),
                     ));
                 }
-                inv
+                (o.to_vec(), inv)
             }
-            None => Vec::new(),
+            None => amd_order(k)?,
         };
-        let ordering = match order {
-            Some(o) => {
-                SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(o, &inverse, o.len()))
-            }
-            None => SymmetricOrdering::Amd,
+        // Elimination tree and column counts (ours: Gilbert–Ng–Peyton, see
+        // `super::symbolic`), then faer's supernodal structure from them.
+        let sym = k.symbolic();
+        let (upper, lower) =
+            symbolic::permuted_triangles(sym.col_ptr(), sym.row_idx(), &inverse);
+        let etree = symbolic::elimination_tree(&upper.col_ptr, &upper.row_idx);
+        let counts = {
+            let post = symbolic::postorder(&etree);
+            symbolic::column_counts(&lower.col_ptr, &lower.row_idx, &etree, &post)
         };
-        let params = CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-            ..Default::default()
-        };
-        let failed = |e| Error::Singular(format!("symbolic analysis failed: {e:?}"));
-        let mut symbolic = factorize_symbolic_cholesky(k.symbolic(), Side::Lower, ordering, params)
-            .map_err(failed)?;
-        if let (SymbolicCholeskyRaw::Simplicial(_), Some(p)) = (symbolic.raw(), symbolic.perm()) {
-            // AMD counted no flops (a diagonal matrix): faer then chooses a simplicial
-            // factor whatever the threshold. Its order given as a custom one is
-            // counted by columns, and the factor is supernodal.
-            let (fwd, inv) = (p.arrays().0.to_vec(), p.arrays().1.to_vec());
-            let custom = faer::perm::PermRef::new_checked(&fwd, &inv, fwd.len());
-            symbolic = factorize_symbolic_cholesky(
-                k.symbolic(),
-                Side::Lower,
-                SymmetricOrdering::Custom(custom),
-                params,
-            )
-            .map_err(failed)?;
-        }
-        let par = Par::rayon(0);
-        let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
-            return Err(Error::Singular(
-                "the symbolic analysis did not give a supernodal factor".into(),
-            ));
-        };
+        drop(lower);
+        let upper_ref = SymbolicSparseColMatRef::new_unsorted_checked(
+            n,
+            n,
+            &upper.col_ptr,
+            None,
+            &upper.row_idx,
+        );
+        let mut mem = MemBuffer::new(factorize_supernodal_symbolic_cholesky_scratch::<usize>(n));
+        // SAFETY: faer asks for the array `prefactorize_symbolic_cholesky` fills: the
+        // elimination tree of `upper`, each entry −1 (a root) or the parent column,
+        // which is greater than the column (faer indexes with it unchecked).
+        // `elimination_tree` is Liu's algorithm, which sets `parent[i] = k` only
+        // for `k > i`, and `symbolic::tests` checks it and `counts` equal faer's.
+        let tree_ref = unsafe { EliminationTreeRef::<usize>::from_inner(&etree) };
+        let sn = factorize_supernodal_symbolic_cholesky(
+            upper_ref,
+            tree_ref,
+            &counts,
+            MemStack::new(&mut mem),
+            SymbolicSupernodalParams::default(),
+        )
+        .map_err(|e| Error::Singular(format!("symbolic analysis failed: {e:?}")))?;
+        drop((upper, etree, counts, mem));
         // The solves' scratch (the numeric factorization has its own, per thread).
-        let req = symbolic.solve_in_place_scratch::<f64>(1, par);
-        let (supernode_of, parent, factor_flops) = tree(sn);
-        let big = symbolic.len_val() >= PARALLEL_MIN_VALUES;
+        let req = sn.solve_in_place_scratch::<f64>(1, Par::Seq);
+        let (supernode_of, parent, factor_flops) = tree(&sn);
+        let big = sn.len_val() >= PARALLEL_MIN_VALUES;
         let threads = if big { rayon::current_num_threads() } else { 1 };
         let split = big
-            .then(|| SubtreeSplit::new(sn, &parent, threads))
+            .then(|| SubtreeSplit::new(&sn, &parent, threads))
             .flatten();
-        let plan = NumericPlan::new(sn, &supernode_of, &parent, threads);
+        let plan = NumericPlan::new(&sn, &supernode_of, &parent, threads);
         Ok(CholeskySolver {
             factor: Vec::new(),
-            symbolic,
+            sn,
+            order,
+            inverse,
             scratch: MemBuffer::new(req),
             scratch_req: req,
             scratch_bytes: req.size_bytes(),
@@ -203,10 +217,7 @@ impl CholeskySolver {
 
     /// The supernodal structure of the factor.
     pub fn supernodal(&self) -> &SymbolicSupernodalCholesky<usize> {
-        match self.symbolic.raw() {
-            SymbolicCholeskyRaw::Supernodal(sn) => sn,
-            SymbolicCholeskyRaw::Simplicial(_) => unreachable!("forced supernodal"),
-        }
+        &self.sn
     }
 
     /// The numeric factor (after a successful [`CholeskySolver::factorize`]).
@@ -215,7 +226,7 @@ impl CholeskySolver {
             self.factorized,
             "factor used before a successful factorization"
         );
-        llt(&self.symbolic, &self.factor)
+        SupernodalLltRef::new(&self.sn, &self.factor)
     }
 
     /// Supernode holding (permuted) column `j` of the factor.
@@ -231,10 +242,7 @@ impl CholeskySolver {
 
     /// Position of original equation `e` in the elimination order.
     pub fn permuted(&self, e: usize) -> usize {
-        match self.symbolic.perm() {
-            Some(p) => p.arrays().1[e],
-            None => e,
-        }
+        self.inverse[e]
     }
 
     /// Flops of one numeric factorization (multiply–adds counted as two), from the
@@ -251,15 +259,10 @@ impl CholeskySolver {
     /// `z ← L⁻¹ P b`: permutes the original-order `b` into `z` and forward-solves.
     pub fn forward(&mut self, b: &[f64], z: &mut [f64]) {
         assert!(self.factorized, "solve before a successful factorization");
-        match self.symbolic.perm() {
-            Some(p) => {
-                for (zj, &o) in z.iter_mut().zip(p.arrays().0) {
-                    *zj = b[o];
-                }
-            }
-            None => z.copy_from_slice(b),
+        for (zj, &o) in z.iter_mut().zip(&self.order) {
+            *zj = b[o];
         }
-        let l = llt(&self.symbolic, &self.factor);
+        let l = SupernodalLltRef::new(&self.sn, &self.factor);
         if let Some(split) = &self.split {
             split.forward(l, &self.supernode_of, None, z);
             return;
@@ -273,7 +276,7 @@ impl CholeskySolver {
     /// `x ← Pᵀ L⁻ᵀ z`: backward-solves `z` in place and un-permutes it into `x`.
     pub fn backward(&mut self, z: &mut [f64], x: &mut [f64]) {
         assert!(self.factorized, "solve before a successful factorization");
-        let l = llt(&self.symbolic, &self.factor);
+        let l = SupernodalLltRef::new(&self.sn, &self.factor);
         if let Some(split) = &self.split {
             split.backward(l, &self.supernode_of, None, z);
         } else {
@@ -282,13 +285,8 @@ impl CholeskySolver {
             let zm = MatMut::from_column_major_slice_mut(z, n, 1);
             l.l_transpose_solve_with_conj(Conj::No, zm, Par::Seq, stack);
         }
-        match self.symbolic.perm() {
-            Some(p) => {
-                for (&zj, &o) in z.iter().zip(p.arrays().0) {
-                    x[o] = zj;
-                }
-            }
-            None => x.copy_from_slice(z),
+        for (&zj, &o) in z.iter().zip(&self.order) {
+            x[o] = zj;
         }
     }
 
@@ -403,13 +401,13 @@ impl CholeskySolver {
 
     /// Number of values stored for the factor L (its supernodes' dense blocks).
     pub fn factor_nnz(&self) -> usize {
-        self.symbolic.len_val()
+        self.sn.len_val()
     }
 
     /// The elimination order (`order[k]` = equation eliminated k-th) and its
-    /// inverse (the position of each equation), if not the identity.
+    /// inverse (the position of each equation).
     pub fn order(&self) -> Option<(&[usize], &[usize])> {
-        self.symbolic.perm().map(|p| p.arrays())
+        Some((&self.order, &self.inverse))
     }
 
     /// Numeric factorization of `k_ordered`, the lower triangle of `P K Pᵀ`: the
@@ -418,19 +416,16 @@ impl CholeskySolver {
     /// which faer's supernodal factorization reads as it is. A non-positive pivot
     /// is returned as the original equation number where it occurred.
     pub fn factorize(&mut self, k_ordered: LowerMatrix<'_>) -> std::result::Result<(), usize> {
-        assert_eq!(k_ordered.n(), self.symbolic.nrows(), "a matrix of another size");
+        assert_eq!(k_ordered.n(), self.sn.nrows(), "a matrix of another size");
         self.factorized = false;
-        if self.factor.len() != self.symbolic.len_val() {
-            self.factor = factor_storage(self.symbolic.len_val());
+        if self.factor.len() != self.sn.len_val() {
+            self.factor = factor_storage(self.sn.len_val());
         }
         if self.scratch_bytes < self.scratch_req.size_bytes() {
             self.scratch = MemBuffer::new(self.scratch_req);
             self.scratch_bytes = self.scratch_req.size_bytes();
         }
-        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
-            unreachable!("forced supernodal")
-        };
-        let res = self.plan.factorize(sn, k_ordered, &mut self.factor);
+        let res = self.plan.factorize(&self.sn, k_ordered, &mut self.factor);
         self.factorizations += 1;
         match res {
             Ok(_) => {
@@ -439,10 +434,7 @@ impl CholeskySolver {
             }
             Err(idx) => {
                 // Map the permuted pivot back to the original equation.
-                let original = match self.symbolic.perm() {
-                    Some(p) => p.arrays().0.get(idx).copied().unwrap_or(idx),
-                    None => idx,
-                };
+                let original = self.order.get(idx).copied().unwrap_or(idx);
                 Err(original)
             }
         }
@@ -464,31 +456,64 @@ impl CholeskySolver {
         // Few right-hand sides: the solve is bound by reading the factor, and the
         // second thread would mostly wait (spinning) between small supernodes.
         let par = if ncols >= 8 { Par::rayon(0) } else { Par::Seq };
-        let req = self.symbolic.solve_in_place_scratch::<f64>(ncols, par);
+        let req = self.sn.solve_in_place_scratch::<f64>(ncols, par);
         if req.size_bytes() > self.scratch_bytes {
             self.scratch = MemBuffer::new(req.or(self.scratch_req));
             self.scratch_bytes = req.size_bytes().max(self.scratch_bytes);
         }
+        // P b, solved in the elimination order, then un-permuted.
+        let mut permuted = vec![0.0; n * ncols];
+        for (pc, bc) in permuted.chunks_exact_mut(n).zip(b.chunks_exact(n)) {
+            for (x, &o) in pc.iter_mut().zip(&self.order) {
+                *x = bc[o];
+            }
+        }
         let stack = MemStack::new(&mut self.scratch);
-        let rhs = MatMut::from_column_major_slice_mut(&mut b[..n * ncols], n, ncols);
-        LltRef::new(&self.symbolic, &self.factor).solve_in_place_with_conj(
+        let rhs = MatMut::from_column_major_slice_mut(&mut permuted, n, ncols);
+        SupernodalLltRef::new(&self.sn, &self.factor).solve_in_place_with_conj(
             Conj::No,
             rhs,
             par,
             stack,
         );
+        for (pc, bc) in permuted.chunks_exact(n).zip(b.chunks_exact_mut(n)) {
+            for (&x, &o) in pc.iter().zip(&self.order) {
+                bc[o] = x;
+            }
+        }
     }
 }
 
-/// The supernodal factor of `symbolic` with values `factor`.
-fn llt<'a>(
-    symbolic: &'a SymbolicCholesky<usize>,
-    factor: &'a [f64],
-) -> SupernodalLltRef<'a, usize, f64> {
-    match symbolic.raw() {
-        SymbolicCholeskyRaw::Supernodal(sn) => SupernodalLltRef::new(sn, factor),
-        SymbolicCholeskyRaw::Simplicial(_) => unreachable!("forced supernodal"),
+/// An approximate minimum degree order of the lower-triangular pattern of `k` and
+/// its inverse (faer's AMD).
+fn amd_order(k: SparseColMatRef<'_, usize, f64>) -> Result<(Vec<usize>, Vec<usize>)> {
+    let n = k.nrows();
+    let failed = |e| Error::Singular(format!("the AMD ordering failed: {e:?}"));
+    // AMD reads the whole symmetric pattern: the lower triangle and its mirror.
+    let sym = k.symbolic();
+    let (mut ptr, mut rows) = (vec![0usize; n + 1], Vec::new());
+    let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for j in 0..n {
+        for &i in sym.row_idx_of_col_raw(j) {
+            if i >= j {
+                cols[j].push(i);
+                if i != j {
+                    cols[i].push(j);
+                }
+            }
+        }
     }
+    for (j, c) in cols.iter_mut().enumerate() {
+        c.sort_unstable();
+        rows.extend_from_slice(c);
+        ptr[j + 1] = rows.len();
+    }
+    let full = SymbolicSparseColMatRef::new_checked(n, n, &ptr, None, &rows);
+    let (mut fwd, mut inv) = (vec![0usize; n], vec![0usize; n]);
+    let mut mem = MemBuffer::new(amd::order_scratch::<usize>(n, rows.len()));
+    amd::order(&mut fwd, &mut inv, full, amd::Control::default(), MemStack::new(&mut mem))
+        .map_err(failed)?;
+    Ok((fwd, inv))
 }
 
 /// Zeroed storage for `len` factor values, on transparent huge pages where the
@@ -545,7 +570,7 @@ fn tree(sn: &SymbolicSupernodalCholesky<usize>) -> (Vec<u32>, Vec<usize>, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use faer::sparse::SymbolicSparseColMatRef;
+    use faer::Side;
 
     /// The lower triangle of `P K Pᵀ` in the elimination order of `s`, for
     /// [`CholeskySolver::factorize`].

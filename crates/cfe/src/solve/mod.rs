@@ -13,5 +13,6 @@ pub(crate) mod ordering;
 pub(crate) mod setup;
 pub mod subtree;
 pub(crate) mod support;
+pub mod symbolic;
 pub mod system;
 pub(crate) mod warm_start;
