@@ -35,43 +35,44 @@ pub fn permuted_triangles(
 ) -> (Pattern, Pattern) {
     let n = col_ptr.len() - 1;
     let (mut up, mut lp) = (vec![0usize; n + 1], vec![0usize; n + 1]);
-    for j in 0..n {
-        let pj = inverse[j];
-        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
-            if i < j {
-                continue;
-            }
-            let pi = inverse[i];
-            let (r, c) = if pi < pj { (pi, pj) } else { (pj, pi) };
-            up[c + 1] += 1;
-            if r != c {
-                lp[r + 1] += 1;
-            }
+    each_moved(col_ptr, row_idx, inverse, |r, c| {
+        up[c + 1] += 1;
+        if r != c {
+            lp[r + 1] += 1;
         }
-    }
+    });
     for c in 0..n {
         up[c + 1] += up[c];
         lp[c + 1] += lp[c];
     }
     let (mut unext, mut lnext) = (up[..n].to_vec(), lp[..n].to_vec());
     let (mut ur, mut lr) = (vec![0usize; up[n]], vec![0usize; lp[n]]);
-    for j in 0..n {
-        let pj = inverse[j];
-        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
-            if i < j {
-                continue;
-            }
+    each_moved(col_ptr, row_idx, inverse, |r, c| {
+        ur[unext[c]] = r;
+        unext[c] += 1;
+        if r != c {
+            lr[lnext[r]] = c;
+            lnext[r] += 1;
+        }
+    });
+    (Pattern { col_ptr: up, row_idx: ur }, Pattern { col_ptr: lp, row_idx: lr })
+}
+
+/// Calls `f(r, c)` for every entry `(i, j)`, `i ≥ j`, of the lower triangle
+/// `(col_ptr, row_idx)`, moved by the order's `inverse` to row `r` ≤ column `c`.
+#[inline]
+fn each_moved(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    inverse: &[usize],
+    mut f: impl FnMut(usize, usize),
+) {
+    for (j, &pj) in inverse.iter().enumerate().take(col_ptr.len() - 1) {
+        for &i in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().filter(|&&i| i >= j) {
             let pi = inverse[i];
-            let (r, c) = if pi < pj { (pi, pj) } else { (pj, pi) };
-            ur[unext[c]] = r;
-            unext[c] += 1;
-            if r != c {
-                lr[lnext[r]] = c;
-                lnext[r] += 1;
-            }
+            if pi < pj { f(pi, pj) } else { f(pj, pi) }
         }
     }
-    (Pattern { col_ptr: up, row_idx: ur }, Pattern { col_ptr: lp, row_idx: lr })
 }
 
 /// A sparsity pattern in compressed columns.
