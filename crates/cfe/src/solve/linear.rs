@@ -406,8 +406,8 @@ impl CholeskySolver {
 
     /// The elimination order (`order[k]` = equation eliminated k-th) and its
     /// inverse (the position of each equation).
-    pub fn order(&self) -> Option<(&[usize], &[usize])> {
-        Some((&self.order, &self.inverse))
+    pub fn order(&self) -> (&[usize], &[usize]) {
+        (&self.order, &self.inverse)
     }
 
     /// Numeric factorization of `k_ordered`, the lower triangle of `P K Pᵀ`: the
@@ -579,7 +579,7 @@ mod tests {
         s: &CholeskySolver,
     ) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
         let n = k.nrows();
-        let (fwd, inv) = s.order().expect("AMD gives an order");
+        let (fwd, inv) = s.order();
         let nnz = k.compute_nnz();
         let (mut col_ptr, mut row, mut val) = (vec![0; n + 1], vec![0; nnz], vec![0.0; nnz]);
         let mut mem = MemBuffer::new(faer::sparse::utils::permute_self_adjoint_scratch::<usize>(n));

@@ -108,13 +108,11 @@ impl<'a> ContactSystem<'a> {
     /// order if it is not already (its values permuted along).
     pub fn new(parts: &'a [Part], k: Stiffness, chol: CholeskySolver) -> Self {
         let budget = (256usize << 20).max(8 * chol.factor_nnz() / 4);
-        let k = match chol.order() {
-            Some((order, inverse)) if k.positions() != Some(inverse) => k.in_order(order, inverse),
-            None if k.positions().is_some() => {
-                let identity: Vec<usize> = (0..k.n()).collect();
-                k.in_order(&identity, &identity)
-            }
-            _ => k,
+        let (order, inverse) = chol.order();
+        let k = if k.positions() != Some(inverse) {
+            k.in_order(order, inverse)
+        } else {
+            k
         };
         ContactSystem {
             parts,
