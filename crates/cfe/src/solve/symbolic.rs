@@ -329,6 +329,37 @@ mod tests {
         }
     }
 
+    /// Two parts with nothing between them (a block-diagonal matrix, its
+    /// equations interleaved by the order): the tree is a forest of two roots,
+    /// and tree and counts still equal faer's.
+    #[test]
+    fn disconnected_parts_give_a_forest() {
+        let (ptr, rows, _) = grid(6, 5);
+        let m = ptr.len() - 1;
+        // Block diagonal: the grid and a copy of it shifted by m.
+        let mut bptr = ptr.clone();
+        bptr.extend(ptr[1..].iter().map(|p| p + rows.len()));
+        let mut brows = rows.clone();
+        brows.extend(rows.iter().map(|r| r + m));
+        let n = 2 * m;
+        let order: Vec<usize> = (0..n).map(|k| if k % 2 == 0 { k / 2 } else { m + k / 2 }).collect();
+        let mut inverse = vec![0; n];
+        for (k, &e) in order.iter().enumerate() {
+            inverse[e] = k;
+        }
+        let (upper, lower) = permuted_triangles(&bptr, &brows, &inverse);
+        let parent = elimination_tree(&upper.col_ptr, &upper.row_idx);
+        let post = postorder(&parent);
+        let counts = column_counts(&lower.col_ptr, &lower.row_idx, &parent, &post);
+        assert_eq!(parent.iter().filter(|&&p| p < 0).count(), 2);
+        let a = SymbolicSparseColMatRef::new_unsorted_checked(n, n, &upper.col_ptr, None, &upper.row_idx);
+        let (mut etree, mut cc) = (vec![0isize; n], vec![0usize; n]);
+        let mut mem = MemBuffer::new(prefactorize_symbolic_cholesky_scratch::<usize>(n, upper.row_idx.len()));
+        prefactorize_symbolic_cholesky(&mut etree, &mut cc, a, MemStack::new(&mut mem));
+        assert_eq!(parent, etree);
+        assert_eq!(counts, cc);
+    }
+
     /// Every entry of the lower triangle lands once in each triangle of the
     /// permuted matrix (mirrored; the diagonal in the upper one only); entries
     /// above the diagonal are ignored.
