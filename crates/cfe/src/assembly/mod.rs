@@ -133,9 +133,8 @@ pub struct Stiffness {
     /// Column pointers (length n_eq + 1).
     pub col_ptr: Vec<usize>,
     /// Row indices, sorted within each column, all ≥ the column; 4 bytes each
-    /// (the matrix is held for the whole solve, beside the factor). The numeric
-    /// factorization reads them as they are; faer's symbolic analysis takes them
-    /// widened ([`Stiffness::with_matrix`]).
+    /// (the matrix is held for the whole solve, beside the factor). The symbolic
+    /// analysis and the numeric factorization read them as they are.
     pub row_idx: Vec<u32>,
     /// Current values (empty when freed).
     pub values: Vec<f64>,
@@ -256,30 +255,39 @@ impl Stiffness {
             zeros = vec![0.0; self.row_idx.len()];
             &zeros
         };
-        self.permuted(values, self.parts_only, order, inverse)
+        self.permuted(Some(values), self.parts_only, order, inverse)
     }
 
-    /// As [`Stiffness::in_order`], with the values of the elements of `sources`
-    /// (the parts; assembled in the equations' order, where the element's entries
-    /// lie close together, then permuted along): the values
-    /// [`Stiffness::assemble_parts`] would give in that order.
-    pub fn in_order_with_parts(
-        &self,
-        sources: &[&dyn ElementSource],
-        dofs: &DofMap,
-        order: &[usize],
-        inverse: &[usize],
-    ) -> Stiffness {
+    /// The pattern of this matrix in the elimination order, as [`Stiffness::in_order`]
+    /// stores it, without values (set them with [`Stiffness::set_parts_values`] or
+    /// [`Stiffness::assemble`]).
+    pub fn in_order_pattern(&self, order: &[usize], inverse: &[usize]) -> Stiffness {
+        self.permuted(None, false, order, inverse)
+    }
+
+    /// The values of the elements of `sources` in this matrix's storage (those
+    /// [`Stiffness::assemble_parts`] would set), leaving the matrix as it is: one
+    /// thread assembles them while another reads the pattern.
+    pub fn values_of(&self, sources: &[&dyn ElementSource], dofs: &DofMap) -> Vec<f64> {
         let mut values = vec![0.0; self.row_idx.len()];
         self.add_sources(&mut values, sources, dofs);
-        self.permuted(&values, true, order, inverse)
+        values
     }
 
-    /// This matrix with `values` in the elimination order (see
-    /// [`Stiffness::in_order`]).
+    /// Sets the values to `values`, the constant part (the parts' elements, from
+    /// [`Stiffness::values_of`]), to which the next [`Stiffness::assemble`] adds
+    /// the coupling elements.
+    pub fn set_parts_values(&mut self, values: Vec<f64>) {
+        assert_eq!(values.len(), self.row_idx.len(), "values of another pattern");
+        self.values = values;
+        self.parts_only = true;
+    }
+
+    /// This matrix with `values` (`None`: the pattern only, no values) in the
+    /// elimination order (see [`Stiffness::in_order`]).
     fn permuted(
         &self,
-        values: &[f64],
+        values: Option<&[f64]>,
         parts_only: bool,
         order: &[usize],
         inverse: &[usize],
@@ -322,7 +330,7 @@ impl Stiffness {
         }
         let mut next = col_ptr.clone();
         let mut row_idx = vec![0u32; nnz];
-        let mut new_values = vec![0.0; nnz];
+        let mut new_values = vec![0.0; if values.is_some() { nnz } else { 0 }];
         for j in 0..n {
             let pj = inverse[j];
             for p in self.col_ptr[j]..self.col_ptr[j + 1] {
@@ -331,23 +339,31 @@ impl Stiffness {
                 let at = next[c];
                 next[c] += 1;
                 row_idx[at] = narrow(r);
-                new_values[at] = values[p];
+                if let Some(values) = values {
+                    new_values[at] = values[p];
+                }
             }
         }
         drop(next);
         for c in 0..n {
             let (s, e) = (col_ptr[c], col_ptr[c + 1]);
-            let (rows, vals) = (&mut row_idx[s..e], &mut new_values[s..e]);
+            let rows = &mut row_idx[s..e];
+            let mut vals = values.map(|_| &mut new_values[s..e]);
             for k in 1..rows.len() {
-                let (r, v) = (rows[k], vals[k]);
+                let r = rows[k];
+                let v = vals.as_ref().map_or(0.0, |vals| vals[k]);
                 let mut at = k;
                 while at > 0 && rows[at - 1] > r {
                     rows[at] = rows[at - 1];
-                    vals[at] = vals[at - 1];
+                    if let Some(vals) = vals.as_mut() {
+                        vals[at] = vals[at - 1];
+                    }
                     at -= 1;
                 }
                 rows[at] = r;
-                vals[at] = v;
+                if let Some(vals) = vals.as_mut() {
+                    vals[at] = v;
+                }
             }
         }
         let mut position = vec![0usize; n];
@@ -545,27 +561,12 @@ impl Stiffness {
     /// The current matrix as a faer sparse view (lower triangle of the stored
     /// matrix). The values must be there (assembled, not freed). The row indices
     /// are widened to `usize` for the call (a copy of 8 bytes per stored entry,
-    /// freed after it).
+    /// freed after it): for faer's own routines (tests, AMD); the solver reads
+    /// the 4-byte rows as they are.
     pub fn with_matrix<R>(&self, f: impl FnOnce(SparseColMatRef<'_, usize, f64>) -> R) -> R {
-        self.with_matrix_wide(&self.wide_rows(), f)
-    }
-
-    /// The row indices widened to `usize`, as faer takes them, for
-    /// [`Stiffness::with_matrix_wide`]: made ahead, e.g. while another thread
-    /// computes what the call needs besides.
-    pub fn wide_rows(&self) -> Vec<usize> {
-        self.row_idx.iter().map(|&i| i as usize).collect()
-    }
-
-    /// [`Stiffness::with_matrix`] with the row indices already widened
-    /// ([`Stiffness::wide_rows`]).
-    pub fn with_matrix_wide<R>(
-        &self,
-        rows: &[usize],
-        f: impl FnOnce(SparseColMatRef<'_, usize, f64>) -> R,
-    ) -> R {
         let n = self.n();
-        let symbolic = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, rows);
+        let rows: Vec<usize> = self.row_idx.iter().map(|&i| i as usize).collect();
+        let symbolic = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &rows);
         f(SparseColMatRef::new(symbolic, &self.values))
     }
 }

@@ -134,11 +134,33 @@ impl CholeskySolver {
         let (upper, lower) =
             symbolic::permuted_triangles(sym.col_ptr(), sym.row_idx(), &inverse);
         let etree = symbolic::elimination_tree(&upper.col_ptr, &upper.row_idx);
-        let counts = {
-            let post = symbolic::postorder(&etree);
-            symbolic::column_counts(&lower.col_ptr, &lower.row_idx, &etree, &post)
-        };
+        let post = symbolic::postorder(&etree);
+        let counts = symbolic::column_counts(&lower.col_ptr, &lower.row_idx, &etree, &post);
         drop(lower);
+        Self::from_symbolic(order, inverse, &upper, &etree, &counts)
+    }
+
+    /// The solver for the elimination order `order` (and its `inverse`) from the
+    /// symbolic analysis done: `upper` the upper triangle of `P K Pᵀ`, `etree` its
+    /// elimination tree ([`symbolic::elimination_tree`]) and `counts` the column
+    /// counts of its factor ([`symbolic::column_counts`]). faer finds the
+    /// supernodes; the numeric plan and the solves' parallel split follow.
+    pub fn from_symbolic(
+        order: Vec<usize>,
+        inverse: Vec<usize>,
+        upper: &symbolic::Pattern,
+        etree: &[isize],
+        counts: &[usize],
+    ) -> Result<Self> {
+        let n = order.len();
+        assert!(
+            inverse.len() == n
+                && etree.len() == n
+                && counts.len() == n
+                && upper.col_ptr.len() == n + 1
+                && etree.iter().enumerate().all(|(j, &p)| p == -1 || (p > j as isize && (p as usize) < n)),
+            "a symbolic analysis of another matrix, or not an elimination tree"
+        );
         let upper_ref = SymbolicSparseColMatRef::new_unsorted_checked(
             n,
             n,
@@ -149,19 +171,19 @@ impl CholeskySolver {
         let mut mem = MemBuffer::new(factorize_supernodal_symbolic_cholesky_scratch::<usize>(n));
         // SAFETY: faer asks for the array `prefactorize_symbolic_cholesky` fills: the
         // elimination tree of `upper`, each entry −1 (a root) or the parent column,
-        // which is greater than the column (faer indexes with it unchecked).
-        // `elimination_tree` is Liu's algorithm, which sets `parent[i] = k` only
-        // for `k > i`, and `symbolic::tests` checks it and `counts` equal faer's.
-        let tree_ref = unsafe { EliminationTreeRef::<usize>::from_inner(&etree) };
+        // which is greater than the column (faer indexes with it unchecked; checked
+        // above). `elimination_tree` is Liu's algorithm, and `symbolic::tests`
+        // checks it and `column_counts` equal faer's.
+        let tree_ref = unsafe { EliminationTreeRef::<usize>::from_inner(etree) };
         let sn = factorize_supernodal_symbolic_cholesky(
             upper_ref,
             tree_ref,
-            &counts,
+            counts,
             MemStack::new(&mut mem),
             SymbolicSupernodalParams::default(),
         )
         .map_err(|e| Error::Singular(format!("symbolic analysis failed: {e:?}")))?;
-        drop((upper, etree, counts, mem));
+        drop(mem);
         // The solves' scratch (the numeric factorization has its own, per thread).
         let req = sn.solve_in_place_scratch::<f64>(1, Par::Seq);
         let (supernode_of, parent, factor_flops) = tree(&sn);

@@ -1,13 +1,17 @@
 //! The setup of a solve: the node graph, the fill-reducing ordering, the fixed
 //! sparsity pattern, the parts' constant stiffness and the symbolic factorization,
-//! with the independent steps side by side on two threads: the ordering beside
-//! the pattern and its row indices widened for faer (both read the graph only),
-//! then faer's symbolic analysis (one thread, the pattern only) beside the
-//! assembly of the parts' values and the copy of the pattern and values in the
-//! elimination order.
+//! the independent steps side by side on two threads (three `rayon::join`s):
+//!
+//! 1. the ordering beside the pattern (both read the node graph only);
+//! 2. the upper triangle of `P K Pᵀ` and its elimination tree beside the
+//!    pattern's copy in the elimination order (the lower triangle, which the
+//!    stiffness keeps and the column counts read);
+//! 3. the column counts and faer's supernodes beside the assembly of the parts'
+//!    values into that copy.
 
 use super::linear::CholeskySolver;
 use super::ordering;
+use super::symbolic;
 use crate::assembly::{DofMap, MAX_EQUATIONS, NodeGraph, PartElements, Stiffness};
 use crate::coupling::Interface;
 use crate::domain::Part;
@@ -37,25 +41,40 @@ pub fn pattern_and_symbolic(
         .iter()
         .flat_map(|p| p.mesh.nodes.iter().copied())
         .collect();
-    let (order, (k, rows)) = rayon::join(
+    let (order, k) = rayon::join(
         || ordering::nested_dissection(&coords, &graph, dofs),
-        || {
-            let k = Stiffness::pattern(dofs, &graph);
-            let rows = k.wide_rows();
-            (k, rows)
-        },
+        || Stiffness::pattern(dofs, &graph),
     );
     drop(graph);
     let mut inverse = vec![0usize; order.len()];
     for (new, &old) in order.iter().enumerate() {
         inverse[old] = new;
     }
-    let part_elements = PartElements::new(parts, dofs);
-    let (chol, k) = rayon::join(
-        || k.with_matrix_wide(&rows, |m| CholeskySolver::new(m, Some(&order))),
-        || k.in_order_with_parts(&[&part_elements], dofs, &order, &inverse),
+    // The elimination tree (from the upper triangle of P K Pᵀ) beside the lower
+    // triangle in the elimination order (the stiffness's storage, also what the
+    // column counts read).
+    let ((upper, etree, post), mut ordered) = rayon::join(
+        || {
+            let upper = symbolic::permuted_upper(&k.col_ptr, &k.row_idx, &inverse);
+            let etree = symbolic::elimination_tree(&upper.col_ptr, &upper.row_idx);
+            let post = symbolic::postorder(&etree);
+            (upper, etree, post)
+        },
+        || k.in_order_pattern(&order, &inverse),
     );
-    Ok((k, chol?))
+    drop(k);
+    // The column counts and faer's supernodes beside the parts' values.
+    let part_elements = PartElements::new(parts, dofs);
+    let (chol, values) = rayon::join(
+        || {
+            let counts =
+                symbolic::column_counts(&ordered.col_ptr, &ordered.row_idx, &etree, &post);
+            CholeskySolver::from_symbolic(order, inverse, &upper, &etree, &counts)
+        },
+        || ordered.values_of(&[&part_elements], dofs),
+    );
+    ordered.set_parts_values(values);
+    Ok((ordered, chol?))
 }
 
 #[cfg(test)]

@@ -22,15 +22,35 @@
 //! nonzeros of `A`, and so the row-subtree counting was most of the symbolic
 //! analysis: this module does the same in a few passes over `A`.
 
+/// A row index as a pattern stores it: 4 bytes (the stiffness's) or 8 (faer's).
+pub trait Row: Copy + Send + Sync {
+    /// The index as a `usize`.
+    fn at(self) -> usize;
+}
+
+impl Row for u32 {
+    #[inline(always)]
+    fn at(self) -> usize {
+        self as usize
+    }
+}
+
+impl Row for usize {
+    #[inline(always)]
+    fn at(self) -> usize {
+        self
+    }
+}
+
 /// The upper and the strict lower triangle of `P K Pᵀ` in compressed columns
 /// (rows unsorted within a column), from the lower triangle of `K` (`col_ptr`,
 /// `row_idx`; entries above the diagonal are ignored), with `inverse[e]` the
 /// position of equation `e` in the elimination order: entry `(i, j)` goes to
 /// column `max(i', j')`, row `min(i', j')` of the upper triangle and, off the
 /// diagonal, to column `min(i', j')`, row `max(i', j')` of the lower one.
-pub fn permuted_triangles(
+pub fn permuted_triangles<R: Row>(
     col_ptr: &[usize],
-    row_idx: &[usize],
+    row_idx: &[R],
     inverse: &[usize],
 ) -> (Pattern, Pattern) {
     let n = col_ptr.len() - 1;
@@ -58,17 +78,40 @@ pub fn permuted_triangles(
     (Pattern { col_ptr: up, row_idx: ur }, Pattern { col_ptr: lp, row_idx: lr })
 }
 
+/// The upper triangle of `P K Pᵀ` alone (see [`permuted_triangles`]): what the
+/// elimination tree and faer's supernodal analysis read, when the lower
+/// triangle in the elimination order is built elsewhere (the stiffness's own,
+/// [`crate::assembly::Stiffness::in_order_pattern`]).
+pub fn permuted_upper<R: Row>(col_ptr: &[usize], row_idx: &[R], inverse: &[usize]) -> Pattern {
+    let n = col_ptr.len() - 1;
+    let mut up = vec![0usize; n + 1];
+    each_moved(col_ptr, row_idx, inverse, |_, c| up[c + 1] += 1);
+    for c in 0..n {
+        up[c + 1] += up[c];
+    }
+    let mut next = up[..n].to_vec();
+    let mut rows = vec![0usize; up[n]];
+    each_moved(col_ptr, row_idx, inverse, |r, c| {
+        rows[next[c]] = r;
+        next[c] += 1;
+    });
+    Pattern {
+        col_ptr: up,
+        row_idx: rows,
+    }
+}
+
 /// Calls `f(r, c)` for every entry `(i, j)`, `i ≥ j`, of the lower triangle
 /// `(col_ptr, row_idx)`, moved by the order's `inverse` to row `r` ≤ column `c`.
 #[inline]
-fn each_moved(
+fn each_moved<R: Row>(
     col_ptr: &[usize],
-    row_idx: &[usize],
+    row_idx: &[R],
     inverse: &[usize],
     mut f: impl FnMut(usize, usize),
 ) {
     for (j, &pj) in inverse.iter().enumerate().take(col_ptr.len() - 1) {
-        for &i in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().filter(|&&i| i >= j) {
+        for i in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().map(|r| r.at()).filter(|&i| i >= j) {
             let pi = inverse[i];
             if pi < pj { f(pi, pj) } else { f(pj, pi) }
         }
@@ -145,9 +188,9 @@ pub fn postorder(parent: &[isize]) -> Vec<usize> {
 /// triangle is `(col_ptr, row_idx)` (column `j` holds rows `i ≥ j` with
 /// `A(i, j) ≠ 0`; the diagonal may be left out), its elimination tree `parent`
 /// and a postorder `post` of it.
-pub fn column_counts(
+pub fn column_counts<R: Row>(
     col_ptr: &[usize],
-    row_idx: &[usize],
+    row_idx: &[R],
     parent: &[isize],
     post: &[usize],
 ) -> Vec<usize> {
@@ -175,7 +218,7 @@ pub fn column_counts(
         if parent[j] >= 0 {
             delta[parent[j] as usize] -= 1;
         }
-        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+        for i in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().map(|r| r.at()) {
             // Is j a leaf of the row subtree of i?
             if i <= j || (max_first[i] != NONE && first[j] <= max_first[i]) {
                 continue;
@@ -368,7 +411,7 @@ mod tests {
         // Lower triangle of a 3 × 3 matrix with an entry (0, 2) above the
         // diagonal that must be ignored; order [2, 0, 1].
         let ptr = vec![0, 3, 5, 6];
-        let rows = vec![0, 1, 2, 1, 0, 2];
+        let rows = vec![0usize, 1, 2, 1, 0, 2];
         let inverse = vec![1, 2, 0];
         let (upper, lower) = permuted_triangles(&ptr, &rows, &inverse);
         let columns = |p: &Pattern| -> Vec<Vec<usize>> {
