@@ -435,7 +435,8 @@ impl CholeskySolver {
     /// Numeric factorization of `k_ordered`, the lower triangle of `P K Pᵀ`: the
     /// matrix of the pattern given at construction stored in the elimination
     /// order ([`CholeskySolver::order`]; see [`crate::assembly::Stiffness::in_order`]),
-    /// which faer's supernodal factorization reads as it is. A non-positive pivot
+    /// which the numeric factorization ([`super::factor`]) reads as it is, its
+    /// 4-byte rows too ([`LowerMatrix`]). A non-positive pivot
     /// is returned as the original equation number where it occurred.
     pub fn factorize(&mut self, k_ordered: LowerMatrix<'_>) -> std::result::Result<(), usize> {
         assert_eq!(k_ordered.n(), self.sn.nrows(), "a matrix of another size");
