@@ -1392,10 +1392,17 @@ impl<'a> Solver<'a> {
         let t = Instant::now();
         self.supports.check(self.parts, self.interfaces, states)?;
         self.timings.contact_update += t.elapsed().as_secs_f64();
+        // This solve replaces the kept solution, and a complete solve needs no
+        // trial vectors: their memory (four vectors of the unknowns' size) is
+        // freed now rather than held beside this solve's.
+        let number = self.last.take().map_or(0, |s| s.number + 1);
+        self.spare = Default::default();
         let (mut u, rhs) = self.right_hand_side(lambda, states);
         let mut refactored = false;
+        let mut x = Vec::with_capacity(rhs.len());
         loop {
-            let mut x = rhs.clone();
+            x.clear();
+            x.extend_from_slice(&rhs);
             let method = self
                 .system
                 .solve(self.interfaces, self.dofs, states, &mut x)
@@ -1416,14 +1423,16 @@ impl<'a> Solver<'a> {
                 // stiff pair opening cancels large terms, and on soft models loses
                 // digits a factorization keeps; the residual's correction (the same
                 // update, one more forward and backward solve) restores them.
-                let mut r = vec![0.0; self.dofs.n_eq];
+                // The residual takes the memory of `x`, whose values are in `u`.
+                let r = &mut x;
+                r.fill(0.0);
                 for (d, &e) in self.dofs.eq.iter().enumerate() {
                     if e != FIXED {
                         r[e] = lambda * self.f_ext[d] - f_int[d];
                     }
                 }
                 self.system
-                    .solve(self.interfaces, self.dofs, states, &mut r)
+                    .solve(self.interfaces, self.dofs, states, r)
                     .map_err(|eq| self.pivot_error(eq, inc))?;
                 for (d, &e) in self.dofs.eq.iter().enumerate() {
                     if e != FIXED {
@@ -1444,7 +1453,10 @@ impl<'a> Solver<'a> {
                 refactored = true;
                 continue;
             }
-            let number = self.last.as_ref().map_or(0, |s| s.number + 1);
+            // The right-hand side and the solve's vector are not needed any more:
+            // freed before the kept solution's copies are made.
+            drop(x);
+            drop(rhs);
             self.last = Some(Solved {
                 number,
                 states: states.to_vec(),
