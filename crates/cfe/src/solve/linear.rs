@@ -591,7 +591,7 @@ fn tree(sn: &SymbolicSupernodalCholesky<usize>) -> (Vec<u32>, Vec<usize>, f64) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use faer::Side;
 
@@ -620,7 +620,7 @@ mod tests {
     }
 
     /// Factorizes `k` (in the equations' order) with `s`.
-    fn factorize(s: &mut CholeskySolver, k: SparseColMatRef<'_, usize, f64>) -> std::result::Result<(), usize> {
+    pub(crate) fn factorize(s: &mut CholeskySolver, k: SparseColMatRef<'_, usize, f64>) -> std::result::Result<(), usize> {
         let (col_ptr, row, val) = ordered(k, s);
         let row: Vec<u32> = row.iter().map(|&i| i as u32).collect();
         s.factorize(LowerMatrix::new(&col_ptr, &row, &val))
@@ -671,7 +671,7 @@ mod tests {
 
     /// The lower triangle (CSC: column pointers, rows, values) of the 5-point
     /// Laplacian of an `m` × `m` grid with `diagonal` on the diagonal.
-    fn laplacian(m: usize, diagonal: f64) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    pub(crate) fn laplacian(m: usize, diagonal: f64) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
         let mut col_ptr = vec![0];
         let mut row = vec![];
         let mut vals = vec![];
@@ -692,6 +692,21 @@ mod tests {
         (col_ptr, row, vals)
     }
 
+    /// A lower triangle in CSC form: column pointers, rows, values.
+    pub(crate) type Csc = (Vec<usize>, Vec<usize>, Vec<f64>);
+
+    /// [`laplacian`]`(m, diagonal)` with its Cholesky solver (AMD order),
+    /// factorized.
+    pub(crate) fn factored_laplacian(m: usize, diagonal: f64) -> (CholeskySolver, Csc) {
+        let n = m * m;
+        let (col_ptr, row, vals) = laplacian(m, diagonal);
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
+        let k = SparseColMatRef::new(sym, &vals);
+        let mut s = CholeskySolver::new(k, None).unwrap();
+        factorize(&mut s, k).unwrap();
+        (s, (col_ptr, row, vals))
+    }
+
     /// The backward solve restricted to the tree paths of a few rows gives the full
     /// solve's values on those rows (to round-off) and touches no other supernode,
     /// and the forward solve of a right-hand side on those rows, restricted to the
@@ -702,11 +717,7 @@ mod tests {
     fn backward_on_paths_matches_full_solve() {
         let m = 30;
         let n = m * m;
-        let (col_ptr, row, vals) = laplacian(m, 5.0);
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
-        let k = SparseColMatRef::new(sym, &vals);
-        let mut s = CholeskySolver::new(k, None).unwrap();
-        factorize(&mut s, k).unwrap();
+        let (mut s, _) = factored_laplacian(m, 5.0);
         let b: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
         let mut z = vec![0.0; n];
         s.forward(&b, &mut z);
@@ -753,11 +764,7 @@ mod tests {
     fn subtree_parallel_solves_match_sequential() {
         let m = 90;
         let n = m * m;
-        let (col_ptr, row, vals) = laplacian(m, 4.01);
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
-        let k = SparseColMatRef::new(sym, &vals);
-        let mut s = CholeskySolver::new(k, None).unwrap();
-        factorize(&mut s, k).unwrap();
+        let (mut s, (col_ptr, row, vals)) = factored_laplacian(m, 4.01);
         let b: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin() + 0.1).collect();
         assert_eq!(s.set_solve_parts(1), 1);
         let (mut z_seq, mut x_seq) = (vec![0.0; n], vec![0.0; n]);

@@ -361,15 +361,11 @@ impl<'a> ContactSystem<'a> {
 
     /// `z ← z − V_S t` with `M_S t = V_Sᵀ z` (the correction's entries S).
     fn apply_correction(&self, cap: &Capacitance, z: &mut [f64]) {
-        let mut t: Vec<f64> = cap
-            .entries()
-            .iter()
-            .map(|e| self.columns.dot(&self.chol, e.column, z))
-            .collect();
+        let columns: Vec<usize> = cap.entries().iter().map(|e| e.column).collect();
+        let mut t = self.columns.dots(&self.chol, &columns, z);
         cap.solve_in_place(&mut t);
-        for (e, &te) in cap.entries().iter().zip(&t) {
-            self.columns.subtract(&self.chol, e.column, te, z);
-        }
+        let terms: Vec<(usize, f64)> = columns.into_iter().zip(t).collect();
+        self.columns.subtract_all(&self.chol, &terms, z);
     }
 
     /// The Woodbury correction of the flipped pairs: the cached columns whose
