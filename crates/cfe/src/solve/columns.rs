@@ -36,8 +36,11 @@ pub struct Columns {
     touched: Vec<usize>,
     /// Per column: (supernode, position in its block), sorted by supernode.
     paths: Vec<Vec<(u32, u32)>>,
-    /// `G = VᵀV` of the stored columns (row-major, `len() × len()`).
+    /// `G = VᵀV` of the stored columns (row-major, `len() × len()` in rows of
+    /// `stride` entries: room for more columns, so adding a few copies nothing).
     gram: Vec<f64>,
+    /// Entries per row of `gram` (at least `len()`).
+    stride: usize,
     /// Values stored on all supernodes.
     stored: usize,
 }
@@ -73,7 +76,8 @@ impl Columns {
         }
         self.touched.clear();
         self.paths.clear();
-        self.gram.clear();
+        self.gram = Vec::new();
+        self.stride = 0;
         self.stored = 0;
     }
 
@@ -161,11 +165,19 @@ impl Columns {
         }
         union.sort_unstable();
         let m = self.paths.len();
-        let mut gram = vec![0.0; m * m];
-        for (a, row) in self.gram.chunks_exact(first.max(1)).enumerate().take(first) {
-            gram[a * m..a * m + first].copy_from_slice(row);
+        if m > self.stride {
+            // Twice the room, so n columns added a few at a time are copied
+            // O(log n) times.
+            let stride = m.max(2 * self.stride);
+            let mut gram = vec![0.0; stride * stride];
+            for a in 0..first {
+                gram[a * stride..a * stride + first]
+                    .copy_from_slice(&self.gram[a * self.stride..a * self.stride + first]);
+            }
+            self.gram = gram;
+            self.stride = stride;
         }
-        self.gram = gram;
+        let stride = self.stride;
         let bounds = self.solve_new(chol, &union, first);
         // Rows `ja` of the Gram matrix for each group of new columns: per supernode
         // `x_groupᵀ x_all` (the groups in parallel, each into its own rows).
@@ -210,9 +222,9 @@ impl Columns {
         for (w, g) in windows.iter().zip(&rows) {
             for ja in w[0]..w[1] {
                 let row = &g[(ja - w[0]) * m..][..m];
-                self.gram[ja * m..(ja + 1) * m].copy_from_slice(row);
+                self.gram[ja * stride..ja * stride + m].copy_from_slice(row);
                 for (jk, &v) in row.iter().enumerate().take(first) {
-                    self.gram[jk * m + ja] = v;
+                    self.gram[jk * stride + ja] = v;
                 }
             }
         }
@@ -345,7 +357,7 @@ impl Columns {
 
     /// `G[a, b] = v_aᵀ v_b`.
     pub fn gram(&self, a: usize, b: usize) -> f64 {
-        self.gram[a * self.paths.len() + b]
+        self.gram[a * self.stride + b]
     }
 
     /// `v_jᵀ z` for a vector `z` in the elimination order.
@@ -487,7 +499,7 @@ mod tests {
 
     /// Correction columns solved on their tree paths are the full forward solves
     /// `L⁻¹ P w` of their sparse right-hand sides (their products with a vector and
-    /// the Gram matrix agree to 1e-13, columns added in two batches), and
+    /// the Gram matrix agree to 1e-13, columns added in four batches), and
     /// `z − Σ a_k v_k` from `dots` and `subtract_all` is the same to the last bit
     /// with the rows cut into 1, 2 or 3 ranges, and the dense sum to 1e-13: a
     /// 5-point Laplacian of a 90 × 90 grid, AMD order (a branching tree).
@@ -525,7 +537,9 @@ mod tests {
             })
             .collect();
         let mut columns = Columns::default();
-        for range in [0..3, 3..7] {
+        // In four batches: the Gram matrix grows (2, 4, 8 entries a row) and is
+        // also extended in place (the third).
+        for range in [0..2, 2..3, 3..4, 4..7] {
             let paths = cols[range.clone()].iter().map(|c| Columns::path(&s, c)).collect();
             assert_eq!(columns.add(&s, &cols[range.clone()], paths), range.start);
         }
