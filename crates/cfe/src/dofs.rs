@@ -14,7 +14,7 @@ pub const FIXED: usize = usize::MAX;
 pub struct DofMap {
     /// First global node of each part (length parts + 1).
     pub node_offset: Vec<usize>,
-    /// Equation number of each DOF, or [`FIXED`].
+    /// Equation number of each DOF, or `FIXED` (`usize::MAX`).
     pub eq: Vec<usize>,
     /// Number of equations (free DOFs): the unknowns.
     pub n_eq: usize,

@@ -157,7 +157,7 @@ impl CouplingElement {
     }
 
     /// The global jump `[[U]] = D_c − Σ N̄ᵢ Dᵢ` for element displacements `d`
-    /// (as [gathered](CfeDofs::gather); entries past [`n_dofs`](Self::n_dofs) are ignored).
+    /// (as `CfeDofs::gather` orders them; entries past [`n_dofs`](Self::n_dofs) are ignored).
     pub fn jump(&self, d: &[f64]) -> [f64; 2] {
         jump(&self.shape, self.node_shape(), &d[..self.n_dofs()])
     }
@@ -242,8 +242,8 @@ impl CouplingElement {
 
 impl CouplingElement {
     /// The internal force `F_e = B_eᵀ Rᵀ f` and the local force `f` under the law
-    /// `law` in `state` with history `h`: `f` from [`LawParams::local_force`] with
-    /// the normal gap g₀ + [[u_n]] (so it includes the initial-gap, slip-history,
+    /// `law` in `state` with history `h`: `f` from `LawParams::local_force` with
+    /// the normal gap g₀ + \[\[u_n\]\] (so it includes the initial-gap, slip-history,
     /// slip-force and multiplier terms), for element displacements `d`. For a
     /// segment point the penalties are scaled by its weight ω ([`Self::params`]).
     pub fn law_force(

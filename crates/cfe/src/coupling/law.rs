@@ -350,7 +350,7 @@ pub struct LawViolation {
 }
 
 impl Law {
-    /// Checks a pair in `state` with normal gap `gap_n` (g₀ + [[u_n]]) and normal
+    /// Checks a pair in `state` with normal gap `gap_n` (g₀ + \[\[u_n\]\]) and normal
     /// force `c_n gap_n` against the normal law: a closed pair (bonded or slip) may
     /// not pull (`c_n gap_n` above `tol.tension`), an open pair may not
     /// interpenetrate (`−gap_n` above `tol.penetration`). A rigid interface has no

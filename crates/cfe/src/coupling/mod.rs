@@ -31,7 +31,7 @@ pub struct Interface {
     /// Tangential penalty c_s (force per length).
     pub c_s: f64,
     /// The stabilising tangential stiffness of a slipping pair
-    /// ([`law::SLIP_STIFFNESS`] × the softer part's E·t; Coulomb law only, else 0).
+    /// (`SLIP_STIFFNESS` × the softer part's E·t; Coulomb law only, else 0).
     pub c_slip: f64,
     /// One coupling element per coupling node.
     pub elements: Vec<CouplingElement>,

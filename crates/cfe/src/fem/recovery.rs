@@ -36,7 +36,7 @@ impl PartStress {
         self.scaled_in_turn(&[factor])
     }
 
-    /// These stresses scaled by each of `factors` in turn ([`scaled_in_turn`]
+    /// These stresses scaled by each of `factors` in turn (`scaled_in_turn`
     /// on every value): bit for bit as many successive [`PartStress::scaled`]
     /// calls.
     pub fn scaled_in_turn(&self, factors: &[f64]) -> PartStress {

@@ -12,7 +12,7 @@
 //! written, and the file is written atomically (see [`super::write_atomic`]).
 //!
 //! Types written: point coordinates Float64 (3 components, z = 0), connectivity and
-//! offsets Int32 when every index and offset fits (see [`index_type`]; half the bytes
+//! offsets Int32 when every index and offset fits (see `index_type`; half the bytes
 //! of Int64), Int64 otherwise, cell types UInt8, data arrays Float64 or Int32, field
 //! data Float64.
 
