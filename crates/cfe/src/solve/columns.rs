@@ -69,6 +69,17 @@ impl Columns {
         8 * (self.stored + self.gram.len())
     }
 
+    /// Bytes of a Gram matrix newly allocated for `m` columns (0 if the present
+    /// one has room for them; it is freed once the new one is filled).
+    pub fn gram_bytes_with(&self, m: usize) -> usize {
+        if m > self.stride {
+            let stride = m.max(2 * self.stride);
+            8 * stride * stride
+        } else {
+            0
+        }
+    }
+
     /// Forgets every column.
     pub fn clear(&mut self) {
         for &s in &self.touched {
@@ -167,7 +178,7 @@ impl Columns {
         let m = self.paths.len();
         if m > self.stride {
             // Twice the room, so n columns added a few at a time are copied
-            // O(log n) times.
+            // O(log n) times (`gram_bytes_with` counts the same).
             let stride = m.max(2 * self.stride);
             let mut gram = vec![0.0; stride * stride];
             for a in 0..first {
@@ -388,9 +399,9 @@ impl Columns {
     /// `z ← z − Σ_k a_k v_{j_k}` for the `(j_k, a_k)` of `terms`, in their order:
     /// every entry of `z` receives the same subtractions in the same order as
     /// from `z ← z − a_k v_{j_k}` done for one term after another, so the result
-    /// does not depend on how the rows are cut. With parallel solve parts the rows are cut at supernode
-    /// boundaries into as many ranges of about equal stored values, and the
-    /// ranges are done in parallel.
+    /// does not depend on how the rows are cut. With parallel solve parts the
+    /// rows are cut at supernode boundaries into as many ranges of about equal
+    /// stored values, and the ranges are done in parallel.
     pub fn subtract_all(&self, chol: &CholeskySolver, terms: &[(usize, f64)], z: &mut [f64]) {
         let begin = chol.supernodal().supernode_begin();
         // Supernodes where the ranges start (the first range at supernode 0).
@@ -539,9 +550,12 @@ mod tests {
         let mut columns = Columns::default();
         // In four batches: the Gram matrix grows (2, 4, 8 entries a row) and is
         // also extended in place (the third).
-        for range in [0..2, 2..3, 3..4, 4..7] {
+        for (range, stride) in [(0..2, 2), (2..3, 4), (3..4, 4), (4..7, 8)] {
             let paths = cols[range.clone()].iter().map(|c| Columns::path(&s, c)).collect();
+            let allocated = columns.gram_bytes_with(range.end);
             assert_eq!(columns.add(&s, &cols[range.clone()], paths), range.start);
+            assert_eq!(columns.stride, stride);
+            assert_eq!(allocated, if range == (3..4) { 0 } else { 8 * stride * stride });
         }
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let y: Vec<f64> = (0..n).map(|i| (0.11 * i as f64).cos()).collect();

@@ -307,7 +307,7 @@ impl<'a> ContactSystem<'a> {
         let cost_factor = self.chol.factor_flops() + self.chol.solve_flops();
         let memory = self.columns.bytes()
             + 8 * paths.iter().map(|p| self.path_width(p)).sum::<usize>()
-            + 8 * (2 * self.cached.len() + cols.len()).pow(2);
+            + self.columns.gram_bytes_with(2 * self.cached.len() + cols.len());
         let cheaper = match self.policy {
             UpdatePolicy::Auto => UPDATE_FLOP_WEIGHT * cost_update < cost_factor,
             UpdatePolicy::Always => true,
