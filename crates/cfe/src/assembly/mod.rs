@@ -348,22 +348,22 @@ impl Stiffness {
         for c in 0..n {
             let (s, e) = (col_ptr[c], col_ptr[c + 1]);
             let rows = &mut row_idx[s..e];
-            let mut vals = values.map(|_| &mut new_values[s..e]);
+            if values.is_none() {
+                rows.sort_unstable();
+                continue;
+            }
+            // Insertion sort of the (short) column, its values along.
+            let vals = &mut new_values[s..e];
             for k in 1..rows.len() {
-                let r = rows[k];
-                let v = vals.as_ref().map_or(0.0, |vals| vals[k]);
+                let (r, v) = (rows[k], vals[k]);
                 let mut at = k;
                 while at > 0 && rows[at - 1] > r {
                     rows[at] = rows[at - 1];
-                    if let Some(vals) = vals.as_mut() {
-                        vals[at] = vals[at - 1];
-                    }
+                    vals[at] = vals[at - 1];
                     at -= 1;
                 }
                 rows[at] = r;
-                if let Some(vals) = vals.as_mut() {
-                    vals[at] = v;
-                }
+                vals[at] = v;
             }
         }
         let mut position = vec![0usize; n];
@@ -667,7 +667,7 @@ pub const MAX_EQUATIONS: usize = u32::MAX as usize;
 /// the piece of a range holds `data[offset(start) − offset(bounds[0]) ..
 /// offset(end) − offset(bounds[0])]` (`offset` non-decreasing, the last piece
 /// ending at most at the end of `data`). Each piece goes to its own thread.
-fn cut_at<'a, T>(
+pub(crate) fn cut_at<'a, T>(
     data: &'a mut [T],
     bounds: &[usize],
     offset: impl Fn(usize) -> usize,

@@ -15,6 +15,7 @@
 //! an update and a refactorization is the same on every run and every machine.
 
 use super::linear::CholeskySolver;
+use crate::assembly::cut_at;
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
@@ -403,9 +404,10 @@ impl Columns {
     /// rows are cut at supernode boundaries into as many ranges of about equal
     /// stored values, and the ranges are done in parallel.
     pub fn subtract_all(&self, chol: &CholeskySolver, terms: &[(usize, f64)], z: &mut [f64]) {
-        let begin = chol.supernodal().supernode_begin();
-        // Supernodes where the ranges start (the first range at supernode 0).
-        let mut cuts = vec![0u32];
+        let sn = chol.supernodal();
+        let n_sn = sn.n_supernodes();
+        // Supernodes where the ranges start (the first at 0), then the end.
+        let mut cuts = vec![0];
         let parts = chol.solve_parts();
         if parts > 1 {
             let mut sizes: Vec<(usize, usize)> = self
@@ -417,29 +419,18 @@ impl Columns {
             let mut acc = 0;
             for &(s, size) in &sizes {
                 if acc >= self.stored * cuts.len() / parts && cuts.len() < parts && s > 0 {
-                    cuts.push(s as u32);
+                    cuts.push(s);
                 }
                 acc += size;
             }
         }
-        cuts.push(u32::MAX);
-        let mut ranges: Vec<(u32, u32, usize, &mut [f64])> = Vec::with_capacity(parts);
-        let mut rest = z;
-        let mut offset = 0;
-        for w in cuts.windows(2) {
-            let end = if w[1] == u32::MAX {
-                offset + rest.len()
-            } else {
-                begin[w[1] as usize]
-            };
-            let (mine, after) = std::mem::take(&mut rest).split_at_mut(end - offset);
-            ranges.push((w[0], w[1], offset, mine));
-            rest = after;
-            offset = end;
-        }
-        let run = |(lo, hi, offset, z): &mut (u32, u32, usize, &mut [f64])| {
+        cuts.push(n_sn);
+        let n = z.len();
+        let first_row = |s: usize| if s < n_sn { sn.supernode_begin()[s] } else { n };
+        let mut ranges = cut_at(z, &cuts, first_row);
+        let run = |(supernodes, z): &mut (std::ops::Range<usize>, &mut [f64])| {
             for &(j, a) in terms {
-                self.subtract_on(chol, j, a, *lo, *hi, z, *offset);
+                self.subtract_on(chol, j, a, supernodes.clone(), z);
             }
         };
         if ranges.len() > 1 {
@@ -449,23 +440,21 @@ impl Columns {
         }
     }
 
-    /// `z ← z − a v_j` on the supernodes `lo..hi` of column `j`'s path, for the
-    /// rows of `z` from `offset` on.
-    #[allow(clippy::too_many_arguments)]
+    /// `z ← z − a v_j` on the `supernodes` of column `j`'s path, `z` holding
+    /// the rows of those supernodes only.
     fn subtract_on(
         &self,
         chol: &CholeskySolver,
         j: usize,
         a: f64,
-        lo: u32,
-        hi: u32,
+        supernodes: std::ops::Range<usize>,
         z: &mut [f64],
-        offset: usize,
     ) {
         let sn = chol.supernodal();
+        let offset = sn.supernode_begin().get(supernodes.start).copied().unwrap_or(0);
         let path = &self.paths[j];
-        let first = path.partition_point(|&(s, _)| s < lo);
-        for &(s, pos) in path[first..].iter().take_while(|&&(s, _)| s < hi) {
+        let first = path.partition_point(|&(s, _)| (s as usize) < supernodes.start);
+        for &(s, pos) in path[first..].iter().take_while(|&&(s, _)| (s as usize) < supernodes.end) {
             let (s, pos) = (s as usize, pos as usize);
             let b = sn.supernode_begin()[s] - offset;
             let c = sn.supernode_end()[s] - sn.supernode_begin()[s];

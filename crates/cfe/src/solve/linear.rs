@@ -595,12 +595,12 @@ pub(crate) mod tests {
     use super::*;
     use faer::Side;
 
+    /// A lower triangle in CSC form: column pointers, rows, values.
+    pub(crate) type Csc = (Vec<usize>, Vec<usize>, Vec<f64>);
+
     /// The lower triangle of `P K Pᵀ` in the elimination order of `s`, for
     /// [`CholeskySolver::factorize`].
-    fn ordered(
-        k: SparseColMatRef<'_, usize, f64>,
-        s: &CholeskySolver,
-    ) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    fn ordered(k: SparseColMatRef<'_, usize, f64>, s: &CholeskySolver) -> Csc {
         let n = k.nrows();
         let (fwd, inv) = s.order();
         let nnz = k.compute_nnz();
@@ -671,7 +671,7 @@ pub(crate) mod tests {
 
     /// The lower triangle (CSC: column pointers, rows, values) of the 5-point
     /// Laplacian of an `m` × `m` grid with `diagonal` on the diagonal.
-    pub(crate) fn laplacian(m: usize, diagonal: f64) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    pub(crate) fn laplacian(m: usize, diagonal: f64) -> Csc {
         let mut col_ptr = vec![0];
         let mut row = vec![];
         let mut vals = vec![];
@@ -691,9 +691,6 @@ pub(crate) mod tests {
         }
         (col_ptr, row, vals)
     }
-
-    /// A lower triangle in CSC form: column pointers, rows, values.
-    pub(crate) type Csc = (Vec<usize>, Vec<usize>, Vec<f64>);
 
     /// [`laplacian`]`(m, diagonal)` with its Cholesky solver (AMD order),
     /// factorized.
