@@ -7,6 +7,7 @@ pub(crate) mod anderson;
 pub(crate) mod capacitance;
 pub(crate) mod columns;
 pub mod factor;
+pub(crate) mod heap;
 pub mod linear;
 pub mod nonlinear;
 pub(crate) mod ordering;

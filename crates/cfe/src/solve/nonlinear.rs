@@ -1397,12 +1397,14 @@ impl<'a> Solver<'a> {
         // freed now rather than held beside this solve's.
         let number = self.last.take().map_or(0, |s| s.number + 1);
         self.spare = Default::default();
-        let (mut u, rhs) = self.right_hand_side(lambda, states);
+        // The trials' freed vectors and columns' scratch stay resident in the heap
+        // unless given back; this solve's vectors are fewer than they were.
+        super::heap::return_free_memory();
+        // The right-hand side is solved in place (`x`); the rare second solve of
+        // a lost update builds it again rather than keeping a copy.
+        let (mut u, mut x) = self.right_hand_side(lambda, states);
         let mut refactored = false;
-        let mut x = Vec::with_capacity(rhs.len());
         loop {
-            x.clear();
-            x.extend_from_slice(&rhs);
             let method = self
                 .system
                 .solve(self.interfaces, self.dofs, states, &mut x)
@@ -1451,12 +1453,12 @@ impl<'a> Solver<'a> {
                 // The update lost accuracy: solve again with a fresh factorization.
                 self.system.invalidate();
                 refactored = true;
+                self.right_hand_side_into(lambda, states, &mut u, &mut x);
                 continue;
             }
-            // The right-hand side and the solve's vector are not needed any more:
-            // freed before the kept solution's copies are made.
+            // The solve's vector is not needed any more: freed before the kept
+            // solution's copies are made.
             drop(x);
-            drop(rhs);
             self.last = Some(Solved {
                 number,
                 states: states.to_vec(),
@@ -1606,7 +1608,7 @@ impl<'a> Solver<'a> {
 
     #[allow(clippy::too_many_arguments)]
     fn finish(
-        &self,
+        &mut self,
         index: usize,
         lambda: f64,
         history: Vec<Iteration>,
@@ -1616,6 +1618,8 @@ impl<'a> Solver<'a> {
         check: LawCheck,
         settled: bool,
     ) -> IncrementResult {
+        // The increment is accepted: its right-hand side is not solved again.
+        self.system.forget_right_hand_side();
         let f_ext: Vec<f64> = self.f_ext.iter().map(|f| lambda * f).collect();
         let residual = self.residual(lambda, &f_int, check.load_scale);
         // Σ reactions + Σ loads = Σ over fixed DOFs of (F_int − F_ext) + Σ F_ext.

@@ -74,6 +74,10 @@ pub fn pattern_and_symbolic(
         || ordered.values_of(&[&part_elements], dofs),
     );
     ordered.set_parts_values(values);
+    // The graph, the permuted copies and the tree are freed: their pages go back
+    // before the factorization allocates the factor.
+    drop((upper, etree, post));
+    super::heap::return_free_memory();
     Ok((ordered, chol?))
 }
 

@@ -155,6 +155,16 @@ impl<'a> ContactSystem<'a> {
         self.capacitance = None;
     }
 
+    /// Forgets the kept forward solve of the right-hand side and frees the spare
+    /// vector: called when an increment is accepted, whose right-hand side is
+    /// not solved again. The next increment's first full solve keeps its own
+    /// (its iterations share it), and the memory of both (three vectors of the
+    /// equations' size) is not held while the increment's results are built.
+    pub fn forget_right_hand_side(&mut self) {
+        self.forward = None;
+        self.spare = Vec::new();
+    }
+
     /// Forgets the factorization and frees its memory (factor values, scratch,
     /// correction columns); the next solve refactorizes.
     pub fn release(&mut self) {
@@ -388,9 +398,11 @@ impl<'a> ContactSystem<'a> {
         entries
     }
 
-    /// `z = L⁻¹ P b`. The first right-hand side solved with a factorization is kept
-    /// with its `z` (the iterations of an increment share it; the residuals of
-    /// their refinement steps do not replace it).
+    /// `z = L⁻¹ P b`. The first right-hand side solved in full with a
+    /// factorization, or since an increment was accepted
+    /// ([`ContactSystem::forget_right_hand_side`]), is kept with its `z` (the
+    /// iterations of an increment share it; the residuals of their refinement
+    /// steps do not replace it).
     fn forward_solve(&mut self, b: &[f64], on_interface: bool) -> Vec<f64> {
         if on_interface && let Some((eqs, set)) = &self.interface_set {
             let mut z = std::mem::take(&mut self.spare);
@@ -411,7 +423,9 @@ impl<'a> ContactSystem<'a> {
             copy.extend_from_slice(z);
             return copy;
         }
-        let mut z = vec![0.0; b.len()];
+        // The spare vector's memory, every entry written by the forward solve.
+        let mut z = std::mem::take(&mut self.spare);
+        z.resize(b.len(), 0.0);
         self.chol.forward(b, &mut z);
         self.flops += self.chol.solve_flops() / 2.0;
         if self.forward.is_none() {
