@@ -219,8 +219,11 @@ struct Solved {
     number: usize,
     states: PairStates,
     lambda: f64,
-    u: Vec<f64>,
-    f_int: Vec<f64>,
+    /// Its displacements and internal force, to be scaled: kept with
+    /// proportional loads only, and dropped when a trial moves on from its
+    /// pattern (only a return to it could use them; a complete solve answers
+    /// that), so the trials' vectors do not sit beside two more.
+    values: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 /// The incremental solver for one model.
@@ -1380,13 +1383,14 @@ impl<'a> Solver<'a> {
     ) -> Result<(Vec<f64>, Vec<f64>, Option<Method>)> {
         if self.proportional
             && let Some(s) = &self.last
+            && let Some((su, sf)) = &s.values
             && s.states == states
             && s.lambda != 0.0
         {
             // Loads and prescribed values are proportional: same states, scaled solution.
             let f = lambda / s.lambda;
-            let u = s.u.iter().map(|v| f * v).collect();
-            let f_int = s.f_int.iter().map(|v| f * v).collect();
+            let u = su.iter().map(|v| f * v).collect();
+            let f_int = sf.iter().map(|v| f * v).collect();
             return Ok((u, f_int, None));
         }
         let t = Instant::now();
@@ -1441,6 +1445,10 @@ impl<'a> Solver<'a> {
                         u[d] += r[e];
                     }
                 }
+                // The correction and the first internal force are spent: their
+                // memory serves the new internal force and the kept copies.
+                drop(std::mem::take(&mut x));
+                drop(std::mem::take(&mut f_int));
                 let t = Instant::now();
                 f_int = self.internal_force(states, &u);
                 self.timings.contact_update += t.elapsed().as_secs_f64();
@@ -1463,9 +1471,9 @@ impl<'a> Solver<'a> {
                 number,
                 states: states.to_vec(),
                 lambda,
-                u: u.clone(),
-                f_int: f_int.clone(),
+                values: self.proportional.then(|| (u.clone(), f_int.clone())),
             });
+            super::heap::return_free_memory();
             return Ok((u, f_int, Some(method)));
         }
     }
@@ -1533,6 +1541,10 @@ impl<'a> Solver<'a> {
         let t = Instant::now();
         self.supports.check(self.parts, self.interfaces, states)?;
         self.timings.contact_update += t.elapsed().as_secs_f64();
+        if let Some(s) = &mut self.last {
+            // A trial moves on from the kept solution's pattern.
+            s.values = None;
+        }
         let (mut u, mut x) = std::mem::take(&mut self.spare);
         self.right_hand_side_into(lambda, states, &mut u, &mut x);
         let (method, complete) = self
