@@ -13,7 +13,8 @@
 /// Gives the heap's free pages back to the system where the allocator can
 /// (glibc's `malloc_trim`); elsewhere nothing. Called where a solve has just freed
 /// much and is about to allocate less than it freed: after the setup's
-/// temporaries, and before a complete solve while the factor is held.
+/// temporaries, and before and after each complete solve while the factor is
+/// held (the trials' vectors, then the solve's own temporaries).
 pub(crate) fn return_free_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: malloc_trim only releases memory the allocator holds as free; it
