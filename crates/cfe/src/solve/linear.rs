@@ -620,7 +620,7 @@ pub(crate) mod tests {
     }
 
     /// Factorizes `k` (in the equations' order) with `s`.
-    pub(crate) fn factorize(s: &mut CholeskySolver, k: SparseColMatRef<'_, usize, f64>) -> std::result::Result<(), usize> {
+    fn factorize(s: &mut CholeskySolver, k: SparseColMatRef<'_, usize, f64>) -> std::result::Result<(), usize> {
         let (col_ptr, row, val) = ordered(k, s);
         let row: Vec<u32> = row.iter().map(|&i| i as u32).collect();
         s.factorize(LowerMatrix::new(&col_ptr, &row, &val))
@@ -671,7 +671,7 @@ pub(crate) mod tests {
 
     /// The lower triangle (CSC: column pointers, rows, values) of the 5-point
     /// Laplacian of an `m` × `m` grid with `diagonal` on the diagonal.
-    pub(crate) fn laplacian(m: usize, diagonal: f64) -> Csc {
+    fn laplacian(m: usize, diagonal: f64) -> Csc {
         let mut col_ptr = vec![0];
         let mut row = vec![];
         let mut vals = vec![];

@@ -169,7 +169,7 @@ impl<'a> ContactSystem<'a> {
     /// correction columns); the next solve refactorizes.
     pub fn release(&mut self) {
         self.invalidate();
-        self.spare = Vec::new();
+        self.forget_right_hand_side();
         self.chol.release();
     }
 
