@@ -435,11 +435,9 @@ impl Analysis {
             })
             .collect();
         let mut prescribed = vec![vec![0.0; self.dofs.prescribed.len()]; steps.len()];
-        for (d, sup) in self.dofs.support_of.iter().enumerate() {
-            if let Some(k) = sup {
-                let s = self.model.supports[*k].step.min(steps.len() - 1);
-                prescribed[s][d] = self.dofs.prescribed[d];
-            }
+        for &(d, k) in &self.dofs.fixed {
+            let s = self.model.supports[k].step.min(steps.len() - 1);
+            prescribed[s][d] = self.dofs.prescribed[d];
         }
         Some(LoadSteps {
             forces,

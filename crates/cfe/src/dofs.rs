@@ -20,8 +20,10 @@ pub struct DofMap {
     pub n_eq: usize,
     /// Prescribed value of each DOF at full load (0 where free).
     pub prescribed: Vec<f64>,
-    /// For each DOF, the index of the support that fixes it (first one wins).
-    pub support_of: Vec<Option<usize>>,
+    /// Each fixed DOF, ascending, with the index of the support that fixes it
+    /// (the first one listed wins). A list rather than an entry per DOF: a
+    /// structure's supports fix a boundary, a small share of its DOFs.
+    pub fixed: Vec<(usize, usize)>,
 }
 
 impl DofMap {
@@ -35,32 +37,33 @@ impl DofMap {
         }
         node_offset.push(n);
         let mut prescribed = vec![0.0; 2 * n];
-        let mut support_of = vec![None; 2 * n];
+        // `eq` marks the fixed DOFs first (free: 0), then numbers the free ones.
+        let mut eq = vec![0; 2 * n];
+        let mut fixed = Vec::new();
         for (s, sup) in supports.iter().enumerate() {
             for &node in &sup.nodes {
                 let g = node_offset[sup.part] + node;
                 for c in 0..2 {
-                    if sup.fix[c] && support_of[2 * g + c].is_none() {
-                        support_of[2 * g + c] = Some(s);
+                    if sup.fix[c] && eq[2 * g + c] != FIXED {
+                        eq[2 * g + c] = FIXED;
+                        fixed.push((2 * g + c, s));
                         prescribed[2 * g + c] = sup.value[c];
                     }
                 }
             }
         }
-        let mut eq = vec![FIXED; 2 * n];
+        fixed.sort_unstable();
         let mut n_eq = 0;
-        for (d, e) in eq.iter_mut().enumerate() {
-            if support_of[d].is_none() {
-                *e = n_eq;
-                n_eq += 1;
-            }
+        for e in eq.iter_mut().filter(|e| **e != FIXED) {
+            *e = n_eq;
+            n_eq += 1;
         }
         DofMap {
             node_offset,
             eq,
             n_eq,
             prescribed,
-            support_of,
+            fixed,
         }
     }
 
@@ -84,10 +87,8 @@ impl DofMap {
         lambda: f64,
     ) -> Vec<[f64; 2]> {
         let mut r = vec![[0.0; 2]; count];
-        for (d, sup) in self.support_of.iter().enumerate() {
-            if let Some(k) = sup {
-                r[*k][d % 2] += f_int[d] - lambda * f_ext[d];
-            }
+        for &(d, k) in &self.fixed {
+            r[k][d % 2] += f_int[d] - lambda * f_ext[d];
         }
         r
     }
@@ -95,7 +96,7 @@ impl DofMap {
     /// The number of supports that fix at least one DOF (one more than the largest
     /// support index).
     pub fn support_count(&self) -> usize {
-        self.support_of.iter().flatten().max().map_or(0, |k| k + 1)
+        self.fixed.iter().map(|&(_, k)| k + 1).max().unwrap_or(0)
     }
 
     /// The part and local node of a global node.

@@ -125,9 +125,9 @@ impl NodeGraph {
 /// Only the pattern is kept for the whole solve. The values are those of the
 /// parts plus the coupling elements in some pair states
 /// ([`Stiffness::assemble`]): they are needed by a numeric factorization only
-/// (residuals are summed element by element), so the solver frees them after
-/// each one ([`Stiffness::free_values`]) and assembles them anew, parts
-/// included, for the next.
+/// (residuals are summed element by element), so the solver gives them to each
+/// one ([`Stiffness::take_values`]), which frees them once read, and assembles
+/// them anew, parts included, for the next.
 #[derive(Debug, Clone)]
 pub struct Stiffness {
     /// Column pointers (length n_eq + 1).
@@ -140,7 +140,7 @@ pub struct Stiffness {
     pub values: Vec<f64>,
     /// Row and column of each equation in the stored matrix (empty: the
     /// equation itself).
-    position: Vec<usize>,
+    position: Vec<u32>,
     /// Whether `values` hold the parts' contribution only (from
     /// [`Stiffness::assemble_parts`]): the next [`Stiffness::assemble`] then
     /// adds the coupling elements to them.
@@ -247,7 +247,7 @@ impl Stiffness {
     /// sorted, with the current values permuted along (the values are zero when
     /// there are none). Later assemblies place each equation's entries at its
     /// position in the order.
-    pub fn in_order(&self, order: &[usize], inverse: &[usize]) -> Stiffness {
+    pub fn in_order(&self, order: &[u32], inverse: &[u32]) -> Stiffness {
         let zeros;
         let values = if self.values.len() == self.row_idx.len() {
             &self.values
@@ -261,7 +261,7 @@ impl Stiffness {
     /// The pattern of this matrix in the elimination order, as [`Stiffness::in_order`]
     /// stores it, without values (set them with [`Stiffness::set_parts_values`] or
     /// [`Stiffness::assemble`]).
-    pub fn in_order_pattern(&self, order: &[usize], inverse: &[usize]) -> Stiffness {
+    pub fn in_order_pattern(&self, order: &[u32], inverse: &[u32]) -> Stiffness {
         self.permuted(None, false, order, inverse)
     }
 
@@ -289,8 +289,8 @@ impl Stiffness {
         &self,
         values: Option<&[f64]>,
         parts_only: bool,
-        order: &[usize],
-        inverse: &[usize],
+        order: &[u32],
+        inverse: &[u32],
     ) -> Stiffness {
         let n = self.n();
         let nnz = self.row_idx.len();
@@ -299,7 +299,10 @@ impl Stiffness {
         assert!(
             order.len() == n
                 && inverse.len() == n
-                && order.iter().enumerate().all(|(k, &e)| inverse.get(e) == Some(&k)),
+                && order
+                    .iter()
+                    .enumerate()
+                    .all(|(k, &e)| inverse.get(e as usize).is_some_and(|&i| i as usize == k)),
             "the elimination order and its inverse are not inverse permutations"
         );
         // The stored matrix's rows are its equations' positions: compose with
@@ -310,7 +313,7 @@ impl Stiffness {
         } else {
             let mut inv = vec![0; n];
             for (k, &e) in order.iter().enumerate() {
-                inv[self.position[e]] = k;
+                inv[self.position[e as usize] as usize] = narrow(k);
             }
             composed = inv;
             &composed[..]
@@ -320,9 +323,9 @@ impl Stiffness {
         // then each (short) column sorted by row; the values move along.
         let mut col_ptr = vec![0usize; n + 1];
         for j in 0..n {
-            let pj = inverse[j];
+            let pj = inverse[j] as usize;
             for &i in &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]] {
-                col_ptr[inverse[i as usize].min(pj) + 1] += 1;
+                col_ptr[(inverse[i as usize] as usize).min(pj) + 1] += 1;
             }
         }
         for c in 0..n {
@@ -332,9 +335,9 @@ impl Stiffness {
         let mut row_idx = vec![0u32; nnz];
         let mut new_values = vec![0.0; if values.is_some() { nnz } else { 0 }];
         for j in 0..n {
-            let pj = inverse[j];
+            let pj = inverse[j] as usize;
             for p in self.col_ptr[j]..self.col_ptr[j + 1] {
-                let pi = inverse[self.row_idx[p] as usize];
+                let pi = inverse[self.row_idx[p] as usize] as usize;
                 let (r, c) = (pi.max(pj), pi.min(pj));
                 let at = next[c];
                 next[c] += 1;
@@ -366,12 +369,9 @@ impl Stiffness {
                 vals[at] = v;
             }
         }
-        let mut position = vec![0usize; n];
+        let mut position = vec![0u32; n];
         for (e, p) in position.iter_mut().enumerate() {
-            *p = self.stored(e);
-        }
-        for p in position.iter_mut() {
-            *p = inverse[*p];
+            *p = inverse[self.stored(e)];
         }
         Stiffness {
             col_ptr,
@@ -397,8 +397,14 @@ impl Stiffness {
     /// Frees the values (the pattern stays); the next [`Stiffness::assemble`]
     /// assembles them anew.
     pub fn free_values(&mut self) {
-        self.values = Vec::new();
+        drop(self.take_values());
+    }
+
+    /// Takes the values out (for a factorization that frees them once read),
+    /// leaving the pattern; the next [`Stiffness::assemble`] assembles them anew.
+    pub fn take_values(&mut self) -> Vec<f64> {
         self.parts_only = false;
+        std::mem::take(&mut self.values)
     }
 
     /// Row (and column) of equation `e` in the stored matrix.
@@ -406,13 +412,13 @@ impl Stiffness {
         if self.position.is_empty() {
             e
         } else {
-            self.position[e]
+            self.position[e] as usize
         }
     }
 
     /// The row (and column) in the stored matrix of every equation, when it is
     /// stored in an elimination order (`None`: the equations' order).
-    pub fn positions(&self) -> Option<&[usize]> {
+    pub fn positions(&self) -> Option<&[u32]> {
         (!self.position.is_empty()).then_some(&self.position[..])
     }
 
@@ -721,7 +727,7 @@ mod tests {
             let dofs = DofMap::new(&parts, &supports);
             let graph = NodeGraph::new(&parts, &[], &dofs);
             let k = Stiffness::pattern(&dofs, &graph);
-            let order: Vec<usize> = (0..dofs.n_eq).rev().collect();
+            let order: Vec<u32> = (0..dofs.n_eq as u32).rev().collect();
             let reversed = k.in_order(&order, &order);
             for k in [&k, &reversed] {
                 let (mut walked, mut searched) =
@@ -792,19 +798,19 @@ mod tests {
         let n = dofs.n_eq;
         // A scrambled order (5 is prime to the 56 equations) and its inverse.
         assert_eq!(n, 56);
-        let order: Vec<usize> = (0..n).map(|i| (i * 5 + 3) % n).collect();
+        let order: Vec<u32> = (0..n).map(|i| ((i * 5 + 3) % n) as u32).collect();
         let mut inverse = vec![0; n];
         for (new, &old) in order.iter().enumerate() {
-            inverse[old] = new;
+            inverse[old as usize] = new as u32;
         }
         let scrambled = k.in_order(&order, &inverse);
         assert_ne!(scrambled.row_idx, k.row_idx);
-        let identity: Vec<usize> = (0..n).collect();
+        let identity: Vec<u32> = (0..n as u32).collect();
         let back = scrambled.in_order(&identity, &identity);
         assert_eq!(back.col_ptr, k.col_ptr);
         assert_eq!(back.row_idx, k.row_idx);
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&back.values), bits(&k.values));
-        assert!((0..n).all(|e| back.stored(e) == e && scrambled.stored(e) == inverse[e]));
+        assert!((0..n).all(|e| back.stored(e) == e && scrambled.stored(e) == inverse[e] as usize));
     }
 }

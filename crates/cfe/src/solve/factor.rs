@@ -174,6 +174,11 @@ impl NumericPlan {
     /// analysed from, into `values` (faer's layout, `sn.len_val()` values; every
     /// value is overwritten). A non-positive pivot is returned as its column in
     /// the elimination order (the smallest one if parts fail at the same time).
+    ///
+    /// With the tree split, the columns of `a` of the top supernodes are placed
+    /// in their blocks first, so `a` is dropped (its values freed, when it owns
+    /// them) once the subtrees are done, before the top supernodes first touch
+    /// the rest of the factor.
     pub fn factorize(
         &self,
         sn: &SymbolicSupernodalCholesky<usize>,
@@ -186,10 +191,16 @@ impl NumericPlan {
         let Some(split) = &self.split else {
             let mut ws = Workspace::new(n, self.max_cols);
             for s in 0..sn.n_supernodes() {
-                self.supernode(sn, a, s, values, 0, &mut ws, self.kernel_par(s))?;
+                self.supernode(sn, Some(&a), s, values, 0, &mut ws, self.kernel_par(s))?;
             }
             return Ok(());
         };
+        let mut local = vec![0u32; n];
+        for &s in split.top() {
+            let block = &mut values[val_ptr[s]..val_ptr[s + 1]];
+            load(sn, &a, s, block, &mut local);
+        }
+        drop(local);
         // The values of each subtree (a contiguous range of supernodes, so of
         // values), handed to the thread of its part.
         let mut pieces: Vec<(usize, Range<usize>)> = split
@@ -217,19 +228,21 @@ impl NumericPlan {
                 for (t, vals) in subtrees {
                     let base = val_ptr[t.start];
                     for s in t {
-                        self.supernode(sn, a, s, vals, base, &mut ws, Par::Seq)?;
+                        self.supernode(sn, Some(&a), s, vals, base, &mut ws, Par::Seq)?;
                     }
                 }
                 Ok(())
             })
             .filter_map(|r: Result<(), usize>| r.err())
             .min();
+        // Every column of `a` has been read.
+        drop(a);
         if let Some(col) = failed {
             return Err(col);
         }
         let mut ws = Workspace::new(n, self.max_cols);
         for &s in split.top() {
-            self.supernode(sn, a, s, values, 0, &mut ws, self.kernel_par(s))?;
+            self.supernode(sn, None, s, values, 0, &mut ws, self.kernel_par(s))?;
         }
         Ok(())
     }
@@ -244,12 +257,13 @@ impl NumericPlan {
     }
 
     /// Computes supernode `s` into `vals`, which holds the values from offset
-    /// `base` of the factor on (`s` and every supernode of its subtree before it).
+    /// `base` of the factor on (`s` and every supernode of its subtree before it),
+    /// its block first loaded from `a` (`None`: loaded already, see [`load`]).
     #[allow(clippy::too_many_arguments)]
     fn supernode(
         &self,
         sn: &SymbolicSupernodalCholesky<usize>,
-        a: LowerMatrix<'_>,
+        a: Option<&LowerMatrix<'_>>,
         s: usize,
         vals: &mut [f64],
         base: usize,
@@ -264,21 +278,11 @@ impl NumericPlan {
         let (done, rest) = vals.split_at_mut(val_ptr[s] - base);
         let done: &[f64] = done;
         let ls = &mut rest[..nr * nc];
-        ls.fill(0.0);
         for (i, &r) in pattern.iter().enumerate() {
             ws.local[r] = (nc + i) as u32;
         }
-        // The columns of A (lower triangle, in the elimination order).
-        for j in s0..s1 {
-            let col = &mut ls[(j - s0) * nr..(j - s0 + 1) * nr];
-            let (rows, values) = a.column(j);
-            for (&i, &v) in rows.iter().zip(values) {
-                let i = i as usize;
-                if i >= j {
-                    let at = if i < s1 { i - s0 } else { ws.local[i] as usize };
-                    col[at] += v;
-                }
-            }
+        if let Some(a) = a {
+            scatter(a, s0, s1, nr, ls, &ws.local);
         }
         // The updates of its descendants, over column ranges of balanced work
         // in parallel when the supernode is large.
@@ -333,6 +337,39 @@ impl NumericPlan {
         }
         solve_lower_triangular_in_place(top.as_ref(), bottom.transpose_mut(), par);
         Ok(())
+    }
+}
+
+/// Loads the block `ls` of supernode `s` from `a`: zeros, then the columns of
+/// `a` in it (`local`, all zero, is the scratch row map).
+fn load(sn: &SymbolicSupernodalCholesky<usize>, a: &LowerMatrix<'_>, s: usize, ls: &mut [f64], local: &mut [u32]) {
+    let (s0, s1) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
+    let pattern = sn.supernode(s).pattern();
+    let nc = s1 - s0;
+    for (i, &r) in pattern.iter().enumerate() {
+        local[r] = (nc + i) as u32;
+    }
+    scatter(a, s0, s1, nc + pattern.len(), ls, local);
+    for &r in pattern {
+        local[r] = 0;
+    }
+}
+
+/// `ls ← A[s0.., s0..s1]`: the `nr × (s1 − s0)` block of a supernode zeroed,
+/// then the lower triangle of columns `s0..s1` of `a` added in, rows past `s1`
+/// through the row map `local` (row of the factor → row of the block).
+fn scatter(a: &LowerMatrix<'_>, s0: usize, s1: usize, nr: usize, ls: &mut [f64], local: &[u32]) {
+    ls.fill(0.0);
+    for j in s0..s1 {
+        let col = &mut ls[(j - s0) * nr..(j - s0 + 1) * nr];
+        let (rows, values) = a.column(j);
+        for (&i, &v) in rows.iter().zip(values) {
+            let i = i as usize;
+            if i >= j {
+                let at = if i < s1 { i - s0 } else { local[i] as usize };
+                col[at] += v;
+            }
+        }
     }
 }
 

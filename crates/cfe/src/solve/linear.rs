@@ -15,6 +15,7 @@
 use super::factor::NumericPlan;
 use super::symbolic;
 use super::subtree::{PARALLEL_MIN_VALUES, SubtreeSplit};
+use crate::assembly::MAX_EQUATIONS;
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::matmul::matmul;
@@ -30,15 +31,19 @@ use faer::sparse::linalg::cholesky::supernodal::{
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Accum, Conj, MatMut, MatRef, Par};
+use std::borrow::Cow;
 
 /// The lower triangle of a symmetric matrix in compressed columns, with row
 /// indices of 4 bytes (as [`crate::assembly::Stiffness`] stores them): what
 /// [`CholeskySolver::factorize`] reads, without a widened copy of the indices.
-#[derive(Debug, Clone, Copy)]
+/// Its values are borrowed ([`LowerMatrix::new`]) or given to the factorization
+/// ([`LowerMatrix::with_values`]), which then frees them as soon as it has
+/// read the last it needs.
+#[derive(Debug, Clone)]
 pub struct LowerMatrix<'a> {
     col_ptr: &'a [usize],
     row_idx: &'a [u32],
-    values: &'a [f64],
+    values: Cow<'a, [f64]>,
 }
 
 impl<'a> LowerMatrix<'a> {
@@ -50,6 +55,18 @@ impl<'a> LowerMatrix<'a> {
     /// to the number of rows stored, values and rows of different lengths). A row
     /// out of range panics where the factorization meets it.
     pub fn new(col_ptr: &'a [usize], row_idx: &'a [u32], values: &'a [f64]) -> Self {
+        Self::checked(col_ptr, row_idx, Cow::Borrowed(values))
+    }
+
+    /// [`LowerMatrix::new`] with the values given by value: a factorization frees
+    /// them once read (before the separators at the top of the elimination tree,
+    /// the last columns of the factor it first touches), so they never sit
+    /// beside the whole factor.
+    pub fn with_values(col_ptr: &'a [usize], row_idx: &'a [u32], values: Vec<f64>) -> Self {
+        Self::checked(col_ptr, row_idx, Cow::Owned(values))
+    }
+
+    fn checked(col_ptr: &'a [usize], row_idx: &'a [u32], values: Cow<'a, [f64]>) -> Self {
         let n = col_ptr.len().saturating_sub(1);
         assert!(
             col_ptr.first() == Some(&0)
@@ -71,7 +88,7 @@ impl<'a> LowerMatrix<'a> {
     }
 
     /// The rows and values stored in column `j`.
-    pub fn column(&self, j: usize) -> (&'a [u32], &'a [f64]) {
+    pub fn column(&self, j: usize) -> (&'a [u32], &[f64]) {
         let r = self.col_ptr[j]..self.col_ptr[j + 1];
         (&self.row_idx[r.clone()], &self.values[r])
     }
@@ -82,9 +99,10 @@ pub struct CholeskySolver {
     /// The supernodal structure of the factor.
     sn: SymbolicSupernodalCholesky<usize>,
     /// The elimination order (`order[k]` = equation eliminated k-th) and its
-    /// inverse (the position of each equation).
-    order: Vec<usize>,
-    inverse: Vec<usize>,
+    /// inverse (the position of each equation), 4 bytes each (held beside the
+    /// factor for the whole solve).
+    order: Vec<u32>,
+    inverse: Vec<u32>,
     factor: Vec<f64>,
     scratch: MemBuffer,
     scratch_req: StackReq,
@@ -111,7 +129,17 @@ impl CholeskySolver {
     /// elimination order `order` (`order[k]` = equation eliminated k-th), or AMD.
     pub fn new(k: SparseColMatRef<'_, usize, f64>, order: Option<&[usize]>) -> Result<Self> {
         let n = k.nrows();
-        let (order, inverse) = match order {
+        if n > MAX_EQUATIONS {
+            return Err(Error::TooLarge {
+                unknowns: n as u64,
+                bytes: 0,
+                available: 0,
+                message: format!(
+                    "{n} equations, more than the {MAX_EQUATIONS} an elimination order can index"
+                ),
+            });
+        }
+        let (order, inverse): (Vec<u32>, Vec<u32>) = match order {
             Some(o) => {
                 let mut inv = vec![usize::MAX; o.len()];
                 for (new, &old) in o.iter().enumerate() {
@@ -124,9 +152,12 @@ impl CholeskySolver {
                         "the elimination order is not a permutation".into(),
                     ));
                 }
-                (o.to_vec(), inv)
+                (o.iter().map(|&e| narrow(e)).collect(), inv.into_iter().map(narrow).collect())
             }
-            None => amd_order(k)?,
+            None => {
+                let (o, inv) = amd_order(k)?;
+                (o.into_iter().map(narrow).collect(), inv.into_iter().map(narrow).collect())
+            }
         };
         // Elimination tree and column counts (ours: Gilbert–Ng–Peyton, see
         // `super::symbolic`), then faer's supernodal structure from them.
@@ -146,8 +177,8 @@ impl CholeskySolver {
     /// counts of its factor ([`symbolic::column_counts`]). faer finds the
     /// supernodes; the numeric plan and the solves' parallel split follow.
     pub fn from_symbolic(
-        order: Vec<usize>,
-        inverse: Vec<usize>,
+        order: Vec<u32>,
+        inverse: Vec<u32>,
         upper: &symbolic::Pattern,
         etree: &[isize],
         counts: &[usize],
@@ -264,7 +295,7 @@ impl CholeskySolver {
 
     /// Position of original equation `e` in the elimination order.
     pub fn permuted(&self, e: usize) -> usize {
-        self.inverse[e]
+        self.inverse[e] as usize
     }
 
     /// Flops of one numeric factorization (multiply–adds counted as two), from the
@@ -282,7 +313,7 @@ impl CholeskySolver {
     pub fn forward(&mut self, b: &[f64], z: &mut [f64]) {
         assert!(self.factorized, "solve before a successful factorization");
         for (zj, &o) in z.iter_mut().zip(&self.order) {
-            *zj = b[o];
+            *zj = b[o as usize];
         }
         let l = SupernodalLltRef::new(&self.sn, &self.factor);
         if let Some(split) = &self.split {
@@ -308,7 +339,7 @@ impl CholeskySolver {
             l.l_transpose_solve_with_conj(Conj::No, zm, Par::Seq, stack);
         }
         for (&zj, &o) in z.iter().zip(&self.order) {
-            x[o] = zj;
+            x[o as usize] = zj;
         }
     }
 
@@ -428,7 +459,7 @@ impl CholeskySolver {
 
     /// The elimination order (`order[k]` = equation eliminated k-th) and its
     /// inverse (the position of each equation).
-    pub fn order(&self) -> (&[usize], &[usize]) {
+    pub fn order(&self) -> (&[u32], &[u32]) {
         (&self.order, &self.inverse)
     }
 
@@ -457,7 +488,7 @@ impl CholeskySolver {
             }
             Err(idx) => {
                 // Map the permuted pivot back to the original equation.
-                let original = self.order.get(idx).copied().unwrap_or(idx);
+                let original = self.order.get(idx).map_or(idx, |&o| o as usize);
                 Err(original)
             }
         }
@@ -488,7 +519,7 @@ impl CholeskySolver {
         let mut permuted = vec![0.0; n * ncols];
         for (pc, bc) in permuted.chunks_exact_mut(n).zip(b.chunks_exact(n)) {
             for (x, &o) in pc.iter_mut().zip(&self.order) {
-                *x = bc[o];
+                *x = bc[o as usize];
             }
         }
         let stack = MemStack::new(&mut self.scratch);
@@ -501,10 +532,16 @@ impl CholeskySolver {
         );
         for (pc, bc) in permuted.chunks_exact(n).zip(b.chunks_exact_mut(n)) {
             for (&x, &o) in pc.iter().zip(&self.order) {
-                bc[o] = x;
+                bc[o as usize] = x;
             }
         }
     }
+}
+
+/// An equation's index in 4 bytes (the order and its inverse are held for the
+/// whole solve); `n ≤ MAX_EQUATIONS` is checked before any is narrowed.
+fn narrow(i: usize) -> u32 {
+    u32::try_from(i).expect("at most MAX_EQUATIONS equations")
 }
 
 /// An approximate minimum degree order of the lower-triangular pattern of `k` and
@@ -603,6 +640,8 @@ pub(crate) mod tests {
     fn ordered(k: SparseColMatRef<'_, usize, f64>, s: &CholeskySolver) -> Csc {
         let n = k.nrows();
         let (fwd, inv) = s.order();
+        let fwd: Vec<usize> = fwd.iter().map(|&o| o as usize).collect();
+        let inv: Vec<usize> = inv.iter().map(|&o| o as usize).collect();
         let nnz = k.compute_nnz();
         let (mut col_ptr, mut row, mut val) = (vec![0; n + 1], vec![0; nnz], vec![0.0; nnz]);
         let mut mem = MemBuffer::new(faer::sparse::utils::permute_self_adjoint_scratch::<usize>(n));
@@ -611,7 +650,7 @@ pub(crate) mod tests {
             &mut col_ptr,
             &mut row,
             k,
-            faer::perm::PermRef::new_checked(fwd, inv, n),
+            faer::perm::PermRef::new_checked(&fwd, &inv, n),
             Side::Lower,
             Side::Lower,
             MemStack::new(&mut mem),

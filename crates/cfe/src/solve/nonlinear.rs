@@ -219,10 +219,12 @@ struct Solved {
     number: usize,
     states: PairStates,
     lambda: f64,
-    /// Its displacements and internal force, to be scaled: kept with
-    /// proportional loads only, and dropped when a trial moves on from its
-    /// pattern (only a return to it could use them; a complete solve answers
-    /// that), so the trials' vectors do not sit beside two more.
+    /// Its displacements and internal force, to be scaled by later increments:
+    /// kept with proportional loads only, copied from the increment's result
+    /// once it is accepted ([`Solver::keep_for_scaling`]; an increment never
+    /// scales its own solve), and dropped when a trial moves on from its pattern
+    /// (only a return to it could use them; a complete solve answers that), so
+    /// the trials' vectors do not sit beside two more.
     values: Option<(Vec<f64>, Vec<f64>)>,
 }
 
@@ -638,6 +640,7 @@ impl<'a> Solver<'a> {
                 // scheme), and freed before the last increment's stresses and files.
                 self.system.release();
             }
+            self.keep_for_scaling(&result, lambda);
             on_increment(&result)?;
             // implex lags its states by design: only its final answer must obey the law.
             if self.settings.scheme == Scheme::ActiveSet || inc == n_inc {
@@ -649,6 +652,29 @@ impl<'a> Solver<'a> {
         t.factorization = self.system.factor_seconds;
         t.solve = self.system.solve_seconds;
         Ok(last.expect("at least one increment"))
+    }
+
+    /// With proportional loads, keeps the values of the last complete solve for
+    /// later increments to scale ([`Solved::values`]) when `result`, accepted at
+    /// load factor `lambda`, is that solve's answer itself (its states, its load
+    /// factor, a multiple 1 of it): copied once the increment is accepted, so
+    /// the copies are not made beside the factor and the solve's vectors.
+    fn keep_for_scaling(&mut self, result: &IncrementResult, lambda: f64) {
+        let Some(s) = &mut self.last else {
+            return;
+        };
+        let its_answer = result
+            .multiple_of
+            .as_ref()
+            .is_some_and(|m| m.solution == s.number && m.factor == 1.0);
+        if self.proportional
+            && s.values.is_none()
+            && its_answer
+            && s.lambda == lambda
+            && s.states == result.states
+        {
+            s.values = Some((result.u.clone(), result.f_int.clone()));
+        }
     }
 
     fn all_bonded(&self) -> PairStates {
@@ -1467,11 +1493,14 @@ impl<'a> Solver<'a> {
             // The solve's vector is not needed any more: freed before the kept
             // solution's copies are made.
             drop(x);
+            // Its values, to be scaled by later increments, are copied from the
+            // increment's result once it is accepted (`keep_for_scaling`), after
+            // the factor is freed, rather than here beside it.
             self.last = Some(Solved {
                 number,
                 states: states.to_vec(),
                 lambda,
-                values: self.proportional.then(|| (u.clone(), f_int.clone())),
+                values: None,
             });
             super::heap::return_free_memory();
             return Ok((u, f_int, Some(method)));

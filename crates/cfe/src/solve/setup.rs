@@ -46,9 +46,12 @@ pub fn pattern_and_symbolic(
         || Stiffness::pattern(dofs, &graph),
     );
     drop(graph);
-    let mut inverse = vec![0usize; order.len()];
+    // The order and its inverse in 4 bytes an equation (held beside the factor;
+    // `n_eq ≤ MAX_EQUATIONS` is checked above).
+    let order: Vec<u32> = order.into_iter().map(|e| e as u32).collect();
+    let mut inverse = vec![0u32; order.len()];
     for (new, &old) in order.iter().enumerate() {
-        inverse[old] = new;
+        inverse[old as usize] = new as u32;
     }
     // The elimination tree (from the upper triangle of P K Pᵀ) beside the lower
     // triangle in the elimination order (the stiffness's storage, also what the
@@ -94,7 +97,7 @@ mod tests {
             eq: Vec::new(),
             n_eq: MAX_EQUATIONS + 1,
             prescribed: Vec::new(),
-            support_of: Vec::new(),
+            fixed: Vec::new(),
         };
         match pattern_and_symbolic(&[], &[], &dofs) {
             Err(Error::TooLarge { unknowns, .. }) => assert_eq!(unknowns, MAX_EQUATIONS as u64 + 1),

@@ -5,7 +5,7 @@
 //! the constraint rows have full rank; otherwise the null space names the parts that
 //! can move freely. This turns a singular stiffness into an error a user can act on.
 
-use crate::assembly::DofMap;
+use crate::assembly::{DofMap, FIXED};
 use crate::coupling::{Interface, PairState};
 use crate::domain::Part;
 use crate::error::{Error, Result};
@@ -57,7 +57,7 @@ impl SupportCheck {
             for (n, x) in part.mesh.nodes.iter().enumerate() {
                 let gn = dofs.node(p, n);
                 for (c, axis) in AXES.iter().enumerate() {
-                    if dofs.support_of[2 * gn + c].is_some() {
+                    if dofs.eq[2 * gn + c] == FIXED {
                         let r = check.row(p, *x, *axis);
                         add(&mut g, &[(3 * p, r[0]), (3 * p + 1, r[1]), (3 * p + 2, r[2])]);
                     }

@@ -48,10 +48,10 @@ impl Row for usize {
 /// position of equation `e` in the elimination order: entry `(i, j)` goes to
 /// column `max(i', j')`, row `min(i', j')` of the upper triangle and, off the
 /// diagonal, to column `min(i', j')`, row `max(i', j')` of the lower one.
-pub fn permuted_triangles<R: Row>(
+pub fn permuted_triangles<R: Row, P: Row>(
     col_ptr: &[usize],
     row_idx: &[R],
-    inverse: &[usize],
+    inverse: &[P],
 ) -> (Pattern, Pattern) {
     let n = col_ptr.len() - 1;
     let (mut up, mut lp) = (vec![0usize; n + 1], vec![0usize; n + 1]);
@@ -82,7 +82,7 @@ pub fn permuted_triangles<R: Row>(
 /// elimination tree and faer's supernodal analysis read, when the lower
 /// triangle in the elimination order is built elsewhere (the stiffness's own,
 /// [`crate::assembly::Stiffness::in_order_pattern`]).
-pub fn permuted_upper<R: Row>(col_ptr: &[usize], row_idx: &[R], inverse: &[usize]) -> Pattern {
+pub fn permuted_upper<R: Row, P: Row>(col_ptr: &[usize], row_idx: &[R], inverse: &[P]) -> Pattern {
     let n = col_ptr.len() - 1;
     let mut up = vec![0usize; n + 1];
     each_moved(col_ptr, row_idx, inverse, |_, c| up[c + 1] += 1);
@@ -104,15 +104,15 @@ pub fn permuted_upper<R: Row>(col_ptr: &[usize], row_idx: &[R], inverse: &[usize
 /// Calls `f(r, c)` for every entry `(i, j)`, `i ≥ j`, of the lower triangle
 /// `(col_ptr, row_idx)`, moved by the order's `inverse` to row `r` ≤ column `c`.
 #[inline]
-fn each_moved<R: Row>(
+fn each_moved<R: Row, P: Row>(
     col_ptr: &[usize],
     row_idx: &[R],
-    inverse: &[usize],
+    inverse: &[P],
     mut f: impl FnMut(usize, usize),
 ) {
-    for (j, &pj) in inverse.iter().enumerate().take(col_ptr.len() - 1) {
+    for (j, pj) in inverse.iter().map(|p| p.at()).enumerate().take(col_ptr.len() - 1) {
         for i in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().map(|r| r.at()).filter(|&i| i >= j) {
-            let pi = inverse[i];
+            let pi = inverse[i].at();
             if pi < pj { f(pi, pj) } else { f(pj, pi) }
         }
     }
@@ -412,7 +412,7 @@ mod tests {
         // diagonal that must be ignored; order [2, 0, 1].
         let ptr = vec![0, 3, 5, 6];
         let rows = vec![0usize, 1, 2, 1, 0, 2];
-        let inverse = vec![1, 2, 0];
+        let inverse = vec![1usize, 2, 0];
         let (upper, lower) = permuted_triangles(&ptr, &rows, &inverse);
         let columns = |p: &Pattern| -> Vec<Vec<usize>> {
             (0..3)

@@ -67,9 +67,10 @@ pub struct ContactSystem<'a> {
     cached: HashMap<(usize, usize), usize>,
     /// `V = L⁻¹ P W` of the cached columns.
     columns: Columns,
-    /// The first right-hand side `b` solved with the current factorization and its
-    /// `z = L⁻¹ P b` (the iterations of an increment share their right-hand side).
-    forward: Option<(Vec<f64>, Vec<f64>)>,
+    /// The first right-hand side `b` solved with the current factorization (kept
+    /// to be recognised, see [`KeptVector`]) and its `z = L⁻¹ P b` (the
+    /// iterations of an increment share their right-hand side).
+    forward: Option<(KeptVector, Vec<f64>)>,
     /// A vector of the equations' length kept between solves for the forward
     /// half's result (`z − V t`), so an iteration reuses its memory instead of
     /// allocating and first-touching a new one (65 MB at 8 M unknowns).
@@ -416,7 +417,7 @@ impl<'a> ContactSystem<'a> {
             return z;
         }
         if let Some((kept, z)) = &self.forward
-            && kept == b
+            && kept.equals(b)
         {
             let mut copy = std::mem::take(&mut self.spare);
             copy.clear();
@@ -429,7 +430,7 @@ impl<'a> ContactSystem<'a> {
         self.chol.forward(b, &mut z);
         self.flops += self.chol.solve_flops() / 2.0;
         if self.forward.is_none() {
-            self.forward = Some((b.to_vec(), z.clone()));
+            self.forward = Some((KeptVector::of(b), z.clone()));
         }
         z
     }
@@ -452,12 +453,12 @@ impl<'a> ContactSystem<'a> {
         self.invalidate();
         self.k.assemble(self.parts, interfaces, states, dofs);
         let t = Instant::now();
-        let chol = &mut self.chol;
+        // The values are needed by a factorization only: given to it, which frees
+        // them once read (they are assembled anew for the next).
+        let values = self.k.take_values();
         let k = &self.k;
-        let factorized = chol.factorize(LowerMatrix::new(&k.col_ptr, &k.row_idx, &k.values));
-        // The values are needed by a factorization only: free them until the next.
-        self.k.free_values();
-        factorized?;
+        self.chol
+            .factorize(LowerMatrix::with_values(&k.col_ptr, &k.row_idx, values))?;
         let dt = t.elapsed().as_secs_f64();
         self.factor_seconds += dt;
         self.first_factor_seconds.get_or_insert(dt);
@@ -470,6 +471,65 @@ impl<'a> ContactSystem<'a> {
         self.chol.backward(&mut z, rhs);
         self.solve_seconds += t.elapsed().as_secs_f64();
         Ok(Method::Factorization)
+    }
+}
+
+/// A vector kept only to recognise it later: its nonzero entries (a right-hand
+/// side is mostly zeros: nodal loads on a boundary, the terms of a few
+/// prescribed DOFs and pairs), or a copy of all of them when that is smaller
+/// (body forces). Held beside the factor for an increment, so the few entries
+/// matter: a copy would be a vector of the equations' size.
+#[derive(Debug, Clone, PartialEq)]
+enum KeptVector {
+    /// Length, and the entries that are not zero (ascending) with their values.
+    Sparse {
+        len: usize,
+        index: Vec<u32>,
+        value: Vec<f64>,
+    },
+    Dense(Vec<f64>),
+}
+
+impl KeptVector {
+    /// `b`, kept in the smaller of the two forms (12 bytes a nonzero entry, 8 an
+    /// entry).
+    fn of(b: &[f64]) -> Self {
+        let nonzero = b.iter().filter(|&&x| x != 0.0).count();
+        if 3 * nonzero >= 2 * b.len() || b.len() > u32::MAX as usize {
+            return KeptVector::Dense(b.to_vec());
+        }
+        let (mut index, mut value) = (Vec::with_capacity(nonzero), Vec::with_capacity(nonzero));
+        for (i, &x) in b.iter().enumerate().filter(|(_, x)| **x != 0.0) {
+            index.push(i as u32);
+            value.push(x);
+        }
+        KeptVector::Sparse {
+            len: b.len(),
+            index,
+            value,
+        }
+    }
+
+    /// Whether `b` equals the kept vector entry by entry (`==` on `f64`, as a
+    /// comparison of the two slices: a NaN equals nothing, −0 equals 0).
+    fn equals(&self, b: &[f64]) -> bool {
+        match self {
+            KeptVector::Dense(kept) => kept.as_slice() == b,
+            KeptVector::Sparse { len, index, value } => {
+                if *len != b.len() {
+                    return false;
+                }
+                let mut from = 0;
+                for (&i, &v) in index.iter().zip(value) {
+                    let i = i as usize;
+                    if b[i] != v || b[from..i].iter().any(|&x| x != 0.0) {
+                        return false;
+                    }
+                    from = i + 1;
+                }
+                b[from..].iter().all(|&x| x == 0.0)
+            }
+        }
     }
 }
 
@@ -520,4 +580,42 @@ fn pair_columns(iface: &Interface, k: usize, dofs: &DofMap) -> [Column; 2] {
         }
         col
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::KeptVector;
+
+    /// A kept vector recognises exactly the vectors a slice comparison finds
+    /// equal (`==` on `f64`), in both forms: mostly zeros (a load vector) and
+    /// mostly nonzero (body forces), with zeros of either sign, a NaN, a
+    /// changed, added or removed entry and another length.
+    #[test]
+    fn a_kept_vector_equals_what_a_copy_would() {
+        let mut sparse = vec![0.0; 50];
+        sparse[3] = -1.5;
+        sparse[17] = 2.0;
+        sparse[49] = 1e-300;
+        let dense: Vec<f64> = (0..50).map(|i| 1.0 + i as f64).collect();
+        assert!(matches!(KeptVector::of(&sparse), KeptVector::Sparse { .. }));
+        assert!(matches!(KeptVector::of(&dense), KeptVector::Dense(_)));
+        for base in [sparse, dense] {
+            let kept = KeptVector::of(&base);
+            let mut others = vec![base.clone(), base[..49].to_vec(), [&base[..], &[0.0]].concat()];
+            for i in [0, 3, 4, 17, 48, 49] {
+                for v in [0.0, -0.0, 7.0, f64::NAN, base[i] * (1.0 + f64::EPSILON)] {
+                    let mut b = base.clone();
+                    b[i] = v;
+                    others.push(b);
+                }
+            }
+            for b in &others {
+                assert_eq!(kept.equals(b), base.as_slice() == b.as_slice(), "{b:?}");
+            }
+        }
+        // A kept NaN is never recognised, as with a copy.
+        let mut nan = vec![0.0; 10];
+        nan[2] = f64::NAN;
+        assert!(!KeptVector::of(&nan).equals(&nan));
+    }
 }
