@@ -44,6 +44,7 @@ use super::linear::LowerMatrix;
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
+use std::borrow::Cow;
 use std::ops::Range;
 
 /// Entries of the dense update block formed at once (8 MiB): wider updates are
@@ -175,10 +176,12 @@ impl NumericPlan {
     /// value is overwritten). A non-positive pivot is returned as its column in
     /// the elimination order (the smallest one if parts fail at the same time).
     ///
-    /// With the tree split, the columns of `a` of the top supernodes are placed
-    /// in their blocks first, so `a` is dropped (its values freed, when it owns
-    /// them) once the subtrees are done, before the top supernodes first touch
-    /// the rest of the factor.
+    /// With the tree split, the top supernodes' blocks are loaded from `a` first;
+    /// each subtree then reads only its own columns of `a`, a contiguous range of
+    /// its values. When `a` owns its values ([`LowerMatrix::with_values`]) each
+    /// thread gives back the pages of the values its subtrees have read as it
+    /// goes ([`super::heap::discard`]), so the matrix's values shrink while the
+    /// factor's grow instead of sitting beside the whole factor.
     pub fn factorize(
         &self,
         sn: &SymbolicSupernodalCholesky<usize>,
@@ -188,55 +191,98 @@ impl NumericPlan {
         assert_eq!(values.len(), sn.len_val(), "factor storage of another size");
         let n = sn.nrows();
         let val_ptr = sn.col_ptr_for_val();
+        let (col_ptr, row_idx, mut a_values) = a.into_parts();
+        let whole = Input {
+            col_ptr,
+            row_idx,
+            values: &a_values,
+            first: 0,
+        };
         let Some(split) = &self.split else {
             let mut ws = Workspace::new(n, self.max_cols);
             for s in 0..sn.n_supernodes() {
-                self.supernode(sn, Some(&a), s, values, 0, &mut ws, self.kernel_par(s))?;
+                self.supernode(sn, Some(whole), s, values, 0, &mut ws, self.kernel_par(s))?;
             }
             return Ok(());
         };
         let mut local = vec![0u32; n];
         for &s in split.top() {
             let block = &mut values[val_ptr[s]..val_ptr[s + 1]];
-            load(sn, &a, s, block, &mut local);
+            load(sn, whole, s, block, &mut local);
         }
         drop(local);
         // The values of each subtree (a contiguous range of supernodes, so of
-        // values), handed to the thread of its part.
+        // the factor's values and of the columns of `a`), handed to the thread of
+        // its part.
         let mut pieces: Vec<(usize, Range<usize>)> = split
             .part_subtrees()
             .enumerate()
             .flat_map(|(p, ts)| ts.into_iter().map(move |t| (p, t)))
             .collect();
         pieces.sort_by_key(|(_, t)| t.start);
-        let mut tasks: Vec<Vec<(Range<usize>, &mut [f64])>> =
-            (0..split.parts()).map(|_| Vec::new()).collect();
+        let (begin, end) = (sn.supernode_begin(), sn.supernode_end());
+        let entries = |t: &Range<usize>| col_ptr[begin[t.start]]..col_ptr[end[t.end - 1]];
+        let mut tasks: Vec<Vec<Subtree<'_>>> = (0..split.parts()).map(|_| Vec::new()).collect();
         let mut rest: &mut [f64] = values;
         let mut at = 0;
+        let mut a_rest = match &mut a_values {
+            Cow::Owned(v) => Piece::Owned(v.as_mut_slice()),
+            Cow::Borrowed(v) => Piece::Shared(v),
+        };
+        let mut a_at = 0;
         for (p, t) in pieces {
             let (from, to) = (val_ptr[t.start], val_ptr[t.end]);
             let tail = std::mem::take(&mut rest).split_at_mut(from - at).1;
             let (mine, after) = tail.split_at_mut(to - from);
-            tasks[p].push((t, mine));
             rest = after;
             at = to;
+            let r = entries(&t);
+            let (a_mine, a_after) = a_rest.split(r.start - a_at, r.end - a_at);
+            a_rest = a_after;
+            a_at = r.end;
+            tasks[p].push(Subtree {
+                supernodes: t,
+                values: mine,
+                a: a_mine,
+                a_first: r.start,
+            });
         }
         let failed = tasks
             .into_par_iter()
             .map(|subtrees| {
                 let mut ws = Workspace::new(n, self.max_cols);
-                for (t, vals) in subtrees {
-                    let base = val_ptr[t.start];
-                    for s in t {
-                        self.supernode(sn, Some(&a), s, vals, base, &mut ws, Par::Seq)?;
+                for Subtree {
+                    supernodes,
+                    values: vals,
+                    a: mut piece,
+                    a_first,
+                } in subtrees
+                {
+                    let base = val_ptr[supernodes.start];
+                    let mut given_back = 0;
+                    for s in supernodes {
+                        let input = Input {
+                            col_ptr,
+                            row_idx,
+                            values: piece.get(),
+                            first: a_first,
+                        };
+                        self.supernode(sn, Some(input), s, vals, base, &mut ws, Par::Seq)?;
+                        // The columns of `a` up to this supernode's are read.
+                        let read = col_ptr[end[s]] - a_first;
+                        if read >= given_back + DISCARD_VALUES {
+                            given_back = piece.discard(given_back, read);
+                        }
                     }
+                    let read = piece.get().len();
+                    piece.discard(given_back, read);
                 }
                 Ok(())
             })
             .filter_map(|r: Result<(), usize>| r.err())
             .min();
         // Every column of `a` has been read.
-        drop(a);
+        drop(a_values);
         if let Some(col) = failed {
             return Err(col);
         }
@@ -263,7 +309,7 @@ impl NumericPlan {
     fn supernode(
         &self,
         sn: &SymbolicSupernodalCholesky<usize>,
-        a: Option<&LowerMatrix<'_>>,
+        a: Option<Input<'_>>,
         s: usize,
         vals: &mut [f64],
         base: usize,
@@ -342,7 +388,7 @@ impl NumericPlan {
 
 /// Loads the block `ls` of supernode `s` from `a`: zeros, then the columns of
 /// `a` in it (`local`, all zero, is the scratch row map).
-fn load(sn: &SymbolicSupernodalCholesky<usize>, a: &LowerMatrix<'_>, s: usize, ls: &mut [f64], local: &mut [u32]) {
+fn load(sn: &SymbolicSupernodalCholesky<usize>, a: Input<'_>, s: usize, ls: &mut [f64], local: &mut [u32]) {
     let (s0, s1) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
     let pattern = sn.supernode(s).pattern();
     let nc = s1 - s0;
@@ -358,7 +404,7 @@ fn load(sn: &SymbolicSupernodalCholesky<usize>, a: &LowerMatrix<'_>, s: usize, l
 /// `ls ← A[s0.., s0..s1]`: the `nr × (s1 − s0)` block of a supernode zeroed,
 /// then the lower triangle of columns `s0..s1` of `a` added in, rows past `s1`
 /// through the row map `local` (row of the factor → row of the block).
-fn scatter(a: &LowerMatrix<'_>, s0: usize, s1: usize, nr: usize, ls: &mut [f64], local: &[u32]) {
+fn scatter(a: Input<'_>, s0: usize, s1: usize, nr: usize, ls: &mut [f64], local: &[u32]) {
     ls.fill(0.0);
     for j in s0..s1 {
         let col = &mut ls[(j - s0) * nr..(j - s0 + 1) * nr];
@@ -371,6 +417,80 @@ fn scatter(a: &LowerMatrix<'_>, s0: usize, s1: usize, nr: usize, ls: &mut [f64],
             }
         }
     }
+}
+
+/// Values of `a` read between two give-backs of their pages (2 MiB; in the
+/// unit tests a page or so, so their small matrices give pages back between
+/// supernodes too).
+const DISCARD_VALUES: usize = if cfg!(test) { 1 << 9 } else { 1 << 18 };
+
+/// Columns of the lower triangle of `A` as a factorization reads them: the
+/// pattern, and the values from stored entry `first` on (a subtree's own range,
+/// or all of them).
+#[derive(Clone, Copy)]
+struct Input<'a> {
+    col_ptr: &'a [usize],
+    row_idx: &'a [u32],
+    values: &'a [f64],
+    first: usize,
+}
+
+impl<'a> Input<'a> {
+    /// The rows and values stored in column `j`.
+    fn column(&self, j: usize) -> (&'a [u32], &'a [f64]) {
+        let r = self.col_ptr[j]..self.col_ptr[j + 1];
+        (&self.row_idx[r.clone()], &self.values[r.start - self.first..r.end - self.first])
+    }
+}
+
+/// The values of `a` one thread reads: owned by the factorization (their
+/// pages given back once read) or borrowed.
+enum Piece<'a> {
+    Owned(&'a mut [f64]),
+    Shared(&'a [f64]),
+}
+
+impl<'a> Piece<'a> {
+    fn get(&self) -> &[f64] {
+        match self {
+            Piece::Owned(v) => v,
+            Piece::Shared(v) => v,
+        }
+    }
+
+    /// The entries `from..to` (relative to the piece's start) and the rest
+    /// after `to`, the part before `from` left out.
+    fn split(self, from: usize, to: usize) -> (Piece<'a>, Piece<'a>) {
+        match self {
+            Piece::Owned(v) => {
+                let (mine, after) = v.split_at_mut(to);
+                (Piece::Owned(&mut mine[from..]), Piece::Owned(after))
+            }
+            Piece::Shared(v) => {
+                let (mine, after) = v.split_at(to);
+                (Piece::Shared(&mine[from..]), Piece::Shared(after))
+            }
+        }
+    }
+
+    /// Gives back the pages of the entries `from..to`, read and not needed again
+    /// (owned values only); returns where the next give-back starts (see
+    /// [`super::heap::discard`]).
+    fn discard(&mut self, from: usize, to: usize) -> usize {
+        match self {
+            Piece::Owned(v) => super::heap::discard(v, from, to),
+            Piece::Shared(_) => from,
+        }
+    }
+}
+
+/// One subtree of a part: its supernodes, its values of the factor and its
+/// values of `a` (from stored entry `a_first` on).
+struct Subtree<'a> {
+    supernodes: Range<usize>,
+    values: &'a mut [f64],
+    a: Piece<'a>,
+    a_first: usize,
 }
 
 /// The updates of one supernode `s` by its descendants, read from the finished

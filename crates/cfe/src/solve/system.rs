@@ -85,6 +85,8 @@ pub struct ContactSystem<'a> {
     interface_set: Option<(Vec<usize>, Vec<usize>)>,
     /// Largest memory for cached columns (bytes).
     budget: usize,
+    /// The columns' bytes when the heap's free pages were last given back.
+    trimmed_at: usize,
     /// When to update instead of refactorizing.
     pub policy: UpdatePolicy,
     /// Numeric factorizations so far.
@@ -127,6 +129,7 @@ impl<'a> ContactSystem<'a> {
             capacitance: None,
             interface_set: None,
             budget,
+            trimmed_at: 0,
             policy: UpdatePolicy::Auto,
             factorizations: 0,
             updates: 0,
@@ -152,6 +155,7 @@ impl<'a> ContactSystem<'a> {
         self.base = None;
         self.cached.clear();
         self.columns.clear();
+        self.trimmed_at = 0;
         self.forward = None;
         self.capacitance = None;
     }
@@ -337,6 +341,14 @@ impl<'a> ContactSystem<'a> {
             let first = self.columns.add(&self.chol, &cols, paths);
             for (j, &(i, k)) in new.iter().enumerate() {
                 self.cached.insert((i, k), first + 2 * j);
+            }
+            // The columns' blocks grow by reallocation (each supernode's), and
+            // their sparse solves' scratch is freed: pages that would stay
+            // resident beside the factor through the next trials. Given back
+            // once the columns have grown by a sixty-fourth of the factor.
+            if self.columns.bytes() >= self.trimmed_at + self.chol.factor_nnz() / 8 {
+                super::heap::return_free_memory();
+                self.trimmed_at = self.columns.bytes();
             }
         }
         let mut z = self.forward_solve(rhs, rhs_on_interface);
