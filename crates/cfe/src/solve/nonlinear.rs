@@ -402,7 +402,7 @@ impl<'a> Solver<'a> {
 
     /// Number of nonzeros in the lower triangle of K.
     pub fn matrix_nnz(&self) -> usize {
-        self.system.k.row_idx.len()
+        self.system.matrix_nnz()
     }
 
     /// Number of nonzeros of the Cholesky factor.
@@ -580,6 +580,10 @@ impl<'a> Solver<'a> {
             (1..=n).map(|k| k as f64 / n as f64).collect()
         });
         let n_inc = factors.len();
+        // With proportional loads the active set's first factorization answers
+        // every increment (the factor is freed after the first): the stiffness's
+        // pattern is not held beside the factor for another one.
+        self.system.keep_pattern = !(self.settings.scheme == Scheme::ActiveSet && self.proportional);
         let all_bonded = self.all_bonded();
         let warm = match self.settings.scheme {
             Scheme::ActiveSet => self.initial.take(),

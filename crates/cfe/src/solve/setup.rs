@@ -84,6 +84,23 @@ pub fn pattern_and_symbolic(
     Ok((ordered, chol?))
 }
 
+/// The stiffness's pattern (every part and coupling element) in the elimination
+/// order `order` (`inverse` its inverse) of a solver from [`pattern_and_symbolic`],
+/// built again without values: what a factorization needs when the pattern was
+/// freed after the last one ([`super::system::ContactSystem::keep_pattern`]).
+pub fn pattern_in_order(
+    parts: &[Part],
+    interfaces: &[Interface],
+    dofs: &DofMap,
+    order: &[u32],
+    inverse: &[u32],
+) -> Stiffness {
+    let graph = NodeGraph::new(parts, interfaces, dofs);
+    let k = Stiffness::pattern(dofs, &graph);
+    drop(graph);
+    k.in_order_pattern(order, inverse)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -59,8 +59,20 @@ pub struct ContactSystem<'a> {
     /// The parts, whose stiffness is assembled anew for each factorization.
     parts: &'a [Part],
     /// The stiffness with its fixed pattern, in the factorization's elimination
-    /// order; its values are there only while a factorization needs them.
-    pub k: Stiffness,
+    /// order; its values are there only while a factorization needs them, its
+    /// pattern (`None`: freed) while another factorization may
+    /// ([`ContactSystem::keep_pattern`]).
+    k: Option<Stiffness>,
+    /// Entries stored in the stiffness's lower triangle.
+    k_entries: usize,
+    /// Whether the stiffness's pattern is kept between factorizations (the
+    /// default). When another factorization is unlikely (proportional loads:
+    /// one factorization answers every increment) the solver sets it `false`:
+    /// the pattern, a 4-byte row index per stored entry and a pointer per column
+    /// (37 MiB at 1 M unknowns), is freed after each factorization instead of
+    /// held beside the factor, and built again (node graph, pattern, elimination
+    /// order: [`super::setup::pattern_in_order`]) should one be needed.
+    pub keep_pattern: bool,
     chol: CholeskySolver,
     base: Option<PairStates>,
     /// First of the two correction columns of each changed pair (relative to `base`).
@@ -119,7 +131,9 @@ impl<'a> ContactSystem<'a> {
         };
         ContactSystem {
             parts,
-            k,
+            k_entries: k.row_idx.len(),
+            k: Some(k),
+            keep_pattern: true,
             chol,
             base: None,
             cached: HashMap::new(),
@@ -138,6 +152,11 @@ impl<'a> ContactSystem<'a> {
             solve_seconds: 0.0,
             flops: 0.0,
         }
+    }
+
+    /// Entries stored in the lower triangle of the stiffness.
+    pub fn matrix_nnz(&self) -> usize {
+        self.k_entries
     }
 
     /// Nonzeros of the Cholesky factor.
@@ -463,14 +482,22 @@ impl<'a> ContactSystem<'a> {
         rhs: &mut [f64],
     ) -> Result<Method, usize> {
         self.invalidate();
-        self.k.assemble(self.parts, interfaces, states, dofs);
+        let (order, inverse) = self.chol.order();
+        let k = self.k.get_or_insert_with(|| {
+            super::setup::pattern_in_order(self.parts, interfaces, dofs, order, inverse)
+        });
+        k.assemble(self.parts, interfaces, states, dofs);
         let t = Instant::now();
         // The values are needed by a factorization only: given to it, which frees
         // them once read (they are assembled anew for the next).
-        let values = self.k.take_values();
-        let k = &self.k;
-        self.chol
-            .factorize(LowerMatrix::with_values(&k.col_ptr, &k.row_idx, values))?;
+        let values = k.take_values();
+        let factorized = self
+            .chol
+            .factorize(LowerMatrix::with_values(&k.col_ptr, &k.row_idx, values));
+        if !self.keep_pattern {
+            self.k = None;
+        }
+        factorized?;
         let dt = t.elapsed().as_secs_f64();
         self.factor_seconds += dt;
         self.first_factor_seconds.get_or_insert(dt);
