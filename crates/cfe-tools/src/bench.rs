@@ -687,15 +687,13 @@ fn targets(s: &mut String, cases: &[Case]) {
         let mib = |b: f64| b / 1048576.0;
         let peak = f(&worst.summary["peak_memory_bytes"]);
         let factor = 8.0 * f(&worst.summary["factor_nonzeros"]);
-        let matrix = f(&worst.summary["matrix_nonzeros"]);
         let why = if r <= 1.3 {
             String::new()
         } else {
             format!(
-                "; why: {:.0} MiB beside the factor's {:.0} MiB, held while it is: the stiffness ({:.0} million stored nonzeros), the factorization's scratch, the correction columns, the meshes and the vectors (docs/method.md §3)",
+                "; why: {:.0} MiB beside the factor's {:.0} MiB, held while it is: the symbolic structures and elimination order, the meshes and DOF map, and either the factorization's scratch with the stiffness's values not yet read or the correction columns with the iterations' vectors (docs/method.md §3)",
                 mib(peak - factor),
                 mib(factor),
-                matrix / 1e6
             )
         };
         let _ = writeln!(
