@@ -56,17 +56,33 @@ pub trait ElementSource: Sync {
     /// `u` of all DOFs.
     fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>);
 
-    /// Adds the internal forces of the elements in `range` into `f` (all DOFs) for
-    /// the displacements `u`. The default gives each element's to `f` in turn; a
-    /// source with many elements may do the same in one loop.
-    fn add_internal_forces(&self, range: std::ops::Range<usize>, u: &[f64], f: &mut [f64]) {
+    /// Adds the internal forces of the elements in `range` into `f`, which holds
+    /// the DOFs from `first` on (`f[d − first]` for DOF `d`: all of them when
+    /// `first` is 0 and `f` as long as `u`; at least those of
+    /// [`dof_span`](Self::dof_span) otherwise), for the displacements `u` of all
+    /// DOFs. The default gives each element's to `f` in turn; a source with many
+    /// elements may do the same in one loop.
+    fn add_internal_forces(
+        &self,
+        range: std::ops::Range<usize>,
+        u: &[f64],
+        f: &mut [f64],
+        first: usize,
+    ) {
         for e in range {
             self.internal_force(e, u, &mut |g, fe| {
                 for (&ga, v) in g.iter().zip(fe) {
-                    f[ga] += v;
+                    f[ga - first] += v;
                 }
             });
         }
+    }
+
+    /// The DOFs the elements of `range` touch, as one range holding every DOF of
+    /// their nodes, or `None` when the source does not tell (all DOFs).
+    fn dof_span(&self, range: std::ops::Range<usize>) -> Option<std::ops::Range<usize>> {
+        let _ = range;
+        None
     }
 
     /// Whether the assembly should sum this source's internal forces in parallel
@@ -193,7 +209,13 @@ impl ElementSource for PartElements<'_> {
         }
     }
 
-    fn add_internal_forces(&self, range: std::ops::Range<usize>, u: &[f64], f: &mut [f64]) {
+    fn add_internal_forces(
+        &self,
+        range: std::ops::Range<usize>,
+        u: &[f64],
+        f: &mut [f64],
+        first_dof: usize,
+    ) {
         // Part by part over the elements of `range` in it (no search per element).
         for (p, part) in self.parts.iter().enumerate() {
             let (first, last) = (
@@ -204,6 +226,9 @@ impl ElementSource for PartElements<'_> {
                 continue;
             }
             let base = 2 * self.dofs.node(p, 0);
+            // The part's DOFs in `f` (from `first_dof` on).
+            let fp = &mut f[base.saturating_sub(first_dof)..];
+            let shift = first_dof.saturating_sub(base);
             let (d, t) = (&self.d[p], part.material.thickness);
             let elements = &part.mesh.elements[first - self.offset[p]..last - self.offset[p]];
             for el in elements {
@@ -216,11 +241,31 @@ impl ElementSource for PartElements<'_> {
                 }
                 let fe = element::internal_force(el, &x, d, t, &ue);
                 for (a, &n) in nodes.iter().enumerate() {
-                    f[base + 2 * n] += fe[2 * a];
-                    f[base + 2 * n + 1] += fe[2 * a + 1];
+                    fp[2 * n - shift] += fe[2 * a];
+                    fp[2 * n + 1 - shift] += fe[2 * a + 1];
                 }
             }
         }
+    }
+
+    fn dof_span(&self, range: std::ops::Range<usize>) -> Option<std::ops::Range<usize>> {
+        let (mut lo, mut hi) = (usize::MAX, 0);
+        for (p, part) in self.parts.iter().enumerate() {
+            let (first, last) = (
+                range.start.max(self.offset[p]),
+                range.end.min(self.offset[p + 1]),
+            );
+            if first >= last {
+                continue;
+            }
+            let elements = &part.mesh.elements[first - self.offset[p]..last - self.offset[p]];
+            for &n in elements.iter().flat_map(|el| el.nodes()) {
+                let g = self.dofs.node(p, n);
+                lo = lo.min(2 * g);
+                hi = hi.max(2 * g + 2);
+            }
+        }
+        (lo < hi).then_some(lo..hi)
     }
 
     fn parallel(&self) -> bool {
