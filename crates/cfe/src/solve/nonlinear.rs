@@ -51,7 +51,9 @@ use std::time::Instant;
 /// Seconds spent in each phase of the solution.
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct SolveTimings {
-    /// Node graph, ordering, sparsity pattern and symbolic factorization (once).
+    /// Node graph, ordering, sparsity pattern and symbolic factorization (once),
+    /// and the pattern built again when a freed one is needed
+    /// ([`ContactSystem::keep_pattern`]).
     pub pattern_and_symbolic: f64,
     /// Assembly of K values and right-hand sides.
     pub assembly: f64,
@@ -655,6 +657,8 @@ impl<'a> Solver<'a> {
         let t = &mut self.timings;
         t.factorization = self.system.factor_seconds;
         t.solve = self.system.solve_seconds;
+        // A pattern built again for a later factorization is setup work too.
+        t.pattern_and_symbolic += std::mem::take(&mut self.system.pattern_seconds);
         Ok(last.expect("at least one increment"))
     }
 

@@ -110,6 +110,9 @@ pub struct ContactSystem<'a> {
     pub factor_seconds: f64,
     /// Seconds of the first numeric factorization.
     pub first_factor_seconds: Option<f64>,
+    /// Seconds building the stiffness's pattern again after it was freed
+    /// ([`ContactSystem::keep_pattern`]).
+    pub pattern_seconds: f64,
     /// Seconds in solves (including update columns).
     pub solve_seconds: f64,
     /// Flops counted by the cost model for everything done so far (factorizations,
@@ -149,6 +152,7 @@ impl<'a> ContactSystem<'a> {
             updates: 0,
             factor_seconds: 0.0,
             first_factor_seconds: None,
+            pattern_seconds: 0.0,
             solve_seconds: 0.0,
             flops: 0.0,
         }
@@ -484,7 +488,10 @@ impl<'a> ContactSystem<'a> {
         self.invalidate();
         let (order, inverse) = self.chol.order();
         let k = self.k.get_or_insert_with(|| {
-            super::setup::pattern_in_order(self.parts, interfaces, dofs, order, inverse)
+            let t = Instant::now();
+            let k = super::setup::pattern_in_order(self.parts, interfaces, dofs, order, inverse);
+            self.pattern_seconds += t.elapsed().as_secs_f64();
+            k
         });
         k.assemble(self.parts, interfaces, states, dofs);
         let t = Instant::now();
