@@ -1430,17 +1430,19 @@ impl<'a> Solver<'a> {
         let t = Instant::now();
         self.supports.check(self.parts, self.interfaces, states)?;
         self.timings.contact_update += t.elapsed().as_secs_f64();
-        // This solve replaces the kept solution, and a complete solve needs no
-        // trial vectors: their memory (four vectors of the unknowns' size) is
-        // freed now rather than held beside this solve's.
+        // This solve replaces the kept solution, whose vectors are freed now
+        // rather than held beside this solve's; the trials' two vectors become
+        // this solve's displacements and right-hand side (their pages already
+        // touched: a fresh pair would be first-touched again, 61 MiB at 4 M
+        // unknowns).
         let number = self.last.take().map_or(0, |s| s.number + 1);
-        self.spare = Default::default();
-        // The trials' freed vectors and columns' scratch stay resident in the heap
-        // unless given back; this solve's vectors are fewer than they were.
+        let (mut u, mut x) = std::mem::take(&mut self.spare);
+        // The freed vectors and the columns' scratch stay resident in the heap
+        // unless given back.
         super::heap::return_free_memory();
         // The right-hand side is solved in place (`x`); the rare second solve of
         // a lost update builds it again rather than keeping a copy.
-        let (mut u, mut x) = self.right_hand_side(lambda, states);
+        self.right_hand_side_into(lambda, states, &mut u, &mut x);
         let mut refactored = false;
         loop {
             let method = self
@@ -1516,17 +1518,10 @@ impl<'a> Solver<'a> {
     }
 
     /// The prescribed displacements at load factor `lambda` (all DOFs, zero at the
-    /// free ones) and the right-hand side of the free equations: the loads less
-    /// the internal force of the prescribed values, which carries the pairs'
-    /// constant terms (initial gaps, slip history, slip forces, multipliers).
-    fn right_hand_side(&mut self, lambda: f64, states: &[Vec<PairState>]) -> (Vec<f64>, Vec<f64>) {
-        let (mut u, mut rhs) = (Vec::new(), Vec::new());
-        self.right_hand_side_into(lambda, states, &mut u, &mut rhs);
-        (u, rhs)
-    }
-
-    /// [`Solver::right_hand_side`] into the vectors `u` and `rhs` (overwritten,
-    /// their memory reused).
+    /// free ones) into `u` and the right-hand side of the free equations into
+    /// `rhs` (both overwritten, their memory reused): the loads less the internal
+    /// force of the prescribed values, which carries the pairs' constant terms
+    /// (initial gaps, slip history, slip forces, multipliers).
     fn right_hand_side_into(
         &mut self,
         lambda: f64,
