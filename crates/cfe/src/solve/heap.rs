@@ -27,7 +27,8 @@ pub(crate) fn return_free_memory() {
 }
 
 /// Gives back the whole memory pages of the entries `from..to` of `values`,
-/// whose contents are not needed again (they read as zeros afterwards), and
+/// whose contents are not needed again (they read as zeros afterwards: `values`
+/// is part of an allocation, a `Vec`'s, whose memory is private), and
 /// returns the index up to which they were given back: the entries of a page
 /// only partly in `from..to` stay, for a later call from the returned index to
 /// give back once the rest of that page is done with. The allocation itself
