@@ -38,7 +38,7 @@ pub fn cpu_model() -> Option<String> {
 /// (123.5 per unknown at 1.0 M), and the peak resident set was about 1.9× the
 /// factor in the runs it was fitted to (1.87 GB measured at 1.0 M unknowns,
 /// estimate 2.06 GB; 17.6 GiB at 8.2 M, estimate 17.6 GiB). The peak has since
-/// fallen to 1.20–1.29× the factor (1.28 GB at 1.0 M, 5.52 GB at 4.0 M, 11.8 GB at
+/// fallen to 1.20–1.29× the factor (1.28 GB at 1.0 M, 5.50 GB at 4.0 M, 11.8 GB at
 /// 8.2 M, contact law), so the estimate is now about 1.6× the peak: a first,
 /// generous check before meshing.
 /// In 24 GiB (about 22.5 GiB available) it admits about 10 million unknowns.
@@ -65,7 +65,7 @@ pub fn estimated_peak_bytes(unknowns: u64) -> u64 {
 /// per-iteration vectors and the allocator's free but still resident memory.
 /// Measured on `examples/plate_on_base.toml` (docs/benchmarks.md): with the
 /// contact law the estimate is 2.1× the measured peak at K = 8 (61 MB; the
-/// 64 MiB constant dominates), 1.35× at K = 16 and 1.17–1.21× from K = 32 to 100
+/// 64 MiB constant dominates), 1.37× at K = 16 and 1.17–1.21× from K = 32 to 100
 /// (1.20× at K = 35, 1.19 GiB; 1.17× at K = 100, 11.0 GiB); with the rigid law
 /// 1.41× at K = 16 and 1.19–1.23× from K = 32 to 100. It counts the stiffness's
 /// pattern held beside the factor, which a run with proportional loads frees
@@ -77,8 +77,8 @@ pub fn estimated_peak_bytes(unknowns: u64) -> u64 {
 /// `implex`), the increments' files are written while it is held: the VTU
 /// writers in flight each hold an increment's displacements and stress arrays,
 /// and the run its pairs' history, so [`BESIDE_WRITERS`] bytes per unknown are
-/// added (the Coulomb plate at K = 33: 1.42 GB measured, 0.96× without the
-/// term, 1.08× with it).
+/// added (the Coulomb plate at K = 33: 1.41 GB measured, 0.96× without the
+/// term, 1.09× with it).
 pub fn estimated_peak_from_factor(
     unknowns: u64,
     matrix_nnz: u64,
@@ -117,7 +117,7 @@ mod tests {
     #[test]
     fn peak_estimate_brackets_the_measurement() {
         let at_1m = estimated_peak_bytes(1_002_822) as f64;
-        assert!(at_1m > 1.279e9 && at_1m < 1.7 * 1.279e9, "{at_1m:e}");
+        assert!(at_1m > 1.275e9 && at_1m < 1.7 * 1.275e9, "{at_1m:e}");
         let at_8m = estimated_peak_bytes(8_000_000) as f64;
         assert!(at_8m > 8.0 * at_1m);
         assert_eq!(estimated_peak_bytes(u64::MAX), u64::MAX);
@@ -129,9 +129,9 @@ mod tests {
     #[test]
     fn factor_estimate_brackets_the_measurements() {
         for (n, k, l, peak) in [
-            (1_002_822u64, 7_514_441u64, 123_848_812u64, 1.279e9),
-            (4_004_842, 30_022_871, 565_139_372, 5.517e9),
-            (8_169_202, 61_249_811, 1_230_503_428, 11.777e9),
+            (1_002_822u64, 7_514_441u64, 123_848_812u64, 1.275e9),
+            (4_004_842, 30_022_871, 565_139_372, 5.503e9),
+            (8_169_202, 61_249_811, 1_230_503_428, 11.780e9),
             (1_002_822u64, 7_514_441u64, 123_848_812u64, 1.265e9),
             (4_004_842, 30_022_871, 565_139_372, 5.428e9),
             (8_169_202, 61_249_811, 1_230_503_428, 11.564e9),
@@ -147,7 +147,7 @@ mod tests {
     /// term it would be below it.
     #[test]
     fn factor_estimate_covers_a_frictional_run() {
-        let (n, k, l, peak) = (891_662u64, 6_681_125u64, 108_601_916u64, 1.419e9);
+        let (n, k, l, peak) = (891_662u64, 6_681_125u64, 108_601_916u64, 1.408e9);
         let e = estimated_peak_from_factor(n, k, l, true) as f64;
         assert!(e >= peak && e < 1.10 * peak, "{e:e} against {peak:e}");
         assert!((estimated_peak_from_factor(n, k, l, false) as f64) < peak);
