@@ -37,8 +37,8 @@ use std::borrow::Cow;
 /// indices of 4 bytes (as [`crate::assembly::Stiffness`] stores them): what
 /// [`CholeskySolver::factorize`] reads, without a widened copy of the indices.
 /// Its values are borrowed ([`LowerMatrix::new`]) or given to the factorization
-/// ([`LowerMatrix::with_values`]), which then frees them as soon as it has
-/// read the last it needs.
+/// ([`LowerMatrix::with_values`]), which then gives their pages back as it
+/// reads them.
 #[derive(Debug, Clone)]
 pub struct LowerMatrix<'a> {
     col_ptr: &'a [usize],
@@ -58,10 +58,11 @@ impl<'a> LowerMatrix<'a> {
         Self::checked(col_ptr, row_idx, Cow::Borrowed(values))
     }
 
-    /// [`LowerMatrix::new`] with the values given by value: a factorization frees
-    /// them once read (before the separators at the top of the elimination tree,
-    /// the last columns of the factor it first touches), so they never sit
-    /// beside the whole factor.
+    /// [`LowerMatrix::new`] with the values given by value: a factorization with
+    /// its tree split loads the top supernodes from them first, then each
+    /// subtree's thread gives back the pages of the values it has read as it
+    /// goes, so they shrink while the factor grows instead of sitting beside the
+    /// whole factor (see [`super::factor::NumericPlan::factorize`]).
     pub fn with_values(col_ptr: &'a [usize], row_idx: &'a [u32], values: Vec<f64>) -> Self {
         Self::checked(col_ptr, row_idx, Cow::Owned(values))
     }
