@@ -128,6 +128,23 @@ impl<'a> PartElements<'a> {
         (p, e - self.offset[p])
     }
 
+    /// The elements of `range` part by part: each part with some, its index and
+    /// those of its elements (no search per element).
+    fn by_part(
+        &self,
+        range: std::ops::Range<usize>,
+    ) -> impl Iterator<Item = (usize, &'a Part, &'a [crate::mesh::Element])> + '_ {
+        self.parts.iter().enumerate().filter_map(move |(p, part)| {
+            let (first, last) = (
+                range.start.max(self.offset[p]),
+                range.end.min(self.offset[p + 1]),
+            );
+            (first < last).then(|| {
+                (p, part, &part.mesh.elements[first - self.offset[p]..last - self.offset[p]])
+            })
+        })
+    }
+
     /// The element stiffness and global DOFs of source element `e`.
     #[inline(always)]
     fn element(&self, e: usize) -> (element::ElementMatrix, [usize; element::MAX_DOFS], usize) {
@@ -216,21 +233,12 @@ impl ElementSource for PartElements<'_> {
         f: &mut [f64],
         first_dof: usize,
     ) {
-        // Part by part over the elements of `range` in it (no search per element).
-        for (p, part) in self.parts.iter().enumerate() {
-            let (first, last) = (
-                range.start.max(self.offset[p]),
-                range.end.min(self.offset[p + 1]),
-            );
-            if first >= last {
-                continue;
-            }
+        for (p, part, elements) in self.by_part(range) {
             let base = 2 * self.dofs.node(p, 0);
             // The part's DOFs in `f` (from `first_dof` on).
             let fp = &mut f[base.saturating_sub(first_dof)..];
             let shift = first_dof.saturating_sub(base);
             let (d, t) = (&self.d[p], part.material.thickness);
-            let elements = &part.mesh.elements[first - self.offset[p]..last - self.offset[p]];
             for el in elements {
                 let nodes = el.nodes();
                 let x = element::coordinates(&part.mesh, el);
@@ -250,15 +258,7 @@ impl ElementSource for PartElements<'_> {
 
     fn dof_span(&self, range: std::ops::Range<usize>) -> Option<std::ops::Range<usize>> {
         let (mut lo, mut hi) = (usize::MAX, 0);
-        for (p, part) in self.parts.iter().enumerate() {
-            let (first, last) = (
-                range.start.max(self.offset[p]),
-                range.end.min(self.offset[p + 1]),
-            );
-            if first >= last {
-                continue;
-            }
-            let elements = &part.mesh.elements[first - self.offset[p]..last - self.offset[p]];
+        for (p, _, elements) in self.by_part(range) {
             for &n in elements.iter().flat_map(|el| el.nodes()) {
                 let g = self.dofs.node(p, n);
                 lo = lo.min(2 * g);
