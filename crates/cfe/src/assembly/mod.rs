@@ -9,7 +9,9 @@ use crate::coupling::{Interface, PairHistory, PairState};
 pub use crate::dofs::{DofMap, FIXED};
 use crate::domain::{Load, Part};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-pub use source::{CouplingElements, ElementSource, MatrixSink, PartElements, VectorSink};
+pub use source::{
+    CouplingElements, ElementSource, MatrixSink, PartElements, SomeElements, VectorSink,
+};
 
 /// The node adjacency graph of the whole model (CSR, each row sorted, self
 /// included): two nodes are adjacent when an element — a part element or a coupling
@@ -761,6 +763,59 @@ mod tests {
             assert_eq!(bits(&got), bits(&again), "{threads} threads, repeated");
             let worst = got.iter().zip(&one_by_one).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
             assert!(worst <= 1e-14 * scale, "{threads} threads: {worst:e}");
+        }
+    }
+
+    /// The elements touching some nodes give the complete internal force at
+    /// those nodes' DOFs: on a T3 and a Q4 part, the elements `touching` a
+    /// band of nodes across both parts (and no others) sum, as a
+    /// [`SomeElements`] source, to the force of all elements at the band's
+    /// DOFs, bit for bit in element order.
+    #[test]
+    fn the_elements_touching_nodes_give_their_whole_force() {
+        let material = Material::new(200.0, 0.3, PlaneKind::Stress, 1.0, "m").unwrap();
+        let parts = vec![
+            Part {
+                name: "a".into(),
+                mesh: Mesh::rectangle([0.0, 3.0], [0.0, 1.0], [12, 4], ElementKind::T3),
+                material,
+            },
+            Part {
+                name: "b".into(),
+                mesh: Mesh::rectangle([0.0, 3.0], [1.0, 2.0], [6, 3], ElementKind::Q4),
+                material,
+            },
+        ];
+        let dofs = DofMap::new(&parts, &[]);
+        let u: Vec<f64> = (0..2 * dofs.n_nodes()).map(|i| (0.37 * i as f64).sin() * 1e-3).collect();
+        let all = PartElements::new(&parts, &dofs);
+        // The nodes at x = 1.5 of either part (global numbering).
+        let band: Vec<bool> = parts
+            .iter()
+            .flat_map(|p| p.mesh.nodes.iter().map(|x| (x[0] - 1.5).abs() < 1e-12))
+            .collect();
+        let touching = all.touching(|n| band[n]);
+        // Every element with a node in the band, and only those.
+        let mut expected = Vec::new();
+        for e in 0..all.len() {
+            let mut hit = false;
+            all.nodes(e, &mut |g| hit = g.iter().any(|&n| band[n]));
+            if hit {
+                expected.push(e);
+            }
+        }
+        assert_eq!(touching, expected);
+        assert!(!touching.is_empty() && touching.len() < all.len());
+        let some = SomeElements::new(&all, &touching);
+        let (part, whole) = (internal_force_of(&[&some], &u), {
+            let mut f = vec![0.0; u.len()];
+            all.add_internal_forces(0..all.len(), &u, &mut f, 0);
+            f
+        });
+        for (n, _) in band.iter().enumerate().filter(|(_, b)| **b) {
+            for d in [2 * n, 2 * n + 1] {
+                assert_eq!(part[d].to_bits(), whole[d].to_bits(), "DOF {d}");
+            }
         }
     }
 

@@ -121,6 +121,20 @@ impl<'a> PartElements<'a> {
         }
     }
 
+    /// The source elements (this numbering) with a node for which `node` is
+    /// true, given its global node number; in order.
+    pub fn touching(&self, node: impl Fn(usize) -> bool) -> Vec<usize> {
+        let mut elements = Vec::new();
+        for (p, _, all) in self.by_part(0..self.len()) {
+            for (e, el) in all.iter().enumerate() {
+                if el.nodes().iter().any(|&n| node(self.dofs.node(p, n))) {
+                    elements.push(self.offset[p] + e);
+                }
+            }
+        }
+        elements
+    }
+
     /// The part and the element within it of source element `e`.
     #[inline(always)]
     fn locate(&self, e: usize) -> (usize, usize) {
@@ -270,6 +284,40 @@ impl ElementSource for PartElements<'_> {
 
     fn parallel(&self) -> bool {
         true
+    }
+}
+
+/// Some elements of another source, numbered `0..len()` in the order given: a
+/// few elements out of many, such as the part elements around the coupling
+/// nodes, whose internal forces sum to the complete force at those nodes' DOFs.
+pub struct SomeElements<'a> {
+    source: &'a dyn ElementSource,
+    elements: &'a [usize],
+}
+
+impl<'a> SomeElements<'a> {
+    /// The elements `elements` (in `source`'s numbering, each below its `len()`)
+    /// of `source`.
+    pub fn new(source: &'a dyn ElementSource, elements: &'a [usize]) -> Self {
+        SomeElements { source, elements }
+    }
+}
+
+impl ElementSource for SomeElements<'_> {
+    fn len(&self) -> usize {
+        self.elements.len()
+    }
+
+    fn nodes(&self, e: usize, f: &mut dyn FnMut(&[usize])) {
+        self.source.nodes(self.elements[e], f);
+    }
+
+    fn stiffness(&self, e: usize, sink: &mut MatrixSink<'_>) {
+        self.source.stiffness(self.elements[e], sink);
+    }
+
+    fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>) {
+        self.source.internal_force(self.elements[e], u, sink);
     }
 }
 

@@ -271,6 +271,11 @@ pub struct Solver<'a> {
     /// Every coupling element's DOFs (sorted): the DOFs a solve restricted to the
     /// interface gives.
     coupling_dofs: Vec<usize>,
+    /// The part elements with a node among the coupling elements' (in
+    /// [`assembly::PartElements`]' numbering), found at the first low-rank
+    /// refinement: with the coupling elements, every element contributing to the
+    /// internal force at the coupling DOFs.
+    coupling_ring: Option<Vec<usize>>,
     /// The displacement and right-hand-side vectors of the last trial solve,
     /// kept so the next trial reuses their memory (at 8 M unknowns they are 195 MB
     /// an iteration that would otherwise be allocated and first touched anew).
@@ -392,6 +397,7 @@ impl<'a> Solver<'a> {
             augmented_error: 0.0,
             fixed_point_converged: true,
             coupling_dofs: crate::coupling::coupling_dofs(interfaces, dofs),
+            coupling_ring: None,
             spare: (Vec::new(), Vec::new()),
             timings,
         })
@@ -1457,38 +1463,43 @@ impl<'a> Solver<'a> {
             if u.iter().any(|v| !v.is_finite()) {
                 return Err(self.not_finite(inc));
             }
-            let t = Instant::now();
-            let mut f_int = self.internal_force(states, &u);
-            self.timings.contact_update += t.elapsed().as_secs_f64();
             if matches!(method, Method::LowRank { .. }) {
                 // One step of iterative refinement: the Woodbury correction of a
                 // stiff pair opening cancels large terms, and on soft models loses
-                // digits a factorization keeps; the residual's correction (the same
-                // update, one more forward and backward solve) restores them.
+                // digits a factorization keeps. They are lost in the capacitance's
+                // solution, so the residual they leave is on the coupling DOFs
+                // (`ContactSystem::solve_coupling_residual`): its correction there
+                // (the same update, a forward solve on the interface's tree paths
+                // and one full backward solve) restores them, and keeps elsewhere
+                // the round-off of the factorization shared with the last one.
                 // The residual takes the memory of `x`, whose values are in `u`.
+                let t = Instant::now();
+                let f_c = self.coupling_force(states, &u);
                 let r = &mut x;
                 r.fill(0.0);
-                for (d, &e) in self.dofs.eq.iter().enumerate() {
+                for &d in &self.coupling_dofs {
+                    let e = self.dofs.eq[d];
                     if e != FIXED {
-                        r[e] = lambda * self.f_ext[d] - f_int[d];
+                        r[e] = lambda * self.f_ext[d] - f_c[d];
                     }
                 }
+                drop(f_c);
+                self.timings.contact_update += t.elapsed().as_secs_f64();
                 self.system
-                    .solve(self.interfaces, self.dofs, states, r)
+                    .solve_coupling_residual(self.interfaces, self.dofs, states, r)
                     .map_err(|eq| self.pivot_error(eq, inc))?;
                 for (d, &e) in self.dofs.eq.iter().enumerate() {
                     if e != FIXED {
                         u[d] += r[e];
                     }
                 }
-                // The correction and the first internal force are spent: their
-                // memory serves the new internal force and the kept copies.
+                // The correction is spent: its memory serves the internal force
+                // and the kept copies.
                 drop(std::mem::take(&mut x));
-                drop(std::mem::take(&mut f_int));
-                let t = Instant::now();
-                f_int = self.internal_force(states, &u);
-                self.timings.contact_update += t.elapsed().as_secs_f64();
             }
+            let t = Instant::now();
+            let f_int = self.internal_force(states, &u);
+            self.timings.contact_update += t.elapsed().as_secs_f64();
             let residual = self.residual(lambda, &f_int, self.load_scale(lambda, &f_int, &u));
             if residual > UPDATE_RESIDUAL_LIMIT
                 && matches!(method, Method::LowRank { .. })
@@ -1612,6 +1623,27 @@ impl<'a> Solver<'a> {
                 "increment {inc}: the solution is not finite (a load, a prescribed value or a stiffness is too large or too small for double precision; rescale the units)"
             ),
         }
+    }
+
+    /// The internal force at the coupling elements' DOFs for `u` with the pairs
+    /// in `states` and their current histories, from the coupling elements and
+    /// the part elements around their nodes only (the other DOFs hold partial
+    /// sums): what a refinement on the coupling equations reads, for a few
+    /// elements' work.
+    fn coupling_force(&mut self, states: &[Vec<PairState>], u: &[f64]) -> Vec<f64> {
+        let part_elements = assembly::PartElements::new(self.parts, self.dofs);
+        let ring = self.coupling_ring.get_or_insert_with(|| {
+            let mut at_coupling = vec![false; self.dofs.eq.len() / 2];
+            for &d in &self.coupling_dofs {
+                at_coupling[d / 2] = true;
+            }
+            part_elements.touching(|n| at_coupling[n])
+        });
+        let around = assembly::SomeElements::new(&part_elements, ring);
+        let history = (!self.proportional).then_some(self.history.as_slice());
+        let pairs = assembly::CouplingElements::new(self.interfaces, Some(states), self.dofs)
+            .with_history(history);
+        assembly::internal_force_of(&[&around, &pairs], u)
     }
 
     /// The internal force of all DOFs for `u` with the pairs in `states` and their

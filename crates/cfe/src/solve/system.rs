@@ -210,7 +210,41 @@ impl<'a> ContactSystem<'a> {
         states: &[Vec<PairState>],
         rhs: &mut [f64],
     ) -> Result<Method, usize> {
-        match self.forward_half(interfaces, dofs, states, rhs, false)? {
+        self.solve_complete(interfaces, dofs, states, rhs, false)
+    }
+
+    /// Solves `K(states) x = r` in place, like [`solve`](Self::solve), for an `r`
+    /// that is zero off the coupling elements' equations: the forward solve runs
+    /// on those equations' elimination-tree paths only
+    /// ([`CholeskySolver::forward_on`]), the backward solve in full.
+    ///
+    /// This is the refinement step of a low-rank update. The update's round-off is
+    /// in the capacitance's solution `t` (the cancellation of `1/Δc` against
+    /// `Vᵀ V` when a stiff pair opens), so its solution is `K₀⁻¹ W δt` off and its
+    /// residual is `−W (I + D Vᵀ V) δt`: on the rows of `W`, the coupling
+    /// elements' DOFs. Elsewhere the residual is the round-off of any direct solve.
+    pub fn solve_coupling_residual(
+        &mut self,
+        interfaces: &[Interface],
+        dofs: &DofMap,
+        states: &[Vec<PairState>],
+        r: &mut [f64],
+    ) -> Result<Method, usize> {
+        self.interface_set(interfaces, dofs);
+        self.solve_complete(interfaces, dofs, states, r, true)
+    }
+
+    /// The complete solve of [`solve`](Self::solve) (`rhs_on_interface`: `rhs` is
+    /// zero off the coupling equations, see [`solve_interface`](Self::solve_interface)).
+    fn solve_complete(
+        &mut self,
+        interfaces: &[Interface],
+        dofs: &DofMap,
+        states: &[Vec<PairState>],
+        rhs: &mut [f64],
+        rhs_on_interface: bool,
+    ) -> Result<Method, usize> {
+        match self.forward_half(interfaces, dofs, states, rhs, rhs_on_interface)? {
             Half::Solved(method) => Ok(method),
             Half::Forward(mut y, method) => {
                 let t = Instant::now();
@@ -245,13 +279,7 @@ impl<'a> ContactSystem<'a> {
         rhs: &mut [f64],
         rhs_on_interface: bool,
     ) -> Result<(Method, bool), usize> {
-        if self.interface_set.is_none() {
-            let eqs = interface_equations(interfaces, dofs);
-            let set = self
-                .chol
-                .ancestors(eqs.iter().map(|&e| self.chol.permuted(e)));
-            self.interface_set = Some((eqs, set));
-        }
+        self.interface_set(interfaces, dofs);
         match self.forward_half(interfaces, dofs, states, rhs, rhs_on_interface)? {
             Half::Solved(method) => Ok((method, true)),
             Half::Forward(mut y, method) => {
@@ -266,6 +294,18 @@ impl<'a> ContactSystem<'a> {
                 self.solve_seconds += t.elapsed().as_secs_f64();
                 Ok((method, false))
             }
+        }
+    }
+
+    /// Computes, once, the coupling elements' free equations and the supernodes
+    /// of their elimination-tree paths.
+    fn interface_set(&mut self, interfaces: &[Interface], dofs: &DofMap) {
+        if self.interface_set.is_none() {
+            let eqs = interface_equations(interfaces, dofs);
+            let set = self
+                .chol
+                .ancestors(eqs.iter().map(|&e| self.chol.permuted(e)));
+            self.interface_set = Some((eqs, set));
         }
     }
 
