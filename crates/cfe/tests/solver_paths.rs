@@ -10,7 +10,7 @@ use cfe::assembly::{NodeGraph, Stiffness, external_force};
 use cfe::coupling::PairState;
 use cfe::model::Model;
 use cfe::solve::linear::CholeskySolver;
-use cfe::solve::system::{ContactSystem, Method, UpdatePolicy};
+use cfe::solve::system::{ContactSystem, Method, Solve, UpdatePolicy};
 use std::path::Path;
 
 fn plate(refine: usize) -> Analysis {
@@ -342,6 +342,61 @@ fn a_freed_pattern_is_built_again_for_the_next_factorization() {
         out
     };
     assert_eq!(solve_twice(false), solve_twice(true));
+}
+
+/// A low-rank update solved for refinement (`solve_unrefined`) gives the
+/// plain update's values at the equations it is asked to read (every 97th
+/// equation here, far from the interface too), to round-off, and nothing more
+/// than a refactorization or a reuse is left unrefined; refined with a zero
+/// residual it is the plain update's solution bit for bit (its forward half
+/// kept whole through the backward solve on the paths).
+#[test]
+fn an_unrefined_update_reads_the_plain_update_and_refines_from_it() {
+    let a = plate(2);
+    let rhs = load(&a);
+    let [bonded, ends, _] = patterns(a.interfaces[0].elements.len());
+    let read: Vec<usize> = (0..rhs.len()).step_by(97).collect();
+    let (mut plain, mut split) = (system(&a, 2), system(&a, 2));
+    for s in [&mut plain, &mut split] {
+        s.policy = UpdatePolicy::Always;
+    }
+    let mut x = rhs.clone();
+    plain
+        .solve(&a.interfaces, &a.dofs, &bonded, &mut x)
+        .unwrap();
+    let mut y = rhs.clone();
+    let first = split
+        .solve_unrefined(&a.interfaces, &a.dofs, &bonded, &mut y, &read)
+        .unwrap();
+    assert!(matches!(first, Solve::Complete(Method::Factorization)));
+    assert_eq!(x, y);
+    let mut y = rhs.clone();
+    let reuse = split
+        .solve_unrefined(&a.interfaces, &a.dofs, &bonded, &mut y, &read)
+        .unwrap();
+    assert!(matches!(reuse, Solve::Complete(Method::Reuse)));
+    assert_eq!(x, y);
+    let mut x = rhs.clone();
+    let method = plain.solve(&a.interfaces, &a.dofs, &ends, &mut x).unwrap();
+    assert_eq!(method, Method::LowRank { rank: 12 });
+    let mut y = rhs.clone();
+    let Solve::Unrefined(unrefined) = split
+        .solve_unrefined(&a.interfaces, &a.dofs, &ends, &mut y, &read)
+        .unwrap()
+    else {
+        panic!("an update is left unrefined");
+    };
+    let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for &e in &read {
+        assert!((y[e] - x[e]).abs() <= 1e-13 * scale, "equation {e}");
+    }
+    let mut r = vec![0.0; rhs.len()];
+    assert_eq!(
+        split.refine(unrefined, &mut r),
+        Method::LowRank { rank: 12 }
+    );
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&r), bits(&x));
 }
 
 /// The run of the bar in its bearing at K = 4 by low-rank updates.

@@ -37,7 +37,7 @@
 
 use super::anderson::Anderson;
 use super::support;
-use super::system::{ContactSystem, Method, UpdatePolicy};
+use super::system::{ContactSystem, Method, Solve, UpdatePolicy};
 use crate::assembly::{self, DofMap, FIXED};
 use crate::coupling::{
     Enforcement, Interface, Law, LawTolerance, PairHistories, PairHistory, PairState, PairStates,
@@ -230,6 +230,18 @@ struct Solved {
     values: Option<(Vec<f64>, Vec<f64>)>,
 }
 
+/// The part elements around the coupling nodes (those with a node among the
+/// coupling elements'): with the coupling elements, every element whose
+/// internal force reaches a coupling DOF.
+struct CouplingRing {
+    /// The elements, in [`assembly::PartElements`]' numbering.
+    elements: Vec<usize>,
+    /// The DOFs of their nodes and of the coupling elements, sorted.
+    dofs: Vec<usize>,
+    /// The free equations of those DOFs, sorted.
+    eqs: Vec<usize>,
+}
+
 /// The incremental solver for one model.
 pub struct Solver<'a> {
     parts: &'a [Part],
@@ -271,11 +283,9 @@ pub struct Solver<'a> {
     /// Every coupling element's DOFs (sorted): the DOFs a solve restricted to the
     /// interface gives.
     coupling_dofs: Vec<usize>,
-    /// The part elements with a node among the coupling elements' (in
-    /// [`assembly::PartElements`]' numbering), found at the first low-rank
-    /// refinement: with the coupling elements, every element contributing to the
-    /// internal force at the coupling DOFs.
-    coupling_ring: Option<Vec<usize>>,
+    /// The part elements around the coupling nodes, found once a factor is
+    /// kept (what a low-rank update's refinement reads).
+    coupling_ring: Option<CouplingRing>,
     /// The displacement and right-hand-side vectors of the last trial solve,
     /// kept so the next trial reuses their memory (at 8 M unknowns they are 195 MB
     /// an iteration that would otherwise be allocated and first touched anew).
@@ -1451,10 +1461,49 @@ impl<'a> Solver<'a> {
         self.right_hand_side_into(lambda, states, &mut u, &mut x);
         let mut refactored = false;
         loop {
-            let method = self
+            // With a factor kept, the solve may be an update, whose refinement
+            // reads the unrefined solution around the coupling nodes.
+            if self.coupling_ring.is_none() && self.system.has_factor() {
+                self.coupling_ring = Some(self.coupling_ring());
+            }
+            let read = self.coupling_ring.as_ref().map_or(&[][..], |r| &r.eqs[..]);
+            let solved = self
                 .system
-                .solve(self.interfaces, self.dofs, states, &mut x)
+                .solve_unrefined(self.interfaces, self.dofs, states, &mut x, read)
                 .map_err(|eq| self.pivot_error(eq, inc))?;
+            let method = match solved {
+                Solve::Complete(method) => method,
+                Solve::Unrefined(unrefined) => {
+                    // One step of iterative refinement: the Woodbury correction
+                    // of a stiff pair opening cancels large terms, and on soft
+                    // models loses digits a factorization keeps. They are lost
+                    // in the capacitance's solution, so the residual they leave
+                    // is on the coupling DOFs (`ContactSystem::solve_unrefined`):
+                    // its correction there restores them, and keeps elsewhere
+                    // the round-off of the factorization the update shares. The
+                    // residual is read from the unrefined solution around the
+                    // coupling nodes, and takes the memory of `x`.
+                    let t = Instant::now();
+                    let ring = self.coupling_ring.as_ref().expect("built for a kept factor");
+                    for &d in &ring.dofs {
+                        let e = self.dofs.eq[d];
+                        if e != FIXED {
+                            u[d] = x[e];
+                        }
+                    }
+                    let f_c = self.coupling_force(states, &u);
+                    x.fill(0.0);
+                    for &d in &self.coupling_dofs {
+                        let e = self.dofs.eq[d];
+                        if e != FIXED {
+                            x[e] = lambda * self.f_ext[d] - f_c[d];
+                        }
+                    }
+                    drop(f_c);
+                    self.timings.contact_update += t.elapsed().as_secs_f64();
+                    self.system.refine(unrefined, &mut x)
+                }
+            };
             for (d, &e) in self.dofs.eq.iter().enumerate() {
                 if e != FIXED {
                     u[d] = x[e];
@@ -1463,40 +1512,9 @@ impl<'a> Solver<'a> {
             if u.iter().any(|v| !v.is_finite()) {
                 return Err(self.not_finite(inc));
             }
-            if matches!(method, Method::LowRank { .. }) {
-                // One step of iterative refinement: the Woodbury correction of a
-                // stiff pair opening cancels large terms, and on soft models loses
-                // digits a factorization keeps. They are lost in the capacitance's
-                // solution, so the residual they leave is on the coupling DOFs
-                // (`ContactSystem::solve_coupling_residual`): its correction there
-                // (the same update, a forward solve on the interface's tree paths
-                // and one full backward solve) restores them, and keeps elsewhere
-                // the round-off of the factorization shared with the last one.
-                // The residual takes the memory of `x`, whose values are in `u`.
-                let t = Instant::now();
-                let f_c = self.coupling_force(states, &u);
-                let r = &mut x;
-                r.fill(0.0);
-                for &d in &self.coupling_dofs {
-                    let e = self.dofs.eq[d];
-                    if e != FIXED {
-                        r[e] = lambda * self.f_ext[d] - f_c[d];
-                    }
-                }
-                drop(f_c);
-                self.timings.contact_update += t.elapsed().as_secs_f64();
-                self.system
-                    .solve_coupling_residual(self.interfaces, self.dofs, states, r)
-                    .map_err(|eq| self.pivot_error(eq, inc))?;
-                for (d, &e) in self.dofs.eq.iter().enumerate() {
-                    if e != FIXED {
-                        u[d] += r[e];
-                    }
-                }
-                // The correction is spent: its memory serves the internal force
-                // and the kept copies.
-                drop(std::mem::take(&mut x));
-            }
+            // The solve's vector is spent: its memory serves the internal force
+            // and the kept copies.
+            drop(std::mem::take(&mut x));
             let t = Instant::now();
             let f_int = self.internal_force(states, &u);
             self.timings.contact_update += t.elapsed().as_secs_f64();
@@ -1511,9 +1529,6 @@ impl<'a> Solver<'a> {
                 self.right_hand_side_into(lambda, states, &mut u, &mut x);
                 continue;
             }
-            // The solve's vector is not needed any more: freed before the kept
-            // solution's copies are made.
-            drop(x);
             // Its values, to be scaled by later increments, are copied from the
             // increment's result once it is accepted (`keep_for_scaling`), after
             // the factor is freed, rather than here beside it.
@@ -1625,21 +1640,40 @@ impl<'a> Solver<'a> {
         }
     }
 
-    /// The internal force at the coupling elements' DOFs for `u` with the pairs
-    /// in `states` and their current histories, from the coupling elements and
-    /// the part elements around their nodes only (the other DOFs hold partial
-    /// sums): what a refinement on the coupling equations reads, for a few
-    /// elements' work.
-    fn coupling_force(&mut self, states: &[Vec<PairState>], u: &[f64]) -> Vec<f64> {
+    /// The part elements around the coupling nodes and the DOFs and equations
+    /// of their nodes.
+    fn coupling_ring(&self) -> CouplingRing {
         let part_elements = assembly::PartElements::new(self.parts, self.dofs);
-        let ring = self.coupling_ring.get_or_insert_with(|| {
-            let mut at_coupling = vec![false; self.dofs.eq.len() / 2];
-            for &d in &self.coupling_dofs {
-                at_coupling[d / 2] = true;
-            }
-            part_elements.touching(|n| at_coupling[n])
-        });
-        let around = assembly::SomeElements::new(&part_elements, ring);
+        let mut at_coupling = vec![false; self.dofs.eq.len() / 2];
+        for &d in &self.coupling_dofs {
+            at_coupling[d / 2] = true;
+        }
+        let elements = part_elements.touching(|n| at_coupling[n]);
+        let mut dofs = self.coupling_dofs.clone();
+        for &e in &elements {
+            assembly::ElementSource::nodes(&part_elements, e, &mut |g| dofs.extend(g.iter().flat_map(|&n| [2 * n, 2 * n + 1])));
+        }
+        dofs.sort_unstable();
+        dofs.dedup();
+        let mut eqs: Vec<usize> =
+            dofs.iter().map(|&d| self.dofs.eq[d]).filter(|&e| e != FIXED).collect();
+        eqs.sort_unstable();
+        CouplingRing {
+            elements,
+            dofs,
+            eqs,
+        }
+    }
+
+    /// The internal force at the coupling elements' DOFs for `u` (read at the
+    /// [`CouplingRing`]'s DOFs only) with the pairs in `states` and their
+    /// current histories, from the coupling elements and the part elements
+    /// around their nodes (the other DOFs hold partial sums): what a refinement
+    /// on the coupling equations reads, for a few elements' work.
+    fn coupling_force(&self, states: &[Vec<PairState>], u: &[f64]) -> Vec<f64> {
+        let ring = self.coupling_ring.as_ref().expect("built before a refinement");
+        let part_elements = assembly::PartElements::new(self.parts, self.dofs);
+        let around = assembly::SomeElements::new(&part_elements, &ring.elements);
         let history = (!self.proportional).then_some(self.history.as_slice());
         let pairs = assembly::CouplingElements::new(self.interfaces, Some(states), self.dofs)
             .with_history(history);

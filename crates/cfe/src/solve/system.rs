@@ -95,6 +95,10 @@ pub struct ContactSystem<'a> {
     /// elimination-tree paths (for [`ContactSystem::solve_interface`]; the
     /// pattern, hence the tree, is fixed).
     interface_set: Option<(Vec<usize>, Vec<usize>)>,
+    /// The equations a refinement's residual reads and the supernodes of their
+    /// and the coupling equations' elimination-tree paths (for
+    /// [`ContactSystem::solve_unrefined`]).
+    read_set: Option<(Vec<usize>, Vec<usize>)>,
     /// Largest memory for cached columns (bytes).
     budget: usize,
     /// The columns' bytes when the heap's free pages were last given back.
@@ -145,6 +149,7 @@ impl<'a> ContactSystem<'a> {
             spare: Vec::new(),
             capacitance: None,
             interface_set: None,
+            read_set: None,
             budget,
             trimmed_at: 0,
             policy: UpdatePolicy::Auto,
@@ -193,6 +198,11 @@ impl<'a> ContactSystem<'a> {
         self.spare = Vec::new();
     }
 
+    /// Whether a factorization is kept (the next solve may update it).
+    pub fn has_factor(&self) -> bool {
+        self.base.is_some()
+    }
+
     /// Forgets the factorization and frees its memory (factor values, scratch,
     /// correction columns); the next solve refactorizes.
     pub fn release(&mut self) {
@@ -210,41 +220,99 @@ impl<'a> ContactSystem<'a> {
         states: &[Vec<PairState>],
         rhs: &mut [f64],
     ) -> Result<Method, usize> {
-        self.solve_complete(interfaces, dofs, states, rhs, false)
+        let half = self.forward_half(interfaces, dofs, states, rhs, false)?;
+        self.backward_half(half, rhs)
     }
 
-    /// Solves `K(states) x = r` in place, like [`solve`](Self::solve), for an `r`
-    /// that is zero off the coupling elements' equations: the forward solve runs
-    /// on those equations' elimination-tree paths only
-    /// ([`CholeskySolver::forward_on`]), the backward solve in full.
+    /// Solves `K(states) x = rhs` in place like [`solve`](Self::solve), except
+    /// that a low-rank update's solution is left for [`refine`](Self::refine)
+    /// to complete: then only its entries at the equations `read` are written
+    /// into `rhs` (the values of the unrefined solution there; the other entries
+    /// are meaningless), from a backward solve on the supernodes of their
+    /// elimination-tree paths, and the forward half is returned to be refined.
+    /// `read` must hold every equation the caller's residual at the coupling
+    /// equations depends on.
     ///
-    /// This is the refinement step of a low-rank update. The update's round-off is
-    /// in the capacitance's solution `t` (the cancellation of `1/Δc` against
-    /// `Vᵀ V` when a stiff pair opens), so its solution is `K₀⁻¹ W δt` off and its
-    /// residual is `−W (I + D Vᵀ V) δt`: on the rows of `W`, the coupling
-    /// elements' DOFs. Elsewhere the residual is the round-off of any direct solve.
-    pub fn solve_coupling_residual(
-        &mut self,
-        interfaces: &[Interface],
-        dofs: &DofMap,
-        states: &[Vec<PairState>],
-        r: &mut [f64],
-    ) -> Result<Method, usize> {
-        self.interface_set(interfaces, dofs);
-        self.solve_complete(interfaces, dofs, states, r, true)
-    }
-
-    /// The complete solve of [`solve`](Self::solve) (`rhs_on_interface`: `rhs` is
-    /// zero off the coupling equations, see [`solve_interface`](Self::solve_interface)).
-    fn solve_complete(
+    /// A refinement is needed after an update, and only on the coupling
+    /// equations: the update's round-off is in the capacitance's solution `t`
+    /// (the cancellation of `1/Δc` against `Vᵀ V` when a stiff pair opens), so
+    /// its solution is `K₀⁻¹ W δt` off and its residual is `−W (I + D Vᵀ V) δt`,
+    /// on the rows of `W`: the coupling elements' DOFs. Elsewhere the residual
+    /// is the round-off of the direct solve with the factor the update shares.
+    /// The two solves then cost one backward solve in full and the tree paths
+    /// of the interface (forward) and of `read` (backward), instead of three
+    /// full passes over the factor.
+    pub fn solve_unrefined(
         &mut self,
         interfaces: &[Interface],
         dofs: &DofMap,
         states: &[Vec<PairState>],
         rhs: &mut [f64],
-        rhs_on_interface: bool,
-    ) -> Result<Method, usize> {
-        match self.forward_half(interfaces, dofs, states, rhs, rhs_on_interface)? {
+        read: &[usize],
+    ) -> Result<Solve, usize> {
+        match self.forward_half(interfaces, dofs, states, rhs, false)? {
+            Half::Forward(mut y, method @ Method::LowRank { .. }) => {
+                let t = Instant::now();
+                self.interface_set(interfaces, dofs);
+                if self.read_set.as_ref().is_none_or(|(eqs, _)| eqs != read) {
+                    let (coupling, _) = self.interface_set.as_ref().expect("computed above");
+                    let rows = read.iter().chain(coupling).map(|&e| self.chol.permuted(e));
+                    self.read_set = Some((read.to_vec(), self.chol.ancestors(rows)));
+                }
+                let (_, set) = self.read_set.as_ref().expect("computed above");
+                // The backward solve on the paths, on a copy of their rows
+                // (`y` is kept for the complete solve).
+                let sn = self.chol.supernodal();
+                let rows = || {
+                    set.iter()
+                        .map(|&s| sn.supernode_begin()[s]..sn.supernode_end()[s])
+                };
+                let kept: Vec<f64> = rows().flat_map(|r| y[r].to_vec()).collect();
+                self.chol.backward_on(set, &mut y);
+                for &e in read {
+                    rhs[e] = y[self.chol.permuted(e)];
+                }
+                let mut kept = kept.into_iter();
+                for r in rows() {
+                    y[r].iter_mut().zip(&mut kept).for_each(|(v, k)| *v = k);
+                }
+                self.flops += 2.0 * self.chol.values_on(set) as f64;
+                self.solve_seconds += t.elapsed().as_secs_f64();
+                Ok(Solve::Unrefined(Unrefined { y, method }))
+            }
+            half => self.backward_half(half, rhs).map(Solve::Complete),
+        }
+    }
+
+    /// Completes the solve `unrefined` of [`solve_unrefined`](Self::solve_unrefined)
+    /// with one step of iterative refinement: `r`, the residual of its values at
+    /// the coupling equations (zero at every other equation), is solved by the
+    /// same update (a forward solve on the interface's tree paths,
+    /// [`CholeskySolver::forward_on`]) and added to its forward half, and one
+    /// backward solve in full gives the refined solution, in `r`.
+    pub fn refine(&mut self, unrefined: Unrefined, r: &mut [f64]) -> Method {
+        let Unrefined { mut y, method } = unrefined;
+        let cap = self
+            .capacitance
+            .take()
+            .expect("an unrefined solve is a low-rank update's, which keeps its capacitance");
+        let Half::Forward(w, _) = self.same_correction(cap, r, true) else {
+            unreachable!("a correction with the kept factor is a forward half")
+        };
+        let t = Instant::now();
+        y.iter_mut().zip(&w).for_each(|(a, b)| *a += b);
+        drop(w);
+        self.chol.backward(&mut y, r);
+        self.spare = y;
+        self.flops += self.chol.solve_flops() / 2.0;
+        self.solve_seconds += t.elapsed().as_secs_f64();
+        method
+    }
+
+    /// The solution into `rhs` from the forward half `half` (a backward solve in
+    /// full, unless the forward half refactorized and solved already).
+    fn backward_half(&mut self, half: Half, rhs: &mut [f64]) -> Result<Method, usize> {
+        match half {
             Half::Solved(method) => Ok(method),
             Half::Forward(mut y, method) => {
                 let t = Instant::now();
@@ -617,6 +685,21 @@ impl KeptVector {
             }
         }
     }
+}
+
+/// A solve of [`ContactSystem::solve_unrefined`].
+pub enum Solve {
+    /// The solution is complete, in the right-hand side's vector.
+    Complete(Method),
+    /// A low-rank update's solution, for [`ContactSystem::refine`] to complete.
+    Unrefined(Unrefined),
+}
+
+/// The forward half `y = z − V t` of a low-rank update's solve, in the
+/// elimination order, waiting for its refinement.
+pub struct Unrefined {
+    y: Vec<f64>,
+    method: Method,
 }
 
 /// The forward half of a solve.
