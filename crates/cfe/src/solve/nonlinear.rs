@@ -1462,7 +1462,8 @@ impl<'a> Solver<'a> {
         let mut refactored = false;
         loop {
             // With a factor kept, the solve may be an update, whose refinement
-            // reads the unrefined solution around the coupling nodes.
+            // reads the unrefined solution around the coupling nodes (the ring
+            // is usually found by the first trial already).
             if self.coupling_ring.is_none() && self.system.has_factor() {
                 self.coupling_ring = Some(self.coupling_ring());
             }
@@ -1598,6 +1599,12 @@ impl<'a> Solver<'a> {
     ) -> Result<(Vec<f64>, Option<Method>)> {
         let t = Instant::now();
         self.supports.check(self.parts, self.interfaces, states)?;
+        if self.coupling_ring.is_none() {
+            // What the complete solve accepting a trial's pattern (an update,
+            // to be refined) reads: found with the first trial rather than
+            // inside that solve.
+            self.coupling_ring = Some(self.coupling_ring());
+        }
         self.timings.contact_update += t.elapsed().as_secs_f64();
         if let Some(s) = &mut self.last {
             // A trial moves on from the kept solution's pattern.

@@ -296,17 +296,46 @@ impl<'a> ContactSystem<'a> {
             .capacitance
             .take()
             .expect("an unrefined solve is a low-rank update's, which keeps its capacitance");
-        let Half::Forward(w, _) = self.same_correction(cap, r, true) else {
-            unreachable!("a correction with the kept factor is a forward half")
-        };
         let t = Instant::now();
-        y.iter_mut().zip(&w).for_each(|(a, b)| *a += b);
-        drop(w);
+        // The correction `w = L⁻¹ P r − V t` in `r`'s own memory (no vector
+        // of the unknowns' size beside `y` and `r`).
+        let values: Vec<f64> = self.interface_equations().iter().map(|&e| r[e]).collect();
+        r.fill(0.0);
+        self.forward_on_interface(&values, r);
+        let k = cap.entries().len();
+        self.apply_correction(&cap, r);
+        self.flops += 2.0 * (k * k) as f64;
+        self.capacitance = Some(cap);
+        // `w` lives on the interface's paths (the forward solve and the
+        // columns both do).
+        let (_, set) = self.interface_set.as_ref().expect("computed by solve_unrefined");
+        let sn = self.chol.supernodal();
+        for &s in set {
+            let rows = sn.supernode_begin()[s]..sn.supernode_end()[s];
+            y[rows.clone()].iter_mut().zip(&r[rows]).for_each(|(a, b)| *a += b);
+        }
         self.chol.backward(&mut y, r);
         self.spare = y;
         self.flops += self.chol.solve_flops() / 2.0;
         self.solve_seconds += t.elapsed().as_secs_f64();
         method
+    }
+
+    /// The coupling elements' free equations (computed by [`Self::interface_set`]).
+    fn interface_equations(&self) -> &[usize] {
+        &self.interface_set.as_ref().expect("interface set computed").0
+    }
+
+    /// `z ← L⁻¹ P b` for a `b` that is zero off the coupling equations, given as
+    /// its `values` there (in [`Self::interface_equations`]' order), into a `z`
+    /// of zeros: the forward solve on the interface's tree paths.
+    fn forward_on_interface(&mut self, values: &[f64], z: &mut [f64]) {
+        let (eqs, set) = self.interface_set.as_ref().expect("interface set computed");
+        for (&e, &v) in eqs.iter().zip(values) {
+            z[self.chol.permuted(e)] = v;
+        }
+        self.chol.forward_on(set, z);
+        self.flops += 2.0 * self.chol.values_on(set) as f64;
     }
 
     /// The solution into `rhs` from the forward half `half` (a backward solve in
@@ -548,15 +577,12 @@ impl<'a> ContactSystem<'a> {
     /// iterations of an increment share it; the residuals of their refinement
     /// steps do not replace it).
     fn forward_solve(&mut self, b: &[f64], on_interface: bool) -> Vec<f64> {
-        if on_interface && let Some((eqs, set)) = &self.interface_set {
+        if on_interface && self.interface_set.is_some() {
             let mut z = std::mem::take(&mut self.spare);
             z.clear();
             z.resize(b.len(), 0.0);
-            for &e in eqs {
-                z[self.chol.permuted(e)] = b[e];
-            }
-            self.chol.forward_on(set, &mut z);
-            self.flops += 2.0 * self.chol.values_on(set) as f64;
+            let values: Vec<f64> = self.interface_equations().iter().map(|&e| b[e]).collect();
+            self.forward_on_interface(&values, &mut z);
             return z;
         }
         if let Some((kept, z)) = &self.forward
