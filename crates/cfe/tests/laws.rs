@@ -552,13 +552,7 @@ fn friction_history_load_then_unload() {
     let a = analysis(&text);
     let mut solver = a.solver().unwrap();
     solver.set_load_factors(vec![0.5, 1.0, 0.9, 0.5, 0.0]);
-    let mut incs = Vec::new();
-    solver
-        .run(|inc| {
-            incs.push(inc.clone());
-            Ok(())
-        })
-        .unwrap();
+    let incs = common::run_all(solver);
     let fx = |inc: &IncrementResult| a.reactions(inc)[1][0];
     let p = a.reactions(&incs[1])[1][1].abs();
     assert!(p > 0.0);

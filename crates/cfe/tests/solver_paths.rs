@@ -407,14 +407,7 @@ fn bearing_run(policy: UpdatePolicy) -> Vec<cfe::solve::nonlinear::IncrementResu
     let a = Analysis::new(Model::from_file(&path, 4).unwrap()).unwrap();
     let mut solver = a.solver().unwrap();
     solver.set_update_policy(policy);
-    let mut all = Vec::new();
-    solver
-        .run(|inc| {
-            all.push(inc.clone());
-            Ok(())
-        })
-        .unwrap();
-    all
+    common::run_all(solver)
 }
 
 /// The bar in its bearing at K = 4 (about 9 000 unknowns, 156 pairs opening

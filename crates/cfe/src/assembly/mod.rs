@@ -716,6 +716,29 @@ mod tests {
     use crate::fem::{Material, PlaneKind};
     use crate::mesh::{ElementKind, Mesh};
 
+    /// Two parts, 3 × 1 each, one above the other: T3 cells `a` below, Q4 cells
+    /// `b` above (not coupled: the tests read each part's elements).
+    fn t3_under_q4(a: [usize; 2], b: [usize; 2]) -> Vec<Part> {
+        let material = Material::new(200.0, 0.3, PlaneKind::Stress, 1.0, "m").unwrap();
+        vec![
+            Part {
+                name: "a".into(),
+                mesh: Mesh::rectangle([0.0, 3.0], [0.0, 1.0], a, ElementKind::T3),
+                material,
+            },
+            Part {
+                name: "b".into(),
+                mesh: Mesh::rectangle([0.0, 3.0], [1.0, 2.0], b, ElementKind::Q4),
+                material,
+            },
+        ]
+    }
+
+    /// Displacements of every DOF with no pattern an error could hide in.
+    fn some_displacements(dofs: &DofMap) -> Vec<f64> {
+        (0..2 * dofs.n_nodes()).map(|i| (0.37 * i as f64).sin() * 1e-3).collect()
+    }
+
     /// The parallel internal force sums its chunks in chunk order, each past the
     /// first over the DOFs it touches only: on 1 to 5 threads, two parts (T3
     /// and Q4) give the same bits as the chunks' full vectors added in order,
@@ -723,21 +746,9 @@ mod tests {
     /// round-off.
     #[test]
     fn chunked_internal_force_is_the_ordered_sum_of_its_chunks() {
-        let material = Material::new(200.0, 0.3, PlaneKind::Stress, 1.0, "m").unwrap();
-        let parts = vec![
-            Part {
-                name: "a".into(),
-                mesh: Mesh::rectangle([0.0, 3.0], [0.0, 1.0], [30, 8], ElementKind::T3),
-                material,
-            },
-            Part {
-                name: "b".into(),
-                mesh: Mesh::rectangle([0.0, 3.0], [1.0, 2.0], [20, 6], ElementKind::Q4),
-                material,
-            },
-        ];
+        let parts = t3_under_q4([30, 8], [20, 6]);
         let dofs = DofMap::new(&parts, &[]);
-        let u: Vec<f64> = (0..2 * dofs.n_nodes()).map(|i| (0.37 * i as f64).sin() * 1e-3).collect();
+        let u = some_displacements(&dofs);
         let elements = PartElements::new(&parts, &dofs);
         let mut one_by_one = vec![0.0; u.len()];
         elements.add_internal_forces(0..elements.len(), &u, &mut one_by_one, 0);
@@ -773,21 +784,9 @@ mod tests {
     /// DOFs, bit for bit in element order.
     #[test]
     fn the_elements_touching_nodes_give_their_whole_force() {
-        let material = Material::new(200.0, 0.3, PlaneKind::Stress, 1.0, "m").unwrap();
-        let parts = vec![
-            Part {
-                name: "a".into(),
-                mesh: Mesh::rectangle([0.0, 3.0], [0.0, 1.0], [12, 4], ElementKind::T3),
-                material,
-            },
-            Part {
-                name: "b".into(),
-                mesh: Mesh::rectangle([0.0, 3.0], [1.0, 2.0], [6, 3], ElementKind::Q4),
-                material,
-            },
-        ];
+        let parts = t3_under_q4([12, 4], [6, 3]);
         let dofs = DofMap::new(&parts, &[]);
-        let u: Vec<f64> = (0..2 * dofs.n_nodes()).map(|i| (0.37 * i as f64).sin() * 1e-3).collect();
+        let u = some_displacements(&dofs);
         let all = PartElements::new(&parts, &dofs);
         // The nodes at x = 1.5 of either part (global numbering).
         let band: Vec<bool> = parts

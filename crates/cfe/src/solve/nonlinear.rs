@@ -38,7 +38,7 @@
 use super::anderson::Anderson;
 use super::support;
 use super::system::{ContactSystem, Method, Solve, UpdatePolicy};
-use crate::assembly::{self, DofMap, FIXED};
+use crate::assembly::{self, DofMap, ElementSource, FIXED};
 use crate::coupling::{
     Enforcement, Interface, Law, LawTolerance, PairHistories, PairHistory, PairState, PairStates,
     ViolationKind,
@@ -283,8 +283,9 @@ pub struct Solver<'a> {
     /// Every coupling element's DOFs (sorted): the DOFs a solve restricted to the
     /// interface gives.
     coupling_dofs: Vec<usize>,
-    /// The part elements around the coupling nodes, found once a factor is
-    /// kept (what a low-rank update's refinement reads).
+    /// The part elements around the coupling nodes (what a low-rank update's
+    /// refinement reads), found with the first trial or, failing one, the first
+    /// complete solve with a factor kept.
     coupling_ring: Option<CouplingRing>,
     /// The displacement and right-hand-side vectors of the last trial solve,
     /// kept so the next trial reuses their memory (at 8 M unknowns they are 195 MB
@@ -1658,7 +1659,11 @@ impl<'a> Solver<'a> {
         let elements = part_elements.touching(|n| at_coupling[n]);
         let mut dofs = self.coupling_dofs.clone();
         for &e in &elements {
-            assembly::ElementSource::nodes(&part_elements, e, &mut |g| dofs.extend(g.iter().flat_map(|&n| [2 * n, 2 * n + 1])));
+            part_elements.nodes(e, &mut |nodes| {
+                for &n in nodes {
+                    dofs.extend([2 * n, 2 * n + 1]);
+                }
+            });
         }
         dofs.sort_unstable();
         dofs.dedup();

@@ -289,7 +289,9 @@ impl<'a> ContactSystem<'a> {
     /// the coupling equations (zero at every other equation), is solved by the
     /// same update (a forward solve on the interface's tree paths,
     /// [`CholeskySolver::forward_on`]) and added to its forward half, and one
-    /// backward solve in full gives the refined solution, in `r`.
+    /// backward solve in full gives the refined solution, in `r`. It must follow
+    /// its `solve_unrefined` with no other solve between them (the update's
+    /// capacitance is the one kept from it).
     pub fn refine(&mut self, unrefined: Unrefined, r: &mut [f64]) -> Method {
         let Unrefined { mut y, method } = unrefined;
         let cap = self
@@ -714,6 +716,7 @@ impl KeptVector {
 }
 
 /// A solve of [`ContactSystem::solve_unrefined`].
+#[must_use]
 pub enum Solve {
     /// The solution is complete, in the right-hand side's vector.
     Complete(Method),

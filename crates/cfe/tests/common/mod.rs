@@ -6,7 +6,7 @@ use cfe::analysis::Analysis;
 use cfe::analysis::Start;
 use cfe::coupling::PairState;
 use cfe::model::Model;
-use cfe::solve::nonlinear::IncrementResult;
+use cfe::solve::nonlinear::{IncrementResult, Solver};
 use std::path::Path;
 
 /// Prepares an analysis from problem text.
@@ -23,6 +23,18 @@ pub fn solve(a: &Analysis) -> Vec<IncrementResult> {
         Ok(())
     })
     .expect("converges");
+    all
+}
+
+/// Runs `solver` to its end and returns every increment.
+pub fn run_all(mut solver: Solver<'_>) -> Vec<IncrementResult> {
+    let mut all = Vec::new();
+    solver
+        .run(|inc| {
+            all.push(inc.clone());
+            Ok(())
+        })
+        .expect("converges");
     all
 }
 
