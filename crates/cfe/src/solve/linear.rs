@@ -361,6 +361,14 @@ impl CholeskySolver {
         (0..on.len()).rev().filter(|&s| on[s]).collect()
     }
 
+    /// The rows (in the elimination order) of each supernode of `set`, in the
+    /// order of `set`.
+    pub fn rows_on<'a>(&'a self, set: &'a [usize]) -> impl Iterator<Item = std::ops::Range<usize>> + 'a {
+        let sn = self.supernodal();
+        set.iter()
+            .map(move |&s| sn.supernode_begin()[s]..sn.supernode_end()[s])
+    }
+
     /// Values of the factor on the supernodes `set`: the work of a
     /// [`CholeskySolver::backward_on`] solve is twice this in flops.
     pub fn values_on(&self, set: &[usize]) -> usize {

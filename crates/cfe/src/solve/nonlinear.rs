@@ -1652,7 +1652,7 @@ impl<'a> Solver<'a> {
     /// of their nodes.
     fn coupling_ring(&self) -> CouplingRing {
         let part_elements = assembly::PartElements::new(self.parts, self.dofs);
-        let mut at_coupling = vec![false; self.dofs.eq.len() / 2];
+        let mut at_coupling = vec![false; self.dofs.n_nodes()];
         for &d in &self.coupling_dofs {
             at_coupling[d / 2] = true;
         }

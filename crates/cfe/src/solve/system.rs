@@ -262,18 +262,13 @@ impl<'a> ContactSystem<'a> {
                 let (_, set) = self.read_set.as_ref().expect("computed above");
                 // The backward solve on the paths, on a copy of their rows
                 // (`y` is kept for the complete solve).
-                let sn = self.chol.supernodal();
-                let rows = || {
-                    set.iter()
-                        .map(|&s| sn.supernode_begin()[s]..sn.supernode_end()[s])
-                };
-                let kept: Vec<f64> = rows().flat_map(|r| y[r].to_vec()).collect();
+                let kept: Vec<f64> = self.chol.rows_on(set).flat_map(|r| y[r].to_vec()).collect();
                 self.chol.backward_on(set, &mut y);
                 for &e in read {
                     rhs[e] = y[self.chol.permuted(e)];
                 }
                 let mut kept = kept.into_iter();
-                for r in rows() {
+                for r in self.chol.rows_on(set) {
                     y[r].iter_mut().zip(&mut kept).for_each(|(v, k)| *v = k);
                 }
                 self.flops += 2.0 * self.chol.values_on(set) as f64;
@@ -304,16 +299,11 @@ impl<'a> ContactSystem<'a> {
         let values: Vec<f64> = self.interface_equations().iter().map(|&e| r[e]).collect();
         r.fill(0.0);
         self.forward_on_interface(&values, r);
-        let k = cap.entries().len();
-        self.apply_correction(&cap, r);
-        self.flops += 2.0 * (k * k) as f64;
-        self.capacitance = Some(cap);
+        self.correct_again(cap, r);
         // `w` lives on the interface's paths (the forward solve and the
         // columns both do).
         let (_, set) = self.interface_set.as_ref().expect("computed by solve_unrefined");
-        let sn = self.chol.supernodal();
-        for &s in set {
-            let rows = sn.supernode_begin()[s]..sn.supernode_end()[s];
+        for rows in self.chol.rows_on(set) {
             y[rows.clone()].iter_mut().zip(&r[rows]).for_each(|(a, b)| *a += b);
         }
         self.chol.backward(&mut y, r);
@@ -537,11 +527,19 @@ impl<'a> ContactSystem<'a> {
         let t = Instant::now();
         let mut z = self.forward_solve(rhs, rhs_on_interface);
         let r = cap.entries().len();
-        self.apply_correction(&cap, &mut z);
+        self.correct_again(cap, &mut z);
         self.solve_seconds += t.elapsed().as_secs_f64();
+        Half::Forward(z, Method::LowRank { rank: r })
+    }
+
+    /// `z ← z − V_S t` with the last update's correction `cap` (its r products
+    /// with the kept columns and the capacitance's triangular solves), which is
+    /// kept for the next solve.
+    fn correct_again(&mut self, cap: Capacitance, z: &mut [f64]) {
+        let r = cap.entries().len();
+        self.apply_correction(&cap, z);
         self.flops += 2.0 * (r * r) as f64;
         self.capacitance = Some(cap);
-        Half::Forward(z, Method::LowRank { rank: r })
     }
 
     /// `z ← z − V_S t` with `M_S t = V_Sᵀ z` (the correction's entries S).
