@@ -246,25 +246,47 @@ pub fn isoline_segment(p: &[[f64; 2]; 3], v: &[f64; 3], level: f64) -> Option<[[
 }
 
 /// Edges used by exactly one triangle (the outlines of the parts), sorted.
+///
+/// Each edge is filed under its smaller node by a counting sort, and an edge
+/// filed once under a node is an outline edge: O(triangles + nodes), where a
+/// sort of all edges was the costliest step of a picture of a large model
+/// (0.8 s of 1.4 s at 4 M unknowns).
 pub fn outline_edges(triangles: &[[usize; 3]]) -> Vec<[usize; 2]> {
-    use rayon::prelude::*;
-    // Sort all edges (as sorted node pairs) and keep those that occur once.
-    let mut edges: Vec<(usize, usize)> = triangles
-        .iter()
-        .flat_map(|t| (0..3).map(move |k| (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]))))
-        .collect();
-    edges.par_sort_unstable();
+    let edges = || {
+        triangles.iter().flat_map(|t| {
+            (0..3).map(move |k| {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                (a.min(b), a.max(b))
+            })
+        })
+    };
+    let n = triangles.iter().flatten().max().map_or(0, |&m| m + 1);
+    // The edges filed under node a are other[start[a]..start[a + 1]] (their
+    // larger nodes).
+    let mut start = vec![0usize; n + 1];
+    for (a, _) in edges() {
+        start[a + 1] += 1;
+    }
+    for a in 0..n {
+        start[a + 1] += start[a];
+    }
+    let mut next = start[..n].to_vec();
+    let mut other = vec![0usize; start[n]];
+    for (a, b) in edges() {
+        other[next[a]] = b;
+        next[a] += 1;
+    }
+    drop(next);
     let mut out = Vec::new();
-    let mut i = 0;
-    while i < edges.len() {
-        let mut j = i + 1;
-        while j < edges.len() && edges[j] == edges[i] {
-            j += 1;
+    for a in 0..n {
+        let filed = &mut other[start[a]..start[a + 1]];
+        filed.sort_unstable();
+        for (i, &b) in filed.iter().enumerate() {
+            let repeated = (i > 0 && filed[i - 1] == b) || filed.get(i + 1) == Some(&b);
+            if !repeated {
+                out.push([a, b]);
+            }
         }
-        if j - i == 1 {
-            out.push([edges[i].0, edges[i].1]);
-        }
-        i = j;
     }
     out
 }
@@ -683,19 +705,41 @@ fn draw_isolines(
 ) -> Result<()> {
     let err = draw_err(path);
     let (vmin, vmax) = (range.vmin, range.vmax);
-    for k in 1..=levels {
-        let level = vmin + (vmax - vmin) * k as f64 / (levels + 1) as f64;
-        let c = turbo(range.norm(level));
-        let colour = RGBColor(c[0], c[1], c[2]).stroke_width(2);
-        for t in mesh.triangles {
-            let p = t.map(|n| layout.tf.px(mesh.points[n]));
-            if let Some([a, b]) = isoline_segment(&p, &t.map(|n| nodal[n]), level)
+    let values: Vec<f64> = (1..=levels)
+        .map(|k| vmin + (vmax - vmin) * k as f64 / (levels + 1) as f64)
+        .collect();
+    // One pass over the triangles finds every level's segments (a level crosses
+    // a triangle when its smallest vertex value is below it and its largest is
+    // not, as `isoline_segment` counts a vertex at the level as above it); the
+    // levels are then drawn one after another, as one pass per level would.
+    let mut segments: Vec<Vec<[[f64; 2]; 2]>> = vec![Vec::new(); levels];
+    for t in mesh.triangles {
+        let v = t.map(|n| nodal[n]);
+        let lo = v[0].min(v[1]).min(v[2]);
+        let hi = v[0].max(v[1]).max(v[2]);
+        let first = values.partition_point(|&l| l <= lo);
+        if first == levels || values[first] > hi {
+            continue;
+        }
+        let p = t.map(|n| layout.tf.px(mesh.points[n]));
+        for (k, &level) in values.iter().enumerate().skip(first) {
+            if level > hi {
+                break;
+            }
+            if let Some([a, b]) = isoline_segment(&p, &v, level)
                 && layout.inside(a)
                 && layout.inside(b)
             {
-                root.draw(&PathElement::new(vec![ip(a), ip(b)], colour))
-                    .map_err(|e| err(&e))?;
+                segments[k].push([a, b]);
             }
+        }
+    }
+    for (&level, segments) in values.iter().zip(&segments) {
+        let c = turbo(range.norm(level));
+        let colour = RGBColor(c[0], c[1], c[2]).stroke_width(2);
+        for &[a, b] in segments {
+            root.draw(&PathElement::new(vec![ip(a), ip(b)], colour))
+                .map_err(|e| err(&e))?;
         }
     }
     Ok(())
@@ -923,6 +967,92 @@ mod tests {
     fn outline_of_a_square() {
         let edges = outline_edges(&[[0, 1, 2], [0, 2, 3]]);
         assert_eq!(edges, vec![[0, 1], [0, 3], [1, 2], [2, 3]]);
+    }
+
+    /// A unit square of `n` × `n` cells, each split into two triangles, with
+    /// the cell at (`hole`, `hole`) left out: (points, triangles).
+    fn grid_with_hole(n: usize, hole: usize) -> (Vec<[f64; 2]>, Vec<[usize; 3]>) {
+        let id = |i: usize, j: usize| j * (n + 1) + i;
+        let points = (0..=n)
+            .flat_map(|j| (0..=n).map(move |i| [i as f64 / n as f64, j as f64 / n as f64]))
+            .collect();
+        let mut tris = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                if (i, j) != (hole, hole) {
+                    let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                    tris.push([a, b, c]);
+                    tris.push([a, c, d]);
+                }
+            }
+        }
+        (points, tris)
+    }
+
+    /// The outline is exactly the edges used by one triangle, sorted: on a grid
+    /// with a hole beside a second part (a shifted copy, its own nodes), against
+    /// a count of every edge in a map. 4 × 6 outer sides + 4 sides of each hole.
+    #[test]
+    fn outline_is_the_edges_used_once() {
+        let (_, mut tris) = grid_with_hole(6, 2);
+        let shift = 49;
+        let second: Vec<[usize; 3]> = tris.iter().map(|t| t.map(|n| n + shift)).collect();
+        tris.extend(second);
+        let mut count = std::collections::BTreeMap::new();
+        for t in &tris {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                *count.entry([a.min(b), a.max(b)]).or_insert(0) += 1;
+            }
+        }
+        let once: Vec<[usize; 2]> = count
+            .into_iter()
+            .filter(|&(_, c)| c == 1)
+            .map(|(e, _)| e)
+            .collect();
+        assert_eq!(once.len(), 2 * (24 + 4));
+        assert_eq!(outline_edges(&tris), once);
+        assert!(outline_edges(&[]).is_empty());
+    }
+
+    /// Isolines of v = x on a square with a hole lie where x is at each level:
+    /// for levels 1/4, 1/2 and 3/4, the pixel of the line's point at mid-height
+    /// has the level's colour, and the hole's middle is left unpainted.
+    #[test]
+    fn isolines_lie_at_their_levels() {
+        let (points, triangles) = grid_with_hole(8, 6);
+        let nodal: Vec<f64> = points.iter().map(|p| p[0]).collect();
+        let mesh = PlotMesh {
+            points: &points,
+            triangles: &triangles,
+            outline: None,
+        };
+        let labels = PlotLabels {
+            title: "v = x",
+            colorbar: "v",
+            axis_unit: "m",
+        };
+        let dir = std::env::temp_dir().join(format!("cfe-iso-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("iso.png");
+        render_isolines(&path, &mesh, &nodal, 3, &[], &labels).unwrap();
+        let img = image::open(&path).unwrap().to_rgb8();
+        let _ = std::fs::remove_dir_all(&dir);
+        let layout = Layout::new(&points);
+        let range = ColourRange::new(&nodal, Style::Isolines(3));
+        let at = |p: [f64; 2]| {
+            let (x, y) = ip(layout.tf.px(p));
+            img.get_pixel(x as u32, y as u32).0
+        };
+        for level in [0.25, 0.5, 0.75] {
+            assert_eq!(
+                at([level, 0.5 + 1.0 / 16.0]),
+                turbo(range.norm(level)),
+                "{level}"
+            );
+        }
+        // The middle of the hole (cell (6, 6) of 8) is not part of the mesh.
+        assert_eq!(at([6.5 / 8.0, 6.5 / 8.0]), [255, 255, 255]);
     }
 
     /// Bad input is an error, not a panic.
