@@ -576,10 +576,7 @@ impl Analysis {
             }
         }
         PartsGrid {
-            points: self.global_points(),
-            connectivity,
-            offsets,
-            kinds,
+            geometry: vtu::Geometry::new(&self.global_points(), &connectivity, &offsets, &kinds),
             part_point,
             part_cell,
         }
@@ -593,10 +590,9 @@ impl Analysis {
         u: &[f64],
         stresses: &Stresses,
     ) -> Result<()> {
-        let (points, connectivity, offsets, kinds) =
-            (&grid.points, &grid.connectivity, &grid.offsets, &grid.kinds);
         let (part_point, part_cell) = (&grid.part_point, &grid.part_cell);
-        let mut nodal: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(points.len()));
+        let mut nodal: [Vec<f64>; 4] =
+            std::array::from_fn(|_| Vec::with_capacity(part_point.len()));
         let mut cell: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(part_cell.len()));
         for (part, s) in self.model.parts.iter().zip(stresses.base.iter()) {
             for v in &s.nodal {
@@ -646,13 +642,10 @@ impl Analysis {
             components: 1,
             values: vtu::Values::I32(part_cell),
         });
-        vtu::write_vtu(
+        vtu::write_on(
             path,
-            &vtu::Grid {
-                points,
-                connectivity,
-                offsets,
-                kinds,
+            &grid.geometry,
+            &vtu::Fields {
                 point_data: &point_data,
                 cell_data: &cell_data,
                 field_data: fields,
@@ -969,12 +962,10 @@ impl Stresses {
     }
 }
 
-/// The parts' points and cells as written to every VTU of a run.
+/// The parts' points and cells as written to every VTU of a run (checked and
+/// encoded once), and the part of each point and cell.
 struct PartsGrid {
-    points: Vec<[f64; 2]>,
-    connectivity: Vec<usize>,
-    offsets: Vec<usize>,
-    kinds: Vec<vtu::CellKind>,
+    geometry: vtu::Geometry,
     part_point: Vec<i32>,
     part_cell: Vec<i32>,
 }

@@ -6,10 +6,12 @@
 //! count as a UInt64 (`header_type="UInt64"`). The header gives each array's
 //! `offset` into that block, so the sizes are computed first and the data is then
 //! streamed to the file: Float64 and Int32 arrays are handed to the (buffered)
-//! writer as their memory on a little-endian machine, padded vectors and indices
-//! are encoded a fixed-size chunk at a time. No copy of the mesh, no text per
-//! value, so it scales to millions of points. Everything is validated before a byte is
-//! written, and the file is written atomically (see [`super::write_atomic`]).
+//! writer as their memory on a little-endian machine, padded vectors are encoded a
+//! fixed-size chunk at a time. The mesh is checked and encoded once into its
+//! written form ([`Geometry`]), which every file of a series on it reuses
+//! ([`write_on`]); no text per value, so it scales to millions of points.
+//! Everything is validated before a byte is written, and the file is written
+//! atomically (see [`super::write_atomic`]).
 //!
 //! Types written: point coordinates Float64 (3 components, z = 0), connectivity and
 //! offsets Int32 when every index and offset fits (see `index_type`; half the bytes
@@ -134,9 +136,131 @@ pub struct Grid<'a> {
 /// connectivity index that is not a point, an array whose length is not
 /// points × components (or cells × components), or a bad or repeated array name.
 pub fn write_vtu(path: &Path, grid: &Grid) -> Result<()> {
-    validate(grid).map_err(|message| Error::output(path, message))?;
-    let arrays = layout(grid);
-    write_atomic(path, |w| write_file(w, grid, &arrays))
+    let geometry = Geometry::new(grid.points, grid.connectivity, grid.offsets, grid.kinds);
+    write_on(
+        path,
+        &geometry,
+        &Fields {
+            point_data: grid.point_data,
+            cell_data: grid.cell_data,
+            field_data: grid.field_data,
+        },
+    )
+}
+
+/// The points and cells of a grid, checked and encoded once as they are written
+/// (coordinates (x, y, 0) as Float64, connectivity and offsets as Int32 when
+/// every value fits, else Int64, cell types as UInt8): the files of a series on
+/// one mesh, one per increment, are written from it ([`write_on`]) without
+/// checking or converting the mesh again. The encoded mesh is also smaller than
+/// the given one (4-byte indices instead of 8).
+pub struct Geometry {
+    n_points: usize,
+    n_cells: usize,
+    index: IndexType,
+    points: Vec<u8>,
+    connectivity: Vec<u8>,
+    offsets: Vec<u8>,
+    types: Vec<u8>,
+    /// Why the cells are inconsistent, if they are: reported by every
+    /// [`write_on`] with the file it could not write (nothing is encoded).
+    invalid: Option<String>,
+}
+
+impl Geometry {
+    /// Checks and encodes `points` and the cells given by `connectivity`,
+    /// `offsets` and `kinds` (as in [`Grid`]). Inconsistent cells are not an
+    /// error here but at each [`write_on`], which names the file.
+    pub fn new(
+        points: &[[f64; 2]],
+        connectivity: &[usize],
+        offsets: &[usize],
+        kinds: &[CellKind],
+    ) -> Geometry {
+        let mut g = Geometry {
+            n_points: points.len(),
+            n_cells: offsets.len(),
+            index: IndexType::Int32,
+            points: Vec::new(),
+            connectivity: Vec::new(),
+            offsets: Vec::new(),
+            types: Vec::new(),
+            invalid: validate_cells(points.len(), connectivity, offsets, kinds).err(),
+        };
+        if g.invalid.is_some() {
+            return g;
+        }
+        // The largest value of either array: the last offset is the connectivity's
+        // length, and every connectivity entry is below the number of points.
+        let largest = connectivity.iter().copied().max().unwrap_or(0);
+        g.index = index_type(largest.max(connectivity.len()));
+        g.points = encode(points, |p| {
+            let mut b = [0u8; 24];
+            b[..8].copy_from_slice(&p[0].to_le_bytes());
+            b[8..16].copy_from_slice(&p[1].to_le_bytes());
+            b
+        });
+        g.connectivity = encode_indices(connectivity, g.index);
+        g.offsets = encode_indices(offsets, g.index);
+        g.types = kinds.iter().map(|k| k.vtk_type()).collect();
+        g
+    }
+
+    /// Number of points.
+    pub fn n_points(&self) -> usize {
+        self.n_points
+    }
+
+    /// Number of cells.
+    pub fn n_cells(&self) -> usize {
+        self.n_cells
+    }
+}
+
+/// Indices as the little-endian integers of `t` (which every value must fit:
+/// [`index_type`] of the largest).
+fn encode_indices(values: &[usize], t: IndexType) -> Vec<u8> {
+    match t {
+        IndexType::Int32 => encode(values, |i| (i as i32).to_le_bytes()),
+        IndexType::Int64 => encode(values, |i| (i as i64).to_le_bytes()),
+    }
+}
+
+/// Every value of `values` as its `bytes`, one after the other.
+fn encode<T: Copy, const N: usize>(values: &[T], bytes: impl Fn(T) -> [u8; N]) -> Vec<u8> {
+    let mut out = vec![0u8; values.len() * N];
+    for (to, &v) in out.chunks_exact_mut(N).zip(values) {
+        to.copy_from_slice(&bytes(v));
+    }
+    out
+}
+
+/// The data of one file on a [`Geometry`]: arrays per point and per cell, and
+/// single numbers for the whole dataset.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fields<'a> {
+    /// Arrays with one tuple per point.
+    pub point_data: &'a [DataArray<'a>],
+    /// Arrays with one tuple per cell.
+    pub cell_data: &'a [DataArray<'a>],
+    /// Single numbers for the whole dataset, e.g. `("TIME", λ)`.
+    pub field_data: &'a [(&'a str, f64)],
+}
+
+/// Writes `fields` on `geometry` as a binary VTK XML UnstructuredGrid file at
+/// `path`, atomically: [`write_vtu`] for a mesh already checked and encoded.
+///
+/// Returns [`Error::Output`] without touching `path` if the geometry's cells are
+/// inconsistent (see [`write_vtu`]), or an array's length is not points ×
+/// components (or cells × components), or a name is bad or repeated.
+pub fn write_on(path: &Path, geometry: &Geometry, fields: &Fields) -> Result<()> {
+    let bad = |message: String| Error::output(path, message);
+    if let Some(message) = &geometry.invalid {
+        return Err(bad(message.clone()));
+    }
+    validate_fields(geometry, fields).map_err(bad)?;
+    let arrays = layout(geometry, fields);
+    write_atomic(path, |w| write_file(w, geometry, &arrays))
 }
 
 /// One dataset of a .pvd series.
@@ -187,28 +311,35 @@ pub fn write_pvd(path: &Path, entries: &[PvdEntry]) -> Result<()> {
 // ---------------------------------------------------------------------------------
 // Validation
 
-/// Checks everything `write_vtu` relies on; the message says what is wrong where.
-fn validate(grid: &Grid) -> std::result::Result<(), String> {
-    let n_points = grid.points.len();
-    let n_cells = grid.offsets.len();
-    if grid.kinds.len() != n_cells {
+/// Checks the cells: kinds and offsets of one length, offsets increasing and
+/// ending at the connectivity's length, each cell's node count its kind's, and
+/// every connectivity entry a point (of `n_points`). The message says what is
+/// wrong where.
+fn validate_cells(
+    n_points: usize,
+    connectivity: &[usize],
+    offsets: &[usize],
+    kinds: &[CellKind],
+) -> std::result::Result<(), String> {
+    let n_cells = offsets.len();
+    if kinds.len() != n_cells {
         return Err(format!(
             "{} cell kinds for {} cell offsets: need one kind per cell",
-            grid.kinds.len(),
+            kinds.len(),
             n_cells
         ));
     }
     let mut start = 0;
-    for (i, (&end, &kind)) in grid.offsets.iter().zip(grid.kinds).enumerate() {
+    for (i, (&end, &kind)) in offsets.iter().zip(kinds).enumerate() {
         if end <= start {
             return Err(format!(
                 "offsets are not increasing: offsets[{i}] = {end} after {start}"
             ));
         }
-        if end > grid.connectivity.len() {
+        if end > connectivity.len() {
             return Err(format!(
                 "offsets[{i}] = {end} is past the end of the connectivity ({} entries)",
-                grid.connectivity.len()
+                connectivity.len()
             ));
         }
         if end - start != kind.node_count() {
@@ -220,14 +351,13 @@ fn validate(grid: &Grid) -> std::result::Result<(), String> {
         }
         start = end;
     }
-    if start != grid.connectivity.len() {
+    if start != connectivity.len() {
         return Err(format!(
             "offsets end at {start} but the connectivity has {} entries",
-            grid.connectivity.len()
+            connectivity.len()
         ));
     }
-    if let Some((i, &p)) = grid
-        .connectivity
+    if let Some((i, &p)) = connectivity
         .iter()
         .enumerate()
         .find(|&(_, &p)| p >= n_points)
@@ -236,10 +366,16 @@ fn validate(grid: &Grid) -> std::result::Result<(), String> {
             "connectivity[{i}] = {p} is not a point (there are {n_points} points)"
         ));
     }
-    check_arrays("point", grid.point_data, n_points)?;
-    check_arrays("cell", grid.cell_data, n_cells)?;
+    Ok(())
+}
+
+/// Checks the data arrays against the geometry's points and cells, and the
+/// field data's names.
+fn validate_fields(geometry: &Geometry, fields: &Fields) -> std::result::Result<(), String> {
+    check_arrays("point", fields.point_data, geometry.n_points)?;
+    check_arrays("cell", fields.cell_data, geometry.n_cells)?;
     let mut seen = HashSet::new();
-    for (name, _) in grid.field_data {
+    for (name, _) in fields.field_data {
         check_name(name).map_err(|m| format!("field data name {m}"))?;
         if !seen.insert(*name) {
             return Err(format!("field data '{name}' is given twice"));
@@ -318,12 +454,8 @@ enum Section {
 
 /// The data of one appended block.
 enum Payload<'a> {
-    /// Points written as (x, y, 0) Float64.
-    Points(&'a [[f64; 2]]),
-    /// Connectivity or offsets written as the grid's [`IndexType`].
-    Indices(&'a [usize], IndexType),
-    /// Cell types written as UInt8.
-    Types(&'a [CellKind]),
+    /// Bytes already encoded (the geometry's).
+    Bytes(&'a [u8]),
     /// A data array; 2 components are padded to 3.
     Data {
         values: Values<'a>,
@@ -335,9 +467,7 @@ impl Payload<'_> {
     /// Number of payload bytes (not counting the UInt64 size before them).
     fn byte_len(&self) -> u64 {
         let n = match self {
-            Payload::Points(p) => p.len() * 24,
-            Payload::Indices(i, t) => i.len() * t.bytes(),
-            Payload::Types(t) => t.len(),
+            Payload::Bytes(b) => b.len(),
             Payload::Data { values, components } => {
                 let scalar = match values {
                     Values::F64(_) => 8,
@@ -352,25 +482,7 @@ impl Payload<'_> {
     /// Streams the payload bytes.
     fn write(&self, out: &mut Chunked) -> io::Result<()> {
         match self {
-            Payload::Points(points) => out.put_each(points, |p| {
-                let mut b = [0u8; 24];
-                b[..8].copy_from_slice(&p[0].to_le_bytes());
-                b[8..16].copy_from_slice(&p[1].to_le_bytes());
-                b
-            }),
-            // `index_type` chose a type every value fits.
-            Payload::Indices(indices, IndexType::Int32) => {
-                out.put_each(indices, |i| (i as i32).to_le_bytes())
-            }
-            Payload::Indices(indices, IndexType::Int64) => {
-                out.put_each(indices, |i| (i as i64).to_le_bytes())
-            }
-            Payload::Types(kinds) => {
-                for &k in *kinds {
-                    out.put(&[k.vtk_type()])?;
-                }
-                Ok(())
-            }
+            Payload::Bytes(b) => out.put_le(b, |x| [x]),
             Payload::Data { values, components } => match values {
                 Values::F64(v) if *components == 2 => {
                     out.put_each(bytemuck::cast_slice::<f64, [f64; 2]>(v), |[x, y]| {
@@ -424,9 +536,9 @@ struct Array<'a> {
 }
 
 /// Lists every array in the order the blocks are written.
-fn layout<'a>(grid: &Grid<'a>) -> Vec<Array<'a>> {
+fn layout<'a>(geometry: &'a Geometry, fields: &Fields<'a>) -> Vec<Array<'a>> {
     let mut arrays = Vec::new();
-    for (name, value) in grid.field_data {
+    for (name, value) in fields.field_data {
         arrays.push(Array {
             section: Section::Field,
             name: escape(name),
@@ -441,8 +553,8 @@ fn layout<'a>(grid: &Grid<'a>) -> Vec<Array<'a>> {
         });
     }
     for (section, data) in [
-        (Section::Point, grid.point_data),
-        (Section::Cell, grid.cell_data),
+        (Section::Point, fields.point_data),
+        (Section::Cell, fields.cell_data),
     ] {
         for a in data {
             arrays.push(Array {
@@ -462,46 +574,27 @@ fn layout<'a>(grid: &Grid<'a>) -> Vec<Array<'a>> {
             });
         }
     }
-    arrays.push(Array {
-        section: Section::Points,
-        name: "Points".into(),
-        vtk_type: "Float64",
-        components: 3,
-        tuples: None,
-        range: None,
-        payload: Payload::Points(grid.points),
-    });
-    // The largest value of either array: the last offset is the connectivity's
-    // length, and every connectivity entry is below the number of points.
-    let largest = grid
-        .connectivity
-        .iter()
-        .copied()
-        .max()
-        .unwrap_or(0)
-        .max(grid.connectivity.len());
-    let index = index_type(largest);
-    for (name, vtk_type, payload) in [
+    let index = geometry.index.vtk_name();
+    for (section, name, vtk_type, components, bytes) in [
+        (Section::Points, "Points", "Float64", 3, &geometry.points),
         (
+            Section::Cells,
             "connectivity",
-            index.vtk_name(),
-            Payload::Indices(grid.connectivity, index),
+            index,
+            1,
+            &geometry.connectivity,
         ),
-        (
-            "offsets",
-            index.vtk_name(),
-            Payload::Indices(grid.offsets, index),
-        ),
-        ("types", "UInt8", Payload::Types(grid.kinds)),
+        (Section::Cells, "offsets", index, 1, &geometry.offsets),
+        (Section::Cells, "types", "UInt8", 1, &geometry.types),
     ] {
         arrays.push(Array {
-            section: Section::Cells,
+            section,
             name: name.into(),
             vtk_type,
-            components: 1,
+            components,
             tuples: None,
             range: None,
-            payload,
+            payload: Payload::Bytes(bytes),
         });
     }
     arrays
@@ -522,14 +615,6 @@ impl IndexType {
         match self {
             IndexType::Int32 => "Int32",
             IndexType::Int64 => "Int64",
-        }
-    }
-
-    /// Bytes per value.
-    fn bytes(self) -> usize {
-        match self {
-            IndexType::Int32 => 4,
-            IndexType::Int64 => 8,
         }
     }
 }
@@ -644,7 +729,7 @@ impl Chunked<'_> {
 }
 
 /// Writes the XML header, the appended block and the closing tags.
-fn write_file(w: &mut dyn Write, grid: &Grid, arrays: &[Array]) -> io::Result<()> {
+fn write_file(w: &mut dyn Write, geometry: &Geometry, arrays: &[Array]) -> io::Result<()> {
     let mut offsets = Vec::with_capacity(arrays.len());
     let mut offset = 0u64;
     for a in arrays {
@@ -686,8 +771,7 @@ fn write_file(w: &mut dyn Write, grid: &Grid, arrays: &[Array]) -> io::Result<()
     writeln!(
         w,
         "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
-        grid.points.len(),
-        grid.offsets.len()
+        geometry.n_points, geometry.n_cells
     )?;
     section(w, Section::Point, "PointData", "      ")?;
     section(w, Section::Cell, "CellData", "      ")?;
@@ -983,15 +1067,7 @@ mod tests {
             } else {
                 &values[..]
             };
-            let payload = Payload::Indices(values, t);
-            let mut bytes = Vec::new();
-            let mut out = Chunked {
-                w: &mut bytes,
-                buf: Vec::new(),
-            };
-            payload.write(&mut out).unwrap();
-            out.flush_chunk().unwrap();
-            assert_eq!(payload.byte_len(), (width * values.len()) as u64);
+            let bytes = encode_indices(values, t);
             assert_eq!(bytes.len(), width * values.len());
             let back: Vec<usize> = bytes
                 .chunks_exact(width)
@@ -1041,6 +1117,60 @@ mod tests {
         for tag in ["PointData", "CellData", "FieldData"] {
             assert!(!vtu.header.contains(tag), "{tag} written without arrays");
         }
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// Each file of a series written from one [`Geometry`] reads back as that
+    /// mesh (mixed cells) with its own data; a geometry whose cells are
+    /// inconsistent fails every write, naming the file, and writes nothing.
+    #[test]
+    fn a_series_on_one_geometry_reads_back() {
+        let dir = scratch("series");
+        let points = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [2.0, 0.5]];
+        let (connectivity, offsets) = ([0, 1, 2, 3, 1, 4, 2], [4, 7]);
+        let kinds = [CellKind::Quad, CellKind::Triangle];
+        let geometry = Geometry::new(&points, &connectivity, &offsets, &kinds);
+        assert_eq!((geometry.n_points(), geometry.n_cells()), (5, 2));
+        let xyz: Vec<f64> = points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+        for k in 0..3 {
+            let s = [k as f64 / 3.0, -1.5 * k as f64];
+            let cell_data = [DataArray::f64("s", 1, &s)];
+            let path = dir.join(format!("on_{k}.vtu"));
+            let fields = Fields {
+                point_data: &[],
+                cell_data: &cell_data,
+                field_data: &[("TIME", k as f64)],
+            };
+            write_on(&path, &geometry, &fields).unwrap();
+            let vtu = Vtu::read(&path);
+            vtu.check_tiling();
+            assert_eq!(bits(&vtu.f64s("Points", "Points")), bits(&xyz));
+            assert_eq!(vtu.i32s("Cells", "connectivity"), [0, 1, 2, 3, 1, 4, 2]);
+            assert_eq!(vtu.i32s("Cells", "offsets"), [4, 7]);
+            assert_eq!(vtu.u8s("Cells", "types"), [9, 5]);
+            assert_eq!(bits(&vtu.f64s("CellData", "s")), bits(&s));
+            assert_eq!(vtu.f64s("FieldData", "TIME"), [k as f64]);
+        }
+        let broken = Geometry::new(&points, &connectivity, &[4, 6], &kinds);
+        let path = dir.join("broken.vtu");
+        let fields = Fields {
+            point_data: &[],
+            cell_data: &[],
+            field_data: &[],
+        };
+        for _ in 0..2 {
+            match write_on(&path, &broken, &fields) {
+                Err(Error::Output { path: p, message }) => {
+                    assert_eq!(p, path);
+                    assert!(
+                        message.contains("cell 1 is a Triangle with 2 nodes"),
+                        "{message}"
+                    );
+                }
+                other => panic!("expected an output error, got {other:?}"),
+            }
+        }
+        assert!(!path.exists());
         std::fs::remove_dir_all(dir).unwrap();
     }
 
