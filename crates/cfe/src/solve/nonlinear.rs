@@ -289,10 +289,33 @@ pub struct Solver<'a> {
     coupling_ring: Option<CouplingRing>,
     /// The displacement and right-hand-side vectors of the last trial solve,
     /// kept so the next trial reuses their memory (at 8 M unknowns they are 195 MB
-    /// an iteration that would otherwise be allocated and first touched anew).
-    spare: (Vec<f64>, Vec<f64>),
+    /// an iteration that would otherwise be allocated and first touched anew),
+    /// and, when their contents serve it too, which trial they were.
+    spare: Spare,
     /// Phase timings.
     pub timings: SolveTimings,
+}
+
+/// The two vectors of a trial solve, kept for the next trial ([`Solver`]'s
+/// `spare`; taken, it is left empty).
+#[derive(Default)]
+struct Spare {
+    /// Displacements: NaN at the free DOFs but the coupling ones after a trial.
+    u: Vec<f64>,
+    /// The right-hand side, solved in place at the coupling equations.
+    x: Vec<f64>,
+    /// The trial whose right-hand side `x` holds off the coupling equations,
+    /// when it does not depend on the states (the next trial of the same
+    /// increment and load factor reuses it).
+    trial: Option<TrialRhs>,
+}
+
+/// A trial's right-hand side, independent of the states: its increment, load
+/// factor and values at the coupling equations (where the solve overwrote it).
+struct TrialRhs {
+    inc: usize,
+    lambda: f64,
+    rhs: Vec<f64>,
 }
 
 /// The loads of a run in load steps (the problem file's `[[step]]`): every step's
@@ -409,7 +432,7 @@ impl<'a> Solver<'a> {
             fixed_point_converged: true,
             coupling_dofs: crate::coupling::coupling_dofs(interfaces, dofs),
             coupling_ring: None,
-            spare: (Vec::new(), Vec::new()),
+            spare: Spare::default(),
             timings,
         })
     }
@@ -812,8 +835,9 @@ impl<'a> Solver<'a> {
             }
             self.touch_down(&states, &next, &u);
             if was_trial {
-                // A trial's displacements: their memory serves the next trial.
-                self.spare.0 = u;
+                // A trial's displacements: their memory (and with the same
+                // right-hand side, their contents) serves the next trial.
+                self.spare.u = u;
             }
             states = next;
         }
@@ -1453,13 +1477,13 @@ impl<'a> Solver<'a> {
         // touched: a fresh pair would be first-touched again, 61 MiB at 4 M
         // unknowns).
         let number = self.last.take().map_or(0, |s| s.number + 1);
-        let (mut u, mut x) = std::mem::take(&mut self.spare);
+        let Spare { mut u, mut x, .. } = std::mem::take(&mut self.spare);
         // The freed vectors and the columns' scratch stay resident in the heap
         // unless given back.
         super::heap::return_free_memory();
         // The right-hand side is solved in place (`x`); the rare second solve of
         // a lost update builds it again rather than keeping a copy.
-        self.right_hand_side_into(lambda, states, &mut u, &mut x);
+        let _ = self.right_hand_side_into(lambda, states, &mut u, &mut x);
         let mut refactored = false;
         loop {
             // With a factor kept, the solve may be an update, whose refinement
@@ -1528,7 +1552,7 @@ impl<'a> Solver<'a> {
                 // The update lost accuracy: solve again with a fresh factorization.
                 self.system.invalidate();
                 refactored = true;
-                self.right_hand_side_into(lambda, states, &mut u, &mut x);
+                let _ = self.right_hand_side_into(lambda, states, &mut u, &mut x);
                 continue;
             }
             // Its values, to be scaled by later increments, are copied from the
@@ -1549,14 +1573,16 @@ impl<'a> Solver<'a> {
     /// free ones) into `u` and the right-hand side of the free equations into
     /// `rhs` (both overwritten, their memory reused): the loads less the internal
     /// force of the prescribed values, which carries the pairs' constant terms
-    /// (initial gaps, slip history, slip forces, multipliers).
+    /// (initial gaps, slip history, slip forces, multipliers). Returns whether
+    /// the right-hand side depends on `states` (through that force): not with
+    /// proportional loads and nothing prescribed moving, where it is λ f.
     fn right_hand_side_into(
         &mut self,
         lambda: f64,
         states: &[Vec<PairState>],
         u: &mut Vec<f64>,
         rhs: &mut Vec<f64>,
-    ) {
+    ) -> bool {
         let t = Instant::now();
         let prescribed = self.prescribed.as_deref().unwrap_or(&self.dofs.prescribed);
         u.clear();
@@ -1584,6 +1610,7 @@ impl<'a> Solver<'a> {
             }
         }
         self.timings.assembly += t.elapsed().as_secs_f64();
+        has_prescribed
     }
 
     /// A trial solution of `states` for the law check of an active-set iteration
@@ -1611,18 +1638,47 @@ impl<'a> Solver<'a> {
             // A trial moves on from the kept solution's pattern.
             s.values = None;
         }
-        let (mut u, mut x) = std::mem::take(&mut self.spare);
-        self.right_hand_side_into(lambda, states, &mut u, &mut x);
+        let Spare { mut u, mut x, trial } = std::mem::take(&mut self.spare);
+        // The last trial's vectors serve as they are when that trial was of this
+        // increment and load factor, its right-hand side independent of the
+        // states, and its displacements given back: the solve changed the
+        // right-hand side at the coupling equations only (restored here), and
+        // the displacements are NaN at every free DOF but the coupling ones.
+        // Otherwise both are built anew (O(unknowns) each).
+        let again = trial
+            .filter(|t| t.inc == inc && t.lambda == lambda && u.len() == self.dofs.eq.len());
+        let independent = match &again {
+            Some(t) => {
+                for (e, &v) in self.coupling_equations().zip(&t.rhs) {
+                    x[e] = v;
+                }
+                true
+            }
+            None => !self.right_hand_side_into(lambda, states, &mut u, &mut x),
+        };
+        let rhs: Vec<f64> = if independent {
+            self.coupling_equations().map(|e| x[e]).collect()
+        } else {
+            Vec::new()
+        };
         let (method, complete) = self
             .system
             .solve_interface(self.interfaces, self.dofs, states, &mut x, false)
             .map_err(|eq| self.pivot_error(eq, inc))?;
-        for (d, &e) in self.dofs.eq.iter().enumerate() {
-            if e != FIXED {
-                u[d] = if complete { x[e] } else { f64::NAN };
+        if complete {
+            for (d, &e) in self.dofs.eq.iter().enumerate() {
+                if e != FIXED {
+                    u[d] = x[e];
+                }
             }
-        }
-        if !complete {
+        } else {
+            if again.is_none() {
+                for (d, &e) in self.dofs.eq.iter().enumerate() {
+                    if e != FIXED {
+                        u[d] = f64::NAN;
+                    }
+                }
+            }
             for &d in &self.coupling_dofs {
                 let e = self.dofs.eq[d];
                 if e != FIXED {
@@ -1630,11 +1686,27 @@ impl<'a> Solver<'a> {
                 }
             }
         }
-        self.spare.1 = x;
-        if u.iter().any(|v| v.is_infinite()) {
+        self.spare.x = x;
+        self.spare.trial = (independent && !complete).then_some(TrialRhs { inc, lambda, rhs });
+        // Only the values solved for can be infinite (the prescribed ones are
+        // finite multiples of finite input).
+        let infinite = if complete {
+            u.iter().any(|v| v.is_infinite())
+        } else {
+            self.coupling_dofs.iter().any(|&d| u[d].is_infinite())
+        };
+        if infinite {
             return Err(self.not_finite(inc));
         }
         Ok((u, Some(method)))
+    }
+
+    /// The free equations of the coupling DOFs (in their order).
+    fn coupling_equations(&self) -> impl Iterator<Item = usize> + '_ {
+        self.coupling_dofs
+            .iter()
+            .map(|&d| self.dofs.eq[d])
+            .filter(|&e| e != FIXED)
     }
 
     fn not_finite(&self, inc: usize) -> Error {
@@ -1832,4 +1904,68 @@ fn count_changes(a: &[Vec<PairState>], b: &[Vec<PairState>]) -> usize {
         .zip(b)
         .map(|(x, y)| x.iter().zip(y).filter(|(p, q)| p != q).count())
         .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::Analysis;
+    use crate::model::Model;
+
+    fn plate(refine: usize) -> Analysis {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples/plate_on_base.toml");
+        Analysis::new(Model::from_file(&path, refine).unwrap()).unwrap()
+    }
+
+    /// Trials of one increment and load factor reuse the last trial's vectors
+    /// (proportional loads: the right-hand side does not depend on the states):
+    /// a trial that reused them gives a fresh factorization's displacements at
+    /// every coupling DOF to 1e-10 of the largest, and NaN at every other free
+    /// DOF, like a trial built anew (another load factor), on the plate with
+    /// the three outermost pairs at each end open, then every third pair open.
+    #[test]
+    fn a_trial_reusing_the_last_ones_vectors_solves_its_own_pattern() {
+        let a = plate(2);
+        let n = a.interfaces[0].elements.len();
+        let bonded = vec![vec![PairState::Bonded; n]];
+        let mut ends = bonded.clone();
+        for k in [0, 1, 2, n - 3, n - 2, n - 1] {
+            ends[0][k] = PairState::Open;
+        }
+        let mut thirds = bonded.clone();
+        for k in (0..n).step_by(3) {
+            thirds[0][k] = PairState::Open;
+        }
+        let mut solver = a.solver().unwrap();
+        let mut direct = a.solver().unwrap();
+        direct.set_update_policy(UpdatePolicy::Never);
+        assert!(solver.proportional());
+        let _ = solver.solve_once(1.0, &bonded, 1).unwrap();
+        for (states, lambda, reused) in [
+            (&ends, 1.0, false),
+            (&thirds, 1.0, true),
+            (&ends, 1.0, true),
+            (&thirds, 0.5, false),
+        ] {
+            assert_eq!(
+                solver.spare.trial.as_ref().is_some_and(|t| t.lambda == lambda),
+                reused
+            );
+            let (u, method) = solver.solve_interface(lambda, states, 1).unwrap();
+            assert!(matches!(method, Some(Method::LowRank { .. })), "{method:?}");
+            let (full, _, _) = direct.solve_once(lambda, states, 1).unwrap();
+            let scale = full.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let coupling: HashSet<usize> = solver.coupling_dofs.iter().copied().collect();
+            for (d, &e) in a.dofs.eq.iter().enumerate() {
+                if coupling.contains(&d) {
+                    assert!((u[d] - full[d]).abs() < 1e-10 * scale, "DOF {d}");
+                } else if e != FIXED {
+                    assert!(u[d].is_nan(), "DOF {d} off the interface: {}", u[d]);
+                }
+            }
+            // As the active-set iteration does, the trial's vector is given back.
+            solver.spare.u = u;
+        }
+    }
 }

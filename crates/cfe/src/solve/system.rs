@@ -220,7 +220,7 @@ impl<'a> ContactSystem<'a> {
         states: &[Vec<PairState>],
         rhs: &mut [f64],
     ) -> Result<Method, usize> {
-        let half = self.forward_half(interfaces, dofs, states, rhs, false)?;
+        let half = self.forward_half(interfaces, dofs, states, rhs, false, Read::All)?;
         self.backward_half(half, rhs)
     }
 
@@ -250,7 +250,7 @@ impl<'a> ContactSystem<'a> {
         rhs: &mut [f64],
         read: &[usize],
     ) -> Result<Solve, usize> {
-        match self.forward_half(interfaces, dofs, states, rhs, false)? {
+        match self.forward_half(interfaces, dofs, states, rhs, false, Read::All)? {
             Half::Forward(mut y, method @ Method::LowRank { .. }) => {
                 let t = Instant::now();
                 self.interface_set(interfaces, dofs);
@@ -369,7 +369,8 @@ impl<'a> ContactSystem<'a> {
         rhs_on_interface: bool,
     ) -> Result<(Method, bool), usize> {
         self.interface_set(interfaces, dofs);
-        match self.forward_half(interfaces, dofs, states, rhs, rhs_on_interface)? {
+        let read = Read::InterfaceSet;
+        match self.forward_half(interfaces, dofs, states, rhs, rhs_on_interface, read)? {
             Half::Solved(method) => Ok((method, true)),
             Half::Forward(mut y, method) => {
                 let t = Instant::now();
@@ -399,8 +400,9 @@ impl<'a> ContactSystem<'a> {
     }
 
     /// The forward half of a solve with the kept factor: `y = z − V t` (in the
-    /// elimination order) for the backward solve, or, when a new factorization is
-    /// needed or cheaper, the complete solution in `rhs`.
+    /// elimination order) for the backward solve, on the rows `read` (the others
+    /// meaningless), or, when a new factorization is needed or cheaper, the
+    /// complete solution in `rhs`.
     fn forward_half(
         &mut self,
         interfaces: &[Interface],
@@ -408,6 +410,7 @@ impl<'a> ContactSystem<'a> {
         states: &[Vec<PairState>],
         rhs: &mut [f64],
         rhs_on_interface: bool,
+        read: Read,
     ) -> Result<Half, usize> {
         let Some(base) = &self.base else {
             return self
@@ -437,7 +440,7 @@ impl<'a> ContactSystem<'a> {
             .collect();
         if flips.is_empty() {
             let t = Instant::now();
-            let z = self.forward_solve(rhs, rhs_on_interface);
+            let z = self.forward_solve(rhs, rhs_on_interface, read);
             self.solve_seconds += t.elapsed().as_secs_f64();
             return Ok(Half::Forward(z, Method::Reuse));
         }
@@ -449,7 +452,7 @@ impl<'a> ContactSystem<'a> {
         if new.is_empty() {
             let entries = self.correction(&flips, &changes);
             if let Some(cap) = self.capacitance.take_if(|c| c.entries() == entries.as_slice()) {
-                return Ok(self.same_correction(cap, rhs, rhs_on_interface));
+                return Ok(self.same_correction(cap, rhs, rhs_on_interface, read));
             }
         }
         let mut cols = Vec::with_capacity(2 * new.len());
@@ -503,7 +506,7 @@ impl<'a> ContactSystem<'a> {
                 self.trimmed_at = self.columns.bytes();
             }
         }
-        let mut z = self.forward_solve(rhs, rhs_on_interface);
+        let mut z = self.forward_solve(rhs, rhs_on_interface, read);
         let entries = self.correction(&flips, &changes);
         let r = entries.len();
         let columns = &self.columns;
@@ -523,9 +526,15 @@ impl<'a> ContactSystem<'a> {
     /// The forward half of a solve with the same correction as the last update
     /// (only the right-hand side changed): the forward solve, r products with the
     /// kept columns and the capacitance's triangular solves.
-    fn same_correction(&mut self, cap: Capacitance, rhs: &[f64], rhs_on_interface: bool) -> Half {
+    fn same_correction(
+        &mut self,
+        cap: Capacitance,
+        rhs: &[f64],
+        rhs_on_interface: bool,
+        read: Read,
+    ) -> Half {
         let t = Instant::now();
-        let mut z = self.forward_solve(rhs, rhs_on_interface);
+        let mut z = self.forward_solve(rhs, rhs_on_interface, read);
         let r = cap.entries().len();
         self.correct_again(cap, &mut z);
         self.solve_seconds += t.elapsed().as_secs_f64();
@@ -571,16 +580,29 @@ impl<'a> ContactSystem<'a> {
         entries
     }
 
-    /// `z = L⁻¹ P b`. The first right-hand side solved in full with a
-    /// factorization, or since an increment was accepted
+    /// `z = L⁻¹ P b`, on the rows `read` (with the interface set computed, the
+    /// others may be left meaningless: O(unknowns) less to zero or copy for a
+    /// trial). The first right-hand side solved in full with a factorization,
+    /// or since an increment was accepted
     /// ([`ContactSystem::forget_right_hand_side`]), is kept with its `z` (the
     /// iterations of an increment share it; the residuals of their refinement
     /// steps do not replace it).
-    fn forward_solve(&mut self, b: &[f64], on_interface: bool) -> Vec<f64> {
+    fn forward_solve(&mut self, b: &[f64], on_interface: bool, read: Read) -> Vec<f64> {
+        let n = b.len();
+        let on_set = read == Read::InterfaceSet && self.interface_set.is_some();
         if on_interface && self.interface_set.is_some() {
             let mut z = std::mem::take(&mut self.spare);
-            z.clear();
-            z.resize(b.len(), 0.0);
+            if on_set {
+                // Only the set's rows are solved and read: only they are zeroed.
+                z.resize(n, 0.0);
+                let (_, set) = self.interface_set.as_ref().expect("checked above");
+                for rows in self.chol.rows_on(set) {
+                    z[rows].fill(0.0);
+                }
+            } else {
+                z.clear();
+                z.resize(n, 0.0);
+            }
             let values: Vec<f64> = self.interface_equations().iter().map(|&e| b[e]).collect();
             self.forward_on_interface(&values, &mut z);
             return z;
@@ -589,13 +611,21 @@ impl<'a> ContactSystem<'a> {
             && kept.equals(b)
         {
             let mut copy = std::mem::take(&mut self.spare);
-            copy.clear();
-            copy.extend_from_slice(z);
+            if on_set {
+                copy.resize(n, 0.0);
+                let (_, set) = self.interface_set.as_ref().expect("checked above");
+                for rows in self.chol.rows_on(set) {
+                    copy[rows.clone()].copy_from_slice(&z[rows]);
+                }
+            } else {
+                copy.clear();
+                copy.extend_from_slice(z);
+            }
             return copy;
         }
         // The spare vector's memory, every entry written by the forward solve.
         let mut z = std::mem::take(&mut self.spare);
-        z.resize(b.len(), 0.0);
+        z.resize(n, 0.0);
         self.chol.forward(b, &mut z);
         self.flops += self.chol.solve_flops() / 2.0;
         if self.forward.is_none() {
@@ -647,7 +677,7 @@ impl<'a> ContactSystem<'a> {
         self.flops += self.chol.factor_flops() + self.chol.solve_flops() / 2.0;
         self.base = Some(states.to_vec());
         let t = Instant::now();
-        let mut z = self.forward_solve(rhs, false);
+        let mut z = self.forward_solve(rhs, false, Read::All);
         self.chol.backward(&mut z, rhs);
         self.solve_seconds += t.elapsed().as_secs_f64();
         Ok(Method::Factorization)
@@ -727,6 +757,16 @@ pub enum Solve {
 pub struct Unrefined {
     y: Vec<f64>,
     method: Method,
+}
+
+/// The rows of a forward half its caller reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Read {
+    /// Every row (a complete solve follows).
+    All,
+    /// The rows of the interface set only ([`ContactSystem::solve_interface`]'s
+    /// backward solve on its paths): the others are left meaningless.
+    InterfaceSet,
 }
 
 /// The forward half of a solve.
