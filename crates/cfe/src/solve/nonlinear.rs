@@ -1004,20 +1004,22 @@ impl<'a> Solver<'a> {
     /// displacement `u`: a part that moves without load (a gap closing under a
     /// prescribed displacement) has no force to measure round-off against.
     fn load_scale(&self, lambda: f64, f_int: &[f64], u: &[f64]) -> f64 {
-        let scale = self.load_scale_of_forces(lambda, f_int);
         if self.proportional {
-            return scale;
+            return self.load_scale_of_forces(lambda, f_int);
         }
+        self.load_scale_with(lambda, f_int, largest_off(u, &[]))
+    }
+
+    /// [`Solver::load_scale`] without the proportional shortcuts, given the
+    /// largest nodal displacement `umax`.
+    fn load_scale_with(&self, lambda: f64, f_int: &[f64], umax: f64) -> f64 {
         let et = self
             .parts
             .iter()
             .map(|p| p.material.young * p.material.thickness)
             .fold(0.0, f64::max);
-        let umax = u
-            .chunks_exact(2)
-            .map(|v| v[0].hypot(v[1]))
-            .fold(0.0, f64::max);
-        scale.max(FORCE_FLOOR * et * umax)
+        self.load_scale_of_forces(lambda, f_int)
+            .max(FORCE_FLOOR * et * umax)
     }
 
     fn load_scale_of_forces(&self, lambda: f64, f_int: &[f64]) -> f64 {
@@ -1168,9 +1170,12 @@ impl<'a> Solver<'a> {
     /// Anderson-accelerated. K is the pattern's: only the pairs' constant terms
     /// change, so each step moves `u` by K⁻¹ of their change, a right-hand side on
     /// the pairs' DOFs solved on the interface's tree paths (`u` moves at the
-    /// coupling DOFs only, all the pairs' forces read). Returns the summed force
-    /// change (free equations) for one complete solve, or `None` when the terms
-    /// were already at their fixed point.
+    /// coupling DOFs only, all the pairs' forces read). A step's work is the
+    /// pairs' and that solve's: the change, its sum and the load scale's largest
+    /// displacement are kept on the coupling DOFs (the rest of `u` does not move
+    /// unless a refactorization solves in full). Returns the summed force change
+    /// (free equations) for one complete solve, or `None` when the terms were
+    /// already at their fixed point.
     fn fixed_point(
         &mut self,
         states: &[Vec<PairState>],
@@ -1180,26 +1185,52 @@ impl<'a> Solver<'a> {
     ) -> Result<Option<Vec<f64>>> {
         let mut anderson = Anderson::new(ANDERSON_DEPTH);
         self.fixed_point_converged = false;
+        // The summed change at the coupling DOFs (in their order).
         let mut total: Option<Vec<f64>> = None;
+        // A step's right-hand side: zero off the coupling equations.
+        let mut du: Vec<f64> = Vec::new();
+        // The displacements at zero, at which the pairs' constant terms are read.
+        let zero = vec![0.0; u.len()];
+        // The largest nodal displacement off the coupling nodes (the load scale's
+        // floor reads the largest of all): fixed until a step solves in full.
+        let coupling_nodes: Vec<usize> = {
+            let mut nodes: Vec<usize> = self.coupling_dofs.iter().map(|&d| d / 2).collect();
+            nodes.dedup();
+            nodes
+        };
+        let rest_max = |u: &[f64]| largest_off(u, &coupling_nodes);
+        let mut u_rest = match scale {
+            FixedPointScale::Forces(..) => rest_max(u),
+            FixedPointScale::Given(_) => 0.0,
+        };
         for _ in 0..MAX_FIXED_POINT {
-            let scale = match scale {
-                FixedPointScale::Forces(lambda, f) => self.load_scale(lambda, f, u),
+            let load = match scale {
+                FixedPointScale::Forces(lambda, f) => {
+                    let umax = coupling_nodes
+                        .iter()
+                        .map(|&n| u[2 * n].hypot(u[2 * n + 1]))
+                        .fold(u_rest, f64::max);
+                    self.load_scale_with(lambda, f, umax)
+                }
                 FixedPointScale::Given(s) => s,
             };
             let before = self.history.clone();
-            if self.update_right_hand_side(states, u, FIXED_POINT_TOLERANCE * scale, &mut anderson) {
+            if self.update_right_hand_side(states, u, FIXED_POINT_TOLERANCE * load, &mut anderson) {
                 self.fixed_point_converged = true;
                 break;
             }
             self.fixed_point += 1;
             let t = Instant::now();
-            let change = self.pair_term_change(states, &before);
-            let total = total.get_or_insert_with(|| vec![0.0; self.dofs.n_eq]);
-            let mut du = vec![0.0; self.dofs.n_eq];
-            for (d, &e) in self.dofs.eq.iter().enumerate() {
+            let change = self.pair_term_change(states, &before, &zero);
+            let total = total.get_or_insert_with(|| vec![0.0; self.coupling_dofs.len()]);
+            if du.is_empty() {
+                du = vec![0.0; self.dofs.n_eq];
+            }
+            for ((&d, c), sum) in self.coupling_dofs.iter().zip(&change).zip(total.iter_mut()) {
+                let e = self.dofs.eq[d];
                 if e != FIXED {
-                    du[e] = -change[d];
-                    total[e] -= change[d];
+                    du[e] = -c;
+                    *sum -= c;
                 }
             }
             self.timings.contact_update += t.elapsed().as_secs_f64();
@@ -1213,6 +1244,11 @@ impl<'a> Solver<'a> {
                         u[d] += du[e];
                     }
                 }
+                // Solved in full: zero off the coupling equations again.
+                du.fill(0.0);
+                if let FixedPointScale::Forces(..) = scale {
+                    u_rest = rest_max(u);
+                }
             } else {
                 for &d in &self.coupling_dofs {
                     let e = self.dofs.eq[d];
@@ -1222,18 +1258,43 @@ impl<'a> Solver<'a> {
                 }
             }
         }
-        Ok(total)
+        Ok(total.map(|sum| {
+            let mut full = vec![0.0; self.dofs.n_eq];
+            for (&d, &v) in self.coupling_dofs.iter().zip(&sum) {
+                let e = self.dofs.eq[d];
+                if e != FIXED {
+                    full[e] = v;
+                }
+            }
+            full
+        }))
     }
 
-    /// The change of the pairs' internal force at zero displacement (their
+    /// The change of the pairs' internal force at zero displacement `zero` (their
     /// constant terms: slip forces, spring anchors, multipliers) from the
-    /// histories `before` to the current ones, over all DOFs.
-    fn pair_term_change(&self, states: &[Vec<PairState>], before: &PairHistories) -> Vec<f64> {
-        let zero = vec![0.0; self.f_ext.len()];
+    /// histories `before` to the current ones, at the coupling DOFs (in their
+    /// order; the pairs act nowhere else). Each side is summed element by element
+    /// as the assembled force would be.
+    fn pair_term_change(
+        &self,
+        states: &[Vec<PairState>],
+        before: &PairHistories,
+        zero: &[f64],
+    ) -> Vec<f64> {
+        let slots = &self.coupling_dofs;
         let force = |h: &[Vec<PairHistory>]| {
             let pairs = assembly::CouplingElements::new(self.interfaces, Some(states), self.dofs)
                 .with_history(Some(h));
-            assembly::internal_force_of(&[&pairs], &zero)
+            let mut f = vec![0.0; slots.len()];
+            for e in 0..pairs.len() {
+                pairs.internal_force(e, zero, &mut |g, fe| {
+                    for (&d, v) in g.iter().zip(fe) {
+                        let k = slots.binary_search(&d).expect("a pair's DOF is a coupling DOF");
+                        f[k] += v;
+                    }
+                });
+            }
+            f
         };
         let (now, was) = (force(&self.history), force(before));
         now.iter().zip(&was).map(|(a, b)| a - b).collect()
@@ -1906,6 +1967,16 @@ fn count_changes(a: &[Vec<PairState>], b: &[Vec<PairState>]) -> usize {
         .sum()
 }
 
+/// The largest nodal displacement |u_n| of `u` (two DOFs a node) over the nodes
+/// not in `skip` (sorted).
+fn largest_off(u: &[f64], skip: &[usize]) -> f64 {
+    u.chunks_exact(2)
+        .enumerate()
+        .filter(|(n, _)| skip.binary_search(n).is_err())
+        .map(|(_, v)| v[0].hypot(v[1]))
+        .fold(0.0, f64::max)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1967,5 +2038,57 @@ mod tests {
             // As the active-set iteration does, the trial's vector is given back.
             solver.spare.u = u;
         }
+    }
+
+    /// The pairs' constant-term change summed at the coupling DOFs has the bits
+    /// of the assembled force change at every DOF (and there is none elsewhere):
+    /// on the plate with the Coulomb law, slip forces, anchors, plastic slips
+    /// and multipliers set on every pair, some pairs open or slipping, against
+    /// zero histories.
+    #[test]
+    fn the_pair_term_change_at_the_coupling_dofs_is_the_assembled_one() {
+        let mut a = plate(2);
+        a.override_friction(0.3).unwrap();
+        let n = a.interfaces[0].elements.len();
+        let states = vec![
+            (0..n)
+                .map(|k| match k % 3 {
+                    0 => PairState::Bonded,
+                    1 => PairState::Slip,
+                    _ => PairState::Open,
+                })
+                .collect::<Vec<_>>(),
+        ];
+        let mut solver = a.solver().unwrap();
+        let before: PairHistories = vec![vec![PairHistory::default(); n]];
+        for (k, h) in solver.history[0].iter_mut().enumerate() {
+            let x = k as f64;
+            h.slip = 1e-3 * (0.3 * x).sin();
+            h.slip_force = 17.0 * (0.7 * x).cos();
+            h.anchor = -2e-4 * x;
+            h.multiplier = [3.0 * x.sin(), -x.cos() / 7.0];
+        }
+        let zero = vec![0.0; a.dofs.eq.len()];
+        let change = solver.pair_term_change(&states, &before, &zero);
+        let force = |h: &[Vec<PairHistory>]| {
+            let pairs = assembly::CouplingElements::new(&a.interfaces, Some(&states), &a.dofs)
+                .with_history(Some(h));
+            assembly::internal_force_of(&[&pairs], &zero)
+        };
+        let (now, was) = (force(&solver.history), force(&before));
+        let mut at = solver.coupling_dofs.iter().zip(&change).peekable();
+        let mut nonzero = 0;
+        for d in 0..zero.len() {
+            let expected = now[d] - was[d];
+            match at.peek() {
+                Some(&(&c, &v)) if c == d => {
+                    assert_eq!(v.to_bits(), expected.to_bits(), "DOF {d}");
+                    nonzero += usize::from(v != 0.0);
+                    at.next();
+                }
+                _ => assert_eq!(expected, 0.0, "DOF {d} is no pair's"),
+            }
+        }
+        assert!(nonzero > n, "{nonzero} DOFs changed");
     }
 }
