@@ -277,6 +277,44 @@ fn interface_solve_equals_full_solve_at_the_pairs() {
     }
 }
 
+/// A right-hand side on the coupling equations only (a change of the pairs'
+/// forces) solved with its forward half on the interface's tree paths gives the
+/// full solve's bits: with the factorized states (a factorization, then a reuse)
+/// and after a Woodbury correction.
+#[test]
+fn pair_forces_solve_on_the_paths_with_the_full_solves_bits() {
+    let a = plate(2);
+    let n = a.interfaces[0].elements.len();
+    let [bonded, ends, _] = patterns(n);
+    let iface = &a.interfaces[0];
+    let mut forces = vec![0.0; a.dofs.n_eq];
+    for (i, c) in iface.elements.iter().enumerate() {
+        for &d in c.dofs(&a.dofs, iface.host, iface.node_part).as_slice() {
+            let e = a.dofs.eq[d];
+            if e != usize::MAX {
+                forces[e] += (0.3 * i as f64 + d as f64).sin();
+            }
+        }
+    }
+    let (mut paths, mut full) = (system(&a, 2), system(&a, 2));
+    paths.policy = UpdatePolicy::Always;
+    full.policy = UpdatePolicy::Always;
+    for (states, method) in [
+        (&bonded, Method::Factorization),
+        (&bonded, Method::Reuse),
+        (&ends, Method::LowRank { rank: 12 }),
+    ] {
+        let (mut x, mut y) = (forces.clone(), forces.clone());
+        let m = paths
+            .solve_pair_forces(&a.interfaces, &a.dofs, states, &mut x)
+            .unwrap();
+        assert_eq!(m, method);
+        full.solve(&a.interfaces, &a.dofs, states, &mut y).unwrap();
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&x), bits(&y), "{method:?}");
+    }
+}
+
 /// The stiffness stored in an elimination order is the same matrix: every entry
 /// of K assembled in the equations' order (parts and coupling elements, some pairs
 /// open) is found, bit for bit, at its permuted place both when the assembled

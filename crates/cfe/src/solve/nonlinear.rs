@@ -1144,8 +1144,9 @@ impl<'a> Solver<'a> {
         else {
             return Ok((u, f_first, method));
         };
+        // The summed change is on the coupling equations only.
         self.system
-            .solve(self.interfaces, self.dofs, states, &mut total)
+            .solve_pair_forces(self.interfaces, self.dofs, states, &mut total)
             .map_err(|eq| self.pivot_error(eq, inc))?;
         let mut u = u_first;
         for (d, &e) in self.dofs.eq.iter().enumerate() {

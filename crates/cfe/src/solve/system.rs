@@ -224,6 +224,22 @@ impl<'a> ContactSystem<'a> {
         self.backward_half(half, rhs)
     }
 
+    /// Solves `K(states) x = rhs` in place, like [`solve`](Self::solve), for a
+    /// `rhs` that is zero off the coupling equations (a change of the pairs'
+    /// forces): its forward solve runs on the interface's tree paths only
+    /// ([`CholeskySolver::forward_on`]), the backward solve in full.
+    pub fn solve_pair_forces(
+        &mut self,
+        interfaces: &[Interface],
+        dofs: &DofMap,
+        states: &[Vec<PairState>],
+        rhs: &mut [f64],
+    ) -> Result<Method, usize> {
+        self.interface_set(interfaces, dofs);
+        let half = self.forward_half(interfaces, dofs, states, rhs, true, Read::All)?;
+        self.backward_half(half, rhs)
+    }
+
     /// Solves `K(states) x = rhs` in place like [`solve`](Self::solve), except
     /// that a low-rank update's solution is left for [`refine`](Self::refine)
     /// to complete: then only its entries at the equations `read` are written
