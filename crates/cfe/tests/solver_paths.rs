@@ -315,6 +315,42 @@ fn pair_forces_solve_on_the_paths_with_the_full_solves_bits() {
     }
 }
 
+/// Trials of one increment and load factor reuse the last trial's vectors
+/// once it is given back (proportional loads: the right-hand side does not
+/// depend on the states): a trial that reused them gives a fresh
+/// factorization's displacements at every coupling DOF to 1e-10 of the
+/// largest, and NaN at every other free DOF, as does a trial built anew (the
+/// first, and one at another load factor), on the plate with the three
+/// outermost pairs at each end open, then every third pair open.
+#[test]
+fn a_trial_reusing_the_last_ones_vectors_solves_its_own_pattern() {
+    let a = plate(2);
+    let n = a.interfaces[0].elements.len();
+    let [bonded, ends, thirds] = patterns(n);
+    let coupling = cfe::coupling::coupling_dofs(&a.interfaces, &a.dofs);
+    let mut solver = a.solver().unwrap();
+    let mut direct = a.solver().unwrap();
+    direct.set_update_policy(UpdatePolicy::Never);
+    assert!(solver.proportional());
+    // The complete solve that factorizes, as an increment's first iteration.
+    solver.solve_pattern(1.0, &bonded).unwrap();
+    for (states, lambda) in [(&ends, 1.0), (&thirds, 1.0), (&ends, 1.0), (&thirds, 0.5)] {
+        let (u, method) = solver.solve_interface(lambda, states, 1).unwrap();
+        assert!(matches!(method, Some(Method::LowRank { .. })), "{method:?}");
+        let full = direct.solve_pattern(lambda, states).unwrap().u;
+        let scale = full.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (d, &e) in a.dofs.eq.iter().enumerate() {
+            if coupling.binary_search(&d).is_ok() {
+                assert!((u[d] - full[d]).abs() < 1e-10 * scale, "DOF {d}");
+            } else if e != usize::MAX {
+                assert!(u[d].is_nan(), "DOF {d} off the interface: {}", u[d]);
+            }
+        }
+        // As the active-set iteration does, once the law is checked.
+        solver.return_trial(u);
+    }
+}
+
 /// The stiffness stored in an elimination order is the same matrix: every entry
 /// of K assembled in the equations' order (parts and coupling elements, some pairs
 /// open) is found, bit for bit, at its permuted place both when the assembled

@@ -607,6 +607,26 @@ pub fn internal_force_with(
     internal_force_of(&[&part_elements, &coupling_elements], u)
 }
 
+/// The internal force `Σ_e F_e(u)` of the elements of `source` at the DOFs `at`
+/// only (sorted, each once; every DOF an element touches must be among them),
+/// summed in element order: the bits of [`internal_force_of`] there for a source
+/// it sums in element order (not [parallel](ElementSource::parallel)), without
+/// a vector of all DOFs. For the few DOFs of the coupling elements, say.
+pub fn internal_force_at(source: &dyn ElementSource, u: &[f64], at: &[usize]) -> Vec<f64> {
+    let mut f = vec![0.0; at.len()];
+    for e in 0..source.len() {
+        source.internal_force(e, u, &mut |g, fe| {
+            for (&d, v) in g.iter().zip(fe) {
+                let k = at
+                    .binary_search(&d)
+                    .unwrap_or_else(|_| panic!("DOF {d} of element {e} is not among `at`"));
+                f[k] += v;
+            }
+        });
+    }
+    f
+}
+
 /// The internal force vector over all DOFs, `Σ_e F_e(u)` over the elements of
 /// `sources`, summed source after source: for a [parallel](ElementSource::parallel)
 /// source in one chunk of elements per thread, the first into a vector of all
@@ -815,6 +835,33 @@ mod tests {
             for d in [2 * n, 2 * n + 1] {
                 assert_eq!(part[d].to_bits(), whole[d].to_bits(), "DOF {d}");
             }
+        }
+    }
+
+    /// The force at a set of DOFs is the assembled force there, bit for bit:
+    /// the elements of a T3 and a Q4 part touching a band of nodes, summed at
+    /// the band's DOFs and their neighbours' (every DOF they touch).
+    #[test]
+    fn the_force_at_some_dofs_is_the_assembled_force_there() {
+        let parts = t3_under_q4([12, 4], [6, 3]);
+        let dofs = DofMap::new(&parts, &[]);
+        let u = some_displacements(&dofs);
+        let all = PartElements::new(&parts, &dofs);
+        let band: Vec<bool> = parts
+            .iter()
+            .flat_map(|p| p.mesh.nodes.iter().map(|x| (x[0] - 1.5).abs() < 1e-12))
+            .collect();
+        let touching = all.touching(|n| band[n]);
+        let some = SomeElements::new(&all, &touching);
+        let mut at = Vec::new();
+        some.for_each_nodes(&mut |g| at.extend(g.iter().flat_map(|&n| [2 * n, 2 * n + 1])));
+        at.sort_unstable();
+        at.dedup();
+        assert!(at.len() < u.len());
+        let whole = internal_force_of(&[&some], &u);
+        let got = internal_force_at(&some, &u, &at);
+        for (&d, v) in at.iter().zip(&got) {
+            assert_eq!(v.to_bits(), whole[d].to_bits(), "DOF {d}");
         }
     }
 

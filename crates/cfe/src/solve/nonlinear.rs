@@ -835,9 +835,7 @@ impl<'a> Solver<'a> {
             }
             self.touch_down(&states, &next, &u);
             if was_trial {
-                // A trial's displacements: their memory (and with the same
-                // right-hand side, their contents) serves the next trial.
-                self.spare.u = u;
+                self.return_trial(u);
             }
             states = next;
         }
@@ -1282,20 +1280,10 @@ impl<'a> Solver<'a> {
         before: &PairHistories,
         zero: &[f64],
     ) -> Vec<f64> {
-        let slots = &self.coupling_dofs;
         let force = |h: &[Vec<PairHistory>]| {
             let pairs = assembly::CouplingElements::new(self.interfaces, Some(states), self.dofs)
                 .with_history(Some(h));
-            let mut f = vec![0.0; slots.len()];
-            for e in 0..pairs.len() {
-                pairs.internal_force(e, zero, &mut |g, fe| {
-                    for (&d, v) in g.iter().zip(fe) {
-                        let k = slots.binary_search(&d).expect("a pair's DOF is a coupling DOF");
-                        f[k] += v;
-                    }
-                });
-            }
-            f
+            assembly::internal_force_at(&pairs, zero, &self.coupling_dofs)
         };
         let (now, was) = (force(&self.history), force(before));
         now.iter().zip(&was).map(|(a, b)| a - b).collect()
@@ -1681,7 +1669,7 @@ impl<'a> Solver<'a> {
     /// ([`ContactSystem::solve_interface`]); every other free DOF is NaN. No
     /// internal force, residual or refinement: a pattern the trial finds
     /// consistent is solved in full before it is accepted.
-    fn solve_interface(
+    pub fn solve_interface(
         &mut self,
         lambda: f64,
         states: &[Vec<PairState>],
@@ -1761,6 +1749,13 @@ impl<'a> Solver<'a> {
             return Err(self.not_finite(inc));
         }
         Ok((u, Some(method)))
+    }
+
+    /// Gives the displacements `u` of a trial ([`Solver::solve_interface`]) back
+    /// once read: their memory, and with the same right-hand side their
+    /// contents (NaN off the coupling DOFs), serve the next trial.
+    pub fn return_trial(&mut self, u: Vec<f64>) {
+        self.spare.u = u;
     }
 
     /// The free equations of the coupling DOFs (in their order).
@@ -1978,118 +1973,3 @@ fn largest_off(u: &[f64], skip: &[usize]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::analysis::Analysis;
-    use crate::model::Model;
-
-    fn plate(refine: usize) -> Analysis {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../examples/plate_on_base.toml");
-        Analysis::new(Model::from_file(&path, refine).unwrap()).unwrap()
-    }
-
-    /// Trials of one increment and load factor reuse the last trial's vectors
-    /// (proportional loads: the right-hand side does not depend on the states):
-    /// a trial that reused them gives a fresh factorization's displacements at
-    /// every coupling DOF to 1e-10 of the largest, and NaN at every other free
-    /// DOF, like a trial built anew (another load factor), on the plate with
-    /// the three outermost pairs at each end open, then every third pair open.
-    #[test]
-    fn a_trial_reusing_the_last_ones_vectors_solves_its_own_pattern() {
-        let a = plate(2);
-        let n = a.interfaces[0].elements.len();
-        let bonded = vec![vec![PairState::Bonded; n]];
-        let mut ends = bonded.clone();
-        for k in [0, 1, 2, n - 3, n - 2, n - 1] {
-            ends[0][k] = PairState::Open;
-        }
-        let mut thirds = bonded.clone();
-        for k in (0..n).step_by(3) {
-            thirds[0][k] = PairState::Open;
-        }
-        let mut solver = a.solver().unwrap();
-        let mut direct = a.solver().unwrap();
-        direct.set_update_policy(UpdatePolicy::Never);
-        assert!(solver.proportional());
-        let _ = solver.solve_once(1.0, &bonded, 1).unwrap();
-        for (states, lambda, reused) in [
-            (&ends, 1.0, false),
-            (&thirds, 1.0, true),
-            (&ends, 1.0, true),
-            (&thirds, 0.5, false),
-        ] {
-            assert_eq!(
-                solver.spare.trial.as_ref().is_some_and(|t| t.lambda == lambda),
-                reused
-            );
-            let (u, method) = solver.solve_interface(lambda, states, 1).unwrap();
-            assert!(matches!(method, Some(Method::LowRank { .. })), "{method:?}");
-            let (full, _, _) = direct.solve_once(lambda, states, 1).unwrap();
-            let scale = full.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let coupling: HashSet<usize> = solver.coupling_dofs.iter().copied().collect();
-            for (d, &e) in a.dofs.eq.iter().enumerate() {
-                if coupling.contains(&d) {
-                    assert!((u[d] - full[d]).abs() < 1e-10 * scale, "DOF {d}");
-                } else if e != FIXED {
-                    assert!(u[d].is_nan(), "DOF {d} off the interface: {}", u[d]);
-                }
-            }
-            // As the active-set iteration does, the trial's vector is given back.
-            solver.spare.u = u;
-        }
-    }
-
-    /// The pairs' constant-term change summed at the coupling DOFs has the bits
-    /// of the assembled force change at every DOF (and there is none elsewhere):
-    /// on the plate with the Coulomb law, slip forces, anchors, plastic slips
-    /// and multipliers set on every pair, some pairs open or slipping, against
-    /// zero histories.
-    #[test]
-    fn the_pair_term_change_at_the_coupling_dofs_is_the_assembled_one() {
-        let mut a = plate(2);
-        a.override_friction(0.3).unwrap();
-        let n = a.interfaces[0].elements.len();
-        let states = vec![
-            (0..n)
-                .map(|k| match k % 3 {
-                    0 => PairState::Bonded,
-                    1 => PairState::Slip,
-                    _ => PairState::Open,
-                })
-                .collect::<Vec<_>>(),
-        ];
-        let mut solver = a.solver().unwrap();
-        let before: PairHistories = vec![vec![PairHistory::default(); n]];
-        for (k, h) in solver.history[0].iter_mut().enumerate() {
-            let x = k as f64;
-            h.slip = 1e-3 * (0.3 * x).sin();
-            h.slip_force = 17.0 * (0.7 * x).cos();
-            h.anchor = -2e-4 * x;
-            h.multiplier = [3.0 * x.sin(), -x.cos() / 7.0];
-        }
-        let zero = vec![0.0; a.dofs.eq.len()];
-        let change = solver.pair_term_change(&states, &before, &zero);
-        let force = |h: &[Vec<PairHistory>]| {
-            let pairs = assembly::CouplingElements::new(&a.interfaces, Some(&states), &a.dofs)
-                .with_history(Some(h));
-            assembly::internal_force_of(&[&pairs], &zero)
-        };
-        let (now, was) = (force(&solver.history), force(&before));
-        let mut at = solver.coupling_dofs.iter().zip(&change).peekable();
-        let mut nonzero = 0;
-        for d in 0..zero.len() {
-            let expected = now[d] - was[d];
-            match at.peek() {
-                Some(&(&c, &v)) if c == d => {
-                    assert_eq!(v.to_bits(), expected.to_bits(), "DOF {d}");
-                    nonzero += usize::from(v != 0.0);
-                    at.next();
-                }
-                _ => assert_eq!(expected, 0.0, "DOF {d} is no pair's"),
-            }
-        }
-        assert!(nonzero > n, "{nonzero} DOFs changed");
-    }
-}
