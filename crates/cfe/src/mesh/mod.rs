@@ -92,6 +92,50 @@ pub struct BoundaryEdge {
     pub element: usize,
 }
 
+/// The edges that occur exactly once among `edges()` (each a pair of nodes as
+/// given, with a tag), as given and with their tags, ordered by their lower then
+/// upper node: each edge is filed under its lower node by a counting sort and
+/// each node's few edges are sorted (O(edges + nodes), no sort of all edges).
+/// `edges` is called twice (to count, then to file). The boundary of a mesh
+/// ([`Mesh::boundary_edges`]) and the outline of a triangulation are these.
+pub fn edges_used_once<T, I>(edges: impl Fn() -> I) -> Vec<([usize; 2], T)>
+where
+    T: Copy + Ord + Default,
+    I: Iterator<Item = ([usize; 2], T)>,
+{
+    let size = edges().map(|([a, b], _)| a.max(b) + 1).max().unwrap_or(0);
+    // The edges filed under node `lo` are bucket[start[lo]..start[lo + 1]]:
+    // (upper node, whether given lower → upper, tag).
+    let mut start = vec![0usize; size + 1];
+    for ([a, b], _) in edges() {
+        start[a.min(b) + 1] += 1;
+    }
+    for i in 0..size {
+        start[i + 1] += start[i];
+    }
+    let mut bucket = vec![(0usize, false, T::default()); start[size]];
+    let mut next = start[..size].to_vec();
+    for ([a, b], tag) in edges() {
+        let lo = a.min(b);
+        bucket[next[lo]] = (a.max(b), a < b, tag);
+        next[lo] += 1;
+    }
+    drop(next);
+    let mut once = Vec::new();
+    for lo in 0..size {
+        let filed = &mut bucket[start[lo]..start[lo + 1]];
+        filed.sort_unstable();
+        for (i, &(hi, forward, tag)) in filed.iter().enumerate() {
+            let repeated =
+                (i > 0 && filed[i - 1].0 == hi) || filed.get(i + 1).is_some_and(|f| f.0 == hi);
+            if !repeated {
+                once.push((if forward { [lo, hi] } else { [hi, lo] }, tag));
+            }
+        }
+    }
+    once
+}
+
 /// The mesh of one part: node coordinates, elements (counter-clockwise), and named
 /// boundaries as lists of edges.
 #[derive(Debug, Clone, Default)]
@@ -267,53 +311,15 @@ impl Mesh {
     /// Every boundary edge of the mesh (edges used by exactly one element), oriented
     /// counter-clockwise with respect to the part, in a deterministic order.
     pub fn boundary_edges(&self) -> Vec<BoundaryEdge> {
-        // Bucket the edges by their lower node (a counting sort: O(edges)), then
-        // sort each small bucket by the upper node; an edge is on the boundary when
-        // no other element has it (a run of length one).
-        let size = self
-            .elements
-            .iter()
-            .flat_map(|el| el.nodes().iter().copied())
-            .max()
-            .map_or(0, |n| n + 1);
-        let mut start = vec![0usize; size + 1];
-        for el in &self.elements {
-            for [a, b] in el.edges() {
-                start[a.min(b) + 1] += 1;
-            }
-        }
-        for i in 0..size {
-            start[i + 1] += start[i];
-        }
-        // (upper node, element, whether the element runs lower → upper)
-        let mut bucket = vec![(0usize, 0usize, false); start[size]];
-        let mut fill = start.clone();
-        for (e, el) in self.elements.iter().enumerate() {
-            for [a, b] in el.edges() {
-                let lo = a.min(b);
-                bucket[fill[lo]] = (a.max(b), e, a < b);
-                fill[lo] += 1;
-            }
-        }
-        drop(fill);
-        let mut edges = Vec::new();
-        for lo in 0..size {
-            let run = &mut bucket[start[lo]..start[lo + 1]];
-            run.sort_unstable();
-            let mut i = 0;
-            while i < run.len() {
-                let mut j = i + 1;
-                while j < run.len() && run[j].0 == run[i].0 {
-                    j += 1;
-                }
-                if j == i + 1 {
-                    let (hi, element, forward) = run[i];
-                    let nodes = if forward { [lo, hi] } else { [hi, lo] };
-                    edges.push(BoundaryEdge { nodes, element });
-                }
-                i = j;
-            }
-        }
+        let mut edges: Vec<BoundaryEdge> = edges_used_once(|| {
+            self.elements
+                .iter()
+                .enumerate()
+                .flat_map(|(e, el)| el.edges().map(move |ab| (ab, e)))
+        })
+        .into_iter()
+        .map(|(nodes, element)| BoundaryEdge { nodes, element })
+        .collect();
         edges.sort_by_key(|e| (e.element, e.nodes));
         edges
     }
