@@ -1697,19 +1697,18 @@ impl<'a> Solver<'a> {
         // Otherwise both are built anew (O(unknowns) each).
         let again = trial
             .filter(|t| t.inc == inc && t.lambda == lambda && u.len() == self.dofs.eq.len());
-        let independent = match &again {
+        let reused = again.is_some();
+        // The right-hand side at the coupling equations, when it does not
+        // depend on the states (kept for the next trial).
+        let rhs: Option<Vec<f64>> = match again {
             Some(t) => {
                 for (e, &v) in self.coupling_equations().zip(&t.rhs) {
                     x[e] = v;
                 }
-                true
+                Some(t.rhs)
             }
-            None => !self.right_hand_side_into(lambda, states, &mut u, &mut x),
-        };
-        let rhs: Vec<f64> = if independent {
-            self.coupling_equations().map(|e| x[e]).collect()
-        } else {
-            Vec::new()
+            None => (!self.right_hand_side_into(lambda, states, &mut u, &mut x))
+                .then(|| self.coupling_equations().map(|e| x[e]).collect()),
         };
         let (method, complete) = self
             .system
@@ -1722,7 +1721,7 @@ impl<'a> Solver<'a> {
                 }
             }
         } else {
-            if again.is_none() {
+            if !reused {
                 for (d, &e) in self.dofs.eq.iter().enumerate() {
                     if e != FIXED {
                         u[d] = f64::NAN;
@@ -1737,7 +1736,9 @@ impl<'a> Solver<'a> {
             }
         }
         self.spare.x = x;
-        self.spare.trial = (independent && !complete).then_some(TrialRhs { inc, lambda, rhs });
+        self.spare.trial = rhs
+            .filter(|_| !complete)
+            .map(|rhs| TrialRhs { inc, lambda, rhs });
         // Only the values solved for can be infinite (the prescribed ones are
         // finite multiples of finite input).
         let infinite = if complete {
