@@ -240,7 +240,9 @@ impl LawParams {
     /// exceeds μ|f_n| slips; a slip pair whose trial force falls inside the cone,
     /// or points against its slip force (its slip would reverse), sticks; a slip pair whose force differs from
     /// μ|f_n| along the trial force (an unconverged fixed point) breaks the law but
-    /// keeps its state.
+    /// keeps its state. A violation's amount is the distance of the pair's force
+    /// from the law's: for a reversing slip pair the trial force inside the cone,
+    /// μ|f_n| along the trial force beyond it.
     pub fn friction_check(
         &self,
         state: PairState,
@@ -270,7 +272,12 @@ impl LawParams {
             PairState::Slip if trial.abs() < limit - tol || trial * f_s < 0.0 => {
                 // Inside the cone, or reversing against the slip force: the slip
                 // increment would not be along the force.
-                let excess = if trial * f_s < 0.0 {
+                // Reversing beyond the cone, the law's force is μ|f_n| along the
+                // trial force (at most 2 μ|f_n| from the pair's); inside it, the
+                // trial force itself.
+                let excess = if trial * f_s < 0.0 && trial.abs() >= limit {
+                    (f_s - limit * trial.signum()).abs()
+                } else if trial * f_s < 0.0 {
                     (trial - f_s).abs()
                 } else {
                     limit - trial.abs()
@@ -604,8 +611,19 @@ mod tests {
         // Trial inside the cone, or reversed against the slip force: sticks.
         let (next, _) = law.friction_check(PairState::Slip, -2.0, 0.2, 1.0, &h, tol);
         assert_eq!(next, PairState::Bonded);
-        let (next, _) = law.friction_check(PairState::Slip, -2.0, -0.3, 1.0, &h, tol);
+        let (next, v) = law.friction_check(PairState::Slip, -2.0, -0.3, 1.0, &h, tol);
         assert_eq!(next, PairState::Bonded);
+        // Reversed beyond the cone (trial −1.2): the law's force is −1, so the
+        // pair's +1 is off by 2 = 2 μ|f_n| (not by |trial − f_s| = 2.2).
+        assert!((v.unwrap().amount - 2.0).abs() < 1e-12);
+        // Reversed inside the cone (trial −0.4): it should carry the trial force.
+        let (_, v) = law.friction_check(PairState::Slip, -2.0, -0.1, 1.0, &h, tol);
+        assert!((v.unwrap().amount - 1.4).abs() < 1e-12);
+        // Reversed at a pair without normal force (cone 0, a lifted end): the
+        // law's force is 0, and a pair carrying 1e-3 is off by 1e-3 whatever the
+        // trial force's size.
+        let (_, v) = law.friction_check(PairState::Slip, 0.0, -300.0, 1e-3, &h, tol);
+        assert!((v.unwrap().amount - 1e-3).abs() < 1e-15);
         // Other laws have no friction check.
         let contact = LawParams {
             law: Law::Contact,
