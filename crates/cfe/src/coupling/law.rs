@@ -269,15 +269,9 @@ impl LawParams {
                     }),
                 )
             }
-            PairState::Slip if trial.abs() < limit - tol || trial * f_s < 0.0 => {
-                // Inside the cone, or reversing against the slip force: the slip
-                // increment would not be along the force.
-                // Reversing beyond the cone, the law's force is μ|f_n| along the
-                // trial force (at most 2 μ|f_n| from the pair's); inside it, the
-                // trial force itself.
-                let excess = if trial * f_s < 0.0 && trial.abs() >= limit {
-                    (f_s - limit * trial.signum()).abs()
-                } else if trial * f_s < 0.0 {
+            PairState::Slip if trial.abs() < limit - tol => {
+                // The law's force is the trial force itself.
+                let excess = if trial * f_s < 0.0 {
                     (trial - f_s).abs()
                 } else {
                     limit - trial.abs()
@@ -608,21 +602,28 @@ mod tests {
         let (next, v) = law.friction_check(PairState::Slip, -2.0, 0.3, 0.9, &h, tol);
         assert_eq!(next, PairState::Slip);
         assert_eq!(v.unwrap().kind, ViolationKind::Slip);
-        // Trial inside the cone, or reversed against the slip force: sticks.
-        let (next, _) = law.friction_check(PairState::Slip, -2.0, 0.2, 1.0, &h, tol);
+        // Trial inside the cone: sticks, off by the room left in the cone.
+        let (next, v) = law.friction_check(PairState::Slip, -2.0, 0.2, 1.0, &h, tol);
         assert_eq!(next, PairState::Bonded);
+        assert!((v.unwrap().amount - 0.2).abs() < 1e-12);
+        // Trial reversed beyond the cone (−1.2): slips the other way; its force
+        // (+1, the old direction) is off by 2 μ|f_n| from −1, state kept.
         let (next, v) = law.friction_check(PairState::Slip, -2.0, -0.3, 1.0, &h, tol);
+        assert_eq!(next, PairState::Slip);
+        let v = v.unwrap();
+        assert_eq!(v.kind, ViolationKind::Slip);
+        assert!((v.amount - 2.0).abs() < 1e-12);
+        // Reversed and converged (force −1 along the new trial): consistent.
+        let (next, v) = law.friction_check(PairState::Slip, -2.0, -0.3, -1.0, &h, tol);
+        assert_eq!((next, v), (PairState::Slip, None));
+        // Reversed inside the cone (trial −0.4): sticks, carrying the trial force.
+        let (next, v) = law.friction_check(PairState::Slip, -2.0, -0.1, 1.0, &h, tol);
         assert_eq!(next, PairState::Bonded);
-        // Reversed beyond the cone (trial −1.2): the law's force is −1, so the
-        // pair's +1 is off by 2 = 2 μ|f_n| (not by |trial − f_s| = 2.2).
-        assert!((v.unwrap().amount - 2.0).abs() < 1e-12);
-        // Reversed inside the cone (trial −0.4): it should carry the trial force.
-        let (_, v) = law.friction_check(PairState::Slip, -2.0, -0.1, 1.0, &h, tol);
         assert!((v.unwrap().amount - 1.4).abs() < 1e-12);
-        // Reversed at a pair without normal force (cone 0, a lifted end): the
-        // law's force is 0, and a pair carrying 1e-3 is off by 1e-3 whatever the
-        // trial force's size.
-        let (_, v) = law.friction_check(PairState::Slip, 0.0, -300.0, 1e-3, &h, tol);
+        // Reversed at a pair without normal force (cone 0, a lifted end): a pair
+        // carrying 1e-3 is off by 1e-3 whatever the trial force's size.
+        let (next, v) = law.friction_check(PairState::Slip, 0.0, -300.0, 1e-3, &h, tol);
+        assert_eq!(next, PairState::Slip);
         assert!((v.unwrap().amount - 1e-3).abs() < 1e-15);
         // Other laws have no friction check.
         let contact = LawParams {

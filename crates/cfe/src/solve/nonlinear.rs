@@ -7,10 +7,12 @@
 //!   opens, an open pair that interpenetrates closes), repeat until the law holds on
 //!   every pair. Each whole pattern of states is remembered (hashed); the iteration
 //!   *cycles* only when the law sends it back to a pattern it has already solved.
-//!   Then it continues cautiously, flipping only the pair with the largest violation
-//!   per iteration, which finds a consistent pattern the all-at-once update stepped
-//!   over. If that cycles too, no consistent pattern is within reach (the strict
-//!   stick law has none on some meshes) and the increment is *settled*: it ends on
+//!   Then it continues cautiously, one pair per iteration: the pair with the
+//!   largest violation whose flip leads to a pattern not yet solved, which finds a
+//!   consistent pattern the all-at-once update stepped over. When every violating
+//!   pair's flip leads back to a solved pattern (or `max_iterations` pass), no
+//!   consistent pattern is within reach (the strict stick law has none on some
+//!   meshes) and the increment is *settled*: it ends on
 //!   the least-violating pattern it solved — no penetration if any such pattern was
 //!   visited, then the smallest largest violation, then the earliest — and every
 //!   pair that breaks the law there is reported with its amount. Nothing carries
@@ -197,16 +199,6 @@ impl LawCheck {
         let worst = self.violations.iter().map(|v| v.force).fold(0.0, f64::max);
         (penetrates, worst)
     }
-
-    /// The pair with the largest violation (the first of equals).
-    fn worst(&self) -> Option<&PairViolation> {
-        self.violations
-            .iter()
-            .fold(None, |best: Option<&PairViolation>, v| match best {
-                Some(b) if b.force >= v.force => Some(b),
-                _ => Some(v),
-            })
-    }
 }
 
 /// A pattern solved during an increment's iteration, and how well it satisfies the law.
@@ -264,6 +256,13 @@ pub struct Solver<'a> {
     proportional: bool,
     /// Each pair's history (plastic slip, slip force, multipliers).
     history: PairHistories,
+    /// The history the increment starts from (the last one committed): every
+    /// iteration of an increment starts from it, and a pair that was closed there
+    /// closes again on its plastic slip.
+    committed: PairHistories,
+    /// The pairs closed where the increment starts: at the end of the last
+    /// increment, or, before the first, the pairs touching (g₀ ≤ 0).
+    closed_at_start: Vec<Vec<bool>>,
     /// Fixed-point solves in the current increment.
     fixed_point: usize,
     /// The load path, when not the default ramp.
@@ -405,7 +404,7 @@ impl<'a> Solver<'a> {
         };
         let total_load = total_force(&f_ext);
         let proportional = !interfaces.iter().any(Interface::non_proportional);
-        let history = interfaces
+        let history: PairHistories = interfaces
             .iter()
             .map(|i| vec![PairHistory::default(); i.elements.len()])
             .collect();
@@ -422,7 +421,12 @@ impl<'a> Solver<'a> {
             settled_pattern: None,
             total_load,
             proportional,
+            committed: history.clone(),
             history,
+            closed_at_start: interfaces
+                .iter()
+                .map(|i| i.elements.iter().map(|c| c.gap([0.0; 2]) <= 0.0).collect())
+                .collect(),
             fixed_point: 0,
             load_factors: None,
             prescribed: None,
@@ -745,6 +749,11 @@ impl<'a> Solver<'a> {
         // it would find the same cycle: keep it (its solution is the previous one
         // scaled, no solve). A consistent pattern needs no such rule: its first,
         // scaled solution already satisfies the law.
+        // An iteration that started this increment before (a warm start that
+        // settled) left its touch-downs and fixed-point iterates in the history.
+        if !self.proportional {
+            self.history.clone_from(&self.committed);
+        }
         if self.proportional && self.settled_pattern.as_ref() == Some(&start) {
             let t = Instant::now();
             let (u, f_int, method) = self.solve_states(lambda, &start, inc)?;
@@ -801,6 +810,13 @@ impl<'a> Solver<'a> {
                     changed: 0,
                     seconds: t.elapsed().as_secs_f64(),
                 });
+                if self.restore_closed_slips(&states) {
+                    // A pair closed where the increment started, opened by the
+                    // iteration and closed again, touched down on a plastic slip
+                    // of the iteration's: with its own back, the pattern is solved
+                    // and checked again.
+                    continue;
+                }
                 self.settled_pattern = None;
                 return Ok(self.finish(inc, lambda, history, u, f_int, states, check, false));
             }
@@ -814,8 +830,13 @@ impl<'a> Solver<'a> {
                     }
                 }
             }
+            // A pattern the cautious step may go to: not solved yet, and one that
+            // holds every part (a flip that frees a part is no way forward).
+            let open = |p: &PairStates| {
+                !seen.contains(p) && self.supports.check(self.parts, self.interfaces, p).is_ok()
+            };
             let mut next = if cautious {
-                flip_worst(&states, &check)
+                flip_worst(&states, &check, open)
             } else {
                 check.next.clone()
             };
@@ -823,7 +844,7 @@ impl<'a> Solver<'a> {
                 // The law leads back to a pattern already solved: a cycle. Go on one
                 // pair at a time, from here.
                 cautious = true;
-                next = flip_worst(&states, &check);
+                next = flip_worst(&states, &check, open);
             }
             history.push(Iteration {
                 method,
@@ -878,6 +899,7 @@ impl<'a> Solver<'a> {
             .expect("at least one pattern solved");
         let t = Instant::now();
         let states = best.states.clone();
+        self.restore_closed_slips(&states);
         let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
         let check = self.check_law(&states, &u, &f_int, lambda);
         history.push(Iteration {
@@ -1330,11 +1352,11 @@ impl<'a> Solver<'a> {
                     let limit = iface.friction * (-f[0]).max(0.0);
                     let trial = law.trial_shear(jump[1], h);
                     let target = limit * trial.signum();
-                    // A slip pair whose trial force is inside the cone, or reverses
-                    // against its slip force, has no slip force to converge to in
-                    // this pattern: the law check makes it stick.
-                    let inside = state == PairState::Slip
-                        && (trial.abs() < limit || trial * h.slip_force < 0.0);
+                    // A slip pair whose trial force is inside the cone has no slip
+                    // force to converge to in this pattern: the law check makes it
+                    // stick. One whose trial force has turned against its slip
+                    // force beyond the cone slips the other way (the target's sign).
+                    let inside = state == PairState::Slip && trial.abs() < limit;
                     // The stabilising spring's force, which the fixed point removes.
                     let spring = law.c_slip * (jump[1] - h.anchor);
                     if state == PairState::Slip
@@ -1445,7 +1467,10 @@ impl<'a> Solver<'a> {
 
     /// Pairs of a Coulomb interface that close (open in `states`, bonded in `next`)
     /// touch down where they are: their plastic slip becomes their tangential jump
-    /// in the solution `u`, so they close without tangential force.
+    /// in the solution `u`, so they close without tangential force. For a pair
+    /// that was closed where the increment started this is a step of the search
+    /// only: a pattern is accepted on its plastic slip of the increment's start
+    /// ([`Solver::restore_closed_slips`]).
     fn touch_down(&mut self, states: &[Vec<PairState>], next: &[Vec<PairState>], u: &[f64]) {
         if self.proportional {
             return;
@@ -1463,6 +1488,31 @@ impl<'a> Solver<'a> {
                 }
             }
         }
+    }
+
+    /// Gives every pair closed both where the increment started and in `states`
+    /// its plastic slip of the increment's start back (a touch-down of the
+    /// search, [`Solver::touch_down`], moved it: the pair was opened by a pattern
+    /// tried, not by the path). Its stick force and its trial force are then
+    /// measured from where it stuck. Returns whether any changed.
+    fn restore_closed_slips(&mut self, states: &[Vec<PairState>]) -> bool {
+        if self.proportional {
+            return false;
+        }
+        let mut changed = false;
+        for (i, iface) in self.interfaces.iter().enumerate() {
+            if iface.law != Law::Coulomb {
+                continue;
+            }
+            let closed = self.closed_at_start[i].iter().zip(&states[i]);
+            for ((h, start), (&was, now)) in self.history[i].iter_mut().zip(&self.committed[i]).zip(closed) {
+                if was && now.is_closed() && h.slip != start.slip {
+                    h.slip = start.slip;
+                    changed = true;
+                }
+            }
+        }
+        changed
     }
 
     /// Ends an increment's history: a slipping Coulomb pair keeps its plastic slip
@@ -1496,6 +1546,12 @@ impl<'a> Solver<'a> {
             }
         }
         result.pair_history = self.history.clone();
+        self.committed.clone_from(&self.history);
+        for (c, st) in self.closed_at_start.iter_mut().zip(&result.states) {
+            for (c, s) in c.iter_mut().zip(st) {
+                *c = s.is_closed();
+            }
+        }
     }
 
     /// One linear solve of `states` at load factor `lambda` with the current pair
@@ -1922,11 +1978,44 @@ impl<'a> Solver<'a> {
     }
 }
 
-/// `states` with the law's verdict applied to the worst violating pair only.
-fn flip_worst(states: &[Vec<PairState>], check: &LawCheck) -> PairStates {
+/// The cautious step: `states` with one pair flipped the way its violation asks
+/// (a pulling pair opens, a penetrating one closes, a stick pair beyond its cone
+/// slips, a slip pair inside it sticks) — the worst violating pair whose flip leads
+/// to a pattern that is `open` to the iteration: not yet solved, and holding every
+/// part (the first of equals). `states` itself when no flip does: the increment
+/// settles. The flips follow the violations, not the all-at-once update, whose
+/// friction-first rule holds pulling pairs closed while a stick pair exceeds its
+/// cone.
+fn flip_worst(
+    states: &[Vec<PairState>],
+    check: &LawCheck,
+    open: impl Fn(&PairStates) -> bool,
+) -> PairStates {
+    let mut order: Vec<&PairViolation> = check.violations.iter().collect();
+    // Stable: equal violations keep their order.
+    order.sort_by(|a, b| b.force.total_cmp(&a.force));
     let mut next = states.to_vec();
-    if let Some(v) = check.worst() {
-        next[v.interface][v.pair] = check.next[v.interface][v.pair];
+    for v in order {
+        let (i, k) = (v.interface, v.pair);
+        let now = next[i][k];
+        let to = match v.kind {
+            _ if std::env::var("PROBE_NEXT").is_ok() => check.next[i][k],
+            ViolationKind::Tension => PairState::Open,
+            ViolationKind::Penetration | ViolationKind::Slip => PairState::Bonded,
+            ViolationKind::Friction => PairState::Slip,
+        };
+        if std::env::var("PROBE_ONE").is_ok() {
+            next[i][k] = to;
+            return next;
+        }
+        if to == now {
+            continue;
+        }
+        next[i][k] = to;
+        if open(&next) {
+            return next;
+        }
+        next[i][k] = now;
     }
     next
 }
@@ -1974,3 +2063,64 @@ fn largest_off(u: &[f64], skip: &[usize]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use PairState::{Bonded, Open, Slip};
+
+    fn violation(pair: usize, kind: ViolationKind, force: f64) -> PairViolation {
+        PairViolation {
+            interface: 0,
+            pair,
+            kind,
+            amount: force,
+            force,
+        }
+    }
+
+    /// The cautious step flips the worst violating pair the way its violation
+    /// asks, passing over flips that lead back to a solved pattern, and returns
+    /// the pattern itself (the increment settles) when no flip is left; the
+    /// all-at-once update's verdict (`next`, here holding a pulling pair closed as
+    /// the friction-first rule does) does not restrict it.
+    #[test]
+    fn cautious_step_takes_the_worst_unsolved_flip() {
+        let states = vec![vec![Bonded, Bonded, Slip, Open]];
+        let check = LawCheck {
+            next: states.clone(),
+            violations: vec![
+                violation(0, ViolationKind::Tension, 3.0),
+                violation(1, ViolationKind::Friction, 5.0),
+                violation(2, ViolationKind::Slip, 5.0),
+                violation(3, ViolationKind::Penetration, 1.0),
+            ],
+            load_scale: 1.0,
+        };
+        let mut seen = HashSet::new();
+        seen.insert(states.clone());
+        let flip = |i: usize, to: PairState| {
+            let mut s = states.clone();
+            s[0][i] = to;
+            s
+        };
+        // The first of the two worst (5.0): the stick pair beyond its cone slips.
+        let next = flip_worst(&states, &check, |p| !seen.contains(p));
+        assert_eq!(next, flip(1, Slip));
+        seen.insert(next);
+        // Then the slip pair inside its cone sticks.
+        let next = flip_worst(&states, &check, |p| !seen.contains(p));
+        assert_eq!(next, flip(2, Bonded));
+        seen.insert(next);
+        // Then the pulling pair opens, although `next` kept it bonded.
+        let next = flip_worst(&states, &check, |p| !seen.contains(p));
+        assert_eq!(next, flip(0, Open));
+        seen.insert(next);
+        // Then the penetrating pair closes.
+        let next = flip_worst(&states, &check, |p| !seen.contains(p));
+        assert_eq!(next, flip(3, Bonded));
+        seen.insert(next);
+        // Nothing unsolved is left: the pattern itself.
+        assert_eq!(flip_worst(&states, &check, |p| !seen.contains(p)), states);
+    }
+}
