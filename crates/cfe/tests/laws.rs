@@ -492,7 +492,15 @@ fn a_block_pushed_beyond_friction_is_not_reported_as_held() {
     let a = analysis(&text);
     match a.solve() {
         Err(Error::LawViolation { .. } | Error::NoConvergence(_)) => {}
-        Err(Error::Unsupported { parts, .. }) => assert_eq!(parts, ["block"]),
+        Err(e @ Error::Unsupported { .. }) => {
+            let Error::Unsupported { parts, .. } = &e else {
+                unreachable!()
+            };
+            assert_eq!(parts, &["block"]);
+            // The message says why: friction cannot hold it.
+            let e = e.to_string();
+            assert!(e.contains("harder than friction holds it"), "{e}");
+        }
         Err(e) => panic!("unexpected error {e}"),
         Ok(res) => panic!("completed as {:?}", res.summary.status),
     }

@@ -6,7 +6,7 @@
 //! can move freely. This turns a singular stiffness into an error a user can act on.
 
 use crate::assembly::{DofMap, FIXED};
-use crate::coupling::{Interface, PairState};
+use crate::coupling::{Interface, Law, PairState};
 use crate::domain::Part;
 use crate::error::{Error, Result};
 use faer::{Mat, Side};
@@ -183,9 +183,24 @@ fn unsupported(
                         .count()
                 })
                 .sum();
+            // Its Coulomb interfaces' slipping pairs.
+            let coulomb = interfaces
+                .iter()
+                .zip(states)
+                .filter(|(i, _)| (i.host == p || i.node_part == p) && i.law == Law::Coulomb);
+            let (mut frictional, mut slipping) = (false, 0);
+            for (_, st) in coulomb {
+                frictional = true;
+                slipping += st.iter().filter(|&&s| s == PairState::Slip).count();
+            }
             if sliding > 0 {
                 format!(
                     "'{}' ({open} of its {pairs} coupling pairs open, {sliding} closed but sliding freely: frictionless pairs carry no tangential force, so hold the part tangentially with a [[support]])",
+                    parts[p].name
+                )
+            } else if frictional {
+                format!(
+                    "'{}' ({open} of its {pairs} coupling pairs open, {slipping} slipping: a part pushed along its faces harder than friction holds it, more than μ × the force pressing them together, has no position of rest)",
                     parts[p].name
                 )
             } else {
