@@ -743,17 +743,17 @@ impl<'a> Solver<'a> {
         lambda: f64,
         start: PairStates,
     ) -> Result<IncrementResult> {
+        // An iteration that started this increment before (a warm start that
+        // settled) left its touch-downs and fixed-point iterates in the history.
+        if !self.proportional {
+            self.history.clone_from(&self.committed);
+        }
         // Proportional loads: the law is homogeneous in the load (forces, jumps and
         // both tolerances scale with λ), so a pattern the previous increment settled
         // on breaks the law by the same fraction at this load, and the iteration from
         // it would find the same cycle: keep it (its solution is the previous one
         // scaled, no solve). A consistent pattern needs no such rule: its first,
         // scaled solution already satisfies the law.
-        // An iteration that started this increment before (a warm start that
-        // settled) left its touch-downs and fixed-point iterates in the history.
-        if !self.proportional {
-            self.history.clone_from(&self.committed);
-        }
         if self.proportional && self.settled_pattern.as_ref() == Some(&start) {
             let t = Instant::now();
             let (u, f_int, method) = self.solve_states(lambda, &start, inc)?;
@@ -1505,7 +1505,8 @@ impl<'a> Solver<'a> {
                 continue;
             }
             let closed = self.closed_at_start[i].iter().zip(&states[i]);
-            for ((h, start), (&was, now)) in self.history[i].iter_mut().zip(&self.committed[i]).zip(closed) {
+            let history = self.history[i].iter_mut().zip(&self.committed[i]);
+            for ((h, start), (&was, now)) in history.zip(closed) {
                 if was && now.is_closed() && h.slip != start.slip {
                     h.slip = start.slip;
                     changed = true;
@@ -1999,15 +2000,10 @@ fn flip_worst(
         let (i, k) = (v.interface, v.pair);
         let now = next[i][k];
         let to = match v.kind {
-            _ if std::env::var("PROBE_NEXT").is_ok() => check.next[i][k],
             ViolationKind::Tension => PairState::Open,
             ViolationKind::Penetration | ViolationKind::Slip => PairState::Bonded,
             ViolationKind::Friction => PairState::Slip,
         };
-        if std::env::var("PROBE_ONE").is_ok() {
-            next[i][k] = to;
-            return next;
-        }
         if to == now {
             continue;
         }
