@@ -29,7 +29,7 @@
 //! open ──(penetrates: g_n < −tol)──▶ bonded (stick)
 //! bonded ──(pulls: f_n > tol)──▶ open
 //! bonded ──(coulomb: |c_s([[u_s]] − s_p)| > μ|f_n| + tol)──▶ slip
-//! slip ──(coulomb: |c_s([[u_s]] − s_p)| < μ|f_n| − tol: the slip would reverse)──▶ bonded
+//! slip ──(coulomb: |c_s([[u_s]] − s_p)| < μ|f_n| − tol: inside the cone)──▶ bonded
 //! slip ──(pulls: f_n > tol)──▶ open
 //! ```
 
@@ -237,12 +237,13 @@ impl LawParams {
     /// next, and how it breaks the friction law if it does. `f_n` is the normal force
     /// (negative in compression), `u_s` the tangential jump, `f_s` the tangential
     /// force it carries, `tol` the force tolerance. A stick pair whose trial force
-    /// exceeds μ|f_n| slips; a slip pair whose trial force falls inside the cone,
-    /// or points against its slip force (its slip would reverse), sticks; a slip pair whose force differs from
-    /// μ|f_n| along the trial force (an unconverged fixed point) breaks the law but
-    /// keeps its state. A violation's amount is the distance of the pair's force
-    /// from the law's: for a reversing slip pair the trial force inside the cone,
-    /// μ|f_n| along the trial force beyond it.
+    /// exceeds μ|f_n| slips; a slip pair whose trial force falls inside the cone
+    /// sticks; a slip pair whose force differs from μ|f_n| along the trial force
+    /// breaks the law but keeps its state (an unconverged fixed point, or a slip
+    /// that reverses: a trial force turned against the slip force beyond the cone
+    /// slips the other way — the return map). A violation's amount is the distance
+    /// of the pair's force from the law's: the trial force inside the cone, μ|f_n|
+    /// along the trial force beyond it (at most 2 μ|f_n| for a reversing pair).
     pub fn friction_check(
         &self,
         state: PairState,
@@ -576,8 +577,11 @@ mod tests {
 
     /// The Coulomb return mapping: a stick pair whose trial force exceeds μ|f_n|
     /// slips, one inside stays; a slip pair whose trial force falls inside the cone
-    /// or points against its slip force sticks; a slip pair on the cone along its
-    /// trial force satisfies the law, off it by more than the tolerance it breaks it.
+    /// sticks; a slip pair on the cone along its trial force satisfies the law, off
+    /// it by more than the tolerance it breaks it — a trial force reversed beyond
+    /// the cone included, which keeps slipping the other way (Simo & Hughes,
+    /// *Computational Inelasticity*, 1998, §2.2: the return map of one-dimensional
+    /// rate-independent plasticity).
     #[test]
     fn friction_return_mapping() {
         let law = LawParams {
