@@ -740,42 +740,32 @@ increments = 1
 #[test]
 fn coulomb_on_the_thin_plate_loaded_off_centre() {
     let mu = 0.2;
-    let text = format!(
-        r#"
-plane = "stress"
-[materials.steel]
-E = 210000.0
-nu = 0.31
-[[part]]
-name = "base"
-material = "steel"
-rectangle = {{ x = [0.0, 200.0], y = [0.0, 120.0], cells = [20, 12] }}
-[[part]]
-name = "plate"
-material = "steel"
-rectangle = {{ x = [30.0, 170.0], y = [120.0, 126.0], cells = [28, 3] }}
-[[interface]]
-host = "base"
-nodes = "plate"
-boundary = "bottom"
-law = "coulomb"
-friction = {mu}
-c_n = 1e9
-c_s = 1e9
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-[[load]]
-part = "plate"
-boundary = "top"
-from = [120.0, 126.0]
-to = [148.0, 126.0]
-force = [0.0, -1500.0]
-[analysis]
-increments = 10
-"#
-    );
+    // The seed's plate on a base (examples/plate_on_base.toml), 6 mm thin, the
+    // load moved to x ∈ [120, 148], the Coulomb law.
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plate_on_base.toml");
+    let seed = std::fs::read_to_string(&example).unwrap();
+    let text = seed
+        .replace(
+            "y = [120.0, 135.0], cells = [28, 6]",
+            "y = [120.0, 126.0], cells = [28, 3]",
+        )
+        .replace("from = [86.0, 135.0]", "from = [120.0, 126.0]")
+        .replace("to = [114.0, 135.0]", "to = [148.0, 126.0]")
+        .replace(
+            "law = \"contact\"",
+            &format!("law = \"coulomb\"\nfriction = {mu}"),
+        );
+    for edit in [
+        "cells = [28, 3]",
+        "from = [120.0, 126.0]",
+        "to = [148.0, 126.0]",
+        "friction",
+    ] {
+        assert!(
+            text.contains(edit),
+            "the example no longer has the line for {edit}"
+        );
+    }
     for k in [4, 8] {
         let model = Model::from_str(&text, Path::new("thin.toml"), k).unwrap();
         let a = Analysis::new(model).unwrap();
