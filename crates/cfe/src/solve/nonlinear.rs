@@ -2107,22 +2107,14 @@ mod tests {
             s[0][i] = to;
             s
         };
-        // The first of the two worst (5.0): the stick pair beyond its cone slips.
-        let next = flip_worst(&states, &check, true, |p| !seen.contains(p));
-        assert_eq!(next, flip(1, Slip));
-        seen.insert(next);
-        // Then the slip pair inside its cone sticks.
-        let next = flip_worst(&states, &check, true, |p| !seen.contains(p));
-        assert_eq!(next, flip(2, Bonded));
-        seen.insert(next);
-        // Then the pulling pair opens, although `next` kept it bonded.
-        let next = flip_worst(&states, &check, true, |p| !seen.contains(p));
-        assert_eq!(next, flip(0, Open));
-        seen.insert(next);
-        // Then the penetrating pair closes.
-        let next = flip_worst(&states, &check, true, |p| !seen.contains(p));
-        assert_eq!(next, flip(3, Bonded));
-        seen.insert(next);
+        // In order: the first of the two worst (5.0), the stick pair beyond its
+        // cone, slips; the slip pair inside its cone sticks; the pulling pair
+        // opens, although `next` kept it bonded; the penetrating pair closes.
+        for (pair, to) in [(1, Slip), (2, Bonded), (0, Open), (3, Bonded)] {
+            let next = flip_worst(&states, &check, true, |p| !seen.contains(p));
+            assert_eq!(next, flip(pair, to), "pair {pair}");
+            seen.insert(next);
+        }
         // Nothing unsolved is left: the pattern itself.
         assert_eq!(flip_worst(&states, &check, true, |p| !seen.contains(p)), states);
         // Without friction: the worst pair's flip, solved before or not.
