@@ -79,9 +79,18 @@ enum Command {
         /// Where to write the report (regenerate the committed one with `--out docs`).
         #[arg(long, default_value = "results/bench")]
         out: PathBuf,
+        /// Run each case N times and keep the fastest end to end (all its phases
+        /// from that run): steadier figures on a machine whose speed varies.
+        #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100))]
+        repeat: u32,
         /// Only regenerate benchmarks.md and benchmarks.png from OUT/benchmarks.json.
         #[arg(long)]
         report_only: bool,
+        /// Only measure and print the machine's speed (dense product, memory copy,
+        /// fresh memory; about two seconds), as the report states it before and
+        /// after its runs.
+        #[arg(long)]
+        speed: bool,
         /// Instead, compare the cost of `coupling = "node"` and `"segment"` on the
         /// problem refined K times (tied, one assembly and factorization each) and
         /// print the table.
@@ -154,9 +163,16 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             problem,
             max_unknowns,
             out,
+            repeat,
             report_only,
+            speed,
             coupling_cost,
         } => {
+            if speed {
+                let speed = cfe_tools::speed::MachineSpeed::measure();
+                println!("machine speed: {}", speed.describe());
+                return Ok(());
+            }
             if report_only {
                 let path = out.join("benchmarks.json");
                 let text = std::fs::read_to_string(&path)
@@ -178,9 +194,14 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 print!("{}", cfe_tools::bench::coupling_cost_table(&rows));
                 return Ok(());
             }
-            cfe_tools::bench::run(&exe, &problem, max_unknowns, &out, &mut |line| {
-                println!("{line}")
-            })?;
+            cfe_tools::bench::run(
+                &exe,
+                &problem,
+                max_unknowns,
+                repeat as usize,
+                &out,
+                &mut |line| println!("{line}"),
+            )?;
             println!("wrote {}", out.join("benchmarks.md").display());
             Ok(())
         }

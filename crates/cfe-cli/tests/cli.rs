@@ -125,6 +125,33 @@ fn bench_passes_errors_through() {
     );
 }
 
+/// `bench --speed` measures and prints the machine's three speed figures and
+/// runs nothing else; `--repeat` takes 1 to 100 runs per case and refuses 0.
+#[test]
+fn bench_measures_the_machine_speed_alone() {
+    let o = cfe(&["bench", "--speed"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = String::from_utf8_lossy(&o.stdout);
+    let figures: Vec<f64> = s
+        .trim()
+        .trim_start_matches("machine speed: ")
+        .split(", ")
+        .map(|part| {
+            let words: Vec<&str> = part.split(' ').collect();
+            words[words.len() - 2].parse().unwrap_or(f64::NAN)
+        })
+        .collect();
+    assert!(
+        s.starts_with("machine speed: dense product ")
+            && figures.len() == 3
+            && figures.iter().all(|v| v.is_finite() && *v > 0.0),
+        "{s}"
+    );
+    let o = cfe(&["bench", "--repeat", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--repeat"), "{}", stderr(&o));
+}
+
 /// `check` prints four significant digits and round-off as zero: the roller's
 /// projection distance as 7.457e-2, the plate's as 0.
 #[test]
