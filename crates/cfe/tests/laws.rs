@@ -506,6 +506,84 @@ fn a_block_pushed_beyond_friction_is_not_reported_as_held() {
     }
 }
 
+/// The seed's plate on a base (examples/plate_on_base.toml) pushed sideways as
+/// well as down on x ∈ [100, 130] (Q = 400 N, P = 1500 N), the Coulomb law, T3
+/// and Q4 meshes. With μ = 0.2 friction holds at most μP = 300 N < Q and nothing
+/// else holds the plate along the face: no state satisfies the law, and the run
+/// ends with a typed error saying so (once it "completed" with the plate moved by
+/// 1e9 mm: the slipping pairs' springs let it drift, and the checks were relative
+/// to a load scale grown with the drift). With μ = 0.3 (μP = 450 N > Q) it is
+/// held, every pair on its law, the sideways reaction equal to Q.
+#[test]
+fn the_plate_pushed_sideways_beyond_friction_is_not_reported_as_held() {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plate_on_base.toml");
+    let seed = std::fs::read_to_string(&example).unwrap();
+    let edited = |mu: f64, elements: &str| {
+        let text = seed
+            .replace("from = [86.0, 135.0]", "from = [100.0, 135.0]")
+            .replace("to = [114.0, 135.0]", "to = [130.0, 135.0]")
+            .replace("force = [0.0, -1500.0]", "force = [400.0, -1500.0]")
+            .replace(
+                "cells = [20, 12] }",
+                &format!("cells = [20, 12]{elements} }}"),
+            )
+            .replace(
+                "cells = [28, 6] }",
+                &format!("cells = [28, 6]{elements} }}"),
+            )
+            .replace(
+                "law = \"contact\"",
+                &format!("law = \"coulomb\"\nfriction = {mu}"),
+            );
+        for edit in [
+            "from = [100.0",
+            "to = [130.0",
+            "[400.0,",
+            "cells = [28, 6]",
+            "friction",
+        ] {
+            assert!(
+                text.contains(edit),
+                "the example no longer has the line for {edit}"
+            );
+        }
+        text
+    };
+    for elements in ["", ", elements = \"q4\""] {
+        match analysis(&edited(0.2, elements)).solve() {
+            Err(e @ Error::NoConvergence(_)) => {
+                let e = e.to_string();
+                assert!(
+                    e.contains("harder than friction holds it"),
+                    "{elements}: {e}"
+                );
+            }
+            Err(Error::LawViolation { .. }) => {}
+            Err(e @ Error::Unsupported { .. }) => {
+                let e = e.to_string();
+                assert!(
+                    e.contains("harder than friction holds it"),
+                    "{elements}: {e}"
+                );
+            }
+            Err(e) => panic!("{elements}: unexpected error {e}"),
+            Ok(res) => panic!(
+                "{elements}: {:?}, largest displacement {:?}",
+                res.summary.status, res.summary.max_displacement
+            ),
+        }
+        let a = analysis(&edited(0.3, elements));
+        let res = a.solve().unwrap();
+        assert_eq!(res.summary.status, RunStatus::Completed, "{elements}");
+        check_coulomb(&a, &res.last, 0.3, 1e-8 * 1500.0);
+        let fx: f64 = res.summary.reactions.iter().map(|r| r.fx).sum();
+        assert!(
+            (fx + 400.0).abs() < 1e-8 * 1500.0,
+            "{elements}: Σ reaction x = {fx}"
+        );
+    }
+}
+
 /// Coulomb with augmented-Lagrangian enforcement: below the limit (Q = 0.2 P,
 /// μ = 0.5) the interface carries Q with every stick pair inside the cone; pushed
 /// far sideways (μ = 0.3) every closed pair slips with |f_s| = μ f_n and the

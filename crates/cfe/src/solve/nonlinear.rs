@@ -206,6 +206,10 @@ impl LawCheck {
 struct Visit {
     states: PairStates,
     score: (bool, f64),
+    /// Whether its pairs' terms (slip forces, multipliers) reached their fixed
+    /// point: a pattern whose terms did not is no solution, whatever its check
+    /// says (its displacements drift with the last step), and is never settled on.
+    converged: bool,
 }
 
 /// The solution of one state set, kept to answer the same states at another λ.
@@ -251,6 +255,9 @@ pub struct Solver<'a> {
     settled_pattern: Option<PairStates>,
     /// Σ‖f‖ over the loaded nodes at full load.
     total_load: f64,
+    /// The largest part's size (the diagonal of its bounding box): the largest
+    /// displacement the load scale's floor reads (see [`FORCE_FLOOR`]).
+    extent: f64,
     /// Whether the solution scales with the load factor (no initial gap, no
     /// friction, no augmented Lagrangian): then a solved pattern is scaled, not
     /// solved again.
@@ -344,7 +351,11 @@ impl LoadSteps {
 }
 
 /// The smallest load scale of a model without the proportional shortcuts, as a
-/// fraction of (largest E·t) × (largest displacement).
+/// fraction of (largest E·t) × (largest displacement, at most the largest part's
+/// size). The cap keeps the floor a floor: a pattern whose slipping pairs cannot
+/// hold a part lets it drift, under their springs, by more than any part's size,
+/// and a scale grown with that drift would make the drift itself pass every
+/// check relative to it (the fixed point's tolerance, the law's).
 pub const FORCE_FLOOR: f64 = 1e-6;
 
 /// The fixed point on the slip forces stops when none changes by more than this
@@ -421,6 +432,7 @@ impl<'a> Solver<'a> {
             initial: None,
             settled_pattern: None,
             total_load,
+            extent: parts.iter().map(part_extent).fold(0.0, f64::max),
             proportional,
             committed: history.clone(),
             history,
@@ -800,12 +812,19 @@ impl<'a> Solver<'a> {
                 }
             };
             let was_trial = f_int.is_none();
+            // Without a fixed point the pattern has no consistent pair terms: its
+            // displacements are the last step's, and may have drifted without
+            // bound (a part pushed along its faces harder than friction holds it
+            // slides on under the slipping pairs' springs), inflating the load
+            // scale its check is relative to. It is neither accepted nor settled on.
+            let converged = self.proportional || self.fixed_point_converged;
             seen.insert(states.clone());
             visits.push(Visit {
                 states: states.clone(),
                 score: check.score(),
+                converged,
             });
-            if let (true, Some(f_int)) = (check.violations.is_empty(), f_int) {
+            if let (true, true, Some(f_int)) = (check.violations.is_empty(), converged, f_int) {
                 history.push(Iteration {
                     method,
                     changed: 0,
@@ -822,13 +841,28 @@ impl<'a> Solver<'a> {
                 return Ok(self.finish(inc, lambda, history, u, f_int, states, check, false));
             }
             let mut check = check;
-            if !self.fixed_point_converged {
+            if !converged {
                 // Slipping pairs whose slip forces found no fixed point in this
-                // pattern (they pull the solution along without settling) stick.
-                for v in &check.violations {
-                    if v.kind == ViolationKind::Slip {
-                        check.next[v.interface][v.pair] = PairState::Bonded;
+                // pattern (they pull the solution along without settling) stick:
+                // those the check finds off the law, or, when it finds none (its
+                // load scale grown with the drift), every slipping pair.
+                let off_law: Vec<(usize, usize)> = check
+                    .violations
+                    .iter()
+                    .filter(|v| v.kind == ViolationKind::Slip)
+                    .map(|v| (v.interface, v.pair))
+                    .collect();
+                if check.violations.is_empty() {
+                    for (next, now) in check.next.iter_mut().zip(&states) {
+                        for (n, &s) in next.iter_mut().zip(now) {
+                            if s == PairState::Slip {
+                                *n = PairState::Bonded;
+                            }
+                        }
                     }
+                }
+                for (i, k) in off_law {
+                    check.next[i][k] = PairState::Bonded;
                 }
             }
             // A pattern the cautious step may go to: not solved yet, and one that
@@ -890,6 +924,7 @@ impl<'a> Solver<'a> {
         let best = visits
             .iter()
             .enumerate()
+            .filter(|(_, v)| v.converged)
             .min_by(|(i, a), (j, b)| {
                 a.score
                     .0
@@ -897,12 +932,25 @@ impl<'a> Solver<'a> {
                     .then(a.score.1.total_cmp(&b.score.1))
                     .then(i.cmp(j))
             })
-            .map(|(_, v)| v)
-            .expect("at least one pattern solved");
+            .map(|(_, v)| v);
+        let Some(best) = best else {
+            return Err(self.no_fixed_point(inc, lambda, visits));
+        };
         let t = Instant::now();
         let states = best.states.clone();
         self.restore_closed_slips(&states);
-        let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
+        let (mut u, mut f_int, mut method) = self.solve_states(lambda, &states, inc)?;
+        if !self.proportional && !self.fixed_point_converged {
+            // Solved again from the terms the iteration left (after patterns
+            // without a fixed point they may have drifted far), its fixed point
+            // was not found: once more from the increment's start.
+            self.history.clone_from(&self.committed);
+            self.restore_closed_slips(&states);
+            (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
+            if !self.fixed_point_converged {
+                return Err(self.no_fixed_point(inc, lambda, visits));
+            }
+        }
         let check = self.check_law(&states, &u, &f_int, lambda);
         history.push(Iteration {
             method,
@@ -911,6 +959,24 @@ impl<'a> Solver<'a> {
         });
         self.settled_pattern = Some(states.clone());
         Ok(self.finish(inc, lambda, history, u, f_int, states, check, true))
+    }
+
+    /// The error of an increment whose pair terms found no fixed point in any of
+    /// the patterns it `tried` (or not again in the one it settled on).
+    fn no_fixed_point(&self, inc: usize, lambda: f64, tried: &[Visit]) -> Error {
+        let fixed = tried.iter().filter(|v| v.converged).count();
+        let found = if fixed == 0 {
+            format!("found no fixed point in any of the {} contact-state pattern(s) tried", tried.len())
+        } else {
+            format!(
+                "found a fixed point in only {fixed} of the {} contact-state patterns tried, none satisfying the law, and none when the least-violating of those was solved again",
+                tried.len()
+            )
+        };
+        Error::NoConvergence(format!(
+            "increment {inc} ({}): the slip forces {found}, so no state holds: a part is pushed along its faces harder than friction holds it (a tangential load beyond μ × the normal load, nothing else holding the part along the face). Hold the part, raise the friction coefficient, or reduce the tangential load",
+            self.where_in_path(inc, lambda),
+        ))
     }
 
     /// Checks the law on every pair of the solution `u` of `states`: the state the
@@ -1041,7 +1107,7 @@ impl<'a> Solver<'a> {
             .map(|p| p.material.young * p.material.thickness)
             .fold(0.0, f64::max);
         self.load_scale_of_forces(lambda, f_int)
-            .max(FORCE_FLOOR * et * umax)
+            .max(FORCE_FLOOR * et * umax.min(self.extent))
     }
 
     fn load_scale_of_forces(&self, lambda: f64, f_int: &[f64]) -> f64 {
@@ -2067,6 +2133,24 @@ fn largest_off(u: &[f64], skip: &[usize]) -> f64 {
 }
 
 
+/// The diagonal of the bounding box of `part`'s nodes (0 for a part without nodes).
+fn part_extent(part: &Part) -> f64 {
+    let nodes = &part.mesh.nodes;
+    if nodes.is_empty() {
+        return 0.0;
+    }
+    let (lo, hi) = nodes.iter().fold(
+        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+        |(lo, hi), x| {
+            (
+                [lo[0].min(x[0]), lo[1].min(x[1])],
+                [hi[0].max(x[0]), hi[1].max(x[1])],
+            )
+        },
+    );
+    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -2122,3 +2206,4 @@ mod tests {
         assert_eq!(next, flip(1, Slip));
     }
 }
+
