@@ -513,7 +513,8 @@ fn a_block_pushed_beyond_friction_is_not_reported_as_held() {
 /// ends with a typed error saying so (once it "completed" with the plate moved by
 /// 1e9 mm: the slipping pairs' springs let it drift, and the checks were relative
 /// to a load scale grown with the drift). With μ = 0.3 (μP = 450 N > Q) it is
-/// held, every pair on its law, the sideways reaction equal to Q.
+/// held, every pair on its law, the sideways reaction equal to Q. The seed's
+/// implex scheme ends with the error too.
 #[test]
 fn the_plate_pushed_sideways_beyond_friction_is_not_reported_as_held() {
     let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plate_on_base.toml");
@@ -581,6 +582,22 @@ fn the_plate_pushed_sideways_beyond_friction_is_not_reported_as_held() {
             (fx + 400.0).abs() < 1e-8 * 1500.0,
             "{elements}: Σ reaction x = {fx}"
         );
+    }
+    // The seed's implex scheme carries each increment's states to the next
+    // without correcting them: the slipping pairs it carries cannot hold the
+    // plate either, and it says so instead of writing the drift as a result.
+    let implex = edited(0.2, "").replace("scheme = \"active-set\"", "scheme = \"implex\"");
+    assert!(implex.contains("scheme = \"implex\""));
+    match analysis(&implex).solve() {
+        Err(e @ Error::NoConvergence(_)) => {
+            let e = e.to_string();
+            assert!(e.contains("found no fixed point"), "{e}");
+        }
+        Err(e) => panic!("implex: unexpected error {e}"),
+        Ok(res) => panic!(
+            "implex: {:?}, largest displacement {:?}",
+            res.summary.status, res.summary.max_displacement
+        ),
     }
 }
 

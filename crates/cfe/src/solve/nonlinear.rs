@@ -672,6 +672,15 @@ impl<'a> Solver<'a> {
                 Scheme::Implex => {
                     let t = Instant::now();
                     let (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
+                    if !self.proportional && !self.fixed_point_converged {
+                        // No consistent slip forces in the carried states: the
+                        // solution is the last fixed-point step's, possibly drifted
+                        // far (see the active set's rule), and no answer.
+                        return Err(Error::NoConvergence(format!(
+                            "increment {inc} ({}): the slip forces found no fixed point in the contact states the implex scheme carried from the previous increment (its slipping pairs do not hold their part, or a part is pushed along its faces harder than friction holds it). The scheme does not correct the states within an increment: use scheme = \"active-set\", or more increments",
+                            self.where_in_path(inc, lambda),
+                        )));
+                    }
                     let check = self.check_law(&states, &u, &f_int, lambda);
                     // States for the next increment from this increment's jumps.
                     let changed = count_changes(&check.next, &states);
