@@ -601,6 +601,37 @@ fn the_plate_pushed_sideways_beyond_friction_is_not_reported_as_held() {
     }
 }
 
+/// The seed's plate pulled up off its base (the load reversed), the Coulomb law:
+/// every pair opens and the plate is free, an `Unsupported` error naming it that
+/// says the loads should press the parts together — not that friction fails to
+/// hold it, which no pair slipping would explain.
+#[test]
+fn a_plate_pulled_off_its_base_is_reported_free_not_sliding() {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plate_on_base.toml");
+    let text = std::fs::read_to_string(&example)
+        .unwrap()
+        .replace("force = [0.0, -1500.0]", "force = [0.0, 1500.0]")
+        .replace("law = \"contact\"", "law = \"coulomb\"\nfriction = 0.2");
+    assert!(text.contains("[0.0, 1500.0]") && text.contains("friction = 0.2"));
+    match analysis(&text).solve() {
+        Err(e @ Error::Unsupported { .. }) => {
+            let Error::Unsupported { parts, .. } = &e else {
+                unreachable!()
+            };
+            assert_eq!(parts, &["plate"]);
+            let e = e.to_string();
+            assert!(
+                e.contains("29 of its 29 coupling pairs open")
+                    && e.contains("press the parts together")
+                    && !e.contains("friction"),
+                "{e}"
+            );
+        }
+        Err(e) => panic!("unexpected error {e}"),
+        Ok(res) => panic!("completed as {:?}", res.summary.status),
+    }
+}
+
 /// Coulomb with augmented-Lagrangian enforcement: below the limit (Q = 0.2 P,
 /// μ = 0.5) the interface carries Q with every stick pair inside the cone; pushed
 /// far sideways (μ = 0.3) every closed pair slips with |f_s| = μ f_n and the

@@ -198,7 +198,10 @@ fn unsupported(
                     "'{}' ({open} of its {pairs} coupling pairs open, {sliding} closed but sliding freely: frictionless pairs carry no tangential force, so hold the part tangentially with a [[support]])",
                     parts[p].name
                 )
-            } else if frictional {
+            } else if frictional && open < pairs {
+                // Free though touching on a frictional face: friction does not
+                // hold it. (With every pair open it was pulled away: the plain
+                // message, which says the loads should press the parts together.)
                 format!(
                     "'{}' ({open} of its {pairs} coupling pairs open, {slipping} slipping: a part pushed along its faces harder than friction holds it, more than μ × the force pressing them together, has no position of rest)",
                     parts[p].name
