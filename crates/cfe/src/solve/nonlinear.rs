@@ -2141,7 +2141,6 @@ fn largest_off(u: &[f64], skip: &[usize]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-
 /// The diagonal of the bounding box of `part`'s nodes (0 for a part without nodes).
 fn part_extent(part: &Part) -> f64 {
     let nodes = &part.mesh.nodes;
@@ -2215,4 +2214,3 @@ mod tests {
         assert_eq!(next, flip(1, Slip));
     }
 }
-
