@@ -9,7 +9,7 @@ pub use crate::domain::{InterfaceDef, Load, Part, Scheme, Settings, Step, Suppor
 use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, loads};
 use crate::mesh::gmsh::{GmshMesh, Group};
-use crate::mesh::{ElementKind, Mesh};
+use crate::mesh::{ElementKind, Mesh, bounding_diagonal};
 use serde::Deserialize;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -242,22 +242,6 @@ struct InterfaceSpec {
     penetration_tolerance: Option<f64>,
     #[serde(default)]
     coupling: Coupling,
-}
-
-/// The diagonal of the bounding box of the nodes of `meshes`.
-fn bounding_diagonal(meshes: &[&Mesh]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in meshes.iter().flat_map(|m| &m.nodes) {
-        for c in 0..2 {
-            lo[c] = lo[c].min(p[c]);
-            hi[c] = hi[c].max(p[c]);
-        }
-    }
-    if lo[0] <= hi[0] {
-        (hi[0] - lo[0]).hypot(hi[1] - lo[1])
-    } else {
-        0.0
-    }
 }
 
 fn default_law() -> Law {

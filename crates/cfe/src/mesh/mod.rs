@@ -598,6 +598,23 @@ fn lerp(range: [f64; 2], i: usize, n: usize) -> f64 {
     }
 }
 
+/// The diagonal of the bounding box of the nodes of `meshes` (0 when they have
+/// no node).
+pub fn bounding_diagonal(meshes: &[&Mesh]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in meshes.iter().flat_map(|m| &m.nodes) {
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    if lo[0] <= hi[0] {
+        (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+    } else {
+        0.0
+    }
+}
+
 /// Euclidean distance between two points.
 pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (b[0] - a[0]).hypot(b[1] - a[1])

@@ -432,7 +432,10 @@ impl<'a> Solver<'a> {
             initial: None,
             settled_pattern: None,
             total_load,
-            extent: parts.iter().map(part_extent).fold(0.0, f64::max),
+            extent: parts
+                .iter()
+                .map(|p| crate::mesh::bounding_diagonal(&[&p.mesh]))
+                .fold(0.0, f64::max),
             proportional,
             committed: history.clone(),
             history,
@@ -2139,24 +2142,6 @@ fn largest_off(u: &[f64], skip: &[usize]) -> f64 {
         .filter(|(n, _)| skip.binary_search(n).is_err())
         .map(|(_, v)| v[0].hypot(v[1]))
         .fold(0.0, f64::max)
-}
-
-/// The diagonal of the bounding box of `part`'s nodes (0 for a part without nodes).
-fn part_extent(part: &Part) -> f64 {
-    let nodes = &part.mesh.nodes;
-    if nodes.is_empty() {
-        return 0.0;
-    }
-    let (lo, hi) = nodes.iter().fold(
-        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
-        |(lo, hi), x| {
-            (
-                [lo[0].min(x[0]), lo[1].min(x[1])],
-                [hi[0].max(x[0]), hi[1].max(x[1])],
-            )
-        },
-    );
-    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
 }
 
 #[cfg(test)]
