@@ -479,10 +479,11 @@ fn a_part_held_only_by_friction_finds_its_stick_zone() {
 }
 
 /// A block pushed sideways beyond friction with nothing else to hold it
-/// (Q = 0.45 P > μ P, μ = 0.3, too little to tip it): no state satisfies the law,
-/// and the run says so with a typed error instead of completing — that no
-/// pattern satisfies the law, or (where the iteration's patterns let the block
-/// go: it slides) that the block is left free to move as a rigid body.
+/// (Q = 0.45 P > μ P, μ = 0.3, too little to tip it): no state of rest exists,
+/// and the run says so before any solve, with a typed error naming the block
+/// and the inclined plane's numbers: at the first increment (λ = 1/2) it is
+/// pressed with P/2 = 0.5 and pushed along with Q/2 = 0.225 against
+/// μ P/2 = 0.15 (Beer & Johnston, *Statics*, §8.2).
 #[test]
 fn a_block_pushed_beyond_friction_is_not_reported_as_held() {
     let text = coulomb_block(
@@ -491,15 +492,20 @@ fn a_block_pushed_beyond_friction_is_not_reported_as_held() {
     );
     let a = analysis(&text);
     match a.solve() {
-        Err(Error::LawViolation { .. } | Error::NoConvergence(_)) => {}
         Err(e @ Error::Unsupported { .. }) => {
             let Error::Unsupported { parts, .. } = &e else {
                 unreachable!()
             };
             assert_eq!(parts, &["block"]);
-            // The message says why: friction cannot hold it.
             let e = e.to_string();
-            assert!(e.contains("harder than friction holds it"), "{e}");
+            assert!(
+                e.contains("harder than friction holds them")
+                    && e.contains("at increment 1 (load factor 0.5000)")
+                    && e.contains("onto its faces with 5.0000e-1")
+                    && e.contains("along them with 2.2500e-1")
+                    && e.contains("holds at most 1.5000e-1"),
+                "{e}"
+            );
         }
         Err(e) => panic!("unexpected error {e}"),
         Ok(res) => panic!("completed as {:?}", res.summary.status),
@@ -509,12 +515,15 @@ fn a_block_pushed_beyond_friction_is_not_reported_as_held() {
 /// The seed's plate on a base (examples/plate_on_base.toml) pushed sideways as
 /// well as down on x ∈ [100, 130] (Q = 400 N, P = 1500 N), the Coulomb law, T3
 /// and Q4 meshes. With μ = 0.2 friction holds at most μP = 300 N < Q and nothing
-/// else holds the plate along the face: no state satisfies the law, and the run
-/// ends with a typed error saying so (once it "completed" with the plate moved by
-/// 1e9 mm: the slipping pairs' springs let it drift, and the checks were relative
-/// to a load scale grown with the drift). With μ = 0.3 (μP = 450 N > Q) it is
-/// held, every pair on its law, the sideways reaction equal to Q. The seed's
-/// implex scheme ends with the error too.
+/// else holds the plate along the face: no state of rest exists, and the run
+/// ends at its first increment, before any solve, with a typed error saying so
+/// (once it "completed" with the plate moved by 1e9 mm: the slipping pairs'
+/// springs let it drift, and the checks were relative to a load scale grown with
+/// the drift; later it searched 200 patterns before failing). With μ = 0.3
+/// (μP = 450 N > Q) it is held, every pair on its law, the sideways reaction
+/// equal to Q. The seed's implex scheme cannot hold it even then — it does not
+/// correct the states it carries, whose slipping pairs find no fixed point —
+/// and says so instead of writing the drift as a result.
 #[test]
 fn the_plate_pushed_sideways_beyond_friction_is_not_reported_as_held() {
     let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plate_on_base.toml");
@@ -552,18 +561,18 @@ fn the_plate_pushed_sideways_beyond_friction_is_not_reported_as_held() {
     };
     for elements in ["", ", elements = \"q4\""] {
         match analysis(&edited(0.2, elements)).solve() {
-            Err(e @ Error::NoConvergence(_)) => {
-                let e = e.to_string();
-                assert!(
-                    e.contains("harder than friction holds it"),
-                    "{elements}: {e}"
-                );
-            }
-            Err(Error::LawViolation { .. }) => {}
             Err(e @ Error::Unsupported { .. }) => {
+                let Error::Unsupported { parts, .. } = &e else {
+                    unreachable!()
+                };
+                assert_eq!(parts, &["plate"], "{elements}");
+                // At λ = 0.1: P = 150 N, Q = 40 N, μP = 30 N.
                 let e = e.to_string();
                 assert!(
-                    e.contains("harder than friction holds it"),
+                    e.contains("at increment 1 (load factor 0.1000)")
+                        && e.contains("onto its faces with 1.5000e2")
+                        && e.contains("along them with 4.0000e1")
+                        && e.contains("holds at most 3.0000e1"),
                     "{elements}: {e}"
                 );
             }
@@ -585,8 +594,9 @@ fn the_plate_pushed_sideways_beyond_friction_is_not_reported_as_held() {
     }
     // The seed's implex scheme carries each increment's states to the next
     // without correcting them: the slipping pairs it carries cannot hold the
-    // plate either, and it says so instead of writing the drift as a result.
-    let implex = edited(0.2, "").replace("scheme = \"active-set\"", "scheme = \"implex\"");
+    // plate, though friction could, and it says so instead of writing the drift
+    // as a result.
+    let implex = edited(0.3, "").replace("scheme = \"active-set\"", "scheme = \"implex\"");
     assert!(implex.contains("scheme = \"implex\""));
     match analysis(&implex).solve() {
         Err(e @ Error::NoConvergence(_)) => {
@@ -599,6 +609,47 @@ fn the_plate_pushed_sideways_beyond_friction_is_not_reported_as_held() {
             res.summary.status, res.summary.max_displacement
         ),
     }
+}
+
+/// Cattaneo–Mindlin pushed beyond friction: examples/hertz/cattaneo.toml (a
+/// cylinder pressed by P = 4000 N on a block, then pushed sideways, μ = 0.3)
+/// with its tangential load raised from 600 N to Q = 1300 N > μP = 1200 N. The
+/// cylinder, held along the block's face by friction alone, has no state of rest
+/// once Q > μP: the shear step's first four increments (Q up to 1040 N) are
+/// solved and written, and the fifth stops before its solve with the error
+/// naming the cylinder. (Once that increment ended `completed_with_violations`
+/// with one pair settled sticking beyond μ f_n by the 100 N excess: the cylinder
+/// reported held, its reaction −1300 N.)
+#[test]
+fn the_cylinder_pushed_beyond_friction_stops_where_the_load_passes_mu_p() {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/hertz/cattaneo.toml");
+    let text = std::fs::read_to_string(&example)
+        .unwrap()
+        .replace("force = [600.0, 0.0]", "force = [1300.0, 0.0]");
+    assert!(text.contains("[1300.0, 0.0]") && text.contains("friction = 0.3"));
+    let mut a = Analysis::new(Model::from_str(&text, &example, 1).unwrap()).unwrap();
+    let out = std::env::temp_dir().join(format!("cfe-test-cattaneo-beyond-{}", std::process::id()));
+    let e = a
+        .run(&out, &mut |_| {})
+        .expect_err("no state of rest at Q > μP");
+    let Error::Unsupported { parts, .. } = &e else {
+        panic!("unexpected error {e}");
+    };
+    assert_eq!(parts, &["cylinder"]);
+    let e = e.to_string();
+    assert!(
+        e.contains("at increment 6 (step 2, load factor 1.0000)")
+            && e.contains("onto its faces with 4.0000e3")
+            && e.contains("along them with 1.3000e3")
+            && e.contains("holds at most 1.2000e3"),
+        "{e}"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(
+        summary.contains("\"failed\"") && summary.contains("\"converged_increments\": 5"),
+        "{summary}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
 }
 
 /// The seed's plate pulled up off its base (the load reversed), the Coulomb law:

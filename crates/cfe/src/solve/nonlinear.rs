@@ -249,6 +249,9 @@ pub struct Solver<'a> {
     system: ContactSystem<'a>,
     /// The support check's constant part (frames and fixed DOFs).
     supports: support::SupportCheck,
+    /// The parts friction alone holds along their faces, checked against each
+    /// increment's load before it is solved.
+    friction_hold: support::FrictionHold,
     last: Option<Solved>,
     initial: Option<PairStates>,
     /// The pattern the previous active-set increment settled on, if it settled.
@@ -428,6 +431,7 @@ impl<'a> Solver<'a> {
             f_ext,
             system: ContactSystem::new(parts, k, chol),
             supports: support::SupportCheck::new(parts, dofs),
+            friction_hold: support::FrictionHold::new(parts, interfaces, dofs),
             last: None,
             initial: None,
             settled_pattern: None,
@@ -657,6 +661,14 @@ impl<'a> Solver<'a> {
             let lambda = factors[inc - 1];
             self.fixed_point = 0;
             self.combine_steps(inc - 1);
+            // A part friction cannot hold has no state of rest: say so before
+            // searching the patterns for one.
+            self.friction_hold.check(
+                &self.f_ext,
+                lambda,
+                self.settings.force_tolerance * lambda * self.total_load,
+                &format!("increment {inc} ({})", self.where_in_path(inc, lambda)),
+            )?;
             let mut result = match self.settings.scheme {
                 Scheme::ActiveSet => {
                     let mut r = self.active_set_increment(inc, lambda, states.clone())?;

@@ -4,8 +4,13 @@
 //! bonded pair is a constraint row on those motions. The assembly is supported when
 //! the constraint rows have full rank; otherwise the null space names the parts that
 //! can move freely. This turns a singular stiffness into an error a user can act on.
+//!
+//! [`FrictionHold`] asks the question before any solve for a part held along its
+//! faces by friction alone: can friction hold its load at all? (The rank test
+//! cannot tell: a slipping pair keeps a stabilising spring.)
 
 use crate::assembly::{DofMap, FIXED};
+use std::f64::consts::FRAC_PI_2;
 use crate::coupling::{Interface, Law, PairState};
 use crate::domain::Part;
 use crate::error::{Error, Result};
@@ -223,5 +228,277 @@ fn unsupported(
             "part(s) {} left without support: they can move as rigid bodies. Add a [[support]], or check that the loads press the parts together",
             names.join(", ")
         ),
+    }
+}
+
+/// Can friction hold each part whose only hold along its faces is friction?
+///
+/// A part with no support whose every interface is frictional (`coulomb`, or
+/// `frictionless` beside one) and whose faces all push it the same way is held
+/// by its pairs' forces alone. Pair i pushes the part along its direction dᵢ
+/// (the host face's outward normal for the node part, its opposite for the
+/// host) with f_n,i ≥ 0 and carries at most μ f_n,i across it. With m the mean
+/// of the dᵢ, ε the largest angle between a dᵢ and m, and φ = atan μ_max, the
+/// force any such set of pairs exerts lies in the cone of half-angle φ + ε
+/// about m. Equilibrium with the part's load F then needs
+///
+/// ```text
+///   |F·t| ≤ tan(φ + ε) · (−F·m)        (t ⟂ m)
+/// ```
+///
+/// the inclined plane's `tan θ ≤ μ` (a flat face: ε = 0). A load beyond it has
+/// no state of rest, whatever the pair states: rather than search the patterns
+/// for one (each a fixed point on the slip forces that cannot converge, the
+/// part drifting under the slipping pairs' springs), the run stops before the
+/// increment's first solve. Where φ + ε reaches 90° (a groove, a curved seat)
+/// the faces can wedge the part against any load, and the part is not checked.
+pub struct FrictionHold {
+    faces: Vec<FrictionFace>,
+}
+
+/// A part held along its faces by friction alone (see [`FrictionHold`]).
+struct FrictionFace {
+    /// The part's name.
+    name: String,
+    /// Its global nodes (their DOFs are 2g and 2g + 1).
+    nodes: std::ops::Range<usize>,
+    /// Its interfaces' names, quoted, for messages.
+    interfaces: String,
+    /// Number of its coupling pairs.
+    pairs: usize,
+    /// Unit mean direction m in which its faces push it.
+    normal: [f64; 2],
+    /// Largest friction coefficient of its interfaces.
+    friction: f64,
+    /// Largest angle ε between a pair's direction and m (radians).
+    spread: f64,
+}
+
+impl FrictionHold {
+    /// The parts of `parts` that friction alone holds along their faces, under
+    /// the supports of `dofs` and the interfaces `interfaces`.
+    pub fn new(parts: &[Part], interfaces: &[Interface], dofs: &DofMap) -> Self {
+        let faces = (0..parts.len())
+            .filter_map(|p| {
+                let (start, end) = (dofs.node_offset[p], dofs.node_offset[p + 1]);
+                if dofs.eq[2 * start..2 * end].contains(&FIXED) {
+                    return None;
+                }
+                let touching: Vec<usize> = (0..interfaces.len())
+                    .filter(|&i| interfaces[i].host == p || interfaces[i].node_part == p)
+                    .collect();
+                let frictional = |i: &Interface| {
+                    i.host != i.node_part && matches!(i.law, Law::Coulomb | Law::Frictionless)
+                };
+                if !touching.iter().all(|&i| frictional(&interfaces[i]))
+                    || !touching.iter().any(|&i| interfaces[i].law == Law::Coulomb)
+                {
+                    return None;
+                }
+                let directions = touching.iter().flat_map(|&i| {
+                    let iface = &interfaces[i];
+                    let sign = if iface.node_part == p { 1.0 } else { -1.0 };
+                    iface
+                        .elements
+                        .iter()
+                        .map(move |c| [sign * c.normal[0], sign * c.normal[1]])
+                });
+                let (normal, spread) = face_direction(directions)?;
+                let friction = touching
+                    .iter()
+                    .map(|&i| interfaces[i].friction)
+                    .fold(0.0, f64::max);
+                // Past 90° the cone holds every direction: no bound.
+                if friction.atan() + spread >= FRAC_PI_2 - 1e-9 {
+                    return None;
+                }
+                let names: Vec<String> = touching
+                    .iter()
+                    .map(|&i| format!("'{}'", interfaces[i].name))
+                    .collect();
+                Some(FrictionFace {
+                    name: parts[p].name.clone(),
+                    nodes: start..end,
+                    pairs: touching.iter().map(|&i| interfaces[i].elements.len()).sum(),
+                    interfaces: names.join(", "),
+                    normal,
+                    friction,
+                    spread,
+                })
+            })
+            .collect();
+        FrictionHold { faces }
+    }
+
+    /// Checks every such part under the load `lambda × f_ext` (by global DOF,
+    /// 2g and 2g + 1 for global node g). `slack` is the force by which the law
+    /// check lets each pair exceed its cone (a completed run's tolerance): a load
+    /// is refused only when it exceeds the cone by more than the pairs' slack
+    /// together, so no pattern the law check would accept is ruled out. `when`
+    /// says where on the load path, for the message. Returns an
+    /// [`Error::Unsupported`] naming every part friction cannot hold.
+    pub fn check(
+        &self,
+        f_ext: &[f64],
+        lambda: f64,
+        slack: f64,
+        when: &str,
+    ) -> Result<()> {
+        let mut held = Vec::new();
+        let mut messages = Vec::new();
+        for face in &self.faces {
+            let load = face.nodes.clone().fold([0.0, 0.0], |a, g| {
+                [a[0] + lambda * f_ext[2 * g], a[1] + lambda * f_ext[2 * g + 1]]
+            });
+            let cone = (face.friction.atan() + face.spread).tan();
+            let margin = face.pairs as f64 * slack * (1.0 + cone);
+            let Some(limit) = beyond_friction(load, face.normal, cone, margin) else {
+                continue;
+            };
+            held.push(face.name.clone());
+            let spread = if face.spread > 1e-6 {
+                format!(
+                    ", its faces turning up to {0:.2}° from their mean direction: tan(atan μ + {0:.2}°) × the pressing force",
+                    face.spread.to_degrees()
+                )
+            } else {
+                String::new()
+            };
+            let pressed = if limit.pressing > 0.0 {
+                format!("press it onto its faces with {:.4e}", limit.pressing)
+            } else {
+                format!(
+                    "press it onto its faces with nothing (they pull it away with {:.4e})",
+                    -limit.pressing
+                )
+            };
+            messages.push(format!(
+                "'{}' at {when}: its loads {pressed} and push it along them with {:.4e}, but friction (μ = {} on {}{spread}) holds at most {:.4e}, and nothing else holds it along its faces (no support, no bonded interface)",
+                face.name,
+                limit.along,
+                face.friction,
+                face.interfaces,
+                limit.capacity,
+            ));
+        }
+        if held.is_empty() {
+            return Ok(());
+        }
+        let quoted: Vec<String> = held.iter().map(|n| format!("'{n}'")).collect();
+        Err(Error::Unsupported {
+            message: format!(
+                "part(s) {} pushed along their faces harder than friction holds them, so no state of rest exists: {}. Hold the part, raise the friction coefficient, or reduce the tangential load",
+                quoted.join(", "),
+                messages.join("; ")
+            ),
+            parts: held,
+        })
+    }
+}
+
+/// The unit mean m of `directions` and the largest angle ε between one of them
+/// and m; `None` when there are none or they cancel (a nonzero sum means at
+/// least one).
+fn face_direction(directions: impl Iterator<Item = [f64; 2]> + Clone) -> Option<([f64; 2], f64)> {
+    let sum = directions
+        .clone()
+        .fold([0.0, 0.0], |a, d| [a[0] + d[0], a[1] + d[1]]);
+    let len = sum[0].hypot(sum[1]);
+    if len.is_nan() || len <= 0.0 {
+        return None;
+    }
+    let m = [sum[0] / len, sum[1] / len];
+    let spread = directions
+        .map(|d| (d[0] * m[1] - d[1] * m[0]).abs().atan2(d[0] * m[0] + d[1] * m[1]))
+        .fold(0.0, f64::max);
+    Some((m, spread))
+}
+
+/// A load beyond the friction a face holds: its components and the most the face
+/// holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct BeyondFriction {
+    /// −F·m: how hard the load presses the part onto the face (negative: pulls it
+    /// away).
+    pressing: f64,
+    /// |F·t|: how hard it pushes the part along the face.
+    along: f64,
+    /// tan(φ + ε) × max(pressing, 0): the most friction holds along the face.
+    capacity: f64,
+}
+
+/// Whether the load `f` on a part whose faces push it along the unit direction
+/// `m` with the friction cone `cone` = tan(φ + ε) exceeds what they hold by more
+/// than `margin` (see [`FrictionHold`]).
+fn beyond_friction(f: [f64; 2], m: [f64; 2], cone: f64, margin: f64) -> Option<BeyondFriction> {
+    let pressing = -(f[0] * m[0] + f[1] * m[1]);
+    let along = (f[0] * m[1] - f[1] * m[0]).abs();
+    let capacity = cone * pressing.max(0.0);
+    (along > capacity + margin).then_some(BeyondFriction {
+        pressing,
+        along,
+        capacity,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The inclined plane (any statics text, e.g. Beer & Johnston, *Vector
+    /// Mechanics for Engineers: Statics*, §8.2): a block of weight W on a face
+    /// inclined at θ stays at rest iff tan θ ≤ μ.
+    ///
+    /// ```text
+    ///          ↓ W
+    ///        ▟██▙
+    ///      ╱▔▔▔▔      face at θ, normal d = (−sin θ, cos θ)
+    ///    ╱ θ
+    /// ```
+    #[test]
+    fn the_inclined_plane_holds_the_block_iff_tan_theta_is_at_most_mu() {
+        for mu in [0.1_f64, 0.3, 0.8] {
+            let phi = mu.atan();
+            for (theta, held) in [(phi - 1e-6, true), (phi + 1e-6, false), (0.0, true)] {
+                let d = [-theta.sin(), theta.cos()];
+                let (m, spread) = face_direction([d; 7].into_iter()).unwrap();
+                assert!(spread < 1e-12, "one flat face has no spread: {spread}");
+                let cone = (mu.atan() + spread).tan();
+                let w = 1234.5;
+                let beyond = beyond_friction([0.0, -w], m, cone, 1e-9 * w);
+                assert_eq!(beyond.is_none(), held, "μ = {mu}, θ = {theta}");
+                if let Some(b) = beyond {
+                    // N = W cos θ, T = W sin θ, capacity μN.
+                    assert!((b.pressing - w * theta.cos()).abs() < 1e-9 * w);
+                    assert!((b.along - w * theta.sin()).abs() < 1e-9 * w);
+                    assert!((b.capacity - mu * w * theta.cos()).abs() < 1e-9 * w);
+                }
+            }
+        }
+    }
+
+    /// A block in a V-groove of faces at ±α to the horizontal, pushed sideways by
+    /// Q and down by P: it rides up one face, so it is held iff
+    /// Q ≤ tan(α + φ) P (the other face opens); the bound of the faces' spread
+    /// is that limit exactly. With α + φ ≥ 90° the groove wedges the block
+    /// against any load: no direction is found beyond the cone.
+    #[test]
+    fn a_v_groove_holds_up_to_its_wedge_angle() {
+        let (alpha, mu) = (45f64.to_radians(), 0.3_f64);
+        let faces = [[-alpha.sin(), alpha.cos()], [alpha.sin(), alpha.cos()]];
+        let (m, spread) = face_direction(faces.into_iter()).unwrap();
+        assert!((m[0]).abs() < 1e-15 && (m[1] - 1.0).abs() < 1e-15);
+        assert!((spread - alpha).abs() < 1e-12);
+        let cone = (mu.atan() + spread).tan();
+        let p = 100.0;
+        let limit = (alpha + mu.atan()).tan() * p;
+        assert!(beyond_friction([limit * (1.0 - 1e-6), -p], m, cone, 1e-9).is_none());
+        assert!(beyond_friction([limit * (1.0 + 1e-6), -p], m, cone, 1e-9).is_some());
+        // Pulled away: nothing holds it along the face.
+        let b = beyond_friction([1.0, 10.0], m, cone, 1e-9).unwrap();
+        assert!(b.pressing < 0.0 && b.capacity == 0.0);
+        // Opposite faces (a part clamped between two): no mean direction.
+        assert!(face_direction([[0.0, 1.0], [0.0, -1.0]].into_iter()).is_none());
+        assert!(face_direction(std::iter::empty()).is_none());
     }
 }
