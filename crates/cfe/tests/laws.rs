@@ -502,7 +502,7 @@ fn a_block_pushed_beyond_friction_is_not_reported_as_held() {
                 e.contains("harder than friction holds them")
                     && e.contains("at increment 1 (load factor 0.5000)")
                     && e.contains("onto its faces with 5.0000e-1")
-                    && e.contains("along them with 2.2500e-1")
+                    && e.contains("along its faces with 2.2500e-1")
                     && e.contains("holds at most 1.5000e-1"),
                 "{e}"
             );
@@ -571,7 +571,7 @@ fn the_plate_pushed_sideways_beyond_friction_is_not_reported_as_held() {
                 assert!(
                     e.contains("at increment 1 (load factor 0.1000)")
                         && e.contains("onto its faces with 1.5000e2")
-                        && e.contains("along them with 4.0000e1")
+                        && e.contains("along its faces with 4.0000e1")
                         && e.contains("holds at most 3.0000e1"),
                     "{elements}: {e}"
                 );
@@ -640,7 +640,7 @@ fn the_cylinder_pushed_beyond_friction_stops_where_the_load_passes_mu_p() {
     assert!(
         e.contains("at increment 6 (step 2, load factor 1.0000)")
             && e.contains("onto its faces with 4.0000e3")
-            && e.contains("along them with 1.3000e3")
+            && e.contains("along its faces with 1.3000e3")
             && e.contains("holds at most 1.2000e3"),
         "{e}"
     );
@@ -650,6 +650,87 @@ fn the_cylinder_pushed_beyond_friction_stops_where_the_load_passes_mu_p() {
         "{summary}"
     );
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// A block on the seed's plate on its base (examples/plate_on_base.toml), the
+/// plate on a `coulomb` face (μ = 0.2) and the block pushed down and sideways
+/// (P = 1500 N, Q = 400 N). Neither part alone can be judged — the block is
+/// bonded to the plate, or held by μ = 0.5, and the plate is pressed from above
+/// and below — but the two taken together rest on the plate's face alone, so
+/// Q > μP has no state of rest, and the run stops at its first increment with
+/// the error naming both (the search once ran 200 patterns and advised raising
+/// `max_iterations`, or named the parts free after 8 s). With Q = 100 N < μP it
+/// completes, the sideways reaction equal to Q.
+///
+/// ```text
+///            ↙ P, Q
+///        ┌──────┐ block
+///   ┌────┴──────┴─────┐ plate
+///   ╞═════════════════╡ μ = 0.2
+///   │      base       │
+///   └─────────────────┘ fixed
+/// ```
+#[test]
+fn a_stack_on_a_frictional_face_is_judged_as_one_body() {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plate_on_base.toml");
+    let seed = std::fs::read_to_string(&example).unwrap();
+    let stack = |block_law: &str, q: f64| {
+        let block = format!(
+            "[[part]]\nname = \"block\"\nmaterial = \"steel\"\nrectangle = {{ x = [85.0, 115.0], y = [135.0, 150.0], cells = [12, 6] }}\n\n[[interface]]\nname = \"block-plate\"\nhost = \"plate\"\nnodes = \"block\"\nboundary = \"bottom\"\n{block_law}\n\n[[support]]"
+        );
+        let text = seed
+            .replace("law = \"contact\"", "law = \"coulomb\"\nfriction = 0.2")
+            .replacen("[[support]]", &block, 1)
+            .replace(
+                "part = \"plate\"\nboundary = \"top\"",
+                "part = \"block\"\nboundary = \"top\"",
+            )
+            .replace("from = [86.0, 135.0]", "from = [85.0, 150.0]")
+            .replace("to = [114.0, 135.0]", "to = [100.0, 150.0]")
+            .replace(
+                "force = [0.0, -1500.0]",
+                &format!("force = [{q:.1}, -1500.0]"),
+            );
+        for edit in [
+            "friction = 0.2",
+            "name = \"block\"",
+            "part = \"block\"",
+            "[85.0, 150.0]",
+            "[100.0, 150.0]",
+        ] {
+            assert!(
+                text.contains(edit),
+                "the example no longer has the line for {edit}"
+            );
+        }
+        analysis(&text)
+    };
+    for block_law in ["law = \"contact\"", "law = \"coulomb\"\nfriction = 0.5"] {
+        match stack(block_law, 400.0).solve() {
+            Err(e @ Error::Unsupported { .. }) => {
+                let Error::Unsupported { parts, .. } = &e else {
+                    unreachable!()
+                };
+                assert_eq!(parts, &["plate", "block"], "{block_law}");
+                // At λ = 0.1: P = 150 N, Q = 40 N, μP = 30 N.
+                let e = e.to_string();
+                assert!(
+                    e.contains("'plate', 'block' taken together at increment 1")
+                        && e.contains("onto their faces with 1.5000e2")
+                        && e.contains("along their faces with 4.0000e1")
+                        && e.contains("holds at most 3.0000e1")
+                        && e.contains("on 'plate-base'"),
+                    "{block_law}: {e}"
+                );
+            }
+            Err(e) => panic!("{block_law}: unexpected error {e}"),
+            Ok(res) => panic!("{block_law}: completed as {:?}", res.summary.status),
+        }
+    }
+    let res = stack("law = \"contact\"", 100.0).solve().unwrap();
+    assert_eq!(res.summary.status, RunStatus::Completed);
+    let fx: f64 = res.summary.reactions.iter().map(|r| r.fx).sum();
+    assert!((fx + 100.0).abs() < 1e-8 * 1500.0, "Σ reaction x = {fx}");
 }
 
 /// The seed's plate pulled up off its base (the load reversed), the Coulomb law:

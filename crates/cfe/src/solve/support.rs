@@ -5,9 +5,10 @@
 //! the constraint rows have full rank; otherwise the null space names the parts that
 //! can move freely. This turns a singular stiffness into an error a user can act on.
 //!
-//! [`FrictionHold`] asks the question before any solve for a part held along its
-//! faces by friction alone: can friction hold its load at all? (The rank test
-//! cannot tell: a slipping pair keeps a stabilising spring.)
+//! [`FrictionHold`] asks the question before any solve for a part (or parts
+//! taken together) held along its faces by friction alone: can friction hold its
+//! load at all? (The rank test cannot tell: a slipping pair keeps a stabilising
+//! spring.)
 
 use crate::assembly::{DofMap, FIXED};
 use std::f64::consts::FRAC_PI_2;
@@ -231,16 +232,19 @@ fn unsupported(
     }
 }
 
-/// Can friction hold each part whose only hold along its faces is friction?
+/// Can friction hold each part, or group of parts, whose only hold along its
+/// faces is friction?
 ///
-/// A part with no support whose every interface is frictional (`coulomb`, or
-/// `frictionless` beside one) and whose faces all push it the same way is held
-/// by its pairs' forces alone. Pair i pushes the part along its direction dᵢ
-/// (the host face's outward normal for the node part, its opposite for the
-/// host) with f_n,i ≥ 0 and carries at most μ f_n,i across it. With m the mean
-/// of the dᵢ, ε the largest angle between a dᵢ and m, and φ = atan μ_max, the
-/// force any such set of pairs exerts lies in the cone of half-angle φ + ε
-/// about m. Equilibrium with the part's load F then needs
+/// A body — one part, or parts coupled to each other taken together, whose
+/// mutual pair forces cancel — with no support, whose every interface to the
+/// rest is frictional (`coulomb`, or `frictionless` beside one) and whose faces
+/// all push it the same way is held by those faces' pair forces alone. Pair i
+/// pushes the body along its direction dᵢ (the host face's outward normal when
+/// the body holds the node side, its opposite when it holds the host) with
+/// f_n,i ≥ 0 and carries at most μ f_n,i across it. With m the mean of the dᵢ,
+/// ε the largest angle between a dᵢ and m, and φ = atan μ_max, the force any
+/// such set of pairs exerts lies in the cone of half-angle φ + ε about m.
+/// Equilibrium with the body's load F then needs
 ///
 /// ```text
 ///   |F·t| ≤ tan(φ + ε) · (−F·m)        (t ⟂ m)
@@ -249,77 +253,110 @@ fn unsupported(
 /// the inclined plane's `tan θ ≤ μ` (a flat face: ε = 0). A load beyond it has
 /// no state of rest, whatever the pair states: rather than search the patterns
 /// for one (each a fixed point on the slip forces that cannot converge, the
-/// part drifting under the slipping pairs' springs), the run stops before the
+/// body drifting under the slipping pairs' springs), the run stops before the
 /// increment's first solve. Where φ + ε reaches 90° (a groove, a curved seat)
-/// the faces can wedge the part against any load, and the part is not checked.
+/// the faces can wedge the body against any load, and it is not checked.
+///
+/// The bodies checked: every part without a support; and the connected groups
+/// of such parts, linked by any interface and by the `rigid` and `contact`
+/// interfaces only (a block bonded to a plate that rests on a frictional face;
+/// a stack whose middle part is pressed from both sides). Each is a necessary
+/// condition: a body that passes may still find no state.
 pub struct FrictionHold {
-    faces: Vec<FrictionFace>,
+    bodies: Vec<FrictionBody>,
 }
 
-/// A part held along its faces by friction alone (see [`FrictionHold`]).
-struct FrictionFace {
-    /// The part's name.
-    name: String,
-    /// Its global nodes (their DOFs are 2g and 2g + 1).
-    nodes: std::ops::Range<usize>,
-    /// Its interfaces' names, quoted, for messages.
+/// A body held along its faces by friction alone (see [`FrictionHold`]).
+struct FrictionBody {
+    /// Its parts' names.
+    parts: Vec<String>,
+    /// Its parts' global nodes (their DOFs are 2g and 2g + 1).
+    nodes: Vec<std::ops::Range<usize>>,
+    /// The interfaces holding it, their names quoted, for messages.
     interfaces: String,
-    /// Number of its coupling pairs.
+    /// Number of their coupling pairs.
     pairs: usize,
     /// Unit mean direction m in which its faces push it.
     normal: [f64; 2],
-    /// Largest friction coefficient of its interfaces.
+    /// Largest friction coefficient of those interfaces.
     friction: f64,
     /// Largest angle ε between a pair's direction and m (radians).
     spread: f64,
 }
 
 impl FrictionHold {
-    /// The parts of `parts` that friction alone holds along their faces, under
-    /// the supports of `dofs` and the interfaces `interfaces`.
+    /// The bodies of `parts` that friction alone holds along their faces,
+    /// under the supports of `dofs` and the interfaces `interfaces`.
     pub fn new(parts: &[Part], interfaces: &[Interface], dofs: &DofMap) -> Self {
-        let faces = (0..parts.len())
-            .filter_map(|p| {
-                let (start, end) = (dofs.node_offset[p], dofs.node_offset[p + 1]);
-                if dofs.eq[2 * start..2 * end].contains(&FIXED) {
-                    return None;
+        let nodes = |p: usize| dofs.node_offset[p]..dofs.node_offset[p + 1];
+        let free: Vec<bool> = (0..parts.len())
+            .map(|p| !dofs.eq[2 * nodes(p).start..2 * nodes(p).end].contains(&FIXED))
+            .collect();
+        // Candidate bodies: single parts, then the groups (sorted, no repeats).
+        let mut candidates: Vec<Vec<usize>> =
+            (0..parts.len()).filter(|&p| free[p]).map(|p| vec![p]).collect();
+        for bonded_only in [false, true] {
+            let linked = |i: &Interface| {
+                free[i.host]
+                    && free[i.node_part]
+                    && (!bonded_only || matches!(i.law, Law::Rigid | Law::Contact))
+            };
+            let links = interfaces
+                .iter()
+                .filter(|i| linked(i))
+                .map(|i| (i.host, i.node_part));
+            for group in groups(parts.len(), links) {
+                if group.len() > 1 && group.iter().all(|&p| free[p]) && !candidates.contains(&group)
+                {
+                    candidates.push(group);
                 }
-                let touching: Vec<usize> = (0..interfaces.len())
-                    .filter(|&i| interfaces[i].host == p || interfaces[i].node_part == p)
+            }
+        }
+        let bodies = candidates
+            .into_iter()
+            .filter_map(|body| {
+                let inside = |p: usize| body.contains(&p);
+                // The interfaces between the body and the rest, with the sign of
+                // the direction their pairs push the body.
+                let holding: Vec<(usize, f64)> = (0..interfaces.len())
+                    .filter_map(|i| {
+                        let iface = &interfaces[i];
+                        match (inside(iface.host), inside(iface.node_part)) {
+                            (false, true) => Some((i, 1.0)),
+                            (true, false) => Some((i, -1.0)),
+                            _ => None,
+                        }
+                    })
                     .collect();
-                let frictional = |i: &Interface| {
-                    i.host != i.node_part && matches!(i.law, Law::Coulomb | Law::Frictionless)
-                };
-                if !touching.iter().all(|&i| frictional(&interfaces[i]))
-                    || !touching.iter().any(|&i| interfaces[i].law == Law::Coulomb)
+                let laws = || holding.iter().map(|&(i, _)| interfaces[i].law);
+                if !laws().all(|l| matches!(l, Law::Coulomb | Law::Frictionless))
+                    || !laws().any(|l| l == Law::Coulomb)
                 {
                     return None;
                 }
-                let directions = touching.iter().flat_map(|&i| {
-                    let iface = &interfaces[i];
-                    let sign = if iface.node_part == p { 1.0 } else { -1.0 };
-                    iface
+                let directions = holding.iter().flat_map(|&(i, sign)| {
+                    interfaces[i]
                         .elements
                         .iter()
                         .map(move |c| [sign * c.normal[0], sign * c.normal[1]])
                 });
                 let (normal, spread) = face_direction(directions)?;
-                let friction = touching
+                let friction = holding
                     .iter()
-                    .map(|&i| interfaces[i].friction)
+                    .map(|&(i, _)| interfaces[i].friction)
                     .fold(0.0, f64::max);
                 // Past 90° the cone holds every direction: no bound.
                 if friction.atan() + spread >= FRAC_PI_2 - 1e-9 {
                     return None;
                 }
-                let names: Vec<String> = touching
+                let names: Vec<String> = holding
                     .iter()
-                    .map(|&i| format!("'{}'", interfaces[i].name))
+                    .map(|&(i, _)| format!("'{}'", interfaces[i].name))
                     .collect();
-                Some(FrictionFace {
-                    name: parts[p].name.clone(),
-                    nodes: start..end,
-                    pairs: touching.iter().map(|&i| interfaces[i].elements.len()).sum(),
+                Some(FrictionBody {
+                    parts: body.iter().map(|&p| parts[p].name.clone()).collect(),
+                    nodes: body.iter().map(|&p| nodes(p)).collect(),
+                    pairs: holding.iter().map(|&(i, _)| interfaces[i].elements.len()).sum(),
                     interfaces: names.join(", "),
                     normal,
                     friction,
@@ -327,57 +364,59 @@ impl FrictionHold {
                 })
             })
             .collect();
-        FrictionHold { faces }
+        FrictionHold { bodies }
     }
 
-    /// Checks every such part under the load `lambda × f_ext` (by global DOF,
+    /// Checks every such body under the load `lambda × f_ext` (by global DOF,
     /// 2g and 2g + 1 for global node g). `slack` is the force by which the law
     /// check lets each pair exceed its cone (a completed run's tolerance): a load
     /// is refused only when it exceeds the cone by more than the pairs' slack
     /// together, so no pattern the law check would accept is ruled out. `when`
     /// says where on the load path, for the message. Returns an
-    /// [`Error::Unsupported`] naming every part friction cannot hold.
-    pub fn check(
-        &self,
-        f_ext: &[f64],
-        lambda: f64,
-        slack: f64,
-        when: &str,
-    ) -> Result<()> {
-        let mut held = Vec::new();
+    /// [`Error::Unsupported`] naming the parts of every body friction cannot
+    /// hold (a group only when none of its parts is named already).
+    pub fn check(&self, f_ext: &[f64], lambda: f64, slack: f64, when: &str) -> Result<()> {
+        let mut held: Vec<String> = Vec::new();
         let mut messages = Vec::new();
-        for face in &self.faces {
-            let load = face.nodes.clone().fold([0.0, 0.0], |a, g| {
+        for body in &self.bodies {
+            if body.parts.iter().any(|p| held.contains(p)) {
+                continue;
+            }
+            let load = body.nodes.iter().flat_map(|r| r.clone()).fold([0.0, 0.0], |a, g| {
                 [a[0] + lambda * f_ext[2 * g], a[1] + lambda * f_ext[2 * g + 1]]
             });
-            let cone = (face.friction.atan() + face.spread).tan();
-            let margin = face.pairs as f64 * slack * (1.0 + cone);
-            let Some(limit) = beyond_friction(load, face.normal, cone, margin) else {
+            let cone = (body.friction.atan() + body.spread).tan();
+            let margin = body.pairs as f64 * slack * (1.0 + cone);
+            let Some(limit) = beyond_friction(load, body.normal, cone, margin) else {
                 continue;
             };
-            held.push(face.name.clone());
-            let spread = if face.spread > 1e-6 {
+            held.extend(body.parts.iter().cloned());
+            let quoted: Vec<String> = body.parts.iter().map(|n| format!("'{n}'")).collect();
+            let (who, its, it) = match quoted.len() {
+                1 => (quoted[0].clone(), "its", "it"),
+                _ => (format!("{} taken together", quoted.join(", ")), "their", "them"),
+            };
+            let spread = if body.spread > 1e-6 {
                 format!(
-                    ", its faces turning up to {0:.2}° from their mean direction: tan(atan μ + {0:.2}°) × the pressing force",
-                    face.spread.to_degrees()
+                    ", the faces turning up to {0:.2}° from their mean direction: tan(atan μ + {0:.2}°) × the pressing force",
+                    body.spread.to_degrees()
                 )
             } else {
                 String::new()
             };
             let pressed = if limit.pressing > 0.0 {
-                format!("press it onto its faces with {:.4e}", limit.pressing)
+                format!("press {it} onto {its} faces with {:.4e}", limit.pressing)
             } else {
                 format!(
-                    "press it onto its faces with nothing (they pull it away with {:.4e})",
+                    "press {it} onto {its} faces with nothing (they pull {it} away with {:.4e})",
                     -limit.pressing
                 )
             };
             messages.push(format!(
-                "'{}' at {when}: its loads {pressed} and push it along them with {:.4e}, but friction (μ = {} on {}{spread}) holds at most {:.4e}, and nothing else holds it along its faces (no support, no bonded interface)",
-                face.name,
+                "{who} at {when}: {its} loads {pressed} and push {it} along {its} faces with {:.4e}, but friction (μ = {} on {}{spread}) holds at most {:.4e}, and nothing else holds {it} along {its} faces (no support, no bonded interface)",
                 limit.along,
-                face.friction,
-                face.interfaces,
+                body.friction,
+                body.interfaces,
                 limit.capacity,
             ));
         }
@@ -394,6 +433,35 @@ impl FrictionHold {
             parts: held,
         })
     }
+}
+
+/// The connected groups of `n` parts under the `links` (pairs of parts: an
+/// interface's host and node part), each sorted, in the order of their smallest
+/// part.
+fn groups(n: usize, links: impl Iterator<Item = (usize, usize)>) -> Vec<Vec<usize>> {
+    let mut root: Vec<usize> = (0..n).collect();
+    fn find(root: &mut [usize], mut p: usize) -> usize {
+        while root[p] != p {
+            root[p] = root[root[p]];
+            p = root[p];
+        }
+        p
+    }
+    for (a, b) in links {
+        let (a, b) = (find(&mut root, a), find(&mut root, b));
+        root[a.max(b)] = a.min(b);
+    }
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut index = vec![usize::MAX; n];
+    for p in 0..n {
+        let r = find(&mut root, p);
+        if index[r] == usize::MAX {
+            index[r] = groups.len();
+            groups.push(Vec::new());
+        }
+        groups[index[r]].push(p);
+    }
+    groups
 }
 
 /// The unit mean m of `directions` and the largest angle ε between one of them
@@ -475,6 +543,14 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The groups of parts linked by interfaces: 0–1–2 and 3–4 linked, 5 alone.
+    #[test]
+    fn groups_are_the_connected_parts() {
+        let links = [(2, 1), (4, 3), (0, 1)];
+        assert_eq!(groups(6, links.into_iter()), vec![vec![0, 1, 2], vec![3, 4], vec![5]]);
+        assert_eq!(groups(2, std::iter::empty()), vec![vec![0], vec![1]]);
     }
 
     /// A block in a V-groove of faces at ±α to the horizontal, pushed sideways by
