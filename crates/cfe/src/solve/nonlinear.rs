@@ -261,6 +261,10 @@ pub struct Solver<'a> {
     /// The largest part's size (the diagonal of its bounding box): the largest
     /// displacement the load scale's floor reads (see [`FORCE_FLOOR`]).
     extent: f64,
+    /// The largest prescribed displacement (any support, any step, at full
+    /// value) and the largest initial gap: with `extent`, how far a state of
+    /// rest may move a coupling node (see [`Solver::drifted`]).
+    largest_prescribed: f64,
     /// Whether the solution scales with the load factor (no initial gap, no
     /// friction, no augmented Lagrangian): then a solved pattern is scaled, not
     /// solved again.
@@ -440,6 +444,10 @@ impl<'a> Solver<'a> {
                 .iter()
                 .map(|p| crate::mesh::bounding_diagonal(&[&p.mesh]))
                 .fold(0.0, f64::max),
+            largest_prescribed: interfaces
+                .iter()
+                .flat_map(|i| i.elements.iter().map(|c| c.gap0.abs()))
+                .fold(largest_off(&dofs.prescribed, &[]), f64::max),
             proportional,
             committed: history.clone(),
             history,
@@ -520,6 +528,11 @@ impl<'a> Solver<'a> {
             return;
         }
         self.step_labels = Some(steps.increments.iter().map(|(s, f)| (*s, f[*s])).collect());
+        self.largest_prescribed = steps
+            .prescribed
+            .iter()
+            .map(|p| largest_off(p, &[]))
+            .fold(self.largest_prescribed, f64::max);
         let loaded = steps.loaded();
         if loaded.len() <= 1 {
             // Proportional: one step's load, scaled by its factor.
@@ -1329,7 +1342,7 @@ impl<'a> Solver<'a> {
             };
             let before = self.history.clone();
             if self.update_right_hand_side(states, u, FIXED_POINT_TOLERANCE * load, &mut anderson) {
-                self.fixed_point_converged = true;
+                self.fixed_point_converged = !self.drifted(u, &coupling_nodes);
                 break;
             }
             self.fixed_point += 1;
@@ -1388,6 +1401,26 @@ impl<'a> Solver<'a> {
     /// histories `before` to the current ones, at the coupling DOFs (in their
     /// order; the pairs act nowhere else). Each side is summed element by element
     /// as the assembled force would be.
+    /// Whether the displacements `u` of a fixed point have a coupling node (of
+    /// `coupling_nodes`) moved further than a state of rest can move it: the
+    /// largest part's size beyond the largest prescribed displacement (or
+    /// initial gap, should one be larger). Within a
+    /// geometrically linear model only a rigid drift goes that far — a part
+    /// held along its faces by slipping pairs alone, whose slip forces balance
+    /// at any position along them, carried off by the fixed point's steps under
+    /// their springs (the seed's plate with a block bonded on it, pushed at
+    /// Q = 0.83 μP, drifted 290 m in a pattern with every closed pair slipping,
+    /// and the run stopped with a loss of precision). Such a fixed point is
+    /// not taken as converged: its pattern is neither accepted nor settled on,
+    /// and its slipping pairs stick in the next (where one stick pair holds the
+    /// part, 0.02 mm from where it started).
+    fn drifted(&self, u: &[f64], coupling_nodes: &[usize]) -> bool {
+        let limit = self.extent + self.largest_prescribed;
+        coupling_nodes
+            .iter()
+            .any(|&n| u[2 * n].hypot(u[2 * n + 1]) > limit)
+    }
+
     fn pair_term_change(
         &self,
         states: &[Vec<PairState>],
