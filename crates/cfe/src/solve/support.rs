@@ -165,39 +165,29 @@ fn unsupported(
     let names: Vec<String> = (0..parts.len())
         .filter(|&p| free[p])
         .map(|p| {
-            let pairs: usize = interfaces
+            // Its pairs, open ones, closed ones with no tangential stiffness
+            // (frictionless: sliding freely), and its Coulomb interfaces'
+            // slipping pairs.
+            let (mut pairs, mut open, mut sliding, mut slipping) = (0, 0, 0, 0);
+            let mut frictional = false;
+            let touching = interfaces
                 .iter()
                 .zip(states)
-                .filter(|(i, _)| i.host == p || i.node_part == p)
-                .map(|(_, st)| st.len())
-                .sum();
-            let open: usize = interfaces
-                .iter()
-                .zip(states)
-                .filter(|(i, _)| i.host == p || i.node_part == p)
-                .map(|(_, st)| st.iter().filter(|&&s| s == PairState::Open).count())
-                .sum();
-            // Closed pairs with no tangential stiffness: frictionless.
-            let sliding: usize = interfaces
-                .iter()
-                .zip(states)
-                .filter(|(i, _)| i.host == p || i.node_part == p)
-                .map(|(i, st)| {
-                    let law = i.params();
-                    st.iter()
-                        .filter(|&&s| s != PairState::Open && law.penalties(s)[1] == 0.0)
-                        .count()
-                })
-                .sum();
-            // Its Coulomb interfaces' slipping pairs.
-            let coulomb = interfaces
-                .iter()
-                .zip(states)
-                .filter(|(i, _)| (i.host == p || i.node_part == p) && i.law == Law::Coulomb);
-            let (mut frictional, mut slipping) = (false, 0);
-            for (_, st) in coulomb {
-                frictional = true;
-                slipping += st.iter().filter(|&&s| s == PairState::Slip).count();
+                .filter(|(i, _)| i.host == p || i.node_part == p);
+            for (i, st) in touching {
+                let law = i.params();
+                frictional |= i.law == Law::Coulomb;
+                pairs += st.len();
+                for &s in st {
+                    match s {
+                        PairState::Open => open += 1,
+                        PairState::Slip => slipping += 1,
+                        PairState::Bonded => {}
+                    }
+                    if s != PairState::Open && law.penalties(s)[1] == 0.0 {
+                        sliding += 1;
+                    }
+                }
             }
             if sliding > 0 {
                 format!(
