@@ -1010,8 +1010,14 @@ impl<'a> Solver<'a> {
                 tried.len()
             )
         };
+        let why = if self.friction_hold.judges_all() {
+            // The inclined-plane check passed on every body friction holds.
+            "the search found no state, though the loads are within what friction holds along the faces (every part friction holds passed the inclined-plane check before the increment): likely a state the active-set search does not reach on this model. Try another mesh (--refine) or other penalties (c_n, c_s)"
+        } else {
+            "no state holds: a part is pushed along its faces harder than friction holds it (a tangential load beyond μ × the normal load, nothing else holding the part along the face), or the search missed the state. Hold the part, raise the friction coefficient, or reduce the tangential load"
+        };
         Error::NoConvergence(format!(
-            "increment {inc} ({}): the slip forces {found}, so no state holds: a part is pushed along its faces harder than friction holds it (a tangential load beyond μ × the normal load, nothing else holding the part along the face). Hold the part, raise the friction coefficient, or reduce the tangential load",
+            "increment {inc} ({}): the slip forces {found}, so {why}",
             self.where_in_path(inc, lambda),
         ))
     }
@@ -1396,17 +1402,12 @@ impl<'a> Solver<'a> {
         }))
     }
 
-    /// The change of the pairs' internal force at zero displacement `zero` (their
-    /// constant terms: slip forces, spring anchors, multipliers) from the
-    /// histories `before` to the current ones, at the coupling DOFs (in their
-    /// order; the pairs act nowhere else). Each side is summed element by element
-    /// as the assembled force would be.
     /// Whether the displacements `u` of a fixed point have a coupling node (of
     /// `coupling_nodes`) moved further than a state of rest can move it: the
     /// largest part's size beyond the largest prescribed displacement (or
-    /// initial gap, should one be larger). Within a
-    /// geometrically linear model only a rigid drift goes that far — a part
-    /// held along its faces by slipping pairs alone, whose slip forces balance
+    /// initial gap, should one be larger). Within a geometrically linear model
+    /// only a rigid drift goes that far — a part held along its faces by
+    /// slipping pairs alone, whose slip forces balance
     /// at any position along them, carried off by the fixed point's steps under
     /// their springs (the seed's plate with a block bonded on it, pushed at
     /// Q = 0.83 μP, drifted 290 m in a pattern with every closed pair slipping,
@@ -1421,6 +1422,11 @@ impl<'a> Solver<'a> {
             .any(|&n| u[2 * n].hypot(u[2 * n + 1]) > limit)
     }
 
+    /// The change of the pairs' internal force at zero displacement `zero` (their
+    /// constant terms: slip forces, spring anchors, multipliers) from the
+    /// histories `before` to the current ones, at the coupling DOFs (in their
+    /// order; the pairs act nowhere else). Each side is summed element by element
+    /// as the assembled force would be.
     fn pair_term_change(
         &self,
         states: &[Vec<PairState>],

@@ -254,6 +254,9 @@ fn unsupported(
 /// condition: a body that passes may still find no state.
 pub struct FrictionHold {
     bodies: Vec<FrictionBody>,
+    /// The parts without a support that touch a `coulomb` interface and are
+    /// in no body checked: where the check cannot tell whether friction holds.
+    unjudged: Vec<String>,
 }
 
 /// A body held along its faces by friction alone (see [`FrictionHold`]).
@@ -302,7 +305,7 @@ impl FrictionHold {
                 }
             }
         }
-        let bodies = candidates
+        let bodies: Vec<FrictionBody> = candidates
             .into_iter()
             .filter_map(|body| {
                 let inside = |p: usize| body.contains(&p);
@@ -354,7 +357,26 @@ impl FrictionHold {
                 })
             })
             .collect();
-        FrictionHold { bodies }
+        let judged: Vec<&String> = bodies.iter().flat_map(|b| &b.parts).collect();
+        let unjudged = (0..parts.len())
+            .filter(|&p| {
+                free[p]
+                    && !judged.contains(&&parts[p].name)
+                    && interfaces.iter().any(|i| {
+                        i.law == Law::Coulomb && (i.host == p || i.node_part == p)
+                    })
+            })
+            .map(|p| parts[p].name.clone())
+            .collect();
+        FrictionHold { bodies, unjudged }
+    }
+
+    /// Whether every part friction holds along its faces (a part without a
+    /// support touching a `coulomb` interface) is in a body the check judges:
+    /// then, once [`FrictionHold::check`] has passed, friction can hold the
+    /// loads, as far as statics tells.
+    pub fn judges_all(&self) -> bool {
+        self.unjudged.is_empty()
     }
 
     /// Checks every such body under the load `lambda × f_ext` (by global DOF,
@@ -394,8 +416,9 @@ impl FrictionHold {
             } else {
                 String::new()
             };
-            let pressed = if limit.pressing > 0.0 {
-                format!("press {it} onto {its} faces with {:.4e}", limit.pressing)
+            let pressed = if limit.pressing >= 0.0 {
+                // (+ 0: no "-0" for a load along the faces alone.)
+                format!("press {it} onto {its} faces with {:.4e}", limit.pressing + 0.0)
             } else {
                 format!(
                     "press {it} onto {its} faces with nothing (they pull {it} away with {:.4e})",
