@@ -103,6 +103,24 @@ def test_unsupported_part_is_a_singular_error():
     assert "base" in str(e.value)
 
 
+def test_part_pushed_beyond_friction_is_a_singular_error():
+    """The seed's plate pushed sideways (Q = 400 N) beyond what friction holds
+    (μP = 0.2 × 1500 N): no state of rest, refused at the first increment with
+    the part and the inclined-plane numbers (P = 150 N, Q = 40 N, μP = 30 N at
+    λ = 0.1); with μ = 0.3 it is held."""
+    load = plate_on_base_dict()["load"]
+    load[0]["force"] = [400.0, -1500.0]
+    model = cfe.Model(plate_on_base_dict(load=load))
+    with pytest.raises(cfe.SingularError) as e:
+        model.solve(law="coulomb", friction=0.2)
+    assert e.value.parts == ["plate"]
+    message = str(e.value)
+    assert "increment 1" in message and "harder than friction holds them" in message
+    assert "1.5000e2" in message and "4.0000e1" in message and "3.0000e1" in message
+    r = model.solve(law="coulomb", friction=0.3)
+    assert r.summary["status"] == "completed"
+
+
 def test_orphan_coupling_nodes_are_listed():
     d = plate_on_base_dict()
     d["part"][1]["rectangle"]["y"] = [125.0, 140.0]
