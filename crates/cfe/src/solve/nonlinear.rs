@@ -680,7 +680,7 @@ impl<'a> Solver<'a> {
                 &self.f_ext,
                 lambda,
                 self.settings.force_tolerance * lambda * self.total_load,
-                &format!("increment {inc} ({})", self.where_in_path(inc, lambda)),
+                || format!("increment {inc} ({})", self.where_in_path(inc, lambda)),
             )?;
             let mut result = match self.settings.scheme {
                 Scheme::ActiveSet => {
@@ -975,19 +975,24 @@ impl<'a> Solver<'a> {
         };
         let t = Instant::now();
         let states = best.states.clone();
-        self.restore_closed_slips(&states);
-        let (mut u, mut f_int, mut method) = self.solve_states(lambda, &states, inc)?;
-        if !self.proportional && !self.fixed_point_converged {
-            // Solved again from the terms the iteration left (after patterns
-            // without a fixed point they may have drifted far), its fixed point
-            // was not found: once more from the increment's start.
-            self.history.clone_from(&self.committed);
+        // Solved again from the terms the iteration left, or, should its fixed
+        // point not be found from there (after patterns without one the terms
+        // may have drifted far), once more from the increment's start.
+        let mut solved = None;
+        for from_start in [false, true] {
+            if from_start {
+                self.history.clone_from(&self.committed);
+            }
             self.restore_closed_slips(&states);
-            (u, f_int, method) = self.solve_states(lambda, &states, inc)?;
-            if !self.fixed_point_converged {
-                return Err(self.no_fixed_point(inc, lambda, visits));
+            let solution = self.solve_states(lambda, &states, inc)?;
+            if self.proportional || self.fixed_point_converged {
+                solved = Some(solution);
+                break;
             }
         }
+        let Some((u, f_int, method)) = solved else {
+            return Err(self.no_fixed_point(inc, lambda, visits));
+        };
         let check = self.check_law(&states, &u, &f_int, lambda);
         history.push(Iteration {
             method,
@@ -1336,19 +1341,20 @@ impl<'a> Solver<'a> {
             FixedPointScale::Given(_) => 0.0,
         };
         for _ in 0..MAX_FIXED_POINT {
+            // The largest displacement of a coupling node.
+            let moved = coupling_nodes
+                .iter()
+                .map(|&n| u[2 * n].hypot(u[2 * n + 1]))
+                .fold(0.0, f64::max);
             let load = match scale {
                 FixedPointScale::Forces(lambda, f) => {
-                    let umax = coupling_nodes
-                        .iter()
-                        .map(|&n| u[2 * n].hypot(u[2 * n + 1]))
-                        .fold(u_rest, f64::max);
-                    self.load_scale_with(lambda, f, umax)
+                    self.load_scale_with(lambda, f, moved.max(u_rest))
                 }
                 FixedPointScale::Given(s) => s,
             };
             let before = self.history.clone();
             if self.update_right_hand_side(states, u, FIXED_POINT_TOLERANCE * load, &mut anderson) {
-                self.fixed_point_converged = !self.drifted(u, &coupling_nodes);
+                self.fixed_point_converged = !self.drifted(moved);
                 break;
             }
             self.fixed_point += 1;
@@ -1402,24 +1408,20 @@ impl<'a> Solver<'a> {
         }))
     }
 
-    /// Whether the displacements `u` of a fixed point have a coupling node (of
-    /// `coupling_nodes`) moved further than a state of rest can move it: the
-    /// largest part's size beyond the largest prescribed displacement (or
-    /// initial gap, should one be larger). Within a geometrically linear model
-    /// only a rigid drift goes that far — a part held along its faces by
-    /// slipping pairs alone, whose slip forces balance
-    /// at any position along them, carried off by the fixed point's steps under
-    /// their springs (the seed's plate with a block bonded on it, pushed at
-    /// Q = 0.83 μP, drifted 290 m in a pattern with every closed pair slipping,
-    /// and the run stopped with a loss of precision). Such a fixed point is
-    /// not taken as converged: its pattern is neither accepted nor settled on,
-    /// and its slipping pairs stick in the next (where one stick pair holds the
-    /// part, 0.02 mm from where it started).
-    fn drifted(&self, u: &[f64], coupling_nodes: &[usize]) -> bool {
-        let limit = self.extent + self.largest_prescribed;
-        coupling_nodes
-            .iter()
-            .any(|&n| u[2 * n].hypot(u[2 * n + 1]) > limit)
+    /// Whether a fixed point whose coupling nodes moved by at most `moved` has
+    /// one moved further than a state of rest can move it: the largest part's
+    /// size beyond the largest prescribed displacement (or initial gap, should
+    /// one be larger). Within a geometrically linear model only a rigid drift
+    /// goes that far — a part held along its faces by slipping pairs alone,
+    /// whose slip forces balance at any position along them, carried off by the
+    /// fixed point's steps under their springs (the seed's plate with a block
+    /// bonded on it, pushed at Q = 0.83 μP, drifted 290 m in a pattern with
+    /// every closed pair slipping, and the run stopped with a loss of
+    /// precision). Such a fixed point is not taken as converged: its pattern is
+    /// neither accepted nor settled on, and its slipping pairs stick in the next
+    /// (where one stick pair holds the part, 0.02 mm from where it started).
+    fn drifted(&self, moved: f64) -> bool {
+        moved > self.extent + self.largest_prescribed
     }
 
     /// The change of the pairs' internal force at zero displacement `zero` (their

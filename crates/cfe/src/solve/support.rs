@@ -11,11 +11,11 @@
 //! spring.)
 
 use crate::assembly::{DofMap, FIXED};
-use std::f64::consts::FRAC_PI_2;
 use crate::coupling::{Interface, Law, PairState};
 use crate::domain::Part;
 use crate::error::{Error, Result};
 use faer::{Mat, Side};
+use std::f64::consts::FRAC_PI_2;
 
 /// The constant part of the support check, computed once per model: each part's
 /// frame (centre and size, so the rotation column is scaled like the others) and
@@ -254,9 +254,9 @@ fn unsupported(
 /// condition: a body that passes may still find no state.
 pub struct FrictionHold {
     bodies: Vec<FrictionBody>,
-    /// The parts without a support that touch a `coulomb` interface and are
-    /// in no body checked: where the check cannot tell whether friction holds.
-    unjudged: Vec<String>,
+    /// Whether every part without a support that touches a `coulomb`
+    /// interface is in a body checked (see [`FrictionHold::judges_all`]).
+    judges_all: bool,
 }
 
 /// A body held along its faces by friction alone (see [`FrictionHold`]).
@@ -358,17 +358,14 @@ impl FrictionHold {
             })
             .collect();
         let judged: Vec<&String> = bodies.iter().flat_map(|b| &b.parts).collect();
-        let unjudged = (0..parts.len())
-            .filter(|&p| {
-                free[p]
-                    && !judged.contains(&&parts[p].name)
-                    && interfaces.iter().any(|i| {
-                        i.law == Law::Coulomb && (i.host == p || i.node_part == p)
-                    })
-            })
-            .map(|p| parts[p].name.clone())
-            .collect();
-        FrictionHold { bodies, unjudged }
+        let judges_all = (0..parts.len()).all(|p| {
+            !free[p]
+                || judged.contains(&&parts[p].name)
+                || !interfaces
+                    .iter()
+                    .any(|i| i.law == Law::Coulomb && (i.host == p || i.node_part == p))
+        });
+        FrictionHold { bodies, judges_all }
     }
 
     /// Whether every part friction holds along its faces (a part without a
@@ -376,7 +373,7 @@ impl FrictionHold {
     /// then, once [`FrictionHold::check`] has passed, friction can hold the
     /// loads, as far as statics tells.
     pub fn judges_all(&self) -> bool {
-        self.unjudged.is_empty()
+        self.judges_all
     }
 
     /// Checks every such body under the load `lambda × f_ext` (by global DOF,
@@ -384,10 +381,16 @@ impl FrictionHold {
     /// check lets each pair exceed its cone (a completed run's tolerance): a load
     /// is refused only when it exceeds the cone by more than the pairs' slack
     /// together, so no pattern the law check would accept is ruled out. `when`
-    /// says where on the load path, for the message. Returns an
+    /// says where on the load path, for the message (formed only for one). Returns an
     /// [`Error::Unsupported`] naming the parts of every body friction cannot
     /// hold (a group only when none of its parts is named already).
-    pub fn check(&self, f_ext: &[f64], lambda: f64, slack: f64, when: &str) -> Result<()> {
+    pub fn check(
+        &self,
+        f_ext: &[f64],
+        lambda: f64,
+        slack: f64,
+        when: impl Fn() -> String,
+    ) -> Result<()> {
         let mut held: Vec<String> = Vec::new();
         let mut messages = Vec::new();
         for body in &self.bodies {
@@ -426,7 +429,8 @@ impl FrictionHold {
                 )
             };
             messages.push(format!(
-                "{who} at {when}: {its} loads {pressed} and push {it} along {its} faces with {:.4e}, but friction (μ = {} on {}{spread}) holds at most {:.4e}, and nothing else holds {it} along {its} faces (no support, no bonded interface)",
+                "{who} at {}: {its} loads {pressed} and push {it} along {its} faces with {:.4e}, but friction (μ = {} on {}{spread}) holds at most {:.4e}, and nothing else holds {it} along {its} faces (no support, no bonded interface)",
+                when(),
                 limit.along,
                 body.friction,
                 body.interfaces,
