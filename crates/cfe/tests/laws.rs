@@ -376,6 +376,29 @@ fn check_coulomb(a: &Analysis, inc: &IncrementResult, mu: f64, tol: f64) -> usiz
     slipping
 }
 
+/// The message of `result`, which must be an [`Error::Unsupported`] naming
+/// exactly `parts` (`what` names the case in a failure's message).
+fn unsupported_message(
+    result: Result<cfe::analysis::Results, Error>,
+    parts: &[&str],
+    what: &str,
+) -> String {
+    match result {
+        Err(e @ Error::Unsupported { .. }) => {
+            let Error::Unsupported { parts: named, .. } = &e else {
+                unreachable!()
+            };
+            assert_eq!(named, parts, "{what}");
+            e.to_string()
+        }
+        Err(e) => panic!("{what}: unexpected error {e}"),
+        Ok(res) => panic!(
+            "{what}: {:?}, largest displacement {:?}",
+            res.summary.status, res.summary.max_displacement
+        ),
+    }
+}
+
 /// The Coulomb block's tail: P = 1 down and Q = 0.2 sideways on its top.
 const PUSH_BELOW: &str = "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.2, -1.0]\n[analysis]\nincrements = 2";
 
@@ -490,26 +513,15 @@ fn a_block_pushed_beyond_friction_is_not_reported_as_held() {
         0.3,
         "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.45, -1.0]\n[analysis]\nincrements = 2",
     );
-    let a = analysis(&text);
-    match a.solve() {
-        Err(e @ Error::Unsupported { .. }) => {
-            let Error::Unsupported { parts, .. } = &e else {
-                unreachable!()
-            };
-            assert_eq!(parts, &["block"]);
-            let e = e.to_string();
-            assert!(
-                e.contains("harder than friction holds them")
-                    && e.contains("at increment 1 (load factor 0.5000)")
-                    && e.contains("onto its faces with 5.0000e-1")
-                    && e.contains("along its faces with 2.2500e-1")
-                    && e.contains("holds at most 1.5000e-1"),
-                "{e}"
-            );
-        }
-        Err(e) => panic!("unexpected error {e}"),
-        Ok(res) => panic!("completed as {:?}", res.summary.status),
-    }
+    let e = unsupported_message(analysis(&text).solve(), &["block"], "block");
+    assert!(
+        e.contains("harder than friction holds them")
+            && e.contains("at increment 1 (load factor 0.5000)")
+            && e.contains("onto its faces with 5.0000e-1")
+            && e.contains("along its faces with 2.2500e-1")
+            && e.contains("holds at most 1.5000e-1"),
+        "{e}"
+    );
 }
 
 /// The seed's plate on a base (examples/plate_on_base.toml) pushed sideways as
@@ -560,28 +572,19 @@ fn the_plate_pushed_sideways_beyond_friction_is_not_reported_as_held() {
         text
     };
     for elements in ["", ", elements = \"q4\""] {
-        match analysis(&edited(0.2, elements)).solve() {
-            Err(e @ Error::Unsupported { .. }) => {
-                let Error::Unsupported { parts, .. } = &e else {
-                    unreachable!()
-                };
-                assert_eq!(parts, &["plate"], "{elements}");
-                // At λ = 0.1: P = 150 N, Q = 40 N, μP = 30 N.
-                let e = e.to_string();
-                assert!(
-                    e.contains("at increment 1 (load factor 0.1000)")
-                        && e.contains("onto its faces with 1.5000e2")
-                        && e.contains("along its faces with 4.0000e1")
-                        && e.contains("holds at most 3.0000e1"),
-                    "{elements}: {e}"
-                );
-            }
-            Err(e) => panic!("{elements}: unexpected error {e}"),
-            Ok(res) => panic!(
-                "{elements}: {:?}, largest displacement {:?}",
-                res.summary.status, res.summary.max_displacement
-            ),
-        }
+        let e = unsupported_message(
+            analysis(&edited(0.2, elements)).solve(),
+            &["plate"],
+            elements,
+        );
+        // At λ = 0.1: P = 150 N, Q = 40 N, μP = 30 N.
+        assert!(
+            e.contains("at increment 1 (load factor 0.1000)")
+                && e.contains("onto its faces with 1.5000e2")
+                && e.contains("along its faces with 4.0000e1")
+                && e.contains("holds at most 3.0000e1"),
+            "{elements}: {e}"
+        );
         let a = analysis(&edited(0.3, elements));
         let res = a.solve().unwrap();
         assert_eq!(res.summary.status, RunStatus::Completed, "{elements}");
@@ -711,26 +714,20 @@ fn block_on_plate(block_law: &str, q: f64, refine: usize) -> Analysis {
 #[test]
 fn a_stack_on_a_frictional_face_is_judged_as_one_body() {
     for block_law in ["law = \"contact\"", "law = \"coulomb\"\nfriction = 0.5"] {
-        match block_on_plate(block_law, 400.0, 1).solve() {
-            Err(e @ Error::Unsupported { .. }) => {
-                let Error::Unsupported { parts, .. } = &e else {
-                    unreachable!()
-                };
-                assert_eq!(parts, &["plate", "block"], "{block_law}");
-                // At λ = 0.1: P = 150 N, Q = 40 N, μP = 30 N.
-                let e = e.to_string();
-                assert!(
-                    e.contains("'plate', 'block' taken together at increment 1")
-                        && e.contains("onto their faces with 1.5000e2")
-                        && e.contains("along their faces with 4.0000e1")
-                        && e.contains("holds at most 3.0000e1")
-                        && e.contains("on 'plate-base'"),
-                    "{block_law}: {e}"
-                );
-            }
-            Err(e) => panic!("{block_law}: unexpected error {e}"),
-            Ok(res) => panic!("{block_law}: completed as {:?}", res.summary.status),
-        }
+        let e = unsupported_message(
+            block_on_plate(block_law, 400.0, 1).solve(),
+            &["plate", "block"],
+            block_law,
+        );
+        // At λ = 0.1: P = 150 N, Q = 40 N, μP = 30 N.
+        assert!(
+            e.contains("'plate', 'block' taken together at increment 1")
+                && e.contains("onto their faces with 1.5000e2")
+                && e.contains("along their faces with 4.0000e1")
+                && e.contains("holds at most 3.0000e1")
+                && e.contains("on 'plate-base'"),
+            "{block_law}: {e}"
+        );
     }
     let res = block_on_plate("law = \"contact\"", 100.0, 1)
         .solve()
@@ -827,23 +824,13 @@ fn a_plate_pulled_off_its_base_is_reported_free_not_sliding() {
         .replace("force = [0.0, -1500.0]", "force = [0.0, 1500.0]")
         .replace("law = \"contact\"", "law = \"coulomb\"\nfriction = 0.2");
     assert!(text.contains("[0.0, 1500.0]") && text.contains("friction = 0.2"));
-    match analysis(&text).solve() {
-        Err(e @ Error::Unsupported { .. }) => {
-            let Error::Unsupported { parts, .. } = &e else {
-                unreachable!()
-            };
-            assert_eq!(parts, &["plate"]);
-            let e = e.to_string();
-            assert!(
-                e.contains("29 of its 29 coupling pairs open")
-                    && e.contains("press the parts together")
-                    && !e.contains("friction"),
-                "{e}"
-            );
-        }
-        Err(e) => panic!("unexpected error {e}"),
-        Ok(res) => panic!("completed as {:?}", res.summary.status),
-    }
+    let e = unsupported_message(analysis(&text).solve(), &["plate"], "pulled off");
+    assert!(
+        e.contains("29 of its 29 coupling pairs open")
+            && e.contains("press the parts together")
+            && !e.contains("friction"),
+        "{e}"
+    );
 }
 
 /// Coulomb with augmented-Lagrangian enforcement: below the limit (Q = 0.2 P,
