@@ -818,6 +818,16 @@ impl Analysis {
                 });
             }
         }
+        if inc.friction_continuation {
+            s.notes.push(Warning {
+                increment: inc.index,
+                message: format!(
+                    "the search from the contact states it started with found no state satisfying the law; its states were found from the same start with every friction coefficient scaled by {} and then 1 (a continuation in μ, {} solves in all)",
+                    crate::solve::nonlinear::CONTINUATION.map(|f| f.to_string()).join(", "),
+                    inc.iterations,
+                ),
+            });
+        }
         // Maximum displacement.
         let best = largest_magnitude(&inc.u);
         let (p, n) = self.dofs.locate(best.1);

@@ -703,6 +703,38 @@ fn block_on_plate(block_law: &str, q: f64, refine: usize) -> Analysis {
     Analysis::new(Model::from_str(&text, &example, refine).unwrap()).unwrap()
 }
 
+/// Asserts Coulomb's law (μ = 0.2) on every plate–base pair of the block on the
+/// plate (`block_on_plate`), at least one of them sticking and some slipping.
+fn assert_plate_held_by_a_stick_zone(a: &Analysis, res: &cfe::analysis::Results) {
+    let mu = 0.2;
+    let (mut stick, mut slip) = (0, 0);
+    for r in a.pair_rows(&res.last) {
+        if r.interface != "plate-base" {
+            continue;
+        }
+        match r.state {
+            PairState::Bonded => {
+                stick += 1;
+                assert!(
+                    r.force_s.abs() <= mu * r.force_n + 1e-6,
+                    "stick x = {}",
+                    r.x
+                );
+            }
+            PairState::Slip => {
+                slip += 1;
+                assert!(
+                    (r.force_s.abs() - mu * r.force_n).abs() <= 1e-6,
+                    "slip x = {}",
+                    r.x
+                );
+            }
+            PairState::Open => assert!(r.force_n == 0.0 && r.force_s == 0.0),
+        }
+    }
+    assert!(stick >= 1 && slip > 0, "{stick} stick, {slip} slip");
+}
+
 /// The block on the plate (`block_on_plate`) pushed with Q = 400 N. Neither
 /// part alone can be judged — the block is bonded to the plate, or held by
 /// μ = 0.5, and the plate is pressed from above and below — but the two taken
@@ -755,61 +787,60 @@ fn a_part_held_by_slipping_pairs_does_not_drift_off() {
     assert!((fx + 250.0).abs() < 1e-8 * 1500.0, "Σ reaction x = {fx}");
     let largest = res.summary.max_displacement.value;
     assert!(largest < 0.1, "largest displacement {largest} mm");
-    let mu = 0.2;
-    let (mut stick, mut slip) = (0, 0);
-    for r in a.pair_rows(&res.last) {
-        if r.interface != "plate-base" {
-            continue;
-        }
-        match r.state {
-            PairState::Bonded => {
-                stick += 1;
-                assert!(
-                    r.force_s.abs() <= mu * r.force_n + 1e-6,
-                    "stick x = {}",
-                    r.x
-                );
-            }
-            PairState::Slip => {
-                slip += 1;
-                assert!(
-                    (r.force_s.abs() - mu * r.force_n).abs() <= 1e-6,
-                    "slip x = {}",
-                    r.x
-                );
-            }
-            PairState::Open => assert!(r.force_n == 0.0 && r.force_s == 0.0),
-        }
-    }
-    assert!(stick >= 1 && slip > 0, "{stick} stick, {slip} slip");
+    assert_plate_held_by_a_stick_zone(&a, &res);
 }
 
 /// The block bonded on the plate (`block_on_plate`) pushed with Q = 200 N,
-/// meshes refined twice: within friction (Q < μP = 300 N, the statics check
-/// passes), but the Coulomb active-set search does not reach a state on this
-/// mesh (at K = 1 it does). Should it end without one, the error says the
-/// loads are within what friction holds and the search is at fault — not that
-/// the plate is pushed beyond friction, which the statics check rules out.
-/// (A better search may complete it: then the law must hold.)
+/// meshes refined twice: within friction (Q < μP = 300 N), but the Coulomb
+/// active-set search from all pairs bonded wanders through 81 patterns without
+/// reaching a state (at K = 1 it does), and the run used to fail. The increment
+/// is now searched again from the pattern a continuation in μ leads to (16 μ,
+/// where every closed pair sticks, down to μ): the run completes with
+/// Coulomb's law on every plate–base pair, a stick zone holding the plate, the
+/// sideways reaction equal to Q, and a note naming the increment.
 #[test]
-fn a_search_that_misses_a_state_within_friction_says_so() {
-    match block_on_plate("law = \"contact\"", 200.0, 2).solve() {
-        Err(e @ Error::NoConvergence(_)) => {
-            let e = e.to_string();
-            assert!(
-                e.contains("within what friction holds along the faces")
-                    && e.contains("does not reach")
-                    && !e.contains("harder than friction holds it"),
-                "{e}"
-            );
-        }
-        Err(e) => panic!("unexpected error {e}"),
-        Ok(res) => {
-            let fx: f64 = res.summary.reactions.iter().map(|r| r.fx).sum();
-            assert!((fx + 200.0).abs() < 1e-8 * 1500.0, "Σ reaction x = {fx}");
-            assert!(res.summary.max_displacement.value < 0.1);
-        }
-    }
+fn a_state_the_search_misses_is_found_by_a_continuation_in_mu() {
+    let a = block_on_plate("law = \"contact\"", 200.0, 2);
+    let res = solve_completed(&a);
+    let fx: f64 = res.summary.reactions.iter().map(|r| r.fx).sum();
+    assert!((fx + 200.0).abs() < 1e-8 * 1500.0, "Σ reaction x = {fx}");
+    assert!(res.summary.max_displacement.value < 0.1);
+    assert_plate_held_by_a_stick_zone(&a, &res);
+    let noted: Vec<usize> = res
+        .summary
+        .notes
+        .iter()
+        .filter(|n| n.message.contains("continuation in μ"))
+        .map(|n| n.increment)
+        .collect();
+    assert_eq!(noted, [1], "{:?}", res.summary.notes);
+}
+
+/// The roller in its cradle (examples/roller_in_cradle, meshes refined twice)
+/// with Coulomb friction μ = 0.2: the search from the ninth increment's pattern
+/// cycled at the tenth and settled on a pattern with one stick pair beyond its
+/// cone (`completed_with_violations`). The continuation in μ finds the tenth
+/// increment's state: every pair on Coulomb's law, the load carried.
+#[test]
+fn a_settled_frictional_increment_is_searched_again_by_continuation() {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/roller_in_cradle/roller_in_cradle.toml");
+    let mut a = Analysis::from_file(&example, 2).unwrap();
+    a.override_friction(0.2).unwrap();
+    let res = solve_completed(&a);
+    check_coulomb(&a, &res.last, 0.2, 1e-8 * res.last.load_scale);
+    assert!(
+        res.summary
+            .notes
+            .iter()
+            .any(|n| n.message.contains("continuation in μ"))
+    );
+    let fy: f64 = res.summary.reactions.iter().map(|r| r.fy).sum();
+    let applied = res.summary.applied[1];
+    assert!(
+        (fy + applied).abs() < 1e-8 * applied.abs(),
+        "Σ reaction y = {fy}, load {applied}"
+    );
 }
 
 /// The seed's plate pulled up off its base (the load reversed), the Coulomb law:

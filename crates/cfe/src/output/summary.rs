@@ -361,7 +361,8 @@ pub struct Summary {
     /// error) at the last converged increment (0 without augmented interfaces).
     pub augmented_penetration: f64,
     /// Notes that do not make the result break its law: pairs whose slip exceeds
-    /// half their host edge (beyond the geometrically linear formulation).
+    /// half their host edge (beyond the geometrically linear formulation), and
+    /// increments whose Coulomb states were found by a continuation in μ.
     pub notes: Vec<Warning>,
     /// Peak resident memory of the process (bytes; Linux).
     pub peak_memory_bytes: Option<u64>,

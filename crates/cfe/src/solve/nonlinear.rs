@@ -142,6 +142,10 @@ pub struct IncrementResult {
     /// displacements are a multiple of (`None` otherwise): everything linear in
     /// `u` (strains, stresses) is that multiple of the solution's.
     pub multiple_of: Option<MultipleOf>,
+    /// Whether the increment's state was found from the pattern a continuation
+    /// in the friction coefficients led to: the search from the previous
+    /// increment's pattern found none, or only settled.
+    pub friction_continuation: bool,
 }
 
 /// `u = factor × u_s`, where `u_s` is the displacement vector of the run's linear
@@ -294,6 +298,9 @@ pub struct Solver<'a> {
     augmented_error: f64,
     /// Whether the last pattern's fixed point converged.
     fixed_point_converged: bool,
+    /// The factor on every interface's friction coefficient: 1 but while a
+    /// continuation in μ looks for an increment's starting pattern.
+    friction_factor: f64,
     /// Every coupling element's DOFs (sorted): the DOFs a solve restricted to the
     /// interface gives.
     coupling_dofs: Vec<usize>,
@@ -379,6 +386,12 @@ pub const MAX_FIXED_POINT: usize = 60;
 /// right-hand-side terms mixes ([`Anderson`]).
 pub const ANDERSON_DEPTH: usize = 8;
 
+/// The factors on the friction coefficients of a continuation in μ
+/// ([`Solver::friction_continuation`]), largest first: at 16 μ the closed
+/// pairs of an ordinary model all stick, and each step after halves the excess
+/// or less, down to 1.1 μ before μ itself.
+pub const CONTINUATION: [f64; 7] = [16.0, 8.0, 4.0, 2.0, 1.5, 1.25, 1.1];
+
 /// A right-hand-side term of a pair that the fixed point iterates.
 #[derive(Debug, Clone, Copy)]
 enum Term {
@@ -462,6 +475,7 @@ impl<'a> Solver<'a> {
             step_labels: None,
             augmented_error: 0.0,
             fixed_point_converged: true,
+            friction_factor: 1.0,
             coupling_dofs: crate::coupling::coupling_dofs(interfaces, dofs),
             coupling_ring: None,
             spare: Spare::default(),
@@ -684,7 +698,7 @@ impl<'a> Solver<'a> {
             )?;
             let mut result = match self.settings.scheme {
                 Scheme::ActiveSet => {
-                    let mut r = self.active_set_increment(inc, lambda, states.clone())?;
+                    let mut r = self.active_set_or_continuation(inc, lambda, &states)?;
                     if warm.is_some() && inc == 1 && !r.settled.is_empty() {
                         // A settlement depends on where the iteration started: take the
                         // one a start from all bonded gives, as without the warm start.
@@ -756,6 +770,98 @@ impl<'a> Solver<'a> {
         Ok(last.expect("at least one increment"))
     }
 
+    /// One active-set increment from the pattern `start`. With Coulomb
+    /// interfaces (path-dependent, so every increment is searched), an increment
+    /// whose search from `start` finds no state, or only settles, is searched
+    /// again from the pattern a continuation in the friction coefficient leads
+    /// to ([`Solver::friction_continuation`]); its answer is taken if it obeys
+    /// the law (or, when the first search found nothing, if there is one).
+    fn active_set_or_continuation(
+        &mut self,
+        inc: usize,
+        lambda: f64,
+        start: &PairStates,
+    ) -> Result<IncrementResult> {
+        let direct = self.active_set_increment(inc, lambda, start.clone());
+        let coulomb =
+            !self.proportional && self.interfaces.iter().any(|i| i.law == Law::Coulomb);
+        if !coulomb {
+            return direct;
+        }
+        // What the first search leaves: a settled answer (with the histories
+        // its pairs end on), or its error.
+        let first = match direct {
+            Ok(r) if r.settled.is_empty() => return Ok(r),
+            Ok(r) => Ok((r, self.history.clone(), self.augmented_error)),
+            Err(e @ Error::NoConvergence(_)) => Err(e),
+            Err(e) => return Err(e),
+        };
+        let Some(mut r) = self.friction_continuation(inc, lambda, start)? else {
+            return first.map(|(r, history, error)| {
+                (self.history, self.augmented_error) = (history, error);
+                r
+            });
+        };
+        match first {
+            Ok((settled, history, error)) if !r.settled.is_empty() => {
+                (self.history, self.augmented_error) = (history, error);
+                Ok(settled)
+            }
+            first => {
+                // The solves of the first search count too.
+                if let Ok((settled, ..)) = first {
+                    r.history.splice(0..0, settled.history);
+                    r.iterations = r.history.len();
+                }
+                r.friction_continuation = true;
+                Ok(r)
+            }
+        }
+    }
+
+    /// A continuation in the friction coefficient for increment `inc` at load
+    /// factor `lambda`: the increment searched with every μ scaled by each of
+    /// [`CONTINUATION`] in turn, each search from the pattern the previous one
+    /// ended on (a search that finds nothing passes its start on), and at last
+    /// with μ itself. Every search starts from the increment's committed pair
+    /// histories: only the starting pattern passes from one to the next, so the
+    /// answer is the increment's own, checked against its own law. With μ large
+    /// every closed pair sticks (the search is the contact law's); each smaller
+    /// μ then frees the pairs a little beyond their cones, a few flips from the
+    /// last pattern. Returns the last search's answer with every search's solves
+    /// in its history, or `None` when it found no state.
+    fn friction_continuation(
+        &mut self,
+        inc: usize,
+        lambda: f64,
+        start: &PairStates,
+    ) -> Result<Option<IncrementResult>> {
+        let stage = |this: &mut Self, factor: f64, start: &PairStates| {
+            this.friction_factor = factor;
+            let r = this.active_set_increment(inc, lambda, start.clone());
+            this.friction_factor = 1.0;
+            match r {
+                Ok(r) => Ok(Some(r)),
+                Err(Error::NoConvergence(_)) => Ok(None),
+                Err(e) => Err(e),
+            }
+        };
+        let mut start = start.clone();
+        let mut history = Vec::new();
+        for &factor in &CONTINUATION {
+            if let Some(r) = stage(self, factor, &start)? {
+                history.extend(r.history);
+                start = r.states;
+            }
+        }
+        Ok(stage(self, 1.0, &start)?.map(|mut r| {
+            history.append(&mut r.history);
+            r.history = history;
+            r.iterations = r.history.len();
+            r
+        }))
+    }
+
     /// With proportional loads, keeps the values of the last complete solve for
     /// later increments to scale ([`Solved::values`]) when `result`, accepted at
     /// load factor `lambda`, is that solve's answer itself (its states, its load
@@ -777,6 +883,14 @@ impl<'a> Solver<'a> {
         {
             s.values = Some((result.u.clone(), result.f_int.clone()));
         }
+    }
+
+    /// The law parameters of `iface` as the search reads them: its friction
+    /// coefficient times [`Solver::friction_factor`].
+    fn law_params(&self, iface: &Interface) -> crate::coupling::LawParams {
+        let mut p = iface.params();
+        p.friction *= self.friction_factor;
+        p
     }
 
     fn all_bonded(&self) -> PairStates {
@@ -1067,12 +1181,13 @@ impl<'a> Solver<'a> {
                             penetration: self.gap_tolerance(d),
                         };
                         // A segment point's penalties are its weight × the interface's.
-                        let law = c.params(&iface.params());
+                        let base = self.law_params(iface);
+                        let law = c.params(&base);
                         let h = &self.history[i][k];
                         let f = if self.proportional {
                             [law.c_n * gap, 0.0]
                         } else {
-                            c.law_force(&iface.params(), state, h, d).1
+                            c.law_force(&base, state, h, d).1
                         };
                         let mut push = |v: crate::coupling::LawViolation| {
                             violations.push(PairViolation {
@@ -1463,7 +1578,7 @@ impl<'a> Solver<'a> {
         let mut converged = true;
         let mut augmented_error: f64 = 0.0;
         for (i, iface) in self.interfaces.iter().enumerate() {
-            let base = iface.params();
+            let base = self.law_params(iface);
             let augmented = iface.enforcement == Enforcement::Augmented;
             for (k, c) in iface.elements.iter().enumerate() {
                 // A segment point's penalties are its weight × the interface's.
@@ -1482,7 +1597,7 @@ impl<'a> Solver<'a> {
                     continue;
                 }
                 if iface.law == Law::Coulomb {
-                    let limit = iface.friction * (-f[0]).max(0.0);
+                    let limit = law.friction * (-f[0]).max(0.0);
                     let trial = law.trial_shear(jump[1], h);
                     let target = limit * trial.signum();
                     // A slip pair whose trial force is inside the cone has no slip
@@ -2108,6 +2223,7 @@ impl<'a> Solver<'a> {
             fixed_point_iterations: 0,
             augmented_error: 0.0,
             multiple_of,
+            friction_continuation: false,
         }
     }
 }
