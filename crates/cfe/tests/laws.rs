@@ -703,13 +703,17 @@ fn block_on_plate(block_law: &str, q: f64, refine: usize) -> Analysis {
     Analysis::new(Model::from_str(&text, &example, refine).unwrap()).unwrap()
 }
 
-/// Asserts Coulomb's law (μ = 0.2) on every plate–base pair of the block on the
-/// plate (`block_on_plate`), at least one of them sticking and some slipping.
-fn assert_plate_held_by_a_stick_zone(a: &Analysis, res: &cfe::analysis::Results) {
-    let mu = 0.2;
+/// Asserts Coulomb's law (coefficient `mu`) on every pair of `interface` at the
+/// last increment of `res`; returns its numbers of stick and slip pairs.
+fn assert_coulomb_on(
+    a: &Analysis,
+    res: &cfe::analysis::Results,
+    interface: &str,
+    mu: f64,
+) -> (usize, usize) {
     let (mut stick, mut slip) = (0, 0);
     for r in a.pair_rows(&res.last) {
-        if r.interface != "plate-base" {
+        if r.interface != interface {
             continue;
         }
         match r.state {
@@ -717,7 +721,7 @@ fn assert_plate_held_by_a_stick_zone(a: &Analysis, res: &cfe::analysis::Results)
                 stick += 1;
                 assert!(
                     r.force_s.abs() <= mu * r.force_n + 1e-6,
-                    "stick x = {}",
+                    "{interface}: stick x = {}",
                     r.x
                 );
             }
@@ -725,13 +729,24 @@ fn assert_plate_held_by_a_stick_zone(a: &Analysis, res: &cfe::analysis::Results)
                 slip += 1;
                 assert!(
                     (r.force_s.abs() - mu * r.force_n).abs() <= 1e-6,
-                    "slip x = {}",
+                    "{interface}: slip x = {}",
                     r.x
                 );
             }
             PairState::Open => assert!(r.force_n == 0.0 && r.force_s == 0.0),
         }
     }
+    (stick, slip)
+}
+
+/// Asserts Coulomb's law (μ = 0.2) on every plate–base pair of the block on the
+/// plate (`block_on_plate`), at least one of them sticking and some slipping,
+/// and the sideways reaction equal to the push `q`.
+fn assert_plate_held_by_a_stick_zone(a: &Analysis, res: &cfe::analysis::Results, q: f64) {
+    let fx: f64 = res.summary.reactions.iter().map(|r| r.fx).sum();
+    assert!((fx + q).abs() < 1e-8 * 1500.0, "Σ reaction x = {fx}");
+    assert!(res.summary.max_displacement.value < 0.1);
+    let (stick, slip) = assert_coulomb_on(a, res, "plate-base", 0.2);
     assert!(stick >= 1 && slip > 0, "{stick} stick, {slip} slip");
 }
 
@@ -781,31 +796,23 @@ fn a_stack_on_a_frictional_face_is_judged_as_one_body() {
 #[test]
 fn a_part_held_by_slipping_pairs_does_not_drift_off() {
     let a = block_on_plate("law = \"contact\"", 250.0, 1);
-    let res = a.solve().unwrap();
-    assert_eq!(res.summary.status, RunStatus::Completed);
-    let fx: f64 = res.summary.reactions.iter().map(|r| r.fx).sum();
-    assert!((fx + 250.0).abs() < 1e-8 * 1500.0, "Σ reaction x = {fx}");
-    let largest = res.summary.max_displacement.value;
-    assert!(largest < 0.1, "largest displacement {largest} mm");
-    assert_plate_held_by_a_stick_zone(&a, &res);
+    let res = solve_completed(&a);
+    assert_plate_held_by_a_stick_zone(&a, &res, 250.0);
 }
 
 /// The block bonded on the plate (`block_on_plate`) pushed with Q = 200 N,
 /// meshes refined twice: within friction (Q < μP = 300 N), but the Coulomb
-/// active-set search from all pairs bonded wanders through 81 patterns without
-/// reaching a state (at K = 1 it does), and the run used to fail. The increment
-/// is now searched again from the pattern a continuation in μ leads to (16 μ,
-/// where every closed pair sticks, down to μ): the run completes with
-/// Coulomb's law on every plate–base pair, a stick zone holding the plate, the
-/// sideways reaction equal to Q, and a note naming the increment.
+/// active-set search from all pairs bonded reaches no state satisfying the law
+/// (it once failed after 81 patterns). The increment is searched again from the
+/// pattern a continuation in μ leads to (16 μ, where every closed pair sticks,
+/// down to μ): the run completes with Coulomb's law on every plate–base pair, a
+/// stick zone holding the plate, the sideways reaction equal to Q, and a note
+/// naming the increment.
 #[test]
 fn a_state_the_search_misses_is_found_by_a_continuation_in_mu() {
     let a = block_on_plate("law = \"contact\"", 200.0, 2);
     let res = solve_completed(&a);
-    let fx: f64 = res.summary.reactions.iter().map(|r| r.fx).sum();
-    assert!((fx + 200.0).abs() < 1e-8 * 1500.0, "Σ reaction x = {fx}");
-    assert!(res.summary.max_displacement.value < 0.1);
-    assert_plate_held_by_a_stick_zone(&a, &res);
+    assert_plate_held_by_a_stick_zone(&a, &res, 200.0);
     let noted: Vec<usize> = res
         .summary
         .notes
@@ -814,6 +821,42 @@ fn a_state_the_search_misses_is_found_by_a_continuation_in_mu() {
         .map(|n| n.increment)
         .collect();
     assert_eq!(noted, [1], "{:?}", res.summary.notes);
+}
+
+/// The block bonded on the plate (`block_on_plate`) pushed with Q = 150 N,
+/// meshes refined twice, where the plate's one stick pair goes beyond its cone:
+/// with it slipping every closed plate–base pair slips, their slip forces
+/// balance at any position, and the plate slides off — no fixed point. The
+/// search used to stick every slipping pair at once, cycled, and settled with
+/// 22 pairs off the law (and the continuation in μ ended the same way). The
+/// stick point now moves to the slipping pair nearest its cone in the last
+/// pattern that had a fixed point: the search itself completes (no
+/// continuation), with Coulomb's law on every plate–base pair and the sideways
+/// reaction equal to Q.
+#[test]
+fn a_stick_zone_moves_when_its_last_pair_slips() {
+    let a = block_on_plate("law = \"contact\"", 150.0, 2);
+    let res = solve_completed(&a);
+    assert_plate_held_by_a_stick_zone(&a, &res, 150.0);
+    assert!(
+        !res.summary
+            .notes
+            .iter()
+            .any(|n| n.message.contains("continuation")),
+        "{:?}",
+        res.summary.notes
+    );
+}
+
+/// Both faces Coulomb: the block on μ = 0.5 on the plate on μ = 0.2
+/// (`block_on_plate`), pushed with Q = 250 N (0.83 μP): the run completes with
+/// each face on its own law and the sideways reaction equal to Q.
+#[test]
+fn a_stack_on_two_frictional_faces_completes_on_both_laws() {
+    let a = block_on_plate("law = \"coulomb\"\nfriction = 0.5", 250.0, 1);
+    let res = solve_completed(&a);
+    assert_plate_held_by_a_stick_zone(&a, &res, 250.0);
+    assert_coulomb_on(&a, &res, "block-plate", 0.5);
 }
 
 /// The roller in its cradle (examples/roller_in_cradle, meshes refined twice)

@@ -191,6 +191,12 @@ struct LawCheck {
     next: PairStates,
     violations: Vec<PairViolation>,
     load_scale: f64,
+    /// Per interface, its slipping Coulomb pair nearest its cone (the least
+    /// trial force over μ |f_n|), if it has one: where a stick zone moves to
+    /// ([`Solver::move_stick_point`]).
+    nearest_slip: Vec<Option<usize>>,
+    /// Per interface, whether its closed pairs press together (Σ f_n < 0).
+    pressed: Vec<bool>,
 }
 
 impl LawCheck {
@@ -298,6 +304,8 @@ pub struct Solver<'a> {
     augmented_error: f64,
     /// Whether the last pattern's fixed point converged.
     fixed_point_converged: bool,
+    /// Per interface, whether it follows the Coulomb law.
+    coulomb: Vec<bool>,
     /// The factor on every interface's friction coefficient: 1 but while a
     /// continuation in μ looks for an increment's starting pattern.
     friction_factor: f64,
@@ -475,6 +483,7 @@ impl<'a> Solver<'a> {
             step_labels: None,
             augmented_error: 0.0,
             fixed_point_converged: true,
+            coulomb: interfaces.iter().map(|i| i.law == Law::Coulomb).collect(),
             friction_factor: 1.0,
             coupling_dofs: crate::coupling::coupling_dofs(interfaces, dofs),
             coupling_ring: None,
@@ -784,7 +793,7 @@ impl<'a> Solver<'a> {
     ) -> Result<IncrementResult> {
         let direct = self.active_set_increment(inc, lambda, start.clone());
         let coulomb =
-            !self.proportional && self.interfaces.iter().any(|i| i.law == Law::Coulomb);
+            !self.proportional && self.coulomb.contains(&true);
         if !coulomb {
             return direct;
         }
@@ -796,7 +805,7 @@ impl<'a> Solver<'a> {
             Err(e @ Error::NoConvergence(_)) => Err(e),
             Err(e) => return Err(e),
         };
-        let Some(mut r) = self.friction_continuation(inc, lambda, start)? else {
+        let Some(mut r) = self.friction_continuation(inc, lambda, start) else {
             return first.map(|(r, history, error)| {
                 (self.history, self.augmented_error) = (history, error);
                 r
@@ -829,13 +838,17 @@ impl<'a> Solver<'a> {
     /// every closed pair sticks (the search is the contact law's); each smaller
     /// μ then frees the pairs a little beyond their cones, a few flips from the
     /// last pattern. Returns the last search's answer with every search's solves
-    /// in its history, or `None` when it found no state.
+    /// in its history, or `None` when it found no state. A search that fails
+    /// otherwise (a pattern it reaches leaves a part free, say) ends the
+    /// continuation with `None` too: its error belongs to a scaled μ or to a
+    /// start of the continuation's, not to the model, whose own first search
+    /// gives the answer then.
     fn friction_continuation(
         &mut self,
         inc: usize,
         lambda: f64,
         start: &PairStates,
-    ) -> Result<Option<IncrementResult>> {
+    ) -> Option<IncrementResult> {
         let stage = |this: &mut Self, factor: f64, start: &PairStates| {
             this.friction_factor = factor;
             let r = this.active_set_increment(inc, lambda, start.clone());
@@ -843,23 +856,22 @@ impl<'a> Solver<'a> {
             match r {
                 Ok(r) => Ok(Some(r)),
                 Err(Error::NoConvergence(_)) => Ok(None),
-                Err(e) => Err(e),
+                Err(_) => Err(()),
             }
         };
         let mut start = start.clone();
         let mut history = Vec::new();
         for &factor in &CONTINUATION {
-            if let Some(r) = stage(self, factor, &start)? {
+            if let Some(r) = stage(self, factor, &start).ok()? {
                 history.extend(r.history);
                 start = r.states;
             }
         }
-        Ok(stage(self, 1.0, &start)?.map(|mut r| {
-            history.append(&mut r.history);
-            r.history = history;
-            r.iterations = r.history.len();
-            r
-        }))
+        let mut r = stage(self, 1.0, &start).ok()??;
+        history.append(&mut r.history);
+        r.history = history;
+        r.iterations = r.history.len();
+        Some(r)
     }
 
     /// With proportional loads, keeps the values of the last complete solve for
@@ -934,6 +946,9 @@ impl<'a> Solver<'a> {
         let mut history = Vec::new();
         let mut states = start;
         let mut cautious = false;
+        // The last pattern whose slip forces found their fixed point, and its
+        // slipping pairs nearest their cones.
+        let mut last_fixed: Option<(PairStates, Vec<Option<usize>>)> = None;
         // The load scale of the increment's last complete solution: the law checks
         // of trial solutions (seed laws) use it.
         let mut scale: Option<f64> = None;
@@ -992,7 +1007,26 @@ impl<'a> Solver<'a> {
                 return Ok(self.finish(inc, lambda, history, u, f_int, states, check, false));
             }
             let mut check = check;
-            if !converged {
+            let moved = match (&last_fixed, converged) {
+                (Some((held, nearest)), false) => move_stick_point(
+                    &self.coulomb,
+                    &states,
+                    held,
+                    nearest,
+                    &check.pressed,
+                )
+                .filter(|p| {
+                        !seen.contains(p)
+                            && self.supports.check(self.parts, self.interfaces, p).is_ok()
+                    }),
+                _ => None,
+            };
+            if converged {
+                last_fixed = Some((states.clone(), check.nearest_slip.clone()));
+            }
+            if let Some(moved) = moved {
+                check.next = moved;
+            } else if !converged {
                 // Slipping pairs whose slip forces found no fixed point in this
                 // pattern (they pull the solution along without settling) stick:
                 // those the check finds off the law, or, when it finds none (its
@@ -1018,7 +1052,7 @@ impl<'a> Solver<'a> {
             }
             // A pattern the cautious step may go to: not solved yet, and one that
             // holds every part (a flip that frees a part is no way forward).
-            let wide = self.interfaces.iter().any(|i| i.law == Law::Coulomb);
+            let wide = self.coulomb.contains(&true);
             let open = |p: &PairStates| {
                 !seen.contains(p) && self.supports.check(self.parts, self.interfaces, p).is_ok()
             };
@@ -1157,6 +1191,8 @@ impl<'a> Solver<'a> {
     /// elements' DOFs only).
     fn check_law_scaled(&self, states: &[Vec<PairState>], u: &[f64], load_scale: f64) -> LawCheck {
         let mut violations = Vec::new();
+        let mut nearest: Vec<Option<(usize, f64)>> = vec![None; self.interfaces.len()];
+        let mut normal = vec![0.0; self.interfaces.len()];
         let next = self
             .interfaces
             .iter()
@@ -1189,6 +1225,9 @@ impl<'a> Solver<'a> {
                         } else {
                             c.law_force(&base, state, h, d).1
                         };
+                        if state.is_closed() {
+                            normal[i] += f[0];
+                        }
                         let mut push = |v: crate::coupling::LawViolation| {
                             violations.push(PairViolation {
                                 interface: i,
@@ -1221,6 +1260,13 @@ impl<'a> Solver<'a> {
                         if let Some(v) = v {
                             push(v);
                         }
+                        if state == PairState::Slip && iface.law == Law::Coulomb {
+                            let limit = law.friction * (-f[0]).max(0.0);
+                            let ratio = law.trial_shear(jump[1], h).abs() / limit;
+                            if limit > 0.0 && nearest[i].is_none_or(|(_, r)| ratio < r) {
+                                nearest[i] = Some((k, ratio));
+                            }
+                        }
                         next
                     })
                     .collect()
@@ -1243,6 +1289,8 @@ impl<'a> Solver<'a> {
             next,
             violations,
             load_scale,
+            nearest_slip: nearest.into_iter().map(|n| n.map(|(k, _)| k)).collect(),
+            pressed: normal.into_iter().map(|f| f < 0.0).collect(),
         }
     }
 
@@ -2228,6 +2276,38 @@ impl<'a> Solver<'a> {
     }
 }
 
+/// The pattern `states` (whose slip forces found no fixed point) with the
+/// stick point moved: on each Coulomb interface (`coulomb[i]`) that has no
+/// stick pair in `states` but had one in `held` (the last pattern with a fixed
+/// point) and whose pairs press together (`pressed[i]`), `held`'s slipping pair
+/// nearest its cone (`nearest[i]`) sticks. A part whose last stick pair went
+/// beyond its cone slides off on the rest — their slip forces balance at any
+/// position — so its stick zone moves to the pair next to reaching its own
+/// cone, rather than every slipping pair sticking. An interface whose pairs
+/// pull together is coming apart, not sliding (the law opens them). `None`
+/// when no interface's stick point moves.
+fn move_stick_point(
+    coulomb: &[bool],
+    states: &[Vec<PairState>],
+    held: &[Vec<PairState>],
+    nearest: &[Option<usize>],
+    pressed: &[bool],
+) -> Option<PairStates> {
+    let sticks = |s: &[PairState]| s.contains(&PairState::Bonded);
+    let mut moved = states.to_vec();
+    let mut any = false;
+    for i in 0..states.len() {
+        if !coulomb[i] || sticks(&states[i]) || !sticks(&held[i]) || !pressed[i] {
+            continue;
+        }
+        if let Some(k) = nearest[i].filter(|&k| states[i][k] == PairState::Slip) {
+            moved[i][k] = PairState::Bonded;
+            any = true;
+        }
+    }
+    any.then_some(moved)
+}
+
 /// The cautious step: `states` with one pair flipped the way its violation asks
 /// (a pulling pair opens, a penetrating one closes, a stick pair beyond its cone
 /// slips, a slip pair inside it sticks; the first of equals).
@@ -2345,6 +2425,8 @@ mod tests {
                 violation(3, ViolationKind::Penetration, 1.0),
             ],
             load_scale: 1.0,
+            nearest_slip: vec![None],
+            pressed: vec![true],
         };
         let mut seen = HashSet::new();
         seen.insert(states.clone());
@@ -2366,5 +2448,35 @@ mod tests {
         // Without friction: the worst pair's flip, solved before or not.
         let next = flip_worst(&states, &check, false, |p| !seen.contains(p));
         assert_eq!(next, flip(1, Slip));
+    }
+
+    /// A face whose one stick pair slipped, every pair now slipping: the stick
+    /// point moves to the slipping pair the held pattern had nearest its cone,
+    /// the others keep their states. Not on a face that pulls, a face that
+    /// still sticks somewhere, a face that had no stick pair to lose, or a
+    /// face that is not Coulomb's.
+    ///
+    /// ```text
+    ///   held:    slip  stick  slip  slip  open     nearest: pair 2
+    ///   states:  slip  slip   slip  slip  open
+    ///   moved:   slip  slip   stick slip  open
+    /// ```
+    #[test]
+    fn the_stick_point_moves_to_the_slipping_pair_nearest_its_cone() {
+        let held = vec![vec![Slip, Bonded, Slip, Slip, Open]];
+        let states = vec![vec![Slip, Slip, Slip, Slip, Open]];
+        let nearest = [Some(2)];
+        let moved = move_stick_point(&[true], &states, &held, &nearest, &[true]);
+        assert_eq!(moved, Some(vec![vec![Slip, Slip, Bonded, Slip, Open]]));
+        // A face pulling together, a face still sticking, a face that had
+        // no stick pair, a face not Coulomb's: nothing moves.
+        assert_eq!(move_stick_point(&[true], &states, &held, &nearest, &[false]), None);
+        let sticking = vec![vec![Slip, Slip, Slip, Bonded, Open]];
+        assert_eq!(move_stick_point(&[true], &sticking, &held, &nearest, &[true]), None);
+        assert_eq!(move_stick_point(&[true], &states, &states, &nearest, &[true]), None);
+        assert_eq!(move_stick_point(&[false], &states, &held, &nearest, &[true]), None);
+        // The pair nearest its cone in the held pattern opened since: none.
+        let opened = vec![vec![Slip, Slip, Open, Slip, Open]];
+        assert_eq!(move_stick_point(&[true], &opened, &held, &nearest, &[true]), None);
     }
 }
