@@ -859,6 +859,31 @@ fn a_stack_on_two_frictional_faces_completes_on_both_laws() {
     assert_coulomb_on(&a, &res, "block-plate", 0.5);
 }
 
+/// The seed's plate pressed on its last cell (1500 N over x = 165–170 mm, at
+/// the end of the plate), the Coulomb law with μ = 0.2: the search reached a
+/// pattern with one closed pair, which leaves the plate free to turn about it,
+/// and the run stopped there with an `Unsupported` error, as if the plate could
+/// not rest on its base. A pattern the search reaches is not the model's
+/// answer: the increment is searched again by the continuation in μ, which
+/// finds the plate resting on its end (Coulomb's law on every pair, the load
+/// balanced). The plate pulled off its base still ends with that error
+/// (`a_plate_pulled_off_its_base_is_reported_free_not_sliding`).
+#[test]
+fn a_pattern_leaving_a_part_free_does_not_end_a_frictional_search() {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plate_on_base.toml");
+    let text = std::fs::read_to_string(&example)
+        .unwrap()
+        .replace("from = [86.0, 135.0]", "from = [165.0, 135.0]")
+        .replace("to = [114.0, 135.0]", "to = [170.0, 135.0]")
+        .replace("law = \"contact\"", "law = \"coulomb\"\nfriction = 0.2");
+    assert!(text.contains("[165.0, 135.0]") && text.contains("friction = 0.2"));
+    let a = analysis(&text);
+    let res = solve_completed(&a);
+    check_coulomb(&a, &res.last, 0.2, 1e-8 * res.last.load_scale);
+    let fy: f64 = res.summary.reactions.iter().map(|r| r.fy).sum();
+    assert!((fy - 1500.0).abs() < 1e-8 * 1500.0, "Σ reaction y = {fy}");
+}
+
 /// The roller in its cradle (examples/roller_in_cradle, meshes refined twice)
 /// with Coulomb friction μ = 0.2: the search from the ninth increment's pattern
 /// cycled at the tenth and settled on a pattern with one stick pair beyond its

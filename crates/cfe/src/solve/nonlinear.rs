@@ -144,7 +144,8 @@ pub struct IncrementResult {
     pub multiple_of: Option<MultipleOf>,
     /// Whether the increment's state was found from the pattern a continuation
     /// in the friction coefficients led to: the search from the previous
-    /// increment's pattern found none, or only settled.
+    /// increment's pattern found none, only settled, or reached a pattern that
+    /// leaves a part free.
     pub friction_continuation: bool,
 }
 
@@ -781,10 +782,13 @@ impl<'a> Solver<'a> {
 
     /// One active-set increment from the pattern `start`. With Coulomb
     /// interfaces (path-dependent, so every increment is searched), an increment
-    /// whose search from `start` finds no state, or only settles, is searched
-    /// again from the pattern a continuation in the friction coefficient leads
-    /// to ([`Solver::friction_continuation`]); its answer is taken if it obeys
-    /// the law (or, when the first search found nothing, if there is one).
+    /// whose search from `start` finds no state, only settles, or reaches a
+    /// pattern that leaves a part free (`Unsupported`: a pattern the search
+    /// flips to, not the model's answer) is searched again from the pattern a
+    /// continuation in the friction coefficient leads to
+    /// ([`Solver::friction_continuation`]); its answer is taken if it obeys the
+    /// law (or, when the first search found nothing, if there is one). Otherwise
+    /// the first search's answer or error stands.
     fn active_set_or_continuation(
         &mut self,
         inc: usize,
@@ -802,7 +806,7 @@ impl<'a> Solver<'a> {
         let first = match direct {
             Ok(r) if r.settled.is_empty() => return Ok(r),
             Ok(r) => Ok((r, self.history.clone(), self.augmented_error)),
-            Err(e @ Error::NoConvergence(_)) => Err(e),
+            Err(e @ (Error::NoConvergence(_) | Error::Unsupported { .. })) => Err(e),
             Err(e) => return Err(e),
         };
         let Some(mut r) = self.friction_continuation(inc, lambda, start) else {
