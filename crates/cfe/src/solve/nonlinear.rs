@@ -194,7 +194,7 @@ struct LawCheck {
     load_scale: f64,
     /// Per interface, its slipping Coulomb pair nearest its cone (the least
     /// trial force over μ |f_n|), if it has one: where a stick zone moves to
-    /// ([`Solver::move_stick_point`]).
+    /// ([`move_stick_point`]).
     nearest_slip: Vec<Option<usize>>,
     /// Per interface, whether its closed pairs press together (Σ f_n < 0).
     pressed: Vec<bool>,
@@ -796,8 +796,7 @@ impl<'a> Solver<'a> {
         start: &PairStates,
     ) -> Result<IncrementResult> {
         let direct = self.active_set_increment(inc, lambda, start.clone());
-        let coulomb =
-            !self.proportional && self.coulomb.contains(&true);
+        let coulomb = !self.proportional && self.coulomb.contains(&true);
         if !coulomb {
             return direct;
         }
@@ -1011,18 +1010,17 @@ impl<'a> Solver<'a> {
                 return Ok(self.finish(inc, lambda, history, u, f_int, states, check, false));
             }
             let mut check = check;
+            // A face that lost its last stick pair in a pattern without a fixed
+            // point moves its stick point (rather than sticking every slipping
+            // pair), if that pattern is new and holds every part.
             let moved = match (&last_fixed, converged) {
-                (Some((held, nearest)), false) => move_stick_point(
-                    &self.coulomb,
-                    &states,
-                    held,
-                    nearest,
-                    &check.pressed,
-                )
-                .filter(|p| {
-                        !seen.contains(p)
-                            && self.supports.check(self.parts, self.interfaces, p).is_ok()
-                    }),
+                (Some((held, nearest)), false) => {
+                    move_stick_point(&self.coulomb, &states, held, nearest, &check.pressed)
+                        .filter(|p| {
+                            !seen.contains(p)
+                                && self.supports.check(self.parts, self.interfaces, p).is_ok()
+                        })
+                }
                 _ => None,
             };
             if converged {
@@ -2023,7 +2021,7 @@ impl<'a> Solver<'a> {
     /// A trial solution of `states` for the law check of an active-set iteration
     /// (seed laws only): the displacements at the coupling elements' DOFs, from a
     /// solve on the elimination-tree paths of their equations
-    /// ([`ContactSystem::solve_interface`]); every other free DOF is NaN. No
+    /// (`ContactSystem::solve_interface`); every other free DOF is NaN. No
     /// internal force, residual or refinement: a pattern the trial finds
     /// consistent is solved in full before it is accepted.
     pub fn solve_interface(
