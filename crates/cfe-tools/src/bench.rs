@@ -498,7 +498,7 @@ fn report(
     }
     let _ = writeln!(
         s,
-        "Phases: *mesh* meshing, *pairs* pair search and DOF numbering, *coarse* solving the 4× coarser model for the active-set's starting pattern, *symbolic* node graph + nested-dissection ordering + sparsity pattern + symbolic factorization, *asm* assembly of values and right-hand sides, *# fact* and *# upd* the numbers of numeric factorizations and of low-rank updates, *fact* the seconds in numeric factorizations, *1st fact* the first of them, *solve* triangular solves including low-rank update columns, *later it.* the slowest active-set iteration after the first (and its ratio to the first factorization), *update* state updates, support checks and internal forces, *stress* stress recovery, *output* VTU/CSV/JSON of all increments, *png* the two pictures, *Gflop* the solver's work counted from the factor's supernodes (factorizations, solves, update columns; the same on every machine), *total / fact* end-to-end time over the time in numeric factorizations, *peak / factor* peak resident memory over the factor's values (8 bytes per nonzero).\n"
+        "*status* is the run's (`completed`: the law holds on every pair and the loads balance; otherwise how many pairs the last increment left off the law, settled to end a cycle, and the largest violation as a fraction of the load scale). Phases: *mesh* meshing, *pairs* pair search and DOF numbering, *coarse* solving the 4× coarser model for the active-set's starting pattern, *symbolic* node graph + nested-dissection ordering + sparsity pattern + symbolic factorization, *asm* assembly of values and right-hand sides, *# fact* and *# upd* the numbers of numeric factorizations and of low-rank updates, *fact* the seconds in numeric factorizations, *1st fact* the first of them, *solve* triangular solves including low-rank update columns, *later it.* the slowest active-set iteration after the first (and its ratio to the first factorization), *update* state updates, support checks and internal forces, *stress* stress recovery, *output* VTU/CSV/JSON of all increments, *png* the two pictures, *Gflop* the solver's work counted from the factor's supernodes (factorizations, solves, update columns; the same on every machine), *total / fact* end-to-end time over the time in numeric factorizations, *peak / factor* peak resident memory over the factor's values (8 bytes per nonzero).\n"
     );
     let (gmsh, rest): (Vec<&Case>, Vec<&Case>) = cases.iter().partition(|c| c.problem == "gmsh");
     let (friction, plate): (Vec<&Case>, Vec<&Case>) =
@@ -547,9 +547,9 @@ fn timing_table(s: &mut String, title: &str, cases: &[&Case]) {
         let _ = writeln!(s, "## {title}\n");
         let _ = writeln!(
             s,
-            "| K | unknowns | pairs | open | iterations | # fact | # upd | Gflop | mesh | pairs | coarse | symbolic | asm | 1st fact | fact | solve | later it. | update | stress | output | png | **total** | total / fact | peak MiB | peak / factor |"
+            "| K | unknowns | pairs | open | status | iterations | # fact | # upd | Gflop | mesh | pairs | coarse | symbolic | asm | 1st fact | fact | solve | later it. | update | stress | output | png | **total** | total / fact | peak MiB | peak / factor |"
         );
-        let _ = writeln!(s, "|{}", "---|".repeat(25));
+        let _ = writeln!(s, "|{}", "---|".repeat(26));
         for c in cases {
             let m = &c.summary;
             let t = &m["timings"];
@@ -578,11 +578,12 @@ fn timing_table(s: &mut String, title: &str, cases: &[&Case]) {
                 .fold(0.0, f64::max);
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} ({:.2}×) | {:.2} | {:.2} | {:.2} | {:.2} | **{:.2}** | {:.2} | {:.0} | {:.2} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} ({:.2}×) | {:.2} | {:.2} | {:.2} | {:.2} | **{:.2}** | {:.2} | {:.0} | {:.2} |",
                 c.refine,
                 m["unknowns"],
                 pairs,
                 open,
+                status(m),
                 its.join(" "),
                 m["factorizations"],
                 m["low_rank_updates"],
@@ -613,6 +614,35 @@ fn timing_table(s: &mut String, title: &str, cases: &[&Case]) {
         }
         let _ = writeln!(s);
     }
+}
+
+/// A run's status for its row: `completed`, or for a run that completed with
+/// pairs off the law how many its last increment left and the largest, as a
+/// fraction of the load scale (a run must not look clean in the benchmark
+/// when it is not).
+fn status(m: &Value) -> String {
+    let status = m["status"].as_str().unwrap_or("?");
+    if status != "completed_with_violations" {
+        return status.to_string();
+    }
+    let violations = m["violations"].as_array().cloned().unwrap_or_default();
+    let last = violations
+        .iter()
+        .filter_map(|v| v["increment"].as_u64())
+        .max();
+    let off: Vec<&Value> = violations
+        .iter()
+        .filter(|v| last.is_some() && v["increment"].as_u64() == last)
+        .collect();
+    if off.is_empty() {
+        return "completed_with_violations (out of balance: see its warnings)".into();
+    }
+    let worst = off.iter().map(|v| f(&v["relative"])).fold(0.0, f64::max);
+    format!(
+        "{} pair{} off the law (settled), worst {worst:.1e} of the load",
+        off.len(),
+        if off.len() == 1 { "" } else { "s" }
+    )
 }
 
 /// Convergence of the scaled contact runs: load-point displacement and contact-zone ends.
@@ -997,6 +1027,26 @@ mod tests {
         );
         assert_eq!(super::refinements(&n, 100_000), vec![1, 2, 4, 8, 12]);
         assert_eq!(super::refinements(&n, 910), vec![1]);
+    }
+
+    /// A row's status is the run's; a run that completed with pairs off the law
+    /// says how many its last increment left and the worst, never `completed`.
+    #[test]
+    fn a_settled_run_is_not_reported_as_completed() {
+        let v = |inc: u64, rel: f64| serde_json::json!({"increment": inc, "relative": rel});
+        let settled = serde_json::json!({
+            "status": "completed_with_violations",
+            "violations": [v(1, 2e-4), v(1, 1e-4), v(2, 3e-4), v(2, 1.5e-4), v(2, 1e-5)],
+        });
+        assert_eq!(
+            super::status(&settled),
+            "3 pairs off the law (settled), worst 3.0e-4 of the load"
+        );
+        let clean = serde_json::json!({"status": "completed", "violations": []});
+        assert_eq!(super::status(&clean), "completed");
+        let unbalanced =
+            serde_json::json!({"status": "completed_with_violations", "violations": []});
+        assert!(super::status(&unbalanced).contains("out of balance"));
     }
 
     /// The report states the machine's speed before and after the runs, each
