@@ -310,6 +310,9 @@ pub struct Solver<'a> {
     /// The factor on every interface's friction coefficient: 1 but while a
     /// continuation in μ looks for an increment's starting pattern.
     friction_factor: f64,
+    /// The iterations of the last active-set search that ended in an error
+    /// (the caller that searches again counts them with its own).
+    failed_search: Vec<Iteration>,
     /// Every coupling element's DOFs (sorted): the DOFs a solve restricted to the
     /// interface gives.
     coupling_dofs: Vec<usize>,
@@ -486,6 +489,7 @@ impl<'a> Solver<'a> {
             fixed_point_converged: true,
             coulomb: interfaces.iter().map(|i| i.law == Law::Coulomb).collect(),
             friction_factor: 1.0,
+            failed_search: Vec::new(),
             coupling_dofs: crate::coupling::coupling_dofs(interfaces, dofs),
             coupling_ring: None,
             spare: Spare::default(),
@@ -805,14 +809,19 @@ impl<'a> Solver<'a> {
         let first = match direct {
             Ok(r) if r.settled.is_empty() => return Ok(r),
             Ok(r) => Ok((r, self.history.clone(), self.augmented_error)),
-            Err(e @ (Error::NoConvergence(_) | Error::Unsupported { .. })) => Err(e),
+            Err(e @ (Error::NoConvergence(_) | Error::Unsupported { .. })) => {
+                Err((e, std::mem::take(&mut self.failed_search)))
+            }
             Err(e) => return Err(e),
         };
         let Some(mut r) = self.friction_continuation(inc, lambda, start) else {
-            return first.map(|(r, history, error)| {
-                (self.history, self.augmented_error) = (history, error);
-                r
-            });
+            return match first {
+                Ok((r, history, error)) => {
+                    (self.history, self.augmented_error) = (history, error);
+                    Ok(r)
+                }
+                Err((e, _)) => Err(e),
+            };
         };
         match first {
             Ok((settled, history, error)) if !r.settled.is_empty() => {
@@ -820,11 +829,14 @@ impl<'a> Solver<'a> {
                 Ok(settled)
             }
             first => {
-                // The solves of the first search count too.
-                if let Ok((settled, ..)) = first {
-                    r.history.splice(0..0, settled.history);
-                    r.iterations = r.history.len();
-                }
+                // The solves of the first search count too, whether it settled
+                // or ended in an error.
+                let solves = match first {
+                    Ok((settled, ..)) => settled.history,
+                    Err((_, solves)) => solves,
+                };
+                r.history.splice(0..0, solves);
+                r.iterations = r.history.len();
                 r.friction_continuation = true;
                 Ok(r)
             }
@@ -865,9 +877,13 @@ impl<'a> Solver<'a> {
         let mut start = start.clone();
         let mut history = Vec::new();
         for &factor in &CONTINUATION {
-            if let Some(r) = stage(self, factor, &start).ok()? {
-                history.extend(r.history);
-                start = r.states;
+            match stage(self, factor, &start).ok()? {
+                Some(r) => {
+                    history.extend(r.history);
+                    start = r.states;
+                }
+                // A search that found nothing: its solves count too.
+                None => history.append(&mut self.failed_search),
             }
         }
         let mut r = stage(self, 1.0, &start).ok()??;
@@ -915,12 +931,29 @@ impl<'a> Solver<'a> {
             .collect()
     }
 
-    /// One increment of the active-set scheme from the pattern `start`.
+    /// One increment of the active-set scheme from the pattern `start`. A
+    /// search that ends in an error leaves its iterations in
+    /// [`Solver::failed_search`].
     fn active_set_increment(
         &mut self,
         inc: usize,
         lambda: f64,
         start: PairStates,
+    ) -> Result<IncrementResult> {
+        let mut history = Vec::new();
+        let result = self.active_set_search(inc, lambda, start, &mut history);
+        self.failed_search = if result.is_err() { history } else { Vec::new() };
+        result
+    }
+
+    /// [`Solver::active_set_increment`], its iterations recorded in `history`
+    /// as they are made (an error leaves them there).
+    fn active_set_search(
+        &mut self,
+        inc: usize,
+        lambda: f64,
+        start: PairStates,
+        history: &mut Vec<Iteration>,
     ) -> Result<IncrementResult> {
         // An iteration that started this increment before (a warm start that
         // settled) left its touch-downs and fixed-point iterates in the history.
@@ -937,16 +970,16 @@ impl<'a> Solver<'a> {
             let t = Instant::now();
             let (u, f_int, method) = self.solve_states(lambda, &start, inc)?;
             let check = self.check_law(&start, &u, &f_int, lambda);
-            let history = vec![Iteration {
+            history.push(Iteration {
                 method,
                 changed: 0,
                 seconds: t.elapsed().as_secs_f64(),
-            }];
+            });
+            let history = std::mem::take(history);
             return Ok(self.finish(inc, lambda, history, u, f_int, start, check, true));
         }
         let mut seen: HashSet<PairStates> = HashSet::new();
         let mut visits: Vec<Visit> = Vec::new();
-        let mut history = Vec::new();
         let mut states = start;
         let mut cautious = false;
         // The last pattern whose slip forces found their fixed point, and its
@@ -1007,6 +1040,7 @@ impl<'a> Solver<'a> {
                     continue;
                 }
                 self.settled_pattern = None;
+                let history = std::mem::take(history);
                 return Ok(self.finish(inc, lambda, history, u, f_int, states, check, false));
             }
             let mut check = check;
@@ -1106,7 +1140,7 @@ impl<'a> Solver<'a> {
         inc: usize,
         lambda: f64,
         visits: &[Visit],
-        mut history: Vec<Iteration>,
+        history: &mut Vec<Iteration>,
     ) -> Result<IncrementResult> {
         let best = visits
             .iter()
@@ -1150,6 +1184,7 @@ impl<'a> Solver<'a> {
             seconds: t.elapsed().as_secs_f64(),
         });
         self.settled_pattern = Some(states.clone());
+        let history = std::mem::take(history);
         Ok(self.finish(inc, lambda, history, u, f_int, states, check, true))
     }
 
