@@ -58,7 +58,12 @@ enum Command {
         #[arg(long, value_enum)]
         law: Option<LawArg>,
         /// The friction coefficient μ with --law coulomb.
-        #[arg(long, value_name = "MU", required_if_eq("law", "coulomb"))]
+        #[arg(
+            long,
+            value_name = "MU",
+            required_if_eq("law", "coulomb"),
+            allow_negative_numbers = true
+        )]
         friction: Option<f64>,
         /// Write the VTU files of every N-th increment only, or with `last` of the
         /// last increment (of each load step) only; overrides the file's

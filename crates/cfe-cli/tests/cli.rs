@@ -183,6 +183,33 @@ fn refine_help_mentions_gmsh() {
     assert!(String::from_utf8_lossy(&o.stdout).contains("Gmsh"));
 }
 
+/// A friction coefficient below zero or not a number, given on the command
+/// line, is refused by the model's own check (exit 1, naming the coefficient
+/// and its value) before anything is solved: `--friction -0.1` is a value, not
+/// an unknown flag.
+#[test]
+fn a_bad_friction_flag_is_refused_by_the_model_check() {
+    let plate = repo().join("examples/plate_on_base.toml");
+    for (bad, shown) in [("-0.1", "-0.1"), ("-3", "-3"), ("NaN", "NaN")] {
+        let o = cfe(&[
+            "run",
+            plate.to_str().unwrap(),
+            "--out",
+            "/nonexistent-never-written",
+            "--law",
+            "coulomb",
+            "--friction",
+            bad,
+        ]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{bad}: {e}");
+        assert!(
+            e.contains("friction coefficient must be finite and ≥ 0") && e.contains(shown),
+            "{bad}: {e}"
+        );
+    }
+}
+
 /// `--write-every last` writes only the last increment's VTU files (pairs.csv and
 /// the summary stay complete); 0, negative and other words are refused before
 /// anything is solved, naming the flag.
