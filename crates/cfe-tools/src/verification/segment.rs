@@ -164,7 +164,7 @@ pub fn displacement_error(
 /// The relative L² error of the interface traction along the seam of interface 0,
 /// at the node part's face nodes: each pair's force on the node part over the
 /// node's share of the face (a segment pair's m_a = ∫ N_a ds, so the traction
-/// κ[[u]]_a; a node pair's tributary length, half its two face segments) and the
+/// `κ[[u]]_a`; a node pair's tributary length, half its two face segments) and the
 /// thickness, against `exact(x)`, the traction σ·n on the node part at the node,
 /// weighted by those lengths.
 pub fn traction_error(

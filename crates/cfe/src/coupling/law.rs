@@ -207,7 +207,7 @@ impl LawParams {
     }
 
     /// The local force `f = (f_n, f_s)` (the force the host side exerts on the pair)
-    /// for the normal gap `g_n` (g₀ + [[u_n]]) and the tangential jump `u_s`:
+    /// for the normal gap `g_n` (`g₀ + [[u_n]]`) and the tangential jump `u_s`:
     /// bonded `(c_n g_n, c_s (u_s − s_p))` (tangential 0 when frictionless), slip
     /// `(c_n g_n, slip_force + c_slip (u_s − anchor))`, open 0; plus the
     /// multipliers when closed.

@@ -180,7 +180,7 @@ impl NumericPlan {
     /// each subtree then reads only its own columns of `a`, a contiguous range of
     /// its values. When `a` owns its values ([`LowerMatrix::with_values`]) each
     /// thread gives back the pages of the values its subtrees have read as it
-    /// goes ([`super::heap::discard`]), so the matrix's values shrink while the
+    /// goes (`super::heap::discard`), so the matrix's values shrink while the
     /// factor's grow instead of sitting beside the whole factor.
     pub fn factorize(
         &self,

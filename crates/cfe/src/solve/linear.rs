@@ -7,7 +7,7 @@
 //! The factor is always supernodal (dense column blocks along the elimination
 //! tree), so a right-hand side with a few nonzeros can be forward-solved through
 //! the supernodes on the tree paths from its rows to the root only (see
-//! [`super::columns`]), and the cost of a factorization is known in flops before it
+//! `super::columns`), and the cost of a factorization is known in flops before it
 //! is done ([`CholeskySolver::factor_flops`]). On a factor big enough the full and
 //! restricted solves run disjoint subtrees of the elimination tree on different
 //! threads ([`super::subtree`]).

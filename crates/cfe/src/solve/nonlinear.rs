@@ -395,11 +395,11 @@ pub const FIXED_POINT_TOLERANCE: f64 = 1e-10;
 pub const MAX_FIXED_POINT: usize = 60;
 
 /// How many previous fixed-point steps the Anderson acceleration of the pairs'
-/// right-hand-side terms mixes ([`Anderson`]).
+/// right-hand-side terms mixes (`Anderson`, in `solve::anderson`).
 pub const ANDERSON_DEPTH: usize = 8;
 
 /// The factors on the friction coefficients of a continuation in μ
-/// ([`Solver::friction_continuation`]), largest first: at 16 μ the closed
+/// (`Solver::friction_continuation`), largest first: at 16 μ the closed
 /// pairs of an ordinary model all stick, and each step after halves the excess
 /// or less, down to 1.1 μ before μ itself.
 pub const CONTINUATION: [f64; 7] = [16.0, 8.0, 4.0, 2.0, 1.5, 1.25, 1.1];

@@ -5,7 +5,7 @@
 //! factorization. A cost model in flops chooses (deterministic: the same choice on
 //! every run): refactorization costs one numeric factorization and a solve; an
 //! update costs the sparse forward solves of the correction columns not yet cached
-//! (two per changed pair, see [`super::columns`]), one solve of the right-hand side
+//! (two per changed pair, see `super::columns`), one solve of the right-hand side
 //! and a dense solve of the capacitance. Each call reports what it did.
 //!
 //! A CFE's stiffness is `K_e = Σ_k c_k w_k w_kᵀ` with `w_k = (R_k B_e)ᵀ` (k = n, s), so
@@ -71,7 +71,7 @@ pub struct ContactSystem<'a> {
     /// the pattern, a 4-byte row index per stored entry and a pointer per column
     /// (37 MiB at 1 M unknowns), is freed after each factorization instead of
     /// held beside the factor, and built again (node graph, pattern, elimination
-    /// order: [`super::setup::pattern_in_order`]) should one be needed.
+    /// order: `super::setup::pattern_in_order`) should one be needed.
     pub keep_pattern: bool,
     chol: CholeskySolver,
     base: Option<PairStates>,
