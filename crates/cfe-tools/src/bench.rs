@@ -570,11 +570,9 @@ fn timing_table(s: &mut String, title: &str, cases: &[&Case]) {
                 .map(|h| h.as_array().map_or(0, |a| a.len()).to_string())
                 .collect();
             let first_fact = f(&m["first_factorization_seconds"]);
-            let later = history
+            let later = later_iterations(m)
                 .iter()
-                .flat_map(|h| h.as_array().cloned().unwrap_or_default())
-                .skip(1)
-                .map(|it| f(&it["seconds"]))
+                .map(|(it, _)| f(&it["seconds"]))
                 .fold(0.0, f64::max);
             let _ = writeln!(
                 s,
@@ -844,16 +842,7 @@ fn slowest_iteration(s: &mut String, big: &[&&Case]) {
             .filter(|c| f(&c.summary["unknowns"]) >= min_unknowns)
         {
             let first = f(&c.summary["first_factorization_seconds"]).max(1e-12);
-            let iterations: Vec<Value> = c.summary["iteration_history"]
-                .as_array()
-                .map(|h| {
-                    h.iter()
-                        .flat_map(|inc| inc.as_array().cloned().unwrap_or_default())
-                        .skip(1)
-                        .collect()
-                })
-                .unwrap_or_default();
-            for it in iterations {
+            for (it, _) in later_iterations(&c.summary) {
                 let ratio = f(&it["seconds"]) / first;
                 if worst.as_ref().is_none_or(|w| ratio > w.0) {
                     worst = Some((ratio, c, it));
@@ -901,27 +890,37 @@ fn split_iterations(big: &[&&Case]) -> (f64, f64) {
     let (mut trial, mut complete) = (0.0f64, 0.0f64);
     for &&c in big {
         let first = f(&c.summary["first_factorization_seconds"]).max(1e-12);
-        let increments = c.summary["iteration_history"]
-            .as_array()
-            .cloned()
-            .unwrap_or_default();
-        for (k, inc) in increments.iter().enumerate() {
-            let its = inc.as_array().cloned().unwrap_or_default();
-            let n = its.len();
-            for (i, it) in its.iter().enumerate() {
-                if k == 0 && i == 0 {
-                    continue;
-                }
-                let ratio = f(&it["seconds"]) / first;
-                if i + 1 == n {
-                    complete = complete.max(ratio);
-                } else {
-                    trial = trial.max(ratio);
-                }
+        for (it, last) in later_iterations(&c.summary) {
+            let ratio = f(&it["seconds"]) / first;
+            if last {
+                complete = complete.max(ratio);
+            } else {
+                trial = trial.max(ratio);
             }
         }
     }
     (trial, complete)
+}
+
+/// Every iteration record of the run summarized in `m` after its first, in
+/// order, each with whether it is its increment's last (the accepted pattern's
+/// complete solve, or a reuse).
+fn later_iterations(m: &Value) -> Vec<(Value, bool)> {
+    let increments = m["iteration_history"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
+    increments
+        .iter()
+        .flat_map(|inc| {
+            let its = inc.as_array().cloned().unwrap_or_default();
+            let n = its.len();
+            its.into_iter()
+                .enumerate()
+                .map(move |(i, it)| (it, i + 1 == n))
+        })
+        .skip(1)
+        .collect()
 }
 
 /// The phases of run `c` with their seconds, largest first.
