@@ -84,8 +84,9 @@ enum Command {
         /// Where to write the report (regenerate the committed one with `--out docs`).
         #[arg(long, default_value = "results/bench")]
         out: PathBuf,
-        /// Run each case N times and keep the fastest end to end (all its phases
-        /// from that run): steadier figures on a machine whose speed varies.
+        /// Run every case once in each of N passes over all the cases and keep
+        /// each case's fastest end to end (all its phases from that run): steadier
+        /// figures on a machine whose speed varies.
         #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100))]
         repeat: u32,
         /// Only regenerate benchmarks.md and benchmarks.png from OUT/benchmarks.json.
