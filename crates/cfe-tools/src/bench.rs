@@ -769,7 +769,7 @@ fn targets(s: &mut String, cases: &[Case]) {
             let why = if total(c) <= t_max {
                 String::new()
             } else {
-                format!("; {}", why_slow(c, Some(t_max)))
+                format!("; {}", why_slow(c, Limit::Seconds(t_max)))
             };
             let _ = writeln!(
                 s,
@@ -796,7 +796,7 @@ fn targets(s: &mut String, cases: &[Case]) {
             let why = if r <= limit {
                 String::new()
             } else {
-                format!("; {}", why_slow(worst, None))
+                format!("; {}", why_slow(worst, Limit::OfFactorization(limit)))
             };
             let _ = writeln!(
                 s,
@@ -966,26 +966,53 @@ fn phases(c: &Case) -> Vec<(&'static str, f64)> {
     phases
 }
 
-/// Why run `c` misses a time target of `t_max` seconds (or a ratio target): the
-/// numeric factorization's share, and the largest phases beyond it.
-fn why_slow(c: &Case, t_max: Option<f64>) -> String {
-    let fact = f(&c.summary["timings"]["factorization"]);
+/// A target on a run's end-to-end time.
+#[derive(Debug, Clone, Copy)]
+enum Limit {
+    /// At most this many seconds.
+    Seconds(f64),
+    /// At most this multiple of the run's numeric factorization time.
+    OfFactorization(f64),
+}
+
+/// Why run `c` misses its time `limit`: the numeric factorization's share, and
+/// the largest phases beyond it; for a ratio target, what the target leaves
+/// beyond the factorization, and whether the ordering and symbolic analysis,
+/// which the factorization cannot start without, take more than that alone.
+fn why_slow(c: &Case, limit: Limit) -> String {
+    let t = &c.summary["timings"];
+    let fact = f(&t["factorization"]);
     let rest: Vec<String> = phases(c)
         .into_iter()
         .filter(|(name, _)| *name != "numeric factorization")
         .take(3)
         .map(|(name, v)| format!("{name} {v:.1} s"))
         .collect();
-    let beyond = f(&c.summary["timings"]["total"]) - fact;
-    match t_max {
-        Some(t) if fact >= t => format!(
+    let beyond = f(&t["total"]) - fact;
+    match limit {
+        Limit::Seconds(t) if fact >= t => format!(
             "why: the numeric factorization alone takes {fact:.1} s, at or above the target, so it needs a faster factorization, not less overhead; beyond it {beyond:.1} s, largest {}",
             rest.join(", ")
         ),
-        _ => format!(
+        Limit::Seconds(_) => format!(
             "why: {beyond:.1} s beyond the numeric factorization ({fact:.1} s), largest {}",
             rest.join(", ")
         ),
+        Limit::OfFactorization(r) => {
+            let allowed = (r - 1.0) * fact;
+            let symbolic = f(&t["pattern_and_symbolic"]);
+            let before = if symbolic > allowed {
+                format!(
+                    "; the ordering and symbolic analysis alone take {symbolic:.1} s, on both cores, and the factorization cannot start before them"
+                )
+            } else {
+                String::new()
+            };
+            format!(
+                "why: the target leaves {allowed:.2} s beyond the numeric factorization ({fact:.1} s), the run takes {beyond:.1} s{before}; largest beyond it {}",
+                rest.join(", ")
+            )
+        }
     }
 }
 
@@ -1180,7 +1207,9 @@ mod tests {
 
     /// A missed target names its cause from the run's own phases: the
     /// factorization when it alone exceeds the target, else the time beyond it
-    /// with the largest other phases, largest first.
+    /// with the largest other phases, largest first; a ratio target states the
+    /// time it leaves beyond the factorization and whether the symbolic analysis
+    /// alone exceeds it.
     #[test]
     fn why_a_target_is_missed() {
         let case = |fact: f64, total: f64| super::Case {
@@ -1192,13 +1221,25 @@ mod tests {
                 "stress_recovery": 1.0, "pattern_and_symbolic": 9.0, "pictures": 2.0,
             }}),
         };
-        let slow = super::why_slow(&case(90.0, 150.0), Some(80.0));
+        let slow = super::why_slow(&case(90.0, 150.0), super::Limit::Seconds(80.0));
         assert!(slow.contains("factorization alone takes 90.0 s"), "{slow}");
         assert!(slow.contains("beyond it 60.0 s, largest solves and update columns 20.0 s, output files 11.0 s, ordering and symbolic analysis 9.0 s"), "{slow}");
-        let over = super::why_slow(&case(3.0, 8.0), Some(5.0));
+        let over = super::why_slow(&case(3.0, 8.0), super::Limit::Seconds(5.0));
         assert!(
             over.starts_with("why: 5.0 s beyond the numeric factorization (3.0 s)"),
             "{over}"
+        );
+        // A ratio of 1.5 leaves 0.5 × 20 s = 10 s beyond the factorization: the
+        // 9 s of symbolic analysis fit in it, but not in the 2 s that 1.1 leaves.
+        let fits = super::why_slow(&case(20.0, 45.0), super::Limit::OfFactorization(1.5));
+        assert!(
+            fits.starts_with("why: the target leaves 10.00 s beyond the numeric factorization (20.0 s), the run takes 25.0 s; largest beyond it solves"),
+            "{fits}"
+        );
+        let not = super::why_slow(&case(20.0, 45.0), super::Limit::OfFactorization(1.1));
+        assert!(
+            not.contains("leaves 2.00 s") && not.contains("symbolic analysis alone take 9.0 s"),
+            "{not}"
         );
     }
 
