@@ -1005,15 +1005,30 @@ fn why_slow(c: &Case, limit: Limit) -> String {
         Limit::OfFactorization(r) => {
             let allowed = (r - 1.0) * fact;
             let symbolic = f(&t["pattern_and_symbolic"]);
+            // The processor time outside the factorization (which can have
+            // used at most every thread for its wall time), spread perfectly
+            // over the threads: a floor for the run's time beyond it.
+            let floor = match (t["cpu"].as_f64(), c.summary["threads"].as_u64()) {
+                (Some(cpu), Some(threads)) if threads > 0 && fact > 0.0 => {
+                    let p = threads as f64;
+                    let outside = (cpu - p * fact).max(0.0);
+                    format!(
+                        "; the run used {cpu:.1} processor-seconds, of which the factorization can have used at most {threads} × {fact:.1}: the other {outside:.1}, even spread perfectly over the {threads} threads, take {:.2} s, so with this work the run cannot go below {:.2}× its factorization",
+                        outside / p,
+                        1.0 + outside / p / fact
+                    )
+                }
+                _ => String::new(),
+            };
             const SYMBOLIC: &str = "ordering and symbolic analysis";
             if symbolic > allowed {
                 format!(
-                    "why: the target leaves {allowed:.2} s beyond the numeric factorization ({fact:.1} s), the run takes {beyond:.1} s; the {SYMBOLIC} alone take {symbolic:.1} s, on both cores, and the factorization cannot start before them; the other largest phases {}",
+                    "why: the target leaves {allowed:.2} s beyond the numeric factorization ({fact:.1} s), the run takes {beyond:.1} s{floor}; the {SYMBOLIC} alone take {symbolic:.1} s, on both cores, and the factorization cannot start before them; the other largest phases {}",
                     largest(SYMBOLIC)
                 )
             } else {
                 format!(
-                    "why: the target leaves {allowed:.2} s beyond the numeric factorization ({fact:.1} s), the run takes {beyond:.1} s; largest beyond it {}",
+                    "why: the target leaves {allowed:.2} s beyond the numeric factorization ({fact:.1} s), the run takes {beyond:.1} s{floor}; largest beyond it {}",
                     largest("")
                 )
             }
@@ -1240,6 +1255,16 @@ mod tests {
         assert!(
             fits.starts_with("why: the target leaves 10.00 s beyond the numeric factorization (20.0 s), the run takes 25.0 s; largest beyond it solves"),
             "{fits}"
+        );
+        // 70 processor-seconds on 2 threads, at most 40 of them in the 20 s
+        // factorization: the other 30 take at least 15 s, 1.75× the factorization.
+        let mut busy = case(20.0, 45.0);
+        busy.summary["timings"]["cpu"] = serde_json::json!(70.0);
+        busy.summary["threads"] = serde_json::json!(2);
+        let floor = super::why_slow(&busy, super::Limit::OfFactorization(1.5));
+        assert!(
+            floor.contains("the run used 70.0 processor-seconds, of which the factorization can have used at most 2 × 20.0: the other 30.0, even spread perfectly over the 2 threads, take 15.00 s, so with this work the run cannot go below 1.75× its factorization"),
+            "{floor}"
         );
         let not = super::why_slow(&case(20.0, 45.0), super::Limit::OfFactorization(1.1));
         assert!(

@@ -16,7 +16,7 @@ use crate::model::{Model, Scheme};
 use crate::output::memory::peak_memory_bytes;
 use crate::output::report::PairRow;
 pub use crate::output::summary::{
-    IncrementStep, InterfaceSummary, MaxDisplacement, PartSummary, Reaction, RunStatus,
+    IncrementStep, InterfaceSummary, MaxDisplacement, PartSummary, Reaction, RunClock, RunStatus,
     SettledPair, StepSummary, Summary, Timings, Tolerances, ViolationRecord, Warning,
 };
 use crate::solve::nonlinear::{IncrementResult, LoadSteps, RESIDUAL_WARN, Solver};
@@ -77,11 +77,12 @@ pub struct Analysis {
 impl Analysis {
     /// Reads and meshes the problem file, then prepares the analysis.
     pub fn from_file(path: &Path, refine: usize) -> Result<Analysis> {
-        let t = Instant::now();
+        let clock = RunClock::start();
         let model = Model::from_file(path, refine)?;
-        let meshing = t.elapsed().as_secs_f64();
+        let (meshing, meshing_cpu) = (clock.wall(), clock.cpu());
         let mut a = Analysis::new(model)?;
         a.timings.meshing = meshing;
+        a.timings.setup_cpu = (|| Some(a.timings.setup_cpu? + meshing_cpu?))();
         Ok(a)
     }
 
@@ -91,7 +92,7 @@ impl Analysis {
     /// the DOFs. Interfaces are taken in file order, each seeing the nodes the
     /// earlier ones moved.
     pub fn new(mut model: Model) -> Result<Analysis> {
-        let t = Instant::now();
+        let clock = RunClock::start();
         let mut interfaces = Vec::with_capacity(model.interfaces.len());
         for def in &model.interfaces {
             let host = &model.parts[def.host];
@@ -175,7 +176,8 @@ impl Analysis {
         }
         let dofs = DofMap::new(&model.parts, &model.supports);
         let timings = Timings {
-            pair_search: t.elapsed().as_secs_f64(),
+            pair_search: clock.wall(),
+            setup_cpu: clock.cpu(),
             ..Default::default()
         };
         Ok(Analysis {
@@ -518,7 +520,7 @@ impl Analysis {
         &self,
         mut on_increment: impl FnMut(&IncrementResult) -> Result<()>,
     ) -> Result<Results> {
-        let start = Instant::now();
+        let clock = RunClock::start();
         let mut summary = self.empty_summary();
         let t = Instant::now();
         let mut solver = self.solver()?;
@@ -542,8 +544,7 @@ impl Analysis {
         let stresses = self.recover(&last.u);
         summary.timings.stress_recovery = t.elapsed().as_secs_f64();
         summary.status = summary.final_status();
-        summary.timings.total =
-            start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
+        summary.timings.set_totals(&self.timings, &clock);
         summary.peak_memory_bytes = peak_memory_bytes();
         summary.solve_flops = solver.solve_flops();
         summary.set_ratios();
@@ -623,9 +624,11 @@ impl Analysis {
             peak_over_factor: None,
             solve_flops: 0.0,
             total_over_factorization: None,
+            threads: rayon::current_num_threads(),
             timings: Timings {
                 meshing: self.timings.meshing,
                 pair_search: self.timings.pair_search,
+                setup_cpu: self.timings.setup_cpu,
                 ..Default::default()
             },
         }

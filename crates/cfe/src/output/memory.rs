@@ -11,6 +11,31 @@ pub fn peak_memory_bytes() -> Option<u64> {
     )
 }
 
+/// Processor time this process has used so far, user and system, over all its
+/// threads (ended ones too), in seconds (`getrusage(RUSAGE_SELF)` on Unix; `None`
+/// elsewhere). Against the wall-clock time it tells how much of the run's work
+/// could have been spread over more cores.
+pub fn cpu_seconds() -> Option<f64> {
+    #[cfg(unix)]
+    {
+        let mut usage = std::mem::MaybeUninit::<libc::rusage>::zeroed();
+        // SAFETY: getrusage writes one `rusage` through a pointer valid for it;
+        // the struct is read only after the call reports success.
+        let usage = unsafe {
+            if libc::getrusage(libc::RUSAGE_SELF, usage.as_mut_ptr()) != 0 {
+                return None;
+            }
+            usage.assume_init()
+        };
+        let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+        Some(seconds(usage.ru_utime) + seconds(usage.ru_stime))
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
+}
+
 /// Total memory of the machine in bytes (Linux `MemTotal`), if known.
 pub fn total_memory_bytes() -> Option<u64> {
     kib_field(&std::fs::read_to_string("/proc/meminfo").ok()?, "MemTotal:")

@@ -5,7 +5,7 @@
 
 use super::memory::peak_memory_bytes;
 use super::report::{self, PairRow};
-use super::summary::{RunStatus, Summary};
+use super::summary::{RunClock, RunStatus, Summary};
 use super::{chart, png, vtu};
 use crate::analysis::Analysis;
 use crate::coupling::{Law, PairState, ViolationKind};
@@ -285,7 +285,7 @@ impl Analysis {
         progress: &mut dyn FnMut(&IncrementResult),
         stop: &AtomicUsize,
     ) -> Result<Summary> {
-        let start = Instant::now();
+        let clock = RunClock::start();
         let vtu_dir = out.join("vtu");
         std::fs::create_dir_all(&vtu_dir).map_err(|e| Error::output(&vtu_dir, e))?;
         clear_previous_run(out)?;
@@ -306,10 +306,10 @@ impl Analysis {
         let result = std::thread::scope(|scope| {
             this.solve_and_write(scope, &grid, out, &mut log, progress, stop)
         });
-        let result = result.and_then(|_| self.finish_run(out, &mut log, start));
+        let result = result.and_then(|_| self.finish_run(out, &mut log, &clock));
         match result {
             Ok(summary) => Ok(summary),
-            Err(e) => match self.record_stop(out, &mut log.summary, start, &e) {
+            Err(e) => match self.record_stop(out, &mut log.summary, &clock, &e) {
                 Ok(()) => Err(e),
                 Err(w) => {
                     // Not even the summary could be written: a stale one saying
@@ -493,7 +493,7 @@ impl Analysis {
         &self,
         out: &Path,
         summary: &mut Summary,
-        start: Instant,
+        clock: &RunClock,
         e: &Error,
     ) -> Result<()> {
         summary.status = if matches!(e, Error::Interrupted { .. }) {
@@ -502,23 +502,21 @@ impl Analysis {
             RunStatus::Failed
         };
         summary.error = Some(e.to_string());
-        summary.timings.total =
-            start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
+        summary.timings.set_totals(&self.timings, clock);
         summary.peak_memory_bytes = peak_memory_bytes();
         report::write_json(&out.join("summary.json"), summary)
     }
 
     /// Finishes a run whose increments all converged and whose files (pictures
     /// included) are all written: the final status and timings in `summary.json`.
-    fn finish_run(&mut self, out: &Path, log: &mut RunLog, start: Instant) -> Result<Summary> {
+    fn finish_run(&mut self, out: &Path, log: &mut RunLog, clock: &RunClock) -> Result<Summary> {
         let summary = &mut log.summary;
         summary.status = summary.final_status();
         summary.timings.meshing = self.timings.meshing;
         summary.timings.pair_search = self.timings.pair_search;
         summary.timings.stress_recovery = log.recovery_time;
         summary.timings.output = log.output_time;
-        summary.timings.total =
-            start.elapsed().as_secs_f64() + self.timings.meshing + self.timings.pair_search;
+        summary.timings.set_totals(&self.timings, clock);
         summary.peak_memory_bytes = peak_memory_bytes();
         summary.set_ratios();
         report::write_json(&out.join("summary.json"), summary)?;

@@ -2,11 +2,13 @@
 //! results of the last converged increment. Plain data; [`crate::analysis`] fills
 //! it, [`Analysis::run`](crate::analysis::Analysis::run) writes it.
 
+use super::memory::cpu_seconds;
 use crate::coupling::{Enforcement, Law, PairState, ViolationKind};
 use crate::domain::Scheme;
 use crate::solve::nonlinear::{Iteration, SolveTimings};
 use serde::Serialize;
 use std::path::PathBuf;
+use std::time::Instant;
 
 /// Where a run stands (serialized as `running`, `completed`,
 /// `completed_with_violations`, `failed`).
@@ -115,6 +117,52 @@ pub struct Timings {
     pub pictures: f64,
     /// Wall time of the whole run.
     pub total: f64,
+    /// Processor time of the whole run (user and system, every thread; the same
+    /// span as `total`, Unix only): against `total` × the cores, how much of the
+    /// run's work could have been spread over them.
+    pub cpu: Option<f64>,
+    /// Processor time of the meshing and the pair search, done before a run
+    /// starts (part of `cpu`).
+    #[serde(skip)]
+    pub setup_cpu: Option<f64>,
+}
+
+/// When a run (or a phase) started: the wall clock and the process's processor
+/// time.
+#[derive(Debug, Clone, Copy)]
+pub struct RunClock {
+    wall: Instant,
+    cpu: Option<f64>,
+}
+
+impl RunClock {
+    /// Now.
+    pub fn start() -> RunClock {
+        RunClock {
+            wall: Instant::now(),
+            cpu: cpu_seconds(),
+        }
+    }
+
+    /// Wall seconds since the start.
+    pub fn wall(&self) -> f64 {
+        self.wall.elapsed().as_secs_f64()
+    }
+
+    /// Processor seconds since the start (every thread), if known.
+    pub fn cpu(&self) -> Option<f64> {
+        Some(cpu_seconds()? - self.cpu?)
+    }
+}
+
+impl Timings {
+    /// Sets `total` and `cpu` at the end of a run started at `clock`, adding the
+    /// meshing and the pair search of `setup` (done before it).
+    pub fn set_totals(&mut self, setup: &Timings, clock: &RunClock) {
+        self.total = clock.wall() + setup.meshing + setup.pair_search;
+        self.setup_cpu = setup.setup_cpu;
+        self.cpu = (|| Some(clock.cpu()? + setup.setup_cpu?))();
+    }
 }
 
 /// Summary of one part.
@@ -375,6 +423,10 @@ pub struct Summary {
     /// End-to-end time relative to the time in numeric factorizations (the floor of
     /// a run: one factorization).
     pub total_over_factorization: Option<f64>,
+    /// Threads the run's parallel parts could use (rayon's pool: the machine's
+    /// cores unless `RAYON_NUM_THREADS` says otherwise); with `timings.cpu` and
+    /// `timings.total` it tells how much of the run kept them busy.
+    pub threads: usize,
     /// Seconds per phase.
     pub timings: Timings,
 }
