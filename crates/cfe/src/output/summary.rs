@@ -117,9 +117,10 @@ pub struct Timings {
     pub pictures: f64,
     /// Wall time of the whole run.
     pub total: f64,
-    /// Processor time of the whole run (user and system, every thread; the same
-    /// span as `total`, Unix only): against `total` × the cores, how much of the
-    /// run's work could have been spread over them.
+    /// Processor time of the whole run (user and system, every thread of the
+    /// process over the same span as `total`, so a program doing other work
+    /// meanwhile counts it too; Unix only): against `total` × the cores, how much
+    /// of the run's work could have been spread over them.
     pub cpu: Option<f64>,
     /// Processor time of the meshing and the pair search, done before a run
     /// starts (part of `cpu`).
