@@ -151,7 +151,6 @@ pub fn run(
         plan.extend(ks.iter().map(|&refine| Planned {
             path: problem.to_path_buf(),
             problem: "plate",
-            label: law,
             law,
             refine,
         }));
@@ -172,9 +171,14 @@ pub fn run(
         };
         match run_in(&case.path, case.law, k) {
             Ok(summary) => {
+                // The Gmsh problem is named by its row group, the others by law.
+                let name = if case.problem == "gmsh" {
+                    "gmsh"
+                } else {
+                    case.law
+                };
                 progress(&format!(
-                    "{:>7} K = {k:>3}: {:>9} unknowns, {:>8.2} s, {:>7.0} MiB{of}",
-                    case.label,
+                    "{name:>7} K = {k:>3}: {:>9} unknowns, {:>8.2} s, {:>7.0} MiB{of}",
                     summary["unknowns"],
                     total_seconds(&summary),
                     summary["peak_memory_bytes"].as_f64().unwrap_or(0.0) / 1048576.0
@@ -253,8 +257,6 @@ struct Planned {
     path: PathBuf,
     /// `plate`, `gmsh` or `friction` (the report's row groups).
     problem: &'static str,
-    /// How the progress line names it.
-    label: &'static str,
     law: &'static str,
     refine: usize,
 }
@@ -283,7 +285,6 @@ fn extra_cases(
             refine: refine_for(first["unknowns"].as_f64().unwrap_or(1.0)),
             path: roller,
             problem: "gmsh",
-            label: "gmsh",
             law: "contact",
         });
     }
@@ -291,7 +292,6 @@ fn extra_cases(
     cases.push(Planned {
         path: problem.to_path_buf(),
         problem: "friction",
-        label: "coulomb",
         law: "coulomb",
         refine: refine_for(n1 as f64),
     });
@@ -853,25 +853,25 @@ fn targets(s: &mut String, cases: &[Case]) {
 /// those of them with a million unknowns or more.
 fn slowest_iteration(s: &mut String, big: &[&&Case]) {
     let verdict = |ok: bool| if ok { "met" } else { "**not met**" };
-    // The slowest iteration after the first, relative to the first factorization:
-    // (ratio, run, the iteration's record).
+    // Over the runs of at least `min_unknowns`: the slowest iteration after the
+    // first, relative to its run's first factorization (ratio, run, the
+    // iteration's record), and the slowest trial and complete solve.
     let slowest = |min_unknowns: f64| {
         let mut worst: Option<(f64, &Case, Value)> = None;
-        for &&c in big
-            .iter()
-            .filter(|c| f(&c.summary["unknowns"]) >= min_unknowns)
-        {
-            let first = f(&c.summary["first_factorization_seconds"]).max(1e-12);
-            for (it, _) in later_iterations(&c.summary) {
-                let ratio = f(&it["seconds"]) / first;
-                if worst.as_ref().is_none_or(|w| ratio > w.0) {
-                    worst = Some((ratio, c, it));
-                }
+        let (mut trial, mut complete) = (0.0f64, 0.0f64);
+        for (ratio, c, it, last) in later_ratios(big, min_unknowns) {
+            if last {
+                complete = complete.max(ratio);
+            } else {
+                trial = trial.max(ratio);
+            }
+            if worst.as_ref().is_none_or(|w| ratio > w.0) {
+                worst = Some((ratio, c, it));
             }
         }
-        worst
+        worst.map(|(ratio, c, it)| (ratio, c, it, trial, complete))
     };
-    if let Some((ratio, c, it)) = slowest(0.0) {
+    if let Some((ratio, c, it, trial, complete)) = slowest(0.0) {
         let how = match it["method"]["low-rank"]["rank"].as_u64() {
             Some(r) => format!(
                 "a low-rank update of rank {r} (sparse forward solves of its new columns and a solve on the interface's tree paths, or, for the pattern accepted, a complete solve: a backward solve on the paths around the coupling nodes, the refinement forward-solved on the interface's paths, one full backward solve and one internal force; a factor of {:.1} million nonzeros)",
@@ -884,7 +884,6 @@ fn slowest_iteration(s: &mut String, big: &[&&Case]) {
         } else {
             "; a complete solution reads the whole factor once and sums every element's force, which on a small model cost more relative to its factorization (fewer flops per factor value)".to_string()
         };
-        let (trial, complete) = split_iterations(big);
         let _ = writeln!(
             s,
             "- Each contact iteration after the first, relative to the first factorization (runs ≥ 50 000 unknowns): at most {ratio:.2} (target ≤ 0.1: {}); the slowest, at K = {}, was {how}{why}. Of these, the iterations that tried a pattern (every one of an increment but its last) took at most {trial:.2}, and an increment's last, which solves its accepted pattern completely, at most {complete:.2}.",
@@ -892,13 +891,7 @@ fn slowest_iteration(s: &mut String, big: &[&&Case]) {
             c.refine
         );
     }
-    if let Some((ratio, c, _)) = slowest(1e6) {
-        let large: Vec<&&Case> = big
-            .iter()
-            .copied()
-            .filter(|c| f(&c.summary["unknowns"]) >= 1e6)
-            .collect();
-        let (trial, complete) = split_iterations(&large);
+    if let Some((ratio, c, _, trial, complete)) = slowest(1e6) {
         let _ = writeln!(
             s,
             "- The same from 1 M unknowns up: at most {ratio:.2} (K = {}; target ≤ 0.1: {}); the trials at most {trial:.2}, the increments' last (complete) solves at most {complete:.2}.",
@@ -908,24 +901,23 @@ fn slowest_iteration(s: &mut String, big: &[&&Case]) {
     }
 }
 
-/// The slowest iteration after a run's first, relative to its first
-/// factorization, over the runs `big`: among the iterations that tried a
-/// pattern (an increment's but its last), and among the increments' last ones
-/// (the accepted pattern's complete solve, or a reuse).
-fn split_iterations(big: &[&&Case]) -> (f64, f64) {
-    let (mut trial, mut complete) = (0.0f64, 0.0f64);
-    for &&c in big {
-        let first = f(&c.summary["first_factorization_seconds"]).max(1e-12);
-        for (it, last) in later_iterations(&c.summary) {
-            let ratio = f(&it["seconds"]) / first;
-            if last {
-                complete = complete.max(ratio);
-            } else {
-                trial = trial.max(ratio);
-            }
-        }
-    }
-    (trial, complete)
+/// Every iteration after its run's first, over the runs of `big` with at least
+/// `min_unknowns` unknowns: its time relative to its run's first factorization,
+/// the run, the iteration's record, and whether it is its increment's last (the
+/// accepted pattern's complete solve, or a reuse) rather than a trial.
+fn later_ratios<'c>(
+    big: &[&&'c Case],
+    min_unknowns: f64,
+) -> impl Iterator<Item = (f64, &'c Case, Value, bool)> {
+    big.iter()
+        .map(|&&c| c)
+        .filter(move |c| f(&c.summary["unknowns"]) >= min_unknowns)
+        .flat_map(|c| {
+            let first = f(&c.summary["first_factorization_seconds"]).max(1e-12);
+            later_iterations(&c.summary)
+                .into_iter()
+                .map(move |(it, last)| (f(&it["seconds"]) / first, c, it, last))
+        })
 }
 
 /// Every iteration record of the run summarized in `m` after its first, in
