@@ -696,13 +696,7 @@ impl Analysis {
                 } else {
                     jump[1]
                 };
-                let traction = |force: f64| {
-                    if c.tributary > 0.0 {
-                        force / c.tributary
-                    } else {
-                        0.0
-                    }
-                };
+                let thickness = self.model.parts[iface.node_part].material.thickness;
                 rows.push(PairRow {
                     interface: iface.name.clone(),
                     node: c.node,
@@ -721,8 +715,8 @@ impl Analysis {
                     gap0: c.gap0,
                     gap: c.gap(jump),
                     slip,
-                    pressure: traction(-f[0] + 0.0),
-                    shear: traction(-f[1] + 0.0),
+                    pressure: c.traction(-f[0] + 0.0, thickness),
+                    shear: c.traction(-f[1] + 0.0, thickness),
                     tributary: c.tributary,
                     segment: c.segment.as_ref().map(|s| {
                         s.nodes

@@ -706,7 +706,8 @@ class InterfaceResult:
     force, or the penetration depth). The contact laws add ``friction`` (μ),
     ``unpaired`` (nodes beyond the search distance), ``gap0`` (initial normal
     gap), ``gap`` (g0 + [[u_n]]), ``slip`` (the slip not carried elastically),
-    ``pressure`` and ``shear`` (forces / ``tributary`` length), and ``state``
+    ``pressure`` and ``shear`` (stresses: the forces / (``tributary`` length ×
+    the node part's thickness)), and ``state``
     (``"bonded"``, ``"open"`` or ``"slip"``)."""
 
     name: str

@@ -20,7 +20,9 @@
 //! example itself uses n = 10), graded from the contact outwards.
 //!
 //! **Extraction.** The pressure of a pair is its normal force over its tributary
-//! length on the cylinder's arc (half of each adjoining arc edge). a and p₀ come
+//! length on the cylinder's arc (half of each adjoining arc edge) times the
+//! cylinder's thickness t ([`cfe::coupling::traction`]; t = 1 here, so the loads
+//! are per unit thickness, P′ in N/mm). a and p₀ come
 //! from a least-squares fit of p² = p₀² − (p₀²/a²)(x − x₀)² over the pairs carrying
 //! pressure, the outermost one on each side left out when there are more than
 //! ten ([`fit_ellipse`]); the
@@ -113,7 +115,8 @@ increments = 1
 }
 
 /// One pair on the arc: its position, normal force (compression positive),
-/// tangential force, tributary length, pressure and shear traction.
+/// tangential force, tributary length, pressure and shear traction (stresses:
+/// the forces over the tributary length × the cylinder's thickness).
 #[derive(Debug, Clone, Copy)]
 pub struct ArcPair {
     /// x of the coupling node.
@@ -124,10 +127,23 @@ pub struct ArcPair {
     pub f_s: f64,
     /// Tributary length on the arc.
     pub length: f64,
-    /// f_n / length.
+    /// f_n / (length × t).
     pub pressure: f64,
-    /// f_s / length.
+    /// f_s / (length × t).
     pub shear: f64,
+}
+
+/// The thickness t of the first interface's node part (the cylinder): the
+/// forces are over it, P′ = Σ f_n / t per unit thickness.
+fn node_thickness(a: &Analysis) -> f64 {
+    a.model.parts[a.interfaces[0].node_part].material.thickness
+}
+
+/// `text` (a problem) with every part given the thickness `t`: a load scaled by t
+/// with it leaves the displacements, the per-unit-thickness forces and the
+/// tractions unchanged.
+pub fn with_thickness(text: &str, t: f64) -> String {
+    text.replace("[[part]]\n", &format!("[[part]]\nthickness = {t:?}\n"))
 }
 
 /// Tributary lengths of the nodes of boundary `name` of part `part`: half of
@@ -149,10 +165,12 @@ pub fn tributary(a: &Analysis, part: usize, name: &str) -> Result<HashMap<usize,
 }
 
 /// The pairs of the first interface at increment `inc`, sorted by x, with their
-/// pressure and shear from the forces and the tributary lengths on `boundary`.
+/// pressure and shear from the forces, the tributary lengths on `boundary` and
+/// the node part's thickness.
 pub fn arc_pairs(a: &Analysis, inc: &IncrementResult, boundary: &str) -> Result<Vec<ArcPair>> {
     let iface = &a.interfaces[0];
     let trib = tributary(a, iface.node_part, boundary)?;
+    let t = node_thickness(a);
     let mut out: Vec<ArcPair> = a
         .pair_rows(inc)
         .iter()
@@ -164,8 +182,8 @@ pub fn arc_pairs(a: &Analysis, inc: &IncrementResult, boundary: &str) -> Result<
                 f_n: r.force_n,
                 f_s: r.force_s,
                 length,
-                pressure: r.force_n / length,
-                shear: r.force_s / length,
+                pressure: cfe::coupling::traction(r.force_n, length, t),
+                shear: cfe::coupling::traction(r.force_s, length, t),
             }
         })
         .collect();
@@ -184,7 +202,7 @@ pub struct HertzRun {
     pub fit: Fitted,
     /// The edge half-width.
     pub edge: f64,
-    /// Σ f_n over the pairs.
+    /// Σ f_n over the pairs per unit thickness (/ t): the P′ they carry.
     pub total: f64,
     /// Largest pair pressure.
     pub p_max: f64,
@@ -206,7 +224,7 @@ pub fn measure(text: &str, n: usize) -> Result<HertzRun> {
     Ok(HertzRun {
         n,
         edge: edge_half_width(&pts).unwrap_or(0.0),
-        total: pairs.iter().map(|p| p.f_n).sum(),
+        total: pairs.iter().map(|p| p.f_n).sum::<f64>() / node_thickness(&a),
         p_max: pairs.iter().map(|p| p.pressure).fold(0.0, f64::max),
         closed: pairs.iter().filter(|p| p.pressure > 0.0).count(),
         solves: incs.iter().map(|i| i.iterations).sum(),
@@ -624,11 +642,18 @@ pub const Q_RATIO: f64 = 0.5;
 /// action through the first point of contact (±Q/2 vertical at the diameter's
 /// ends), so that the contact carries P′ and Q without a moment, as the
 /// closed form assumes. Both parts steel (Dundurs' β = 0), Coulomb friction μ;
-/// the cylinder is held by the contact alone.
-pub fn cattaneo_problem(n: usize, normal_increments: usize, shear_increments: usize) -> String {
+/// the cylinder is held by the contact alone. Both parts have the thickness
+/// `thickness` and the loads are P′ and Q per unit thickness times it.
+pub fn cattaneo_problem(
+    n: usize,
+    normal_increments: usize,
+    shear_increments: usize,
+    thickness: f64,
+) -> String {
     let file = mesh_file(n);
-    let q = Q_RATIO * MU * LOAD;
-    format!(
+    let load = LOAD * thickness;
+    let q = Q_RATIO * MU * load;
+    let text = format!(
         r#"plane = "strain"
 [materials.steel]
 E = {:?}
@@ -682,36 +707,53 @@ step = "shear"
 "#,
         CYLINDER.0,
         CYLINDER.1,
-        -LOAD,
+        -load,
         q / 2.0,
         -R,
         -q / 2.0
-    )
+    );
+    with_thickness(&text, thickness)
 }
 
 /// One level of the Cattaneo–Mindlin study: the measures of its last increment.
-struct CattaneoRun {
-    n: usize,
-    p_total: f64,
-    q: f64,
-    a_h: f64,
-    p0: f64,
-    fit_a: f64,
-    c_ref: f64,
-    c_h: f64,
-    stick: usize,
-    slip: usize,
-    rms: f64,
+#[derive(Debug, Clone)]
+pub struct CattaneoRun {
+    /// Mesh level.
+    pub n: usize,
+    /// P′: the pairs' total normal force per unit thickness (Σ f_n / t).
+    pub p_total: f64,
+    /// Q: the pairs' total tangential force per unit thickness, in the direction
+    /// of the applied Q (positive).
+    pub q: f64,
+    /// Hertz's half-width for P′.
+    pub a_h: f64,
+    /// Hertz's peak pressure for P′.
+    pub p0: f64,
+    /// The half-width of the ellipse fitted to the pairs' pressures.
+    pub fit_a: f64,
+    /// The closed form's stick half-width c.
+    pub c_ref: f64,
+    /// The run's stick half-width.
+    pub c_h: f64,
+    /// Sticking (bonded) pairs.
+    pub stick: usize,
+    /// Slipping pairs.
+    pub slip: usize,
+    /// RMS of the shear traction's error over the contact, relative to μp₀.
+    pub rms: f64,
     /// The pairs' normal force at the end of the normal step and at the end,
     /// the largest change relative to the largest force (β = 0: none expected).
-    pressure_change: f64,
-    sign: f64,
-    pairs: Vec<ArcPair>,
+    pub pressure_change: f64,
+    /// The sign of the applied Q along x.
+    pub sign: f64,
+    /// The pairs (all, sorted by x).
+    pub pairs: Vec<ArcPair>,
 }
 
-/// Solves the Cattaneo–Mindlin problem at mesh level `n` and measures it.
-fn cattaneo_run(n: usize, shear_increments: usize) -> Result<CattaneoRun> {
-    let a = prepare(&cattaneo_problem(n, 1, shear_increments))?;
+/// Solves the Cattaneo–Mindlin problem at mesh level `n` with parts of
+/// thickness `thickness` (and loads scaled with it) and measures it.
+pub fn cattaneo_run(n: usize, shear_increments: usize, thickness: f64) -> Result<CattaneoRun> {
+    let a = prepare(&cattaneo_problem(n, 1, shear_increments, thickness))?;
     let incs = solve(&a)?;
     let inc = incs.last().expect("increments");
     let normal = incs
@@ -721,8 +763,10 @@ fn cattaneo_run(n: usize, shear_increments: usize) -> Result<CattaneoRun> {
     let before = arc_pairs(&a, normal, "arc")?;
     let pairs = arc_pairs(&a, inc, "arc")?;
     let rows = a.pair_rows(inc);
-    let p_total: f64 = pairs.iter().map(|p| p.f_n).sum();
-    let q_total: f64 = pairs.iter().map(|p| p.f_s).sum();
+    // Per unit thickness, as the closed form's P′ and Q.
+    let t = node_thickness(&a);
+    let p_total: f64 = pairs.iter().map(|p| p.f_n).sum::<f64>() / t;
+    let q_total: f64 = pairs.iter().map(|p| p.f_s).sum::<f64>() / t;
     let sign = q_total.signum();
     // Q: the tangential force the pairs carry (= the applied Q, by equilibrium).
     let q = sign * q_total;
@@ -789,7 +833,7 @@ pub fn cattaneo_mindlin(quick: bool) -> Result<Case> {
     };
     let mut runs = Vec::new();
     for &n in levels {
-        runs.push(cattaneo_run(n, increments)?);
+        runs.push(cattaneo_run(n, increments, 1.0)?);
     }
     let finest = runs.last().expect("one level");
     let table = Table {

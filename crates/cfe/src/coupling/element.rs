@@ -66,7 +66,8 @@ pub struct CouplingElement {
     /// Tributary length of the coupling node on the node part's face: half the sum
     /// of the lengths of the node part's boundary edges at the node whose both ends
     /// couple in the same interface (for the segment coupling, m_a). Force /
-    /// tributary length = traction.
+    /// (tributary length × the node part's thickness) = traction
+    /// ([`CouplingElement::traction`]).
     pub tributary: f64,
     /// Length of the host edge the node was projected on (the scale of the
     /// geometrically linear limit: slip small against it).
@@ -94,7 +95,33 @@ pub struct SegmentSide {
     pub weight: f64,
 }
 
+/// The traction (a stress) a pair's force stands for: `force / (length × thickness)`,
+/// the force spread over the pair's share of the node part's face — its length
+/// there times the node part's out-of-plane thickness t. The one home of the
+/// pairs' `pressure` and `shear`. The force is the whole part's (a stiffness is
+/// E·t, a penalty force per length over the thickness t), so in plane stress
+/// this is the mean traction across t, and in plane strain, whose forces are per
+/// unit thickness when t = 1 (the default), the traction too for any t. 0 for a
+/// pair with no share of the face (`length` 0).
+pub fn traction(force: f64, length: f64, thickness: f64) -> f64 {
+    if length > 0.0 {
+        force / (length * thickness)
+    } else {
+        0.0
+    }
+}
+
 impl CouplingElement {
+    /// The traction of `force` (a force of this pair on the node part, normal or
+    /// tangential) on the node part's face: [`traction`] over the pair's tributary
+    /// length and the node part's thickness `thickness`. The face belongs to both
+    /// parts, but the force crosses it where the node part meets it, over the node
+    /// part's thickness; when the host's thickness differs, this is the node part's
+    /// side of the interface.
+    pub fn traction(&self, force: f64, thickness: f64) -> f64 {
+        traction(force, self.tributary, thickness)
+    }
+
     /// Number of DOFs of the CFE: 2 × (host nodes + node-side nodes).
     pub fn n_dofs(&self) -> usize {
         2 * (self.host_nodes.len() + self.node_shape().len())

@@ -8,7 +8,7 @@ pub mod law;
 pub(crate) mod search;
 pub mod segment;
 
-pub use element::{CouplingElement, SegmentSide};
+pub use element::{CouplingElement, SegmentSide, traction};
 pub use law::{
     Enforcement, Law, LawParams, LawTolerance, LawViolation, PairHistories, PairHistory, PairState,
     PairStates, SLIP_STIFFNESS, ViolationKind,

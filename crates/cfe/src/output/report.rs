@@ -13,10 +13,13 @@ pub struct PairRow {
     pub interface: String,
     /// Coupling node (index in the node part).
     pub node: usize,
-    /// Reference position x of the coupling node.
+    /// Reference position x of the pair: with the node coupling, the coupling
+    /// node's projection on its host edge (where the node is placed; with a search
+    /// distance the node stays where it is meshed, |g₀| away); with the segment
+    /// coupling, the coupling node's own position.
     #[serde(serialize_with = "plain")]
     pub x: f64,
-    /// Reference position y of the coupling node.
+    /// Reference position y of the pair (as `x`).
     #[serde(serialize_with = "plain")]
     pub y: f64,
     /// Host element (index in the host part).
@@ -53,10 +56,11 @@ pub struct PairRow {
     /// frictionless pair.
     #[serde(serialize_with = "sci")]
     pub slip: f64,
-    /// Contact pressure: `force_n` / tributary length (> 0 in compression).
+    /// Contact pressure, a stress: `force_n` / (tributary length × the node part's
+    /// thickness t) (> 0 in compression; [`crate::coupling::traction`]).
     #[serde(serialize_with = "sci")]
     pub pressure: f64,
-    /// Shear traction: `force_s` / tributary length.
+    /// Shear traction, a stress: `force_s` / (tributary length × t).
     #[serde(serialize_with = "sci")]
     pub shear: f64,
     /// Tributary length of the coupling node on the node part's face (with segment

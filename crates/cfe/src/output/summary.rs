@@ -240,9 +240,10 @@ pub struct InterfaceSummary {
     pub slip: usize,
     /// Coupling nodes left unpaired: no host boundary edge within the search distance.
     pub unpaired: usize,
-    /// Largest contact pressure (normal force on the node part / tributary length).
+    /// Largest contact pressure, a stress: normal force on the node part /
+    /// (tributary length × the node part's thickness).
     pub max_pressure: f64,
-    /// Largest shear traction magnitude.
+    /// Largest shear traction magnitude (a stress, as `max_pressure`).
     pub max_shear: f64,
     /// Positions of the closed (bonded or slipping) pairs with the smallest and the
     /// largest x (then y): the contact extent; `null` when no pair is closed.
