@@ -228,3 +228,39 @@ impl Error {
         }
     }
 }
+
+/// How many entries of a list (nodes, pairs) an error message shows before
+/// "… and N more": a message stays a few lines long however many there are.
+pub const LIST_SHOWN: usize = 5;
+
+/// The first [`LIST_SHOWN`] of `items` joined by ", ", then "… and N more" when
+/// there are more: the one way error messages list nodes or pairs.
+pub fn short_list<T: std::fmt::Display>(items: impl IntoIterator<Item = T>) -> String {
+    let mut items = items.into_iter();
+    let shown: Vec<String> = items
+        .by_ref()
+        .take(LIST_SHOWN)
+        .map(|x| x.to_string())
+        .collect();
+    let more = items.count();
+    let mut s = shown.join(", ");
+    if more > 0 {
+        s += &format!(" … and {more} more");
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Up to five entries are listed whole; beyond, the first five and the count
+    /// of the rest.
+    #[test]
+    fn short_list_shows_five_then_counts_the_rest() {
+        assert_eq!(short_list(1..=3), "1, 2, 3");
+        assert_eq!(short_list(1..=5), "1, 2, 3, 4, 5");
+        assert_eq!(short_list(1..=21), "1, 2, 3, 4, 5 … and 16 more");
+        assert_eq!(short_list(Vec::<usize>::new()), "");
+    }
+}

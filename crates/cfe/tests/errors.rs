@@ -122,7 +122,8 @@ fn selections_that_match_nothing() {
     assert!(e.contains("matches no node"), "{e}");
 }
 
-/// Coupling nodes that lie in no host element are listed with coordinates.
+/// Coupling nodes that lie in no host element are listed with coordinates (the
+/// first five in the message, every one in the error's `nodes`).
 #[test]
 fn coupling_nodes_outside_the_host() {
     let text = BASE.replace("x = [30.0, 170.0]", "x = [150.0, 290.0]")
@@ -142,11 +143,14 @@ fn coupling_nodes_outside_the_host() {
     for at in [[210.0, 120.0], [290.0, 120.0]] {
         assert!(nodes.iter().any(|(_, x)| *x == at), "{nodes:?}");
     }
+    // The message lists the first five (all 18 are in `nodes`) and counts the rest.
+    assert_eq!(nodes.len(), 18);
     let e = e.to_string();
     assert!(
         e.contains("lie on no host boundary edge within the tolerance")
             && e.contains("(210, 120)")
-            && e.contains("(290, 120)"),
+            && e.contains("(225, 120)")
+            && e.contains("… and 13 more"),
         "{e}"
     );
 }

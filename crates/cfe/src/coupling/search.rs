@@ -214,13 +214,11 @@ fn tributary_lengths(mesh: &Mesh, nodes: &[usize]) -> HashMap<usize, f64> {
 type Orphan = (usize, [f64; 2], Option<(f64, f64)>);
 
 /// The error listing the coupling nodes that lie on no host edge within the
-/// tolerance (the first 20, with their nearest host edge), `orphans` as
-/// (node, position, nearest (distance, edge length)).
+/// tolerance (the first few, with their nearest host edge, then how many more:
+/// [`crate::error::short_list`]), `orphans` as (node, position, nearest
+/// (distance, edge length)).
 fn orphan_error(interface: &str, orphans: &[Orphan], tolerance: f64) -> Error {
-    let list: Vec<String> = orphans
-        .iter()
-        .take(20)
-        .map(|(n, p, near)| match near {
+    let list = crate::error::short_list(orphans.iter().map(|(n, p, near)| match near {
             Some((d, len)) => format!(
                 "node {n} at ({}, {}) (nearest host edge {d:.4e} away, {:.3} × its length {len:.4e})",
                 p[0],
@@ -228,17 +226,14 @@ fn orphan_error(interface: &str, orphans: &[Orphan], tolerance: f64) -> Error {
                 d / len
             ),
             None => format!("node {n} at ({}, {})", p[0], p[1]),
-        })
-        .collect();
+        }));
     Error::OrphanNodes {
         interface: interface.to_string(),
         nodes: orphans.iter().map(|(n, p, _)| (*n, *p)).collect(),
         message: format!(
-            "{} coupling node(s) lie on no host boundary edge within the tolerance {} × edge length: {}{} — check that the interface's boundary faces the host, or raise `tolerance` if the faces are meshed apart (curved faces: about (edge length)² / (8 × radius))",
+            "{} coupling node(s) lie on no host boundary edge within the tolerance {} × edge length: {} — check that the interface's boundary faces the host, or raise `tolerance` if the faces are meshed apart (curved faces: about (edge length)² / (8 × radius))",
             orphans.len(),
-            tolerance,
-            list.join(", "),
-            if orphans.len() > 20 { ", ..." } else { "" }
+            tolerance, list,
         ),
     }
 }
