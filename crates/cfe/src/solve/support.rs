@@ -27,6 +27,8 @@ pub struct SupportCheck {
     frames: Vec<([f64; 2], f64)>,
     /// `Σ r rᵀ` over the fixed DOFs (3 rows and columns per part).
     supports: Mat<f64>,
+    /// Per part: whether a support fixes any of its DOFs.
+    supported: Vec<bool>,
 }
 
 const AXES: [[f64; 2]; 2] = [[1.0, 0.0], [0.0, 1.0]];
@@ -57,6 +59,7 @@ impl SupportCheck {
         let mut check = SupportCheck {
             frames,
             supports: Mat::<f64>::zeros(3 * np, 3 * np),
+            supported: (0..np).map(|p| has_support(dofs, p)).collect(),
         };
         let mut g = Mat::<f64>::zeros(3 * np, 3 * np);
         for (p, part) in parts.iter().enumerate() {
@@ -138,7 +141,13 @@ impl SupportCheck {
             }
         }
         if free.iter().any(|&f| f) {
-            Err(unsupported(parts, interfaces, states, &free))
+            Err(unsupported(
+                parts,
+                interfaces,
+                states,
+                &free,
+                &self.supported,
+            ))
         } else {
             Ok(())
         }
@@ -154,16 +163,69 @@ fn add(g: &mut Mat<f64>, entries: &[(usize, f64)]) {
     }
 }
 
-/// The error naming the parts that are `free` to move, each with how many of its
-/// coupling pairs are open in `states`.
+/// Whether a support fixes any DOF of part `p`.
+fn has_support(dofs: &DofMap, p: usize) -> bool {
+    let nodes = dofs.node_offset[p]..dofs.node_offset[p + 1];
+    dofs.eq[2 * nodes.start..2 * nodes.end].contains(&FIXED)
+}
+
+/// The groups of parts linked by any interface in which no part has a support
+/// (`supported` per part): whatever the pairs do, each moves as one rigid body.
+fn unheld_groups(n: usize, interfaces: &[Interface], supported: &[bool]) -> Vec<Vec<usize>> {
+    groups(n, interfaces.iter().map(|i| (i.host, i.node_part)))
+        .into_iter()
+        .filter(|g| g.iter().all(|&p| !supported[p]))
+        .collect()
+}
+
+/// The error naming the parts that are `free` to move. First the groups of
+/// parts with no support at all (`supported` per part), whose interfaces cannot
+/// help: the whole assembly, or the parts named; then every other free part
+/// with how many of its coupling pairs are open in `states` (and, on a
+/// frictional or frictionless face, why its pairs do not hold it).
 fn unsupported(
     parts: &[Part],
     interfaces: &[Interface],
     states: &[Vec<PairState>],
     free: &[bool],
+    supported: &[bool],
 ) -> Error {
+    let quote = |g: &[usize]| {
+        g.iter()
+            .map(|&p| format!("'{}'", parts[p].name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let unheld = unheld_groups(parts.len(), interfaces, supported);
+    let mut clauses: Vec<String> = Vec::new();
+    if unheld.len() == 1 && unheld[0].len() == parts.len() {
+        clauses.push(format!(
+            "the assembly has no support: no [[support]] fixes any part ({}), so it moves as a rigid body whatever its interfaces do. Add a [[support]] that holds it (x, y and a rotation)",
+            quote(&unheld[0])
+        ));
+    } else {
+        for g in &unheld {
+            let linked = interfaces
+                .iter()
+                .any(|i| g.contains(&i.host) || g.contains(&i.node_part));
+            clauses.push(match (g.len(), linked) {
+                (1, false) => format!(
+                    "part {} has no support and no interface: nothing holds it; add a [[support]] or an [[interface]] to a supported part",
+                    quote(g)
+                ),
+                (1, true) => format!(
+                    "part {} has no support, and its interfaces link it to no supported part: add a [[support]]",
+                    quote(g)
+                ),
+                _ => format!(
+                    "parts {} have no support, and their interfaces link them to no supported part, so they move together as a rigid body: add a [[support]] to one of them",
+                    quote(g)
+                ),
+            });
+        }
+    }
     let names: Vec<String> = (0..parts.len())
-        .filter(|&p| free[p])
+        .filter(|&p| free[p] && !unheld.iter().any(|g| g.contains(&p)))
         .map(|p| {
             // Its pairs, open ones, closed ones with no tangential stiffness
             // (frictionless: sliding freely), and its Coulomb interfaces'
@@ -210,15 +272,18 @@ fn unsupported(
             }
         })
         .collect();
+    if !names.is_empty() {
+        clauses.push(format!(
+            "part(s) {} left without support: they can move as rigid bodies. Add a [[support]], or check that the loads press the parts together",
+            names.join(", ")
+        ));
+    }
     Error::Unsupported {
         parts: (0..parts.len())
             .filter(|&p| free[p])
             .map(|p| parts[p].name.clone())
             .collect(),
-        message: format!(
-            "part(s) {} left without support: they can move as rigid bodies. Add a [[support]], or check that the loads press the parts together",
-            names.join(", ")
-        ),
+        message: clauses.join("; "),
     }
 }
 
@@ -282,12 +347,20 @@ impl FrictionHold {
     /// under the supports of `dofs` and the interfaces `interfaces`.
     pub fn new(parts: &[Part], interfaces: &[Interface], dofs: &DofMap) -> Self {
         let nodes = |p: usize| dofs.node_offset[p]..dofs.node_offset[p + 1];
-        let free: Vec<bool> = (0..parts.len())
-            .map(|p| !dofs.eq[2 * nodes(p).start..2 * nodes(p).end].contains(&FIXED))
-            .collect();
+        let free: Vec<bool> = (0..parts.len()).map(|p| !has_support(dofs, p)).collect();
+        // A part linked to no supported part at all is not held by friction
+        // against anything: the support check names it (no support), and
+        // friction is not blamed.
+        let supported: Vec<bool> = free.iter().map(|f| !f).collect();
+        let mut unheld = vec![false; parts.len()];
+        for p in unheld_groups(parts.len(), interfaces, &supported).concat() {
+            unheld[p] = true;
+        }
         // Candidate bodies: single parts, then the groups (sorted, no repeats).
-        let mut candidates: Vec<Vec<usize>> =
-            (0..parts.len()).filter(|&p| free[p]).map(|p| vec![p]).collect();
+        let mut candidates: Vec<Vec<usize>> = (0..parts.len())
+            .filter(|&p| free[p] && !unheld[p])
+            .map(|p| vec![p])
+            .collect();
         for bonded_only in [false, true] {
             let linked = |i: &Interface| {
                 free[i.host]
@@ -299,7 +372,9 @@ impl FrictionHold {
                 .filter(|i| linked(i))
                 .map(|i| (i.host, i.node_part));
             for group in groups(parts.len(), links) {
-                if group.len() > 1 && group.iter().all(|&p| free[p]) && !candidates.contains(&group)
+                if group.len() > 1
+                    && group.iter().all(|&p| free[p] && !unheld[p])
+                    && !candidates.contains(&group)
                 {
                     candidates.push(group);
                 }
