@@ -447,27 +447,102 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
             ))
     );
     println!("  status: {}", summary.status);
-    // The last increment's warnings; earlier ones are in summary.json.
-    let last = summary.converged_increments;
-    for w in summary.warnings.iter().filter(|w| w.increment == last) {
-        eprintln!("warning: increment {}: {}", w.increment, w.message);
+    for line in warning_lines(&summary.warnings, summary.converged_increments) {
+        eprintln!("{line}");
     }
-    let earlier: std::collections::BTreeSet<usize> = summary
-        .warnings
+}
+
+/// The console's warning lines: every warning about the model as meshed
+/// (increment 0), every warning of the last increment `last`, and, when earlier
+/// increments have warnings too, the first of them in full before their count
+/// (the rest are in summary.json).
+fn warning_lines(warnings: &[cfe::analysis::Warning], last: usize) -> Vec<String> {
+    let mut lines: Vec<String> = warnings
         .iter()
-        .filter(|w| w.increment != last)
-        .map(|w| w.increment)
+        .filter(|w| w.increment == 0)
+        .map(|w| format!("warning: {}", w.message))
         .collect();
-    if !earlier.is_empty() {
-        eprintln!(
-            "warning: {} earlier increment(s) have warnings too (see summary.json)",
-            earlier.len()
-        );
+    lines.extend(
+        warnings
+            .iter()
+            .filter(|w| w.increment == last && last > 0)
+            .map(|w| format!("warning: increment {}: {}", w.increment, w.message)),
+    );
+    let earlier: Vec<&cfe::analysis::Warning> = warnings
+        .iter()
+        .filter(|w| w.increment != 0 && w.increment != last)
+        .collect();
+    if let Some(first) = earlier.iter().min_by_key(|w| w.increment) {
+        let increments: std::collections::BTreeSet<usize> =
+            earlier.iter().map(|w| w.increment).collect();
+        lines.push(format!(
+            "warning: increment {}: {}",
+            first.increment, first.message
+        ));
+        let others = earlier.len() - 1;
+        if others > 0 {
+            lines.push(format!(
+                "warning: {others} more warning(s) at {} earlier increment(s) in all (see summary.json)",
+                increments.len()
+            ));
+        }
     }
+    lines
 }
 
 /// A coordinate rounded to 7 significant digits, printed without trailing zeros
 /// (`100`, `-6.840403`).
 fn short(v: f64) -> f64 {
     format!("{v:.6e}").parse().unwrap_or(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::warning_lines;
+    use cfe::analysis::Warning;
+
+    fn warning(increment: usize, message: &str) -> Warning {
+        Warning {
+            increment,
+            message: message.into(),
+        }
+    }
+
+    /// Warnings at earlier increments only: the console prints the first of
+    /// them in full (the one the count refers to), then how many more there
+    /// are; a model warning (increment 0) is printed whatever the increments.
+    #[test]
+    fn the_first_earlier_warning_is_printed() {
+        let w = [
+            warning(0, "part 'p': boundary 'arc' is curved"),
+            warning(2, "second"),
+            warning(1, "first"),
+            warning(3, "third"),
+        ];
+        let lines = warning_lines(&w, 5);
+        assert_eq!(
+            lines,
+            [
+                "warning: part 'p': boundary 'arc' is curved",
+                "warning: increment 1: first",
+                "warning: 2 more warning(s) at 3 earlier increment(s) in all (see summary.json)",
+            ]
+        );
+        // The last increment's warnings are all printed; a single earlier one
+        // needs no count.
+        let w = [
+            warning(1, "early"),
+            warning(4, "late a"),
+            warning(4, "late b"),
+        ];
+        assert_eq!(
+            warning_lines(&w, 4),
+            [
+                "warning: increment 4: late a",
+                "warning: increment 4: late b",
+                "warning: increment 1: early",
+            ]
+        );
+        assert!(warning_lines(&[], 3).is_empty());
+    }
 }

@@ -556,11 +556,30 @@ impl Analysis {
         })
     }
 
+    /// The warnings about the model as meshed (increment 0): each curved
+    /// boundary of a part refined from a given mesh, whose polygon `--refine`
+    /// kept.
+    fn kept_polygon_warnings(&self) -> Vec<Warning> {
+        self.model
+            .kept_polygons
+            .iter()
+            .map(|(part, b)| Warning {
+                increment: 0,
+                message: format!(
+                    "part '{part}', boundary '{}': a curved boundary (its consecutive edges turn by up to {:.3}°) refined by --refine {}: the new nodes lie on the given mesh's straight edges, so the geometry stays its polygon, not the curve (a contact pressure there alternates between the new mid-edge nodes and the given ones); mesh the curve finer in the mesh generator instead",
+                    b.name,
+                    b.largest_turn.to_degrees(),
+                    self.model.refine
+                ),
+            })
+            .collect()
+    }
+
     pub(crate) fn empty_summary(&self) -> Summary {
         Summary {
             status: RunStatus::Running,
             error: None,
-            warnings: Vec::new(),
+            warnings: self.kept_polygon_warnings(),
             violations: Vec::new(),
             max_violation: 0.0,
             tolerances: Tolerances {
@@ -930,7 +949,8 @@ impl Analysis {
             s.warnings.push(Warning {
                 increment: inc.index,
                 message: format!(
-                    "the out-of-balance force is {imbalance:.1e} of the load scale (above {RESIDUAL_WARN:.0e}; the largest at a free DOF, or the reactions against the applied load): the solution has lost accuracy; a penalty far above E·t (more than about 1e7 × E·t) is the usual cause"
+                    "the out-of-balance force is {imbalance:.1e} of the balance scale {:.4e} (above {RESIDUAL_WARN:.0e}; the largest at a free DOF, or the reactions against the applied load; the scale is the largest of the load, the support reactions, the pair forces and 1e-4 × E·t × the largest displacement): the solution has lost accuracy; a penalty far above E·t (more than about 1e7 × E·t) is the usual cause",
+                    inc.balance_scale
                 ),
             });
         }

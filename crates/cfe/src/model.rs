@@ -312,6 +312,9 @@ pub struct Model {
     pub refine: usize,
     /// The problem text, so the same problem can be rebuilt at another refinement.
     pub text: String,
+    /// The curved boundaries of the parts refined from a given mesh (Gmsh, or
+    /// in memory) as (part name, boundary): `--refine` kept their polygons.
+    pub kept_polygons: Vec<(String, crate::mesh::CurvedBoundary)>,
 }
 
 /// A problem given as text (TOML), read as if from a file `problem.toml` in the
@@ -369,6 +372,7 @@ impl Model {
             steps: Vec::new(),
             refine: 1,
             text: String::new(),
+            kept_polygons: Vec::new(),
         }
     }
 
@@ -625,6 +629,24 @@ impl Builder<'_> {
             let part = self.part(spec, &parts, &materials, plane, refine, &mut gmsh_files)?;
             parts.push(part);
         }
+        // A refined Gmsh (or in-memory) part keeps its polygons: its curved
+        // boundaries are not refined towards the curve (the built-in meshers
+        // mesh theirs anew).
+        let kept_polygons = if refine > 1 {
+            part_specs
+                .iter()
+                .zip(&parts)
+                .filter(|(spec, _)| spec.rectangle.is_none() && spec.annulus.is_none())
+                .flat_map(|(_, p)| {
+                    p.mesh
+                        .curved_boundaries()
+                        .into_iter()
+                        .map(|b| (p.name.clone(), b))
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         let mut claimed: BTreeMap<(usize, usize), String> = BTreeMap::new();
         let interfaces = iface_specs
             .iter()
@@ -683,6 +705,7 @@ impl Builder<'_> {
             steps,
             refine,
             text: self.text.to_string(),
+            kept_polygons,
         })
     }
 

@@ -119,3 +119,109 @@ fn point_load_is_balanced() {
         "{total:?}"
     );
 }
+
+/// A steel punch (20 × 10, plane strain) an initial gap g₀ = 0.01 above a steel
+/// block (40 × 20, its base clamped), paired within a search distance, its top
+/// driven down by a prescribed displacement `push` over 8 increments (law
+/// `contact`); `bottom` is the punch's bottom.
+fn punch_above_block(bottom: f64, push: f64, increments: usize) -> String {
+    format!(
+        r#"
+plane = "strain"
+[materials.steel]
+E = 210000.0
+nu = 0.3
+[[part]]
+name = "block"
+material = "steel"
+rectangle = {{ x = [0.0, 40.0], y = [0.0, 20.0], cells = [16, 8] }}
+[[part]]
+name = "punch"
+material = "steel"
+rectangle = {{ x = [10.0, 30.0], y = [{bottom:?}, {top:?}], cells = [30, 10] }}
+[[interface]]
+host = "block"
+nodes = "punch"
+boundary = "bottom"
+law = "contact"
+search_distance = 0.5
+[[support]]
+part = "block"
+boundary = "bottom"
+fix = ["x", "y"]
+[[support]]
+part = "punch"
+boundary = "top"
+fix = ["x", "y"]
+value = [0.0, {:?}]
+[analysis]
+increments = {increments}
+"#,
+        -push,
+        top = bottom + 10.0
+    )
+}
+
+/// A punch driven down onto a block across an initial gap g₀ = 0.01 by a
+/// prescribed displacement (0.036 over 8 increments): the increments before
+/// contact move it rigidly with no force anywhere — every pair open, carrying
+/// nothing, its gap g₀ − the push, the reactions 0 to 1e-9 of the final one —
+/// and are not flagged (they once ended "out-of-balance force 1.9e-8 of the
+/// load scale", a scale of ≈ 0, and the run `completed_with_violations` with no
+/// violation). After contact the punch carries what the same punch starting in
+/// touch carries when pushed by the push less g₀ (to 1e-6: the gap's rigid
+/// approach stores nothing), the interface transmits it (Σ f_n = the reaction),
+/// and the run is `completed` with no warning.
+#[test]
+fn a_punch_approaching_across_a_gap_completes() {
+    let (g0, push) = (0.01, 0.036);
+    let a = common::analysis(&punch_above_block(20.0 + g0, push, 8));
+    let incs = common::solve(&a);
+    let last = incs.last().unwrap();
+    let top = |inc: &cfe::solve::nonlinear::IncrementResult| a.reactions(inc)[1];
+    // The support pushes the punch down (a reaction is the support's force on
+    // the part).
+    let final_reaction = -top(last)[1];
+    assert!(final_reaction > 0.0, "the support pushes the punch down");
+    let mut before = 0;
+    for inc in &incs {
+        let moved = push * inc.lambda;
+        let rows = a.pair_rows(inc);
+        if moved < g0 - 1e-9 {
+            before += 1;
+            for row in &rows {
+                assert_eq!(row.state, cfe::coupling::PairState::Open);
+                assert!(row.force_n == 0.0 && row.force_s == 0.0);
+                assert!((row.gap - (g0 - moved)).abs() < 1e-9, "gap {}", row.gap);
+            }
+            for r in a.reactions(inc) {
+                assert!(
+                    r[0].hypot(r[1]) < 1e-9 * final_reaction,
+                    "increment {}: reaction {r:?}",
+                    inc.index
+                );
+            }
+        }
+    }
+    assert_eq!(before, 2);
+    // Pushed by the same net amount from touching.
+    let touching = common::analysis(&punch_above_block(20.0, push - g0, 1));
+    let reference = -top(&common::solve(&touching).pop().unwrap())[1];
+    assert!(
+        (final_reaction - reference).abs() < 1e-6 * reference,
+        "{final_reaction} vs {reference} from touching"
+    );
+    let carried: f64 = a.pair_rows(last).iter().map(|r| r.force_n).sum();
+    assert!(
+        (carried - final_reaction).abs() < 1e-6 * final_reaction,
+        "pairs carry {carried}, the support {final_reaction}"
+    );
+    let summary = a.solve().unwrap().summary;
+    assert_eq!(
+        summary.status,
+        cfe::RunStatus::Completed,
+        "{:?}",
+        summary.warnings
+    );
+    assert!(summary.warnings.is_empty());
+}

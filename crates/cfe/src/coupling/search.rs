@@ -44,6 +44,59 @@ pub(super) fn edge_tree(host: &Mesh) -> (Vec<BoundaryEdge>, EdgeTree, f64) {
 /// the edge's ends is *at* that host vertex: it takes the vertex's averaged normal.
 pub const VERTEX_TOLERANCE: f64 = 1e-6;
 
+/// Within a search distance, a host boundary edge *faces* a point of the node
+/// part's face when the angle between the edge's outward normal and the reversed
+/// outward normal of the node part's face there is below 60°: n_host · n_face <
+/// −cos 60° = −1/2. Two faces in contact have opposite normals; within a search
+/// distance d the curvature of faces of radius R turns them by at most
+/// acos(1 − d/R) (18° for the Hertz example's d/R = 0.05, 60° only at d = R/2),
+/// while a host boundary that merely meets the interface — a symmetry edge at the
+/// end of a quarter model, a side at a corner — is about 90° off and is never the
+/// interface's face.
+pub const FACING_COSINE: f64 = 0.5;
+
+/// Whether a host boundary edge with outward normal `host` faces a node-part face
+/// with outward normal `face` (see [`FACING_COSINE`]).
+pub(super) fn facing(host: [f64; 2], face: [f64; 2]) -> bool {
+    host[0] * face[0] + host[1] * face[1] < -FACING_COSINE
+}
+
+/// The outward normal of each edge of the node part's face (the boundary edges of
+/// `mesh` whose both ends are among `nodes`), keyed by its node pair, lower first.
+/// Taken from the elements' counter-clockwise boundary edges, whatever the order
+/// a named boundary lists its nodes in.
+pub(super) fn face_normals(mesh: &Mesh, nodes: &[usize]) -> HashMap<[usize; 2], [f64; 2]> {
+    let set: std::collections::HashSet<usize> = nodes.iter().copied().collect();
+    mesh.boundary_edges()
+        .into_iter()
+        .filter(|e| e.nodes.iter().all(|n| set.contains(n)))
+        .map(|e| {
+            let [a, b] = e.nodes;
+            (
+                [a.min(b), a.max(b)],
+                edge_normal([mesh.nodes[a], mesh.nodes[b]]),
+            )
+        })
+        .collect()
+}
+
+/// The outward normal of the node part's face at each of its nodes: the
+/// normalised average of the normals of the face edges (`face_normals`) that
+/// meet there. A node on no face edge has none.
+fn node_normals(face: &HashMap<[usize; 2], [f64; 2]>) -> HashMap<usize, [f64; 2]> {
+    let mut sums: HashMap<usize, Vec<[f64; 2]>> = HashMap::new();
+    let mut keys: Vec<&[usize; 2]> = face.keys().collect();
+    keys.sort_unstable();
+    for k in keys {
+        for n in k {
+            sums.entry(*n).or_default().push(face[k]);
+        }
+    }
+    sums.into_iter()
+        .map(|(n, normals)| (n, normalised_average(&normals)))
+        .collect()
+}
+
 /// Finds one coupling element per node in `nodes` (indices into `node_mesh`).
 ///
 /// A node couples to the host boundary edge nearest to it, provided its distance
@@ -70,8 +123,11 @@ pub fn find_pairs(
 }
 
 /// As [`find_pairs`] when `search_distance` is 0. With a search distance d > 0
-/// (a length) each node couples to the host boundary edge nearest to it within d,
-/// whatever the tolerance; it is *not* moved: its initial normal gap
+/// (a length) each node couples to the host boundary edge nearest to it within d
+/// among those that face the node part's face at the node ([`facing`]: a host
+/// boundary that merely meets the interface, such as a symmetry edge the node
+/// touches, is not its face), whatever the tolerance; at a host vertex its normal
+/// is the average of the facing edges' meeting there. It is *not* moved: its initial normal gap
 /// g₀ = (X − X_C) · n (positive apart, negative overlapping) is stored in the
 /// coupling element, and a node with no host edge within d is left unpaired
 /// (returned as the count, second). Every element gets its tributary length on
@@ -93,6 +149,13 @@ pub fn find_pairs_within(
         tolerance * max_len
     };
     let tributary = tributary_lengths(node_mesh, nodes);
+    // Within a search distance: the node part's outward normal at each node, which
+    // the host edges it pairs with must face.
+    let face = if gaps {
+        node_normals(&face_normals(node_mesh, nodes))
+    } else {
+        HashMap::new()
+    };
     let mut unpaired = 0;
     // Outward normals of the boundary edges that meet at each host vertex.
     let mut vertex_normals: HashMap<usize, Vec<[f64; 2]>> = HashMap::new();
@@ -107,11 +170,15 @@ pub fn find_pairs_within(
     let mut orphans: Vec<Orphan> = Vec::new();
     for &node in nodes {
         let p = node_mesh.nodes[node];
+        let faces = |n: [f64; 2]| face.get(&node).is_none_or(|&f| facing(n, f));
         // (distance, element, edge index, ξ along the edge)
         let mut best: Option<(f64, usize, usize, f64)> = None;
         for cand in tree.locate_within_distance(p, radius * radius) {
             let edge = &edges[cand.data];
             let [a, b] = segment(edge);
+            if !faces(edge_normal([a, b])) {
+                continue;
+            }
             let len = dist(a, b);
             let (xi, d) = project(p, a, b);
             if (!gaps && d > tolerance * len) || (gaps && d > search_distance) {
@@ -164,7 +231,14 @@ pub fn find_pairs_within(
             None
         };
         let normal = match at_vertex {
-            Some(v) => normalised_average(&vertex_normals[&v]),
+            Some(v) => {
+                let meeting: Vec<[f64; 2]> = vertex_normals[&v]
+                    .iter()
+                    .copied()
+                    .filter(|&n| faces(n))
+                    .collect();
+                normalised_average(&meeting)
+            }
             None => edge_normal([a, b]),
         };
         let gap0 = if gaps {

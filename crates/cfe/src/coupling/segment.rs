@@ -24,7 +24,7 @@
 //! curved host face — so no linear displacement field has a jump.
 
 use super::element::{CouplingElement, MAX_NODES, SegmentSide};
-use super::search::{edge_normal, edge_tree, project, shape_at};
+use super::search::{edge_normal, edge_tree, face_normals, facing, project, shape_at};
 use crate::error::{Error, Result};
 use crate::mesh::{BoundaryEdge, Mesh, dist};
 use rstar::AABB;
@@ -296,6 +296,15 @@ fn gauss_points(
     } else {
         HashMap::new()
     };
+    // With gaps: each face segment's outward normal, which the host edges under
+    // it must face (`search::facing`: never a host boundary that merely meets the
+    // interface, such as a symmetry edge).
+    let face = if gaps {
+        let nodes: Vec<usize> = segments.iter().flatten().copied().collect();
+        face_normals(node_mesh, &nodes)
+    } else {
+        HashMap::new()
+    };
     let gauss = [0.5 - 0.5 / 3f64.sqrt(), 0.5 + 0.5 / 3f64.sqrt()];
 
     let mut points = Vec::with_capacity(4 * segments.len());
@@ -317,6 +326,9 @@ fn gauss_points(
                 .map(|c| c.data),
         );
         candidates.sort_unstable();
+        if let Some(&n) = face.get(&[na.min(nb), na.max(nb)]) {
+            candidates.retain(|&e| facing(edge_normal(segment(&edges[e])), n));
+        }
         if gaps && candidates.is_empty() {
             unreached.extend([na, nb]);
             continue;

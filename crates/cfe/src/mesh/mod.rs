@@ -9,6 +9,7 @@ pub mod gmsh;
 mod refine;
 
 pub use arrays::BoundarySelection;
+pub use refine::{CURVED_TURN, CurvedBoundary};
 
 use crate::error::{Error, Result};
 use std::collections::BTreeMap;

@@ -250,6 +250,68 @@ impl Mesh {
     }
 }
 
+/// A named boundary of a mesh that is a curved polygon
+/// ([`Mesh::curved_boundaries`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurvedBoundary {
+    /// The boundary's name.
+    pub name: String,
+    /// The largest turn between two consecutive edges that counts as curved,
+    /// in radians.
+    pub largest_turn: f64,
+}
+
+/// Two consecutive edges of a named boundary turning by more than the first and
+/// less than the second of these angles (radians) make it curved: more than
+/// round-off (an arc of radius R meshed with edges h turns by h/R at each
+/// vertex; below 1e-6 its sagitta h²/(8R) is below 1e-7 h) and less than a
+/// corner (45°: a circle meshed with fewer than eight edges is not told from an
+/// octagon's corners).
+pub const CURVED_TURN: [f64; 2] = [1e-6, std::f64::consts::FRAC_PI_4];
+
+impl Mesh {
+    /// The named boundaries that are curved polygons: those with two consecutive
+    /// edges (sharing a node, each of the boundary) that are not collinear, turning
+    /// by an angle within [`CURVED_TURN`] — an arc meshed by its chords, not a
+    /// straight side and not a corner. [`Mesh::refined`] keeps such a polygon:
+    /// its new nodes lie on the chords, not on the curve. Sorted by name.
+    pub fn curved_boundaries(&self) -> Vec<CurvedBoundary> {
+        self.boundaries
+            .iter()
+            .filter_map(|(name, list)| {
+                // Each node's neighbours along the boundary.
+                let mut next: HashMap<usize, Vec<usize>> = HashMap::new();
+                for e in list {
+                    let [a, b] = e.nodes;
+                    next.entry(a).or_default().push(b);
+                    next.entry(b).or_default().push(a);
+                }
+                let largest = next
+                    .iter()
+                    .filter(|(_, around)| around.len() == 2)
+                    .map(|(&n, around)| {
+                        let x = self.nodes[n];
+                        let [p, q] = [self.nodes[around[0]], self.nodes[around[1]]];
+                        let u = [p[0] - x[0], p[1] - x[1]];
+                        let v = [q[0] - x[0], q[1] - x[1]];
+                        // The edges run on from p through x to q: the turn is π
+                        // minus the angle between the two edges at x.
+                        let angle = (u[0] * v[1] - u[1] * v[0])
+                            .abs()
+                            .atan2(u[0] * v[0] + u[1] * v[1]);
+                        std::f64::consts::PI - angle
+                    })
+                    .filter(|&t| t > CURVED_TURN[0] && t < CURVED_TURN[1])
+                    .fold(None, |m: Option<f64>, t| Some(m.map_or(t, |m| m.max(t))))?;
+                Some(CurvedBoundary {
+                    name: name.clone(),
+                    largest_turn: largest,
+                })
+            })
+            .collect()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -517,5 +579,36 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A curved boundary is one whose consecutive edges turn by a small angle: an
+    /// annulus's circles (turning by 2π/n at each vertex of n chords around) are
+    /// curved and its radial sides are not; a rectangle's sides are straight, and
+    /// its whole outline as one boundary turns only at 90° corners (not curved).
+    /// Refined, the circles stay the same polygons: the largest turn is the
+    /// same, at the input's vertices (the new nodes on the chords turn by 0).
+    #[test]
+    fn curved_boundaries_are_told_from_straight_sides_and_corners() {
+        let ring = Mesh::annulus(
+            [1.0, -2.0],
+            [10.0, 20.0],
+            [0.0, 90.0],
+            [2, 9],
+            ElementKind::T3,
+        );
+        let turn = (90.0f64 / 9.0).to_radians();
+        for mesh in [ring.clone(), ring.refined(3)] {
+            let curved = mesh.curved_boundaries();
+            let names: Vec<&str> = curved.iter().map(|c| c.name.as_str()).collect();
+            assert_eq!(names, ["inner", "outer"]);
+            for c in &curved {
+                assert!((c.largest_turn - turn).abs() < 1e-9, "{c:?}");
+            }
+        }
+        let mut rect = Mesh::rectangle([0.0, 3.0], [0.0, 2.0], [3, 2], ElementKind::Q4);
+        assert!(rect.curved_boundaries().is_empty());
+        let outline: Vec<BoundaryEdge> = rect.boundary_edges();
+        rect.boundaries.insert("outline".into(), outline);
+        assert!(rect.refined(2).curved_boundaries().is_empty());
     }
 }

@@ -11,19 +11,22 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 /// Where a run stands (serialized as `running`, `completed`,
-/// `completed_with_violations`, `failed`).
+/// `completed_with_violations`, `completed_imprecise`, `failed`, `interrupted`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RunStatus {
     /// Increments are being solved.
     Running,
     /// Every increment converged on a pattern where the contact law holds on every
-    /// pair, in equilibrium to 1e-8 of the load.
+    /// pair, in equilibrium to 1e-8 of the balance scale.
     Completed,
-    /// Every increment converged, but some pairs break the law (listed in
-    /// `violations`) or the out-of-balance force exceeds 1e-8 of the load (see
-    /// `warnings`).
+    /// Every increment converged, but some pairs break the law (each listed in
+    /// `violations`, never empty with this status).
     CompletedWithViolations,
+    /// Every increment converged and the law holds on every pair, but at some
+    /// increment the out-of-balance force exceeds 1e-8 of the balance scale (see
+    /// `warnings`): the solution has lost accuracy.
+    CompletedImprecise,
     /// The run stopped with an error (converged increments are kept).
     Failed,
     /// The run was stopped on request (a signal) after an increment; the
@@ -37,16 +40,19 @@ impl std::fmt::Display for RunStatus {
             RunStatus::Running => "running",
             RunStatus::Completed => "completed",
             RunStatus::CompletedWithViolations => "completed_with_violations",
+            RunStatus::CompletedImprecise => "completed_imprecise",
             RunStatus::Failed => "failed",
             RunStatus::Interrupted => "interrupted",
         })
     }
 }
 
-/// A warning about one converged increment.
+/// A warning about one converged increment, or (increment 0) about the model
+/// as meshed.
 #[derive(Debug, Clone, Serialize)]
 pub struct Warning {
-    /// Increment (1-based).
+    /// Increment (1-based); 0 for a warning about the model before any
+    /// increment (a refined curved Gmsh face keeps its polygon).
     pub increment: usize,
     /// What is wrong, in one sentence.
     pub message: String,
@@ -88,9 +94,9 @@ pub struct Tolerances {
     pub penetration: f64,
     /// The run fails when a violation exceeds this fraction of the load scale.
     pub max_violation: f64,
-    /// Out-of-balance force (relative to the load scale) above which a warning is given.
+    /// Out-of-balance force (relative to the balance scale) above which a warning is given.
     pub residual_warn: f64,
-    /// Out-of-balance force (relative to the load scale) above which the run fails.
+    /// Out-of-balance force (relative to the balance scale) above which the run fails.
     pub residual_fail: f64,
 }
 
@@ -294,14 +300,19 @@ impl Summary {
             .map(|b| b as f64 / (8.0 * self.factor_nonzeros as f64));
     }
 
-    /// The status of a run whose increments all converged: `completed` unless an
-    /// increment has a warning (a law violation or an imprecise solution), else
-    /// `completed_with_violations`.
+    /// The status of a run whose increments all converged:
+    /// `completed_with_violations` when a pair broke its law (listed in
+    /// `violations`), else `completed_imprecise` when an increment has a warning
+    /// (with no violation, its out-of-balance force above 1e-8 of the balance
+    /// scale), else `completed`. Warnings about the model as meshed (increment 0,
+    /// e.g. a refined curved Gmsh face) do not change it.
     pub fn final_status(&self) -> RunStatus {
-        if self.warnings.is_empty() {
-            RunStatus::Completed
-        } else {
+        if !self.violations.is_empty() {
             RunStatus::CompletedWithViolations
+        } else if self.warnings.iter().any(|w| w.increment > 0) {
+            RunStatus::CompletedImprecise
+        } else {
+            RunStatus::Completed
         }
     }
 }
@@ -333,12 +344,14 @@ pub struct IncrementStep {
 pub struct Summary {
     /// `running`; `completed` (the law holds on every pair at every increment and
     /// equilibrium to the stated tolerance); `completed_with_violations` (some pairs
-    /// break the law, each listed in `violations`, or the result is imprecise, see
-    /// `warnings`); or `failed`.
+    /// break the law, each listed in `violations`); `completed_imprecise` (the law
+    /// holds, but the out-of-balance force exceeds its tolerance, see
+    /// `warnings`); `failed` or `interrupted`.
     pub status: RunStatus,
     /// Error message when failed.
     pub error: Option<String>,
-    /// Warnings: law violations and loss of precision, per increment.
+    /// Warnings: law violations and loss of precision, per increment; at
+    /// increment 0, about the model as meshed (a refined curved Gmsh face).
     pub warnings: Vec<Warning>,
     /// Every pair that broke its law, per converged increment.
     pub violations: Vec<ViolationRecord>,
@@ -388,8 +401,10 @@ pub struct Summary {
     pub applied: [f64; 2],
     /// |Σ reactions + Σ loads| / |Σ loads| (0 when no load).
     pub equilibrium_error: f64,
-    /// Largest out-of-balance force at a free DOF relative to the load scale (the
-    /// larger of Σ‖f‖ over the loaded nodes and the largest support reaction).
+    /// Largest out-of-balance force at a free DOF relative to the balance scale:
+    /// the largest of Σ‖f‖ over the loaded nodes, the largest support reaction,
+    /// the largest pair force and 1e-4 × the largest E·t × the largest nodal |u|
+    /// (the last two matter only where nothing is loaded).
     pub residual: f64,
     /// Whether the proportional-load shortcuts were on (a solved pattern scaled to
     /// another load factor, a settled pattern kept): off when an interface has an

@@ -118,15 +118,22 @@ pub struct IncrementResult {
     /// `implex` pairs whose lagged state is wrong), sorted by interface and pair.
     pub violations: Vec<PairViolation>,
     /// The load scale of this increment: the larger of Σ‖λ f‖ over the loaded
-    /// nodes and the largest support reaction (force).
+    /// nodes and the largest support reaction (force); the law's tolerances are
+    /// relative to it.
     pub load_scale: f64,
+    /// The scale the out-of-balance force is measured against
+    /// ([`Solver::balance_scale`]): the load scale, or, where larger, the largest
+    /// pair force or [`BALANCE_FLOOR`] × the largest E·t × the largest nodal
+    /// |u| — meaningful when nothing is loaded (an interference fit, a rigid
+    /// approach under a prescribed displacement).
+    pub balance_scale: f64,
     /// Internal force of all DOFs (reactions are F_int − F_ext at fixed DOFs).
     pub f_int: Vec<f64>,
     /// External force of all DOFs at this λ.
     pub f_ext: Vec<f64>,
-    /// Largest out-of-balance force at a free DOF relative to the load scale.
+    /// Largest out-of-balance force at a free DOF relative to the balance scale.
     pub residual: f64,
-    /// The global balance: ‖Σ reactions + Σ loads‖ relative to the load scale.
+    /// The global balance: ‖Σ reactions + Σ loads‖ relative to the balance scale.
     pub balance: f64,
     /// Each pair's history after this increment (plastic slip, slip force,
     /// multipliers), per interface; all zero for the seed's laws.
@@ -182,9 +189,19 @@ pub struct PairViolation {
     pub force: f64,
 }
 
-/// Out-of-balance force (relative to the load scale) above which a result is
+/// Out-of-balance force (relative to the balance scale) above which a result is
 /// flagged as imprecise.
 pub const RESIDUAL_WARN: f64 = 1e-8;
+
+/// The balance scale's floor, as a fraction of (largest E·t) × (largest nodal
+/// |u|): the size of the terms K_ij u_j whose sums the out-of-balance force is
+/// (E·t is a 2D element's stiffness scale, a force per length), so a part moved
+/// without load — its internal force zero but for round-off of those terms — is
+/// imprecise only when its out-of-balance force exceeds
+/// [`RESIDUAL_WARN`] × 1e-4 = 1e-12 of them (about 5000 units of round-off; the
+/// rigid approach of a punch gives 3e-14). Loaded models have load scales far
+/// above it (the plate on a base: 1500 N against 0.27 N).
+pub const BALANCE_FLOOR: f64 = 1e-4;
 
 /// The law checked on one solution: the state the law gives each pair next and
 /// every pair that breaks it.
@@ -192,6 +209,9 @@ struct LawCheck {
     next: PairStates,
     violations: Vec<PairViolation>,
     load_scale: f64,
+    /// The largest force ‖(f_n, f_s)‖ of a pair of a law other than `rigid`
+    /// (for the balance scale).
+    pair_force: f64,
     /// Per interface, its slipping Coulomb pair nearest its cone (the least
     /// trial force over μ |f_n|), if it has one: where a stick zone moves to
     /// ([`move_stick_point`]).
@@ -1230,6 +1250,7 @@ impl<'a> Solver<'a> {
         let mut violations = Vec::new();
         let mut nearest: Vec<Option<(usize, f64)>> = vec![None; self.interfaces.len()];
         let mut normal = vec![0.0; self.interfaces.len()];
+        let mut pair_force = 0.0f64;
         let next = self
             .interfaces
             .iter()
@@ -1264,6 +1285,16 @@ impl<'a> Solver<'a> {
                         };
                         if state.is_closed() {
                             normal[i] += f[0];
+                            // (With the proportional shortcuts `f` holds the
+                            // normal force only.)
+                            let shear = if iface.law == Law::Frictionless {
+                                0.0
+                            } else if self.proportional {
+                                law.c_s * jump[1]
+                            } else {
+                                f[1]
+                            };
+                            pair_force = pair_force.max(f[0].hypot(shear));
                         }
                         let mut push = |v: crate::coupling::LawViolation| {
                             violations.push(PairViolation {
@@ -1326,6 +1357,7 @@ impl<'a> Solver<'a> {
             next,
             violations,
             load_scale,
+            pair_force,
             nearest_slip: nearest.into_iter().map(|n| n.map(|(k, _)| k)).collect(),
             pressed: normal.into_iter().map(|f| f < 0.0).collect(),
         }
@@ -1368,6 +1400,24 @@ impl<'a> Solver<'a> {
         (lambda * self.total_load).max(largest)
     }
 
+    /// The scale the out-of-balance force of a solution is measured against: the
+    /// largest of the load scale `load_scale`, the largest pair force
+    /// `pair_force` (an interference fit with no load carries its pairs' forces
+    /// and nothing else) and [`BALANCE_FLOOR`] × the largest E·t × the largest
+    /// nodal displacement of `u` (a part moved by a prescribed displacement, or
+    /// into contact, with no force anywhere). Where something is loaded the load
+    /// scale is the largest, and the check is the law's.
+    fn balance_scale(&self, load_scale: f64, pair_force: f64, u: &[f64]) -> f64 {
+        let et = self
+            .parts
+            .iter()
+            .map(|p| p.material.young * p.material.thickness)
+            .fold(0.0, f64::max);
+        load_scale
+            .max(pair_force)
+            .max(BALANCE_FLOOR * et * largest_off(u, &[]))
+    }
+
     /// Stops the run when the out-of-balance force has grown beyond what round-off
     /// explains: the solve lost its accuracy.
     fn check_precision(&self, r: &IncrementResult) -> Result<()> {
@@ -1379,9 +1429,10 @@ impl<'a> Solver<'a> {
             increment: r.index,
             residual: worst,
             message: format!(
-                "increment {}: the out-of-balance force is {:.1e} of the load scale (the largest at a free DOF, or the reactions against the applied load; limit [analysis] max_residual = {:.0e}), so the solution cannot be trusted. {}",
+                "increment {}: the out-of-balance force is {:.1e} of the balance scale {:.4e} (the largest at a free DOF, or the reactions against the applied load; the scale is the largest of the load, the support reactions, the pair forces and 1e-4 × E·t × the largest displacement; limit [analysis] max_residual = {:.0e}), so the solution cannot be trusted. {}",
                 r.index,
                 worst,
+                r.balance_scale,
                 self.settings.max_residual,
                 penalty_advice(self.parts, self.interfaces)
             ),
@@ -2263,13 +2314,14 @@ impl<'a> Solver<'a> {
         // The increment is accepted: its right-hand side is not solved again.
         self.system.forget_right_hand_side();
         let f_ext: Vec<f64> = self.f_ext.iter().map(|f| lambda * f).collect();
-        let residual = self.residual(lambda, &f_int, check.load_scale);
+        let balance_scale = self.balance_scale(check.load_scale, check.pair_force, &u);
+        let residual = self.residual(lambda, &f_int, balance_scale);
         // Σ reactions + Σ loads = Σ over fixed DOFs of (F_int − F_ext) + Σ F_ext.
         let mut total = [0.0; 2];
         for (d, &e) in self.dofs.eq.iter().enumerate() {
             total[d % 2] += if e == FIXED { f_int[d] } else { f_ext[d] };
         }
-        let balance = total[0].hypot(total[1]) / check.load_scale.max(f64::MIN_POSITIVE);
+        let balance = total[0].hypot(total[1]) / balance_scale.max(f64::MIN_POSITIVE);
         // With the proportional shortcuts the final solve either is the last
         // solution (a method) or scales it (no method); see `solve_once`.
         let multiple_of = match (&self.last, history.last()) {
@@ -2300,6 +2352,7 @@ impl<'a> Solver<'a> {
             settled,
             violations: check.violations,
             load_scale: check.load_scale,
+            balance_scale,
             f_int,
             f_ext,
             residual,
@@ -2462,6 +2515,7 @@ mod tests {
                 violation(3, ViolationKind::Penetration, 1.0),
             ],
             load_scale: 1.0,
+            pair_force: 0.0,
             nearest_slip: vec![None],
             pressed: vec![true],
         };
