@@ -139,13 +139,34 @@ fn main() {
             }
         }
         eprintln!("error: {message}");
-        // A run stopped by a signal exits as the shell reports a signal: 128 + its number.
-        let code = match e.downcast_ref::<cfe::Error>() {
-            Some(cfe::Error::Interrupted { signal, .. }) => 128 + *signal as i32,
-            _ => 1,
-        };
-        std::process::exit(code);
+        std::process::exit(exit_code(&e));
     }
+}
+
+/// The exit status of a command that failed with `e`: a run stopped by a signal
+/// exits as the shell reports a signal (128 + its number), every other failure
+/// (a verification case not met included) with 1.
+fn exit_code(e: &anyhow::Error) -> i32 {
+    match e.downcast_ref::<cfe::Error>() {
+        Some(cfe::Error::Interrupted { signal, .. }) => 128 + *signal as i32,
+        _ => 1,
+    }
+}
+
+/// `cfe verify`'s outcome from its report: an error naming the cases that did
+/// not meet their reference, if any (the command then exits with 1).
+fn verify_outcome(cases: &[cfe_tools::verification::Case]) -> anyhow::Result<()> {
+    let failed = cfe_tools::verification::failures(cases);
+    if failed.is_empty() {
+        return Ok(());
+    }
+    let titles: Vec<&str> = failed.iter().map(|c| c.title.as_str()).collect();
+    anyhow::bail!(
+        "{} of {} verification cases did not meet their reference: {}",
+        failed.len(),
+        cases.len(),
+        titles.join("; ")
+    )
 }
 
 fn run(cli: Cli) -> anyhow::Result<()> {
@@ -163,7 +184,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 println!("{} {}", if c.passed { "pass" } else { "FAIL" }, c.title);
             }
             println!("wrote {}", out.join("verification.md").display());
-            Ok(())
+            verify_outcome(&cases)
         }
         Command::Bench {
             problem,
@@ -498,8 +519,9 @@ fn short(v: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::warning_lines;
+    use super::*;
     use cfe::analysis::Warning;
+    use cfe_tools::verification::Case;
 
     fn warning(increment: usize, message: &str) -> Warning {
         Warning {
@@ -544,5 +566,34 @@ mod tests {
             ]
         );
         assert!(warning_lines(&[], 3).is_empty());
+    }
+
+    fn case(title: &str, passed: bool) -> Case {
+        Case {
+            title: title.into(),
+            setup: String::new(),
+            reference: String::new(),
+            tables: Vec::new(),
+            plots: Vec::new(),
+            verdict: String::new(),
+            passed,
+        }
+    }
+
+    /// `cfe verify` exits 0 only when every case met its reference: one FAIL
+    /// among passing cases gives exit status 1 and an error naming that case.
+    #[test]
+    fn a_failing_verification_case_exits_non_zero() {
+        let all_pass = [case("patch", true), case("Hertz", true)];
+        assert!(verify_outcome(&all_pass).is_ok());
+        let one_fails = [case("patch", true), case("Hertz", false), case("fit", true)];
+        let e = verify_outcome(&one_fails).expect_err("a FAIL must fail the command");
+        assert_eq!(exit_code(&e), 1);
+        let message = e.to_string();
+        assert!(message.starts_with("1 of 3 "), "{message}");
+        assert!(
+            message.contains("Hertz") && !message.contains("patch"),
+            "{message}"
+        );
     }
 }

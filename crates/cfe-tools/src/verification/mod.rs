@@ -1,8 +1,8 @@
 //! Verification: the solver against independent truth — closed-form solutions,
 //! conforming meshes, invariants — each case a function that builds its models in
 //! memory, solves them and returns its tables, plots and verdict. `cfe verify`
-//! runs them all and writes `docs/verification.md` with its pictures; the quick
-//! versions also run as tests.
+//! runs them all ([`CASES`]) and writes `docs/verification.md` with its
+//! pictures; the tests assert every case of that list, quick and full.
 
 pub mod cantilever;
 pub mod closed_forms;
@@ -126,35 +126,50 @@ pub fn displacement_at(
     Ok([inc.u[2 * g], inc.u[2 * g + 1]])
 }
 
-/// Runs every case (`quick`: the reduced versions used by the tests).
+/// A verification case: builds its models, solves them and returns its tables,
+/// plots and verdict; `true` asks for its reduced (quick) version.
+pub type CaseFn = fn(bool) -> Result<Case>;
+
+/// Every case `cfe verify` runs, in the report's order, each with the name its
+/// progress line shows. The one list: [`run_all`] runs it and the tests
+/// (`crates/cfe-tools/tests/verification.rs`) assert every case of it at both
+/// levels, so a case added here is asserted without a test of its own.
+pub const CASES: [(&str, CaseFn); 18] = [
+    ("patch tests", patch::constant_stress),
+    ("contact patch test", patch::contact_patch),
+    ("tied cantilever", cantilever::convergence),
+    ("penalty study", cantilever::penalty_study),
+    ("bonded punch", punch::bonded_punch),
+    ("host choice", patch::host_choice),
+    ("seed examples", seed::schemes_and_refinement),
+    ("curved interface", curved::lame_cylinder),
+    ("Q4 and mixed meshes", quads::q4_and_mixed),
+    ("contact iteration", contact::contact_iteration),
+    ("segment patch test", segment::patch_comparison),
+    ("segment convergence", segment::convergence),
+    ("Hertz", hertz::hertz),
+    ("augmented Lagrangian", hertz::penalty_independence),
+    ("Cattaneo–Mindlin", hertz::cattaneo_mindlin),
+    ("shrink fit", fits::shrink_fit),
+    ("frictionless patch test", fits::frictionless_patch),
+    ("receding contact", fits::receding),
+];
+
+/// Runs every case of [`CASES`] (`quick`: the reduced versions), calling
+/// `progress` with each one's name before it runs.
 pub fn run_all(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Vec<Case>> {
-    let mut cases = Vec::new();
-    type CaseFn = fn(bool) -> Result<Case>;
-    let all: [(&str, CaseFn); 18] = [
-        ("patch tests", patch::constant_stress),
-        ("contact patch test", patch::contact_patch),
-        ("tied cantilever", cantilever::convergence),
-        ("penalty study", cantilever::penalty_study),
-        ("bonded punch", punch::bonded_punch),
-        ("host choice", patch::host_choice),
-        ("seed examples", seed::schemes_and_refinement),
-        ("curved interface", curved::lame_cylinder),
-        ("Q4 and mixed meshes", quads::q4_and_mixed),
-        ("contact iteration", contact::contact_iteration),
-        ("segment patch test", segment::patch_comparison),
-        ("segment convergence", segment::convergence),
-        ("Hertz", hertz::hertz),
-        ("augmented Lagrangian", hertz::penalty_independence),
-        ("Cattaneo–Mindlin", hertz::cattaneo_mindlin),
-        ("shrink fit", fits::shrink_fit),
-        ("frictionless patch test", fits::frictionless_patch),
-        ("receding contact", fits::receding),
-    ];
-    for (name, f) in all {
+    let mut cases = Vec::with_capacity(CASES.len());
+    for (name, f) in CASES {
         progress(name);
         cases.push(f(quick)?);
     }
     Ok(cases)
+}
+
+/// The cases that did not meet their reference: `cfe verify` fails (exits
+/// non-zero) when there is any.
+pub fn failures(cases: &[Case]) -> Vec<&Case> {
+    cases.iter().filter(|c| !c.passed).collect()
 }
 
 /// Writes `verification.md` and its pictures (`verification/*.png`) into `out`.

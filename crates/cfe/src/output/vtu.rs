@@ -535,7 +535,8 @@ struct Array<'a> {
     payload: Payload<'a>,
 }
 
-/// Lists every array in the order the blocks are written.
+/// Lists every array in the order of the header's `<DataArray>`s (the blocks
+/// are appended in the reverse order: see [`write_file`]).
 fn layout<'a>(geometry: &'a Geometry, fields: &Fields<'a>) -> Vec<Array<'a>> {
     let mut arrays = Vec::new();
     for (name, value) in fields.field_data {
@@ -728,14 +729,35 @@ impl Chunked<'_> {
     }
 }
 
-/// Writes the XML header, the appended block and the closing tags.
-fn write_file(w: &mut dyn Write, geometry: &Geometry, arrays: &[Array]) -> io::Result<()> {
-    let mut offsets = Vec::with_capacity(arrays.len());
+/// The offset of each array's block in the appended data, for blocks written in
+/// the reverse of the header's order (the last `<DataArray>` first): see
+/// [`write_file`]. Every block starts with its 8-byte size, so the offsets are
+/// distinct.
+fn appended_offsets(arrays: &[Array]) -> Vec<u64> {
+    let mut offsets = vec![0u64; arrays.len()];
     let mut offset = 0u64;
-    for a in arrays {
-        offsets.push(offset);
+    for (a, at) in arrays.iter().zip(offsets.iter_mut()).rev() {
+        *at = offset;
         offset += 8 + a.payload.byte_len();
     }
+    offsets
+}
+
+/// Writes the XML header, the appended block and the closing tags.
+///
+/// The blocks are appended in the reverse of the order their `<DataArray>`s
+/// appear in the header. VTK and ParaView find a block by its offset, so the
+/// order is theirs to ignore; meshio 5.x's raw reader is not: it walks the
+/// blocks from the start and, for the block at byte i, takes the first
+/// `<DataArray>` in document order whose offset reads i, then rewrites that
+/// offset to a position in its own base64 copy of the data. In the header's
+/// order a rewritten offset of an earlier array can equal the raw offset of a
+/// later one (the FieldData written first made `displacement` land in
+/// `LOAD_FACTOR`); in the reverse order every array still to be found comes
+/// before every rewritten one in the document, so the first match is always
+/// the array whose block starts at i.
+fn write_file(w: &mut dyn Write, geometry: &Geometry, arrays: &[Array]) -> io::Result<()> {
+    let offsets = appended_offsets(arrays);
 
     w.write_all(
         b"<?xml version=\"1.0\"?>\n\
@@ -783,7 +805,7 @@ fn write_file(w: &mut dyn Write, geometry: &Geometry, arrays: &[Array]) -> io::R
         w,
         buf: Vec::with_capacity(CHUNK + 64),
     };
-    for a in arrays {
+    for a in arrays.iter().rev() {
         out.put(&a.payload.byte_len().to_le_bytes())?;
         a.payload.write(&mut out)?;
     }
