@@ -3,7 +3,8 @@
 //! children's errors through; `check` prints one number format.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, ExitStatus, Output};
+use std::time::{Duration, Instant};
 
 fn cfe(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_cfe"))
@@ -254,4 +255,120 @@ fn write_every_flag() {
             stderr(&o)
         );
     }
+}
+
+/// Runs `cfe run <problem> --out <out> [extra]` in the background (its output
+/// discarded, so that no unread pipe can block it).
+fn spawn_run(problem: &Path, out: &Path, extra: &[&str]) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_cfe"))
+        .arg("run")
+        .arg(problem)
+        .arg("--out")
+        .arg(out)
+        .args(extra)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("cfe runs")
+}
+
+/// Waits for `child` at most `bound`; kills it (and fails) if it is still
+/// running then. A liveness bound, not a speed assertion: what it guards would
+/// otherwise take minutes or never end.
+fn wait_at_most(child: &mut std::process::Child, bound: Duration, what: &str) -> ExitStatus {
+    let start = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().expect("wait for cfe") {
+            return status;
+        }
+        if start.elapsed() > bound {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{what}: cfe was still running {bound:?} later");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// SIGTERM is honoured while the pictures are drawn: sent as soon as the only
+/// increment's pairs table is on disk (the pictures come next), the run ends
+/// within 10 s (a liveness bound: the pictures take about a second here), with
+/// exit status 128 + 15, a summary saying `interrupted` and no picture or
+/// temporary file; a run the signal reaches only after its pictures has them
+/// all. Of three tries at least one must land in the picture phase (before
+/// stopping was checked there, none did: every run completed).
+#[test]
+fn sigterm_during_the_pictures_interrupts_the_run() {
+    let problem = problem("pictures_sigterm.toml", "increments = 10", "increments = 1");
+    let mut interrupted = 0;
+    for attempt in 0..3 {
+        let out =
+            std::env::temp_dir().join(format!("cfe-cli-sigterm-{}-{attempt}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let mut child = spawn_run(&problem, &out, &["--refine", "8"]);
+        let start = Instant::now();
+        while !out.join("pairs.csv").exists() {
+            if let Some(s) = child.try_wait().unwrap() {
+                panic!("cfe ended ({s}) before writing pairs.csv");
+            }
+            assert!(start.elapsed() < Duration::from_secs(600), "no pairs.csv");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let killed = Command::new("kill")
+            .args(["-TERM", &child.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(killed.success());
+        let status = wait_at_most(&mut child, Duration::from_secs(10), "after SIGTERM");
+        let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+        let pictures =
+            ["sigma_yy.png", "displacement.png", "pressure.png"].map(|p| out.join(p).exists());
+        let temporary: Vec<_> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".tmp"))
+            .collect();
+        assert!(temporary.is_empty(), "{temporary:?}");
+        if status.code() == Some(0) {
+            assert!(summary.contains("\"status\": \"completed\""), "{summary}");
+            assert_eq!(pictures, [true; 3]);
+        } else {
+            assert_eq!(status.code(), Some(128 + 15), "{status}");
+            assert!(summary.contains("\"status\": \"interrupted\""), "{summary}");
+            assert_eq!(pictures, [false; 3]);
+            interrupted += 1;
+        }
+        let _ = std::fs::remove_dir_all(&out);
+    }
+    assert!(interrupted >= 1, "SIGTERM never stopped the pictures");
+}
+
+/// A problem whose title is a megabyte (with line breaks) runs and draws its
+/// three pictures within a generous liveness bound (drawn whole, a 30 000-
+/// character title took 204 s and a megabyte never ended); the summary keeps
+/// the whole title.
+#[test]
+fn a_megabyte_title_is_drawn_promptly() {
+    let title = "A very long title\\n".repeat(60_000);
+    assert!(title.len() > 1_000_000);
+    let problem = problem(
+        "huge_title.toml",
+        "title = \"Plate on a base\"",
+        &format!("title = \"{title}\""),
+    );
+    let out = std::env::temp_dir().join(format!("cfe-cli-huge-title-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let mut child = spawn_run(&problem, &out, &[]);
+    let status = wait_at_most(&mut child, Duration::from_secs(300), "a 1 MB title");
+    assert!(status.success(), "{status}");
+    for p in ["sigma_yy.png", "displacement.png", "pressure.png"] {
+        assert!(out.join(p).is_file(), "{p}");
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        summary["title"].as_str().unwrap().len(),
+        title.len() - 60_000
+    );
+    let _ = std::fs::remove_dir_all(&out);
 }

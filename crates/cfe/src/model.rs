@@ -583,12 +583,7 @@ impl Builder<'_> {
             .map(|s| s.iter().map(|GroupSpec(g)| g.clone()).collect());
         let part = mesh.part_mesh(name, surfaces.as_deref())?;
         Ok(if refine > 1 {
-            let k = refine as u64;
-            let nodes = (part.nodes.len() as u64)
-                .checked_mul(k)
-                .and_then(|n| n.checked_mul(k))
-                .unwrap_or(u64::MAX);
-            check_size(nodes, refine)?;
+            check_size(refined_nodes(part.nodes.len(), refine), refine)?;
             part.refined(refine)
         } else {
             part
@@ -621,6 +616,10 @@ impl Builder<'_> {
         for spec in &part_specs {
             let n = self.structured_nodes(spec, refine)?;
             nodes = nodes.saturating_add(n);
+        }
+        // Meshes given in memory (arrays, a Python mesh) are subdivided as well.
+        for mesh in self.meshes.borrow().values() {
+            nodes = nodes.saturating_add(refined_nodes(mesh.nodes.len(), refine));
         }
         check_size(nodes, refine)?;
         let mut parts: Vec<Part> = Vec::with_capacity(part_specs.len());
@@ -1236,6 +1235,19 @@ impl Builder<'_> {
 /// The 1-based line of byte offset `at` in `text`.
 fn line_of(text: &str, at: usize) -> usize {
     text[..at.min(text.len())].matches('\n').count() + 1
+}
+
+/// About the number of nodes a mesh of `nodes` nodes has once refined `refine`
+/// times ([`Mesh::refined`]): `refine`² × `nodes` (an upper bound for a
+/// triangulated mesh, whose edges are at most 3 and triangles at most 2 per
+/// node), `u64::MAX` when that overflows, so [`check_size`] refuses it before
+/// any memory is spent.
+fn refined_nodes(nodes: usize, refine: usize) -> u64 {
+    let k = refine as u64;
+    (nodes as u64)
+        .checked_mul(k)
+        .and_then(|n| n.checked_mul(k))
+        .unwrap_or(u64::MAX)
 }
 
 /// Refuses a model of `nodes` nodes (two unknowns each) whose estimated memory

@@ -303,6 +303,9 @@ def _int_array(a: Any, what: str, part: str) -> np.ndarray:
                 raise ValueError("it has non-integer values")
         elif raw.size and raw.dtype.kind not in "iu":
             raise ValueError(f"its type is {raw.dtype}")
+        # Values int64 cannot hold would wrap around (to negative indices).
+        if raw.size and raw.dtype.kind in "uf" and not np.all(np.abs(raw) < 2.0**63):
+            raise ValueError("it has values beyond the int64 range")
         return np.ascontiguousarray(raw, dtype=np.int64)
     except (TypeError, ValueError) as e:
         raise MeshError(f"mesh of part '{part}': `{what}` must be an array of node indices: {e}") from None
@@ -348,8 +351,10 @@ class Model:
     arrays (``points``, ``triangles``, ``quads``, ``boundaries``, see :class:`Mesh`)
     or as ``mesh`` (a :class:`Mesh` or a ``meshio.Mesh``) instead of
     ``rectangle``/``annulus``/``gmsh``. ``None`` values are left out. Errors name
-    the dict entry (e.g. ``part[1].host``) and the key. ``refine`` subdivides every
-    mesh (as ``cfe run --refine``); ``path`` locates relative Gmsh files.
+    the dict entry (e.g. ``part[1].host``) and the key; a dict nested deeper than
+    64 levels or containing itself raises ``ValueError``. ``refine`` subdivides every
+    mesh (as ``cfe run --refine``; refused with :class:`TooLargeError` when the
+    refined model would not fit in memory); ``path`` locates relative Gmsh files.
     """
 
     def __init__(

@@ -1,6 +1,8 @@
 //! Line charts (linear or logarithmic axes) for reports: convergence plots and
 //! benchmark curves, drawn with plotters on the bundled font and written as PNG.
+//! The title, axis labels and legend names are bounded by [`label_text`].
 
+use super::png::label_text;
 use crate::error::{Error, Result};
 use plotters::prelude::*;
 use std::path::Path;
@@ -220,6 +222,12 @@ fn draw<DB: DrawingBackend>(
     if pts.is_empty() {
         return Err("no finite points to draw".into());
     }
+    // Texts from the problem (title, units, interface names) bounded and cleaned.
+    let (title, x_desc, y_desc) = (
+        label_text(axes.title),
+        label_text(axes.x),
+        label_text(axes.y),
+    );
     let ([x0, x1], [y0, y1]) = ranges(axes, &pts);
     let corner = legend_corner(&plotted_points(axes, series, &pts, [x0, x1], [y0, y1]));
     let e = |e: &dyn std::fmt::Display| e.to_string();
@@ -258,7 +266,7 @@ fn draw<DB: DrawingBackend>(
     macro_rules! plot_with {
         ($xr:expr, $yr:expr) => {{
             let mut chart = ChartBuilder::on(area)
-                .caption(axes.title, ("sans-serif", 24))
+                .caption(&*title, ("sans-serif", 24))
                 .margin(20)
                 .x_label_area_size(50)
                 .y_label_area_size(80)
@@ -266,8 +274,8 @@ fn draw<DB: DrawingBackend>(
                 .map_err(|x| e(&x))?;
             chart
                 .configure_mesh()
-                .x_desc(axes.x)
-                .y_desc(axes.y)
+                .x_desc(&*x_desc)
+                .y_desc(&*y_desc)
                 .x_labels(n_x)
                 .y_labels(n_y)
                 .x_label_formatter(&x_fmt)
@@ -295,7 +303,7 @@ fn draw<DB: DrawingBackend>(
                 chart
                     .draw_series(LineSeries::new(data.clone(), style))
                     .map_err(|x| e(&x))?
-                    .label(s.name.clone())
+                    .label(label_text(&s.name))
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
                 if !s.reference {
                     chart
@@ -356,6 +364,32 @@ pub fn side_by_side(path: &Path, charts: [(&Axes, &[Series]); 2]) -> Result<()> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Titles, axis labels and legend names of any length are drawn.
+    #[test]
+    fn huge_texts_are_drawn_bounded() {
+        // A chart whose title, axis labels and legend name are each a megabyte
+        // with control characters is drawn (they are cut to MAX_LABEL_CHARS;
+        // drawn whole the layout would not end).
+        let dir = std::env::temp_dir().join(format!("cfe-chart-huge-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let huge = "name\r\n".repeat(200_000);
+        let axes = Axes {
+            title: &huge,
+            x: &huge,
+            y: &huge,
+            log_x: false,
+            log_y: false,
+        };
+        let s = vec![Series {
+            name: huge.clone(),
+            points: vec![(0.0, 1.0), (1.0, 2.0)],
+            reference: false,
+        }];
+        line_chart(&dir.join("h.png"), &axes, &s).unwrap();
+        assert_eq!(&std::fs::read(dir.join("h.png")).unwrap()[..4], b"\x89PNG");
+        std::fs::remove_dir_all(&dir).ok();
+    }
 
     /// A log–log chart of two curves is written as a PNG; a chart with nothing
     /// drawable is an error.

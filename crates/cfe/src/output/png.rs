@@ -6,13 +6,49 @@
 //! The field is rasterised per pixel (linear interpolation inside each triangle),
 //! so the cost is O(triangles + pixels): a picture of a million-element model costs
 //! little more than one of a thousand.
+//!
+//! Every text a picture shows that comes from the problem (the title, units,
+//! interface names in a chart's legend) is first bounded by [`label_text`]: at
+//! most [`MAX_LABEL_CHARS`] characters, control characters dropped, so drawing
+//! it takes time linear in that bound whatever the input. A long drawing asks
+//! its caller's `proceed` check between stages and every [`CHUNK`] triangles,
+//! edges or markers, so a stop request ends it promptly with no file written.
 
 use super::write_atomic;
 use crate::error::{Error, Result};
 use plotters::prelude::*;
 use plotters::style::FontStyle;
+use std::borrow::Cow;
 use std::path::Path;
 use std::sync::Once;
+
+/// The most characters of a title or label drawn in a picture; a longer one is
+/// cut there and ends with `…`.
+pub const MAX_LABEL_CHARS: usize = 200;
+
+/// Triangles, edges or markers drawn between two `proceed` checks.
+pub const CHUNK: usize = 8192;
+
+/// `text` as a picture shows it: control characters (line breaks, tabs, NUL …)
+/// dropped and, beyond [`MAX_LABEL_CHARS`] characters, cut with `…`. Linear in
+/// the characters kept (and in the control characters skipped before them).
+pub fn label_text(text: &str) -> Cow<'_, str> {
+    let plain = !text.chars().take(MAX_LABEL_CHARS + 1).any(char::is_control);
+    if plain && text.chars().nth(MAX_LABEL_CHARS).is_none() {
+        return Cow::Borrowed(text);
+    }
+    let mut kept = text.chars().filter(|c| !c.is_control());
+    let mut out: String = kept.by_ref().take(MAX_LABEL_CHARS).collect();
+    if kept.next().is_some() {
+        out.pop();
+        out.push('…');
+    }
+    Cow::Owned(out)
+}
+
+/// Whether a drawing may go on: `Err` (e.g. [`Error::Interrupted`] once a stop
+/// signal came) ends it and is returned by the drawing.
+pub type Proceed<'a> = &'a (dyn Fn() -> Result<()> + Sync);
 
 /// What to draw: node coordinates (already deformed if the caller wants a deformed
 /// picture) and triangles as node-index triples.
@@ -64,20 +100,22 @@ pub(crate) fn register_font() {
 }
 
 /// Smoothly shaded colour map of `nodal` (one value per point) with part outlines,
-/// pair markers, axes, title and colour bar.
+/// pair markers, axes, title and colour bar. `proceed` is asked between stages
+/// and every [`CHUNK`] items; its error ends the drawing and nothing is written.
 pub fn render_field(
     path: &Path,
     mesh: &PlotMesh,
     nodal: &[f64],
     markers: &[PairMarker],
     labels: &PlotLabels,
+    proceed: Proceed<'_>,
 ) -> Result<()> {
-    render(path, mesh, nodal, markers, labels, Style::Field)
+    render(path, mesh, nodal, markers, labels, Style::Field, proceed)
 }
 
 /// Isolines of `nodal` at `levels` evenly spaced values strictly inside its range,
 /// each coloured by its level against the colour bar, over a light-grey fill of the
-/// parts, with part outlines and pair markers.
+/// parts, with part outlines and pair markers. `proceed` as for [`render_field`].
 pub fn render_isolines(
     path: &Path,
     mesh: &PlotMesh,
@@ -85,6 +123,7 @@ pub fn render_isolines(
     levels: usize,
     markers: &[PairMarker],
     labels: &PlotLabels,
+    proceed: Proceed<'_>,
 ) -> Result<()> {
     render(
         path,
@@ -93,6 +132,7 @@ pub fn render_isolines(
         markers,
         labels,
         Style::Isolines(levels.max(1)),
+        proceed,
     )
 }
 
@@ -461,9 +501,21 @@ fn render(
     markers: &[PairMarker],
     labels: &PlotLabels,
     style: Style,
+    proceed: Proceed<'_>,
 ) -> Result<()> {
     validate(path, mesh, nodal)?;
+    proceed()?;
     register_font();
+    let (title, colorbar, axis_unit) = (
+        label_text(labels.title),
+        label_text(labels.colorbar),
+        label_text(labels.axis_unit),
+    );
+    let labels = &PlotLabels {
+        title: &title,
+        colorbar: &colorbar,
+        axis_unit: &axis_unit,
+    };
     let err = draw_err(path);
     let layout = Layout::new(mesh.points);
     let range = ColourRange::new(nodal, style);
@@ -478,19 +530,22 @@ fn render(
         root.present().map_err(|e| err(&e))?;
     }
 
-    // 2. The field (or the grey parts under the isolines).
+    // 2. The field (or the grey parts under the isolines), CHUNK triangles at a
+    // time (each triangle is painted on its own: the same pixels either way).
     let tf = layout.tf;
-    let px_tris = mesh
-        .triangles
-        .iter()
-        .map(|t| (t.map(|n| tf.px(mesh.points[n])), t.map(|n| nodal[n])));
     let clip = layout.clip();
-    match style {
-        Style::Field => rasterize(&mut buf, WIDTH as usize, clip, px_tris, |v| {
-            turbo(range.norm(v))
-        }),
-        Style::Isolines(_) => {
-            rasterize(&mut buf, WIDTH as usize, clip, px_tris, |_| [232, 232, 232])
+    for chunk in mesh.triangles.chunks(CHUNK) {
+        proceed()?;
+        let px_tris = chunk
+            .iter()
+            .map(|t| (t.map(|n| tf.px(mesh.points[n])), t.map(|n| nodal[n])));
+        match style {
+            Style::Field => rasterize(&mut buf, WIDTH as usize, clip, px_tris, |v| {
+                turbo(range.norm(v))
+            }),
+            Style::Isolines(_) => {
+                rasterize(&mut buf, WIDTH as usize, clip, px_tris, |_| [232, 232, 232])
+            }
         }
     }
 
@@ -500,19 +555,22 @@ fn render(
         if let Style::Isolines(levels) = style
             && range.vmax > range.vmin
         {
-            draw_isolines(path, &root, &layout, mesh, nodal, &range, levels)?;
+            draw_isolines(path, &root, &layout, mesh, nodal, &range, levels, proceed)?;
         }
-        draw_outline(path, &root, &layout, mesh)?;
-        draw_markers(path, &root, &layout, markers)?;
+        draw_outline(path, &root, &layout, mesh, proceed)?;
+        draw_markers(path, &root, &layout, markers, proceed)?;
         root.present().map_err(|e| err(&e))?;
     }
 
     // 4. Encode and write atomically.
+    proceed()?;
     write_rgb(path, &buf, WIDTH, layout.height)
 }
 
 /// `title` and a font size (28 px, or smaller down to 16) at which it fits in
-/// `room` pixels; shortened with an ellipsis if it does not fit even at 16.
+/// `room` pixels; shortened with an ellipsis if it does not fit even at 16 (the
+/// longest prefix that fits, found by bisection: O(log n) measurements of at
+/// most n characters, n ≤ [`MAX_LABEL_CHARS`] after [`label_text`]).
 fn fit_title(root: &Area, title: &str, room: u32) -> (String, f64) {
     let width = |t: &str, size: f64| {
         root.estimate_text_size(t, &TextStyle::from((FONT, size).into_font()))
@@ -522,16 +580,27 @@ fn fit_title(root: &Area, title: &str, room: u32) -> (String, f64) {
     while size > 16.0 && width(title, size) > room {
         size -= 2.0;
     }
-    let mut t = title.to_string();
-    while width(&t, size) > room && t.chars().count() > 1 {
-        t.pop();
-        let cut: String = t.trim_end().to_string();
-        t = cut;
-        if width(&format!("{t}…"), size) <= room {
-            return (format!("{t}…"), size);
+    if width(title, size) <= room {
+        return (title.to_string(), size);
+    }
+    // Byte offsets of the character boundaries: prefix k is title[..cuts[k]].
+    let cuts: Vec<usize> = title
+        .char_indices()
+        .map(|(i, _)| i)
+        .chain([title.len()])
+        .collect();
+    let shortened = |k: usize| format!("{}…", title[..cuts[k]].trim_end());
+    // The longest k in [1, n) whose shortened prefix fits (1 if none does).
+    let (mut lo, mut hi) = (1, cuts.len() - 1);
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if width(&shortened(mid), size) <= room {
+            lo = mid;
+        } else {
+            hi = mid;
         }
     }
-    (t, size)
+    (shortened(lo), size)
 }
 
 /// The title, the frame of the plot box, the axis ticks (about 8 along x,
@@ -661,6 +730,7 @@ fn draw_colour_bar(
 
 /// `levels` isolines evenly spaced strictly inside the colour range, each
 /// coloured by its level; segments leaving the plot box are skipped.
+#[allow(clippy::too_many_arguments)]
 fn draw_isolines(
     path: &Path,
     root: &Area,
@@ -669,6 +739,7 @@ fn draw_isolines(
     nodal: &[f64],
     range: &ColourRange,
     levels: usize,
+    proceed: Proceed<'_>,
 ) -> Result<()> {
     let err = draw_err(path);
     let (vmin, vmax) = (range.vmin, range.vmax);
@@ -680,7 +751,10 @@ fn draw_isolines(
     // not, as `isoline_segment` counts a vertex at the level as above it); the
     // levels are then drawn one after another, as one pass per level would.
     let mut segments: Vec<Vec<[[f64; 2]; 2]>> = vec![Vec::new(); levels];
-    for t in mesh.triangles {
+    for (i, t) in mesh.triangles.iter().enumerate() {
+        if i % CHUNK == 0 {
+            proceed()?;
+        }
         let v = t.map(|n| nodal[n]);
         let lo = v[0].min(v[1]).min(v[2]);
         let hi = v[0].max(v[1]).max(v[2]);
@@ -704,7 +778,10 @@ fn draw_isolines(
     for (&level, segments) in values.iter().zip(&segments) {
         let c = turbo(range.norm(level));
         let colour = RGBColor(c[0], c[1], c[2]).stroke_width(2);
-        for &[a, b] in segments {
+        for (i, &[a, b]) in segments.iter().enumerate() {
+            if i % CHUNK == 0 {
+                proceed()?;
+            }
             root.draw(&PathElement::new(vec![ip(a), ip(b)], colour))
                 .map_err(|e| err(&e))?;
         }
@@ -713,7 +790,13 @@ fn draw_isolines(
 }
 
 /// The part outlines (the given ones, or computed from the triangles).
-fn draw_outline(path: &Path, root: &Area, layout: &Layout, mesh: &PlotMesh) -> Result<()> {
+fn draw_outline(
+    path: &Path,
+    root: &Area,
+    layout: &Layout,
+    mesh: &PlotMesh,
+    proceed: Proceed<'_>,
+) -> Result<()> {
     let err = draw_err(path);
     let computed;
     let outline = match mesh.outline {
@@ -723,7 +806,10 @@ fn draw_outline(path: &Path, root: &Area, layout: &Layout, mesh: &PlotMesh) -> R
             &computed
         }
     };
-    for &[a, b] in outline {
+    for (i, &[a, b]) in outline.iter().enumerate() {
+        if i % CHUNK == 0 {
+            proceed()?;
+        }
         let (pa, pb) = (layout.tf.px(mesh.points[a]), layout.tf.px(mesh.points[b]));
         if layout.inside(pa) && layout.inside(pb) {
             root.draw(&PathElement::new(
@@ -737,10 +823,19 @@ fn draw_outline(path: &Path, root: &Area, layout: &Layout, mesh: &PlotMesh) -> R
 }
 
 /// The pair markers inside the plot box (see [`PairMarker`]).
-fn draw_markers(path: &Path, root: &Area, layout: &Layout, markers: &[PairMarker]) -> Result<()> {
+fn draw_markers(
+    path: &Path,
+    root: &Area,
+    layout: &Layout,
+    markers: &[PairMarker],
+    proceed: Proceed<'_>,
+) -> Result<()> {
     let err = draw_err(path);
     let radius = marker_radius(markers, layout.tf.scale);
-    for m in markers {
+    for (i, m) in markers.iter().enumerate() {
+        if i % CHUNK == 0 {
+            proceed()?;
+        }
         let p = layout.tf.px(m.at);
         if !layout.inside(p) {
             continue;
@@ -843,6 +938,126 @@ fn nice_step(raw: f64) -> f64 {
 mod tests {
     use super::*;
 
+    /// A drawing that is never asked to stop.
+    const GO: Proceed<'static> = &|| Ok(());
+
+    /// Titles and labels are bounded: control characters dropped, at most
+    /// MAX_LABEL_CHARS characters with `…` last when cut; a short clean text is
+    /// kept as it is (borrowed).
+    #[test]
+    fn labels_are_bounded() {
+        assert!(matches!(
+            label_text("plate σyy"),
+            Cow::Borrowed("plate σyy")
+        ));
+        assert_eq!(label_text("a\nb\t\0c\u{7f}"), "abc");
+        let exact = "é".repeat(MAX_LABEL_CHARS);
+        assert_eq!(label_text(&exact), exact.as_str());
+        let long = "é".repeat(MAX_LABEL_CHARS + 1);
+        let cut = label_text(&long);
+        assert_eq!(cut.chars().count(), MAX_LABEL_CHARS);
+        assert!(cut.ends_with("é…"));
+        // Control characters do not count towards the bound.
+        let mixed = format!("{}{}", "\n".repeat(1000), "x".repeat(MAX_LABEL_CHARS));
+        assert_eq!(label_text(&mixed), "x".repeat(MAX_LABEL_CHARS));
+    }
+
+    /// A picture whose title, colour-bar label and unit are each a megabyte
+    /// (with line breaks and NUL) is drawn, its title cut with `…` to fit the
+    /// width; a fitting title is kept whole.
+    #[test]
+    fn huge_titles_are_cut_to_fit() {
+        let dir = std::env::temp_dir().join(format!("cfe_png_title_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let huge = "long title\n\0 ".repeat(80_000);
+        let points = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let mesh = PlotMesh {
+            points: &points,
+            triangles: &[[0, 1, 2], [0, 2, 3]],
+            outline: None,
+        };
+        let labels = PlotLabels {
+            title: &huge,
+            colorbar: &huge,
+            axis_unit: &huge,
+        };
+        let path = dir.join("t.png");
+        render_field(&path, &mesh, &[0.0, 1.0, 2.0, 3.0], &[], &labels, GO).unwrap();
+        assert!(image::open(&path).is_ok());
+        // The title as drawn: within the room, cut with the ellipsis.
+        let mut buf = vec![255u8; 1600 * 100 * 3];
+        let root = BitMapBackend::with_buffer(&mut buf, (1600, 100)).into_drawing_area();
+        register_font();
+        let (t, size) = fit_title(&root, &label_text(&huge), 800);
+        assert!(
+            t.ends_with('…') && t.chars().count() < MAX_LABEL_CHARS,
+            "{t}"
+        );
+        assert_eq!(size, 16.0);
+        let fits = |t: &str| {
+            root.estimate_text_size(t, &TextStyle::from((FONT, size).into_font()))
+                .unwrap()
+                .0
+                <= 800
+        };
+        assert!(fits(&t));
+        assert!(!fits(&format!("{}x…", t.trim_end_matches('…'))));
+        assert_eq!(fit_title(&root, "short", 800), ("short".to_string(), 28.0));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// A drawing asked to stop returns the stop's error and leaves no file
+    /// (neither the picture nor its temporary), at whichever check it comes.
+    #[test]
+    fn a_stopped_drawing_writes_nothing() {
+        let dir = std::env::temp_dir().join(format!("cfe_png_stop_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (points, triangles) = grid_with_hole(120, 0);
+        let nodal: Vec<f64> = points.iter().map(|p| p[0] + p[1]).collect();
+        let mesh = PlotMesh {
+            points: &points,
+            triangles: &triangles,
+            outline: None,
+        };
+        let labels = PlotLabels {
+            title: "t",
+            colorbar: "c",
+            axis_unit: "m",
+        };
+        let path = dir.join("s.png");
+        // Stop at the first, a middle and the last check.
+        let checks = std::sync::atomic::AtomicUsize::new(0);
+        let count: Proceed = &|| {
+            checks.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            Ok(())
+        };
+        render_isolines(&path, &mesh, &nodal, 5, &[], &labels, count).unwrap();
+        let total = checks.load(std::sync::atomic::Ordering::Relaxed);
+        assert!(total > 4, "{total} checks");
+        std::fs::remove_file(&path).unwrap();
+        for stop_at in [0, total / 2, total - 1] {
+            let seen = std::sync::atomic::AtomicUsize::new(0);
+            let stop: Proceed = &|| {
+                if seen.fetch_add(1, std::sync::atomic::Ordering::Relaxed) == stop_at {
+                    Err(Error::Interrupted {
+                        increment: 1,
+                        signal: 15,
+                    })
+                } else {
+                    Ok(())
+                }
+            };
+            let r = render_isolines(&path, &mesh, &nodal, 5, &[], &labels, stop);
+            assert!(
+                matches!(r, Err(Error::Interrupted { signal: 15, .. })),
+                "{stop_at}"
+            );
+            let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+            assert!(left.is_empty(), "{stop_at}: {left:?}");
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
     /// The turbo map runs from blue through green to red.
     #[test]
     fn turbo_endpoints() {
@@ -912,7 +1127,7 @@ mod tests {
             slip: false,
             violates: false,
         }];
-        render_field(&path, &mesh, &[0.0, 1.0, 2.0, 3.0], &markers, &labels).unwrap();
+        render_field(&path, &mesh, &[0.0, 1.0, 2.0, 3.0], &markers, &labels, GO).unwrap();
         render_isolines(
             &dir.join("b.png"),
             &mesh,
@@ -920,6 +1135,7 @@ mod tests {
             5,
             &markers,
             &labels,
+            GO,
         )
         .unwrap();
         let bytes = std::fs::read(&path).unwrap();
@@ -1002,7 +1218,7 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("cfe-iso-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("iso.png");
-        render_isolines(&path, &mesh, &nodal, 3, &[], &labels).unwrap();
+        render_isolines(&path, &mesh, &nodal, 3, &[], &labels, GO).unwrap();
         let img = image::open(&path).unwrap().to_rgb8();
         let _ = std::fs::remove_dir_all(&dir);
         let layout = Layout::new(&points);
@@ -1037,13 +1253,13 @@ mod tests {
             triangles: &[[0, 1, 2]],
             outline: None,
         };
-        assert!(render_field(p, &ok, &[0.0, 1.0], &[], &labels).is_err());
-        assert!(render_field(p, &ok, &[0.0, f64::NAN, 1.0], &[], &labels).is_err());
+        assert!(render_field(p, &ok, &[0.0, 1.0], &[], &labels, GO).is_err());
+        assert!(render_field(p, &ok, &[0.0, f64::NAN, 1.0], &[], &labels, GO).is_err());
         let bad = PlotMesh {
             points: &points,
             triangles: &[[0, 1, 5]],
             outline: None,
         };
-        assert!(render_field(p, &bad, &[0.0, 1.0, 2.0], &[], &labels).is_err());
+        assert!(render_field(p, &bad, &[0.0, 1.0, 2.0], &[], &labels, GO).is_err());
     }
 }

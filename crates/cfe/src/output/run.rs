@@ -271,8 +271,9 @@ impl Analysis {
     }
 
     /// [`Analysis::run`] that stops at the next safe point — after the increment
-    /// being solved is written — once `stop` is nonzero (e.g. set by a signal
-    /// handler to the signal's number): the converged increments stay on disk,
+    /// being solved is written, or in the pictures at their next check (no
+    /// picture is kept) — once `stop` is nonzero (e.g. set by a signal handler
+    /// to the signal's number): the converged increments stay on disk,
     /// `summary.json` says `interrupted`, and the error is [`Error::Interrupted`].
     ///
     /// What a previous run left in `out` (its summary, pairs table, pictures,
@@ -371,7 +372,7 @@ impl Analysis {
         // any other writer in flight) still streams in the background.
         let pictures = r.as_ref().ok().map(|inc| {
             let t = Instant::now();
-            let drawn = self.draw_pictures(out, inc, log);
+            let drawn = self.draw_pictures(out, inc, log, stop);
             log.summary.timings.pictures = t.elapsed().as_secs_f64();
             drawn
         });
@@ -389,8 +390,24 @@ impl Analysis {
     }
 
     /// The pictures of the last converged increment `inc`, from the stresses the
-    /// run kept for it (recovered anew only if it kept none).
-    fn draw_pictures(&self, out: &Path, inc: &IncrementResult, log: &mut RunLog) -> Result<()> {
+    /// run kept for it (recovered anew only if it kept none). A nonzero `stop`
+    /// ends the drawing at its next check ([`png::Proceed`]) with
+    /// [`Error::Interrupted`]; the caller then removes the pictures.
+    fn draw_pictures(
+        &self,
+        out: &Path,
+        inc: &IncrementResult,
+        log: &mut RunLog,
+        stop: &AtomicUsize,
+    ) -> Result<()> {
+        let proceed = || match stop.load(Ordering::Relaxed) {
+            0 => Ok(()),
+            signal => Err(Error::Interrupted {
+                increment: inc.index,
+                signal,
+            }),
+        };
+        proceed()?;
         let stresses = match log.last_stresses.take() {
             Some(s) => s,
             None => Stresses {
@@ -398,7 +415,7 @@ impl Analysis {
                 factors: Vec::new(),
             },
         };
-        self.write_pictures(out, inc, &stresses)
+        self.write_pictures(out, inc, &stresses, &proceed)
     }
 
     /// The coarse start (if the settings ask for it) and the matrix sizes.
@@ -740,7 +757,13 @@ impl Analysis {
         )
     }
 
-    fn write_pictures(&self, out: &Path, inc: &IncrementResult, stresses: &Stresses) -> Result<()> {
+    fn write_pictures(
+        &self,
+        out: &Path,
+        inc: &IncrementResult,
+        stresses: &Stresses,
+        proceed: png::Proceed<'_>,
+    ) -> Result<()> {
         let points = self.global_points();
         let tris = self.plot_triangles();
         let outline = png::outline_edges(&tris);
@@ -783,6 +806,7 @@ impl Analysis {
                     colorbar: &format!("σyy [{}]", units.stress),
                     axis_unit: &units.length,
                 },
+                proceed,
             )
         };
         let isolines = || {
@@ -845,10 +869,12 @@ impl Analysis {
                     colorbar: &format!("|u| [{}]", units.length),
                     axis_unit: &units.length,
                 },
+                proceed,
             )
         };
         let (a, b) = rayon::join(field, isolines);
         a.and(b)?;
+        proceed()?;
         self.write_pressure_chart(out, &rows).map(|_| ())
     }
 
