@@ -151,8 +151,10 @@ increments = 1
 /// pressure of the two blocks and the traction penalty κ = c_n / h̄ in series,
 /// σ = (push − g₀) / (L/E_up + L/E_low + 1/κ), on every pair and in every
 /// element of both blocks (σyy = −σ, σxx = σxy = 0) to round-off; the node
-/// coupling with the same gaps misses it by more than 10 % in the elements (it
-/// measured 49 % with the T3 upper block, 24 % with the Q4).
+/// coupling with the same gaps misses it by more than 1 % in the elements (it
+/// measures 2.2 % with the T3 upper block, 2.3 % with the Q4; it measured 49 %
+/// and 24 % while its end nodes, above the host's corners, paired with the
+/// host's sides: a gap pair is now made with a facing host edge only).
 #[test]
 fn gap_patch_test_transmits_uniform_pressure() {
     let (g0, push, c_n) = (0.01, 0.05, 1e6);
@@ -187,7 +189,7 @@ fn gap_patch_test_transmits_uniform_pressure() {
             .iter()
             .flat_map(|s| s.element.iter().map(|e| (e[1] / sigma + 1.0).abs()))
             .fold(0.0, f64::max);
-        assert!(worst > 0.1, "{kind}: node coupling σyy error {worst}");
+        assert!(worst > 0.01, "{kind}: node coupling σyy error {worst}");
     }
 }
 
