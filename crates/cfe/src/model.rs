@@ -1439,3 +1439,34 @@ fn check_size(nodes: u64, refine: usize) -> Result<()> {
         ),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Default names that repeat, or equal a given name, get the first free
+    /// ` (k)`; given names are kept as they are.
+    #[test]
+    fn default_names_are_made_unique() {
+        let names = unique_defaults(vec![
+            ("a".into(), false),
+            ("a".into(), false),
+            ("a (2)".into(), true),
+            ("a".into(), false),
+            ("b".into(), true),
+            ("b".into(), false),
+        ]);
+        assert_eq!(names, ["a", "a (3)", "a (2)", "a (4)", "b", "b (2)"]);
+    }
+
+    /// The deepest key counts its table header's parts and dots outside quotes,
+    /// and names the first line at the reader's limit of 80.
+    #[test]
+    fn deepest_key_counts_dotted_parts() {
+        let text = "a = 1\n[t.u]\n\"x.y\".z = 2\n# c.d.e.f = 1\n";
+        assert_eq!(deepest_key(text), Some((4, 3)));
+        let deep = format!("[h]\nk{} = 1\nk{} = 1\n", ".a".repeat(85), ".a".repeat(90));
+        assert_eq!(deepest_key(&deep), Some((87, 2)));
+        assert_eq!(deepest_key(""), None);
+    }
+}
