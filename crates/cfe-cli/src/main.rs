@@ -437,7 +437,12 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
         println!("  load steps: {}", list.join(", "));
     }
     for n in &summary.notes {
-        eprintln!("note: increment {}: {}", n.increment, n.message);
+        // Increment 0: advice about the model as a whole.
+        if n.increment == 0 {
+            eprintln!("warning: {}", n.message);
+        } else {
+            eprintln!("note: increment {}: {}", n.increment, n.message);
+        }
     }
     let m = &summary.max_displacement;
     println!(

@@ -17,13 +17,13 @@ create_exception!(
     _cfe,
     ParseError,
     CfeError,
-    "The problem cannot be read: unreadable file, invalid TOML, a key the schema does not know or a name that does not exist. Attributes: `path`, `line` (1-based or None)."
+    "The problem cannot be read: unreadable file, invalid TOML, a key the schema does not know or a name that does not exist or is given twice. Attributes: `path`, `line` (1-based or None); for a name given twice also `key` (e.g. `interface#2.name`) and `name`."
 );
 create_exception!(
     _cfe,
     ModelError,
     CfeError,
-    "The problem is well formed but describes an invalid model (settings, materials). Attributes: `path`, `line`, `key` (dotted, e.g. `materials.steel.nu`) for a value out of range; `part`, `key` for the constants of a material given in memory."
+    "The problem is well formed but describes an invalid model (settings, materials). Attributes: `path`, `line`, `key` (dotted, e.g. `materials.steel.nu`) for a value out of range; `part`, `key` for the constants of a material given in memory; `ratio` for a penalty far below E·t."
 );
 create_exception!(
     _cfe,
@@ -35,7 +35,7 @@ create_exception!(
     _cfe,
     CouplingError,
     CfeError,
-    "An interface cannot be built, e.g. coupling nodes on no host edge. Attributes: `interface`, `nodes` (list of (node, (x, y))) for orphan nodes."
+    "An interface cannot be built, e.g. coupling nodes on no host edge, or no pair within `search_distance`. Attributes: `interface`, `nodes` (list of (node, (x, y))) for orphan nodes, `search_distance` and `nearest` for an interface without pairs."
 );
 create_exception!(
     _cfe,
@@ -204,6 +204,49 @@ pub fn to_py(py: Python<'_>, e: cfe::Error) -> PyErr {
             ],
         ),
         E::Output { path, .. } => (OutputError::new_err(message), vec![("path", obj(py, path))]),
+        E::DuplicateName {
+            path,
+            line,
+            key,
+            name,
+            ..
+        } => (
+            ParseError::new_err(message),
+            vec![
+                ("path", obj(py, path)),
+                ("line", obj(py, line)),
+                ("key", obj(py, key)),
+                ("name", obj(py, name)),
+            ],
+        ),
+        E::WeakPenalty {
+            path,
+            line,
+            key,
+            ratio,
+            ..
+        } => (
+            ModelError::new_err(message),
+            vec![
+                ("path", obj(py, path)),
+                ("line", obj(py, line)),
+                ("key", obj(py, key)),
+                ("ratio", obj(py, ratio)),
+            ],
+        ),
+        E::NoPairs {
+            interface,
+            search_distance,
+            nearest,
+            ..
+        } => (
+            CouplingError::new_err(message),
+            vec![
+                ("interface", obj(py, interface)),
+                ("search_distance", obj(py, search_distance)),
+                ("nearest", obj(py, nearest)),
+            ],
+        ),
     };
     let value = err.value(py);
     for (name, v) in attrs {

@@ -9,7 +9,7 @@ use crate::assembly::{self, DofMap};
 use crate::coupling::{
     Coupling, Interface, Law, PairState, PairStates, ViolationKind, search, segment,
 };
-use crate::domain::StartPattern;
+use crate::domain::{InterfaceDef, Part, StartPattern};
 use crate::error::{Error, Result};
 use crate::fem::recovery::{self, PartStress};
 use crate::model::{Model, Scheme};
@@ -93,6 +93,8 @@ impl Analysis {
     /// earlier ones moved.
     pub fn new(mut model: Model) -> Result<Analysis> {
         let clock = RunClock::start();
+        // A model built or changed in code was not checked as a file is.
+        model.check_names()?;
         let mut interfaces = Vec::with_capacity(model.interfaces.len());
         for def in &model.interfaces {
             let host = &model.parts[def.host];
@@ -154,6 +156,13 @@ impl Analysis {
                 if segment_gaps {
                     unpaired = segment_unpaired;
                 }
+            }
+            if elements.is_empty() && !def.nodes.is_empty() && def.search_distance > 0.0 {
+                return Err(no_pairs(
+                    def,
+                    &model.parts[def.host],
+                    &model.parts[def.node_part],
+                ));
             }
             let c_slip =
                 slip_stiffness(def.law, &model.parts[def.host], &model.parts[def.node_part]);
@@ -326,6 +335,9 @@ impl Analysis {
                     st.increments
                 );
             }
+        }
+        for w in self.model.warnings() {
+            s += &format!("  warning: {w}\n");
         }
         s
     }
@@ -638,7 +650,17 @@ impl Analysis {
             increment_steps: Vec::new(),
             fixed_point_iterations: Vec::new(),
             augmented_penetration: 0.0,
-            notes: Vec::new(),
+            // Advice about the model as a whole (volumetric locking) is noted
+            // at increment 0, before any increment.
+            notes: self
+                .model
+                .warnings()
+                .into_iter()
+                .map(|message| Warning {
+                    increment: 0,
+                    message,
+                })
+                .collect(),
             peak_memory_bytes: None,
             peak_over_factor: None,
             solve_flops: 0.0,
@@ -954,6 +976,40 @@ impl Analysis {
                 ),
             });
         }
+    }
+}
+
+/// The error of interface `def`, whose search distance found no pair, with the
+/// distance from its nearest coupling node to the nearest host boundary edge
+/// (measured over every node and boundary edge: only on this failure, and both
+/// are boundaries, so about as many products as the model has nodes).
+fn no_pairs(def: &InterfaceDef, host: &Part, node_part: &Part) -> Error {
+    let edges = host.mesh.boundary_edges();
+    let nearest = def
+        .nodes
+        .iter()
+        .flat_map(|&n| {
+            let p = node_part.mesh.nodes[n];
+            edges.iter().map(move |e| {
+                let [a, b] = e.nodes.map(|k| host.mesh.nodes[k]);
+                crate::coupling::search::project(p, a, b).1
+            })
+        })
+        .fold(f64::INFINITY, f64::min);
+    let nearest = nearest.is_finite().then_some(nearest);
+    Error::NoPairs {
+        interface: def.name.clone(),
+        search_distance: def.search_distance,
+        nearest,
+        message: format!(
+            "no pair within search_distance = {}: none of the {} coupling nodes of part '{}' (boundary '{}') lies within it of a boundary edge of part '{}'{}; the pairs are fixed in the initial configuration, so the interface would couple nothing: raise `search_distance` or place the faces closer",
+            def.search_distance,
+            def.nodes.len(),
+            node_part.name,
+            def.boundary,
+            host.name,
+            nearest.map_or(String::new(), |d| format!(" (the nearest is {d:e} away)")),
+        ),
     }
 }
 

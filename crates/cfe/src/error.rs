@@ -209,6 +209,55 @@ pub enum Error {
         /// Why.
         message: String,
     },
+    /// Two parts, interfaces, supports, loads or steps share a name: results,
+    /// reactions and references are keyed by name, so names are unique within
+    /// each kind. `key` is the duplicate's name key (e.g. `interface#2.name`,
+    /// counting the tables of its kind from 1) and `line` its line; a model
+    /// built in code has no file (`path` empty, no line).
+    #[error("{}: `{key}` {message}", if path.as_os_str().is_empty() { "model".to_string() } else { place(path, *line) })]
+    DuplicateName {
+        /// The problem file (empty for a model built in code).
+        path: PathBuf,
+        /// The line of the duplicate (1-based), when known.
+        line: Option<usize>,
+        /// The duplicate's key, e.g. `interface#2.name`.
+        key: String,
+        /// The name given twice.
+        name: String,
+        /// What is wrong (with the line of the first use) and what to do.
+        message: String,
+    },
+    /// A coupling penalty so far below the E·t of the parts it joins that the
+    /// interface holds nothing (the joined faces are free to drift apart): refused
+    /// before solving, rather than met as a mechanism in the factorization.
+    #[error("{}: `{key}` {message}", place(path, *line))]
+    WeakPenalty {
+        /// The problem file.
+        path: PathBuf,
+        /// The line of the penalty (1-based), when known.
+        line: Option<usize>,
+        /// The penalty's dotted path, e.g. `interface.plate-base.c_n`.
+        key: String,
+        /// The penalty relative to the stiffer part's E·t.
+        ratio: f64,
+        /// What is wrong and the working range.
+        message: String,
+    },
+    /// A contact interface with a `search_distance` found no pair: none of its
+    /// coupling nodes lies within that distance of a host edge, so it would
+    /// couple nothing.
+    #[error("interface '{interface}': {message}")]
+    NoPairs {
+        /// The interface.
+        interface: String,
+        /// Its `search_distance`.
+        search_distance: f64,
+        /// The distance from the nearest coupling node to the nearest host
+        /// boundary edge, when it was measured.
+        nearest: Option<f64>,
+        /// The message with both distances and what to change.
+        message: String,
+    },
 }
 
 /// `file:line` (or just `file`) for messages.

@@ -28,6 +28,10 @@ pub const DEFAULT_PAIR_TOLERANCE: f64 = 0.05;
 /// Default `penetration_tolerance` of the augmented Lagrangian, as a fraction of
 /// the diagonal of the bounding box of the interface's two parts.
 pub const DEFAULT_PENETRATION_TOLERANCE: f64 = 1e-6;
+/// Poisson's ratio from which a part in plane strain gets a volumetric-locking
+/// warning ([`Model::warnings`]): the bulk modulus is then 1/(1 − 2ν) ≥ 50 times
+/// the shear modulus.
+pub const LOCKING_NU: f64 = 0.49;
 /// Default coupling penalty as a multiple of the softer part's E·t.
 pub const DEFAULT_PENALTY_FACTOR: f64 = 1e5;
 
@@ -226,7 +230,7 @@ impl<'de> Deserialize<'de> for GroupSpec {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct InterfaceSpec {
-    name: Option<String>,
+    name: Option<Spanned<String>>,
     host: Spanned<String>,
     nodes: Spanned<String>,
     boundary: Spanned<String>,
@@ -258,6 +262,8 @@ enum Component {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SupportSpec {
+    /// Default: `part/boundary` or `part@(x, y)`.
+    name: Option<Spanned<String>>,
     part: Spanned<String>,
     boundary: Option<Spanned<String>>,
     #[serde(default, deserialize_with = "opt_pair")]
@@ -271,6 +277,8 @@ struct SupportSpec {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct LoadSpec {
+    /// Default: from the part and where the load acts (see [`Builder::load`]).
+    name: Option<Spanned<String>>,
     part: Spanned<String>,
     boundary: Option<Spanned<String>>,
     #[serde(default, deserialize_with = "opt_pair")]
@@ -350,7 +358,8 @@ impl Model {
     }
 
     /// A model built in code from its parts: no problem file behind it (so no
-    /// coarser level for the warm start: [`Model::with_refine`] fails).
+    /// coarser level for the warm start: [`Model::with_refine`] fails). Names
+    /// given twice within a kind are refused ([`Model::check_names`]).
     #[allow(clippy::too_many_arguments)]
     pub fn from_parts(
         title: impl Into<String>,
@@ -359,8 +368,8 @@ impl Model {
         supports: Vec<Support>,
         loads: Vec<Load>,
         settings: Settings,
-    ) -> Model {
-        Model {
+    ) -> Result<Model> {
+        let model = Model {
             title: title.into(),
             source: PathBuf::new(),
             units: Units::default(),
@@ -373,7 +382,72 @@ impl Model {
             refine: 1,
             text: String::new(),
             kept_polygons: Vec::new(),
+        };
+        model.check_names()?;
+        Ok(model)
+    }
+
+    /// Refuses a name given to two parts, two interfaces, two supports, two
+    /// loads or two steps ([`Error::DuplicateName`], the key counting each kind
+    /// from 1, e.g. `interface#2.name`): results, reactions and references are
+    /// keyed by name. A problem file's names are checked as it is read, with
+    /// their lines; this check is for models built or changed in code.
+    pub fn check_names(&self) -> Result<()> {
+        let kinds: [(&str, Vec<&str>); 5] = [
+            ("part", self.parts.iter().map(|p| p.name.as_str()).collect()),
+            (
+                "interface",
+                self.interfaces.iter().map(|i| i.name.as_str()).collect(),
+            ),
+            (
+                "support",
+                self.supports.iter().map(|s| s.name.as_str()).collect(),
+            ),
+            ("load", self.loads.iter().map(|l| l.name.as_str()).collect()),
+            ("step", self.steps.iter().map(|s| s.name.as_str()).collect()),
+        ];
+        for (kind, names) in kinds {
+            let mut seen: HashMap<&str, usize> = HashMap::with_capacity(names.len());
+            for (i, name) in names.iter().enumerate() {
+                if let Some(first) = seen.insert(name, i) {
+                    return Err(Error::DuplicateName {
+                        path: self.source.clone(),
+                        line: None,
+                        key: format!("{kind}#{}.name", i + 1),
+                        name: name.to_string(),
+                        message: format!(
+                            "= \"{name}\" is defined twice: {kind} #{} has this name too; {kind} names must be unique (results, reactions and references are keyed by name): rename one",
+                            first + 1
+                        ),
+                    });
+                }
+            }
         }
+        Ok(())
+    }
+
+    /// Advice about the model that does not stop it from being solved: parts in
+    /// plane strain with ν ≥ [`LOCKING_NU`], whose displacement elements lock
+    /// (volumetric locking: too stiff, with oscillating pressure), T3 most.
+    pub fn warnings(&self) -> Vec<String> {
+        self.parts
+            .iter()
+            .filter(|p| p.material.plane == PlaneKind::Strain && p.material.poisson >= LOCKING_NU)
+            .map(|p| {
+                let (t3, _) = p.mesh.counts();
+                let nu = p.material.poisson;
+                let ratio = 1.0 / (1.0 - 2.0 * nu);
+                let advice = if t3 > 0 {
+                    "its T3 elements lock (they cannot deform at constant volume, so displacements come out too small and stresses oscillate); use Q4 elements (`elements = \"q4\"`, which lock far less), plane = \"stress\" if the part is thin, or check the results against a finer mesh"
+                } else {
+                    "its Q4 elements (full integration) stiffen (volumetric locking: displacements come out too small); check the results against a finer mesh, or use plane = \"stress\" if the part is thin"
+                };
+                format!(
+                    "part '{}': ν = {nu} in plane strain is nearly incompressible (bulk modulus {ratio:.1e} × the shear modulus): {advice}",
+                    p.name
+                )
+            })
+            .collect()
     }
 
     /// The load steps: those of the `[[step]]` tables, or without them one step
@@ -425,11 +499,7 @@ impl Model {
         refine: usize,
         meshes: BTreeMap<String, Mesh>,
     ) -> Result<Model> {
-        let file: ProblemFile = toml::from_str(text).map_err(|e| Error::Parse {
-            path: path.to_path_buf(),
-            line: e.span().map(|s| line_of(text, s.start)),
-            message: e.to_string().trim_end().to_string(),
-        })?;
+        let file: ProblemFile = toml::from_str(text).map_err(|e| parse_error(text, path, &e))?;
         if refine == 0 {
             return Err(Error::Model(
                 "the refinement factor must be at least 1".into(),
@@ -647,10 +717,21 @@ impl Builder<'_> {
             Vec::new()
         };
         let mut claimed: BTreeMap<(usize, usize), String> = BTreeMap::new();
+        // An unnamed interface is named `host/nodes` (made unique).
+        let iface_names = unique_defaults(
+            iface_specs
+                .iter()
+                .map(|s| match &s.name {
+                    Some(n) => (n.get_ref().clone(), true),
+                    None => (format!("{}/{}", s.host.get_ref(), s.nodes.get_ref()), false),
+                })
+                .collect(),
+        );
         let interfaces = iface_specs
             .iter()
+            .zip(iface_names)
             .enumerate()
-            .map(|(i, spec)| self.interface(i, spec, &parts, &mut claimed))
+            .map(|(i, (spec, name))| self.interface(i, spec, name, &parts, &mut claimed))
             .collect::<Result<Vec<_>>>()?;
         let steps: Vec<Step> = step_specs
             .iter()
@@ -668,7 +749,7 @@ impl Builder<'_> {
                 .and_then(|s| steps.iter().position(|t| &t.name == s.get_ref()))
                 .unwrap_or(0)
         };
-        let supports = support_specs
+        let mut supports = support_specs
             .iter()
             .map(|spec| {
                 self.support(spec, &parts).map(|s| Support {
@@ -677,7 +758,7 @@ impl Builder<'_> {
                 })
             })
             .collect::<Result<Vec<_>>>()?;
-        let loads_out = load_specs
+        let mut loads_out = load_specs
             .iter()
             .map(|spec| {
                 self.load(spec, &parts).map(|l| Load {
@@ -686,6 +767,32 @@ impl Builder<'_> {
                 })
             })
             .collect::<Result<Vec<_>>>()?;
+        // Given names replace the default ones, which are made unique (a second
+        // support on one boundary gets ` (2)`).
+        let named = |s: &Option<Spanned<String>>, default: &str| match s {
+            Some(n) => (n.get_ref().clone(), true),
+            None => (default.to_string(), false),
+        };
+        let names = unique_defaults(
+            support_specs
+                .iter()
+                .zip(&supports)
+                .map(|(spec, s)| named(&spec.name, &s.name))
+                .collect(),
+        );
+        for (s, name) in supports.iter_mut().zip(names) {
+            s.name = name;
+        }
+        let names = unique_defaults(
+            load_specs
+                .iter()
+                .zip(&loads_out)
+                .map(|(spec, l)| named(&spec.name, &l.name))
+                .collect(),
+        );
+        for (l, name) in loads_out.iter_mut().zip(names) {
+            l.name = name;
+        }
         let title = title.unwrap_or_else(|| {
             self.path
                 .file_stem()
@@ -862,15 +969,12 @@ impl Builder<'_> {
         &self,
         index: usize,
         spec: &InterfaceSpec,
+        name: String,
         parts: &[Part],
         claimed: &mut BTreeMap<(usize, usize), String>,
     ) -> Result<InterfaceDef> {
         let host = self.part_index(parts, &spec.host, "host")?;
         let node_part = self.part_index(parts, &spec.nodes, "nodes")?;
-        let name = spec
-            .name
-            .clone()
-            .unwrap_or_else(|| format!("{}/{}", parts[host].name, parts[node_part].name));
         if host == node_part {
             return Err(self.err(
                 &spec.host,
@@ -934,16 +1038,17 @@ impl Builder<'_> {
         };
         let et = parts[softer].material.stiffness_scale();
         for (key, c) in [("c_n", c_n), ("c_s", c_s)] {
-            self.values.penalty(
-                &[
-                    check::Seg::K("interface"),
-                    check::Seg::I(index),
-                    check::Seg::K(key),
-                ],
-                c,
-                et,
-                &parts[softer].name,
-            )?;
+            let at = [
+                check::Seg::K("interface"),
+                check::Seg::I(index),
+                check::Seg::K(key),
+            ];
+            self.values.penalty(&at, c, et, &parts[softer].name)?;
+            // A penalty far below E·t holds nothing: refused by name rather than
+            // met as a mechanism. The frictionless law ignores c_s.
+            if !(key == "c_s" && frictionless) {
+                self.values.weak_penalty(&at, c, et, &parts[softer].name)?;
+            }
         }
         Ok(InterfaceDef {
             name,
@@ -1248,6 +1353,95 @@ fn refined_nodes(nodes: usize, refine: usize) -> u64 {
         .checked_mul(k)
         .and_then(|n| n.checked_mul(k))
         .unwrap_or(u64::MAX)
+/// The names of one kind of table, `(name, given)` each, with the default
+/// names (`given` false) made unique: a default name already taken (by a given
+/// name or an earlier table) gets ` (2)`, ` (3)`, … Given names are checked
+/// unique before (`check::names`) and are kept as they are.
+fn unique_defaults(names: Vec<(String, bool)>) -> Vec<String> {
+    let mut taken: std::collections::HashSet<String> = names
+        .iter()
+        .filter(|(_, given)| *given)
+        .map(|(n, _)| n.clone())
+        .collect();
+    names
+        .into_iter()
+        .map(|(name, given)| {
+            if given {
+                return name;
+            }
+            let mut unique = name.clone();
+            let mut k = 2usize;
+            while taken.contains(&unique) {
+                unique = format!("{name} ({k})");
+                k += 1;
+            }
+            taken.insert(unique.clone());
+            unique
+        })
+        .collect()
+}
+
+/// An [`Error::Parse`] for a TOML error of `text`, with the line of its span.
+/// The reader's "recursion limit" for a dotted key or table header of too many
+/// parts has no span: it is told with the line of the deepest key.
+fn parse_error(text: &str, path: &Path, e: &toml::de::Error) -> Error {
+    let message = e.to_string().trim_end().to_string();
+    let mut line = e.span().map(|s| line_of(text, s.start));
+    let message = match (line, deepest_key(text)) {
+        (None, Some((parts, l))) if message.contains("recursion limit") => {
+            line = Some(l);
+            format!(
+                "line {l}: a key nested too deep ({message} of the TOML reader, about 80 levels): this key has {parts} dotted parts, its table header's included; no problem key has more than 3"
+            )
+        }
+        _ => message,
+    };
+    Error::Parse {
+        path: path.to_path_buf(),
+        line,
+        message,
+    }
+}
+
+/// The deepest key of TOML text: its number of dotted parts (its table
+/// header's included) and its 1-based line (the first key of 80 parts or more,
+/// where the reader stops), for a message only (a rough
+/// reading: quoted parts are respected, multi-line values are not).
+fn deepest_key(text: &str) -> Option<(usize, usize)> {
+    // Dots outside quotes, plus one.
+    let parts = |key: &str| {
+        let mut quote = None;
+        let mut n = 1;
+        for c in key.chars() {
+            match (quote, c) {
+                (None, '"' | '\'') => quote = Some(c),
+                (Some(q), c) if c == q => quote = None,
+                (None, '.') => n += 1,
+                _ => {}
+            }
+        }
+        n
+    };
+    let mut header = 0;
+    let mut best: Option<(usize, usize)> = None;
+    for (i, line) in text.lines().enumerate() {
+        let t = line.trim_start();
+        let depth = if let Some(h) = t.strip_prefix('[') {
+            header = parts(h.trim_start_matches('[').split(']').next().unwrap_or(""));
+            header
+        } else if let Some((key, _)) = t.split_once('=')
+            && !t.starts_with('#')
+        {
+            header + parts(key)
+        } else {
+            continue;
+        };
+        // The first line at the reader's limit (80), else the deepest.
+        if best.is_none_or(|(d, _)| depth > d && d < 80) {
+            best = Some((depth, i + 1));
+        }
+    }
+    best
 }
 
 /// Refuses a model of `nodes` nodes (two unknowns each) whose estimated memory
@@ -1277,4 +1471,35 @@ fn check_size(nodes: u64, refine: usize) -> Result<()> {
             available as f64 / (1u64 << 30) as f64
         ),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Default names that repeat, or equal a given name, get the first free
+    /// ` (k)`; given names are kept as they are.
+    #[test]
+    fn default_names_are_made_unique() {
+        let names = unique_defaults(vec![
+            ("a".into(), false),
+            ("a".into(), false),
+            ("a (2)".into(), true),
+            ("a".into(), false),
+            ("b".into(), true),
+            ("b".into(), false),
+        ]);
+        assert_eq!(names, ["a", "a (3)", "a (2)", "a (4)", "b", "b (2)"]);
+    }
+
+    /// The deepest key counts its table header's parts and dots outside quotes,
+    /// and names the first line at the reader's limit of 80.
+    #[test]
+    fn deepest_key_counts_dotted_parts() {
+        let text = "a = 1\n[t.u]\n\"x.y\".z = 2\n# c.d.e.f = 1\n";
+        assert_eq!(deepest_key(text), Some((4, 3)));
+        let deep = format!("[h]\nk{} = 1\nk{} = 1\n", ".a".repeat(85), ".a".repeat(90));
+        assert_eq!(deepest_key(&deep), Some((87, 2)));
+        assert_eq!(deepest_key(""), None);
+    }
 }

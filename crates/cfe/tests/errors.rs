@@ -428,3 +428,221 @@ fn memory_check_refuses_before_the_factorization() {
     assert!(cfe::Analysis::check_memory(&solver, Some(u64::MAX)).is_ok());
     assert!(cfe::Analysis::check_memory(&solver, None).is_ok());
 }
+
+/// An interface between faces 1000 mm apart with a 1 mm `search_distance`
+/// (node or segment coupling) is refused where its pairs are sought, naming the
+/// interface, the distance and the nearest gap found (exactly 1000: the plate's
+/// bottom nodes lie straight above the base's top) — not solved and then failed
+/// as a picture without points.
+#[test]
+fn faces_beyond_the_search_distance_have_no_pair() {
+    for coupling in ["node", "segment"] {
+        let text = format!(
+            "{}{}",
+            BASE.replace("y = [120.0, 135.0]", "y = [1120.0, 1135.0]")
+                .replace(
+                    "boundary = \"bottom\"\n\n[[support]]",
+                    &format!(
+                        "boundary = \"bottom\"\nsearch_distance = 1.0\ncoupling = \"{coupling}\"\n\n[[support]]"
+                    )
+                ),
+            LOAD_DOWN.replace(", 135.0]", ", 1135.0]")
+        );
+        let model = parse(&text).expect("a valid model");
+        let e = Analysis::new(model).err().expect("no pair refused");
+        match &e {
+            Error::NoPairs {
+                interface,
+                search_distance,
+                nearest: Some(d),
+                ..
+            } => {
+                assert_eq!(interface, "base/plate", "{e}");
+                assert_eq!(*search_distance, 1.0);
+                assert!((d - 1000.0).abs() < 1e-9, "{coupling}: nearest {d}");
+            }
+            other => panic!("{coupling}: {other:?}"),
+        }
+        let m = e.to_string();
+        assert!(
+            m.contains("no pair within search_distance = 1")
+                && m.contains("interface 'base/plate'")
+                && m.contains("1e3 away"),
+            "{m}"
+        );
+    }
+}
+
+/// Some nodes within the search distance: the interface is built, the others
+/// unpaired (the refusal above is for an interface that couples nothing).
+#[test]
+fn faces_partly_within_the_search_distance_are_paired() {
+    // The plate's bottom 0.5 above the base's top: every node is within 1.0;
+    // within 0.4 none is, and the refusal names 0.5.
+    let text = BASE
+        .replace("y = [120.0, 135.0]", "y = [120.5, 135.5]")
+        .replace(
+            "boundary = \"bottom\"\n\n[[support]]",
+            "boundary = \"bottom\"\nsearch_distance = 1.0\n\n[[support]]",
+        );
+    let a = Analysis::new(parse(&text).unwrap()).expect("paired");
+    assert_eq!(a.interfaces[0].elements.len(), 29);
+    let text = text.replace("search_distance = 1.0", "search_distance = 0.4");
+    match Analysis::new(parse(&text).unwrap()).err() {
+        Some(Error::NoPairs {
+            nearest: Some(d), ..
+        }) => assert!((d - 0.5).abs() < 1e-12, "{d}"),
+        other => panic!("{other:?}"),
+    }
+}
+
+/// Unnamed interfaces, supports and loads get default names, made unique with
+/// ` (2)`, ` (3)` when they repeat (a second support on one boundary); a given
+/// name is kept and a default equal to it moves aside. Names are then unique
+/// in the model, as results and reactions are keyed by them.
+#[test]
+fn default_names_are_made_unique() {
+    let support_y = "\n[[support]]\npart = \"base\"\nboundary = \"bottom\"\nfix = [\"y\"]\n";
+    let named = "\n[[support]]\nname = \"base/bottom (2)\"\npart = \"base\"\nboundary = \"left\"\nfix = [\"x\"]\n";
+    let text = format!("{BASE}{support_y}{support_y}{named}{LOAD_DOWN}{LOAD_DOWN}");
+    let m = parse(&text).unwrap();
+    let names: Vec<&str> = m.supports.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "base/bottom",
+            "base/bottom (3)",
+            "base/bottom (4)",
+            "base/bottom (2)"
+        ]
+    );
+    assert_ne!(m.loads[0].name, m.loads[1].name);
+    assert!(m.loads[1].name.ends_with(" (2)"), "{}", m.loads[1].name);
+    m.check_names().unwrap();
+    // Two unnamed interfaces of the same host and node part (the plate's
+    // bottom and its top, which no base edge holds: names are given before
+    // anything is paired) are `base/plate` and `base/plate (2)`.
+    let twice = BASE.replace(
+        "[[interface]]\nhost = \"base\"\nnodes = \"plate\"\nboundary = \"bottom\"\n",
+        "[[interface]]\nhost = \"base\"\nnodes = \"plate\"\nboundary = \"bottom\"\n\n[[interface]]\nhost = \"base\"\nnodes = \"plate\"\nboundary = \"top\"\n",
+    );
+    let m = parse(&twice).unwrap();
+    let names: Vec<&str> = m.interfaces.iter().map(|i| i.name.as_str()).collect();
+    assert_eq!(names, ["base/plate", "base/plate (2)"]);
+}
+
+/// A model built or changed in code is checked as a file is: a name given to
+/// two interfaces (or supports, loads, steps, parts) is refused by
+/// `Model::from_parts` and by `Analysis::new`, with the key counting from 1.
+#[test]
+fn names_given_twice_in_code_are_refused() {
+    let m = parse(&format!("{BASE}{LOAD_DOWN}")).unwrap();
+    let e = cfe::Model::from_parts(
+        "in code",
+        m.parts.clone(),
+        vec![m.interfaces[0].clone(), m.interfaces[0].clone()],
+        m.supports.clone(),
+        m.loads.clone(),
+        m.settings.clone(),
+    )
+    .expect_err("refused");
+    match &e {
+        Error::DuplicateName {
+            key, name, line, ..
+        } => {
+            assert_eq!(key, "interface#2.name");
+            assert_eq!(name, "base/plate");
+            assert_eq!(*line, None);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(
+        e.to_string().starts_with("model: `interface#2.name`"),
+        "{e}"
+    );
+    cfe::Model::from_parts(
+        "in code",
+        m.parts.clone(),
+        m.interfaces.clone(),
+        m.supports.clone(),
+        m.loads.clone(),
+        m.settings.clone(),
+    )
+    .expect("unique names");
+    for kind in ["part", "support", "load"] {
+        let mut changed = parse(&format!("{BASE}{LOAD_DOWN}{LOAD_DOWN}")).unwrap();
+        match kind {
+            "part" => changed.parts[1].name = changed.parts[0].name.clone(),
+            "support" => changed.supports.push(changed.supports[0].clone()),
+            _ => changed.loads[1].name = changed.loads[0].name.clone(),
+        }
+        match Analysis::new(changed).err() {
+            Some(Error::DuplicateName { key, .. }) => {
+                assert_eq!(key, format!("{kind}#2.name"))
+            }
+            other => panic!("{kind}: {other:?}"),
+        }
+    }
+}
+
+/// Plane strain with ν = 0.4999999 (bulk modulus 5e6 × shear): the T3 parts
+/// lock, which is said in the model's warnings, in `cfe check`'s description
+/// and in the summary's notes at increment 0 (advice: Q4 or plane stress), and
+/// does not mark the run as breaking its law. Q4 parts get their own advice;
+/// plane stress or a moderate ν get none.
+#[test]
+fn nearly_incompressible_plane_strain_warns_of_locking() {
+    let strain = |nu: &str, plane: &str| {
+        format!("plane = \"{plane}\"\n{BASE}{LOAD_DOWN}")
+            .replace("nu = 0.31", &format!("nu = {nu}"))
+    };
+    let m = parse(&strain("0.4999999", "strain")).unwrap();
+    let w = m.warnings();
+    assert_eq!(w.len(), 2, "{w:?}");
+    for (w, part) in w.iter().zip(["base", "plate"]) {
+        assert!(
+            w.contains(&format!("part '{part}'"))
+                && w.contains("T3 elements lock")
+                && w.contains("Q4")
+                && w.contains("plane = \"stress\"")
+                && w.contains("5.0e6"),
+            "{w}"
+        );
+    }
+    let a = Analysis::new(m).unwrap();
+    assert!(a.describe().contains("warning: part 'base'"));
+    let res = a.solve().unwrap();
+    let notes: Vec<_> = res
+        .summary
+        .notes
+        .iter()
+        .filter(|n| n.increment == 0)
+        .collect();
+    assert_eq!(notes.len(), 2);
+    assert!(notes[0].message.contains("lock"));
+    assert!(
+        res.summary
+            .warnings
+            .iter()
+            .all(|w| !w.message.contains("lock"))
+    );
+    // Q4 parts: warned, with the Q4 advice.
+    let q4 = strain("0.4999999", "strain").replace(
+        "cells = [20, 12] }",
+        "cells = [20, 12], elements = \"q4\" }",
+    );
+    let w = parse(&q4).unwrap().warnings();
+    assert_eq!(w.len(), 2);
+    assert!(w[0].contains("Q4 elements (full integration)"), "{}", w[0]);
+    assert!(w[1].contains("T3 elements lock"), "{}", w[1]);
+    for (nu, plane) in [
+        ("0.4999999", "stress"),
+        ("0.45", "strain"),
+        ("0.31", "strain"),
+    ] {
+        assert!(
+            parse(&strain(nu, plane)).unwrap().warnings().is_empty(),
+            "{nu} {plane}"
+        );
+    }
+}

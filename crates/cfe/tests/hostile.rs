@@ -99,6 +99,10 @@ enum Kind {
     Parse,
     /// `Error::TooLarge`.
     TooLarge,
+    /// `Error::DuplicateName` with this key.
+    Duplicate(&'static str),
+    /// `Error::WeakPenalty` with this key.
+    Weak(&'static str),
 }
 
 /// Checks `e` against `kind`: the variant, the key, and that the line it names
@@ -113,7 +117,9 @@ fn assert_error(case: &str, text: &str, e: &Error, kind: Kind, words: &[&str]) {
     match (kind, e) {
         (Kind::Invalid(k), Error::Invalid { key, line, .. })
         | (Kind::Overflow(k), Error::Overflow { key, line, .. })
-        | (Kind::Precision(k), Error::PenaltyPrecision { key, line, .. }) => {
+        | (Kind::Precision(k), Error::PenaltyPrecision { key, line, .. })
+        | (Kind::Duplicate(k), Error::DuplicateName { key, line, .. })
+        | (Kind::Weak(k), Error::WeakPenalty { key, line, .. }) => {
             assert_eq!(key, k, "{case}: {e}");
             let l = line_of(line);
             assert!(l.contains(&last(k)), "{case}: line '{l}' lacks {k}: {e}");
@@ -424,8 +430,8 @@ fn hostile_values_are_refused_with_file_line_and_key() {
         (
             "duplicate part",
             with("name = \"ring\"", "name = \"plate\""),
-            Parse,
-            &["defined twice"],
+            Duplicate("part#3.name"),
+            &["defined twice", "[[part]] #2 on line 17"],
         ),
         (
             "two meshes",
@@ -825,4 +831,234 @@ fn gmsh_non_finite_coordinate_names_file_and_node() {
         m.contains(&format!("node {tag}")) && m.contains("non-finite x"),
         "{m}"
     );
+}
+
+/// The second `[[interface]]` table of the cases below: the plate's left side on
+/// the base (its coupling nodes lie on no base edge, but names are checked
+/// before anything is meshed or paired).
+const SECOND_INTERFACE: &str = "\n[[interface]]\nname = \"plate-base\"\nhost = \"base\"\nnodes = \"plate\"\nboundary = \"left\"\n";
+
+/// `BASE` with `extra` appended to its `[[interface]]` block (before its first
+/// `[[support]]`).
+fn with_before_support(extra: &str) -> String {
+    with("\n[[support]]", &format!("{extra}\n[[support]]"))
+}
+
+/// `BASE` in plane strain with the steel's ν set to `nu`.
+fn plane_strain_nu(nu: &str) -> String {
+    with(
+        "title = \"hostile\"",
+        "title = \"hostile\"\nplane = \"strain\"",
+    )
+    .replacen("nu = 0.31", &format!("nu = {nu}"), 1)
+}
+
+/// Names given twice, penalties far below E·t, ν at its bounds and keys nested
+/// beyond the TOML reader's limit: each refused with its typed error, key and
+/// line, and a message naming the real cause (not a mechanism, not a bare
+/// "recursion limit"). 21 cases.
+#[test]
+fn names_penalties_and_nesting_are_refused_with_their_cause() {
+    use Kind::*;
+    let deep_key = format!("deep{} = 1", ".a".repeat(100));
+    let deep_header = format!("[deep{}]\nb = 1", ".a".repeat(90));
+    let deep_array = format!("deep = {}{}", "[".repeat(300), "]".repeat(300));
+    let deep_table = format!("deep = {}1{}", "{a=".repeat(300), "}".repeat(300));
+    let cases: Vec<(&str, String, Kind, &[&str])> = vec![
+        // ---- names
+        (
+            "interface name twice",
+            with_before_support(SECOND_INTERFACE),
+            Duplicate("interface#2.name"),
+            &[
+                "\"plate-base\"",
+                "defined twice",
+                "[[interface]] #1 on line 28",
+            ],
+        ),
+        (
+            "third interface repeats the first",
+            with_before_support(&format!(
+                "{}{SECOND_INTERFACE}",
+                SECOND_INTERFACE.replace("plate-base", "other")
+            )),
+            Duplicate("interface#3.name"),
+            &["[[interface]] #1", "rename one"],
+        ),
+        (
+            "support name twice",
+            with(
+                "[[support]]\npart = \"base\"",
+                "[[support]]\nname = \"ground\"\npart = \"base\"",
+            )
+            .replacen(
+                "[[support]]\npart = \"ring\"",
+                "[[support]]\nname = \"ground\"\npart = \"ring\"",
+                1,
+            ),
+            Duplicate("support#2.name"),
+            &["\"ground\"", "[[support]] #1 on line"],
+        ),
+        (
+            "load name twice",
+            with(
+                "[[load]]\npart = \"plate\"",
+                "[[load]]\nname = \"push\"\npart = \"plate\"",
+            )
+            .replacen(
+                "[[load]]\npart = \"ring\"",
+                "[[load]]\nname = \"push\"\npart = \"ring\"",
+                1,
+            ),
+            Duplicate("load#2.name"),
+            &["\"push\"", "load names must be unique"],
+        ),
+        (
+            "step name twice",
+            with("increments = 10\n", "")
+                + "\n[[step]]\nname = \"s\"\nincrements = 1\n\n[[step]]\nname = \"s\"\nincrements = 2\n",
+            Duplicate("step#2.name"),
+            &["\"s\"", "[[step]] #1"],
+        ),
+        (
+            "part name twice, first and last",
+            with("name = \"ring\"", "name = \"base\""),
+            Duplicate("part#3.name"),
+            &["\"base\"", "[[part]] #1 on line 11"],
+        ),
+        // ---- penalties far below E·t
+        (
+            "c_n far below E·t",
+            with("c_n = 1e9", "c_n = 1e-3"),
+            Weak("interface.plate-base.c_n"),
+            &["far below E·t", "part 'base'", "mechanism"],
+        ),
+        (
+            "c_s far below E·t",
+            with("c_s = 1e9", "c_s = 0.01"),
+            Weak("interface.plate-base.c_s"),
+            &["far below E·t", "1e3 to 1e8 × E·t"],
+        ),
+        (
+            "E = 1e100 under a penalty of 1e9",
+            with("E = 210000.0", "E = 1e100"),
+            Weak("interface.plate-base.c_n"),
+            &["E·t = 1e100", "1.0e-91 × E·t"],
+        ),
+        (
+            "c_n below E·t of the softer part",
+            with("c_n = 1e9", "c_n = 1e-4").replacen(
+                "name = \"plate\"\nmaterial = \"steel\"",
+                "name = \"plate\"\nmaterial = \"soft\"",
+                1,
+            ),
+            Weak("interface.plate-base.c_n"),
+            &["E·t = 1e3 of part 'plate'"],
+        ),
+        // ---- ν at its bounds
+        (
+            "nu one ulp below 0.5 in plane strain",
+            plane_strain_nu("0.49999999999999994"),
+            Invalid("materials.steel.nu"),
+            &[
+                "of 0.5 in plane strain",
+                "ill-conditioned",
+                "plane = \"stress\"",
+            ],
+        ),
+        (
+            "nu 1e-12 below 0.5 in plane strain",
+            plane_strain_nu("0.499999999999"),
+            Invalid("materials.steel.nu"),
+            &["bulk modulus", "5.0e11 × the shear modulus"],
+        ),
+        (
+            "nu one ulp above -1",
+            with("nu = 0.31", "nu = -0.9999999999999999"),
+            Invalid("materials.steel.nu"),
+            &["of -1", "shear modulus", "ill-conditioned"],
+        ),
+        (
+            "nu 1e-12 above -1 in plane strain",
+            plane_strain_nu("-0.999999999999"),
+            Invalid("materials.steel.nu"),
+            &["of -1"],
+        ),
+        (
+            "nu of the soft material near 0.5 in plane strain",
+            plane_strain_nu("0.31").replacen("nu = 0.2", "nu = 0.49999999999", 1),
+            Invalid("materials.soft.nu"),
+            &["hostile.toml:9"],
+        ),
+        // ---- nesting beyond the TOML reader's limit
+        (
+            "dotted key of 101 parts under [analysis]",
+            format!("{BASE}{deep_key}\n"),
+            Parse,
+            &["nested too deep", "102 dotted parts", "recursion limit"],
+        ),
+        (
+            "table header of 91 parts",
+            format!("{BASE}{deep_header}\n"),
+            Parse,
+            &["nested too deep", "91 dotted parts"],
+        ),
+        (
+            "dotted key at the top",
+            format!("{deep_key}\n{BASE}"),
+            Parse,
+            &["hostile.toml: line 1:", "101 dotted parts"],
+        ),
+        (
+            "arrays 300 deep",
+            format!("{BASE}{deep_array}\n"),
+            Parse,
+            &["recurse"],
+        ),
+        (
+            "inline tables 300 deep",
+            format!("{BASE}{deep_table}\n"),
+            Parse,
+            &["recurse"],
+        ),
+        (
+            "nested arrays as a value",
+            with(
+                "fix = [\"x\", \"y\"]",
+                &format!("fix = {}{}", "[".repeat(200), "]".repeat(200)),
+            ),
+            Parse,
+            &["recurse"],
+        ),
+    ];
+    assert!(cases.len() >= 21, "{} cases", cases.len());
+    for (case, text, kind, words) in &cases {
+        let e = error(text, 1);
+        assert_error(case, text, &e, *kind, words);
+    }
+    // The nesting errors name the deep line itself.
+    let text = format!("{BASE}{deep_header}\n");
+    match error(&text, 1) {
+        Error::Parse { line: Some(l), .. } => {
+            assert!(text.lines().nth(l - 1).unwrap().starts_with("[deep"))
+        }
+        e => panic!("{e:?}"),
+    }
+}
+
+/// What stays accepted next to the refusals above: a penalty of 1e-5 × E·t,
+/// a tiny `c_s` the frictionless law ignores, ν one ulp below 0.5 in plane
+/// stress (where nothing diverges) and 1e-9 from its bounds in plane strain.
+#[test]
+fn values_near_the_new_limits_are_accepted() {
+    for text in [
+        with("c_n = 1e9", "c_n = 2.1"),
+        with("c_s = 1e9", "c_s = 1e-9\nlaw = \"frictionless\""),
+        with("nu = 0.31", "nu = 0.49999999999999994"),
+        plane_strain_nu("0.499999999"),
+        plane_strain_nu("-0.999999999"),
+    ] {
+        Model::from_str(&text, Path::new("hostile.toml"), 1)
+            .unwrap_or_else(|e| panic!("{e}\n{text}"));
+    }
 }

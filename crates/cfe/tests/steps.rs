@@ -264,8 +264,9 @@ fn invalid(text: &str) -> (String, Option<usize>, String) {
 }
 
 /// Every misuse of steps is an `Error::Invalid` naming the key and its line: an
-/// unknown step name (with and without `[[step]]` tables), a duplicate name, a
-/// step of 0 increments, `[analysis] increments` beside `[[step]]`.
+/// unknown step name (with and without `[[step]]` tables), a step of 0
+/// increments, `[analysis] increments` beside `[[step]]`; a duplicate name is an
+/// `Error::DuplicateName` with its key and line.
 #[test]
 fn step_input_errors_name_key_and_line() {
     let load = |step: &str| {
@@ -295,10 +296,16 @@ fn step_input_errors_name_key_and_line() {
     );
     assert_eq!(invalid(&text).0, "support#2.step");
 
+    // A name given twice: `Error::DuplicateName`, keyed by the step's number
+    // (both steps are `step.a`).
     let text = block("law = \"rigid\"", &two.replace("\"b\"", "\"a\""));
-    let (key, line, _) = invalid(&text);
-    assert_eq!(key, "step.a.name");
-    assert_eq!(line, Some(line_of(&text, "name = \"a\"\nincrements = 2")));
+    match parse(&text) {
+        Err(Error::DuplicateName { key, line, .. }) => {
+            assert_eq!(key, "step#2.name");
+            assert_eq!(line, Some(line_of(&text, "name = \"a\"\nincrements = 2")));
+        }
+        other => panic!("expected Error::DuplicateName, got {other:?}"),
+    }
 
     let text = block(
         "law = \"rigid\"",

@@ -13,7 +13,8 @@ class CfeError(Exception):
     """Any error of cfe; the message names the file, line, key, part or node at fault."""
 
 class ParseError(CfeError):
-    """The problem cannot be read (file, TOML, unknown key, unknown name)."""
+    """The problem cannot be read (file, TOML, unknown key, unknown name, a name
+    given twice: then also ``key``, e.g. ``interface#2.name``, and ``name``)."""
 
     path: Optional[Union[str, PathLike[str]]]
     line: Optional[int]
@@ -30,7 +31,8 @@ class MeshError(CfeError):
     part: str
 
 class CouplingError(CfeError):
-    """An interface cannot be built (coupling nodes on no host edge ...)."""
+    """An interface cannot be built (coupling nodes on no host edge, no pair
+    within ``search_distance``: then ``search_distance`` and ``nearest``)."""
 
     interface: str
     nodes: List[Tuple[int, Tuple[float, float]]]

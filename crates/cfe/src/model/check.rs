@@ -10,9 +10,12 @@
 
 use crate::coupling::Law;
 use crate::error::{Error, Result};
+use crate::fem::PlaneKind;
+use std::collections::HashMap;
 use std::fmt::Display;
 use std::ops::Range;
 use std::path::Path;
+use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
 /// The largest magnitude of a dimensional input (a modulus, a penalty, a
@@ -26,6 +29,18 @@ pub const MIN_STIFFNESS: f64 = 1e-100;
 /// double precision's relative round-off) the part's stiffness is below the
 /// round-off of the penalty entries, so the solve cannot see it.
 pub const MAX_PENALTY_RATIO: f64 = 1e16;
+
+/// The smallest penalty relative to the softer part's E·t: below it the
+/// coupling's compliance is a million times the part's, so the interface holds
+/// nothing a user meant it to (and far below, in round-off, nothing at all).
+pub const MIN_PENALTY_RATIO: f64 = 1e-6;
+/// How close ν may come to its bounds: within this of −1 (the shear modulus
+/// E/(2(1+ν)) grows without bound) or, in plane strain, of 0.5 (the bulk modulus
+/// E/(2(1+ν)(1−2ν)) does), one modulus is more than 1/(2 `NU_MARGIN`) times the
+/// other or than E. One ulp from the bound the factorization fails as if the
+/// model were a mechanism; the seed's plate on its base in plane strain already
+/// loses equilibrium to 1.4e-6 at 0.5 − 1e-10 (8e-8 at 0.5 − 1e-8).
+pub const NU_MARGIN: f64 = 1e-10;
 
 /// The most load increments a run may have.
 pub const MAX_INCREMENTS: usize = 10_000_000;
@@ -101,12 +116,12 @@ impl<'a> Values<'a> {
 
     /// The 1-based line of the value at `at` (or of its deepest enclosing item).
     pub fn line(&self, at: &[Seg]) -> Option<usize> {
-        self.lookup(at).1.map(|s| {
-            self.text[..s.start.min(self.text.len())]
-                .matches('\n')
-                .count()
-                + 1
-        })
+        self.lookup(at).1.map(|s| self.line_at(s.start))
+    }
+
+    /// The 1-based line of byte offset `at` of the text.
+    pub fn line_at(&self, at: usize) -> usize {
+        super::line_of(self.text, at)
     }
 
     /// The readable key of `at`: dotted, with an array item named by its `name`
@@ -233,15 +248,39 @@ impl<'a> Values<'a> {
     }
 }
 
+impl Values<'_> {
+    /// An [`Error::WeakPenalty`] when the penalty `c` at `at` is below
+    /// [`MIN_PENALTY_RATIO`] × `et` (the softer part's E·t, of part `part`).
+    pub fn weak_penalty(&self, at: &[Seg], c: f64, et: f64, part: &str) -> Result<()> {
+        let ratio = c / et;
+        if ratio >= MIN_PENALTY_RATIO {
+            return Ok(());
+        }
+        Err(Error::WeakPenalty {
+            path: self.path.to_path_buf(),
+            line: self.line(at),
+            key: self.key(at),
+            ratio,
+            message: format!(
+                "= {c:e} is far below E·t = {et:e} of part '{part}' ({ratio:.1e} × E·t, below {MIN_PENALTY_RATIO:e}): the penalty is the coupling's stiffness, so the interface would hold the faces {:.0e} times more loosely than the part itself deforms, and in round-off not at all (the factorization then reports a mechanism); use a penalty of 1e3 to 1e8 × E·t, or leave `c_n`/`c_s` out for the default {:e} × E·t",
+                1.0 / ratio,
+                super::DEFAULT_PENALTY_FACTOR
+            ),
+        })
+    }
+}
+
 // ------------------------------------------------------- the problem file's keys
 
 use super::{InterfaceSpec, LoadSpec, MaterialSpec, PartSpec, ProblemFile, StepSpec, SupportSpec};
 use Seg::{I, K};
 
-/// Checks every number of the problem file before anything is meshed.
+/// Checks every number of the problem file, and that names are unique, before
+/// anything is meshed.
 pub(super) fn problem(v: &Values, f: &ProblemFile) -> Result<()> {
+    names(v, f)?;
     for (name, m) in &f.materials {
-        material(v, name, m)?;
+        material(v, name, m, f.plane)?;
     }
     for (i, p) in f.parts.iter().enumerate() {
         part(v, i, p, f.materials.get(p.material.get_ref()))?;
@@ -259,7 +298,51 @@ pub(super) fn problem(v: &Values, f: &ProblemFile) -> Result<()> {
     analysis(v, &f.analysis)
 }
 
-/// `[[step]]`: unique, non-empty names, at least one increment each (at most
+/// The names of the parts, interfaces, supports, loads and steps: each unique
+/// within its kind ([`unique`]). Unnamed interfaces, supports and loads get
+/// default names when built (made unique there).
+fn names(v: &Values, f: &ProblemFile) -> Result<()> {
+    let parts: Vec<_> = f.parts.iter().map(|p| Some(&p.name)).collect();
+    unique(v, "part", &parts)?;
+    let interfaces: Vec<_> = f.interfaces.iter().map(|i| i.name.as_ref()).collect();
+    unique(v, "interface", &interfaces)?;
+    let supports: Vec<_> = f.supports.iter().map(|s| s.name.as_ref()).collect();
+    unique(v, "support", &supports)?;
+    let loads: Vec<_> = f.loads.iter().map(|l| l.name.as_ref()).collect();
+    unique(v, "load", &loads)?;
+    let steps: Vec<_> = f.steps.iter().map(|s| Some(&s.name)).collect();
+    unique(v, "step", &steps)
+}
+
+/// Refuses a `name` of a `[[table]]` given to an earlier table of the same kind
+/// (`names` holds each table's `name` key, `None` where it has none) with an
+/// [`Error::DuplicateName`] naming the line of the duplicate and of the first.
+pub(super) fn unique(v: &Values, table: &str, names: &[Option<&Spanned<String>>]) -> Result<()> {
+    let mut seen: HashMap<&str, usize> = HashMap::with_capacity(names.len());
+    for (i, name) in names.iter().enumerate() {
+        let Some(name) = name else { continue };
+        if let Some(&first) = seen.get(name.get_ref().as_str()) {
+            let line_of = |s: &Spanned<String>| v.line_at(s.span().start);
+            let first_line = names[first].map(line_of);
+            return Err(Error::DuplicateName {
+                path: v.path.to_path_buf(),
+                line: Some(line_of(name)),
+                key: format!("{table}#{}.name", i + 1),
+                name: name.get_ref().clone(),
+                message: format!(
+                    "= \"{}\" is defined twice: [[{table}]] #{}{} has this name too; {table} names must be unique (results, reactions and references are keyed by name): rename one",
+                    name.get_ref(),
+                    first + 1,
+                    first_line.map_or(String::new(), |l| format!(" on line {l}")),
+                ),
+            });
+        }
+        seen.insert(name.get_ref().as_str(), i);
+    }
+    Ok(())
+}
+
+/// `[[step]]`: unique (see [`names`]), non-empty names, at least one increment each (at most
 /// [`MAX_INCREMENTS`] in all), no `[analysis] increments` beside them (each step
 /// gives its own), and every `step` key of a load or support naming one of them.
 fn steps(v: &Values, f: &ProblemFile) -> Result<()> {
@@ -271,15 +354,6 @@ fn steps(v: &Values, f: &ProblemFile) -> Result<()> {
             return Err(v.invalid(
                 &[K("step"), I(i), K("name")],
                 "is empty: a step needs a name the loads and supports can refer to",
-            ));
-        }
-        if names[..i].contains(&name.get_ref().as_str()) {
-            return Err(v.invalid(
-                &[K("step"), I(i), K("name")],
-                format!(
-                    "= \"{}\" names an earlier step too: step names must be unique",
-                    name.get_ref()
-                ),
             ));
         }
         if *increments == 0 {
@@ -334,8 +408,9 @@ fn steps(v: &Values, f: &ProblemFile) -> Result<()> {
     Ok(())
 }
 
-/// `[materials.NAME]`: 0 < E (within the computable range), −1 < ν < 0.5.
-fn material(v: &Values, name: &str, m: &MaterialSpec) -> Result<()> {
+/// `[materials.NAME]`: 0 < E (within the computable range), −1 < ν < 0.5, and
+/// ν not within [`NU_MARGIN`] of −1 or (in plane strain) of 0.5.
+fn material(v: &Values, name: &str, m: &MaterialSpec, plane: PlaneKind) -> Result<()> {
     let e = [K("materials"), K(name), K("E")];
     v.check(
         &e,
@@ -344,12 +419,35 @@ fn material(v: &Values, name: &str, m: &MaterialSpec) -> Result<()> {
         "must be positive: Young's modulus is the material's stiffness",
     )?;
     v.magnitude(&e, &[m.young], true)?;
+    let nu = [K("materials"), K(name), K("nu")];
     v.check(
-        &[K("materials"), K(name), K("nu")],
+        &nu,
         m.nu,
         |x| x > -1.0 && x < 0.5,
         "must lie in (-1, 0.5): outside it the elastic energy is not positive (0.5 is incompressible, which displacement elements cannot carry)",
-    )
+    )?;
+    if m.nu + 1.0 < NU_MARGIN {
+        return Err(v.invalid(
+            &nu,
+            format!(
+                "= {} is within {NU_MARGIN:e} of -1: the shear modulus E/(2(1+ν)) is {:.1e} × E, so the stiffness (the D matrix) is too ill-conditioned for double precision (at one ulp from -1 it is singular and the factorization reports a mechanism); use ν ≥ {}",
+                m.nu,
+                0.5 / (1.0 + m.nu),
+                -1.0 + NU_MARGIN
+            ),
+        ));
+    }
+    if plane == PlaneKind::Strain && 0.5 - m.nu < NU_MARGIN {
+        return Err(v.invalid(
+            &nu,
+            format!(
+                "= {} is within {NU_MARGIN:e} of 0.5 in plane strain: the bulk modulus E/(2(1+ν)(1−2ν)) is {:.1e} × the shear modulus, so the stiffness (the D matrix) is too ill-conditioned for double precision (at one ulp from 0.5 it is singular and the factorization reports a mechanism); use ν ≤ 0.499 (near-incompressible displacement elements lock anyway), or plane = \"stress\" if the part is thin",
+                m.nu,
+                1.0 / (1.0 - 2.0 * m.nu)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// `[[part]]`: thickness > 0 with E·t computable, finite geometry.

@@ -880,12 +880,18 @@ impl Analysis {
 
     /// `pressure.png`: the contact pressure of every pair along each interface
     /// with a contact law (one curve per interface, against x, or y where the
-    /// interface spans more in y); `false` when no interface has a contact law.
+    /// interface spans more in y); `false` when no interface has a contact law
+    /// with pairs.
     fn write_pressure_chart(&self, out: &Path, rows: &[PairRow]) -> Result<bool> {
         let mut series = Vec::new();
         let mut along_y = 0;
         for iface in self.interfaces.iter().filter(|i| i.law != Law::Rigid) {
             let mine: Vec<&PairRow> = rows.iter().filter(|r| r.interface == iface.name).collect();
+            // An interface without pairs has no curve (a chart of no curve is
+            // not drawn): never a failed picture.
+            if mine.is_empty() {
+                continue;
+            }
             let span = |f: fn(&PairRow) -> f64| {
                 let (lo, hi) = mine
                     .iter()
