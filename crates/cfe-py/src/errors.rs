@@ -247,6 +247,10 @@ pub fn to_py(py: Python<'_>, e: cfe::Error) -> PyErr {
                 ("nearest", obj(py, nearest)),
             ],
         ),
+        E::InputFile { path, .. } => (
+            ParseError::new_err(message),
+            vec![("path", obj(py, path)), ("line", py.None())],
+        ),
     };
     let value = err.value(py);
     for (name, v) in attrs {

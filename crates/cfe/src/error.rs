@@ -258,6 +258,40 @@ pub enum Error {
         /// The message with both distances and what to change.
         message: String,
     },
+    /// An input file (a problem file or a mesh file) refused before it is read: not
+    /// a regular file (a directory, a FIFO, a device: reading one could block
+    /// forever or never end), or larger than the cap on its kind (64 MiB for a
+    /// problem file, 4 GiB for a mesh file).
+    #[error("cannot read {what} {path}: {message}")]
+    InputFile {
+        /// The file.
+        path: PathBuf,
+        /// What the file is to cfe: "problem file", "Gmsh file of part 'base'".
+        what: String,
+        /// Why it is refused.
+        refusal: InputRefusal,
+        /// The message, with the file's type or its size and the cap.
+        message: String,
+    },
+}
+
+/// Why an input file is refused ([`Error::InputFile`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InputRefusal {
+    /// It is not a regular file: `found` says what it is ("a FIFO (named pipe)",
+    /// "a character device", "a directory", ...).
+    NotRegular {
+        /// What the path is.
+        found: &'static str,
+    },
+    /// It is larger than the cap: `size` bytes (as reported, or as read when the
+    /// read passed the cap) against `cap`.
+    TooLarge {
+        /// Its size in bytes (at least `cap + 1`).
+        size: u64,
+        /// The cap in bytes.
+        cap: u64,
+    },
 }
 
 /// `file:line` (or just `file`) for messages.

@@ -9,6 +9,7 @@ pub use crate::domain::{InterfaceDef, Load, Part, Scheme, Settings, Step, Suppor
 use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, loads};
 use crate::mesh::gmsh::{GmshMesh, Group};
+use crate::mesh::input_file::{self, MESH_FILE_CAP, PROBLEM_FILE_CAP};
 use crate::mesh::{ElementKind, Mesh, bounding_diagonal};
 use serde::Deserialize;
 use std::collections::{BTreeMap, HashMap};
@@ -345,10 +346,13 @@ impl Model {
     /// structured part's cell counts and splits every edge of a Gmsh part into that
     /// many (1 = as written).
     pub fn from_file(path: &Path, refine: usize) -> Result<Model> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::ReadInput {
+        let read_error = |source| Error::ReadInput {
             path: path.to_path_buf(),
             source,
-        })?;
+        };
+        let data = input_file::read(path, "problem file", PROBLEM_FILE_CAP, read_error)?;
+        let text = String::from_utf8(data)
+            .map_err(|e| read_error(std::io::Error::new(std::io::ErrorKind::InvalidData, e)))?;
         Model::from_str(&text, path, refine)
     }
 
@@ -633,7 +637,8 @@ impl Builder<'_> {
         let mesh = match files.get(&key) {
             Some(m) => Rc::clone(m),
             None => {
-                let data = std::fs::read(&path).map_err(|e| {
+                let what = format!("Gmsh file of part '{name}'");
+                let data = input_file::read(&path, &what, MESH_FILE_CAP, |e| {
                     self.err(
                         spec,
                         format!(

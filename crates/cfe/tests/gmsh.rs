@@ -630,3 +630,333 @@ fn tangled_mesh_is_an_error() {
     // The untangled file reads as before.
     read("square_41.msh").part_mesh("all", None).unwrap();
 }
+
+// ------------------------------------------------------------ strict reading
+
+/// The text of a test mesh.
+fn text_of(name: &str) -> String {
+    std::fs::read_to_string(data(name)).unwrap()
+}
+
+/// The error of reading `bytes` as a Gmsh file: it must be `Error::Parse` naming
+/// the file; returns its line and message.
+fn refused(bytes: &[u8], case: &str) -> (Option<usize>, String) {
+    match GmshMesh::parse(bytes, Path::new("bad.msh")) {
+        Ok(_) => panic!("{case}: accepted"),
+        Err(cfe::Error::Parse {
+            path,
+            line,
+            message,
+        }) => {
+            assert_eq!(path, Path::new("bad.msh"), "{case}");
+            (line, message)
+        }
+        Err(e) => panic!("{case}: not a parse error: {e:?}"),
+    }
+}
+
+/// `text` with `from` (which must occur once) replaced by `to`.
+fn edit(text: &str, from: &str, to: &str) -> String {
+    assert_eq!(text.matches(from).count(), 1, "{from}");
+    text.replacen(from, to, 1)
+}
+
+/// The 1-based line of `text` that starts with `start` (once).
+fn line_of(text: &str, start: &str) -> usize {
+    let found: Vec<usize> = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.starts_with(start))
+        .map(|(i, _)| i + 1)
+        .collect();
+    assert_eq!(found.len(), 1, "{start}: {found:?}");
+    found[0]
+}
+
+/// MSH 4.1 element blocks must fit `$Entities` (the auditor's silent wrong
+/// answers): a block whose entity is not listed, whose dimension does not fit
+/// its element type, or out of range, and a listed entity dropped, are errors
+/// naming the block's line and the entity (an element outside its entity's
+/// bounding box, its own line) — not elements without a physical
+/// group, left out of their part.
+#[test]
+fn element_blocks_must_fit_their_entities() {
+    let sq = text_of("square_41.msh");
+    let cases = [
+        (
+            edit(&sq, "2 2 2 2\n401", "2 9 2 2\n401"),
+            "2 9 2 2",
+            "in entity 9 of dimension 2, which $Entities does not list",
+        ),
+        (
+            edit(&sq, "2 1 2 4\n301", "1 1 2 4\n301"),
+            "1 1 2 4",
+            "has dimension 1, but its elements (3-node triangles, type 2) have dimension 2",
+        ),
+        (
+            edit(&sq, "1 7 1 1\n207", "5 7 1 1\n207"),
+            "5 7 1 1",
+            "has dimension 5, but its elements (2-node lines, type 1) have dimension 1",
+        ),
+        (
+            edit(&sq, "0 1 15 1\n501", "1 1 15 1\n501"),
+            "1 1 15 1",
+            "has dimension 1, but its elements (1-node points, type 15) have dimension 0",
+        ),
+        // A line moved to another curve entity (bottom → the right side): its
+        // nodes lie outside that curve's bounding box.
+        (
+            edit(&sq, "1 2 1 1\n202", "1 3 1 1\n202"),
+            "202 2 3",
+            "element 202 (2-node line, line 63) of entity 3 (dimension 1) has node 2 at (1, 0, 0.25), outside the entity's bounding box (2, 0, 0.25) to (2, 1, 0.25)",
+        ),
+        // The right square's entity dropped from $Entities: its two triangles
+        // would have been read with no physical group (a hole in "right").
+        (
+            edit(
+                &edit(&sq, "6 7 2 0\n", "6 7 1 0\n"),
+                "2 1.0 0.0 0.25 2.0 1.0 0.25 1 2 4 2 3 -4 -7\n",
+                "",
+            ),
+            "2 2 2 2",
+            "2 3-node triangles is in entity 2 of dimension 2, which $Entities does not list",
+        ),
+        // A curve entity dropped: its line would have left the support "bottom".
+        (
+            edit(
+                &edit(&sq, "6 7 2 0\n", "6 6 2 0\n"),
+                "2 1.0 0.0 0.25 2.0 0.0 0.25 1 11 2 2 -3\n",
+                "",
+            ),
+            "1 2 1 1",
+            "in entity 2 of dimension 1, which $Entities does not list",
+        ),
+    ];
+    for (text, block, words) in cases {
+        let (line, message) = refused(text.as_bytes(), block);
+        let l = text[..text.find(block).unwrap()].matches('\n').count() + 1;
+        assert_eq!(line, Some(l), "{block}: {message}");
+        assert!(message.contains(words), "{block}: {message}");
+    }
+}
+
+/// A binary MSH 4.1 file whose element block names an entity $Entities lacks
+/// (one flipped byte, as in the auditor's fuzz seed 292) is refused at the
+/// block's byte; the file read whole is unchanged.
+#[test]
+fn binary_element_block_with_unknown_entity_is_refused() {
+    let data = std::fs::read(data("square_41_bin.msh")).unwrap();
+    // The block header of the right square's 2 triangles: dim 2, entity 2, type 2
+    // (int), 2 elements (size_t).
+    let mut header: Vec<u8> = [2i32, 2, 2].iter().flat_map(|v| v.to_le_bytes()).collect();
+    header.extend(2u64.to_le_bytes());
+    let at = data
+        .windows(header.len())
+        .position(|w| w == header.as_slice())
+        .unwrap();
+    let mut bad = data.clone();
+    bad[at + 4] ^= 0x08; // entity 2 → 10
+    let (line, message) = refused(&bad, "binary block");
+    assert_eq!(line, None);
+    assert!(
+        message.contains(&format!("byte {at}"))
+            && message.contains("entity 10 of dimension 2, which $Entities does not list"),
+        "{message}"
+    );
+}
+
+/// Counts and tag ranges of the section headers must be those of the data; tags
+/// must be unique; an element may not repeat another's nodes (4.1); an element
+/// line may not hold a value too many; physical names need $Entities (4.1).
+#[test]
+fn headers_tags_and_repeats_must_be_consistent() {
+    let sq = text_of("square_41.msh");
+    let cases = [
+        (
+            edit(&sq, "10 14 201 501", "10 13 201 501"),
+            Some("10 13 201 501"),
+            "the $Elements header announces 13 elements, but its blocks hold 14",
+        ),
+        (
+            edit(&sq, "10 14 201 501", "10 14 201 502"),
+            Some("10 14 201 502"),
+            "gives element tags 201 to 502, but the elements' tags run from 201 to 501",
+        ),
+        (
+            edit(&sq, "7 7 1 100", "7 8 1 100"),
+            Some("7 8 1 100"),
+            "the $Nodes header announces 8 nodes, but its blocks hold 7",
+        ),
+        (
+            edit(&sq, "7 7 1 100", "7 7 1 99"),
+            Some("7 7 1 99"),
+            "gives node tags 1 to 99, but the nodes' tags run from 1 to 100",
+        ),
+        (
+            edit(&sq, "402 2 5 40", "401 2 5 40"),
+            Some("401 2 5 40"),
+            "element 401 (3-node triangle, line 81) has the tag of element 401 (3-node triangle, line 80)",
+        ),
+        (
+            edit(&sq, "402 2 5 40", "402 40 3 2"),
+            Some("402 40 3 2"),
+            "has the same nodes as element 401 (3-node triangle, line 80): MSH 4.1 lists each element once",
+        ),
+        (
+            edit(&sq, "301 1 2 100", "301 1 2 100 5"),
+            Some("301 1 2 100 5"),
+            "unexpected '5' at the end of an element's line",
+        ),
+        (
+            {
+                let a = sq.find("$Entities").unwrap();
+                let b = sq.find("$EndEntities\n").unwrap() + 13;
+                format!("{}{}", &sq[..a], &sq[b..])
+            },
+            None,
+            "names physical groups ('corner', ...) but has no $Entities section",
+        ),
+    ];
+    for (text, at, words) in cases {
+        let (line, message) = refused(text.as_bytes(), words);
+        assert_eq!(line, at.map(|a| line_of(&text, a)), "{words}: {message}");
+        assert!(message.contains(words), "{message}");
+    }
+}
+
+/// MSH 2.2 gives physical groups per element: a triangle whose group differs
+/// from its entity's other elements (it would leave a hole in "left"), and a
+/// repeat that is no copy for another group, are refused, naming both elements.
+#[test]
+fn msh22_elements_of_an_entity_share_its_groups() {
+    let sq = text_of("square_22.msh");
+    let hole = edit(&sq, "302 2 2 1 1 2 5 100", "302 2 2 7 1 2 5 100");
+    let (line, message) = refused(hole.as_bytes(), "hole");
+    assert_eq!(line, Some(line_of(&hole, "302 ")), "{message}");
+    assert!(
+        message.contains("element 302 (3-node triangle, line 36) of entity 1 (dimension 2) is in physical group(s) [7], but element 301 (3-node triangle, line 35) of the same entity is in [1]"),
+        "{message}"
+    );
+    let repeat = edit(&sq, "304 2 2 1 1 60 100 1", "304 2 2 1 1 100 5 60");
+    let (line, message) = refused(repeat.as_bytes(), "repeat");
+    assert_eq!(line, Some(line_of(&repeat, "304 ")), "{message}");
+    assert!(
+        message.contains("element 304 (3-node triangle, line 38) has the same nodes as element 303 (3-node triangle, line 37): MSH 2.2 repeats an element only as a copy for another physical group of the same elementary entity"),
+        "{message}"
+    );
+    // A copy for another group of the same entity is merged (square_22.msh's
+    // line 203/600 on curve 3, in groups 13 and 15).
+    let m = read("square_22.msh");
+    let l = m.lines.iter().find(|l| l.tag == 203).unwrap();
+    assert_eq!((l.physical.clone(), l.entity), (vec![13, 15], 3));
+    assert!(m.lines.iter().all(|l| l.tag != 600));
+}
+
+/// A physical-curve line that is no element edge (a damaged node tag: "interface"
+/// from node 2 to node 5 becomes 1 to 5, a diagonal of no triangle) is refused in
+/// either format, naming the line element, its curve and its nodes — it was
+/// silently dropped, leaving the boundary short.
+#[test]
+fn physical_curve_lines_must_be_element_edges() {
+    // (4.1: curve 7's bounding box widened to hold node 1, else the line is
+    // refused as outside its entity.)
+    let sq41 = edit(
+        &text_of("square_41.msh"),
+        "7 1.0 0.0 0.25 1.0 1.0 0.25",
+        "7 0.0 0.0 0.25 1.0 1.0 0.25",
+    );
+    for (file, original, from, to, start) in [
+        ("square_41.msh", sq41, "207 2 5", "207 1 5", "207 "),
+        (
+            "square_22.msh",
+            text_of("square_22.msh"),
+            "207 1 2 14 7 2 5",
+            "207 1 2 14 7 1 5",
+            "207 ",
+        ),
+    ] {
+        let text = edit(&original, from, to);
+        let (line, message) = refused(text.as_bytes(), file);
+        let l = line_of(&text, start);
+        assert_eq!(line, Some(l), "{message}");
+        assert!(
+            message.contains(&format!(
+                "element 207 (2-node line, line {l}) of physical curve 'interface' (14), from node 1 to node 5, is not an edge of any triangle or quadrilateral of the file"
+            )),
+            "{file}: {message}"
+        );
+    }
+}
+
+/// Line endings and byte-order marks are named as such: a CR-only file (it was
+/// "section $NodeData has no $EndNodeData"), and a UTF-8 BOM; CR LF reads the
+/// same mesh as LF.
+#[test]
+fn line_endings_and_byte_order_marks_are_named() {
+    let sq = text_of("square_41.msh");
+    let (line, message) = refused(sq.replace('\n', "\r").as_bytes(), "CR");
+    assert_eq!(line, Some(1));
+    assert!(
+        message.contains("end in a carriage return alone (CR, classic Mac OS line endings)"),
+        "{message}"
+    );
+    let (line, message) = refused(format!("\u{FEFF}{sq}").as_bytes(), "BOM");
+    assert_eq!(line, Some(1));
+    assert!(
+        message.contains("starts with a UTF-8 byte-order mark (bytes EF BB BF)"),
+        "{message}"
+    );
+    let crlf =
+        GmshMesh::parse(sq.replace('\n', "\r\n").as_bytes(), &data("square_41.msh")).unwrap();
+    assert_eq!(crlf, read("square_41.msh"));
+}
+
+/// A binary header that does not match its data is named as such: the
+/// endianness marker written big-endian before little-endian data (it read as
+/// 16777216 little-endian), a data size 4 before 8-byte sizes, a data size 4 in
+/// MSH 2.2, and a damaged marker.
+#[test]
+fn binary_headers_that_do_not_match_their_data_are_named() {
+    let le = std::fs::read(data("square_41_bin.msh")).unwrap();
+    let marker = le.windows(8).position(|w| w == b"4.1 1 8\n").unwrap() + 8;
+    assert_eq!(&le[marker..marker + 4], &1i32.to_le_bytes());
+    let mut big = le.clone();
+    big[marker..marker + 4].copy_from_slice(&1i32.to_be_bytes());
+    let (_, message) = refused(&big, "big-endian marker");
+    assert!(
+        message.contains("the binary header says big-endian, data size 8 (8-byte size_t) but the data reads as little-endian, data size 8 (8-byte size_t)"),
+        "{message}"
+    );
+    let four = edit_bytes(&le, b"4.1 1 8\n", b"4.1 1 4\n");
+    let (_, message) = refused(&four, "data size 4");
+    assert!(
+        message.contains("the binary header says little-endian, data size 4 (4-byte size_t) but the data reads as little-endian, data size 8 (8-byte size_t)"),
+        "{message}"
+    );
+    let v22 = std::fs::read(data("square_22_bin.msh")).unwrap();
+    let (_, message) = refused(&edit_bytes(&v22, b"2.2 1 8\n", b"2.2 1 4\n"), "2.2 size 4");
+    assert!(
+        message.contains("the header gives data size 4 (the size of size_t); a binary MSH 2.2 file has data size 8"),
+        "{message}"
+    );
+    let mut two = le.clone();
+    two[marker] = 2;
+    let (_, message) = refused(&two, "marker 2");
+    assert!(
+        message.contains("reads as 2 little-endian and 33554432 big-endian"),
+        "{message}"
+    );
+    // The big-endian file with 4-byte sizes is read as its header says.
+    assert_eq!(
+        read("square_41_bin_be.msh").nodes,
+        read("square_41.msh").nodes
+    );
+}
+
+/// `data` with `from` (once) replaced by `to` of the same length.
+fn edit_bytes(data: &[u8], from: &[u8], to: &[u8]) -> Vec<u8> {
+    let at = data.windows(from.len()).position(|w| w == from).unwrap();
+    let mut d = data.to_vec();
+    d[at..at + to.len()].copy_from_slice(to);
+    d
+}

@@ -1061,4 +1061,145 @@ fn values_near_the_new_limits_are_accepted() {
         Model::from_str(&text, Path::new("hostile.toml"), 1)
             .unwrap_or_else(|e| panic!("{e}\n{text}"));
     }
+// ------------------------------------------------------------ input files
+
+use cfe::error::InputRefusal;
+use cfe::mesh::gmsh::GmshMesh;
+use cfe::mesh::input_file::{MESH_FILE_CAP, PROBLEM_FILE_CAP};
+use std::path::PathBuf;
+
+/// A fresh scratch folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cfe-hostile-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A FIFO at `path`. Should a reader block on it anyway, a writer opens it after
+/// a few seconds so that the test fails instead of hanging.
+fn fifo(path: &Path) {
+    let c = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0, "mkfifo");
+    let p = path.to_path_buf();
+    std::thread::spawn(move || {
+        std::thread::sleep(std::time::Duration::from_secs(5));
+        let _ = std::fs::OpenOptions::new().write(true).open(p);
+    });
+}
+
+/// A problem of one Gmsh part (the left square of square_41.msh, copied into
+/// `dir`) whose mesh file is `mesh`.
+fn gmsh_problem(dir: &Path, mesh: &str) -> PathBuf {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/gmsh/square_41.msh");
+    std::fs::copy(data, dir.join("square_41.msh")).unwrap();
+    let problem = dir.join("p.toml");
+    std::fs::write(
+        &problem,
+        format!(
+            "[materials.m]\nE = 1000.0\nnu = 0.25\n\n[[part]]\nname = \"sq\"\nmaterial = \"m\"\ngmsh = {{ file = \"{mesh}\", surfaces = [\"left\"] }}\n\n[[support]]\npart = \"sq\"\nboundary = \"sides\"\nfix = [\"x\", \"y\"]\n\n[[load]]\npart = \"sq\"\nboundary = \"top\"\nforce = [0.0, 1.0]\n"
+        ),
+    )
+    .unwrap();
+    problem
+}
+
+/// Checks that `e` refuses `path` as not a regular file, being `found`.
+fn assert_not_regular(e: &Error, path: &Path, found: &str) {
+    match e {
+        Error::InputFile {
+            path: p,
+            refusal: InputRefusal::NotRegular { found: f },
+            ..
+        } => {
+            assert_eq!(p, path, "{e}");
+            assert_eq!(*f, found, "{e}");
+        }
+        other => panic!("not a refusal of {}: {other:?}", path.display()),
+    }
+    assert!(e.to_string().contains("not a regular file"), "{e}");
+}
+
+/// Only regular files are read as problem and mesh files: a FIFO (which blocked
+/// forever), a character device (/dev/zero was read until the allocator
+/// refused), and a directory are refused at once with `Error::InputFile` naming
+/// the path and what it is; the same problem with a regular mesh file reads.
+#[test]
+fn only_regular_files_are_read() {
+    let dir = scratch("regular");
+    let problem = gmsh_problem(&dir, "square_41.msh");
+    Model::from_file(&problem, 1).unwrap();
+    // A FIFO as the problem file, and as the mesh file.
+    let pipe = dir.join("pipe.toml");
+    fifo(&pipe);
+    let e = Model::from_file(&pipe, 1).unwrap_err();
+    assert_not_regular(&e, &pipe, "a FIFO (named pipe)");
+    assert!(e.to_string().contains("problem file"), "{e}");
+    let mesh_pipe = dir.join("pipe.msh");
+    fifo(&mesh_pipe);
+    let e = Model::from_file(&gmsh_problem(&dir, "pipe.msh"), 1).unwrap_err();
+    assert_not_regular(&e, &mesh_pipe, "a FIFO (named pipe)");
+    assert!(e.to_string().contains("Gmsh file of part 'sq'"), "{e}");
+    let e = GmshMesh::read(&mesh_pipe).unwrap_err();
+    assert_not_regular(&e, &mesh_pipe, "a FIFO (named pipe)");
+    // Devices.
+    let e = Model::from_file(&gmsh_problem(&dir, "/dev/zero"), 1).unwrap_err();
+    assert_not_regular(&e, Path::new("/dev/zero"), "a character device");
+    let e = Model::from_file(Path::new("/dev/null"), 1).unwrap_err();
+    assert_not_regular(&e, Path::new("/dev/null"), "a character device");
+    // Directories.
+    let e = Model::from_file(&gmsh_problem(&dir, "."), 1).unwrap_err();
+    assert_not_regular(&e, &dir.join("."), "a directory");
+    let e = Model::from_file(&dir, 1).unwrap_err();
+    assert_not_regular(&e, &dir, "a directory");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Input files are read up to a cap stated in the error: a problem file of
+/// 64 MiB + 1 byte and a mesh file of 4 GiB + 1 byte (both sparse: nothing is
+/// written or read) are refused with `Error::InputFile`, size and cap; a missing
+/// file is still `ReadInput`.
+#[test]
+fn input_files_are_read_up_to_a_cap() {
+    let dir = scratch("cap");
+    let big = dir.join("big.toml");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(PROBLEM_FILE_CAP + 1)
+        .unwrap();
+    let e = Model::from_file(&big, 1).unwrap_err();
+    match &e {
+        Error::InputFile {
+            refusal: InputRefusal::TooLarge { size, cap },
+            ..
+        } => assert_eq!((*size, *cap), (PROBLEM_FILE_CAP + 1, 64 << 20)),
+        other => panic!("{other:?}"),
+    }
+    assert!(
+        e.to_string()
+            .contains("it holds 67108865 bytes, more than the 64 MiB cap on a problem file"),
+        "{e}"
+    );
+    let mesh = dir.join("big.msh");
+    std::fs::File::create(&mesh)
+        .unwrap()
+        .set_len(MESH_FILE_CAP + 1)
+        .unwrap();
+    let e = Model::from_file(&gmsh_problem(&dir, "big.msh"), 1).unwrap_err();
+    match &e {
+        Error::InputFile {
+            refusal: InputRefusal::TooLarge { size, cap },
+            path,
+            ..
+        } => {
+            assert_eq!((*size, *cap), (MESH_FILE_CAP + 1, 4 << 30));
+            assert_eq!(path, &mesh);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(e.to_string().contains("more than the 4 GiB cap"), "{e}");
+    let _ = std::fs::remove_file(&mesh);
+    let e = Model::from_file(&dir.join("missing.toml"), 1).unwrap_err();
+    assert!(matches!(e, Error::ReadInput { .. }), "{e:?}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -12,6 +12,13 @@
 //! tags of each entity), `$Nodes`, `$Elements`; any other section (`$Periodic`,
 //! `$NodeData`, ...) is skipped. Node and element tags may be sparse. The mesh must
 //! be planar (z = const); z is dropped.
+//!
+//! The reader is strict: a file that is not consistent (an element block outside
+//! `$Entities` or outside its entity's bounding box, a count or tag range that
+//! differs from its header, a repeated tag or element, a physical-curve line on no
+//! element edge, ...) is refused with the block or element and its line or byte,
+//! never read into a part with elements or boundary lines missing (see
+//! [`GmshMesh::parse`]).
 
 use super::{BoundaryEdge, Mesh, Tiling, dist};
 use crate::error::{Error, Result};
@@ -38,6 +45,10 @@ pub struct Element<const N: usize> {
     pub nodes: [usize; N],
     /// The physical groups it belongs to (empty when none), ascending.
     pub physical: Vec<i32>,
+    /// Its elementary entity: the entity of its block (4.1) or its second tag
+    /// (2.2); 0 when the file gives none. The elements of one entity share its
+    /// physical groups.
+    pub entity: i32,
 }
 
 /// An entry of `$PhysicalNames`.
@@ -163,20 +174,88 @@ impl Kind {
 }
 
 impl GmshMesh {
-    /// Reads and parses the file at `path`.
+    /// Reads and parses the file at `path` (a regular file of at most
+    /// [`MESH_FILE_CAP`](super::input_file::MESH_FILE_CAP) bytes:
+    /// [`input_file::read`](super::input_file::read)).
     pub fn read(path: &Path) -> Result<GmshMesh> {
-        let data = std::fs::read(path).map_err(|e| Error::Parse {
-            line: None,
-            path: path.to_path_buf(),
-            message: format!("cannot read the Gmsh file: {e}"),
-        })?;
+        let data =
+            super::input_file::read(path, "Gmsh file", super::input_file::MESH_FILE_CAP, |e| {
+                Error::Parse {
+                    line: None,
+                    path: path.to_path_buf(),
+                    message: format!("cannot read the Gmsh file: {e}"),
+                }
+            })?;
         GmshMesh::parse(&data, path)
     }
 
     /// Parses the contents of an MSH file; `path` is used in messages. Errors name the
     /// file and the line (ASCII) or byte offset (binary) at fault.
+    ///
+    /// Beyond the format itself, the file must be consistent: the counts and tag
+    /// ranges its section headers announce are those of its data; node and element
+    /// tags are unique and every node an element names exists; (4.1) every element
+    /// block's entity is in `$Entities` with the dimension of its element type, its
+    /// elements' nodes lie in the entity's bounding box (up to 2 % of the model's
+    /// size), and physical names need `$Entities` to carry them; physical names
+    /// are unique per dimension, by tag and by name; (2.2) the elements of one
+    /// elementary entity are in the same physical groups, and an element repeated
+    /// with the same nodes is a copy for another physical group of the same entity;
+    /// every line of a physical curve is an edge of a triangle or quadrilateral of
+    /// the file. Anything else is an error naming the block or element and its line
+    /// (ASCII) or byte (binary), never a mesh with elements or boundary lines left
+    /// out. A binary file whose data does not read as its header says, but does
+    /// read with another byte order or size_t width, is reported as exactly that.
     pub fn parse(data: &[u8], path: &Path) -> Result<GmshMesh> {
-        Parser::new(data, path).run()
+        let mut parser = Parser::new(data, path, None);
+        let error = match parser.run() {
+            Ok(mesh) => return Ok(mesh),
+            Err(e) => e,
+        };
+        if !parser.binary || parser.layout_pos == 0 {
+            return Err(error);
+        }
+        // A binary file that fails: does its data read in another layout than
+        // the one its header gives?
+        let header = (parser.little_endian, parser.size_t);
+        let sizes: &[usize] = match parser.version {
+            MshVersion::V41 => &[8, 4],
+            MshVersion::V22 => &[8],
+        };
+        for &size_t in sizes {
+            for little_endian in [true, false] {
+                let layout = (little_endian, size_t);
+                if layout == header {
+                    continue;
+                }
+                if Parser::new(data, path, Some(layout)).run().is_ok() {
+                    return Err(parser.err_at(
+                        parser.layout_pos,
+                        format!(
+                            "the binary header says {} but the data reads as {}: the header does not match the data (written by hand or by another program?); fix the header",
+                            layout_text(header),
+                            layout_text(layout)
+                        ),
+                    ));
+                }
+            }
+        }
+        Err(match error {
+            // Name the layout when it is not the usual one.
+            Error::Parse {
+                path,
+                line,
+                message,
+            } if header != (true, 8) => Error::Parse {
+                path,
+                line,
+                message: format!(
+                    "{message} (reading the binary data as {}, as the header says)",
+                    layout_text(header)
+                ),
+            },
+            e => e,
+        })
     }
 
     /// The physical groups of dimension `dim` (1 curves, 2 surfaces): every tag that
@@ -487,6 +566,8 @@ impl GmshMesh {
         // are interior edges of the part (how many, and the first one).
         let mut by_tag: BTreeMap<i32, Vec<BoundaryEdge>> = BTreeMap::new();
         let mut inside: BTreeMap<i32, (usize, [usize; 2])> = BTreeMap::new();
+        // Lines between two of the part's nodes that are no edge of its elements.
+        let mut stray: BTreeMap<i32, (u64, [usize; 2])> = BTreeMap::new();
         for line in &self.lines {
             let [a, b] = line.nodes.map(|n| local[n]);
             if a == UNUSED || b == UNUSED {
@@ -503,8 +584,30 @@ impl GmshMesh {
                         inside.entry(tag).or_insert((0, line.nodes)).0 += 1;
                     }
                 }
-                None => {}
+                None => {
+                    for &tag in &line.physical {
+                        stray.entry(tag).or_insert((line.tag, line.nodes));
+                    }
+                }
             }
+        }
+        // A curve that names a boundary of the part must lie on it whole: a line
+        // across the part (between two of its nodes, on no element edge) would be
+        // left out of the boundary silently.
+        for (tag, &(line_tag, [a, b])) in &stray {
+            if !by_tag.contains_key(tag) {
+                continue;
+            }
+            let curve = match self.name(1, *tag) {
+                Some(n) => format!("'{n}' ({tag})"),
+                None => tag.to_string(),
+            };
+            return Err(format!(
+                "line element {line_tag} of physical curve {curve} in file {} runs from node {} to node {}, both nodes of the part, but is no edge of the part's elements: a boundary must run along the part's element edges",
+                self.file_name(),
+                self.node_tags[a],
+                self.node_tags[b],
+            ));
         }
         // A curve partly on the boundary and partly inside the part is an error
         // (curves wholly inside are left out below, as they name no boundary).
@@ -546,6 +649,19 @@ impl GmshMesh {
 
 /// A file node used by no chosen element (in the map to the part's numbering).
 const UNUSED: usize = usize::MAX;
+
+/// "big-endian, data size 4 (4-byte size_t)" for a binary layout
+/// (little-endian, size_t width).
+fn layout_text((little_endian, size_t): (bool, usize)) -> String {
+    format!(
+        "{}, data size {size_t} ({size_t}-byte size_t)",
+        if little_endian {
+            "little-endian"
+        } else {
+            "big-endian"
+        }
+    )
+}
 
 /// The nodes of a part built from a file: the file's nodes in the part's
 /// numbering (`local`, [`UNUSED`] for the others), the part's coordinates, and
@@ -618,8 +734,17 @@ struct Parser<'a> {
     size_t: usize,
     version: MshVersion,
     physical_names: Vec<PhysicalName>,
+    /// A binary layout (little-endian, size_t width) to read the data in instead
+    /// of the header's (to tell a header that does not match its data).
+    layout: Option<(bool, usize)>,
+    /// Binary: where the header's layout (data size, endianness marker) is given.
+    layout_pos: usize,
     /// 4.1: physical tags of each entity (dim, tag).
     entities: HashMap<(i32, i32), Vec<i32>>,
+    /// 4.1: the bounding box (min x, y, z, max x, y, z) of each entity (dim, tag);
+    /// a point's is its position.
+    entity_boxes: HashMap<(i32, i32), [f64; 6]>,
+    seen_entities: bool,
     node_index: HashMap<u64, usize>,
     node_tags: Vec<u64>,
     /// (x, y, z) per node.
@@ -627,12 +752,22 @@ struct Parser<'a> {
     lines: Vec<Element<2>>,
     triangles: Vec<Element<3>>,
     quads: Vec<Element<4>>,
+    /// Where each line, triangle and quadrilateral is in the file, and its entity.
+    line_meta: Vec<Meta>,
+    triangle_meta: Vec<Meta>,
+    quad_meta: Vec<Meta>,
     seen_nodes: bool,
     seen_elements: bool,
 }
 
+/// Where an element is in the file (byte offset), for messages.
+#[derive(Debug, Clone, Copy)]
+struct Meta {
+    at: usize,
+}
+
 impl<'a> Parser<'a> {
-    fn new(data: &'a [u8], path: &'a Path) -> Self {
+    fn new(data: &'a [u8], path: &'a Path, layout: Option<(bool, usize)>) -> Self {
         Parser {
             path,
             data,
@@ -643,13 +778,20 @@ impl<'a> Parser<'a> {
             size_t: 8,
             version: MshVersion::V41,
             physical_names: Vec::new(),
+            layout,
+            layout_pos: 0,
             entities: HashMap::new(),
+            entity_boxes: HashMap::new(),
+            seen_entities: false,
             node_index: HashMap::new(),
             node_tags: Vec::new(),
             coords: Vec::new(),
             lines: Vec::new(),
             triangles: Vec::new(),
             quads: Vec::new(),
+            line_meta: Vec::new(),
+            triangle_meta: Vec::new(),
+            quad_meta: Vec::new(),
             seen_nodes: false,
             seen_elements: false,
         }
@@ -683,6 +825,20 @@ impl<'a> Parser<'a> {
 
     fn err(&self, msg: impl Display) -> Error {
         self.err_at(self.pos, msg)
+    }
+
+    /// "line 12" (ASCII) or "byte 340" (binary) for the position `pos`.
+    fn place(&self, pos: usize) -> String {
+        if self.binary {
+            format!("byte {pos}")
+        } else {
+            let line = self.data[..pos.min(self.data.len())]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count()
+                + 1;
+            format!("line {line}")
+        }
     }
 
     fn file_name(&self) -> String {
@@ -721,6 +877,38 @@ impl<'a> Parser<'a> {
         let t = self.token(what)?;
         t.parse()
             .map_err(|_| self.err_at(start, format!("expected {what}, found '{t}'")))
+    }
+
+    /// The position of the next value: ASCII skips the whitespace before it
+    /// (binary data has none).
+    fn mark(&mut self) -> usize {
+        if !self.binary {
+            self.skip_whitespace();
+        }
+        self.pos
+    }
+
+    /// ASCII: the current line must end here (after spaces), so that a value
+    /// missing from or added to a line is an error rather than a shift of every
+    /// later value. Binary data has no lines.
+    fn line_end(&mut self, what: &str) -> Result<()> {
+        if self.binary {
+            return Ok(());
+        }
+        while self.pos < self.data.len() && matches!(self.data[self.pos], b' ' | b'\t' | b'\r') {
+            self.pos += 1;
+        }
+        match self.data.get(self.pos) {
+            None | Some(b'\n') => Ok(()),
+            Some(_) => {
+                let start = self.pos;
+                let extra = self.token("the end of the line").unwrap_or("?");
+                Err(self.err_at(
+                    start,
+                    format!("unexpected '{extra}' at the end of {what}: the line has more values than it should"),
+                ))
+            }
+        }
     }
 
     /// Moves past the end of the current line (binary data starts on the next one).
@@ -820,11 +1008,23 @@ impl<'a> Parser<'a> {
 
     // ------------------------------------------------------------ sections
 
-    fn run(mut self) -> Result<GmshMesh> {
+    fn run(&mut self) -> Result<GmshMesh> {
+        if self.data.starts_with(b"\xEF\xBB\xBF") {
+            return Err(self.err_at(
+                0,
+                "the file starts with a UTF-8 byte-order mark (bytes EF BB BF), which Gmsh does not write: save the file without a byte-order mark (e.g. \"UTF-8\" rather than \"UTF-8 with BOM\")",
+            ));
+        }
         self.skip_whitespace();
         let first = self.token("$MeshFormat").ok();
         if first != Some("$MeshFormat") {
             return Err(self.err_at(0, "not a Gmsh MSH file: it does not start with $MeshFormat"));
+        }
+        if self.data.get(self.pos) == Some(&b'\r') && self.data.get(self.pos + 1) != Some(&b'\n') {
+            return Err(self.err_at(
+                self.pos,
+                "the lines of the file end in a carriage return alone (CR, classic Mac OS line endings): cfe reads lines ending in LF or CR LF; convert the file (e.g. `tr '\\r' '\\n' < old.msh > new.msh` for an ASCII file)",
+            ));
         }
         self.section = "$MeshFormat";
         self.mesh_format()?;
@@ -844,7 +1044,19 @@ impl<'a> Parser<'a> {
             self.section = name;
             match name {
                 "$PhysicalNames" => self.physical_names_section()?,
-                "$Entities" if self.version == MshVersion::V41 => self.entities_section()?,
+                "$Entities" if self.version == MshVersion::V41 => {
+                    if self.seen_entities {
+                        return Err(self.err_at(start, "the file has two $Entities sections"));
+                    }
+                    if self.seen_elements {
+                        return Err(self.err_at(
+                            start,
+                            "$Entities comes after $Elements: the element blocks could not find their physical groups",
+                        ));
+                    }
+                    self.seen_entities = true;
+                    self.entities_section()?
+                }
                 "$Nodes" => {
                     if self.seen_nodes {
                         return Err(self.err_at(start, "the file has two $Nodes sections"));
@@ -889,23 +1101,263 @@ impl<'a> Parser<'a> {
             }
         }
         self.check_planar()?;
-        if self.version == MshVersion::V22 {
-            // MSH 2.2 repeats an element once per physical group it belongs to.
-            self.lines = merge_duplicates(std::mem::take(&mut self.lines));
-            self.triangles = merge_duplicates(std::mem::take(&mut self.triangles));
-            self.quads = merge_duplicates(std::mem::take(&mut self.quads));
+        if self.version == MshVersion::V41
+            && !self.seen_entities
+            && let Some(p) = self.physical_names.first()
+        {
+            return Err(Error::Parse {
+                line: None,
+                path: self.path.to_path_buf(),
+                message: format!(
+                    "the file names physical groups ('{}', ...) but has no $Entities section, which carries the physical groups of the elements in MSH 4.1: no element would be in any group",
+                    p.name
+                ),
+            });
         }
+        self.section = "$Elements";
+        // Repeated elements: MSH 2.2 writes an element once per physical group it
+        // is in (the copies are merged); any other repeat is an error.
+        let (lines, line_meta) = {
+            let (elements, meta) = (
+                std::mem::take(&mut self.lines),
+                std::mem::take(&mut self.line_meta),
+            );
+            self.merge_copies(elements, meta, 1)
+        }?;
+        let (triangles, triangle_meta) = {
+            let (elements, meta) = (
+                std::mem::take(&mut self.triangles),
+                std::mem::take(&mut self.triangle_meta),
+            );
+            self.merge_copies(elements, meta, 2)
+        }?;
+        let (quads, quad_meta) = {
+            let (elements, meta) = (
+                std::mem::take(&mut self.quads),
+                std::mem::take(&mut self.quad_meta),
+            );
+            self.merge_copies(elements, meta, 3)
+        }?;
+        (self.lines, self.line_meta) = (lines, line_meta);
+        (self.triangles, self.triangle_meta) = (triangles, triangle_meta);
+        (self.quads, self.quad_meta) = (quads, quad_meta);
+        self.check_element_tags()?;
+        self.check_entity_groups()?;
+        self.check_curve_lines()?;
         Ok(GmshMesh {
             path: self.path.to_path_buf(),
             version: self.version,
             binary: self.binary,
-            node_tags: self.node_tags,
+            node_tags: std::mem::take(&mut self.node_tags),
             nodes: self.coords.iter().map(|c| [c[0], c[1]]).collect(),
-            lines: self.lines,
-            triangles: self.triangles,
-            quads: self.quads,
-            physical_names: self.physical_names,
+            lines: std::mem::take(&mut self.lines),
+            triangles: std::mem::take(&mut self.triangles),
+            quads: std::mem::take(&mut self.quads),
+            physical_names: std::mem::take(&mut self.physical_names),
         })
+    }
+
+    /// "element 12 (3-node triangle, line 40)" for messages.
+    fn element_text(&self, tag: u64, gmsh_type: i32, at: usize) -> String {
+        format!(
+            "element {tag} ({}, {})",
+            element_type_name(gmsh_type),
+            self.place(at)
+        )
+    }
+
+    /// The elements of one kind (Gmsh type `gmsh_type`) with repeats removed: an
+    /// element with the same nodes as an earlier one is, in MSH 2.2, a copy for
+    /// another physical group of the same elementary entity (merged: the first
+    /// one's tag and place, the union of the groups); any other repeat is an error
+    /// naming both.
+    fn merge_copies<const N: usize>(
+        &self,
+        elements: Vec<Element<N>>,
+        meta: Vec<Meta>,
+        gmsh_type: i32,
+    ) -> Result<(Vec<Element<N>>, Vec<Meta>)> {
+        let mut first: HashMap<[usize; N], usize> = HashMap::with_capacity(elements.len());
+        let mut out: Vec<Element<N>> = Vec::with_capacity(elements.len());
+        let mut out_meta: Vec<Meta> = Vec::with_capacity(elements.len());
+        for (e, m) in elements.into_iter().zip(meta) {
+            let mut key = e.nodes;
+            key.sort_unstable();
+            let Some(&i) = first.get(&key) else {
+                first.insert(key, out.len());
+                out.push(e);
+                out_meta.push(m);
+                continue;
+            };
+            let kept = &mut out[i];
+            let adds_group = e.physical.iter().any(|p| !kept.physical.contains(p));
+            if self.version == MshVersion::V22 && kept.entity == e.entity && adds_group {
+                kept.physical.extend(e.physical);
+                kept.physical.sort_unstable();
+                kept.physical.dedup();
+                continue;
+            }
+            let why = if self.version == MshVersion::V22 {
+                "MSH 2.2 repeats an element only as a copy for another physical group of the same elementary entity"
+            } else {
+                "MSH 4.1 lists each element once"
+            };
+            return Err(self.err_at(
+                m.at,
+                format!(
+                    "{} has the same nodes as {}: {why}; a repeated element is an overlap or a damaged node tag",
+                    self.element_text(e.tag, gmsh_type, m.at),
+                    self.element_text(kept.tag, gmsh_type, out_meta[i].at),
+                ),
+            ));
+        }
+        Ok((out, out_meta))
+    }
+
+    /// Element tags are unique (after MSH 2.2's copies are merged).
+    fn check_element_tags(&self) -> Result<()> {
+        let mut tags: Vec<(u64, usize, i32)> =
+            Vec::with_capacity(self.lines.len() + self.triangles.len() + self.quads.len());
+        tags.extend(
+            self.lines
+                .iter()
+                .zip(&self.line_meta)
+                .map(|(e, m)| (e.tag, m.at, 1)),
+        );
+        tags.extend(
+            self.triangles
+                .iter()
+                .zip(&self.triangle_meta)
+                .map(|(e, m)| (e.tag, m.at, 2)),
+        );
+        tags.extend(
+            self.quads
+                .iter()
+                .zip(&self.quad_meta)
+                .map(|(e, m)| (e.tag, m.at, 3)),
+        );
+        tags.sort_unstable();
+        if let Some(w) = tags.windows(2).find(|w| w[0].0 == w[1].0) {
+            let (tag, at, t) = w[1];
+            return Err(self.err_at(
+                at,
+                format!(
+                    "{} has the tag of {}: element tags must be unique",
+                    self.element_text(tag, t, at),
+                    self.element_text(w[0].0, w[0].2, w[0].1)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The elements of one entity (dimension, tag) are in the same physical groups:
+    /// groups are given to entities, so an element that differs (MSH 2.2 gives the
+    /// groups per element) is damaged, and would be left out of its part or put in
+    /// another.
+    fn check_entity_groups(&self) -> Result<()> {
+        // Per (dimension, entity): its first element's tag, groups, place and type.
+        type First<'a> = (u64, &'a [i32], usize, i32);
+        let mut first: HashMap<(u8, i32), First> = HashMap::new();
+        let all = self
+            .lines
+            .iter()
+            .map(|e| (e.tag, &e.physical[..], e.entity))
+            .zip(self.line_meta.iter().map(|m| (1u8, 1, *m)))
+            .chain(
+                self.triangles
+                    .iter()
+                    .map(|e| (e.tag, &e.physical[..], e.entity))
+                    .zip(self.triangle_meta.iter().map(|m| (2u8, 2, *m))),
+            )
+            .chain(
+                self.quads
+                    .iter()
+                    .map(|e| (e.tag, &e.physical[..], e.entity))
+                    .zip(self.quad_meta.iter().map(|m| (2u8, 3, *m))),
+            );
+        for ((tag, physical, entity), (dim, t, m)) in all {
+            if entity == 0 {
+                continue;
+            }
+            let (tag0, physical0, at0, t0) = *first
+                .entry((dim, entity))
+                .or_insert((tag, physical, m.at, t));
+            if physical0 != physical {
+                return Err(self.err_at(
+                    m.at,
+                    format!(
+                        "{} of entity {} (dimension {dim}) is in physical group(s) {physical:?}, but {} of the same entity is in {physical0:?}: the elements of an entity share its physical groups",
+                        self.element_text(tag, t, m.at),
+                        entity,
+                        self.element_text(tag0, t0, at0),
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Every line of a physical curve is an edge of a triangle or quadrilateral of
+    /// the file: a line that is not (a damaged node tag, or a curve of a surface
+    /// whose elements are not in the file) would name no boundary, and a boundary
+    /// would silently lose it.
+    fn check_curve_lines(&self) -> Result<()> {
+        let mut found: HashMap<(usize, usize), bool> = self
+            .lines
+            .iter()
+            .filter(|l| !l.physical.is_empty())
+            .map(|l| {
+                (
+                    (l.nodes[0].min(l.nodes[1]), l.nodes[0].max(l.nodes[1])),
+                    false,
+                )
+            })
+            .collect();
+        if found.is_empty() {
+            return Ok(());
+        }
+        let mut mark = |nodes: &[usize]| {
+            for k in 0..nodes.len() {
+                let (a, b) = (nodes[k], nodes[(k + 1) % nodes.len()]);
+                if let Some(f) = found.get_mut(&(a.min(b), a.max(b))) {
+                    *f = true;
+                }
+            }
+        };
+        self.triangles.iter().for_each(|e| mark(&e.nodes));
+        self.quads.iter().for_each(|e| mark(&e.nodes));
+        let stray = self.lines.iter().zip(&self.line_meta).find(|(l, _)| {
+            !l.physical.is_empty()
+                && !found[&(l.nodes[0].min(l.nodes[1]), l.nodes[0].max(l.nodes[1]))]
+        });
+        if let Some((l, m)) = stray {
+            let curves = l
+                .physical
+                .iter()
+                .map(|&t| {
+                    match self
+                        .physical_names
+                        .iter()
+                        .find(|p| p.dim == 1 && p.tag == t)
+                    {
+                        Some(p) => format!("'{}' ({t})", p.name),
+                        None => t.to_string(),
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(", ");
+            return Err(self.err_at(
+                m.at,
+                format!(
+                    "{} of physical curve {curves}, from node {} to node {}, is not an edge of any triangle or quadrilateral of the file: a physical curve must run along element edges (a damaged node tag, or a curve whose surface is in no physical surface?)",
+                    self.element_text(l.tag, 1, m.at),
+                    self.node_tags[l.nodes[0]],
+                    self.node_tags[l.nodes[1]],
+                ),
+            ));
+        }
+        Ok(())
     }
 
     fn end_section(&mut self) -> Result<()> {
@@ -956,6 +1408,10 @@ impl<'a> Parser<'a> {
             }
         };
         let file_type: i32 = self.ascii("the file type (0 ASCII, 1 binary)")?;
+        let size_start = {
+            self.skip_whitespace();
+            self.pos
+        };
         let data_size: usize = self.ascii("the data size")?;
         match file_type {
             0 => {}
@@ -964,22 +1420,39 @@ impl<'a> Parser<'a> {
                 match (self.version, data_size) {
                     (MshVersion::V41, 4 | 8) | (MshVersion::V22, 8) => self.size_t = data_size,
                     _ => {
-                        return Err(self.err(format!(
-                            "data size {data_size} is not supported for a binary MSH {version} file (expected 8)"
-                        )));
+                        let expected = match self.version {
+                            MshVersion::V41 => "8 (or 4, from a 32-bit machine)",
+                            MshVersion::V22 => "8",
+                        };
+                        return Err(self.err_at(
+                            size_start,
+                            format!(
+                                "the header gives data size {data_size} (the size of size_t); a binary MSH {version} file has data size {expected}"
+                            ),
+                        ));
                     }
                 }
                 self.next_line()?;
+                let marker = self.pos;
                 let one = self.bytes::<4>("the endianness marker (int 1)")?;
-                self.little_endian = if i32::from_le_bytes(one) == 1 {
+                let (le, be) = (i32::from_le_bytes(one), i32::from_be_bytes(one));
+                self.little_endian = if le == 1 {
                     true
-                } else if i32::from_be_bytes(one) == 1 {
+                } else if be == 1 {
                     false
                 } else {
-                    return Err(self.err(format!(
-                        "bad endianness marker {one:?}: expected the integer 1"
-                    )));
+                    return Err(self.err_at(
+                        marker,
+                        format!(
+                            "the endianness marker (the integer 1, after the format line) reads as {le} little-endian and {be} big-endian (bytes {one:02X?}): the binary header is damaged"
+                        ),
+                    ));
                 };
+                // The data's layout is known from here on.
+                self.layout_pos = size_start;
+                if let Some((little_endian, size_t)) = self.layout {
+                    (self.little_endian, self.size_t) = (little_endian, size_t);
+                }
             }
             t => {
                 return Err(self.err(format!("file type {t} is not 0 (ASCII) or 1 (binary)")));
@@ -991,6 +1464,8 @@ impl<'a> Parser<'a> {
     fn physical_names_section(&mut self) -> Result<()> {
         let n: u64 = self.ascii("the number of physical names")?;
         let n = self.count(n, "number of physical names")?;
+        let mut by_tag: HashMap<(u8, i32), usize> = HashMap::new();
+        let mut by_name: HashMap<(u8, String), usize> = HashMap::new();
         for _ in 0..n {
             let dim: u8 = self.ascii("a physical dimension")?;
             let tag: i32 = self.ascii("a physical tag")?;
@@ -1007,6 +1482,18 @@ impl<'a> Parser<'a> {
                 return Err(self.err("physical name without a closing quote"));
             };
             let name = String::from_utf8_lossy(&self.data[start..start + len]).into_owned();
+            let i = self.physical_names.len();
+            let earlier = [
+                *by_tag.entry((dim, tag)).or_insert(i),
+                *by_name.entry((dim, name.clone())).or_insert(i),
+            ];
+            if let Some(&j) = earlier.iter().find(|&&j| j != i) {
+                let p = &self.physical_names[j];
+                return Err(self.err(format!(
+                    "physical name '{name}' (dimension {dim}, tag {tag}) repeats the tag or the name of '{}' (tag {}): each physical group of a dimension has one tag and one name",
+                    p.name, p.tag
+                )));
+            }
             self.pos = start + len + 1;
             self.physical_names.push(PhysicalName { dim, tag, name });
         }
@@ -1027,9 +1514,14 @@ impl<'a> Parser<'a> {
             for _ in 0..n {
                 let tag = self.int("an entity tag")?;
                 // A point has its coordinates, other entities their bounding box.
-                for _ in 0..if dim == 0 { 3 } else { 6 } {
-                    self.float("an entity coordinate")?;
+                let mut bbox = [0.0; 6];
+                for b in bbox.iter_mut().take(if dim == 0 { 3 } else { 6 }) {
+                    *b = self.float("an entity coordinate")?;
                 }
+                if dim == 0 {
+                    bbox.copy_within(0..3, 3);
+                }
+                self.entity_boxes.insert((dim as i32, tag), bbox);
                 let np = self.size("the number of physical tags")?;
                 let np = self.count(np, "number of physical tags")?;
                 let mut physical = Vec::with_capacity(np);
@@ -1072,37 +1564,68 @@ impl<'a> Parser<'a> {
         if self.binary {
             self.next_line()?;
         }
+        let header = self.mark();
         let blocks = self.size("the number of node blocks")?;
         let blocks = self.count(blocks, "number of node blocks")?;
         let total = self.size("the number of nodes")?;
         let total = self.count(total, "number of nodes")?;
-        self.size("the smallest node tag")?;
-        self.size("the largest node tag")?;
+        let min_tag = self.size("the smallest node tag")?;
+        let max_tag = self.size("the largest node tag")?;
+        self.line_end("the $Nodes header")?;
         self.node_tags.reserve(total);
         self.coords.reserve(total);
         for _ in 0..blocks {
+            let block_start = self.mark();
             let dim = self.int("the entity dimension")?;
-            self.int("the entity tag")?;
+            let entity = self.int("the entity tag")?;
             let parametric = self.int("the parametric flag")?;
             let n = self.size("the number of nodes in the block")?;
             let n = self.count(n, "number of nodes in the block")?;
+            self.line_end("a node block's header")?;
+            if !(0..=3).contains(&dim) || !(0..=1).contains(&parametric) {
+                return Err(self.err_at(
+                    block_start,
+                    format!(
+                        "the node block of entity {entity} has dimension {dim} and parametric flag {parametric}: expected a dimension 0 to 3 and a flag 0 or 1"
+                    ),
+                ));
+            }
             let start = self.pos;
             let mut tags = Vec::with_capacity(n);
             for _ in 0..n {
                 tags.push(self.size("a node tag")?);
+                self.line_end("a node tag's line")?;
             }
-            let extra = if parametric == 1 {
-                dim.clamp(0, 3) as usize
-            } else {
-                0
-            };
+            let extra = if parametric == 1 { dim as usize } else { 0 };
             for tag in tags {
                 let xyz = [self.float("x")?, self.float("y")?, self.float("z")?];
                 for _ in 0..extra {
                     self.float("a parametric coordinate")?;
                 }
+                self.line_end("a node's coordinates")?;
                 self.add_node(tag, xyz, start)?;
             }
+        }
+        if self.node_tags.len() != total {
+            return Err(self.err_at(
+                header,
+                format!(
+                    "the $Nodes header announces {total} nodes, but its blocks hold {}",
+                    self.node_tags.len()
+                ),
+            ));
+        }
+        let lo = self.node_tags.iter().copied().min();
+        let hi = self.node_tags.iter().copied().max();
+        if let (Some(lo), Some(hi)) = (lo, hi)
+            && (lo, hi) != (min_tag, max_tag)
+        {
+            return Err(self.err_at(
+                header,
+                format!(
+                    "the $Nodes header gives node tags {min_tag} to {max_tag}, but the nodes' tags run from {lo} to {hi}"
+                ),
+            ));
         }
         Ok(())
     }
@@ -1110,12 +1633,16 @@ impl<'a> Parser<'a> {
     fn nodes_22(&mut self) -> Result<()> {
         let n: u64 = self.ascii("the number of nodes")?;
         let n = self.count(n, "number of nodes")?;
+        self.line_end("the number of nodes")?;
         self.node_tags.reserve(n);
         self.coords.reserve(n);
         if self.binary {
             self.next_line()?;
         }
         for _ in 0..n {
+            if !self.binary {
+                self.skip_whitespace();
+            }
             let start = self.pos;
             let (tag, xyz) = if self.binary {
                 let tag = self.bin_i32("a node tag")?;
@@ -1126,10 +1653,12 @@ impl<'a> Parser<'a> {
                     [self.bin_f64("x")?, self.bin_f64("y")?, self.bin_f64("z")?],
                 )
             } else {
-                (
+                let v = (
                     self.ascii("a node tag")?,
                     [self.ascii("x")?, self.ascii("y")?, self.ascii("z")?],
-                )
+                );
+                self.line_end("a node's line")?;
+                v
             };
             self.add_node(tag, xyz, start)?;
         }
@@ -1150,6 +1679,59 @@ impl<'a> Parser<'a> {
         })
     }
 
+    /// How far (2 % of the model's size) a node may lie outside its entity's
+    /// bounding box: Gmsh samples a curved entity to bound it, and the sampled box
+    /// can miss a node on the curve (by 0.24 % of the model's size in
+    /// examples/roller_in_cradle/roller.msh).
+    fn box_slack(&self) -> f64 {
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for c in &self.coords {
+            for k in 0..3 {
+                lo[k] = lo[k].min(c[k]);
+                hi[k] = hi[k].max(c[k]);
+            }
+        }
+        let d2: f64 = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum();
+        0.02 * d2.sqrt()
+    }
+
+    /// 4.1: the nodes of an element lie in the bounding box `$Entities` gives its
+    /// entity (up to `slack`): an element block given another entity of the same
+    /// dimension would put its elements in that entity's physical groups. Boxes of
+    /// all zeros (written by programs that do not compute them) are not checked.
+    #[allow(clippy::too_many_arguments)]
+    fn check_in_box(
+        &self,
+        dim: i32,
+        entity: i32,
+        tag: u64,
+        gmsh_type: i32,
+        node_tags: &[u64],
+        slack: f64,
+        at: usize,
+    ) -> Result<()> {
+        let Some(b) = self.entity_boxes.get(&(dim, entity)) else {
+            return Ok(());
+        };
+        if b.iter().all(|&v| v == 0.0) {
+            return Ok(());
+        }
+        for t in node_tags {
+            let x = self.coords[self.node_index[t]];
+            if (0..3).any(|k| x[k] < b[k] - slack || x[k] > b[k + 3] + slack) {
+                return Err(self.err_at(
+                    at,
+                    format!(
+                        "{} of entity {entity} (dimension {dim}) has node {t} at ({}, {}, {}), outside the entity's bounding box ({}, {}, {}) to ({}, {}, {}) in $Entities: the element is not in its entity (a damaged entity tag?)",
+                        self.element_text(tag, gmsh_type, at),
+                        x[0], x[1], x[2], b[0], b[1], b[2], b[3], b[4], b[5]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Stores one element, its node tags resolved to node indices.
     fn add_element(
         &mut self,
@@ -1157,8 +1739,10 @@ impl<'a> Parser<'a> {
         tag: u64,
         node_tags: &[u64],
         physical: Vec<i32>,
+        entity: i32,
         at: usize,
     ) -> Result<()> {
+        let meta = Meta { at };
         let mut nodes = [0usize; 4];
         for (slot, &t) in nodes.iter_mut().zip(node_tags) {
             *slot = *self.node_index.get(&t).ok_or_else(|| {
@@ -1178,21 +1762,33 @@ impl<'a> Parser<'a> {
         }
         match kind {
             Kind::Point => {}
-            Kind::Line => self.lines.push(Element {
-                tag,
-                nodes: [nodes[0], nodes[1]],
-                physical,
-            }),
-            Kind::Triangle => self.triangles.push(Element {
-                tag,
-                nodes: [nodes[0], nodes[1], nodes[2]],
-                physical,
-            }),
-            Kind::Quad => self.quads.push(Element {
-                tag,
-                nodes,
-                physical,
-            }),
+            Kind::Line => {
+                self.lines.push(Element {
+                    tag,
+                    nodes: [nodes[0], nodes[1]],
+                    physical,
+                    entity,
+                });
+                self.line_meta.push(meta);
+            }
+            Kind::Triangle => {
+                self.triangles.push(Element {
+                    tag,
+                    nodes: [nodes[0], nodes[1], nodes[2]],
+                    physical,
+                    entity,
+                });
+                self.triangle_meta.push(meta);
+            }
+            Kind::Quad => {
+                self.quads.push(Element {
+                    tag,
+                    nodes,
+                    physical,
+                    entity,
+                });
+                self.quad_meta.push(meta);
+            }
         }
         Ok(())
     }
@@ -1201,39 +1797,97 @@ impl<'a> Parser<'a> {
         if self.binary {
             self.next_line()?;
         }
+        let header = self.mark();
         let blocks = self.size("the number of element blocks")?;
         let blocks = self.count(blocks, "number of element blocks")?;
-        self.size("the number of elements")?;
-        self.size("the smallest element tag")?;
-        self.size("the largest element tag")?;
+        let total = self.size("the number of elements")?;
+        let min_tag = self.size("the smallest element tag")?;
+        let max_tag = self.size("the largest element tag")?;
+        self.line_end("the $Elements header")?;
         let mut node_tags = [0u64; 4];
+        let mut read = 0u64;
+        let (mut lo, mut hi) = (u64::MAX, 0u64);
+        let slack = self.box_slack();
         for _ in 0..blocks {
-            let block_start = self.pos;
+            let block_start = self.mark();
             let dim = self.int("the entity dimension")?;
             let entity = self.int("the entity tag")?;
             let t = self.int("the element type")?;
             let kind = self.kind(t, block_start)?;
             let n = self.size("the number of elements in the block")?;
             let n = self.count(n, "number of elements in the block")?;
-            let physical = self
-                .entities
-                .get(&(dim, entity))
-                .cloned()
-                .unwrap_or_default();
+            self.line_end("an element block's header")?;
+            let fits = match kind {
+                Kind::Point => 0,
+                Kind::Line => 1,
+                Kind::Triangle | Kind::Quad => 2,
+            };
+            if dim != fits {
+                return Err(self.err_at(
+                    block_start,
+                    format!(
+                        "the element block of entity {entity} has dimension {dim}, but its elements ({}s, type {t}) have dimension {fits}",
+                        element_type_name(t)
+                    ),
+                ));
+            }
+            let physical = match self.entities.get(&(dim, entity)) {
+                Some(p) => p.clone(),
+                None if self.seen_entities => {
+                    return Err(self.err_at(
+                        block_start,
+                        format!(
+                            "the element block of {n} {}s is in entity {entity} of dimension {dim}, which $Entities does not list: its elements' physical groups are unknown",
+                            element_type_name(t)
+                        ),
+                    ));
+                }
+                None => Vec::new(),
+            };
             for _ in 0..n {
-                let start = self.pos;
+                let start = self.mark();
                 let tag = self.size("an element tag")?;
                 for slot in node_tags.iter_mut().take(kind.node_count()) {
                     *slot = self.size("a node tag")?;
                 }
+                self.line_end("an element's line")?;
+                lo = lo.min(tag);
+                hi = hi.max(tag);
                 self.add_element(
                     kind,
                     tag,
                     &node_tags[..kind.node_count()],
                     physical.clone(),
+                    entity,
+                    start,
+                )?;
+                self.check_in_box(
+                    dim,
+                    entity,
+                    tag,
+                    t,
+                    &node_tags[..kind.node_count()],
+                    slack,
                     start,
                 )?;
             }
+            read += n as u64;
+        }
+        if read != total {
+            return Err(self.err_at(
+                header,
+                format!(
+                    "the $Elements header announces {total} elements, but its blocks hold {read}"
+                ),
+            ));
+        }
+        if read > 0 && (lo, hi) != (min_tag, max_tag) {
+            return Err(self.err_at(
+                header,
+                format!(
+                    "the $Elements header gives element tags {min_tag} to {max_tag}, but the elements' tags run from {lo} to {hi}"
+                ),
+            ));
         }
         Ok(())
     }
@@ -1241,6 +1895,7 @@ impl<'a> Parser<'a> {
     fn elements_22(&mut self) -> Result<()> {
         let n: u64 = self.ascii("the number of elements")?;
         let n = self.count(n, "number of elements")?;
+        self.line_end("the number of elements")?;
         let mut node_tags = [0u64; 4];
         if !self.binary {
             for _ in 0..n {
@@ -1251,16 +1906,27 @@ impl<'a> Parser<'a> {
                 let kind = self.kind(t, start)?;
                 let ntags: usize = self.ascii("the number of tags")?;
                 let mut physical = Vec::new();
+                let mut entity = 0;
                 for k in 0..ntags {
                     let v: i32 = self.ascii("a tag")?;
-                    if k == 0 && v != 0 {
-                        physical.push(v);
+                    match k {
+                        0 if v != 0 => physical.push(v),
+                        1 => entity = v,
+                        _ => {}
                     }
                 }
                 for slot in node_tags.iter_mut().take(kind.node_count()) {
                     *slot = self.ascii("a node tag")?;
                 }
-                self.add_element(kind, tag, &node_tags[..kind.node_count()], physical, start)?;
+                self.line_end("an element's line")?;
+                self.add_element(
+                    kind,
+                    tag,
+                    &node_tags[..kind.node_count()],
+                    physical,
+                    entity,
+                    start,
+                )?;
             }
             return Ok(());
         }
@@ -1288,10 +1954,13 @@ impl<'a> Parser<'a> {
                 let start = self.pos;
                 let tag = self.bin_i32("an element tag")?;
                 let mut physical = Vec::new();
+                let mut entity = 0;
                 for k in 0..ntags {
                     let v = self.bin_i32("a tag")?;
-                    if k == 0 && v != 0 {
-                        physical.push(v);
+                    match k {
+                        0 if v != 0 => physical.push(v),
+                        1 => entity = v,
+                        _ => {}
                     }
                 }
                 for slot in node_tags.iter_mut().take(kind.node_count()) {
@@ -1300,7 +1969,14 @@ impl<'a> Parser<'a> {
                 }
                 let tag = u64::try_from(tag)
                     .map_err(|_| self.err_at(start, format!("negative element tag {tag}")))?;
-                self.add_element(kind, tag, &node_tags[..kind.node_count()], physical, start)?;
+                self.add_element(
+                    kind,
+                    tag,
+                    &node_tags[..kind.node_count()],
+                    physical,
+                    entity,
+                    start,
+                )?;
             }
             read += follow;
         }
@@ -1336,30 +2012,6 @@ impl<'a> Parser<'a> {
         }
         Ok(())
     }
-}
-
-/// Merges elements with the same nodes (MSH 2.2 writes an element once per physical
-/// group), keeping the first one's tag and order and the union of the groups.
-fn merge_duplicates<const N: usize>(elements: Vec<Element<N>>) -> Vec<Element<N>> {
-    let mut first: HashMap<[usize; N], usize> = HashMap::with_capacity(elements.len());
-    let mut out: Vec<Element<N>> = Vec::with_capacity(elements.len());
-    for e in elements {
-        let mut key = e.nodes;
-        key.sort_unstable();
-        match first.get(&key) {
-            Some(&i) => {
-                let p = &mut out[i].physical;
-                p.extend(e.physical);
-                p.sort_unstable();
-                p.dedup();
-            }
-            None => {
-                first.insert(key, out.len());
-                out.push(e);
-            }
-        }
-    }
-    out
 }
 
 #[cfg(test)]

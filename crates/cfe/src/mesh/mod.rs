@@ -6,6 +6,7 @@
 
 mod arrays;
 pub mod gmsh;
+pub mod input_file;
 mod refine;
 
 pub use arrays::BoundarySelection;
