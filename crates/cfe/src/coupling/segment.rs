@@ -22,6 +22,12 @@
 //! `N_a N_b` and `N_a N̄_i` exactly. The host's shape functions are taken at the
 //! Gauss point itself — extrapolated where a face segment cuts a corner of a
 //! curved host face — so no linear displacement field has a jump.
+//!
+//! With initial gaps (a search distance) each point's gap is measured between
+//! the two faces' curves (the cubic through each edge's ends with the face's
+//! vertex normals, [`curve_offset`]), not between their polygons: on curved faces
+//! meshed apart the polygons' overlap alternates from node to node by a chord's
+//! sagitta, which alone opens every other pair of a shrink fit.
 
 use super::element::{CouplingElement, MAX_NODES, SegmentSide};
 use super::search::{edge_normal, edge_tree, project, shape_at};
@@ -176,7 +182,9 @@ pub fn segment_elements(
 /// bisectors); each Gauss point X is tied to its projection P on that edge (the
 /// host's shape functions are taken at P) and carries the pointwise initial gap
 /// `g₀(X) = (X − P) · n_e` (n_e the edge's outward normal; > 0 apart, < 0
-/// overlapping). The element's initial gap is the N_a-weighted mean
+/// overlapping), measured between the two faces' curves rather than their
+/// polygons (plus the node face's and minus the host face's [`curve_offset`]).
+/// The element's initial gap is the N_a-weighted mean
 /// `g₀_a = ∫ N_a g₀ ds / m_a`, with the weight of its averaged jump. A coupling node
 /// with a Gauss point on its face segments farther than d from every host edge is
 /// left unpaired, as the node coupling leaves a node beyond d; their number is
