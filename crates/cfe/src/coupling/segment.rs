@@ -71,10 +71,10 @@ fn vertex_normals(
             continue;
         }
         let bisector = [s[0] / l, s[1] / l];
-        if let [n1, n2] = normals[..] {
-            if n1[0] * n2[0] + n1[1] * n2[1] >= SMOOTH_TURN.cos() {
-                smooth.insert(v, bisector);
-            }
+        if let [n1, n2] = normals[..]
+            && n1[0] * n2[0] + n1[1] * n2[1] >= SMOOTH_TURN.cos()
+        {
+            smooth.insert(v, bisector);
         }
         bisectors.insert(v, bisector);
     }
