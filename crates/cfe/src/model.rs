@@ -1358,6 +1358,8 @@ fn refined_nodes(nodes: usize, refine: usize) -> u64 {
         .checked_mul(k)
         .and_then(|n| n.checked_mul(k))
         .unwrap_or(u64::MAX)
+}
+
 /// The names of one kind of table, `(name, given)` each, with the default
 /// names (`given` false) made unique: a default name already taken (by a given
 /// name or an earlier table) gets ` (2)`, ` (3)`, … Given names are checked
