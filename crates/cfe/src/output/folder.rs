@@ -545,16 +545,12 @@ mod tests {
     /// nothing else is.
     #[test]
     fn run_names() {
-        for n in [
-            "summary.json",
-            ".summary.json.tmp",
-            "pressure.png",
-            ".results.pvd.tmp",
-            "vtu/parts_0001.vtu",
-            "vtu/.pairs_12345.vtu.tmp",
-        ] {
+        for n in RUN_FILES
+            .into_iter()
+            .chain(["vtu/parts_0001.vtu", "vtu/pairs_12345.vtu"])
+        {
             assert!(is_run_name(n), "{n}");
-            assert!(is_run_name(&temporary(n.trim_start_matches('.'))) || n.contains(".tmp"));
+            assert!(is_run_name(&temporary(n)), "{}", temporary(n));
         }
         for n in [
             "notes.tmp",
