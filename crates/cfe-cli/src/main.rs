@@ -70,6 +70,13 @@ enum Command {
         /// `[analysis] output_every`. pairs.csv and summary.json stay complete.
         #[arg(long, value_name = "N|last", value_parser = parse_write_every, allow_negative_numbers = true)]
         write_every: Option<usize>,
+        /// Write into the output folder even if it is not empty and holds no cfe
+        /// run, or holds files at the names cfe writes (summary.json, pairs.csv,
+        /// results.pvd, the PNGs, vtu/parts_N.vtu, vtu/pairs_N.vtu) that no cfe run
+        /// wrote: those files are replaced; every other file is left alone.
+        /// Without it such a folder is refused, untouched.
+        #[arg(long)]
+        force: bool,
     },
     /// Benchmark: run a problem with the rigid and the contact law at growing
     /// refinement and write benchmarks.md and benchmarks.png.
@@ -239,7 +246,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             law,
             friction,
             write_every,
-        } => run_problem(&problem, out, refine, law, friction, write_every),
+            force,
+        } => run_problem(&problem, out, refine, law, friction, write_every, force),
     }
 }
 
@@ -278,7 +286,9 @@ fn default_bench_problem(exe: &Path) -> anyhow::Result<PathBuf> {
 }
 
 /// `cfe run`: solves the problem with a progress bar, writes the results into
-/// `out` (default `results/<problem stem>`) and prints the main figures.
+/// `out` (default `results/<problem stem>`) and prints the main figures. The
+/// folder is locked and checked (`force`: see `--force`) once the problem is
+/// read, before anything in it is removed.
 fn run_problem(
     problem: &Path,
     out: Option<PathBuf>,
@@ -286,6 +296,7 @@ fn run_problem(
     law: Option<LawArg>,
     friction: Option<f64>,
     write_every: Option<usize>,
+    force: bool,
 ) -> anyhow::Result<()> {
     let out = out.unwrap_or_else(|| {
         let stem = problem
@@ -304,6 +315,7 @@ fn run_problem(
     if let Some(n) = write_every {
         a.model.settings.output_every = n;
     }
+    let folder = cfe::output::folder::OutputFolder::open(&out, force)?;
     eprint!("{}", a.describe());
     let bar = ProgressBar::new(a.model.settings.increments as u64);
     let steps = a.model.steps();
@@ -318,8 +330,8 @@ fn run_problem(
     for signal in [SIGINT, SIGTERM] {
         signal_hook::flag::register_usize(signal, Arc::clone(&stop), signal as usize)?;
     }
-    let summary = a.run_until(
-        &out,
+    let summary = a.run_in(
+        folder,
         &mut |inc| {
             // The step is named when the problem has several.
             let step = match steps.get(inc.step) {

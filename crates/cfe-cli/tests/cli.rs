@@ -372,3 +372,113 @@ fn a_megabyte_title_is_drawn_promptly() {
     );
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// A fresh scratch folder for test `name`.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cfe-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// `cfe run --out .` in a folder of the user's (`notes.tmp`, `thesis.docx.tmp`,
+/// a `summary.json`) is refused with exit status 1, naming the colliding file and
+/// `--force`, and leaves every file as it was; with `--force` it writes its
+/// results there, replacing only `summary.json`; the next run needs no
+/// `--force`, as the folder now holds a cfe run.
+#[test]
+fn out_dot_in_a_users_folder() {
+    let dir = scratch("dot");
+    let plate = repo().join("examples/plate_on_base.toml");
+    let user = [
+        ("notes.tmp", "notes"),
+        ("thesis.docx.tmp", "thesis"),
+        ("summary.json", "my summary"),
+    ];
+    for (f, text) in user {
+        std::fs::write(dir.join(f), text).unwrap();
+    }
+    let run = |force: bool| {
+        Command::new(env!("CARGO_BIN_EXE_cfe"))
+            .args(["run", plate.to_str().unwrap(), "--out", "."])
+            .args(if force { &["--force"][..] } else { &[][..] })
+            .current_dir(&dir)
+            .output()
+            .expect("cfe runs")
+    };
+    let o = run(false);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("summary.json") && e.contains("--force") && e.contains("untouched"),
+        "{e}"
+    );
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["notes.tmp", "summary.json", "thesis.docx.tmp"]);
+    for (f, text) in user {
+        assert_eq!(std::fs::read_to_string(dir.join(f)).unwrap(), text);
+    }
+    let o = run(true);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        std::fs::read_to_string(dir.join("summary.json"))
+            .unwrap()
+            .contains("\"status\": \"completed\"")
+    );
+    assert!(dir.join("vtu/parts_0010.vtu").is_file());
+    let o = run(false);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for (f, text) in &user[..2] {
+        assert_eq!(std::fs::read_to_string(dir.join(f)).unwrap(), *text);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A run into a folder another process holds (here this test, through the
+/// library's lock) is refused with exit status 1, naming that process's id, and
+/// writes nothing; a non-empty folder without a cfe run is refused naming what it
+/// holds; `--help` documents `--force`.
+#[test]
+fn a_folder_in_use_or_not_ours_is_refused() {
+    let dir = scratch("lock");
+    let plate = repo().join("examples/plate_on_base.toml");
+    let held = cfe::output::folder::OutputFolder::open(&dir, false).unwrap();
+    let o = cfe(&[
+        "run",
+        plate.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("in use by another cfe run")
+            && e.contains(&format!("process {}", std::process::id())),
+        "{e}"
+    );
+    assert!(!dir.join("vtu").exists() && !dir.join("summary.json").exists());
+    drop(held);
+
+    std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+    let o = cfe(&[
+        "run",
+        plate.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("holds no cfe run") && e.contains("notes.txt"),
+        "{e}"
+    );
+    assert!(!dir.join("vtu").exists());
+
+    let help = String::from_utf8_lossy(&cfe(&["run", "--help"]).stdout).into_owned();
+    assert!(help.contains("--force"), "{help}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

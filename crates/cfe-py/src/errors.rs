@@ -71,7 +71,7 @@ create_exception!(
     _cfe,
     OutputError,
     CfeError,
-    "A result file cannot be written. Attribute: `path`."
+    "A result file cannot be written, or the output folder is refused (attributes `files`, the files at fault relative to the folder, for a folder that holds files cfe did not write where it would write, or something it cannot write through; `pid`, the other run's process id, for a folder in use). Attribute: `path` (the file or the folder)."
 );
 
 /// The Python exception for a library error: its class by kind, its message the
@@ -250,6 +250,18 @@ pub fn to_py(py: Python<'_>, e: cfe::Error) -> PyErr {
         E::InputFile { path, .. } => (
             ParseError::new_err(message),
             vec![("path", obj(py, path)), ("line", py.None())],
+        ),
+        E::OutputFolderNotOurs { folder, files, .. } => (
+            OutputError::new_err(message),
+            vec![("path", obj(py, folder)), ("files", obj(py, files))],
+        ),
+        E::OutputFolderInUse { folder, pid } => (
+            OutputError::new_err(message),
+            vec![("path", obj(py, folder)), ("pid", obj(py, pid))],
+        ),
+        E::OutputPathBlocked { folder, path, .. } => (
+            OutputError::new_err(message),
+            vec![("path", obj(py, folder)), ("files", obj(py, vec![path]))],
         ),
     };
     let value = err.value(py);

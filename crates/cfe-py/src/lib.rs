@@ -289,9 +289,14 @@ impl PyModel {
     /// `law` ("rigid", "contact", "frictionless" or "coulomb", the last with
     /// `friction` = μ) overrides every interface's law. `write_every` (N ≥ 1 or
     /// "last", with `out`) writes the VTU files of every N-th increment only (the
-    /// last of each step always), overriding the file's `output_every`. Returns a
-    /// dict of the raw results (see `cfe.Results`).
-    #[pyo3(signature = (progress=None, out=None, law=None, friction=None, write_every=None))]
+    /// last of each step always), overriding the file's `output_every`. `force`
+    /// (with `out`) writes into a folder that is not empty and holds no cfe run,
+    /// or holds files at the names cfe writes that no cfe run wrote (those are
+    /// replaced, nothing else is touched); without it such a folder is refused
+    /// with an `OutputError`, as `cfe run` without `--force`. Returns a dict of
+    /// the raw results (see `cfe.Results`).
+    #[pyo3(signature = (progress=None, out=None, law=None, friction=None, write_every=None, force=false))]
+    #[allow(clippy::too_many_arguments)]
     fn solve<'py>(
         &self,
         py: Python<'py>,
@@ -300,6 +305,7 @@ impl PyModel {
         law: Option<&str>,
         friction: Option<f64>,
         write_every: Option<Bound<'py, PyAny>>,
+        force: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let write_every = match write_every {
             None => None,
@@ -395,12 +401,17 @@ impl PyModel {
                 Some(dir) => {
                     let mut last: Option<IncrementResult> = None;
                     let mut failed = false;
-                    let summary = analysis.run(dir, &mut |inc| {
-                        if !failed {
-                            failed = on_increment(inc).is_err();
-                        }
-                        last = Some(inc.clone());
-                    })?;
+                    let folder = cfe::output::folder::OutputFolder::open(dir, force)?;
+                    let summary = analysis.run_in(
+                        folder,
+                        &mut |inc| {
+                            if !failed {
+                                failed = on_increment(inc).is_err();
+                            }
+                            last = Some(inc.clone());
+                        },
+                        &std::sync::atomic::AtomicUsize::new(0),
+                    )?;
                     let last = last.ok_or_else(|| {
                         cfe::Error::Model("the run converged no increment".into())
                     })?;

@@ -201,6 +201,45 @@ pub enum Error {
         /// Its error lines (stderr).
         stderr: String,
     },
+    /// The output folder holds files cfe did not write where it would write: it is
+    /// not empty and holds no cfe run, or holds files at the names a run writes
+    /// that the last run's manifest does not list. Nothing in it was touched.
+    /// `force` (`cfe run --force`, Python `force=True`) accepts it.
+    #[error("output folder {}: {message}", folder.display())]
+    OutputFolderNotOurs {
+        /// The output folder.
+        folder: PathBuf,
+        /// The files at fault, relative to the folder: those at the names a run
+        /// writes, or (a folder with no cfe run) its entries.
+        files: Vec<PathBuf>,
+        /// What is wrong and how to proceed.
+        message: String,
+    },
+    /// Another run holds the output folder's lock (`.cfe-lock`): two runs must
+    /// not write into one folder.
+    #[error(
+        "output folder {} is in use by another cfe run ({}); wait for it to end or choose another output folder",
+        folder.display(),
+        pid.map_or("its process id is not known yet".to_string(), |p| format!("process {p}"))
+    )]
+    OutputFolderInUse {
+        /// The output folder.
+        folder: PathBuf,
+        /// The process id of the run holding it, as written in its lock file.
+        pid: Option<u32>,
+    },
+    /// Something in the output folder cfe can neither write through nor remove,
+    /// even with `force`: `vtu` is a symbolic link or a file, or a folder sits
+    /// at a name a run writes. Nothing in the folder was touched.
+    #[error("output folder {}: `{}` {message}", folder.display(), path.display())]
+    OutputPathBlocked {
+        /// The output folder.
+        folder: PathBuf,
+        /// The entry at fault, relative to the folder.
+        path: PathBuf,
+        /// What it is and what to do.
+        message: String,
+    },
     /// Writing a result file failed.
     #[error("cannot write {path}: {message}")]
     Output {

@@ -334,8 +334,8 @@ fn oversized_models_are_refused_before_meshing() {
 /// A run asked to stop (as by SIGINT) ends after the increment being solved with
 /// `Error::Interrupted`; the folder is a consistent snapshot: `summary.json` says
 /// `interrupted`, `results.pvd` names only files that exist, no `.tmp` file is
-/// left, and the files of an earlier, longer run in the same folder are gone while
-/// a user's own file stays.
+/// left, and the files of an earlier, longer run in the same folder (a temporary
+/// file of its own included) are gone while a user's own file stays.
 #[test]
 fn interrupted_run_leaves_a_consistent_folder() {
     let out = std::env::temp_dir().join(format!("cfe-test-interrupt-{}", std::process::id()));
@@ -344,7 +344,9 @@ fn interrupted_run_leaves_a_consistent_folder() {
     a.run(&out, &mut |_| {}).unwrap();
     assert!(out.join("vtu/parts_0010.vtu").is_file());
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
-    std::fs::write(out.join("vtu/parts_0003.vtu.tmp"), "half").unwrap();
+    // The temporary file of a write the earlier run's kill interrupted (its
+    // manifest lists it).
+    std::fs::write(out.join("vtu/.parts_0003.vtu.tmp"), "half").unwrap();
 
     let stop = std::sync::atomic::AtomicUsize::new(0);
     let e = a

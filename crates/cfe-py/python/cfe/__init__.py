@@ -512,6 +512,7 @@ class Model:
         law: Optional[str] = None,
         friction: Optional[float] = None,
         write_every: Optional[Union[int, str]] = None,
+        force: bool = False,
     ) -> "Results":
         """Solves every increment in memory, with the GIL released, and returns the
         :class:`Results` of the last one.
@@ -527,10 +528,19 @@ class Model:
         ``"last"``, as ``cfe run --write-every``) writes the VTU files of every N-th
         increment only (the last of each step always), overriding the file's
         ``output_every``. The model is not changed: it can be solved again.
+
+        ``out`` is refused with :class:`OutputError` (nothing in it touched) when
+        it is not empty and holds no cfe run, or holds files at the names cfe
+        writes that no cfe run wrote (the error's ``files``), or when another run
+        writes into it (``pid``), as ``cfe run``; ``force=True`` writes into it
+        anyway, as ``cfe run --force``: the files at cfe's names are replaced,
+        every other file is left alone. A folder holding an earlier cfe run needs
+        no ``force``: the files that run listed in its ``.cfe-manifest`` are
+        removed first, nothing else.
         """
         callback = None if progress is None else _increments_to(progress)
         raw = self._native.solve(
-            callback, None if out is None else Path(out), law, friction, write_every
+            callback, None if out is None else Path(out), law, friction, write_every, force
         )
         return Results(raw, self, law, friction)
 
@@ -557,6 +567,7 @@ def run(
     law: Optional[str] = None,
     friction: Optional[float] = None,
     write_every: Optional[Union[int, str]] = None,
+    force: bool = False,
 ) -> "Results":
     """Builds and solves a model in one call: ``problem`` is a :class:`Model`, a
     dict (see :class:`Model`), a path to a problem file, or TOML text (a string
@@ -569,7 +580,9 @@ def run(
         model = Model.from_toml(problem, refine=refine)
     else:
         model = Model.from_file(problem, refine=refine)
-    return model.solve(progress, out=out, law=law, friction=friction, write_every=write_every)
+    return model.solve(
+        progress, out=out, law=law, friction=friction, write_every=write_every, force=force
+    )
 
 
 def _from_dict_error(e: ParseError, text: str, path: Path) -> ParseError:
@@ -836,14 +849,17 @@ class Results:
             return self.parts[part].to_meshio()
         return {name: p.to_meshio() for name, p in self.parts.items()}
 
-    def write(self, folder: PathLike) -> Dict[str, Any]:
+    def write(self, folder: PathLike, *, force: bool = False) -> Dict[str, Any]:
         """Writes the files of ``cfe run`` into ``folder`` (results.pvd, vtu/,
         pairs.csv, summary.json, sigma_yy.png, displacement.png), increment by
         increment. The per-increment files need every increment, which these
         results do not keep, so the model is solved again (the solve is
         deterministic: the same numbers); ``Model.solve(out=folder)`` does both
-        in one pass. Returns the new summary."""
-        raw = self._model._native.solve(None, Path(folder), self._law, self._friction)
+        in one pass. ``folder`` is checked as by ``Model.solve(out=…)``, ``force``
+        as there. Returns the new summary."""
+        raw = self._model._native.solve(
+            None, Path(folder), self._law, self._friction, None, force
+        )
         return raw["summary"]
 
     def __repr__(self) -> str:

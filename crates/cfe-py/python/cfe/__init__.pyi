@@ -105,6 +105,7 @@ class Model:
         law: Optional[str] = None,
         friction: Optional[float] = None,
         write_every: Optional[Union[int, str]] = None,
+        force: bool = False,
     ) -> Results: ...
 
 def run(
@@ -116,6 +117,7 @@ def run(
     law: Optional[str] = None,
     friction: Optional[float] = None,
     write_every: Optional[Union[int, str]] = None,
+    force: bool = False,
 ) -> Results: ...
 
 @dataclass
@@ -198,4 +200,4 @@ class Results:
     @property
     def max_displacement(self) -> Dict[str, Any]: ...
     def to_meshio(self, part: Optional[str] = None) -> Any: ...
-    def write(self, folder: _Path) -> Dict[str, Any]: ...
+    def write(self, folder: _Path, *, force: bool = False) -> Dict[str, Any]: ...

@@ -69,9 +69,13 @@ class TooLargeError(CfeError):
     available: int
 
 class OutputError(CfeError):
-    """A result file cannot be written."""
+    """A result file cannot be written, or the output folder is refused: it holds
+    files cfe did not write where it would write (`files`), something cfe cannot
+    write through (`files`), or another run writes into it (`pid`)."""
 
     path: Union[str, PathLike[str]]
+    files: List[Union[str, PathLike[str]]]
+    pid: Optional[int]
 
 class Mesh:
     """A part's mesh from arrays, checked (see `cfe.Mesh`)."""
@@ -129,6 +133,7 @@ class Model:
         law: Optional[str] = None,
         friction: Optional[float] = None,
         write_every: Optional[Union[int, str]] = None,
+        force: bool = False,
     ) -> Dict[str, Any]:
         """Solves with the GIL released; the raw results: `u`, `parts`, `interfaces`,
         `summary`, `load_factor`, `step`, `time`."""

@@ -4,6 +4,7 @@
 
 pub mod chart;
 pub mod fmt;
+pub mod folder;
 pub mod memory;
 pub(crate) mod png;
 pub mod report;
@@ -51,6 +52,12 @@ fn injected_fault() -> std::io::Result<()> {
     }
 }
 
+/// The temporary name a file named `file_name` is written under, beside it, before
+/// it is renamed into place: `.NAME.tmp` (see [`write_atomic`]).
+pub fn temporary_name(file_name: &str) -> String {
+    format!(".{file_name}.tmp")
+}
+
 /// Writes a file atomically: `fill` writes the content into a buffered temporary file
 /// beside `path`, which is then renamed over `path`.
 pub fn write_atomic(
@@ -62,7 +69,7 @@ pub fn write_atomic(
         .ok_or_else(|| Error::output(path, "not a file path"))?
         .to_string_lossy()
         .into_owned();
-    let tmp = path.with_file_name(format!(".{file_name}.tmp"));
+    let tmp = path.with_file_name(temporary_name(&file_name));
     let result = (|| -> std::io::Result<()> {
         let file = std::fs::File::create(&tmp)?;
         let mut w = BufWriter::with_capacity(1 << 20, file);

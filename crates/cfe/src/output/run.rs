@@ -3,6 +3,7 @@
 //! results survive a later failure; the pictures of the last increment are drawn
 //! while its parts VTU is still being written.
 
+use super::folder::{OutputFolder, PICTURES, VTU};
 use super::memory::peak_memory_bytes;
 use super::report::{self, PairRow};
 use super::summary::{RunClock, RunStatus, Summary};
@@ -21,54 +22,13 @@ use std::sync::{Arc, OnceLock};
 use std::thread::{Scope, ScopedJoinHandle};
 use std::time::Instant;
 
-/// The pictures a successful run draws into its output folder.
-const PICTURES: [&str; 3] = ["sigma_yy.png", "displacement.png", "pressure.png"];
-
-/// The files a run writes into its output folder (besides `vtu/`).
-const RUN_FILES: [&str; 6] = [
-    "summary.json",
-    "pairs.csv",
-    "results.pvd",
-    PICTURES[0],
-    PICTURES[1],
-    PICTURES[2],
-];
-
-/// Removes the pictures of a run that failed after drawing them (best effort:
-/// the run's error is what gets reported).
-fn remove_pictures(out: &Path) {
-    for f in PICTURES {
+/// Removes the pictures of a run that failed after drawing them, those it
+/// listed in the folder's manifest (best effort: the run's error is what gets
+/// reported).
+fn remove_pictures(out: &Path, folder: &OutputFolder) {
+    for f in PICTURES.into_iter().filter(|f| folder.lists(f)) {
         let _ = std::fs::remove_file(out.join(f));
     }
-}
-
-/// Removes what an earlier run left in `out`: its files, its VTU series
-/// (`vtu/parts_NNNN.vtu`, `vtu/pairs_NNNN.vtu`) and temporary files of an
-/// interrupted write (`*.tmp`). Other files are left alone.
-fn clear_previous_run(out: &Path) -> Result<()> {
-    let remove = |p: &Path| match std::fs::remove_file(p) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::output(p, e)),
-        _ => Ok(()),
-    };
-    for f in RUN_FILES {
-        remove(&out.join(f))?;
-    }
-    for dir in [out.to_path_buf(), out.join("vtu")] {
-        let Ok(entries) = std::fs::read_dir(&dir) else {
-            continue;
-        };
-        for entry in entries.flatten() {
-            let name = entry.file_name();
-            let name = name.to_string_lossy();
-            let series = dir != out
-                && (name.starts_with("parts_") || name.starts_with("pairs_"))
-                && name.ends_with(".vtu");
-            if series || name.ends_with(".tmp") {
-                remove(&entry.path())?;
-            }
-        }
-    }
-    Ok(())
 }
 
 /// Files that grow with the number of increments (`results.pvd`, `summary.json`)
@@ -92,6 +52,9 @@ fn rewrite_due(last: &mut Option<Instant>, count: usize) -> bool {
 
 /// What a run accumulates while its increments are solved and written.
 struct RunLog {
+    /// The locked output folder, whose manifest lists each file before it is
+    /// written.
+    folder: OutputFolder,
     /// When `summary.json` was last written.
     summary_written: Option<Instant>,
     /// The summary, rewritten after each converged increment.
@@ -141,7 +104,7 @@ struct Series<'scope> {
 impl<'scope> Series<'scope> {
     fn new(out: &Path) -> Self {
         Series {
-            vtu_dir: out.join("vtu"),
+            vtu_dir: out.join(VTU),
             pvd_path: out.join("results.pvd"),
             pvd: Vec::new(),
             writers: VecDeque::new(),
@@ -276,21 +239,42 @@ impl Analysis {
     /// to the signal's number): the converged increments stay on disk,
     /// `summary.json` says `interrupted`, and the error is [`Error::Interrupted`].
     ///
-    /// What a previous run left in `out` (its summary, pairs table, pictures,
-    /// series and VTU files, and any `.tmp` file) is removed first, so the folder
-    /// never mixes two runs; other files are left alone. `results.pvd` names an
-    /// increment's files only once both are completely written.
+    /// `out` is opened with [`OutputFolder::open`] without `force`: a folder that
+    /// holds no cfe run and is not empty, or holds files at the names a run writes
+    /// that no cfe run wrote, is refused ([`Error::OutputFolderNotOurs`]), one
+    /// another run writes into too as well ([`Error::OutputFolderInUse`]). See
+    /// [`Analysis::run_in`].
     pub fn run_until(
         &mut self,
         out: &Path,
         progress: &mut dyn FnMut(&IncrementResult),
         stop: &AtomicUsize,
     ) -> Result<Summary> {
+        self.run_in(OutputFolder::open(out, false)?, progress, stop)
+    }
+
+    /// [`Analysis::run_until`] into a folder already locked and checked by
+    /// [`OutputFolder::open`] (e.g. with `force`). The files the last run into
+    /// the folder listed in its manifest are removed first (and, with `force`,
+    /// the other files at the names a run writes), so the folder never mixes two
+    /// runs; every other file is left alone. `results.pvd` names an increment's
+    /// files only once both are completely written. The folder's lock is held
+    /// until the run has ended.
+    pub fn run_in(
+        &mut self,
+        mut folder: OutputFolder,
+        progress: &mut dyn FnMut(&IncrementResult),
+        stop: &AtomicUsize,
+    ) -> Result<Summary> {
         let clock = RunClock::start();
-        let vtu_dir = out.join("vtu");
-        std::fs::create_dir_all(&vtu_dir).map_err(|e| Error::output(&vtu_dir, e))?;
-        clear_previous_run(out)?;
+        folder.start()?;
+        // Written whatever happens next (a failure is recorded in the summary).
+        for f in ["summary.json", "results.pvd"] {
+            folder.claim(f)?;
+        }
+        let out = &folder.path().to_path_buf();
         let mut log = RunLog {
+            folder,
             summary_written: None,
             summary: self.empty_summary(),
             recovery_time: 0.0,
@@ -384,7 +368,7 @@ impl Analysis {
         if written.is_err() || drawn.is_err() {
             // Pictures belong to a successful run only (after a writer's failure
             // they would show an increment whose parts VTU is missing).
-            remove_pictures(out);
+            remove_pictures(out, &log.folder);
         }
         written.and(drawn)
     }
@@ -408,6 +392,14 @@ impl Analysis {
             }),
         };
         proceed()?;
+        // `pressure.png` is drawn only with a contact law (see
+        // `write_pressure_chart`).
+        let pressure = self.interfaces.iter().any(|i| i.law != Law::Rigid);
+        for f in PICTURES {
+            if f != PICTURES[2] || pressure {
+                log.folder.claim(f)?;
+            }
+        }
         let stresses = match log.last_stresses.take() {
             Some(s) => s,
             None => Stresses {
@@ -476,6 +468,9 @@ impl Analysis {
         let rows = self.pair_rows(inc);
         let parts_file = format!("parts_{:04}.vtu", inc.index);
         let pairs_file = format!("pairs_{:04}.vtu", inc.index);
+        for file in [&parts_file, &pairs_file] {
+            log.folder.claim(&format!("{VTU}/{file}"))?;
+        }
         series.make_room()?;
         let (path, fields, u) = (
             series.vtu_dir.join(&parts_file),
@@ -495,6 +490,7 @@ impl Analysis {
             })?;
         self.write_pairs_vtu(&series.vtu_dir.join(&pairs_file), inc, &rows)?;
         series.push(handle, inc.time, parts_file, pairs_file);
+        log.folder.claim("pairs.csv")?;
         report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
         self.fill_summary(&mut log.summary, inc, &rows);
         if rewrite_due(&mut log.summary_written, inc.index) {
