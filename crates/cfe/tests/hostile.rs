@@ -1061,6 +1061,8 @@ fn values_near_the_new_limits_are_accepted() {
         Model::from_str(&text, Path::new("hostile.toml"), 1)
             .unwrap_or_else(|e| panic!("{e}\n{text}"));
     }
+}
+
 // ------------------------------------------------------------ input files
 
 use cfe::error::InputRefusal;
