@@ -238,7 +238,12 @@ const FRICTIONLESS: &str = "law = \"frictionless\"";
 
 /// The Hertz convergence study.
 pub fn hertz(quick: bool) -> Result<Case> {
-    let levels: &[usize] = if quick { &[4, 8] } else { &[4, 8, 16, 32] };
+    // The quick report ends at n = 16, not 8: at n = 8 the contact's edge is
+    // resolved by two pairs a side, and the segment coupling's pressure there
+    // alternates (about 0.6 and 1.3 × Hertz's), which moves its fitted a by
+    // +13 % while its p₀ is within 1 % (the verdict says so whenever a coarser
+    // level misses 2 %). The criteria are applied at the finest level.
+    let levels: &[usize] = if quick { &[4, 8, 16] } else { &[4, 8, 16, 32] };
     let (a_ref, p0_ref) = reference();
     let mut runs = Vec::new();
     for &n in levels {
@@ -372,9 +377,36 @@ pub fn hertz(quick: bool) -> Result<Case> {
             100.0 * smooth(&seg_runs[last], 1.0),
             100.0 * smooth(&runs[last], 1.0),
             if passed { "met" } else { "NOT met" }
-        ),
+        ) + &coarse_misses(&seg_runs, a_ref, p0_ref),
         passed,
     })
+}
+
+/// The verdict's note on the segment coupling's coarser levels whose fitted a or
+/// p₀ is off by 2 % or more (the criteria apply at the finest level only): at
+/// n = 8 its pressure alternates over the contact's last two pairs a side, which
+/// the fit of p² follows. Empty when every level is within 2 %.
+fn coarse_misses(seg: &[HertzRun], a: f64, p0: f64) -> String {
+    let misses: Vec<String> = seg[..seg.len().saturating_sub(1)]
+        .iter()
+        .filter(|r| (r.fit.a / a - 1.0).abs() >= 0.02 || (r.fit.p0 / p0 - 1.0).abs() >= 0.02)
+        .map(|r| {
+            format!(
+                "n = {}: a {:+.2} %, p₀ {:+.2} %",
+                r.n,
+                100.0 * (r.fit.a / a - 1.0),
+                100.0 * (r.fit.p0 / p0 - 1.0)
+            )
+        })
+        .collect();
+    if misses.is_empty() {
+        return String::new();
+    }
+    format!(
+        " With the segment coupling the coarser levels miss 2 % ({}): there the contact's edge is resolved by a pair or two a side and the segment coupling's pressure alternates over them (a known limit of its per-node contact decision at coarse edges; the node coupling's does not), and the fit of p² follows it; the criteria are applied at the finest level, n = {}.",
+        misses.join("; "),
+        seg[seg.len() - 1].n
+    )
 }
 
 /// The frictionless law's lines with the segment coupling.
