@@ -116,6 +116,27 @@ pub fn curve_offset([p, q]: [[f64; 2]; 2], [n_p, n_q]: [[f64; 2]; 2], xi: f64) -
     l * xi * (1.0 - xi) * (sp * (1.0 - xi) - sq * xi)
 }
 
+/// The normals at an edge's two ends that its curve ([`curve_offset`]) takes,
+/// from the edge's own normal `n_e` and the curve's normal at each end where the
+/// face is smooth there (`None` at a corner or the face's end). Where one end is
+/// smooth and the other is not, the curve keeps its curvature up to the corner:
+/// the corner's normal is the smooth end's reflected about the edge's normal,
+/// 2 (n_e · n) n_e − n (on a circle meshed by chords, the radial direction at the
+/// corner; on a flat face n = n_e, so nothing changes). With neither end smooth
+/// the edge is straight (both normals n_e).
+fn end_normals(n_e: [f64; 2], ends: [Option<[f64; 2]>; 2]) -> [[f64; 2]; 2] {
+    let reflect = |n: [f64; 2]| {
+        let d = 2.0 * (n_e[0] * n[0] + n_e[1] * n[1]);
+        [d * n_e[0] - n[0], d * n_e[1] - n[1]]
+    };
+    match ends {
+        [Some(p), Some(q)] => [p, q],
+        [Some(p), None] => [p, reflect(p)],
+        [None, Some(q)] => [reflect(q), q],
+        [None, None] => [n_e, n_e],
+    }
+}
+
 /// The face segments of the node part on an interface: the edges of the named
 /// `boundary` of `node_mesh` (whose nodes are the interface's coupling nodes), as
 /// node pairs in ascending order (none when there is no such boundary).
@@ -428,7 +449,7 @@ fn gauss_points(
             .map(|[p, q]| {
             let ends = [x(p), x(q)];
             let n = edge_normal(ends);
-            let normals = [p, q].map(|v| node_smooth.get(&v).copied().unwrap_or(n));
+            let normals = end_normals(n, [p, q].map(|v| node_smooth.get(&v).copied()));
             (ends, normals, n, p != na)
         });
         // Host edges near the segment.
@@ -512,12 +533,9 @@ fn gauss_points(
             let corners = host.coordinates(element);
             let normal = edge_normal([p, q]);
             // The host face's curve over this edge (faces apart only): its ends'
-            // normals where the boundary is smooth there, the edge's own at a corner.
-            let curve = gaps.then(|| {
-                edges[e]
-                    .nodes
-                    .map(|v| smooth.get(&v).copied().unwrap_or(normal))
-            });
+            // normals where the boundary is smooth there, extrapolated at a corner
+            // ([`end_normals`]).
+            let curve = gaps.then(|| end_normals(normal, edges[e].nodes.map(|v| smooth.get(&v).copied())));
             for &(g, wg) in gauss {
                 let t = t0 + g * (t1 - t0);
                 let at = [a[0] + t * ab[0], a[1] + t * ab[1]];
@@ -864,6 +882,28 @@ mod tests {
         assert!(curve_offset([p, q], ends, 1.0).abs() < 1e-15);
         let n = edge_normal([p, q]);
         assert_eq!(curve_offset([p, q], [n, n], 0.3), 0.0);
+    }
+
+    /// At a corner next to a smooth vertex the curve keeps its curvature: on a
+    /// circle meshed by chords, the corner's normal from the smooth neighbour's
+    /// radial normal is the radial direction at the corner (to round-off), so the
+    /// last chord's curve is the arc's as in the middle of the face; on a flat
+    /// face (the neighbour's normal the edge's) nothing changes, and an edge with
+    /// no smooth end stays straight.
+    #[test]
+    fn a_corner_extrapolates_the_arc() {
+        let (r, theta) = (7.0f64, 0.3f64);
+        let radial = |a: f64| [a.cos(), a.sin()];
+        let (p, q) = (radial(0.0).map(|c| r * c), radial(theta).map(|c| r * c));
+        let n = edge_normal([p, q]);
+        let [at_p, at_q] = end_normals(n, [None, Some(radial(theta))]);
+        for (got, want) in [(at_p, radial(0.0)), (at_q, radial(theta))] {
+            assert!((got[0] - want[0]).abs() < 1e-14 && (got[1] - want[1]).abs() < 1e-14);
+        }
+        let [a, b] = end_normals(n, [Some(n), None]);
+        assert_eq!(a, n);
+        assert!((b[0] - n[0]).abs() < 1e-15 && (b[1] - n[1]).abs() < 1e-15);
+        assert_eq!(end_normals(n, [None, None]), [n, n]);
     }
 
     /// Coupling nodes on no boundary edge cannot be integrated over: an error
