@@ -17,6 +17,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::AtomicUsize;
 
 use errors::{mesh_error, to_py};
 
@@ -362,6 +364,20 @@ impl PyModel {
         let increments = model.settings.increments;
         let step_names: Vec<String> = model.steps().into_iter().map(|s| s.name).collect();
         let mut stopped: Option<PyErr> = None;
+        // Ctrl-C while a run writes into `out`: SIGINT sets the run's stop flag
+        // (signal-hook chains to Python's own handler, so the KeyboardInterrupt
+        // is pending too), which the solver reads inside the increments; the run
+        // ends `interrupted` with the converged increments on disk.
+        let stop = Arc::new(AtomicUsize::new(0));
+        let sigint = match &out {
+            Some(_) => signal_hook::flag::register_usize(
+                signal_hook::consts::SIGINT,
+                Arc::clone(&stop),
+                signal_hook::consts::SIGINT as usize,
+            )
+            .ok(),
+            None => None,
+        };
         let outcome = py.detach(|| -> cfe::Result<(Analysis, Results)> {
             let mut analysis = Analysis::new(model)?;
             match (law, friction) {
@@ -410,7 +426,7 @@ impl PyModel {
                             }
                             last = Some(inc.clone());
                         },
-                        &std::sync::atomic::AtomicUsize::new(0),
+                        &stop,
                     )?;
                     let last = last.ok_or_else(|| {
                         cfe::Error::Model("the run converged no increment".into())
@@ -425,10 +441,20 @@ impl PyModel {
                 }
             }
         });
+        if let Some(id) = sigint {
+            signal_hook::low_level::unregister(id);
+        }
         if let Some(e) = stopped {
             return Err(e);
         }
-        let (analysis, results) = outcome.map_err(|e| to_py(py, e))?;
+        // An interrupted run raises `KeyboardInterrupt` (Python's pending one is
+        // then consumed by it rather than raised again later).
+        let (analysis, results) = outcome.map_err(|e| {
+            if matches!(e, cfe::Error::Interrupted { .. }) {
+                let _ = py.check_signals();
+            }
+            to_py(py, e)
+        })?;
         results::to_dict(py, &analysis, results)
     }
 
