@@ -39,6 +39,7 @@
 //! before its output is written (a later solve, if any, refactorizes).
 
 use super::anderson::Anderson;
+use super::factor::Halt;
 use super::support;
 use super::system::{ContactSystem, Method, Solve, UpdatePolicy};
 use crate::assembly::{self, DofMap, ElementSource, FIXED};
@@ -524,12 +525,14 @@ impl<'a> Solver<'a> {
     }
 
     /// Has the solver read `stop` at every increment, active-set iteration,
-    /// fixed-point step and continuation stage, and before every factorization
-    /// or low-rank update: once it is nonzero (the caller sets it, e.g. to a
+    /// fixed-point step and continuation stage, before every factorization or
+    /// low-rank update, and before every supernode of a numeric factorization
+    /// ([`ContactSystem::set_stop`]): once it is nonzero (the caller sets it, e.g. to a
     /// signal's number) the run ends there with [`Error::Interrupted`], the
     /// increment being solved abandoned. Reading it changes nothing else.
     pub fn set_stop(&mut self, stop: &'a AtomicUsize) {
         self.stop = Some(stop);
+        self.system.set_stop(stop);
     }
 
     /// `Err(Error::Interrupted)` once the stop flag is set, while increment
@@ -1573,7 +1576,7 @@ impl<'a> Solver<'a> {
         self.check_stop(inc)?;
         self.system
             .solve_pair_forces(self.interfaces, self.dofs, states, &mut total)
-            .map_err(|eq| self.pivot_error(eq, inc))?;
+            .map_err(|h| self.halt_error(h, inc))?;
         let mut u = u_first;
         for (d, &e) in self.dofs.eq.iter().enumerate() {
             if e != FIXED {
@@ -1666,7 +1669,7 @@ impl<'a> Solver<'a> {
             let (_, complete) = self
                 .system
                 .solve_interface(self.interfaces, self.dofs, states, &mut du, true)
-                .map_err(|eq| self.pivot_error(eq, inc))?;
+                .map_err(|h| self.halt_error(h, inc))?;
             if complete {
                 for (d, &e) in self.dofs.eq.iter().enumerate() {
                     if e != FIXED {
@@ -2028,7 +2031,7 @@ impl<'a> Solver<'a> {
             let solved = self
                 .system
                 .solve_unrefined(self.interfaces, self.dofs, states, &mut x, read)
-                .map_err(|eq| self.pivot_error(eq, inc))?;
+                .map_err(|h| self.halt_error(h, inc))?;
             let method = match solved {
                 Solve::Complete(method) => method,
                 Solve::Unrefined(unrefined) => {
@@ -2196,7 +2199,7 @@ impl<'a> Solver<'a> {
         let (method, complete) = self
             .system
             .solve_interface(self.interfaces, self.dofs, states, &mut x, false)
-            .map_err(|eq| self.pivot_error(eq, inc))?;
+            .map_err(|h| self.halt_error(h, inc))?;
         if complete {
             for (d, &e) in self.dofs.eq.iter().enumerate() {
                 if e != FIXED {
@@ -2312,7 +2315,19 @@ impl<'a> Solver<'a> {
         assembly::internal_force_with(self.parts, self.interfaces, states, history, self.dofs, u)
     }
 
-    fn pivot_error(&self, eq: usize, inc: usize) -> Error {
+    /// The error of a linear solve of increment `inc` that did not finish: a
+    /// stop request ([`Error::Interrupted`]) or a non-positive pivot at an
+    /// equation (where, named by part and node).
+    fn halt_error(&self, halt: Halt, inc: usize) -> Error {
+        let eq = match halt {
+            Halt::Stopped(signal) => {
+                return Error::Interrupted {
+                    increment: inc.saturating_sub(1),
+                    signal,
+                };
+            }
+            Halt::Pivot(eq) => eq,
+        };
         let d = self.dofs.eq.iter().position(|&e| e == eq).unwrap_or(0);
         let (p, n) = self.dofs.locate(d / 2);
         Error::NotPositiveDefinite {
