@@ -285,7 +285,9 @@ impl PyModel {
 
     /// Solves the model with the GIL released. `progress(info)` is called after
     /// each converged increment with a dict (increment, increments, load_factor,
-    /// iterations, step, time: the step's name, and step index − 1 + load factor); an exception it raises (or Ctrl-C) stops the solve. With `out`,
+    /// iterations, step, time: the step's name, and step index − 1 + load factor); an exception it raises stops the solve; Ctrl-C (SIGINT, registered
+    /// on the solver's stop flag for the solve's duration) stops it inside an
+    /// increment with `KeyboardInterrupt`. With `out`,
     /// every converged increment is also written there as `cfe run` does (the
     /// callback then cannot stop the run: its exception is raised at the end).
     /// `law` ("rigid", "contact", "frictionless" or "coulomb", the last with
@@ -364,20 +366,17 @@ impl PyModel {
         let increments = model.settings.increments;
         let step_names: Vec<String> = model.steps().into_iter().map(|s| s.name).collect();
         let mut stopped: Option<PyErr> = None;
-        // Ctrl-C while a run writes into `out`: SIGINT sets the run's stop flag
+        // Ctrl-C while the solve runs: SIGINT sets the run's stop flag
         // (signal-hook chains to Python's own handler, so the KeyboardInterrupt
-        // is pending too), which the solver reads inside the increments; the run
-        // ends `interrupted` with the converged increments on disk.
+        // is pending too), which the solver reads inside the increments; with
+        // `out` the run ends `interrupted` with the converged increments on disk.
         let stop = Arc::new(AtomicUsize::new(0));
-        let sigint = match &out {
-            Some(_) => signal_hook::flag::register_usize(
-                signal_hook::consts::SIGINT,
-                Arc::clone(&stop),
-                signal_hook::consts::SIGINT as usize,
-            )
-            .ok(),
-            None => None,
-        };
+        let sigint = signal_hook::flag::register_usize(
+            signal_hook::consts::SIGINT,
+            Arc::clone(&stop),
+            signal_hook::consts::SIGINT as usize,
+        )
+        .ok();
         let outcome = py.detach(|| -> cfe::Result<(Analysis, Results)> {
             let mut analysis = Analysis::new(model)?;
             match (law, friction) {
@@ -411,7 +410,7 @@ impl PyModel {
             };
             match &out {
                 None => {
-                    let results = analysis.solve_observed(&mut on_increment)?;
+                    let results = analysis.solve_observed_until(&mut on_increment, &stop)?;
                     Ok((analysis, results))
                 }
                 Some(dir) => {
@@ -444,17 +443,24 @@ impl PyModel {
         if let Some(id) = sigint {
             signal_hook::low_level::unregister(id);
         }
+        // An interrupted run raises its `KeyboardInterrupt` (with the increment
+        // and signal), unless the callback raised another exception first;
+        // Python's pending one (or the one the callback's signal check raised)
+        // is consumed by it rather than raised again later.
+        let by_ctrl_c = stopped
+            .as_ref()
+            .is_none_or(|e| e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py));
+        let outcome = match outcome {
+            Err(e @ cfe::Error::Interrupted { .. }) if by_ctrl_c => {
+                let _ = py.check_signals();
+                return Err(to_py(py, e));
+            }
+            other => other,
+        };
         if let Some(e) = stopped {
             return Err(e);
         }
-        // An interrupted run raises `KeyboardInterrupt` (Python's pending one is
-        // then consumed by it rather than raised again later).
-        let (analysis, results) = outcome.map_err(|e| {
-            if matches!(e, cfe::Error::Interrupted { .. }) {
-                let _ = py.check_signals();
-            }
-            to_py(py, e)
-        })?;
+        let (analysis, results) = outcome.map_err(|e| to_py(py, e))?;
         results::to_dict(py, &analysis, results)
     }
 
