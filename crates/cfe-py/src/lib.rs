@@ -17,6 +17,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::AtomicUsize;
 
 use errors::{mesh_error, to_py};
 
@@ -283,7 +285,9 @@ impl PyModel {
 
     /// Solves the model with the GIL released. `progress(info)` is called after
     /// each converged increment with a dict (increment, increments, load_factor,
-    /// iterations, step, time: the step's name, and step index − 1 + load factor); an exception it raises (or Ctrl-C) stops the solve. With `out`,
+    /// iterations, step, time: the step's name, and step index − 1 + load factor); an exception it raises stops the solve; Ctrl-C (SIGINT, registered
+    /// on the solver's stop flag for the solve's duration) stops it inside an
+    /// increment with `KeyboardInterrupt`. With `out`,
     /// every converged increment is also written there as `cfe run` does (the
     /// callback then cannot stop the run: its exception is raised at the end).
     /// `law` ("rigid", "contact", "frictionless" or "coulomb", the last with
@@ -362,6 +366,17 @@ impl PyModel {
         let increments = model.settings.increments;
         let step_names: Vec<String> = model.steps().into_iter().map(|s| s.name).collect();
         let mut stopped: Option<PyErr> = None;
+        // Ctrl-C while the solve runs: SIGINT sets the run's stop flag
+        // (signal-hook chains to Python's own handler, so the KeyboardInterrupt
+        // is pending too), which the solver reads inside the increments; with
+        // `out` the run ends `interrupted` with the converged increments on disk.
+        let stop = Arc::new(AtomicUsize::new(0));
+        let sigint = signal_hook::flag::register_usize(
+            signal_hook::consts::SIGINT,
+            Arc::clone(&stop),
+            signal_hook::consts::SIGINT as usize,
+        )
+        .ok();
         let outcome = py.detach(|| -> cfe::Result<(Analysis, Results)> {
             let mut analysis = Analysis::new(model)?;
             match (law, friction) {
@@ -395,7 +410,7 @@ impl PyModel {
             };
             match &out {
                 None => {
-                    let results = analysis.solve_observed(&mut on_increment)?;
+                    let results = analysis.solve_observed_until(&mut on_increment, &stop)?;
                     Ok((analysis, results))
                 }
                 Some(dir) => {
@@ -410,7 +425,7 @@ impl PyModel {
                             }
                             last = Some(inc.clone());
                         },
-                        &std::sync::atomic::AtomicUsize::new(0),
+                        &stop,
                     )?;
                     let last = last.ok_or_else(|| {
                         cfe::Error::Model("the run converged no increment".into())
@@ -425,6 +440,23 @@ impl PyModel {
                 }
             }
         });
+        if let Some(id) = sigint {
+            signal_hook::low_level::unregister(id);
+        }
+        // An interrupted run raises its `KeyboardInterrupt` (with the increment
+        // and signal), unless the callback raised another exception first;
+        // Python's pending one (or the one the callback's signal check raised)
+        // is consumed by it rather than raised again later.
+        let by_ctrl_c = stopped
+            .as_ref()
+            .is_none_or(|e| e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py));
+        let outcome = match outcome {
+            Err(e @ cfe::Error::Interrupted { .. }) if by_ctrl_c => {
+                let _ = py.check_signals();
+                return Err(to_py(py, e));
+            }
+            other => other,
+        };
         if let Some(e) = stopped {
             return Err(e);
         }

@@ -22,6 +22,7 @@ pub use crate::output::summary::{
 use crate::solve::nonlinear::{IncrementResult, LoadSteps, RESIDUAL_WARN, Solver};
 use crate::solve::warm_start;
 use std::path::Path;
+use std::sync::atomic::AtomicUsize;
 use std::time::Instant;
 
 /// Where the `active-set` iteration of the first increment starts.
@@ -530,12 +531,24 @@ impl Analysis {
     /// (e.g. to show progress); an error it returns stops the solve and is returned.
     pub fn solve_observed(
         &self,
+        on_increment: impl FnMut(&IncrementResult) -> Result<()>,
+    ) -> Result<Results> {
+        self.solve_observed_until(on_increment, &AtomicUsize::new(0))
+    }
+
+    /// [`Analysis::solve_observed`] that the solver abandons with
+    /// [`Error::Interrupted`] inside an increment once `stop` is nonzero (e.g.
+    /// set by a signal handler; see [`Solver::set_stop`]).
+    pub fn solve_observed_until(
+        &self,
         mut on_increment: impl FnMut(&IncrementResult) -> Result<()>,
+        stop: &AtomicUsize,
     ) -> Result<Results> {
         let clock = RunClock::start();
         let mut summary = self.empty_summary();
         let t = Instant::now();
         let mut solver = self.solver()?;
+        solver.set_stop(stop);
         if self.model.settings.start == StartPattern::Coarse
             && let Some(states) = self.coarse_states()
         {

@@ -518,10 +518,13 @@ class Model:
         :class:`Results` of the last one.
 
         ``progress(increment)`` is called after each converged increment with an
-        :class:`Increment`; an exception it raises (or Ctrl-C) stops the solve and
-        propagates. With ``out``, every converged increment is also written into
-        that folder as ``cfe run`` does (VTU series, pairs.csv, summary.json, PNGs);
-        the callback cannot stop such a run, its exception is raised at the end.
+        :class:`Increment`; an exception it raises stops the solve and propagates.
+        Ctrl-C (SIGINT) stops it inside the increment being solved, at its next
+        iteration, fixed-point step or supernode of a factorization, and raises
+        ``KeyboardInterrupt``. With ``out``, every converged increment is also
+        written into that folder as ``cfe run`` does (VTU series, pairs.csv,
+        summary.json, PNGs; after Ctrl-C the summary says ``interrupted``); the
+        callback cannot stop such a run, its exception is raised at the end.
         ``law`` (``"rigid"``, ``"contact"``, ``"frictionless"`` or ``"coulomb"``,
         the last with ``friction`` = μ) makes every interface follow that law, as
         ``cfe run --law … --friction …``. ``write_every`` (with ``out``: N ≥ 1 or

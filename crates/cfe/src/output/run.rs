@@ -233,10 +233,12 @@ impl Analysis {
         self.run_until(out, progress, &AtomicUsize::new(0))
     }
 
-    /// [`Analysis::run`] that stops at the next safe point — after the increment
-    /// being solved is written, or in the pictures at their next check (no
-    /// picture is kept) — once `stop` is nonzero (e.g. set by a signal handler
-    /// to the signal's number): the converged increments stay on disk,
+    /// [`Analysis::run`] that stops at the next safe point once `stop` is
+    /// nonzero (e.g. set by a signal handler to the signal's number): inside the
+    /// increment being solved at its next active-set iteration, fixed-point
+    /// step, continuation stage or linear solve ([`Solver::set_stop`]; that
+    /// increment is abandoned), after an increment is written, or in the
+    /// pictures at their next check (no picture is kept). The converged increments stay on disk,
     /// `summary.json` says `interrupted`, and the error is [`Error::Interrupted`].
     ///
     /// `out` is opened with [`OutputFolder::open`] without `force`: a folder that
@@ -332,6 +334,9 @@ impl Analysis {
         stop: &AtomicUsize,
     ) -> Result<()> {
         let mut solver = self.solver()?;
+        // Read inside the increments too: a long search stops within its next
+        // iteration, fixed-point step or solve.
+        solver.set_stop(stop);
         self.prepare_solver(&mut solver, &mut log.summary);
         let mut series = Series::new(out);
         let r = solver.run(|inc| {

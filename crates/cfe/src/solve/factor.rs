@@ -46,6 +46,7 @@ use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
 use std::borrow::Cow;
 use std::ops::Range;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Entries of the dense update block formed at once (8 MiB): wider updates are
 /// formed a group of columns at a time.
@@ -55,6 +56,26 @@ const BLOCK_VALUES: usize = 1 << 20;
 /// the top supernodes, or any when the tree is not split (below the top each
 /// thread has subtrees of its own and uses sequential kernels).
 const PARALLEL_KERNEL_FLOPS: f64 = 4.0e6;
+
+/// Why a numeric factorization did not finish.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Halt {
+    /// A non-positive pivot at this column (of the elimination order from
+    /// [`NumericPlan::factorize`], of the equations' order from
+    /// [`super::linear::CholeskySolver::factorize`]).
+    Pivot(usize),
+    /// The caller's stop flag was nonzero (its value, e.g. a signal's number)
+    /// before a supernode: the factor is incomplete.
+    Stopped(usize),
+}
+
+/// `Err(Halt::Stopped)` once `stop` (if any) is nonzero: one relaxed load.
+fn check(stop: Option<&AtomicUsize>) -> Result<(), Halt> {
+    match stop.map_or(0, |s| s.load(Ordering::Relaxed)) {
+        0 => Ok(()),
+        signal => Err(Halt::Stopped(signal)),
+    }
+}
 
 /// What a numeric factorization needs beyond faer's symbolic structure: the
 /// updaters of each supernode and the split of the tree into parallel parts.
@@ -175,6 +196,9 @@ impl NumericPlan {
     /// analysed from, into `values` (faer's layout, `sn.len_val()` values; every
     /// value is overwritten). A non-positive pivot is returned as its column in
     /// the elimination order (the smallest one if parts fail at the same time).
+    /// `stop`, if given, is read before every supernode: once nonzero the
+    /// factorization is abandoned with [`Halt::Stopped`] (a pivot failure found
+    /// meanwhile by another part comes first).
     ///
     /// With the tree split, the top supernodes' blocks are loaded from `a` first;
     /// each subtree then reads only its own columns of `a`, a contiguous range of
@@ -187,7 +211,8 @@ impl NumericPlan {
         sn: &SymbolicSupernodalCholesky<usize>,
         a: LowerMatrix<'_>,
         values: &mut [f64],
-    ) -> Result<(), usize> {
+        stop: Option<&AtomicUsize>,
+    ) -> Result<(), Halt> {
         assert_eq!(values.len(), sn.len_val(), "factor storage of another size");
         let n = sn.nrows();
         let val_ptr = sn.col_ptr_for_val();
@@ -201,7 +226,9 @@ impl NumericPlan {
         let Some(split) = &self.split else {
             let mut ws = Workspace::new(n, self.max_cols);
             for s in 0..sn.n_supernodes() {
-                self.supernode(sn, Some(whole), s, values, 0, &mut ws, self.kernel_par(s))?;
+                check(stop)?;
+                self.supernode(sn, Some(whole), s, values, 0, &mut ws, self.kernel_par(s))
+                    .map_err(Halt::Pivot)?;
             }
             return Ok(());
         };
@@ -261,13 +288,15 @@ impl NumericPlan {
                     let base = val_ptr[supernodes.start];
                     let mut given_back = 0;
                     for s in supernodes {
+                        check(stop)?;
                         let input = Input {
                             col_ptr,
                             row_idx,
                             values: piece.get(),
                             first: a_first,
                         };
-                        self.supernode(sn, Some(input), s, vals, base, &mut ws, Par::Seq)?;
+                        self.supernode(sn, Some(input), s, vals, base, &mut ws, Par::Seq)
+                            .map_err(Halt::Pivot)?;
                         // The columns of `a` up to this supernode's are read.
                         let read = col_ptr[end[s]] - a_first;
                         if read >= given_back + DISCARD_VALUES {
@@ -279,7 +308,7 @@ impl NumericPlan {
                 }
                 Ok(())
             })
-            .filter_map(|r: Result<(), usize>| r.err())
+            .filter_map(|r: Result<(), Halt>| r.err())
             .min();
         // Every column of `a` has been read.
         drop(a_values);
@@ -288,7 +317,9 @@ impl NumericPlan {
         }
         let mut ws = Workspace::new(n, self.max_cols);
         for &s in split.top() {
-            self.supernode(sn, None, s, values, 0, &mut ws, self.kernel_par(s))?;
+            check(stop)?;
+            self.supernode(sn, None, s, values, 0, &mut ws, self.kernel_par(s))
+                .map_err(Halt::Pivot)?;
         }
         Ok(())
     }

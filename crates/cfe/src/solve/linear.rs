@@ -12,7 +12,7 @@
 //! restricted solves run disjoint subtrees of the elimination tree on different
 //! threads ([`super::subtree`]).
 
-use super::factor::NumericPlan;
+use super::factor::{Halt, NumericPlan};
 use super::symbolic;
 use super::subtree::{PARALLEL_MIN_VALUES, SubtreeSplit};
 use crate::assembly::MAX_EQUATIONS;
@@ -32,6 +32,7 @@ use faer::sparse::linalg::cholesky::supernodal::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Accum, Conj, MatMut, MatRef, Par};
 use std::borrow::Cow;
+use std::sync::atomic::AtomicUsize;
 
 /// The lower triangle of a symmetric matrix in compressed columns, with row
 /// indices of 4 bytes (as [`crate::assembly::Stiffness`] stores them): what
@@ -476,8 +477,14 @@ impl CholeskySolver {
     /// order ([`CholeskySolver::order`]; see [`crate::assembly::Stiffness::in_order`]),
     /// which the numeric factorization ([`super::factor`]) reads as it is, its
     /// 4-byte rows too ([`LowerMatrix`]). A non-positive pivot
-    /// is returned as the original equation number where it occurred.
-    pub fn factorize(&mut self, k_ordered: LowerMatrix<'_>) -> std::result::Result<(), usize> {
+    /// is returned as the original equation number where it occurred
+    /// ([`Halt::Pivot`]); `stop`, if given, is read before every supernode and
+    /// once nonzero abandons the factorization ([`Halt::Stopped`]).
+    pub fn factorize(
+        &mut self,
+        k_ordered: LowerMatrix<'_>,
+        stop: Option<&AtomicUsize>,
+    ) -> std::result::Result<(), Halt> {
         assert_eq!(k_ordered.n(), self.sn.nrows(), "a matrix of another size");
         self.factorized = false;
         if self.factor.len() != self.sn.len_val() {
@@ -487,18 +494,19 @@ impl CholeskySolver {
             self.scratch = MemBuffer::new(self.scratch_req);
             self.scratch_bytes = self.scratch_req.size_bytes();
         }
-        let res = self.plan.factorize(&self.sn, k_ordered, &mut self.factor);
+        let res = self.plan.factorize(&self.sn, k_ordered, &mut self.factor, stop);
         self.factorizations += 1;
         match res {
             Ok(_) => {
                 self.factorized = true;
                 Ok(())
             }
-            Err(idx) => {
+            Err(Halt::Pivot(idx)) => {
                 // Map the permuted pivot back to the original equation.
                 let original = self.order.get(idx).map_or(idx, |&o| o as usize);
-                Err(original)
+                Err(Halt::Pivot(original))
             }
+            Err(stopped) => Err(stopped),
         }
     }
 
@@ -667,10 +675,10 @@ pub(crate) mod tests {
     }
 
     /// Factorizes `k` (in the equations' order) with `s`.
-    fn factorize(s: &mut CholeskySolver, k: SparseColMatRef<'_, usize, f64>) -> std::result::Result<(), usize> {
+    fn factorize(s: &mut CholeskySolver, k: SparseColMatRef<'_, usize, f64>) -> std::result::Result<(), Halt> {
         let (col_ptr, row, val) = ordered(k, s);
         let row: Vec<u32> = row.iter().map(|&i| i as u32).collect();
-        s.factorize(LowerMatrix::new(&col_ptr, &row, &val))
+        s.factorize(LowerMatrix::new(&col_ptr, &row, &val), None)
     }
 
     /// A tridiagonal SPD system (−1, 2, −1 plus identity) is solved to round-off,
@@ -914,13 +922,13 @@ pub(crate) mod tests {
         for parts in [1, 2, 3] {
             s.plan = NumericPlan::new(s.supernodal(), &s.supernode_of, &s.parent, parts);
             assert_eq!(s.plan.parts(), parts);
-            s.factorize(LowerMatrix::new(&cp, &rw32, &vl)).unwrap();
+            s.factorize(LowerMatrix::new(&cp, &rw32, &vl), None).unwrap();
             let worst = s.factor.iter().zip(&reference).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
             assert!(worst < 1e-13 * scale, "{parts} parts: {worst:e}");
             // Given its values, the factorization gives their pages back as it
             // reads them: the same factor, bit for bit.
             let borrowed = s.factor.clone();
-            s.factorize(LowerMatrix::with_values(&cp, &rw32, vl.clone())).unwrap();
+            s.factorize(LowerMatrix::with_values(&cp, &rw32, vl.clone()), None).unwrap();
             assert!(s.factor.iter().zip(&borrowed).all(|(p, q)| p.to_bits() == q.to_bits()), "{parts} parts");
         }
     }
@@ -942,7 +950,38 @@ pub(crate) mod tests {
             // The pivot fails at `bad` itself or, when the negative diagonal is
             // absorbed by later eliminations, at the first column after it that
             // turns non-positive; with a diagonal of −1 among 4.5s it is `bad`.
-            assert_eq!(factorize(&mut s, k), Err(bad));
+            assert_eq!(factorize(&mut s, k), Err(Halt::Pivot(bad)));
+        }
+    }
+
+    /// A stop flag already set abandons the factorization before its first
+    /// supernode, sequential or split into parts (`Halt::Stopped` with the
+    /// flag's value); cleared, the next factorization of the same solver gives
+    /// the factor of one never stopped, bit for bit.
+    #[test]
+    fn a_stop_flag_abandons_the_factorization() {
+        let m = 40;
+        let n = m * m;
+        let (col_ptr, row, vals) = laplacian(m, 4.5);
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row);
+        let k = SparseColMatRef::new(sym, &vals);
+        for parts in [1, 2] {
+            let mut s = CholeskySolver::new(k, None).unwrap();
+            s.plan = NumericPlan::new(s.supernodal(), &s.supernode_of, &s.parent, parts);
+            let (cp, rw, vl) = ordered(k, &s);
+            let rw32: Vec<u32> = rw.iter().map(|&i| i as u32).collect();
+            s.factorize(LowerMatrix::new(&cp, &rw32, &vl), None).unwrap();
+            let plain = s.factor.clone();
+            let stop = AtomicUsize::new(15);
+            assert_eq!(
+                s.factorize(LowerMatrix::new(&cp, &rw32, &vl), Some(&stop)),
+                Err(Halt::Stopped(15)),
+                "{parts} parts"
+            );
+            assert!(!s.factorized);
+            stop.store(0, std::sync::atomic::Ordering::Relaxed);
+            s.factorize(LowerMatrix::new(&cp, &rw32, &vl), Some(&stop)).unwrap();
+            assert!(s.factor.iter().zip(&plain).all(|(p, q)| p.to_bits() == q.to_bits()), "{parts} parts");
         }
     }
 

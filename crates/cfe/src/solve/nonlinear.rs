@@ -39,6 +39,7 @@
 //! before its output is written (a later solve, if any, refactorizes).
 
 use super::anderson::Anderson;
+use super::factor::Halt;
 use super::support;
 use super::system::{ContactSystem, Method, Solve, UpdatePolicy};
 use crate::assembly::{self, DofMap, ElementSource, FIXED};
@@ -49,6 +50,7 @@ use crate::coupling::{
 use crate::domain::{Part, Scheme, Settings};
 use crate::error::{Error, Result};
 use std::collections::HashSet;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// Seconds spent in each phase of the solution.
@@ -345,6 +347,10 @@ pub struct Solver<'a> {
     /// an iteration that would otherwise be allocated and first touched anew),
     /// and, when their contents serve it too, which trial they were.
     spare: Spare,
+    /// The caller's request to stop (nonzero: e.g. a signal's number), read at
+    /// every increment, active-set iteration, fixed-point step, continuation
+    /// stage and before every linear solve ([`Solver::set_stop`]).
+    stop: Option<&'a AtomicUsize>,
     /// Phase timings.
     pub timings: SolveTimings,
 }
@@ -513,8 +519,32 @@ impl<'a> Solver<'a> {
             coupling_dofs: crate::coupling::coupling_dofs(interfaces, dofs),
             coupling_ring: None,
             spare: Spare::default(),
+            stop: None,
             timings,
         })
+    }
+
+    /// Has the solver read `stop` at every increment, active-set iteration,
+    /// fixed-point step and continuation stage, before every factorization or
+    /// low-rank update, and before every supernode of a numeric factorization
+    /// ([`ContactSystem::set_stop`]): once it is nonzero (the caller sets it, e.g. to a
+    /// signal's number) the run ends there with [`Error::Interrupted`], the
+    /// increment being solved abandoned. Reading it changes nothing else.
+    pub fn set_stop(&mut self, stop: &'a AtomicUsize) {
+        self.stop = Some(stop);
+        self.system.set_stop(stop);
+    }
+
+    /// `Err(Error::Interrupted)` once the stop flag is set, while increment
+    /// `inc` is being solved (the last one written is the one before).
+    fn check_stop(&self, inc: usize) -> Result<()> {
+        match self.stop.map_or(0, |s| s.load(Ordering::Relaxed)) {
+            0 => Ok(()),
+            signal => Err(Error::Interrupted {
+                increment: inc.saturating_sub(1),
+                signal,
+            }),
+        }
     }
 
     /// Number of unknowns (free equations).
@@ -719,6 +749,7 @@ impl<'a> Solver<'a> {
         let mut states = warm.clone().unwrap_or_else(|| all_bonded.clone());
         let mut last = None;
         for inc in 1..=n_inc {
+            self.check_stop(inc)?;
             let lambda = factors[inc - 1];
             self.fixed_point = 0;
             self.combine_steps(inc - 1);
@@ -834,7 +865,7 @@ impl<'a> Solver<'a> {
             }
             Err(e) => return Err(e),
         };
-        let Some(mut r) = self.friction_continuation(inc, lambda, start) else {
+        let Some(mut r) = self.friction_continuation(inc, lambda, start)? else {
             return match first {
                 Ok((r, history, error)) => {
                     (self.history, self.augmented_error) = (history, error);
@@ -877,27 +908,34 @@ impl<'a> Solver<'a> {
     /// otherwise (a pattern it reaches leaves a part free, say) ends the
     /// continuation with `None` too: its error belongs to a scaled μ or to a
     /// start of the continuation's, not to the model, whose own first search
-    /// gives the answer then.
+    /// gives the answer then. Only a stop request ([`Error::Interrupted`]) is
+    /// an error of the continuation.
     fn friction_continuation(
         &mut self,
         inc: usize,
         lambda: f64,
         start: &PairStates,
-    ) -> Option<IncrementResult> {
+    ) -> Result<Option<IncrementResult>> {
+        // `Ok(Err(()))`: the stage failed otherwise than by finding nothing.
         let stage = |this: &mut Self, factor: f64, start: &PairStates| {
+            this.check_stop(inc)?;
             this.friction_factor = factor;
             let r = this.active_set_increment(inc, lambda, start.clone());
             this.friction_factor = 1.0;
             match r {
-                Ok(r) => Ok(Some(r)),
-                Err(Error::NoConvergence(_)) => Ok(None),
-                Err(_) => Err(()),
+                Ok(r) => Ok(Ok(Some(r))),
+                Err(Error::NoConvergence(_)) => Ok(Ok(None)),
+                Err(e @ Error::Interrupted { .. }) => Err(e),
+                Err(_) => Ok(Err(())),
             }
         };
         let mut start = start.clone();
         let mut history = Vec::new();
         for &factor in &CONTINUATION {
-            match stage(self, factor, &start).ok()? {
+            let Ok(found) = stage(self, factor, &start)? else {
+                return Ok(None);
+            };
+            match found {
                 Some(r) => {
                     history.extend(r.history);
                     start = r.states;
@@ -906,11 +944,13 @@ impl<'a> Solver<'a> {
                 None => history.append(&mut self.failed_search),
             }
         }
-        let mut r = stage(self, 1.0, &start).ok()??;
+        let Ok(Some(mut r)) = stage(self, 1.0, &start)? else {
+            return Ok(None);
+        };
         history.append(&mut r.history);
         r.history = history;
         r.iterations = r.history.len();
-        Some(r)
+        Ok(Some(r))
     }
 
     /// With proportional loads, keeps the values of the last complete solve for
@@ -1009,6 +1049,7 @@ impl<'a> Solver<'a> {
         // of trial solutions (seed laws) use it.
         let mut scale: Option<f64> = None;
         for _ in 0..self.settings.max_iterations {
+            self.check_stop(inc)?;
             let t = Instant::now();
             let trial = match scale {
                 Some(sc) => {
@@ -1532,9 +1573,10 @@ impl<'a> Solver<'a> {
             return Ok((u, f_first, method));
         };
         // The summed change is on the coupling equations only.
+        self.check_stop(inc)?;
         self.system
             .solve_pair_forces(self.interfaces, self.dofs, states, &mut total)
-            .map_err(|eq| self.pivot_error(eq, inc))?;
+            .map_err(|h| self.halt_error(h, inc))?;
         let mut u = u_first;
         for (d, &e) in self.dofs.eq.iter().enumerate() {
             if e != FIXED {
@@ -1592,6 +1634,7 @@ impl<'a> Solver<'a> {
             FixedPointScale::Given(_) => 0.0,
         };
         for _ in 0..MAX_FIXED_POINT {
+            self.check_stop(inc)?;
             // The largest displacement of a coupling node.
             let moved = coupling_nodes
                 .iter()
@@ -1626,7 +1669,7 @@ impl<'a> Solver<'a> {
             let (_, complete) = self
                 .system
                 .solve_interface(self.interfaces, self.dofs, states, &mut du, true)
-                .map_err(|eq| self.pivot_error(eq, inc))?;
+                .map_err(|h| self.halt_error(h, inc))?;
             if complete {
                 for (d, &e) in self.dofs.eq.iter().enumerate() {
                     if e != FIXED {
@@ -1983,11 +2026,12 @@ impl<'a> Solver<'a> {
             if self.coupling_ring.is_none() && self.system.has_factor() {
                 self.coupling_ring = Some(self.coupling_ring());
             }
+            self.check_stop(inc)?;
             let read = self.coupling_ring.as_ref().map_or(&[][..], |r| &r.eqs[..]);
             let solved = self
                 .system
                 .solve_unrefined(self.interfaces, self.dofs, states, &mut x, read)
-                .map_err(|eq| self.pivot_error(eq, inc))?;
+                .map_err(|h| self.halt_error(h, inc))?;
             let method = match solved {
                 Solve::Complete(method) => method,
                 Solve::Unrefined(unrefined) => {
@@ -2116,6 +2160,7 @@ impl<'a> Solver<'a> {
         states: &[Vec<PairState>],
         inc: usize,
     ) -> Result<(Vec<f64>, Option<Method>)> {
+        self.check_stop(inc)?;
         let t = Instant::now();
         self.supports.check(self.parts, self.interfaces, states)?;
         if self.coupling_ring.is_none() {
@@ -2154,7 +2199,7 @@ impl<'a> Solver<'a> {
         let (method, complete) = self
             .system
             .solve_interface(self.interfaces, self.dofs, states, &mut x, false)
-            .map_err(|eq| self.pivot_error(eq, inc))?;
+            .map_err(|h| self.halt_error(h, inc))?;
         if complete {
             for (d, &e) in self.dofs.eq.iter().enumerate() {
                 if e != FIXED {
@@ -2270,7 +2315,19 @@ impl<'a> Solver<'a> {
         assembly::internal_force_with(self.parts, self.interfaces, states, history, self.dofs, u)
     }
 
-    fn pivot_error(&self, eq: usize, inc: usize) -> Error {
+    /// The error of a linear solve of increment `inc` that did not finish: a
+    /// stop request ([`Error::Interrupted`]) or a non-positive pivot at an
+    /// equation (where, named by part and node).
+    fn halt_error(&self, halt: Halt, inc: usize) -> Error {
+        let eq = match halt {
+            Halt::Stopped(signal) => {
+                return Error::Interrupted {
+                    increment: inc.saturating_sub(1),
+                    signal,
+                };
+            }
+            Halt::Pivot(eq) => eq,
+        };
         let d = self.dofs.eq.iter().position(|&e| e == eq).unwrap_or(0);
         let (p, n) = self.dofs.locate(d / 2);
         Error::NotPositiveDefinite {

@@ -15,11 +15,13 @@
 
 use super::capacitance::{Capacitance, Entry};
 use super::columns::{Columns, SparseColumn};
+use super::factor::Halt;
 use super::linear::{CholeskySolver, LowerMatrix};
 use crate::assembly::{DofMap, FIXED, Stiffness};
 use crate::coupling::{Interface, PairState, PairStates};
 use crate::domain::Part;
 use std::collections::HashMap;
+use std::sync::atomic::AtomicUsize;
 use std::time::Instant;
 
 /// How one solve was done.
@@ -58,6 +60,9 @@ pub const UPDATE_FLOP_WEIGHT: f64 = 4.0;
 pub struct ContactSystem<'a> {
     /// The parts, whose stiffness is assembled anew for each factorization.
     parts: &'a [Part],
+    /// The caller's stop flag, read before every supernode of a numeric
+    /// factorization ([`ContactSystem::set_stop`]).
+    stop: Option<&'a AtomicUsize>,
     /// The stiffness with its fixed pattern, in the factorization's elimination
     /// order; its values are there only while a factorization needs them, its
     /// pattern (`None`: freed) while another factorization may
@@ -138,6 +143,7 @@ impl<'a> ContactSystem<'a> {
         };
         ContactSystem {
             parts,
+            stop: None,
             k_entries: k.row_idx.len(),
             k: Some(k),
             keep_pattern: true,
@@ -176,6 +182,14 @@ impl<'a> ContactSystem<'a> {
     /// Flops of one numeric factorization.
     pub fn factor_flops(&self) -> f64 {
         self.chol.factor_flops()
+    }
+
+    /// Has every numeric factorization read `stop` before each supernode: once
+    /// it is nonzero the factorization is abandoned and the solve returns
+    /// [`Halt::Stopped`] (the factor is then incomplete: the next solve
+    /// refactorizes).
+    pub fn set_stop(&mut self, stop: &'a AtomicUsize) {
+        self.stop = Some(stop);
     }
 
     /// Forgets the factorization, so the next solve refactorizes.
@@ -219,7 +233,7 @@ impl<'a> ContactSystem<'a> {
         dofs: &DofMap,
         states: &[Vec<PairState>],
         rhs: &mut [f64],
-    ) -> Result<Method, usize> {
+    ) -> Result<Method, Halt> {
         let half = self.forward_half(interfaces, dofs, states, rhs, false, Read::All)?;
         self.backward_half(half, rhs)
     }
@@ -234,7 +248,7 @@ impl<'a> ContactSystem<'a> {
         dofs: &DofMap,
         states: &[Vec<PairState>],
         rhs: &mut [f64],
-    ) -> Result<Method, usize> {
+    ) -> Result<Method, Halt> {
         self.interface_set(interfaces, dofs);
         let half = self.forward_half(interfaces, dofs, states, rhs, true, Read::All)?;
         self.backward_half(half, rhs)
@@ -265,7 +279,7 @@ impl<'a> ContactSystem<'a> {
         states: &[Vec<PairState>],
         rhs: &mut [f64],
         read: &[usize],
-    ) -> Result<Solve, usize> {
+    ) -> Result<Solve, Halt> {
         match self.forward_half(interfaces, dofs, states, rhs, false, Read::All)? {
             Half::Forward(mut y, method @ Method::LowRank { .. }) => {
                 let t = Instant::now();
@@ -348,7 +362,7 @@ impl<'a> ContactSystem<'a> {
 
     /// The solution into `rhs` from the forward half `half` (a backward solve in
     /// full, unless the forward half refactorized and solved already).
-    fn backward_half(&mut self, half: Half, rhs: &mut [f64]) -> Result<Method, usize> {
+    fn backward_half(&mut self, half: Half, rhs: &mut [f64]) -> Result<Method, Halt> {
         match half {
             Half::Solved(method) => Ok(method),
             Half::Forward(mut y, method) => {
@@ -383,7 +397,7 @@ impl<'a> ContactSystem<'a> {
         states: &[Vec<PairState>],
         rhs: &mut [f64],
         rhs_on_interface: bool,
-    ) -> Result<(Method, bool), usize> {
+    ) -> Result<(Method, bool), Halt> {
         self.interface_set(interfaces, dofs);
         let read = Read::InterfaceSet;
         match self.forward_half(interfaces, dofs, states, rhs, rhs_on_interface, read)? {
@@ -427,7 +441,7 @@ impl<'a> ContactSystem<'a> {
         rhs: &mut [f64],
         rhs_on_interface: bool,
         read: Read,
-    ) -> Result<Half, usize> {
+    ) -> Result<Half, Halt> {
         let Some(base) = &self.base else {
             return self
                 .refactor_and_solve(interfaces, dofs, states, rhs)
@@ -664,7 +678,7 @@ impl<'a> ContactSystem<'a> {
         dofs: &DofMap,
         states: &[Vec<PairState>],
         rhs: &mut [f64],
-    ) -> Result<Method, usize> {
+    ) -> Result<Method, Halt> {
         self.invalidate();
         let (order, inverse) = self.chol.order();
         let k = self.k.get_or_insert_with(|| {
@@ -680,7 +694,7 @@ impl<'a> ContactSystem<'a> {
         let values = k.take_values();
         let factorized = self
             .chol
-            .factorize(LowerMatrix::with_values(&k.col_ptr, &k.row_idx, values));
+            .factorize(LowerMatrix::with_values(&k.col_ptr, &k.row_idx, values), self.stop);
         if !self.keep_pattern {
             self.k = None;
         }

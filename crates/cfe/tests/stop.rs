@@ -1,0 +1,217 @@
+//! A stop request (the flag a signal handler sets) is honoured inside an
+//! increment: the solver reads it at every increment, active-set iteration,
+//! fixed-point step, continuation stage and linear solve, and the run ends
+//! `interrupted` with only converged increments on disk.
+
+mod common;
+
+use cfe::error::Error;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::mpsc;
+
+/// A block pressed on a base with Coulomb friction and its top pushed sideways
+/// far beyond the elastic range over `increments` increments: every increment
+/// is searched with slip-force fixed points (several solves each).
+fn coulomb_push(increments: usize) -> String {
+    format!(
+        r#"
+plane = "stress"
+[materials.steel]
+E = 1000.0
+nu = 0.3
+[[part]]
+name = "base"
+material = "steel"
+rectangle = {{ x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [5, 3] }}
+[[part]]
+name = "block"
+material = "steel"
+rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [4, 4] }}
+[[interface]]
+host = "base"
+nodes = "block"
+boundary = "bottom"
+law = "coulomb"
+friction = 0.3
+[[support]]
+part = "base"
+boundary = "bottom"
+fix = ["x", "y"]
+[[support]]
+part = "block"
+boundary = "top"
+fix = ["x"]
+value = [0.005, 0.0]
+[[load]]
+part = "block"
+boundary = "top"
+force = [0.0, -1.0]
+[analysis]
+increments = {increments}
+"#
+    )
+}
+
+fn fresh_folder(name: &str) -> PathBuf {
+    let out = std::env::temp_dir().join(format!("cfe-test-stop-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    out
+}
+
+fn summary(out: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+}
+
+/// The VTU files on disk, sorted.
+fn vtu_files(out: &Path) -> Vec<String> {
+    let mut v: Vec<String> = match std::fs::read_dir(out.join("vtu")) {
+        Ok(d) => d
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect(),
+        Err(_) => Vec::new(),
+    };
+    v.sort();
+    v
+}
+
+/// The files `results.pvd` names: each exists.
+fn pvd_names_existing(out: &Path) -> usize {
+    let pvd = std::fs::read_to_string(out.join("results.pvd")).unwrap();
+    let named: Vec<&str> = pvd
+        .split("file=\"")
+        .skip(1)
+        .map(|s| s.split('"').next().unwrap())
+        .collect();
+    for f in &named {
+        assert!(out.join(f).is_file(), "{f} named but missing");
+    }
+    named.len()
+}
+
+/// A stop already requested before the run: the first check ends it before
+/// any increment is written; the summary says `interrupted` with none converged.
+#[test]
+fn a_stop_before_the_run_writes_no_increment() {
+    let out = fresh_folder("before");
+    let mut a = common::analysis(&coulomb_push(4));
+    let stop = AtomicUsize::new(2);
+    let e = a.run_until(&out, &mut |_| {}, &stop).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::Interrupted {
+                increment: 0,
+                signal: 2
+            }
+        ),
+        "{e:?}"
+    );
+    let s = summary(&out);
+    assert_eq!(s["status"], "interrupted");
+    assert_eq!(s["converged_increments"], 0);
+    assert_eq!(pvd_names_existing(&out), 0);
+    assert!(vtu_files(&out).is_empty(), "{:?}", vtu_files(&out));
+    assert!(!out.join("pairs.csv").exists());
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+/// The solver itself honours the flag: set while increment 1 is handed over
+/// (its callback does not refuse), the run ends before increment 2 is solved,
+/// with increment 1 the last one delivered.
+#[test]
+fn the_solver_stops_before_the_next_increment_is_solved() {
+    let a = common::analysis(&coulomb_push(4));
+    let stop = AtomicUsize::new(0);
+    let mut solver = a.solver().unwrap();
+    solver.set_stop(&stop);
+    let mut delivered = Vec::new();
+    let e = solver
+        .run(|inc| {
+            delivered.push(inc.index);
+            stop.store(15, Ordering::Relaxed);
+            Ok(())
+        })
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::Interrupted {
+                increment: 1,
+                signal: 15
+            }
+        ),
+        "{e:?}"
+    );
+    assert_eq!(delivered, [1]);
+}
+
+/// Without a stop the flag changes nothing: the same increments, bit for bit,
+/// as a solver that has none.
+#[test]
+fn an_unset_flag_changes_no_result() {
+    let a = common::analysis(&coulomb_push(3));
+    let plain = common::run_all(a.solver().unwrap());
+    let stop = AtomicUsize::new(0);
+    let mut solver = a.solver().unwrap();
+    solver.set_stop(&stop);
+    let flagged = common::run_all(solver);
+    assert_eq!(plain.len(), flagged.len());
+    for (p, f) in plain.iter().zip(&flagged) {
+        assert_eq!(p.u, f.u);
+        assert_eq!(p.f_int, f.f_int);
+        assert_eq!(p.states, f.states);
+        assert_eq!(p.iterations, f.iterations);
+    }
+}
+
+/// A stop set from another thread while the run goes on (after the first
+/// increment is written): the run ends `interrupted` at whatever point of the
+/// search it reached, the converged increments stay on disk, every pair and
+/// parts file `results.pvd` names exists, and no increment after the last
+/// converged one left a file.
+#[test]
+fn a_stop_from_another_thread_leaves_the_converged_increments() {
+    let out = fresh_folder("during");
+    let n = 6;
+    let mut a = common::analysis(&coulomb_push(n));
+    let stop = AtomicUsize::new(0);
+    let (tx, rx) = mpsc::channel::<()>();
+    let e = std::thread::scope(|s| {
+        let stop = &stop;
+        s.spawn(move || {
+            if rx.recv().is_ok() {
+                stop.store(15, Ordering::Relaxed);
+            }
+        });
+        let r = a.run_until(
+            &out,
+            &mut |_| {
+                let _ = tx.send(());
+            },
+            stop,
+        );
+        drop(tx);
+        r
+    })
+    .unwrap_err();
+    let Error::Interrupted {
+        increment,
+        signal: 15,
+    } = e
+    else {
+        panic!("{e:?}");
+    };
+    assert!((1..n).contains(&increment), "{increment}");
+    let s = summary(&out);
+    assert_eq!(s["status"], "interrupted");
+    assert_eq!(s["converged_increments"], increment);
+    assert_eq!(pvd_names_existing(&out), 2 * increment);
+    let expected: Vec<String> = (1..=increment)
+        .flat_map(|k| [format!("pairs_{k:04}.vtu"), format!("parts_{k:04}.vtu")])
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect();
+    assert_eq!(vtu_files(&out), expected);
+    std::fs::remove_dir_all(&out).unwrap();
+}
