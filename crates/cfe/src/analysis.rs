@@ -984,7 +984,7 @@ impl Analysis {
             s.warnings.push(Warning {
                 increment: inc.index,
                 message: format!(
-                    "the out-of-balance force is {imbalance:.1e} of the balance scale {:.4e} (above {RESIDUAL_WARN:.0e}; the largest at a free DOF, or the reactions against the applied load; the scale is the largest of the load, the support reactions, the pair forces and 1e-4 × E·t × the largest displacement): the solution has lost accuracy; a penalty far above E·t (more than about 1e7 × E·t) is the usual cause",
+                    "the out-of-balance force is {imbalance:.1e} of the balance scale {:.4e} (above {RESIDUAL_WARN:.0e}; the largest at a free DOF, or the reactions against the applied load; the scale is the largest of the load (or the support reactions), the pair forces and 1e-4 × the softest part's E·t × the largest displacement): the solution has lost accuracy; a penalty far above E·t (more than about 1e7 × E·t) is the usual cause",
                     inc.balance_scale
                 ),
             });

@@ -125,9 +125,8 @@ pub struct IncrementResult {
     pub load_scale: f64,
     /// The scale the out-of-balance force is measured against
     /// ([`Solver::balance_scale`]): the load scale, or, where larger, the largest
-    /// pair force or [`BALANCE_FLOOR`] × the largest E·t × the largest nodal
-    /// |u| — meaningful when nothing is loaded (an interference fit, a rigid
-    /// approach under a prescribed displacement).
+    /// pair force (an interference fit) or [`BALANCE_FLOOR`] × the smallest E·t
+    /// × the largest nodal |u| (a rigid approach under a prescribed displacement).
     pub balance_scale: f64,
     /// Internal force of all DOFs (reactions are F_int − F_ext at fixed DOFs).
     pub f_int: Vec<f64>,
@@ -195,7 +194,7 @@ pub struct PairViolation {
 /// flagged as imprecise.
 pub const RESIDUAL_WARN: f64 = 1e-8;
 
-/// The balance scale's floor, as a fraction of (largest E·t) × (largest nodal
+/// The balance scale's floor, as a fraction of (smallest E·t) × (largest nodal
 /// |u|): the size of the terms K_ij u_j whose sums the out-of-balance force is
 /// (E·t is a 2D element's stiffness scale, a force per length), so a part moved
 /// without load — its internal force zero but for round-off of those terms — is
@@ -1444,19 +1443,24 @@ impl<'a> Solver<'a> {
     /// The scale the out-of-balance force of a solution is measured against: the
     /// largest of the load scale `load_scale`, the largest pair force
     /// `pair_force` (an interference fit with no load carries its pairs' forces
-    /// and nothing else) and [`BALANCE_FLOOR`] × the largest E·t × the largest
-    /// nodal displacement of `u` (a part moved by a prescribed displacement, or
-    /// into contact, with no force anywhere). Where something is loaded the load
-    /// scale is the largest, and the check is the law's.
+    /// and nothing else) and [`BALANCE_FLOOR`] × the **smallest** E·t × the
+    /// largest nodal displacement of `u` (a part moved by a prescribed
+    /// displacement, or into contact, with no force anywhere). The softest part's
+    /// E·t keeps the floor below the loads of a loaded model even where another
+    /// part is far stiffer (a cantilever whose node part is 1e4 times stiffer than
+    /// its host is judged against its load, as before the floor existed).
     fn balance_scale(&self, load_scale: f64, pair_force: f64, u: &[f64]) -> f64 {
         let et = self
             .parts
             .iter()
             .map(|p| p.material.young * p.material.thickness)
-            .fold(0.0, f64::max);
-        load_scale
-            .max(pair_force)
-            .max(BALANCE_FLOOR * et * largest_off(u, &[]))
+            .fold(f64::INFINITY, f64::min);
+        let floor = if et.is_finite() {
+            BALANCE_FLOOR * et * largest_off(u, &[])
+        } else {
+            0.0
+        };
+        load_scale.max(pair_force).max(floor)
     }
 
     /// Stops the run when the out-of-balance force has grown beyond what round-off
@@ -1470,7 +1474,7 @@ impl<'a> Solver<'a> {
             increment: r.index,
             residual: worst,
             message: format!(
-                "increment {}: the out-of-balance force is {:.1e} of the balance scale {:.4e} (the largest at a free DOF, or the reactions against the applied load; the scale is the largest of the load, the support reactions, the pair forces and 1e-4 × E·t × the largest displacement; limit [analysis] max_residual = {:.0e}), so the solution cannot be trusted. {}",
+                "increment {}: the out-of-balance force is {:.1e} of the balance scale {:.4e} (the largest at a free DOF, or the reactions against the applied load; the scale is the largest of the load (or the support reactions), the pair forces and 1e-4 × the softest part's E·t × the largest displacement; limit [analysis] max_residual = {:.0e}), so the solution cannot be trusted. {}",
                 r.index,
                 worst,
                 r.balance_scale,
