@@ -8,45 +8,9 @@ import pytest
 
 import cfe
 from conftest import EXAMPLES
+from problems import interference_fit
 
-TEXT = """
-plane = "stress"
-[materials.soft]
-E = 1000.0
-nu = 0.3
-[materials.hard]
-E = 1.0e6
-nu = 0.3
-[[part]]
-name = "base"
-material = "hard"
-rectangle = { x = [-0.5, 1.5], y = [-0.1, 0.0], cells = [5, 1], elements = "q4" }
-[[part]]
-name = "block"
-material = "soft"
-rectangle = { x = [0.0, 1.0], y = [-0.01, 9.99], cells = [4, 8], elements = "q4" }
-[[interface]]
-name = "fit"
-host = "base"
-nodes = "block"
-boundary = "bottom"
-law = "frictionless"
-search_distance = 0.05
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-[[support]]
-part = "block"
-boundary = "top"
-fix = ["y"]
-[[support]]
-part = "block"
-at = [0.0, 9.99]
-fix = ["x"]
-[analysis]
-increments = 1
-"""
+TEXT = interference_fit()
 
 
 def test_interference_pressure_and_arrays():

@@ -6,31 +6,13 @@ import numpy as np
 
 import cfe
 from conftest import EXAMPLES
+from problems import block_on_base
 
-BLOCK = """
-plane = "stress"
-[materials.steel]
-E = 1000.0
-nu = 0.3
-[[part]]
-name = "base"
-material = "steel"
-rectangle = {{ x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [5, 3] }}
-[[part]]
-name = "block"
-material = "steel"
-rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [4, 4] }}
-[[interface]]
-host = "base"
-nodes = "block"
-boundary = "bottom"
-law = "rigid"
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-{tail}
-"""
+
+def block(tail):
+    """The unit block tied (law "rigid") on its base; `tail` the loads and steps."""
+    return block_on_base('law = "rigid"', tail)
+
 
 DOWN = '[[load]]\npart = "block"\nboundary = "top"\nforce = [0.0, -1.0]\n'
 SIDE = '[[load]]\npart = "block"\nboundary = "top"\nforce = [0.3, 0.0]\n'
@@ -40,7 +22,7 @@ STEPS = '[[step]]\nname = "press"\nincrements = 1\n[[step]]\nname = "shear"\ninc
 def test_two_steps_name_their_increments_and_superpose():
     """Each increment reports its step, the step's load factor and the monotonic
     time; after step 2 the displacements equal one step of both loads."""
-    text = BLOCK.format(tail=STEPS + DOWN + SIDE + 'step = "shear"\n')
+    text = block(STEPS + DOWN + SIDE + 'step = "shear"\n')
     model = cfe.Model.from_toml(text)
     assert model.steps == [
         {"name": "press", "increments": 1},
@@ -59,7 +41,7 @@ def test_two_steps_name_their_increments_and_superpose():
     assert [s["step"] for s in steps] == ["press", "shear", "shear"]
     assert res.summary["proportional_shortcut"] is False
     assert "2 steps" in res.summary["proportional_shortcut_off"]
-    one = cfe.Model.from_toml(BLOCK.format(tail="[analysis]\nincrements = 1\n" + DOWN + SIDE)).solve()
+    one = cfe.Model.from_toml(block("[analysis]\nincrements = 1\n" + DOWN + SIDE)).solve()
     scale = np.abs(one.displacements).max()
     assert np.abs(res.displacements - one.displacements).max() < 1e-10 * scale
 

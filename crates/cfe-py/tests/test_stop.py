@@ -11,44 +11,18 @@ import textwrap
 
 import pytest
 
+from problems import block_on_base
+
 # A Coulomb block pushed sideways far beyond friction in many increments (tens of
 # seconds to the end); only the last increment's VTU files are written.
-PROBLEM = """
-plane = "stress"
-[materials.steel]
-E = 1000.0
-nu = 0.3
-[[part]]
-name = "base"
-material = "steel"
-rectangle = { x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [40, 24] }
-[[part]]
-name = "block"
-material = "steel"
-rectangle = { x = [0.0, 1.0], y = [0.0, 1.0], cells = [32, 32] }
-[[interface]]
-host = "base"
-nodes = "block"
-boundary = "bottom"
-law = "coulomb"
-friction = 0.3
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-[[support]]
-part = "block"
-boundary = "top"
-fix = ["x"]
-value = [0.005, 0.0]
-[[load]]
-part = "block"
-boundary = "top"
-force = [0.0, -1.0]
-[analysis]
-increments = 20000
-output_every = "last"
-"""
+PROBLEM = block_on_base(
+    'law = "coulomb"\nfriction = 0.3',
+    '[[support]]\npart = "block"\nboundary = "top"\nfix = ["x"]\nvalue = [0.005, 0.0]\n'
+    '[[load]]\npart = "block"\nboundary = "top"\nforce = [0.0, -1.0]\n'
+    '[analysis]\nincrements = 20000\noutput_every = "last"',
+    base_cells=(40, 24),
+    block_cells=(32, 32),
+)
 
 CHILD = textwrap.dedent(
     """

@@ -3,45 +3,18 @@
 
 mod common;
 
+use common::{Problem, Text};
+
 use cfe::Error;
 use cfe::analysis::Analysis;
 use cfe::model::Model;
 use std::path::Path;
 
-const BASE: &str = r#"
-[materials.steel]
-E = 210000.0
-nu = 0.31
+/// The seed's plate on a base, without a load.
+static BASE: Text = Text::new(|| Problem::plate_on_base().text());
 
-[[part]]
-name = "base"
-material = "steel"
-rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [20, 12] }
-
-[[part]]
-name = "plate"
-material = "steel"
-rectangle = { x = [30.0, 170.0], y = [120.0, 135.0], cells = [28, 6] }
-
-[[interface]]
-host = "base"
-nodes = "plate"
-boundary = "bottom"
-
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-"#;
-
-const LOAD_DOWN: &str = r#"
-[[load]]
-part = "plate"
-boundary = "top"
-from = [86.0, 135.0]
-to = [114.0, 135.0]
-force = [0.0, -1500.0]
-"#;
+/// The seed's load: 1500 down on the middle of the plate's top.
+static LOAD_DOWN: Text = Text::new(|| Problem::spaced().plate_load_down().text());
 
 fn parse(text: &str) -> Result<Model, Error> {
     Model::from_str(text, Path::new("bad.toml"), 1)
@@ -209,7 +182,7 @@ fn no_support_at_all() {
     let text = BASE.replace(
         "[[support]]\npart = \"base\"\nboundary = \"bottom\"\nfix = [\"x\", \"y\"]\n",
         "",
-    ) + LOAD_DOWN;
+    ) + &LOAD_DOWN;
     let a = Analysis::new(parse(&text).unwrap()).unwrap();
     let e = a.solve().err().unwrap();
     assert!(

@@ -9,44 +9,21 @@
 
 mod common;
 
+use common::{Problem, Text};
+
 use cfe::Error;
 use std::path::Path;
 
-const PROBLEM: &str = r#"
-[materials.steel]
-E = 210000.0
-nu = 0.31
-
-[[part]]
-name = "base"
-material = "steel"
-rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [10, 6] }
-
-[[part]]
-name = "plate"
-material = "steel"
-rectangle = { x = [30.0, 170.0], y = [120.0, 135.0], cells = [14, 3] }
-
-[[interface]]
-host = "base"
-nodes = "plate"
-boundary = "bottom"
-
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-
-[[load]]
-part = "plate"
-boundary = "top"
-from = [86.0, 135.0]
-to = [114.0, 135.0]
-force = [0.0, -1500.0]
-
-[analysis]
-increments = 10
-"#;
+/// The seed's plate on a base, coarsened (10 × 6 and 14 × 3 cells), its load in
+/// 10 increments.
+static PROBLEM: Text = Text::new(|| {
+    Problem::plate_on_base()
+        .cells("base", [10, 6])
+        .cells("plate", [14, 3])
+        .plate_load_down()
+        .increments(10)
+        .text()
+});
 
 /// The files `results.pvd` in `out` names; each must exist.
 fn pvd_files_exist(out: &Path) -> usize {
@@ -83,7 +60,7 @@ fn full_disk_and_output_every() {
     // A disk that fills up after 9 files (a few increments in), with room left
     // for the small summary.
     let out = base.join("full");
-    let mut a = common::analysis(PROBLEM);
+    let mut a = common::analysis(&PROBLEM);
     cfe::output::inject_write_faults(Some(9), true);
     let e = a.run(&out, &mut |_| {}).unwrap_err();
     cfe::output::inject_write_faults(None, false);

@@ -4,79 +4,53 @@
 //! precision — never a panic, a silent acceptance or a vague "mechanism". Each
 //! case asserts the error's variant, its key and line, and the message's key words.
 
+mod common;
+
 use cfe::Error;
 use cfe::model::Model;
+use common::{Problem, Raw, Text};
 use std::path::Path;
 
 /// A valid problem (the seed's plate on a base, coarsened) that every case spoils
 /// in one place.
-const BASE: &str = r#"title = "hostile"
-[materials.steel]
-E = 210000.0
-nu = 0.31
-
-[materials.soft]
-E = 1000.0
-nu = 0.2
-
-[[part]]
-name = "base"
-material = "steel"
-thickness = 1.0
-rectangle = { x = [0.0, 200.0], y = [0.0, 120.0], cells = [10, 6] }
-
-[[part]]
-name = "plate"
-material = "steel"
-thickness = 1.0
-rectangle = { x = [30.0, 170.0], y = [120.0, 135.0], cells = [14, 3] }
-
-[[part]]
-name = "ring"
-material = "soft"
-annulus = { center = [500.0, 0.0], r = [10.0, 20.0], theta = [0.0, 90.0], cells = [2, 4] }
-
-[[interface]]
-name = "plate-base"
-host = "base"
-nodes = "plate"
-boundary = "bottom"
-c_n = 1e9
-c_s = 1e9
-tolerance = 0.05
-
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-value = [0.0, 0.0]
-
-[[support]]
-part = "ring"
-boundary = "inner"
-fix = ["x", "y"]
-
-[[load]]
-part = "plate"
-boundary = "top"
-from = [86.0, 135.0]
-to = [114.0, 135.0]
-force = [0.0, -1500.0]
-
-[[load]]
-part = "ring"
-at = [520.0, 0.0]
-force = [1.0, 0.0]
-
-[analysis]
-increments = 10
-max_iterations = 200
-gap_tolerance = 1e-9
-force_tolerance = 1e-6
-max_violation = 0.05
-max_residual = 1e-4
-output_every = 1
-"#;
+static BASE: Text = Text::new(|| {
+    Problem::spaced()
+        .no_leading_newline()
+        .head("title", "hostile")
+        .material("steel", 210000.0, 0.31)
+        .material("soft", 1000.0, 0.2)
+        .part("base", "steel")
+        .key("thickness", 1.0)
+        .rectangle([0.0, 200.0], [0.0, 120.0], [10, 6])
+        .part("plate", "steel")
+        .key("thickness", 1.0)
+        .rectangle([30.0, 170.0], [120.0, 135.0], [14, 3])
+        .part("ring", "soft")
+        .key(
+            "annulus",
+            Raw("{ center = [500.0, 0.0], r = [10.0, 20.0], theta = [0.0, 90.0], cells = [2, 4] }"),
+        )
+        .named_interface("plate-base", "base", "plate", "bottom")
+        .key("c_n", Raw("1e9"))
+        .key("c_s", Raw("1e9"))
+        .key("tolerance", 0.05)
+        .support("base", "bottom", ["x", "y"])
+        .key("value", [0.0, 0.0])
+        .support("ring", "inner", ["x", "y"])
+        .plate_load_down()
+        .table("[[load]]")
+        .key("part", "ring")
+        .key("at", [520.0, 0.0])
+        .key("force", [1.0, 0.0])
+        .increments(10)
+        .key("max_iterations", 200)
+        .key("gap_tolerance", Raw("1e-9"))
+        .key("force_tolerance", Raw("1e-6"))
+        .key("max_violation", 0.05)
+        .key("max_residual", Raw("1e-4"))
+        .key("output_every", 1)
+        .text()
+});
 
 /// The error of `text` at refinement `refine`.
 fn error(text: &str, refine: usize) -> Error {
@@ -145,7 +119,7 @@ fn with(from: &str, to: &str) -> String {
 /// The base problem is valid: the cases below fail because of their one change.
 #[test]
 fn the_base_problem_is_valid() {
-    Model::from_str(BASE, Path::new("hostile.toml"), 1).unwrap();
+    Model::from_str(&BASE, Path::new("hostile.toml"), 1).unwrap();
 }
 
 /// Every value class: non-finite, out of physical range, beyond what double
@@ -782,7 +756,7 @@ fn oversized_refinements_are_refused() {
         4_611_686_018_427_387_905,
         usize::MAX,
     ] {
-        let e = error(BASE, refine);
+        let e = error(&BASE, refine);
         assert!(
             matches!(e, Error::TooLarge { .. } | Error::Parse { .. }),
             "refine {refine}: {e:?}"
@@ -793,7 +767,7 @@ fn oversized_refinements_are_refused() {
             "refine {refine}: {m}"
         );
     }
-    assert!(matches!(error(BASE, 0), Error::Model(_)));
+    assert!(matches!(error(&BASE, 0), Error::Model(_)));
 }
 
 /// A Gmsh node with a non-finite coordinate is named by the file, its line and

@@ -17,67 +17,30 @@
 
 mod common;
 
+use common::Problem;
+
 use cfe::model::Model;
 use std::path::Path;
 
 fn stack(e: [f64; 3], nu: f64) -> String {
-    format!(
-        r#"
-[materials.a]
-E = {}
-nu = {nu}
-[materials.b]
-E = {}
-nu = {nu}
-[materials.c]
-E = {}
-nu = {nu}
-
-[[part]]
-name = "A"
-material = "a"
-rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [2, 2] }}
-[[part]]
-name = "B"
-material = "b"
-rectangle = {{ x = [0.0, 1.0], y = [1.0, 2.0], cells = [4, 4], elements = "q4" }}
-[[part]]
-name = "C"
-material = "c"
-rectangle = {{ x = [0.0, 1.0], y = [2.0, 3.0], cells = [8, 8] }}
-
-[[interface]]
-name = "A-B"
-host = "A"
-nodes = "B"
-boundary = "bottom"
-law = "rigid"
-[[interface]]
-name = "B-C"
-host = "B"
-nodes = "C"
-boundary = "bottom"
-law = "rigid"
-
-[[support]]
-part = "A"
-boundary = "bottom"
-fix = ["y"]
-[[support]]
-part = "A"
-at = [0.0, 0.0]
-fix = ["x"]
-
-[[load]]
-part = "C"
-boundary = "top"
-pressure = 1.0
-
-[analysis]
-increments = 1
-"#,
-        e[0], e[1], e[2]
-    )
+    Problem::compact()
+        .material("a", e[0], nu)
+        .material("b", e[1], nu)
+        .material("c", e[2], nu)
+        .part("A", "a")
+        .rectangle([0.0, 1.0], [0.0, 1.0], [2, 2])
+        .part("B", "b")
+        .rectangle_of([0.0, 1.0], [1.0, 2.0], [4, 4], "q4")
+        .part("C", "c")
+        .rectangle([0.0, 1.0], [2.0, 3.0], [8, 8])
+        .named_interface("A-B", "A", "B", "bottom")
+        .law("rigid")
+        .named_interface("B-C", "B", "C", "bottom")
+        .law("rigid")
+        .rollers("A", [0.0, 0.0])
+        .pressure("C", "top", 1.0)
+        .increments(1)
+        .text()
 }
 
 /// Uniform compression of the stack (one material, ν = 0.3): every element of all

@@ -4,6 +4,8 @@
 
 mod common;
 
+use common::Problem;
+
 use cfe::Error;
 use cfe::analysis::{Analysis, RunStatus};
 use cfe::coupling::PairState;
@@ -15,36 +17,10 @@ use std::path::Path;
 /// stiff, fully supported base layer (host, x ∈ [−0.5, 1.5], y ∈ [−0.1, 0]); `iface`
 /// is the interface's extra keys, `tail` the supports, loads and analysis.
 fn block_on_layer(bottom: f64, h: f64, iface: &str, tail: &str) -> String {
-    format!(
-        r#"
-plane = "stress"
-[materials.soft]
-E = 1000.0
-nu = 0.3
-[materials.hard]
-E = 1.0e6
-nu = 0.3
-[[part]]
-name = "base"
-material = "hard"
-rectangle = {{ x = [-0.5, 1.5], y = [-0.1, 0.0], cells = [5, 1], elements = "q4" }}
-[[part]]
-name = "block"
-material = "soft"
-rectangle = {{ x = [0.0, 1.0], y = [{bottom}, {top}], cells = [4, 8], elements = "q4" }}
-[[interface]]
-host = "base"
-nodes = "block"
-boundary = "bottom"
-{iface}
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-{tail}
-"#,
-        top = bottom + h
-    )
+    Problem::block_on_layer(bottom, h)
+        .iface(iface)
+        .raw(tail)
+        .text()
 }
 
 fn analysis(text: &str) -> Analysis {
@@ -187,41 +163,12 @@ fn nodes_beyond_the_search_distance_are_unpaired() {
 #[test]
 fn frictionless_carries_no_shear() {
     let make = |law: &str| {
-        format!(
-            r#"
-plane = "stress"
-[materials.steel]
-E = 1000.0
-nu = 0.3
-[[part]]
-name = "base"
-material = "steel"
-rectangle = {{ x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [5, 3] }}
-[[part]]
-name = "block"
-material = "steel"
-rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [4, 4] }}
-[[interface]]
-host = "base"
-nodes = "block"
-boundary = "bottom"
-law = "{law}"
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-[[support]]
-part = "block"
-boundary = "left"
-fix = ["x"]
-[[load]]
-part = "block"
-boundary = "top"
-force = [0.3, -1.0]
-[analysis]
-increments = 2
-"#
-        )
+        Problem::block_on_base()
+            .law(law)
+            .support("block", "left", ["x"])
+            .load("block", "top", [0.3, -1.0])
+            .increments(2)
+            .text()
     };
     let a = analysis(&make("frictionless"));
     let last = common::solve(&a).pop().unwrap();
@@ -316,33 +263,11 @@ fn bad_law_keys_are_typed_errors() {
 /// A block on a base (same material, touching faces), the Coulomb law with μ:
 /// `tail` holds the block's supports and loads.
 fn coulomb_block(mu: f64, tail: &str) -> String {
-    format!(
-        r#"
-plane = "stress"
-[materials.steel]
-E = 1000.0
-nu = 0.3
-[[part]]
-name = "base"
-material = "steel"
-rectangle = {{ x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [5, 3] }}
-[[part]]
-name = "block"
-material = "steel"
-rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [4, 4] }}
-[[interface]]
-host = "base"
-nodes = "block"
-boundary = "bottom"
-law = "coulomb"
-friction = {mu}
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-{tail}
-"#
-    )
+    Problem::block_on_base()
+        .law("coulomb")
+        .friction(mu)
+        .raw(tail)
+        .text()
 }
 
 /// Checks Coulomb's law on every closed pair of an increment: stick pairs within
@@ -402,9 +327,11 @@ fn unsupported_message(
 /// The Coulomb block's tail: P = 1 down and Q = 0.2 sideways on its top.
 const PUSH_BELOW: &str = "[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.2, -1.0]\n[analysis]\nincrements = 2";
 
-/// The Coulomb block's tail: P = 1 down on its top, which is pushed sideways by a
-/// displacement far beyond the elastic range.
-const PUSH_FAR: &str = "[[support]]\npart = \"block\"\nboundary = \"top\"\nfix = [\"x\"]\nvalue = [0.005, 0.0]\n[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.0, -1.0]\n[analysis]\nincrements = 4";
+/// The Coulomb block pressed by P = 1 on its top, which is pushed sideways by a
+/// displacement far beyond the elastic range (4 increments).
+fn coulomb_block_pushed_far(mu: f64) -> String {
+    Problem::coulomb_block_pushed_far(mu, 4).text()
+}
 
 /// Solves `a` and asserts the run completed with the law on every pair.
 fn solve_completed(a: &Analysis) -> cfe::analysis::Results {
@@ -418,7 +345,7 @@ fn solve_completed(a: &Analysis) -> cfe::analysis::Results {
     res
 }
 
-/// A block pushed far sideways (`PUSH_FAR`): every closed pair slips with
+/// A block pushed far sideways (`coulomb_block_pushed_far`): every closed pair slips with
 /// |f_s| = μ f_n (all but at most one closed), and the sideways reaction is μ P.
 fn assert_slides_at_mu(a: &Analysis, res: &cfe::analysis::Results, mu: f64) {
     let n = check_coulomb(a, &res.last, mu, 1e-8);
@@ -464,7 +391,7 @@ fn coulomb_below_the_limit_sticks() {
 #[test]
 fn coulomb_beyond_the_limit_slips_on_every_pair() {
     let mu = 0.3;
-    let text = coulomb_block(mu, PUSH_FAR);
+    let text = coulomb_block_pushed_far(mu);
     let a = analysis(&text);
     let res = solve_completed(&a);
     assert_slides_at_mu(&a, &res, mu);
@@ -952,8 +879,8 @@ fn a_plate_pulled_off_its_base_is_reported_free_not_sliding() {
 /// the penetration tolerance (1e-9), whatever the penalty.
 #[test]
 fn coulomb_with_augmented_enforcement() {
-    let augmented = |mu: f64, tail: &str| {
-        coulomb_block(mu, tail).replace(
+    let augmented = |text: String, mu: f64| {
+        text.replace(
             &format!("friction = {mu}"),
             &format!("friction = {mu}\nenforcement = \"augmented\"\npenetration_tolerance = 1e-9"),
         )
@@ -968,7 +895,7 @@ fn coulomb_with_augmented_enforcement() {
             );
         }
     };
-    let below = augmented(0.5, PUSH_BELOW);
+    let below = augmented(coulomb_block(0.5, PUSH_BELOW), 0.5);
     let a = analysis(&below);
     let res = solve_completed(&a);
     let fs: f64 = res.pairs.iter().map(|r| r.force_s).sum();
@@ -977,7 +904,7 @@ fn coulomb_with_augmented_enforcement() {
     no_penetration(&res);
 
     let mu = 0.3;
-    let slide = augmented(mu, PUSH_FAR);
+    let slide = augmented(coulomb_block_pushed_far(mu), mu);
     let a = analysis(&slide);
     let res = solve_completed(&a);
     assert_slides_at_mu(&a, &res, mu);
@@ -1072,52 +999,16 @@ fn augmented_is_independent_of_the_penalty() {
         } else {
             ""
         };
-        format!(
-            r#"
-plane = "stress"
-[materials.steel]
-E = 1000.0
-nu = 0.3
-[[part]]
-name = "base"
-material = "steel"
-rectangle = {{ x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [5, 3] }}
-[[part]]
-name = "block"
-material = "steel"
-rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [6, 4] }}
-[[interface]]
-host = "base"
-nodes = "block"
-boundary = "bottom"
-law = "frictionless"
-c_n = {c_n}
-{keys}
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-[[support]]
-part = "block"
-boundary = "left"
-fix = ["x"]
-[[load]]
-part = "block"
-boundary = "top"
-from = [0.8, 1.0]
-to = [1.0, 1.0]
-force = [0.0, -1.5]
-[[load]]
-part = "block"
-boundary = "top"
-from = [0.0, 1.0]
-to = [0.2, 1.0]
-force = [0.0, 0.5]
-[analysis]
-increments = 1
-"#,
-            c_n = factor * 1000.0
-        )
+        Problem::block_on_base()
+            .cells("block", [6, 4])
+            .law("frictionless")
+            .iface_key("c_n", factor * 1000.0)
+            .iface(keys)
+            .support("block", "left", ["x"])
+            .load_from_to("block", [0.8, 1.0], [1.0, 1.0], [0.0, -1.5])
+            .load_from_to("block", [0.0, 1.0], [0.2, 1.0], [0.0, 0.5])
+            .increments(1)
+            .text()
     };
     let forces = |factor: f64, augmented: bool| {
         let a = analysis(&make(factor, augmented));

@@ -6,49 +6,29 @@
 
 mod common;
 
+use common::Problem;
+
 use cfe::Error;
 use cfe::output::folder::{LOCK, MANIFEST, MANIFEST_HEADER, OutputFolder};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-const PROBLEM: &str = r#"
-[materials.steel]
-E = 210000.0
-nu = 0.3
-
-[[part]]
-name = "base"
-material = "steel"
-rectangle = { x = [0.0, 40.0], y = [0.0, 20.0], cells = [4, 2] }
-
-[[part]]
-name = "block"
-material = "steel"
-rectangle = { x = [10.0, 30.0], y = [20.0, 30.0], cells = [4, 2] }
-
-[[interface]]
-host = "base"
-nodes = "block"
-boundary = "bottom"
-law = "rigid"
-
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-
-[[load]]
-part = "block"
-boundary = "top"
-force = [0.0, -100.0]
-
-[analysis]
-increments = 2
-"#;
-
-/// The problem with `n` increments.
+/// A steel block (x ∈ [10, 30], y ∈ [20, 30]) tied on a steel base (x ∈ [0, 40],
+/// y ∈ [0, 20], its bottom clamped), 100 down on the block's top, in `n`
+/// increments.
 fn problem(n: usize) -> String {
-    PROBLEM.replace("increments = 2", &format!("increments = {n}"))
+    Problem::spaced()
+        .material("steel", 210000.0, 0.3)
+        .part("base", "steel")
+        .rectangle([0.0, 40.0], [0.0, 20.0], [4, 2])
+        .part("block", "steel")
+        .rectangle([10.0, 30.0], [20.0, 30.0], [4, 2])
+        .interface("base", "block", "bottom")
+        .law("rigid")
+        .support("base", "bottom", ["x", "y"])
+        .load("block", "top", [0.0, -100.0])
+        .increments(n)
+        .text()
 }
 
 /// A fresh, empty scratch folder for test `name`.

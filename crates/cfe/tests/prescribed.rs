@@ -15,49 +15,25 @@
 
 mod common;
 
+use common::{Problem, Raw};
+
 const E: f64 = 1000.0;
 const DELTA: f64 = 0.01;
 
 fn problem(extra: &str) -> String {
-    format!(
-        r#"
-[materials.m]
-E = {E}
-nu = 0.25
-
-[[part]]
-name = "lower"
-material = "m"
-rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [3, 3] }}
-
-[[part]]
-name = "upper"
-material = "m"
-rectangle = {{ x = [0.0, 1.0], y = [1.0, 2.0], cells = [6, 6] }}
-
-[[interface]]
-host = "lower"
-nodes = "upper"
-boundary = "bottom"
-law = "rigid"
-c_n = 1e9
-
-[[support]]
-part = "lower"
-boundary = "bottom"
-fix = ["y"]
-
-[[support]]
-part = "lower"
-at = [0.0, 0.0]
-fix = ["x"]
-
-{extra}
-
-[analysis]
-increments = 2
-"#
-    )
+    Problem::spaced()
+        .material("m", E, 0.25)
+        .part("lower", "m")
+        .rectangle([0.0, 1.0], [0.0, 1.0], [3, 3])
+        .part("upper", "m")
+        .rectangle([0.0, 1.0], [1.0, 2.0], [6, 6])
+        .interface("lower", "upper", "bottom")
+        .law("rigid")
+        .iface_key("c_n", Raw("1e9"))
+        .rollers("lower", [0.0, 0.0])
+        .raw(extra)
+        .increments(2)
+        .text()
 }
 
 /// A prescribed top displacement compresses the tied pair of blocks uniformly:
@@ -125,41 +101,21 @@ fn point_load_is_balanced() {
 /// driven down by a prescribed displacement `push` over 8 increments (law
 /// `contact`); `bottom` is the punch's bottom.
 fn punch_above_block(bottom: f64, push: f64, increments: usize) -> String {
-    format!(
-        r#"
-plane = "strain"
-[materials.steel]
-E = 210000.0
-nu = 0.3
-[[part]]
-name = "block"
-material = "steel"
-rectangle = {{ x = [0.0, 40.0], y = [0.0, 20.0], cells = [16, 8] }}
-[[part]]
-name = "punch"
-material = "steel"
-rectangle = {{ x = [10.0, 30.0], y = [{bottom:?}, {top:?}], cells = [30, 10] }}
-[[interface]]
-host = "block"
-nodes = "punch"
-boundary = "bottom"
-law = "contact"
-search_distance = 0.5
-[[support]]
-part = "block"
-boundary = "bottom"
-fix = ["x", "y"]
-[[support]]
-part = "punch"
-boundary = "top"
-fix = ["x", "y"]
-value = [0.0, {:?}]
-[analysis]
-increments = {increments}
-"#,
-        -push,
-        top = bottom + 10.0
-    )
+    Problem::compact()
+        .plane("strain")
+        .material("steel", 210000.0, 0.3)
+        .part("block", "steel")
+        .rectangle([0.0, 40.0], [0.0, 20.0], [16, 8])
+        .part("punch", "steel")
+        .rectangle([10.0, 30.0], [bottom, bottom + 10.0], [30, 10])
+        .interface("block", "punch", "bottom")
+        .law("contact")
+        .iface_key("search_distance", 0.5)
+        .support("block", "bottom", ["x", "y"])
+        .support("punch", "top", ["x", "y"])
+        .key("value", [0.0, -push])
+        .increments(increments)
+        .text()
 }
 
 /// A punch driven down onto a block across an initial gap g₀ = 0.01 by a

@@ -4,6 +4,8 @@
 
 mod common;
 
+use common::Problem;
+
 use cfe::analysis::{Analysis, Results};
 
 /// Load P on the upper block's top (N).
@@ -20,47 +22,21 @@ const L: f64 = 30.0;
 /// nodes match, so the node coupling passes this patch test: on non-matching
 /// faces it is off by about 1 %, El-Abbasi & Bathe.)
 fn pressed_blocks(plane: &str, nu: f64, t_base: f64, t_block: f64) -> String {
-    format!(
-        r#"
-plane = "{plane}"
-[materials.steel]
-E = 210000.0
-nu = {nu:?}
-[[part]]
-name = "base"
-material = "steel"
-thickness = {t_base:?}
-rectangle = {{ x = [0.0, {L:?}], y = [0.0, 20.0], cells = [6, 4], elements = "q4" }}
-[[part]]
-name = "block"
-material = "steel"
-thickness = {t_block:?}
-rectangle = {{ x = [0.0, {L:?}], y = [20.0, 30.0], cells = [6, 3], elements = "q4" }}
-[[interface]]
-name = "face"
-host = "base"
-nodes = "block"
-boundary = "bottom"
-law = "contact"
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["y"]
-[[support]]
-part = "base"
-at = [0.0, 0.0]
-fix = ["x"]
-[[support]]
-part = "block"
-at = [0.0, 30.0]
-fix = ["x"]
-[[load]]
-part = "block"
-boundary = "top"
-force = [0.0, {:?}]
-"#,
-        -P
-    )
+    Problem::compact()
+        .plane(plane)
+        .material("steel", 210000.0, nu)
+        .part("base", "steel")
+        .key("thickness", t_base)
+        .rectangle_of([0.0, L], [0.0, 20.0], [6, 4], "q4")
+        .part("block", "steel")
+        .key("thickness", t_block)
+        .rectangle_of([0.0, L], [20.0, 30.0], [6, 3], "q4")
+        .named_interface("face", "base", "block", "bottom")
+        .law("contact")
+        .rollers("base", [0.0, 0.0])
+        .support_at("block", [0.0, 30.0], ["x"])
+        .load("block", "top", [0.0, -P])
+        .text()
 }
 
 /// With the block t = 10 (plane stress) and t = 2.5 (plane strain) thick (and

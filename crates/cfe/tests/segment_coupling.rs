@@ -4,6 +4,8 @@
 
 mod common;
 
+use common::{Problem, Raw};
+
 use cfe::analysis::Analysis;
 use cfe::coupling::{Coupling, PairState};
 use cfe::model::Model;
@@ -93,56 +95,25 @@ fn unknown_coupling_is_an_error() {
 /// pushed down by `push` at its top, frictionless segment coupling with a search
 /// distance and `c_n`; the lower block on rollers.
 fn gap_blocks(g0: f64, push: f64, c_n: f64, coupling: &str, upper_kind: &str) -> String {
-    format!(
-        r#"
-plane = "stress"
-[materials.low]
-E = 3000.0
-nu = 0.2
-[materials.up]
-E = 1000.0
-nu = 0.3
-[[part]]
-name = "lower"
-material = "low"
-rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [3, 3] }}
-[[part]]
-name = "upper"
-material = "up"
-rectangle = {{ x = [0.0, 1.0], y = [{b}, {t}], cells = [7, 7], elements = "{upper_kind}" }}
-[[interface]]
-host = "lower"
-nodes = "upper"
-boundary = "bottom"
-law = "frictionless"
-coupling = "{coupling}"
-c_n = {c_n:e}
-search_distance = {d}
-[[support]]
-part = "lower"
-boundary = "bottom"
-fix = ["y"]
-[[support]]
-part = "lower"
-at = [0.0, 0.0]
-fix = ["x"]
-[[support]]
-part = "upper"
-boundary = "top"
-fix = ["y"]
-value = [0.0, {u}]
-[[support]]
-part = "upper"
-at = [0.0, {t}]
-fix = ["x"]
-[analysis]
-increments = 1
-"#,
-        b = 1.0 + g0,
-        t = 2.0 + g0,
-        d = 3.0 * g0,
-        u = -push,
-    )
+    Problem::compact()
+        .plane("stress")
+        .material("low", 3000.0, 0.2)
+        .material("up", 1000.0, 0.3)
+        .part("lower", "low")
+        .rectangle([0.0, 1.0], [0.0, 1.0], [3, 3])
+        .part("upper", "up")
+        .rectangle_of([0.0, 1.0], [1.0 + g0, 2.0 + g0], [7, 7], upper_kind)
+        .interface("lower", "upper", "bottom")
+        .law("frictionless")
+        .iface_key("coupling", coupling)
+        .iface_key("c_n", Raw(&format!("{c_n:e}")))
+        .iface_key("search_distance", 3.0 * g0)
+        .rollers("lower", [0.0, 0.0])
+        .support("upper", "top", ["y"])
+        .key("value", [0.0, -push])
+        .support_at("upper", [0.0, 2.0 + g0], ["x"])
+        .increments(1)
+        .text()
 }
 
 /// The frictionless contact patch test with an initial gap on non-matching faces
@@ -407,46 +378,23 @@ fn flat_punch_pressure_is_uniform_at_host_vertices() {
     let p = 100.0;
     for coupling in ["segment", "node"] {
         for kind in ["q4", "t3"] {
-            let text = format!(
-                r#"
-plane = "strain"
-[materials.block]
-E = 210000.0
-nu = 0.3
-[materials.punch]
-E = 2100.0
-nu = 0.3
-[[part]]
-name = "block"
-material = "block"
-rectangle = {{ x = [-10.0, 10.0], y = [-10.0, 0.0], cells = [12, 6], elements = "{kind}" }}
-[[part]]
-name = "punch"
-material = "punch"
-rectangle = {{ x = [-4.0, 4.0], y = [0.01, 4.01], cells = [20, 10] }}
-[[interface]]
-host = "block"
-nodes = "punch"
-boundary = "bottom"
-law = "frictionless"
-coupling = "{coupling}"
-search_distance = 0.1
-[[support]]
-part = "block"
-boundary = "bottom"
-fix = ["x", "y"]
-[[load]]
-part = "punch"
-boundary = "top"
-pressure = {p:?}
-[[support]]
-part = "punch"
-at = [0.0, 4.01]
-fix = ["x"]
-[analysis]
-increments = 1
-"#
-            );
+            let text = Problem::compact()
+                .plane("strain")
+                .material("block", 210000.0, 0.3)
+                .material("punch", 2100.0, 0.3)
+                .part("block", "block")
+                .rectangle_of([-10.0, 10.0], [-10.0, 0.0], [12, 6], kind)
+                .part("punch", "punch")
+                .rectangle([-4.0, 4.0], [0.01, 4.01], [20, 10])
+                .interface("block", "punch", "bottom")
+                .law("frictionless")
+                .iface_key("coupling", coupling)
+                .iface_key("search_distance", 0.1)
+                .support("block", "bottom", ["x", "y"])
+                .pressure("punch", "top", p)
+                .support_at("punch", [0.0, 4.01], ["x"])
+                .increments(1)
+                .text();
             let a = common::analysis(&text);
             let inc = common::solve(&a).pop().unwrap();
             let rows = a.pair_rows(&inc);

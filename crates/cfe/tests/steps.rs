@@ -5,6 +5,8 @@
 
 mod common;
 
+use common::Problem;
+
 use cfe::Error;
 use cfe::analysis::{Analysis, RunStatus};
 use cfe::coupling::PairState;
@@ -16,32 +18,7 @@ use std::path::Path;
 /// bottom clamped), non-matching meshes, the interface's keys `iface`; `tail`
 /// holds the steps, the block's supports and its loads.
 fn block(iface: &str, tail: &str) -> String {
-    format!(
-        r#"
-plane = "stress"
-[materials.steel]
-E = 1000.0
-nu = 0.3
-[[part]]
-name = "base"
-material = "steel"
-rectangle = {{ x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [5, 3] }}
-[[part]]
-name = "block"
-material = "steel"
-rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [4, 4] }}
-[[interface]]
-host = "base"
-nodes = "block"
-boundary = "bottom"
-{iface}
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-{tail}
-"#
-    )
+    Problem::block_on_base().iface(iface).raw(tail).text()
 }
 
 fn solve(text: &str) -> (Analysis, Vec<IncrementResult>) {

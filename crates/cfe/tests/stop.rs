@@ -5,6 +5,8 @@
 
 mod common;
 
+use common::Problem;
+
 use cfe::error::Error;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -14,43 +16,7 @@ use std::sync::mpsc;
 /// far beyond the elastic range over `increments` increments: every increment
 /// is searched with slip-force fixed points (several solves each).
 fn coulomb_push(increments: usize) -> String {
-    format!(
-        r#"
-plane = "stress"
-[materials.steel]
-E = 1000.0
-nu = 0.3
-[[part]]
-name = "base"
-material = "steel"
-rectangle = {{ x = [-0.5, 1.5], y = [-1.0, 0.0], cells = [5, 3] }}
-[[part]]
-name = "block"
-material = "steel"
-rectangle = {{ x = [0.0, 1.0], y = [0.0, 1.0], cells = [4, 4] }}
-[[interface]]
-host = "base"
-nodes = "block"
-boundary = "bottom"
-law = "coulomb"
-friction = 0.3
-[[support]]
-part = "base"
-boundary = "bottom"
-fix = ["x", "y"]
-[[support]]
-part = "block"
-boundary = "top"
-fix = ["x"]
-value = [0.005, 0.0]
-[[load]]
-part = "block"
-boundary = "top"
-force = [0.0, -1.0]
-[analysis]
-increments = {increments}
-"#
-    )
+    Problem::coulomb_block_pushed_far(0.3, increments).text()
 }
 
 fn fresh_folder(name: &str) -> PathBuf {
