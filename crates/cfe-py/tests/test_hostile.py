@@ -5,6 +5,7 @@ The cases that used to kill the interpreter run in a child interpreter, so that 
 regression fails its test instead of ending the test session: the child must exit
 normally (return code 0) having caught the expected exception."""
 
+import inspect
 import subprocess
 import sys
 import textwrap
@@ -16,15 +17,6 @@ import cfe
 
 # ---------------------------------------------------------------- helpers
 
-#: Prelude of every child: a valid one-part problem whose mesh is given as arrays.
-PRELUDE = """
-import itertools
-import numpy as np
-import cfe
-
-pts = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
-tri = np.array([[0, 1, 2], [0, 2, 3]])
-bnd = {"bottom": np.array([[0, 1]])}
 
 def problem(**part):
     p = {"name": "a", "material": "m"}
@@ -34,7 +26,20 @@ def problem(**part):
         "part": [p],
         "support": [{"part": "a", "boundary": "bottom", "fix": ["x", "y"]}],
     }
-"""
+
+
+#: Prelude of every child: a valid one-part problem whose mesh is given as arrays
+#: (`problem` as above).
+PRELUDE = """
+import itertools
+import numpy as np
+import cfe
+
+pts = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+tri = np.array([[0, 1, 2], [0, 2, 3]])
+bnd = {"bottom": np.array([[0, 1]])}
+
+""" + inspect.getsource(problem)
 
 # The child prints the exception's class and message; anything else is a failure.
 CHILD = """
@@ -66,16 +71,6 @@ def raises_in_child(setup, call, kind, *words):
     assert out.startswith(f"raised {kind} "), out
     for w in words:
         assert w in out, out
-
-
-def problem(**part):
-    p = {"name": "a", "material": "m"}
-    p.update(part)
-    return {
-        "materials": {"m": {"E": 1.0, "nu": 0.3}},
-        "part": [p],
-        "support": [{"part": "a", "boundary": "bottom", "fix": ["x", "y"]}],
-    }
 
 
 PTS = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])

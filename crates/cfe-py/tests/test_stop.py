@@ -24,7 +24,9 @@ PROBLEM = block_on_base(
     block_cells=(32, 32),
 )
 
-CHILD = textwrap.dedent(
+# The child's start: it loads the problem file (its first argument) and prints
+# "started" at its first increment; the caller's lines follow.
+CHILD_START = textwrap.dedent(
     """
     import sys
     import cfe
@@ -37,7 +39,11 @@ CHILD = textwrap.dedent(
         if not started:
             started = True
             print("started", flush=True)
+    """
+)
 
+CHILD = CHILD_START + textwrap.dedent(
+    """
     try:
         model.solve(out=sys.argv[2], progress=progress)
     except KeyboardInterrupt as e:
@@ -48,16 +54,12 @@ CHILD = textwrap.dedent(
 )
 
 
-@pytest.mark.skipif(os.name != "posix", reason="sends SIGINT to a child process")
-def test_ctrl_c_stops_a_run_into_a_folder(tmp_path):
-    """SIGINT during `solve(out=…)` ends the child with KeyboardInterrupt long
-    before its last increment; `summary.json` says `interrupted` with the
-    increments it converged, the same number the exception carries."""
-    problem = tmp_path / "problem.toml"
-    problem.write_text(PROBLEM)
-    out = tmp_path / "out"
+def interrupt(code, *args):
+    """Runs `code` with `args` in a child interpreter, sends it SIGINT once it
+    prints "started", and returns its return code, stdout and stderr (it must end
+    within 120 s, a liveness bound)."""
     child = subprocess.Popen(
-        [sys.executable, "-c", CHILD, str(problem), str(out)],
+        [sys.executable, "-c", code, *map(str, args)],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -70,7 +72,19 @@ def test_ctrl_c_stops_a_run_into_a_folder(tmp_path):
         if child.poll() is None:
             child.kill()
             child.wait()
-    assert child.returncode == 3, (child.returncode, stdout, stderr)
+    return child.returncode, stdout, stderr
+
+
+@pytest.mark.skipif(os.name != "posix", reason="sends SIGINT to a child process")
+def test_ctrl_c_stops_a_run_into_a_folder(tmp_path):
+    """SIGINT during `solve(out=…)` ends the child with KeyboardInterrupt long
+    before its last increment; `summary.json` says `interrupted` with the
+    increments it converged, the same number the exception carries."""
+    problem = tmp_path / "problem.toml"
+    problem.write_text(PROBLEM)
+    out = tmp_path / "out"
+    returncode, stdout, stderr = interrupt(CHILD, problem, out)
+    assert returncode == 3, (returncode, stdout, stderr)
     word, increment = stdout.split()
     assert word == "interrupted"
     summary = json.loads((out / "summary.json").read_text())
@@ -80,20 +94,8 @@ def test_ctrl_c_stops_a_run_into_a_folder(tmp_path):
     assert not list(out.rglob("*.tmp"))
 
 
-CHILD_IN_MEMORY = textwrap.dedent(
+CHILD_IN_MEMORY = CHILD_START + textwrap.dedent(
     """
-    import sys
-    import cfe
-
-    model = cfe.Model.from_file(sys.argv[1])
-    started = False
-
-    def progress(info):
-        global started
-        if not started:
-            started = True
-            print("started", flush=True)
-
     try:
         model.solve(progress=progress)
     except KeyboardInterrupt:
@@ -113,19 +115,6 @@ def test_ctrl_c_stops_a_solve_in_memory(tmp_path):
     the chaining, not where inside an increment the solver stops)."""
     problem = tmp_path / "problem.toml"
     problem.write_text(PROBLEM)
-    child = subprocess.Popen(
-        [sys.executable, "-c", CHILD_IN_MEMORY, str(problem)],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    try:
-        assert child.stdout.readline().strip() == "started", child.stderr.read()
-        child.send_signal(signal.SIGINT)
-        stdout, stderr = child.communicate(timeout=120)
-    finally:
-        if child.poll() is None:
-            child.kill()
-            child.wait()
-    assert child.returncode == 3, (child.returncode, stdout, stderr)
+    returncode, stdout, stderr = interrupt(CHILD_IN_MEMORY, problem)
+    assert returncode == 3, (returncode, stdout, stderr)
     assert stdout.strip() == "interrupted"

@@ -343,25 +343,12 @@ fn interrupted_run_leaves_a_consistent_folder() {
         ),
         "{e:?}"
     );
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let summary = common::summary_json(&out);
     assert_eq!(summary["status"], "interrupted");
     assert_eq!(summary["converged_increments"], 2);
     let pvd = std::fs::read_to_string(out.join("results.pvd")).unwrap();
-    let named: Vec<&str> = pvd
-        .split("file=\"")
-        .skip(1)
-        .map(|s| s.split('"').next().unwrap())
-        .collect();
-    assert_eq!(named.len(), 4, "{pvd}");
-    for f in &named {
-        assert!(out.join(f).is_file(), "{f} named but missing");
-    }
-    let mut vtu: Vec<String> = std::fs::read_dir(out.join("vtu"))
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    vtu.sort();
+    assert_eq!(common::pvd_files_exist(&out, &pvd), 4, "{pvd}");
+    let vtu = common::vtu_files(&out);
     assert_eq!(
         vtu,
         [

@@ -28,19 +28,7 @@ static PROBLEM: Text = Text::new(|| {
 /// The files `results.pvd` in `out` names; each must exist.
 fn pvd_files_exist(out: &Path) -> usize {
     let pvd = std::fs::read_to_string(out.join("results.pvd")).unwrap_or_default();
-    let named: Vec<&str> = pvd
-        .split("file=\"")
-        .skip(1)
-        .map(|s| s.split('"').next().unwrap())
-        .collect();
-    for f in &named {
-        assert!(out.join(f).is_file(), "{f} named but missing");
-    }
-    named.len()
-}
-
-fn summary(out: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+    common::pvd_files_exist(out, &pvd)
 }
 
 fn no_tmp_left(out: &Path) {
@@ -68,7 +56,7 @@ fn full_disk_and_output_every() {
         matches!(&e, Error::Output { message, .. } if message.contains("No space left")),
         "{e:?}"
     );
-    let s = summary(&out);
+    let s = common::summary_json(&out);
     assert_eq!(s["status"], "failed");
     assert!(
         s["error"].as_str().unwrap().contains("No space left"),
@@ -91,7 +79,7 @@ fn full_disk_and_output_every() {
         "{m}"
     );
     if out.join("summary.json").is_file() {
-        assert_ne!(summary(&out)["status"], "running");
+        assert_ne!(common::summary_json(&out)["status"], "running");
     }
     assert_eq!(pvd_files_exist(&out), 0);
     no_tmp_left(&out);
@@ -117,7 +105,7 @@ fn full_disk_and_output_every() {
         let e = a.run(&out, &mut |_| {}).unwrap_err();
         cfe::output::inject_write_faults(None, false);
         assert!(e.to_string().contains("No space left"), "{n}: {e}");
-        assert_eq!(summary(&out)["status"], "failed", "{n}");
+        assert_eq!(common::summary_json(&out)["status"], "failed", "{n}");
         for f in ["sigma_yy.png", "displacement.png", "pressure.png"] {
             assert!(!out.join(f).exists(), "{n}: {f} after a failure");
         }
@@ -131,11 +119,7 @@ fn full_disk_and_output_every() {
         common::analysis(&PROBLEM.replace("increments = 10", "increments = 10\noutput_every = 4"));
     let s = a.run(&out, &mut |_| {}).unwrap();
     assert_eq!(s.converged_increments, 10);
-    let mut vtu: Vec<String> = std::fs::read_dir(out.join("vtu"))
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    vtu.sort();
+    let vtu = common::vtu_files(&out);
     assert_eq!(
         vtu,
         [
@@ -148,8 +132,8 @@ fn full_disk_and_output_every() {
         ]
     );
     assert_eq!(pvd_files_exist(&out), 6);
-    assert_eq!(summary(&out)["status"], "completed");
-    assert_eq!(summary(&out)["converged_increments"], 10);
+    assert_eq!(common::summary_json(&out)["status"], "completed");
+    assert_eq!(common::summary_json(&out)["converged_increments"], 10);
 
     // 300 increments (beyond the 100 below which the growing files are rewritten
     // freely), every 100th written: the final pvd and summary are complete.
@@ -160,7 +144,7 @@ fn full_disk_and_output_every() {
     a.run(&out, &mut |_| {}).unwrap();
     assert_eq!(pvd_files_exist(&out), 6);
     assert!(out.join("vtu/parts_0300.vtu").is_file());
-    let s = summary(&out);
+    let s = common::summary_json(&out);
     assert_eq!(s["status"], "completed");
     assert_eq!(s["converged_increments"], 300);
     assert_eq!(s["iterations"].as_array().unwrap().len(), 300);
@@ -177,7 +161,7 @@ fn full_disk_and_output_every() {
     assert_eq!(pvd_files_exist(&out), 2);
     assert!(out.join("vtu/parts_0010.vtu").is_file());
     assert!(!out.join("vtu/parts_0009.vtu").exists());
-    let s = summary(&out);
+    let s = common::summary_json(&out);
     assert_eq!(s["converged_increments"], 10);
     assert_eq!(s["iterations"].as_array().unwrap().len(), 10);
     let _ = std::fs::remove_dir_all(&base);

@@ -10,6 +10,7 @@ use cfe::mesh::gmsh::{GmshMesh, Group, MshVersion};
 use cfe::mesh::{ElementKind, Mesh};
 use cfe::model::Model;
 use cfe::solve::nonlinear::IncrementResult;
+use common::{Problem, Raw, Text};
 use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
@@ -439,42 +440,26 @@ fn unstructured_gmsh_plate_on_base_solves() {
     assert!(last.states[0].contains(&PairState::Open));
 }
 
-const SQUARES_PROBLEM: &str = r#"
-[materials.m]
-E = 1000.0
-nu = 0.25
-
-[[part]]
-name = "left"
-material = "m"
-gmsh = { file = "square_41_bin.msh", surfaces = ["left"] }
-
-[[part]]
-name = "right"
-material = "m"
-gmsh = { file = "square_22.msh", surfaces = [2] }
-
-[[interface]]
-host = "left"
-nodes = "right"
-boundary = "interface"
-law = "rigid"
-
-[[support]]
-part = "left"
-boundary = "sides"
-fix = ["x"]
-
-[[support]]
-part = "left"
-at = [0.0, 0.0]
-fix = ["y"]
-
-[[load]]
-part = "right"
-boundary = "13"
-force = [1.0, 0.0]
-"#;
+/// Two squares from Gmsh files (the left chosen by its surface's name, the
+/// right by number) tied across the physical curve "interface", the left held
+/// on "sides" and at the origin, the right pulled on curve 13.
+static SQUARES_PROBLEM: Text = Text::new(|| {
+    Problem::spaced()
+        .material("m", 1000.0, 0.25)
+        .part("left", "m")
+        .key(
+            "gmsh",
+            Raw("{ file = \"square_41_bin.msh\", surfaces = [\"left\"] }"),
+        )
+        .part("right", "m")
+        .key("gmsh", Raw("{ file = \"square_22.msh\", surfaces = [2] }"))
+        .interface("left", "right", "interface")
+        .law("rigid")
+        .support("left", "sides", ["x"])
+        .support_at("left", [0.0, 0.0], ["y"])
+        .load("right", "13", [1.0, 0.0])
+        .text()
+});
 
 /// Physical curve names (and an unnamed curve's number) work as the boundaries of
 /// interfaces, supports and loads, and surfaces are chosen by name or number: the
@@ -482,7 +467,7 @@ force = [1.0, 0.0]
 /// tension σxx = 1 (u = (2e-3, -2.5e-4) at (2, 1) with E = 1000, ν = 0.25).
 #[test]
 fn physical_curves_name_problem_boundaries() {
-    let a = Analysis::new(model(SQUARES_PROBLEM).unwrap()).unwrap();
+    let a = Analysis::new(model(&SQUARES_PROBLEM).unwrap()).unwrap();
     assert_eq!(a.interfaces[0].elements.len(), 2);
     let last = common::solve(&a).pop().unwrap();
     let u = common::displacement_at(&a, &last, "right", [2.0, 1.0]);
@@ -500,7 +485,7 @@ fn physical_curves_name_problem_boundaries() {
 /// (the same displacement at (2, 1) and reaction as at K = 1).
 #[test]
 fn refine_subdivides_gmsh_parts() {
-    let m = Model::from_str(SQUARES_PROBLEM, &data("inline.toml"), 3).unwrap();
+    let m = Model::from_str(&SQUARES_PROBLEM, &data("inline.toml"), 3).unwrap();
     let counts: Vec<_> = m
         .parts
         .iter()

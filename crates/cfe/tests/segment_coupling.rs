@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{Problem, Raw};
+use common::{Problem, Raw, Toml};
 
 use cfe::analysis::Analysis;
 use cfe::coupling::{Coupling, PairState};
@@ -252,36 +252,47 @@ fn coulomb_slip_across_a_closed_gap() {
 /// frictionless with the given coupling; each part held by four tangential
 /// supports that leave its radial expansion free.
 fn shrink_fit(coupling: &str, radial: usize, around: usize, delta: f64) -> String {
-    let part = |name: &str, mat: &str, r: [f64; 2], cells: [usize; 2], held: f64| {
-        let mut s = format!(
-            "[[part]]\nname = \"{name}\"\nmaterial = \"{mat}\"\nannulus = {{ r = [{:?}, {:?}], cells = [{}, {}] }}\n",
-            r[0], r[1], cells[0], cells[1]
-        );
+    let part = |p: Problem, name: &str, mat: &str, r: [f64; 2], cells: [usize; 2], held: f64| {
+        let annulus = format!("{{ r = {}, cells = {} }}", r.toml(), cells.toml());
+        let mut p = p.part(name, mat).key("annulus", Raw(&annulus));
         for (at, fix) in [
             ([held, 0.0], "y"),
             ([0.0, held], "x"),
             ([-held, 0.0], "y"),
             ([0.0, -held], "x"),
         ] {
-            s += &format!(
-                "[[support]]\npart = \"{name}\"\nat = [{:?}, {:?}]\nfix = [\"{fix}\"]\n",
-                at[0], at[1]
-            );
+            p = p.support_at(name, at, [fix]);
         }
-        s
+        p
     };
-    format!(
-        "plane = \"strain\"\n[materials.steel]\nE = 210000.0\nnu = 0.3\n[materials.alu]\nE = 70000.0\nnu = 0.33\n{}{}[[interface]]\nhost = \"ring\"\nnodes = \"shaft\"\nboundary = \"outer\"\nlaw = \"frictionless\"\ncoupling = \"{coupling}\"\nc_n = 7e7\nsearch_distance = {:?}\n[analysis]\nincrements = 1\n",
-        part("ring", "alu", [10.0, 20.0], [radial, around], 20.0),
-        part(
-            "shaft",
-            "steel",
-            [5.0, 10.0 + delta],
-            [radial, around * 5 / 3],
-            5.0
-        ),
-        5.0 * delta
+    let materials = Problem::compact()
+        .no_leading_newline()
+        .plane("strain")
+        .material("steel", 210000.0, 0.3)
+        .material("alu", 70000.0, 0.33);
+    let ring = part(
+        materials,
+        "ring",
+        "alu",
+        [10.0, 20.0],
+        [radial, around],
+        20.0,
+    );
+    part(
+        ring,
+        "shaft",
+        "steel",
+        [5.0, 10.0 + delta],
+        [radial, around * 5 / 3],
+        5.0,
     )
+    .interface("ring", "shaft", "outer")
+    .law("frictionless")
+    .iface_key("coupling", coupling)
+    .iface_key("c_n", Raw("7e7"))
+    .iface_key("search_distance", 5.0 * delta)
+    .increments(1)
+    .text()
 }
 
 /// Lamé's contact pressure of a shrink fit (plane strain): interference δ, shaft

@@ -17,6 +17,7 @@
 mod common;
 
 use cfe::RunStatus;
+use common::{Problem, Raw, Toml};
 
 const E: f64 = 210_000.0;
 const NU: f64 = 0.3;
@@ -34,46 +35,49 @@ fn lame_pressure(plane_strain: bool) -> f64 {
 }
 
 /// The shaft and hub over `theta` (degrees) with `cells` around each (shaft,
-/// hub), `coupling`, the law `law` and `tail` (supports, analysis).
+/// hub), `coupling`, the law `law` and the supports `supports` adds, one
+/// increment.
 fn fit(
     plane: &str,
     theta: [f64; 2],
     cells: [usize; 2],
     law: &str,
     coupling: &str,
-    tail: &str,
+    supports: fn(Problem) -> Problem,
 ) -> String {
-    format!(
-        r#"
-plane = "{plane}"
-[materials.steel]
-E = {E:?}
-nu = {NU:?}
-[[part]]
-name = "shaft"
-material = "steel"
-annulus = {{ center = [0.0, 0.0], r = [{A:?}, {rs:?}], theta = [{t0:?}, {t1:?}], cells = [6, {ns}], elements = "q4" }}
-[[part]]
-name = "hub"
-material = "steel"
-annulus = {{ center = [0.0, 0.0], r = [{B:?}, {C:?}], theta = [{t0:?}, {t1:?}], cells = [6, {nh}], elements = "q4" }}
-[[interface]]
-host = "hub"
-nodes = "shaft"
-boundary = "outer"
-law = "{law}"
-coupling = "{coupling}"
-search_distance = 0.5
-{tail}
-[analysis]
-increments = 1
-"#,
-        rs = B + DELTA,
-        t0 = theta[0],
-        t1 = theta[1],
-        ns = cells[0],
-        nh = cells[1],
-    )
+    let annulus = |r: [f64; 2], around: usize| {
+        format!(
+            "{{ center = [0.0, 0.0], r = {}, theta = {}, cells = [6, {around}], elements = \"q4\" }}",
+            r.toml(),
+            theta.toml()
+        )
+    };
+    let problem = Problem::compact()
+        .plane(plane)
+        .material("steel", E, NU)
+        .part("shaft", "steel")
+        .key("annulus", Raw(&annulus([A, B + DELTA], cells[0])))
+        .part("hub", "steel")
+        .key("annulus", Raw(&annulus([B, C], cells[1])))
+        .interface("hub", "shaft", "outer")
+        .law(law)
+        .iface_key("coupling", coupling)
+        .iface_key("search_distance", 0.5);
+    supports(problem).increments(1).text()
+}
+
+/// Symmetry supports on both parts' radial edges (a quarter model).
+fn symmetry(p: Problem) -> Problem {
+    p.support("shaft", "start", ["y"])
+        .support("shaft", "end", ["x"])
+        .support("hub", "start", ["y"])
+        .support("hub", "end", ["x"])
+}
+
+/// The shaft's bore pinned at (a, 0) in x and y and at (−a, 0) in y.
+fn pinned_bore(p: Problem) -> Problem {
+    p.support_at("shaft", [A, 0.0], ["x", "y"])
+        .support_at("shaft", [-A, 0.0], ["y"])
 }
 
 /// A quarter model (symmetry supports on both parts' radial edges) whose shaft
@@ -90,23 +94,6 @@ increments = 1
 fn quarter_model_end_nodes_pair_with_the_bore() {
     let n = 32;
     let half_edge = (90.0 / n as f64 / 2.0f64).to_radians();
-    let tail = r#"
-[[support]]
-part = "shaft"
-boundary = "start"
-fix = ["y"]
-[[support]]
-part = "shaft"
-boundary = "end"
-fix = ["x"]
-[[support]]
-part = "hub"
-boundary = "start"
-fix = ["y"]
-[[support]]
-part = "hub"
-boundary = "end"
-fix = ["x"]"#;
     for (plane, strain) in [("stress", false), ("strain", true)] {
         let p = lame_pressure(strain);
         for coupling in ["node", "segment"] {
@@ -117,7 +104,7 @@ fix = ["x"]"#;
                 [n, n],
                 "frictionless",
                 coupling,
-                tail,
+                symmetry,
             ));
             let iface = &a.interfaces[0];
             assert_eq!(iface.elements.len(), n + 1, "{what}");
@@ -181,21 +168,16 @@ fix = ["x"]"#;
 #[test]
 fn interference_ring_with_no_load_completes_at_lame() {
     let n = 64;
-    let tail = format!(
-        r#"
-[[support]]
-part = "shaft"
-at = [{A:?}, 0.0]
-fix = ["x", "y"]
-[[support]]
-part = "shaft"
-at = [{:?}, 0.0]
-fix = ["y"]"#,
-        -A
-    );
     for (plane, strain) in [("stress", false), ("strain", true)] {
         let p = lame_pressure(strain);
-        let a = common::analysis(&fit(plane, [0.0, 360.0], [n, n], "contact", "node", &tail));
+        let a = common::analysis(&fit(
+            plane,
+            [0.0, 360.0],
+            [n, n],
+            "contact",
+            "node",
+            pinned_bore,
+        ));
         let res = a.solve().expect("solves");
         assert_eq!(
             res.summary.status,

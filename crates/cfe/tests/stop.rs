@@ -25,34 +25,10 @@ fn fresh_folder(name: &str) -> PathBuf {
     out
 }
 
-fn summary(out: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
-}
-
-/// The VTU files on disk, sorted.
-fn vtu_files(out: &Path) -> Vec<String> {
-    let mut v: Vec<String> = match std::fs::read_dir(out.join("vtu")) {
-        Ok(d) => d
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect(),
-        Err(_) => Vec::new(),
-    };
-    v.sort();
-    v
-}
-
 /// The files `results.pvd` names: each exists.
 fn pvd_names_existing(out: &Path) -> usize {
     let pvd = std::fs::read_to_string(out.join("results.pvd")).unwrap();
-    let named: Vec<&str> = pvd
-        .split("file=\"")
-        .skip(1)
-        .map(|s| s.split('"').next().unwrap())
-        .collect();
-    for f in &named {
-        assert!(out.join(f).is_file(), "{f} named but missing");
-    }
-    named.len()
+    common::pvd_files_exist(out, &pvd)
 }
 
 /// A stop already requested before the run: the first check ends it before
@@ -73,11 +49,15 @@ fn a_stop_before_the_run_writes_no_increment() {
         ),
         "{e:?}"
     );
-    let s = summary(&out);
+    let s = common::summary_json(&out);
     assert_eq!(s["status"], "interrupted");
     assert_eq!(s["converged_increments"], 0);
     assert_eq!(pvd_names_existing(&out), 0);
-    assert!(vtu_files(&out).is_empty(), "{:?}", vtu_files(&out));
+    assert!(
+        common::vtu_files(&out).is_empty(),
+        "{:?}",
+        common::vtu_files(&out)
+    );
     assert!(!out.join("pairs.csv").exists());
     std::fs::remove_dir_all(&out).unwrap();
 }
@@ -169,7 +149,7 @@ fn a_stop_from_another_thread_leaves_the_converged_increments() {
         panic!("{e:?}");
     };
     assert!((1..n).contains(&increment), "{increment}");
-    let s = summary(&out);
+    let s = common::summary_json(&out);
     assert_eq!(s["status"], "interrupted");
     assert_eq!(s["converged_increments"], increment);
     assert_eq!(pvd_names_existing(&out), 2 * increment);
@@ -178,6 +158,6 @@ fn a_stop_from_another_thread_leaves_the_converged_increments() {
         .collect::<std::collections::BTreeSet<_>>()
         .into_iter()
         .collect();
-    assert_eq!(vtu_files(&out), expected);
+    assert_eq!(common::vtu_files(&out), expected);
     std::fs::remove_dir_all(&out).unwrap();
 }

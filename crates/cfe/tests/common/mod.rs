@@ -582,3 +582,36 @@ impl std::fmt::Display for Text {
         f.write_str(&self.0)
     }
 }
+
+// ------------------------------------------------------------------ run folders
+
+/// The `summary.json` of the run written to `out`.
+pub fn summary_json(out: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+}
+
+/// The VTU files in `out/vtu`, sorted (none when the folder does not exist).
+pub fn vtu_files(out: &Path) -> Vec<String> {
+    let mut v: Vec<String> = match std::fs::read_dir(out.join("vtu")) {
+        Ok(d) => d
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect(),
+        Err(_) => Vec::new(),
+    };
+    v.sort();
+    v
+}
+
+/// The number of files `pvd` (the text of `out`'s `results.pvd`) names; each
+/// must exist.
+pub fn pvd_files_exist(out: &Path, pvd: &str) -> usize {
+    let named: Vec<&str> = pvd
+        .split("file=\"")
+        .skip(1)
+        .map(|s| s.split('"').next().unwrap())
+        .collect();
+    for f in &named {
+        assert!(out.join(f).is_file(), "{f} named but missing");
+    }
+    named.len()
+}
