@@ -191,8 +191,10 @@ struct Table {
 /// A problem file built table by table, written as the tests' problem texts
 /// were: a leading empty line, the top-level keys, then the tables in the order
 /// they were added, either one after the other (`compact`) or separated by an
-/// empty line (`spaced`). Keys go to the last table added, except `law`,
-/// `friction` and `iface`, which go to the last interface.
+/// empty line (`spaced`). Keys go to the last table added, except those of
+/// `law`, `friction`, `iface_key` and `iface`, which go to the last interface.
+/// Numbers are written by their shortest exact text, so a test's problem is the
+/// one its numbers say.
 #[derive(Clone, Debug)]
 pub struct Problem {
     leading_newline: bool,
@@ -254,12 +256,6 @@ impl Problem {
         self
     }
 
-    /// Lines of the last table written as given (`law = "rigid"\nc_n = 1e9`).
-    pub fn lines(mut self, text: &str) -> Problem {
-        self.last_table().lines.push(Line::Raw(text.to_string()));
-        self
-    }
-
     /// Text written as given after the tables so far (supports, loads, the
     /// analysis of a test's own).
     pub fn raw(mut self, text: &str) -> Problem {
@@ -313,12 +309,6 @@ impl Problem {
     /// The cells of part `name`'s rectangle.
     pub fn cells(mut self, name: &str, cells: [usize; 2]) -> Problem {
         self.rect_of(name).cells = cells;
-        self
-    }
-
-    /// Part `name`'s rectangle made of `elements` ("q4").
-    pub fn elements(mut self, name: &str, elements: &str) -> Problem {
-        self.rect_of(name).elements = Some(elements.to_string());
         self
     }
 
@@ -450,24 +440,17 @@ impl Problem {
     }
 
     fn rect_of(&mut self, name: &str) -> &mut Rect {
-        let key = Line::Key("name".into(), name.toml());
-        let t = self
-            .tables
+        let quoted = name.toml();
+        let is_named = |l: &Line| matches!(l, Line::Key(k, v) if k == "name" && *v == quoted);
+        self.tables
             .iter_mut()
-            .find(|t| {
-                t.header == "[[part]]"
-                    && t.lines
-                        .iter()
-                        .any(|l| matches!((l, &key), (Line::Key(a, b), Line::Key(c, d)) if a == c && b == d))
-            })
-            .expect("the part");
-        t.lines
-            .iter_mut()
+            .filter(|t| t.header == "[[part]]" && t.lines.iter().any(is_named))
+            .flat_map(|t| t.lines.iter_mut())
             .find_map(|l| match l {
                 Line::Rect(r) => Some(r),
                 _ => None,
             })
-            .expect("a rectangle part")
+            .expect("a rectangle part of that name")
     }
 
     // ---------------------------------------------------------- the problems
