@@ -446,13 +446,16 @@ fn out_dot_in_a_users_folder() {
 fn a_folder_in_use_or_not_ours_is_refused() {
     let dir = scratch("lock");
     let plate = repo().join("examples/plate_on_base.toml");
+    let run_plate = || {
+        cfe(&[
+            "run",
+            plate.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+        ])
+    };
     let held = cfe::output::folder::OutputFolder::open(&dir, false).unwrap();
-    let o = cfe(&[
-        "run",
-        plate.to_str().unwrap(),
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
+    let o = run_plate();
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(
@@ -464,12 +467,7 @@ fn a_folder_in_use_or_not_ours_is_refused() {
     drop(held);
 
     std::fs::write(dir.join("notes.txt"), "mine").unwrap();
-    let o = cfe(&[
-        "run",
-        plate.to_str().unwrap(),
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
+    let o = run_plate();
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(

@@ -333,18 +333,6 @@ fn coulomb_block_pushed_far(mu: f64) -> String {
     Problem::coulomb_block_pushed_far(mu, 4).text()
 }
 
-/// Solves `a` and asserts the run completed with the law on every pair.
-fn solve_completed(a: &Analysis) -> cfe::analysis::Results {
-    let res = a.solve().unwrap();
-    assert_eq!(
-        res.summary.status,
-        RunStatus::Completed,
-        "{:?}",
-        res.summary.warnings
-    );
-    res
-}
-
 /// A block pushed far sideways (`coulomb_block_pushed_far`): every closed pair slips with
 /// |f_s| = μ f_n (all but at most one closed), and the sideways reaction is μ P.
 fn assert_slides_at_mu(a: &Analysis, res: &cfe::analysis::Results, mu: f64) {
@@ -366,7 +354,7 @@ fn coulomb_below_the_limit_sticks() {
     let mu = 0.5;
     let text = coulomb_block(mu, PUSH_BELOW);
     let a = analysis(&text);
-    let res = solve_completed(&a);
+    let res = common::solve_completed(&a);
     assert!(!res.summary.proportional_shortcut);
     let rows = &res.pairs;
     let fs: f64 = rows.iter().map(|r| r.force_s).sum();
@@ -393,7 +381,7 @@ fn coulomb_beyond_the_limit_slips_on_every_pair() {
     let mu = 0.3;
     let text = coulomb_block_pushed_far(mu);
     let a = analysis(&text);
-    let res = solve_completed(&a);
+    let res = common::solve_completed(&a);
     assert_slides_at_mu(&a, &res, mu);
     // The slip history: the plastic slip is the jump less the elastic part.
     for r in &res.pairs {
@@ -414,7 +402,7 @@ fn a_part_held_only_by_friction_finds_its_stick_zone() {
     let mut a = Analysis::new(Model::from_file(&path, 2).unwrap()).unwrap();
     let mu = 0.2;
     a.override_friction(mu).unwrap();
-    let res = solve_completed(&a);
+    let res = common::solve_completed(&a);
     let slipping = check_coulomb(&a, &res.last, mu, 1e-6 * 1500.0);
     let closed = res.pairs.iter().filter(|r| r.state.is_closed()).count();
     let sticking = closed - slipping;
@@ -723,7 +711,7 @@ fn a_stack_on_a_frictional_face_is_judged_as_one_body() {
 #[test]
 fn a_part_held_by_slipping_pairs_does_not_drift_off() {
     let a = block_on_plate("law = \"contact\"", 250.0, 1);
-    let res = solve_completed(&a);
+    let res = common::solve_completed(&a);
     assert_plate_held_by_a_stick_zone(&a, &res, 250.0);
 }
 
@@ -738,7 +726,7 @@ fn a_part_held_by_slipping_pairs_does_not_drift_off() {
 #[test]
 fn a_state_the_search_misses_is_found_by_a_continuation_in_mu() {
     let a = block_on_plate("law = \"contact\"", 200.0, 2);
-    let res = solve_completed(&a);
+    let res = common::solve_completed(&a);
     assert_plate_held_by_a_stick_zone(&a, &res, 200.0);
     let noted: Vec<usize> = res
         .summary
@@ -763,7 +751,7 @@ fn a_state_the_search_misses_is_found_by_a_continuation_in_mu() {
 #[test]
 fn a_stick_zone_moves_when_its_last_pair_slips() {
     let a = block_on_plate("law = \"contact\"", 150.0, 2);
-    let res = solve_completed(&a);
+    let res = common::solve_completed(&a);
     assert_plate_held_by_a_stick_zone(&a, &res, 150.0);
     assert!(
         !res.summary
@@ -781,7 +769,7 @@ fn a_stick_zone_moves_when_its_last_pair_slips() {
 #[test]
 fn a_stack_on_two_frictional_faces_completes_on_both_laws() {
     let a = block_on_plate("law = \"coulomb\"\nfriction = 0.5", 250.0, 1);
-    let res = solve_completed(&a);
+    let res = common::solve_completed(&a);
     assert_plate_held_by_a_stick_zone(&a, &res, 250.0);
     assert_coulomb_on(&a, &res, "block-plate", 0.5);
 }
@@ -808,7 +796,7 @@ fn a_pattern_leaving_a_part_free_does_not_end_a_frictional_search() {
         .replace("law = \"contact\"", "law = \"coulomb\"\nfriction = 0.2");
     assert!(text.contains("[165.0, 135.0]") && text.contains("friction = 0.2"));
     let a = analysis(&text);
-    let res = solve_completed(&a);
+    let res = common::solve_completed(&a);
     check_coulomb(&a, &res.last, 0.2, 1e-8 * res.last.load_scale);
     let fy: f64 = res.summary.reactions.iter().map(|r| r.fy).sum();
     assert!((fy - 1500.0).abs() < 1e-8 * 1500.0, "Σ reaction y = {fy}");
@@ -835,7 +823,7 @@ fn a_settled_frictional_increment_is_searched_again_by_continuation() {
         .join("../../examples/roller_in_cradle/roller_in_cradle.toml");
     let mut a = Analysis::from_file(&example, 2).unwrap();
     a.override_friction(0.2).unwrap();
-    let res = solve_completed(&a);
+    let res = common::solve_completed(&a);
     check_coulomb(&a, &res.last, 0.2, 1e-8 * res.last.load_scale);
     assert!(
         res.summary
@@ -897,7 +885,7 @@ fn coulomb_with_augmented_enforcement() {
     };
     let below = augmented(coulomb_block(0.5, PUSH_BELOW), 0.5);
     let a = analysis(&below);
-    let res = solve_completed(&a);
+    let res = common::solve_completed(&a);
     let fs: f64 = res.pairs.iter().map(|r| r.force_s).sum();
     assert!((fs.abs() - 0.2).abs() < 1e-9, "Σ f_s = {fs}");
     check_coulomb(&a, &res.last, 0.5, 1e-9);
@@ -906,7 +894,7 @@ fn coulomb_with_augmented_enforcement() {
     let mu = 0.3;
     let slide = augmented(coulomb_block_pushed_far(mu), mu);
     let a = analysis(&slide);
-    let res = solve_completed(&a);
+    let res = common::solve_completed(&a);
     assert_slides_at_mu(&a, &res, mu);
     no_penetration(&res);
 }
@@ -1012,13 +1000,7 @@ fn augmented_is_independent_of_the_penalty() {
     };
     let forces = |factor: f64, augmented: bool| {
         let a = analysis(&make(factor, augmented));
-        let res = a.solve().unwrap();
-        assert_eq!(
-            res.summary.status,
-            RunStatus::Completed,
-            "{:?}",
-            res.summary.warnings
-        );
+        let res = common::solve_completed(&a);
         if augmented {
             assert!(res.summary.augmented_penetration <= 1e-11);
             assert!(res.summary.fixed_point_iterations[0] > 0);

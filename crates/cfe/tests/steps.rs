@@ -161,13 +161,7 @@ fn friction_block_pressed_then_pushed() {
         ),
     );
     let a = common::analysis(&text);
-    let res = a.solve().unwrap();
-    assert_eq!(
-        res.summary.status,
-        RunStatus::Completed,
-        "{:?}",
-        res.summary.warnings
-    );
+    let res = common::solve_completed(&a);
     let fs: f64 = res.pairs.iter().map(|r| r.force_s).sum();
     let fnn: f64 = res.pairs.iter().map(|r| r.force_n).sum();
     assert!(

@@ -38,6 +38,18 @@ pub fn run_all(mut solver: Solver<'_>) -> Vec<IncrementResult> {
     all
 }
 
+/// Solves `a` and asserts the run completed with the law on every pair.
+pub fn solve_completed(a: &Analysis) -> cfe::analysis::Results {
+    let res = a.solve().unwrap();
+    assert_eq!(
+        res.summary.status,
+        cfe::analysis::RunStatus::Completed,
+        "{:?}",
+        res.summary.warnings
+    );
+    res
+}
+
 /// Displacement (x, y) of the node of `part` at `at`.
 pub fn displacement_at(a: &Analysis, inc: &IncrementResult, part: &str, at: [f64; 2]) -> [f64; 2] {
     let p = a.model.part_index(part).expect("part");
