@@ -731,17 +731,14 @@ impl Analysis {
                 let state = inc.states[i][k];
                 // Violations are sorted by interface and pair, like the rows.
                 let violation = violations.next_if(|v| (v.interface, v.pair) == (i, k));
-                let d = c
-                    .dofs(&self.dofs, iface.host, iface.node_part)
-                    .gather(&inc.u);
                 let h = inc
                     .pair_history
                     .get(i)
                     .and_then(|h| h.get(k))
                     .copied()
                     .unwrap_or_default();
-                let (_, f) = c.law_force(&iface.params(), state, &h, &d);
-                let jump = c.local_jump(&d);
+                let p = iface.pair_at(k, &self.dofs, &inc.u, state, &h);
+                let (f, jump) = (p.force, p.jump);
                 // The slip not carried by the tangential spring: the plastic slip of
                 // a closed pair with friction, the whole tangential jump when
                 // nothing holds it (open, or frictionless).
@@ -767,7 +764,7 @@ impl Analysis {
                     violation: violation.map(|v| v.kind),
                     violation_amount: violation.map_or(0.0, |v| v.amount),
                     gap0: c.gap0,
-                    gap: c.gap(jump),
+                    gap: p.gap,
                     slip,
                     pressure: c.traction(-f[0] + 0.0, thickness),
                     shear: c.traction(-f[1] + 0.0, thickness),

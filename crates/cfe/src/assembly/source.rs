@@ -408,10 +408,10 @@ impl ElementSource for CouplingElements<'_> {
     fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>) {
         let (iface, k, state) = self.locate(e);
         let c = &iface.elements[k];
-        let g = c.dofs(self.dofs, iface.host, iface.node_part);
         let i = self.offset.partition_point(|&o| o <= e) - 1;
         let h = self.history.map_or(PairHistory::default(), |h| h[i][k]);
-        let (fe, _) = c.law_force(&iface.params(), state, &h, &g.gather(u));
-        sink(g.as_slice(), &fe[..c.n_dofs()]);
+        let p = iface.pair_at(k, self.dofs, u, state, &h);
+        let fe = c.nodal_force(p.force);
+        sink(p.dofs.as_slice(), &fe[..c.n_dofs()]);
     }
 }

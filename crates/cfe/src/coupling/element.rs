@@ -268,21 +268,37 @@ impl CouplingElement {
 }
 
 impl CouplingElement {
-    /// The internal force `F_e = B_eᵀ Rᵀ f` and the local force `f` under the law
-    /// `law` in `state` with history `h`: `f` from `LawParams::local_force` with
-    /// the normal gap g₀ + \[\[u_n\]\] (so it includes the initial-gap, slip-history,
-    /// slip-force and multiplier terms), for element displacements `d`. For a
-    /// segment point the penalties are scaled by its weight ω ([`Self::params`]).
-    pub fn law_force(
+    /// The pair at element displacements `d` (gathered at `dofs`) under the law
+    /// `law` (the interface's; scaled here by the element's weight ω,
+    /// [`Self::params`]) in `state` with history `h`: its local jump, its normal gap
+    /// g₀ + \[\[u_n\]\] and its local force from [`LawParams::local_force`] (so the
+    /// force includes the initial-gap, slip-history, slip-force and multiplier
+    /// terms). What `Interface::pair_at` gives for pair k of an interface.
+    pub fn at(
         &self,
+        dofs: CfeDofs,
+        d: [f64; MAX_DOFS],
         law: &LawParams,
         state: PairState,
         h: &PairHistory,
-        d: &[f64],
-    ) -> ([f64; MAX_DOFS], [f64; 2]) {
-        let u = self.local_jump(d);
-        let f = self.params(law).local_force(state, self.gap(u), u[1], h);
-        (nodal_force(&self.shape, self.node_shape(), self.normal, f), f)
+    ) -> PairAt {
+        let jump = self.local_jump(&d);
+        let gap = self.gap(jump);
+        let force = self.params(law).local_force(state, gap, jump[1], h);
+        PairAt {
+            dofs,
+            d,
+            jump,
+            gap,
+            force,
+        }
+    }
+
+    /// The internal force `F_e = B_eᵀ Rᵀ f` of the local force `f` (the force the
+    /// host side exerts on the pair, in (n, s); the first
+    /// [`n_dofs`](Self::n_dofs) entries are the element's).
+    pub fn nodal_force(&self, f: [f64; 2]) -> [f64; MAX_DOFS] {
+        nodal_force(&self.shape, self.node_shape(), self.normal, f)
     }
 
     /// The interface's law with this element's penalties: `c_n`, `c_s` scaled by its
@@ -299,6 +315,32 @@ impl CouplingElement {
                 ..*law
             }
         }
+    }
+}
+
+/// A coupling pair evaluated at displacements u: its DOFs, its element
+/// displacements, its local jump, its normal gap and its force under its law in a
+/// state (`Interface::pair_at`, the one evaluation of a pair that the law check,
+/// the pair-history rules, the assembly of internal forces and the pair outputs
+/// read).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairAt {
+    /// The pair's global DOFs.
+    pub dofs: CfeDofs,
+    /// Its element displacements (zero past its DOFs): see [`Self::d`].
+    pub d: [f64; MAX_DOFS],
+    /// The local jump `[[u]] = ([[u_n]], [[u_s]])`.
+    pub jump: [f64; 2],
+    /// The normal gap `g₀ + [[u_n]]` (positive: the faces are apart).
+    pub gap: f64,
+    /// The local force `f = (f_n, f_s)` the host side exerts on the pair.
+    pub force: [f64; 2],
+}
+
+impl PairAt {
+    /// The element displacements, as many as the pair has DOFs.
+    pub fn d(&self) -> &[f64] {
+        &self.d[..self.dofs.len]
     }
 }
 

@@ -227,6 +227,13 @@ impl LawParams {
         }
     }
 
+    /// The radius of the Coulomb cone at normal force `f_n` (negative in
+    /// compression): `μ max(−f_n, 0)`, the largest tangential force a closed pair
+    /// carries while it sticks (0 for a pair in tension). The one home of the cone.
+    pub fn cone(&self, f_n: f64) -> f64 {
+        self.friction * (-f_n).max(0.0)
+    }
+
     /// The trial tangential force of a closed pair, `c_s (u_s − s_p) + m_s`: what it
     /// would carry if it stuck.
     pub fn trial_shear(&self, u_s: f64, h: &PairHistory) -> f64 {
@@ -256,7 +263,7 @@ impl LawParams {
         if self.law != Law::Coulomb || !state.is_closed() {
             return (state, None);
         }
-        let limit = self.friction * (-f_n).max(0.0);
+        let limit = self.cone(f_n);
         let trial = self.trial_shear(u_s, h);
         match state {
             PairState::Bonded if trial.abs() > limit + tol => {
@@ -287,7 +294,7 @@ impl LawParams {
                 )
             }
             PairState::Slip => {
-                let error = (f_s - limit * trial.signum()).abs();
+                let error = (f_s - return_map(trial, limit)).abs();
                 let v = (error > tol).then_some(LawViolation {
                     kind: ViolationKind::Slip,
                     amount: error,
@@ -351,33 +358,21 @@ pub struct LawViolation {
     pub force: f64,
 }
 
-impl Law {
-    /// Checks a pair in `state` with normal gap `gap_n` (g₀ + \[\[u_n\]\]) and normal
-    /// force `c_n gap_n` against the normal law: a closed pair (bonded or slip) may
-    /// not pull (`c_n gap_n` above `tol.tension`), an open pair may not
-    /// interpenetrate (`−gap_n` above `tol.penetration`). A rigid interface has no
-    /// unilateral law and is never in violation.
-    pub fn violation(
-        self,
-        state: PairState,
-        gap_n: f64,
-        c_n: f64,
-        tol: LawTolerance,
-    ) -> Option<LawViolation> {
-        self.normal_violation(state, gap_n, c_n * gap_n, c_n, tol)
-    }
-
-    /// As [`Law::violation`] with the normal force `f_n` given (it differs from
-    /// `c_n gap_n` by the augmented-Lagrangian multiplier).
+impl LawParams {
+    /// Checks a pair in `state` against the normal law, with normal gap `gap_n`
+    /// (g₀ + \[\[u_n\]\]) and normal force `f_n` (`c_n gap_n`, plus the
+    /// augmented-Lagrangian multiplier): a closed pair (bonded or slip) may not pull
+    /// (`f_n` above `tol.tension`), an open pair may not interpenetrate (`−gap_n`
+    /// above `tol.penetration`; as a force, `c_n` × the depth). A rigid interface
+    /// has no unilateral law and is never in violation.
     pub fn normal_violation(
-        self,
+        &self,
         state: PairState,
         gap_n: f64,
         f_n: f64,
-        c_n: f64,
         tol: LawTolerance,
     ) -> Option<LawViolation> {
-        if self == Law::Rigid {
+        if self.law == Law::Rigid {
             return None;
         }
         match state {
@@ -389,30 +384,92 @@ impl Law {
             PairState::Open if -gap_n > tol.penetration => Some(LawViolation {
                 kind: ViolationKind::Penetration,
                 amount: -gap_n,
-                force: -c_n * gap_n,
+                force: -self.c_n * gap_n,
             }),
             _ => None,
         }
     }
 
-    /// The state the normal law gives a pair now in `state` (the active-set
-    /// update): a closed pair in tension opens, an open pair that interpenetrates
-    /// closes (bonded: stick), and every other pair keeps its state — so a pair
-    /// within the tolerances of the boundary between the two does not flip back and
-    /// forth on round-off.
+    /// The transition of one pair (the active-set update; see the state diagram
+    /// above): the state the law gives a pair now in `state` with normal gap
+    /// `gap_n`, local force `f = (f_n, f_s)` (as [`LawParams::local_force`] gives
+    /// it), tangential jump `u_s` and history `h`, and how the pair breaks the law.
+    /// A closed pair in tension opens, an open pair that interpenetrates closes
+    /// (bonded: stick) — but a stick pair that pulls and exceeds its cone slips
+    /// first (its tension may come from the shear it cannot carry); then the
+    /// Coulomb check ([`LawParams::friction_check`]). Every other pair keeps its
+    /// state, so a pair within the tolerances of a boundary between two states does
+    /// not flip back and forth on round-off. A rigid pair is always bonded.
     pub fn next_state(
-        self,
+        &self,
         state: PairState,
         gap_n: f64,
-        c_n: f64,
+        f: [f64; 2],
+        u_s: f64,
+        h: &PairHistory,
         tol: LawTolerance,
-    ) -> PairState {
-        match (self.violation(state, gap_n, c_n, tol), state) {
-            (Some(_), PairState::Bonded | PairState::Slip) => PairState::Open,
-            (Some(_), PairState::Open) => PairState::Bonded,
-            (None, s) => s,
+    ) -> Transition {
+        if self.law == Law::Rigid {
+            return Transition {
+                next: PairState::Bonded,
+                normal: None,
+                friction: None,
+            };
+        }
+        if let Some(v) = self.normal_violation(state, gap_n, f[0], tol) {
+            if state == PairState::Bonded
+                && let (PairState::Slip, Some(fv)) =
+                    self.friction_check(state, f[0], u_s, f[1], h, tol.tension)
+            {
+                return Transition {
+                    next: PairState::Slip,
+                    normal: Some(v),
+                    friction: Some(fv),
+                };
+            }
+            let next = match state {
+                PairState::Open => PairState::Bonded,
+                _ => PairState::Open,
+            };
+            return Transition {
+                next,
+                normal: Some(v),
+                friction: None,
+            };
+        }
+        let (next, friction) = self.friction_check(state, f[0], u_s, f[1], h, tol.tension);
+        Transition {
+            next,
+            normal: None,
+            friction,
         }
     }
+}
+
+/// What the law makes of one pair after a solve ([`LawParams::next_state`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Transition {
+    /// The state the pair takes next.
+    pub next: PairState,
+    /// How it breaks the normal law (tension or penetration), if it does.
+    pub normal: Option<LawViolation>,
+    /// How it breaks the friction law (friction or slip), if it does.
+    pub friction: Option<LawViolation>,
+}
+
+impl Transition {
+    /// The violations, the normal one first.
+    pub fn violations(&self) -> impl Iterator<Item = LawViolation> {
+        self.normal.into_iter().chain(self.friction)
+    }
+}
+
+/// The Coulomb return map of a pair beyond its cone: the slip force the trial
+/// force `trial` returns to on a cone of radius `limit` — `limit` along the trial
+/// force (radially; in 2D the trial force's sign). A trial force turned against a
+/// pair's slip force beyond the cone so slips the other way.
+pub fn return_map(trial: f64, limit: f64) -> f64 {
+    limit * trial.signum()
 }
 
 /// Local interface force `f = (1 − D̂) c [[u]]` for the local jump `[[u_n]], [[u_s]]`
@@ -450,58 +507,68 @@ mod tests {
             penetration: 1e-9,
         };
         let c = 1e6;
+        let params = |law| LawParams {
+            law,
+            c_n: c,
+            c_s: 0.0,
+            friction: 0.0,
+            c_slip: 0.0,
+        };
+        let zero = PairHistory::default();
+        // The normal law and the transition of a pair with normal force c_n g_n.
+        let violation = |law, state, gap: f64| params(law).normal_violation(state, gap, c * gap, tol);
+        let next_state = |law, state, gap: f64| {
+            params(law)
+                .next_state(state, gap, [c * gap, 0.0], 0.0, &zero, tol)
+                .next
+        };
         // Bonded, gap 2e-9: tension 2e-3 > 1e-3.
-        let v = Law::Contact
-            .violation(PairState::Bonded, 2e-9, c, tol)
+        let v = violation(Law::Contact, PairState::Bonded, 2e-9)
             .unwrap();
         assert_eq!(v.kind, ViolationKind::Tension);
         assert!((v.amount - 2e-3).abs() < 1e-15 && v.force == v.amount);
         assert_eq!(
-            Law::Contact.next_state(PairState::Bonded, 2e-9, c, tol),
+            next_state(Law::Contact, PairState::Bonded, 2e-9),
             PairState::Open
         );
         // Bonded, gap 0.5e-9: tension 0.5e-3, within tolerance; compression is fine.
         assert!(
-            Law::Contact
-                .violation(PairState::Bonded, 0.5e-9, c, tol)
+            violation(Law::Contact, PairState::Bonded, 0.5e-9)
                 .is_none()
         );
         assert!(
-            Law::Contact
-                .violation(PairState::Bonded, -1.0, c, tol)
+            violation(Law::Contact, PairState::Bonded, -1.0)
                 .is_none()
         );
         assert_eq!(
-            Law::Contact.next_state(PairState::Bonded, 0.5e-9, c, tol),
+            next_state(Law::Contact, PairState::Bonded, 0.5e-9),
             PairState::Bonded
         );
         // Open, penetrating 3e-9 > 1e-9: closes; force measure c × 3e-9.
-        let v = Law::Contact
-            .violation(PairState::Open, -3e-9, c, tol)
+        let v = violation(Law::Contact, PairState::Open, -3e-9)
             .unwrap();
         assert_eq!(v.kind, ViolationKind::Penetration);
         assert!((v.amount - 3e-9).abs() < 1e-20 && (v.force - 3e-3).abs() < 1e-15);
         assert_eq!(
-            Law::Contact.next_state(PairState::Open, -3e-9, c, tol),
+            next_state(Law::Contact, PairState::Open, -3e-9),
             PairState::Bonded
         );
         // Open and touching within the tolerance, or apart: stays open.
         assert_eq!(
-            Law::Contact.next_state(PairState::Open, -0.5e-9, c, tol),
+            next_state(Law::Contact, PairState::Open, -0.5e-9),
             PairState::Open
         );
         assert_eq!(
-            Law::Contact.next_state(PairState::Open, 1.0, c, tol),
+            next_state(Law::Contact, PairState::Open, 1.0),
             PairState::Open
         );
         // Rigid: never in violation, always bonded.
         assert!(
-            Law::Rigid
-                .violation(PairState::Bonded, 1.0, c, tol)
+            violation(Law::Rigid, PairState::Bonded, 1.0)
                 .is_none()
         );
         assert_eq!(
-            Law::Rigid.next_state(PairState::Bonded, 1.0, c, tol),
+            next_state(Law::Rigid, PairState::Bonded, 1.0),
             PairState::Bonded
         );
     }
@@ -636,5 +703,146 @@ mod tests {
         };
         let (next, v) = contact.friction_check(PairState::Bonded, -2.0, 9.0, 36.0, &h, tol);
         assert_eq!((next, v), (PairState::Bonded, None));
+    }
+
+    fn coulomb(friction: f64) -> LawParams {
+        LawParams {
+            law: Law::Coulomb,
+            c_n: 10.0,
+            c_s: 4.0,
+            friction,
+            c_slip: 0.4,
+        }
+    }
+
+    const TOL: LawTolerance = LawTolerance {
+        tension: 1e-3,
+        penetration: 1e-6,
+    };
+
+    /// The cone is μ max(−f_n, 0): μ × the compression, and zero for a pair without
+    /// compression (in tension or just touching) whatever μ.
+    #[test]
+    fn cone_is_mu_times_the_compression() {
+        assert_eq!(coulomb(0.5).cone(-3.0), 1.5);
+        assert_eq!(coulomb(0.5).cone(2.0), 0.0);
+        assert_eq!(coulomb(0.5).cone(0.0), 0.0);
+        assert_eq!(coulomb(0.0).cone(-3.0), 0.0);
+    }
+
+    /// The return map sends a trial force beyond the cone back onto it along
+    /// itself: magnitude the cone's radius, direction the trial force's (either
+    /// way), zero on a cone of radius zero.
+    #[test]
+    fn return_map_direction_and_magnitude() {
+        assert_eq!(return_map(7.0, 2.0), 2.0);
+        assert_eq!(return_map(-7.0, 2.0), -2.0);
+        assert_eq!(return_map(-7.0, 0.0), 0.0);
+    }
+
+    /// Stick ↔ slip: a stick pair slips when its trial force leaves the cone by more
+    /// than the tolerance, a slip pair sticks when its trial force is inside the
+    /// cone by more than it; within the tolerance of the cone either keeps its
+    /// state (the dead band), and a slip pair exactly on the cone breaks nothing.
+    #[test]
+    fn stick_slip_transitions_and_dead_band() {
+        let law = coulomb(0.5);
+        let h = PairHistory::default();
+        // f_n = −2: the cone is 1; the trial force is c_s u_s = 4 u_s.
+        let at = |state, u_s: f64, f_s: f64| law.next_state(state, -0.2, [-2.0, f_s], u_s, &h, TOL);
+        let t = at(PairState::Bonded, 0.3, 1.2);
+        assert_eq!(t.next, PairState::Slip);
+        assert_eq!(t.normal, None);
+        let v = t.friction.unwrap();
+        assert_eq!(v.kind, ViolationKind::Friction);
+        assert!((v.amount - 0.2).abs() < 1e-12 && v.force == v.amount);
+        // Beyond the cone by half the tolerance: still sticks, no violation.
+        let u = (1.0 + 0.5e-3) / 4.0;
+        assert_eq!(at(PairState::Bonded, u, 4.0 * u), Transition {
+            next: PairState::Bonded,
+            normal: None,
+            friction: None,
+        });
+        // A slip pair on the cone, its force μ|f_n| along the trial force: consistent.
+        assert_eq!(at(PairState::Slip, 0.3, 1.0).violations().count(), 0);
+        assert_eq!(at(PairState::Slip, 0.3, 1.0).next, PairState::Slip);
+        // Inside the cone by half the tolerance: stays slipping (its force is μ|f_n|).
+        let u = (1.0 - 0.5e-3) / 4.0;
+        assert_eq!(at(PairState::Slip, u, 1.0).next, PairState::Slip);
+        // Inside by more: sticks, off the law by the room left in the cone.
+        let t = at(PairState::Slip, 0.2, 1.0);
+        assert_eq!(t.next, PairState::Bonded);
+        let v = t.friction.unwrap();
+        assert_eq!(v.kind, ViolationKind::Slip);
+        assert!((v.amount - 0.2).abs() < 1e-12);
+    }
+
+    /// Bonded ↔ open with friction: a closed pair (stick or slip) that pulls opens
+    /// with a tension violation of its normal force; an open pair that penetrates
+    /// beyond the tolerance closes as stick (bonded) with a penetration violation of
+    /// its depth (c_n × depth as a force); within the tolerances nothing flips.
+    #[test]
+    fn bonded_open_transitions() {
+        let law = coulomb(0.5);
+        let h = PairHistory::default();
+        let t = law.next_state(PairState::Slip, 0.2, [2.0, 0.0], 0.0, &h, TOL);
+        assert_eq!(t.next, PairState::Open);
+        assert_eq!(t.normal.unwrap().kind, ViolationKind::Tension);
+        assert_eq!(t.normal.unwrap().amount, 2.0);
+        assert_eq!(t.friction, None);
+        let t = law.next_state(PairState::Bonded, 0.2, [2.0, 0.0], 0.0, &h, TOL);
+        assert_eq!(t.next, PairState::Open);
+        let t = law.next_state(PairState::Open, -1e-5, [0.0, 0.0], 3.0, &h, TOL);
+        assert_eq!(t.next, PairState::Bonded);
+        let v = t.normal.unwrap();
+        assert_eq!(v.kind, ViolationKind::Penetration);
+        assert_eq!(v.amount, 1e-5);
+        assert!((v.force - 1e-4).abs() < 1e-18);
+        // Within the tolerances: a touching open pair, a closed one barely pulling.
+        let t = law.next_state(PairState::Open, -0.5e-6, [0.0, 0.0], 3.0, &h, TOL);
+        assert_eq!((t.next, t.violations().count()), (PairState::Open, 0));
+        let t = law.next_state(PairState::Bonded, 0.5e-4, [0.5e-3, 0.0], 0.0, &h, TOL);
+        assert_eq!((t.next, t.violations().count()), (PairState::Bonded, 0));
+    }
+
+    /// A stick pair that both pulls and carries a tangential force beyond its
+    /// (zero) cone slips rather than opens, reporting both violations, the tension
+    /// first: its tension may come from the shear it cannot carry.
+    #[test]
+    fn a_pulling_stick_pair_beyond_its_cone_slips_first() {
+        let law = coulomb(0.5);
+        let h = PairHistory::default();
+        let t = law.next_state(PairState::Bonded, 0.2, [2.0, 1.2], 0.3, &h, TOL);
+        assert_eq!(t.next, PairState::Slip);
+        let kinds: Vec<_> = t.violations().map(|v| v.kind).collect();
+        assert_eq!(kinds, [ViolationKind::Tension, ViolationKind::Friction]);
+        // Without tangential force it opens.
+        let t = law.next_state(PairState::Bonded, 0.2, [2.0, 0.0], 0.0, &h, TOL);
+        assert_eq!(t.next, PairState::Open);
+    }
+
+    /// Frictionless pairs never slip, whatever their tangential jump; the contact
+    /// law's pairs neither (they stick); a rigid pair stays bonded even pulling or
+    /// reported open, and breaks nothing.
+    #[test]
+    fn frictionless_contact_and_rigid_never_slip_and_rigid_never_opens() {
+        let h = PairHistory::default();
+        for law in [Law::Frictionless, Law::Contact] {
+            let p = LawParams {
+                law,
+                ..coulomb(0.0)
+            };
+            let t = p.next_state(PairState::Bonded, -0.2, [-2.0, 40.0], 10.0, &h, TOL);
+            assert_eq!((t.next, t.violations().count()), (PairState::Bonded, 0));
+        }
+        let rigid = LawParams {
+            law: Law::Rigid,
+            ..coulomb(0.0)
+        };
+        for state in [PairState::Bonded, PairState::Open] {
+            let t = rigid.next_state(state, 5.0, [50.0, 40.0], 10.0, &h, TOL);
+            assert_eq!((t.next, t.violations().count()), (PairState::Bonded, 0));
+        }
+        assert_eq!(rigid.normal_violation(PairState::Open, -5.0, 0.0, TOL), None);
     }
 }

@@ -44,8 +44,8 @@ use super::support;
 use super::system::{ContactSystem, Method, Solve, UpdatePolicy};
 use crate::assembly::{self, DofMap, ElementSource, FIXED};
 use crate::coupling::{
-    Enforcement, Interface, Law, LawTolerance, PairHistories, PairHistory, PairState, PairStates,
-    ViolationKind,
+    self, CheckTolerance, Enforcement, Interface, Law, LawParams, PairHistories, PairHistory, PairState,
+    PairStates, ViolationKind, history,
 };
 use crate::domain::{Part, Scheme, Settings};
 use crate::error::{Error, Result};
@@ -1287,119 +1287,30 @@ impl<'a> Solver<'a> {
     /// [`Solver::check_law`] with a given load scale (reads `u` at the coupling
     /// elements' DOFs only).
     fn check_law_scaled(&self, states: &[Vec<PairState>], u: &[f64], load_scale: f64) -> LawCheck {
-        let mut violations = Vec::new();
-        let mut nearest: Vec<Option<(usize, f64)>> = vec![None; self.interfaces.len()];
-        let mut normal = vec![0.0; self.interfaces.len()];
-        let mut pair_force = 0.0f64;
-        let next = self
-            .interfaces
-            .iter()
-            .zip(states)
-            .enumerate()
-            .map(|(i, (iface, st))| {
-                iface
-                    .elements
-                    .iter()
-                    .zip(st)
-                    .enumerate()
-                    .map(|(k, (c, &state))| {
-                        if iface.law == Law::Rigid {
-                            return PairState::Bonded;
-                        }
-                        let d = c.dofs(self.dofs, iface.host, iface.node_part).gather(u);
-                        let d = &d[..c.n_dofs()];
-                        let jump = c.local_jump(d);
-                        let gap = c.gap(jump);
-                        let tol = LawTolerance {
-                            tension: self.settings.force_tolerance * load_scale,
-                            penetration: self.gap_tolerance(d),
-                        };
-                        // A segment point's penalties are its weight × the interface's.
-                        let base = self.law_params(iface);
-                        let law = c.params(&base);
-                        let h = &self.history[i][k];
-                        let f = if self.proportional {
-                            [law.c_n * gap, 0.0]
-                        } else {
-                            c.law_force(&base, state, h, d).1
-                        };
-                        if state.is_closed() {
-                            normal[i] += f[0];
-                            // (With the proportional shortcuts `f` holds the
-                            // normal force only.)
-                            let shear = if iface.law == Law::Frictionless {
-                                0.0
-                            } else if self.proportional {
-                                law.c_s * jump[1]
-                            } else {
-                                f[1]
-                            };
-                            pair_force = pair_force.max(f[0].hypot(shear));
-                        }
-                        let mut push = |v: crate::coupling::LawViolation| {
-                            violations.push(PairViolation {
-                                interface: i,
-                                pair: k,
-                                kind: v.kind,
-                                amount: v.amount,
-                                force: v.force,
-                            })
-                        };
-                        if let Some(v) =
-                            iface.law.normal_violation(state, gap, f[0], law.c_n, tol)
-                        {
-                            push(v);
-                            // A stick pair pulling beyond its (zero) cone slips first:
-                            // its tension may come from the shear it cannot carry.
-                            if state == PairState::Bonded
-                                && let (PairState::Slip, Some(fv)) =
-                                    law.friction_check(state, f[0], jump[1], f[1], h, tol.tension)
-                            {
-                                push(fv);
-                                return PairState::Slip;
-                            }
-                            return match state {
-                                PairState::Open => PairState::Bonded,
-                                _ => PairState::Open,
-                            };
-                        }
-                        let (next, v) =
-                            law.friction_check(state, f[0], jump[1], f[1], h, tol.tension);
-                        if let Some(v) = v {
-                            push(v);
-                        }
-                        if state == PairState::Slip && iface.law == Law::Coulomb {
-                            let limit = law.friction * (-f[0]).max(0.0);
-                            let ratio = law.trial_shear(jump[1], h).abs() / limit;
-                            if limit > 0.0 && nearest[i].is_none_or(|(_, r)| ratio < r) {
-                                nearest[i] = Some((k, ratio));
-                            }
-                        }
-                        next
-                    })
-                    .collect()
-            })
-            .collect();
-        let mut next: PairStates = next;
-        // Friction first: while some stick pair exceeds its cone, the tension of
-        // other pairs may come from that excess shear (a block tipped by a trial
-        // force friction cannot carry), so they are opened only once the stick
-        // pairs have slipped.
-        if violations.iter().any(|v| v.kind == ViolationKind::Friction) {
-            for v in &violations {
-                if v.kind == ViolationKind::Tension && next[v.interface][v.pair] == PairState::Open
-                {
-                    next[v.interface][v.pair] = states[v.interface][v.pair];
-                }
-            }
-        }
+        let laws: Vec<LawParams> = self.interfaces.iter().map(|i| self.law_params(i)).collect();
+        let history = (!self.proportional).then_some(self.history.as_slice());
+        let tol = CheckTolerance {
+            force: self.settings.force_tolerance * load_scale,
+            gap: self.settings.gap_tolerance,
+        };
+        let v = coupling::check_law(self.interfaces, &laws, self.dofs, states, history, u, tol);
         LawCheck {
-            next,
-            violations,
+            next: v.next,
+            violations: v
+                .violations
+                .into_iter()
+                .map(|(interface, pair, v)| PairViolation {
+                    interface,
+                    pair,
+                    kind: v.kind,
+                    amount: v.amount,
+                    force: v.force,
+                })
+                .collect(),
             load_scale,
-            pair_force,
-            nearest_slip: nearest.into_iter().map(|n| n.map(|(k, _)| k)).collect(),
-            pressed: normal.into_iter().map(|f| f < 0.0).collect(),
+            pair_force: v.pair_force,
+            nearest_slip: v.nearest_slip,
+            pressed: v.pressed,
         }
     }
 
@@ -1539,16 +1450,6 @@ impl<'a> Solver<'a> {
                 if over.len() > 10 { "; …" } else { "" }
             ),
         })
-    }
-
-    /// The open/closed tolerance of a pair: `gap_tolerance` × the largest
-    /// displacement magnitude among its nodes (element displacements `d`).
-    fn gap_tolerance(&self, d: &[f64]) -> f64 {
-        let scale = d
-            .chunks_exact(2)
-            .map(|v| v[0].hypot(v[1]))
-            .fold(0.0, f64::max);
-        self.settings.gap_tolerance * scale
     }
 
     /// Displacements (all DOFs), internal force and solve method for the given
@@ -1758,64 +1659,9 @@ impl<'a> Solver<'a> {
         anderson: &mut Anderson,
     ) -> bool {
         let mut next = self.history.clone();
-        let mut converged = true;
-        let mut augmented_error: f64 = 0.0;
-        for (i, iface) in self.interfaces.iter().enumerate() {
-            let base = self.law_params(iface);
-            let augmented = iface.enforcement == Enforcement::Augmented;
-            for (k, c) in iface.elements.iter().enumerate() {
-                // A segment point's penalties are its weight × the interface's.
-                let law = c.params(&base);
-                let state = states[i][k];
-                let h = &mut next[i][k];
-                let d = c.dofs(self.dofs, iface.host, iface.node_part).gather(u);
-                let jump = c.local_jump(&d);
-                let gap = c.gap(jump);
-                let (_, f) = c.law_force(&base, state, h, &d);
-                if !state.is_closed() {
-                    if h.multiplier != [0.0; 2] {
-                        h.multiplier = [0.0; 2];
-                        converged = false;
-                    }
-                    continue;
-                }
-                if iface.law == Law::Coulomb {
-                    let limit = law.friction * (-f[0]).max(0.0);
-                    let trial = law.trial_shear(jump[1], h);
-                    let target = limit * trial.signum();
-                    // A slip pair whose trial force is inside the cone has no slip
-                    // force to converge to in this pattern: the law check makes it
-                    // stick. One whose trial force has turned against its slip
-                    // force beyond the cone slips the other way (the target's sign).
-                    let inside = state == PairState::Slip && trial.abs() < limit;
-                    // The stabilising spring's force, which the fixed point removes.
-                    let spring = law.c_slip * (jump[1] - h.anchor);
-                    if state == PairState::Slip
-                        && !inside
-                        && ((target - h.slip_force).abs() > tol || spring.abs() > tol)
-                    {
-                        converged = false;
-                    }
-                    if !inside {
-                        h.slip_force = target;
-                        h.anchor = jump[1];
-                    }
-                }
-                if augmented {
-                    let stick = state == PairState::Bonded && law.penalties(state)[1] > 0.0;
-                    let stick_error = if stick { (jump[1] - h.slip).abs() } else { 0.0 };
-                    let error = gap.abs().max(stick_error);
-                    augmented_error = augmented_error.max(error);
-                    if error > iface.penetration_tolerance {
-                        converged = false;
-                    }
-                    h.multiplier[0] = f[0];
-                    if stick {
-                        h.multiplier[1] = f[1];
-                    }
-                }
-            }
-        }
+        let laws: Vec<LawParams> = self.interfaces.iter().map(|i| self.law_params(i)).collect();
+        let (converged, augmented_error) =
+            history::step_terms(self.interfaces, &laws, self.dofs, states, u, &mut next, tol);
         self.augmented_error = augmented_error;
         if converged {
             // Keep the history the solution was computed with; a stick pair's slip
@@ -1906,19 +1752,7 @@ impl<'a> Solver<'a> {
         if self.proportional {
             return;
         }
-        for (i, iface) in self.interfaces.iter().enumerate() {
-            if iface.law != Law::Coulomb {
-                continue;
-            }
-            for (k, c) in iface.elements.iter().enumerate() {
-                if states[i][k] == PairState::Open && next[i][k].is_closed() {
-                    let d = c.dofs(self.dofs, iface.host, iface.node_part).gather(u);
-                    let u_s = c.local_jump(&d)[1];
-                    self.history[i][k].slip = u_s;
-                    self.history[i][k].anchor = u_s;
-                }
-            }
-        }
+        history::touch_down(self.interfaces, self.dofs, states, next, u, &mut self.history);
     }
 
     /// Gives every pair closed both where the increment started and in `states`
@@ -1930,21 +1764,13 @@ impl<'a> Solver<'a> {
         if self.proportional {
             return false;
         }
-        let mut changed = false;
-        for (i, iface) in self.interfaces.iter().enumerate() {
-            if iface.law != Law::Coulomb {
-                continue;
-            }
-            let closed = self.closed_at_start[i].iter().zip(&states[i]);
-            let history = self.history[i].iter_mut().zip(&self.committed[i]);
-            for ((h, start), (&was, now)) in history.zip(closed) {
-                if was && now.is_closed() && h.slip != start.slip {
-                    h.slip = start.slip;
-                    changed = true;
-                }
-            }
-        }
-        changed
+        history::restore_closed_slips(
+            self.interfaces,
+            &self.closed_at_start,
+            &self.committed,
+            states,
+            &mut self.history,
+        )
     }
 
     /// Ends an increment's history: a slipping Coulomb pair keeps its plastic slip
@@ -1958,25 +1784,13 @@ impl<'a> Solver<'a> {
             result.pair_history = self.history.clone();
             return;
         }
-        for (i, iface) in self.interfaces.iter().enumerate() {
-            for (k, c) in iface.elements.iter().enumerate() {
-                let h = &mut self.history[i][k];
-                let d = c
-                    .dofs(self.dofs, iface.host, iface.node_part)
-                    .gather(&result.u);
-                let u_s = c.local_jump(&d)[1];
-                match result.states[i][k] {
-                    PairState::Slip if iface.c_s > 0.0 => {
-                        h.slip = u_s - h.slip_force / (c.weight() * iface.c_s)
-                    }
-                    PairState::Open => {
-                        h.slip = if iface.law == Law::Coulomb { u_s } else { 0.0 };
-                        h.multiplier = [0.0; 2];
-                    }
-                    _ => {}
-                }
-            }
-        }
+        history::commit(
+            self.interfaces,
+            self.dofs,
+            &result.states,
+            &result.u,
+            &mut self.history,
+        );
         result.pair_history = self.history.clone();
         self.committed.clone_from(&self.history);
         for (c, st) in self.closed_at_start.iter_mut().zip(&result.states) {
