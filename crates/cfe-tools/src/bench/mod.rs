@@ -65,6 +65,22 @@ impl Case {
     }
 }
 
+/// A case that ran, with its summary.
+#[derive(Clone, Copy)]
+struct Run<'a> {
+    /// The case (row group, law, refinement).
+    pub case: &'a Case,
+    /// Its summary.
+    pub summary: &'a Summary,
+}
+
+/// The cases of `cases` that ran, in order.
+fn runs(cases: &[Case]) -> impl Iterator<Item = Run<'_>> {
+    cases
+        .iter()
+        .filter_map(|case| case.ran().map(|summary| Run { case, summary }))
+}
+
 /// What a case's run gave: its summary, or (a frictional run only, which may
 /// fail without ending the benchmark) the error that stopped it. A failure is
 /// stored as `{"status": "failed", "error": …}`.

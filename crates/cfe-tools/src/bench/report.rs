@@ -3,28 +3,14 @@
 //! memory against unknowns), written from `benchmarks.json` alone.
 
 use super::plan::FRICTION;
-use super::{Benchmarks, Case, Group, Outcome, Speeds, json_number, later_iterations, targets};
+use super::{
+    Benchmarks, Case, Group, Outcome, Run, Speeds, json_number, later_iterations, runs, targets,
+};
 use crate::speed::figure;
 use cfe::error::Result;
 use cfe::{Law, RunStatus, Summary};
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// A case that ran, with its summary.
-#[derive(Clone, Copy)]
-pub(super) struct Run<'a> {
-    /// The case (row group, law, refinement).
-    pub case: &'a Case,
-    /// Its summary.
-    pub summary: &'a Summary,
-}
-
-/// The cases of `cases` that ran, in order.
-fn runs(cases: &[Case]) -> impl Iterator<Item = Run<'_>> {
-    cases
-        .iter()
-        .filter_map(|case| case.ran().map(|summary| Run { case, summary }))
-}
 
 /// Writes `benchmarks.md` and `benchmarks.png` in `out` from the raw results
 /// (`benchmarks.json`, as written by [`run`](fn@super::run)), so the report can be

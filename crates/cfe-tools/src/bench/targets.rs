@@ -4,8 +4,7 @@
 //! each contact iteration after the first against the first factorization; a
 //! missed target says why from the run's own phases.
 
-use super::later_iterations;
-use super::report::Run;
+use super::{Run, later_iterations};
 use cfe::{Iteration, Law, Method, Summary};
 use std::fmt::Write as _;
 
@@ -356,8 +355,7 @@ fn cpu_floor(m: &Summary) -> String {
 #[cfg(test)]
 mod tests {
     use super::super::fixture::summary;
-    use super::super::report::Run;
-    use super::super::{Case, Group, Outcome};
+    use super::super::{Case, Group, Outcome, Run};
     use super::{Limit, why_slow};
     use cfe::{Law, Summary};
     use serde_json::{Value, json};
