@@ -211,8 +211,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 let path = out.join("benchmarks.json");
                 let text = std::fs::read_to_string(&path)
                     .with_context(|| format!("cannot read {}", path.display()))?;
-                let raw: serde_json::Value = serde_json::from_str(&text)
-                    .with_context(|| format!("{} is not valid JSON", path.display()))?;
+                let raw: cfe_tools::bench::Benchmarks = serde_json::from_str(&text)
+                    .with_context(|| format!("{} is not a benchmark's results", path.display()))?;
                 cfe_tools::bench::write_report(&out, &raw)?;
                 println!("wrote {}", out.join("benchmarks.md").display());
                 return Ok(());

@@ -21,7 +21,6 @@
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
-use serde_json::{Value, json};
 use std::time::Instant;
 
 /// Size of the dense product: n × n times n × n.
@@ -33,8 +32,9 @@ const MEMORY_VALUES: usize = 32 << 20;
 /// Repetitions of each figure (the best is kept).
 const REPEATS: usize = 5;
 
-/// The machine's speed (see the [module](self) documentation).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The machine's speed (see the [module](self) documentation), as stored in
+/// `benchmarks.json`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MachineSpeed {
     /// Dense product, Gflop/s.
     pub dense_gflops: Option<f64>,
@@ -63,25 +63,6 @@ impl MachineSpeed {
             figure(self.copy_gb_per_s),
             figure(self.fresh_gb_per_s)
         )
-    }
-
-    /// As stored in `benchmarks.json`.
-    pub fn to_json(&self) -> Value {
-        json!({
-            "dense_gflops": self.dense_gflops,
-            "copy_gb_per_s": self.copy_gb_per_s,
-            "fresh_gb_per_s": self.fresh_gb_per_s,
-        })
-    }
-
-    /// From `benchmarks.json` (`None` for a report without it).
-    pub fn from_json(v: &Value) -> Option<MachineSpeed> {
-        let speed = MachineSpeed {
-            dense_gflops: v.get("dense_gflops")?.as_f64(),
-            copy_gb_per_s: v.get("copy_gb_per_s")?.as_f64(),
-            fresh_gb_per_s: v.get("fresh_gb_per_s")?.as_f64(),
-        };
-        Some(speed)
     }
 }
 
@@ -181,9 +162,8 @@ mod tests {
             let v = figure.expect("measured");
             assert!(v.is_finite() && v > 0.0, "{v}");
         }
-        assert_eq!(MachineSpeed::from_json(&speed.to_json()), Some(speed));
-        // A report written before the figures existed has none.
-        assert_eq!(MachineSpeed::from_json(&json!({"machine": "x"})), None);
+        let json = serde_json::to_string(&speed).unwrap();
+        assert_eq!(serde_json::from_str::<MachineSpeed>(&json).unwrap(), speed);
     }
 
     /// A measurement whose result is wrong gives no figure.

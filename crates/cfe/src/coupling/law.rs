@@ -59,7 +59,7 @@ pub enum Law {
 }
 
 /// The state of one coupling pair (serialized as `bonded`, `open` or `slip`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum PairState {
     /// D̂ = 0: closed; no penetration, and (except for the frictionless law) no
@@ -308,7 +308,7 @@ impl LawParams {
 }
 
 /// How a pair breaks its law.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ViolationKind {
     /// A bonded pair pulls: the law says it should be open.

@@ -6,13 +6,13 @@ use super::memory::cpu_seconds;
 use crate::coupling::{Enforcement, Law, PairState, ViolationKind};
 use crate::domain::Scheme;
 use crate::solve::nonlinear::{Iteration, SolveTimings};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use std::time::Instant;
 
 /// Where a run stands (serialized as `running`, `completed`,
 /// `completed_with_violations`, `completed_imprecise`, `failed`, `interrupted`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RunStatus {
     /// Increments are being solved.
@@ -49,7 +49,7 @@ impl std::fmt::Display for RunStatus {
 
 /// A warning about one converged increment, or (increment 0) about the model
 /// as meshed.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Warning {
     /// Increment (1-based); 0 for a warning about the model before any
     /// increment (a refined curved Gmsh face keeps its polygon).
@@ -59,7 +59,7 @@ pub struct Warning {
 }
 
 /// A pair that breaks its law at a converged increment.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ViolationRecord {
     /// Increment (1-based).
     pub increment: usize,
@@ -85,7 +85,7 @@ pub struct ViolationRecord {
 }
 
 /// What "the law holds" and "in equilibrium" mean for a run.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Tolerances {
     /// A bonded pair pulling with more than this fraction of the load scale breaks the law.
     pub tension: f64,
@@ -101,7 +101,7 @@ pub struct Tolerances {
 }
 
 /// Seconds spent in each phase of a run.
-#[derive(Debug, Clone, Default, Serialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct Timings {
     /// Reading the problem and meshing the parts.
     pub meshing: f64,
@@ -173,7 +173,7 @@ impl Timings {
 }
 
 /// Summary of one part.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PartSummary {
     /// Part name.
     pub name: String,
@@ -188,7 +188,7 @@ pub struct PartSummary {
 }
 
 /// A pair whose state was fixed against the law to settle an active-set cycle.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SettledPair {
     /// Coupling node.
     pub node: usize,
@@ -203,7 +203,7 @@ pub struct SettledPair {
 }
 
 /// Summary of one interface at the last converged increment.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct InterfaceSummary {
     /// Interface name.
     pub name: String,
@@ -263,7 +263,7 @@ pub struct InterfaceSummary {
 }
 
 /// The maximum displacement magnitude and where it occurs.
-#[derive(Debug, Clone, Default, Serialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct MaxDisplacement {
     /// |u|.
     pub value: f64,
@@ -278,7 +278,7 @@ pub struct MaxDisplacement {
 }
 
 /// The total reaction of one support.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Reaction {
     /// Support label.
     pub support: String,
@@ -318,7 +318,7 @@ impl Summary {
 }
 
 /// A load step in the summary.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct StepSummary {
     /// Name.
     pub name: String,
@@ -327,7 +327,7 @@ pub struct StepSummary {
 }
 
 /// The step of one converged increment in the summary.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct IncrementStep {
     /// 1-based increment number over all steps.
     pub increment: usize,
@@ -340,7 +340,7 @@ pub struct IncrementStep {
 }
 
 /// The JSON summary of a run (`summary.json`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Summary {
     /// `running`; `completed` (the law holds on every pair at every increment and
     /// equilibrium to the stated tolerance); `completed_with_violations` (some pairs

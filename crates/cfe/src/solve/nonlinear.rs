@@ -54,7 +54,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// Seconds spent in each phase of the solution.
-#[derive(Debug, Clone, Default, serde::Serialize)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct SolveTimings {
     /// Node graph, ordering, sparsity pattern and symbolic factorization (once),
     /// and the pattern built again when a freed one is needed
@@ -71,7 +71,7 @@ pub struct SolveTimings {
 }
 
 /// One linear solve of an increment.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Iteration {
     /// How the system was solved (or `None` when the solution of the same states
     /// at another load factor was scaled: no solve). In `summary.json` both a

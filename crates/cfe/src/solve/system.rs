@@ -25,7 +25,7 @@ use std::sync::atomic::AtomicUsize;
 use std::time::Instant;
 
 /// How one solve was done.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
     /// A numeric factorization for these states, then a solve.

@@ -1,0 +1,315 @@
+//! Benchmark: runs a problem (by default the seed's plate on a base) with the
+//! `rigid` and the `contact` law at refinements K = 1, 2, 4, … up to a number of
+//! unknowns, each run in its own process (so peak memory is that run's), and
+//! writes `benchmarks.md` with the phase timings and a log–log picture of time and
+//! memory against unknowns.
+//!
+//! One concept per file: `plan` picks the cases and their refinements, `run` runs
+//! them (each in its own process, the fastest of several passes kept) and writes
+//! `benchmarks.json`, `report` writes `benchmarks.md` and the picture from it,
+//! `targets` judges the runs against the project's performance targets, and
+//! `coupling_cost` compares the node and segment couplings. Every run is read as
+//! the [`Summary`] it wrote (`summary.json`), and `benchmarks.json` as
+//! [`Benchmarks`].
+
+mod coupling_cost;
+mod plan;
+mod report;
+mod run;
+mod targets;
+
+pub use coupling_cost::{CouplingCost, coupling_cost, coupling_cost_table};
+pub use plan::{FRICTION, refinements, unknowns_model};
+pub use report::write_report;
+pub use run::run;
+
+use crate::speed::MachineSpeed;
+use cfe::error::{Error, Result};
+use cfe::{Iteration, Law, Summary};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::path::{Path, PathBuf};
+
+/// The report's row group of a case.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Group {
+    /// The refined problem (its `rigid` and `contact` tables, the targets).
+    Plate,
+    /// The Gmsh problem refined (the roller in its cradle).
+    Gmsh,
+    /// The frictional run of the problem.
+    Friction,
+}
+
+/// One benchmark run (a record of `benchmarks.json`): its row group, law,
+/// refinement and what it gave.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Case {
+    /// The row group (`plate`, `gmsh` or `friction`).
+    pub problem: Group,
+    /// The law it ran with (`--law`).
+    pub law: Law,
+    /// Refinement factor.
+    pub refine: usize,
+    /// The run's summary, or why it gave none.
+    pub summary: Outcome,
+}
+
+impl Case {
+    /// The run's summary, if it ran.
+    pub fn ran(&self) -> Option<&Summary> {
+        match &self.summary {
+            Outcome::Ran(s) => Some(s),
+            Outcome::Failed(_) => None,
+        }
+    }
+}
+
+/// A case that ran, with its summary.
+#[derive(Clone, Copy)]
+struct Run<'a> {
+    /// The case (row group, law, refinement).
+    pub case: &'a Case,
+    /// Its summary.
+    pub summary: &'a Summary,
+}
+
+/// The cases of `cases` that ran, in order.
+fn runs(cases: &[Case]) -> impl Iterator<Item = Run<'_>> {
+    cases
+        .iter()
+        .filter_map(|case| case.ran().map(|summary| Run { case, summary }))
+}
+
+/// What a case's run gave: its summary, or (a frictional run only, which may
+/// fail without ending the benchmark) the error that stopped it. A failure is
+/// stored as `{"status": "failed", "error": …}`.
+#[derive(Debug, Clone)]
+pub enum Outcome {
+    /// The run's `summary.json`.
+    Ran(Box<Summary>),
+    /// The error of a run that failed.
+    Failed(String),
+}
+
+impl Outcome {
+    /// The run's end-to-end seconds (infinite for a failed run, which has none).
+    pub fn total_seconds(&self) -> f64 {
+        match self {
+            Outcome::Ran(s) => s.timings.total,
+            Outcome::Failed(_) => f64::INFINITY,
+        }
+    }
+}
+
+/// A failed run as stored: its status and error.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FailedRecord {
+    status: FailedStatus,
+    error: String,
+}
+
+/// The status of a failed run's record (`failed` only).
+#[derive(Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum FailedStatus {
+    Failed,
+}
+
+impl Serialize for Outcome {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            Outcome::Ran(summary) => summary.serialize(s),
+            Outcome::Failed(error) => FailedRecord {
+                status: FailedStatus::Failed,
+                error: error.clone(),
+            }
+            .serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Outcome {
+    /// A failure record, else a summary (whose own error names the field that
+    /// does not fit).
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let value = serde_json::Value::deserialize(d)?;
+        if let Ok(failed) = FailedRecord::deserialize(&value) {
+            return Ok(Outcome::Failed(failed.error));
+        }
+        Summary::deserialize(value)
+            .map(|s| Outcome::Ran(Box::new(s)))
+            .map_err(serde::de::Error::custom)
+    }
+}
+
+/// The machine's speed before and after the runs.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Speeds {
+    /// Measured before the first run of the plan.
+    pub before: MachineSpeed,
+    /// Measured after the last.
+    pub after: MachineSpeed,
+}
+
+/// `benchmarks.json`: the runs and where they were made, from which
+/// [`write_report`] writes the report again without running anything.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Benchmarks {
+    /// The problem file refined.
+    pub problem: PathBuf,
+    /// Processor, cores and memory.
+    pub machine: String,
+    /// The machine's speed (absent from a file written before it was measured).
+    #[serde(default)]
+    pub speed: Option<Speeds>,
+    /// Passes over the cases; each row is the fastest of its runs.
+    #[serde(default = "one")]
+    pub repeat: usize,
+    /// The commit the binary was built from (`git rev-parse --short HEAD`).
+    pub commit: String,
+    /// Every case, in the plan's order.
+    pub cases: Vec<Case>,
+}
+
+fn one() -> usize {
+    1
+}
+
+impl Benchmarks {
+    /// Writes it at `path`, every object's keys in alphabetical order (as the
+    /// files written before it was typed).
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let value = serde_json::to_value(self).map_err(|e| Error::output(path, e))?;
+        cfe::output::report::write_json(path, &value)
+    }
+}
+
+/// Every iteration record of the run summarized in `s` after its first, in
+/// order, each with whether it is its increment's last (the accepted pattern's
+/// complete solve, or a reuse) rather than a trial.
+fn later_iterations(s: &Summary) -> Vec<(&Iteration, bool)> {
+    s.iteration_history
+        .iter()
+        .flat_map(|its| {
+            let n = its.len();
+            its.iter().enumerate().map(move |(i, it)| (it, i + 1 == n))
+        })
+        .skip(1)
+        .collect()
+}
+
+/// A number as JSON writes it (`100.0`, `1e-7`): how the report showed the
+/// values it read untyped.
+fn json_number(x: f64) -> String {
+    serde_json::Value::from(x).to_string()
+}
+
+/// Hand-made summaries for the tests.
+#[cfg(test)]
+pub(crate) mod fixture {
+    use cfe::Summary;
+    use serde_json::Value;
+
+    /// Every key of a summary, zero or empty.
+    const ZEROS: &str = r#"{
+        "status": "completed", "error": null, "warnings": [], "violations": [],
+        "max_violation": 0.0,
+        "tolerances": {"tension": 1e-6, "penetration": 1e-4, "max_violation": 1e-2,
+            "residual_warn": 1e-8, "residual_fail": 1e-4},
+        "title": "test", "problem": "test.toml", "refine": 1, "scheme": "active-set",
+        "unknowns": 0, "matrix_nonzeros": 0, "factor_nonzeros": 0, "parts": [],
+        "interfaces": [], "increments": 1, "converged_increments": 1, "iterations": [],
+        "iteration_history": [], "factorizations": 0, "low_rank_updates": 0,
+        "first_factorization_seconds": null,
+        "max_displacement": {"value": 0.0, "x": 0.0, "y": 0.0, "part": "p", "node": 0},
+        "reactions": [], "applied": [0.0, 0.0], "equilibrium_error": 0.0, "residual": 0.0,
+        "proportional_shortcut": true, "proportional_shortcut_off": null, "steps": [],
+        "increment_steps": [], "fixed_point_iterations": [], "augmented_penetration": 0.0,
+        "notes": [], "peak_memory_bytes": null, "peak_over_factor": null, "solve_flops": 0.0,
+        "total_over_factorization": null, "threads": 1,
+        "timings": {"meshing": 0.0, "pair_search": 0.0, "coarse_start": 0.0,
+            "pattern_and_symbolic": 0.0, "assembly": 0.0, "factorization": 0.0, "solve": 0.0,
+            "contact_update": 0.0, "stress_recovery": 0.0, "output": 0.0, "pictures": 0.0,
+            "total": 0.0, "cpu": null}
+    }"#;
+
+    /// A summary of zeros (no interface, no iteration) with the keys of `patch`
+    /// set (objects merged key by key).
+    pub fn summary(patch: Value) -> Summary {
+        let mut base: Value = serde_json::from_str(ZEROS).expect("valid JSON");
+        merge(&mut base, patch);
+        serde_json::from_value(base).expect("a complete summary")
+    }
+
+    fn merge(base: &mut Value, patch: Value) {
+        match (base, patch) {
+            (Value::Object(b), Value::Object(p)) => {
+                for (k, v) in p {
+                    merge(b.entry(k).or_insert(Value::Null), v);
+                }
+            }
+            (b, p) => *b = p,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `benchmarks.json` reads back as written: a run's summary as a summary, a
+    /// failed frictional run as its error; a file from before the machine's
+    /// speed was measured has none, and one run per case.
+    #[test]
+    fn the_raw_results_read_back() {
+        let ran = fixture::summary(serde_json::json!({"unknowns": 910, "timings": {"total": 1.5}}));
+        let cases = vec![
+            Case {
+                problem: Group::Plate,
+                law: Law::Contact,
+                refine: 1,
+                summary: Outcome::Ran(Box::new(ran)),
+            },
+            Case {
+                problem: Group::Friction,
+                law: Law::Coulomb,
+                refine: 2,
+                summary: Outcome::Failed("no convergence".into()),
+            },
+        ];
+        let b = Benchmarks {
+            problem: "plate.toml".into(),
+            machine: "m".into(),
+            speed: None,
+            repeat: 3,
+            commit: "abc".into(),
+            cases,
+        };
+        let value = serde_json::to_value(&b).unwrap();
+        assert_eq!(
+            value["cases"][1]["summary"],
+            serde_json::json!({"status": "failed", "error": "no convergence"})
+        );
+        let read: Benchmarks = serde_json::from_value(value).unwrap();
+        assert_eq!(read.cases[0].ran().map(|s| s.unknowns), Some(910));
+        assert_eq!(read.cases[0].summary.total_seconds(), 1.5);
+        assert!(matches!(&read.cases[1].summary, Outcome::Failed(e) if e == "no convergence"));
+        assert_eq!(read.cases[1].summary.total_seconds(), f64::INFINITY);
+        let old: Benchmarks = serde_json::from_value(serde_json::json!({
+            "problem": "p.toml", "machine": "m", "commit": "c", "cases": []
+        }))
+        .unwrap();
+        assert_eq!((old.speed, old.repeat), (None, 1));
+    }
+
+    /// A summary missing a field is refused with the field's name, not taken
+    /// for a failed run.
+    #[test]
+    fn an_incomplete_summary_names_its_missing_field() {
+        let e = serde_json::from_value::<Outcome>(serde_json::json!({"status": "completed"}))
+            .unwrap_err();
+        assert!(e.to_string().contains("missing field"), "{e}");
+    }
+}

@@ -1,0 +1,214 @@
+//! Which cases the benchmark runs: the refined problem with the `rigid` and the
+//! `contact` law at refinements doubling up to the largest size, and beside it a
+//! Gmsh problem and a frictional run at about a quarter of that size.
+
+use super::Group;
+use cfe::Law;
+use std::path::{Path, PathBuf};
+
+/// Friction coefficient of the benchmark's frictional run.
+pub const FRICTION: f64 = 0.2;
+
+/// The refinement factors to run: 1, 2, 4, … doubling while within
+/// `max_unknowns` and a million unknowns, then the first factors that reach the
+/// reference sizes of 1 M and 4 M unknowns and `max_unknowns` itself (the last
+/// replacing the last doubling when within 25 % of it). `unknowns(K)` predicts the
+/// unknowns at refinement K.
+pub fn refinements(unknowns: impl Fn(usize) -> f64, max_unknowns: usize) -> Vec<usize> {
+    let max = max_unknowns as f64;
+    let mut ks = vec![1usize];
+    let mut last = 1;
+    while unknowns(2 * last) <= max.min(1e6) {
+        last *= 2;
+        ks.push(last);
+    }
+    let reaching = |size: f64| {
+        let mut k = 1;
+        while unknowns(k) < size {
+            k += 1;
+        }
+        k
+    };
+    for size in [1e6, 4e6] {
+        if size <= max {
+            ks.push(reaching(size));
+        }
+    }
+    let last = ks[ks.len() - 1];
+    let reach = reaching(max);
+    if reach > last {
+        if reach as f64 <= 1.25 * last as f64 && ks.len() > 1 {
+            let end = ks.len() - 1;
+            ks[end] = reach;
+        } else {
+            ks.push(reach);
+        }
+    }
+    ks.sort_unstable();
+    ks.dedup();
+    ks
+}
+
+/// The unknowns of a 2D structured model at refinement K, `a K² + b K`, fitted to
+/// the counts at K = 1 and K = 2.
+pub fn unknowns_model(n1: usize, n2: usize) -> impl Fn(usize) -> f64 {
+    let (n1, n2) = (n1 as f64, n2 as f64);
+    let a = (n2 - 2.0 * n1) / 2.0;
+    let b = n1 - a;
+    move |k: usize| a * (k * k) as f64 + b * k as f64
+}
+
+/// A case the benchmark runs: the problem file, its row group and law, and the
+/// refinement.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Planned {
+    /// The problem file.
+    pub path: PathBuf,
+    /// The report's row group.
+    pub group: Group,
+    /// The law (`--law`).
+    pub law: Law,
+    /// Refinement factor (`--refine`).
+    pub refine: usize,
+}
+
+/// The sizes a plan is made from, each measured by one run.
+#[derive(Debug, Clone)]
+pub(super) struct Probe {
+    /// Unknowns of the problem at K = 1.
+    pub n1: usize,
+    /// Unknowns of the problem at K = 2.
+    pub n2: usize,
+    /// The Gmsh problem, when there, with its unknowns at K = 1.
+    pub gmsh: Option<(PathBuf, usize)>,
+}
+
+/// The Gmsh problem of the benchmark: the roller in its cradle, next to the
+/// problem file's folder as in the repository's examples, when it is there.
+pub(super) fn gmsh_problem(problem: &Path) -> Option<PathBuf> {
+    let roller = problem
+        .parent()
+        .unwrap_or(Path::new("."))
+        .join("roller_in_cradle/roller_in_cradle.toml");
+    roller.exists().then_some(roller)
+}
+
+/// The cases to run, in order: `problem` with the `rigid` law at every
+/// refinement of [`refinements`], then with `contact`; then the Gmsh problem
+/// (when there) and a frictional run of `problem` (every increment of which is
+/// solved: no proportional shortcut), each at about a quarter of the largest size
+/// (at most a million unknowns).
+pub(super) fn plan(problem: &Path, max_unknowns: usize, probe: &Probe) -> Vec<Planned> {
+    let ks = refinements(unknowns_model(probe.n1, probe.n2), max_unknowns);
+    let case = |path: &Path, group, law, refine| Planned {
+        path: path.to_path_buf(),
+        group,
+        law,
+        refine,
+    };
+    let mut cases: Vec<Planned> = [Law::Rigid, Law::Contact]
+        .into_iter()
+        .flat_map(|law| ks.iter().map(move |&k| (law, k)))
+        .map(|(law, k)| case(problem, Group::Plate, law, k))
+        .collect();
+    let target = (max_unknowns as f64 / 4.0).min(1e6);
+    let refine_for = |n1: usize| ((target / (n1 as f64).max(1.0)).sqrt().floor() as usize).max(1);
+    if let Some((roller, n1)) = &probe.gmsh {
+        cases.push(case(roller, Group::Gmsh, Law::Contact, refine_for(*n1)));
+    }
+    cases.push(case(
+        problem,
+        Group::Friction,
+        Law::Coulomb,
+        refine_for(probe.n1),
+    ));
+    cases
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Refinements double up to the target (or a million unknowns), then reach
+    /// 1 M, 4 M and the target;
+    /// the unknowns model reproduces the plate-on-base counts it is fitted to.
+    #[test]
+    fn refinement_sequence() {
+        let n = unknowns_model(910, 3450);
+        assert_eq!((n(1), n(2)), (910.0, 3450.0));
+        assert_eq!(refinements(&n, 4_000_000), vec![1, 2, 4, 8, 16, 32, 35, 70]);
+        assert_eq!(
+            refinements(&n, 8_100_000),
+            vec![1, 2, 4, 8, 16, 32, 35, 70, 100]
+        );
+        assert_eq!(refinements(&n, 100_000), vec![1, 2, 4, 8, 12]);
+        assert_eq!(refinements(&n, 910), vec![1]);
+    }
+
+    /// The levels rise and stop at the first K whose unknowns reach
+    /// `max_unknowns` (K − 1 has fewer), for targets below, at and above a
+    /// million unknowns.
+    #[test]
+    fn the_levels_reach_the_largest_size_and_no_further() {
+        let n = unknowns_model(910, 3450);
+        for max in [5_000, 20_000, 250_000, 1_000_000, 2_500_000] {
+            let ks = refinements(&n, max);
+            let last = ks[ks.len() - 1];
+            assert!(
+                n(last) >= max as f64 && n(last - 1) < max as f64,
+                "{max}: {ks:?}"
+            );
+            assert!(ks.windows(2).all(|w| w[0] < w[1]), "{max}: {ks:?}");
+        }
+    }
+
+    /// The plan at 4 M unknowns: the plate's eight levels with `rigid`, then
+    /// with `contact`, then the roller at a quarter of the size (1 M: from its
+    /// 2 000 unknowns at K = 1, K = ⌊√500⌋ = 22) and the frictional run at the
+    /// same size (⌊√(1e6 / 910)⌋ = 33); without the roller, only the frictional
+    /// run follows the plate.
+    #[test]
+    fn the_plan_runs_both_laws_then_the_roller_and_friction() {
+        let problem = Path::new("examples/plate_on_base.toml");
+        let roller = PathBuf::from("examples/roller_in_cradle/roller_in_cradle.toml");
+        let probe = Probe {
+            n1: 910,
+            n2: 3450,
+            gmsh: Some((roller.clone(), 2000)),
+        };
+        let cases = plan(problem, 4_000_000, &probe);
+        let levels = [1, 2, 4, 8, 16, 32, 35, 70];
+        assert_eq!(cases.len(), 2 * levels.len() + 2);
+        for (i, law) in [Law::Rigid, Law::Contact].into_iter().enumerate() {
+            let rows = &cases[i * levels.len()..(i + 1) * levels.len()];
+            assert!(rows.iter().all(|c| c.law == law && c.group == Group::Plate));
+            assert_eq!(rows.iter().map(|c| c.refine).collect::<Vec<_>>(), levels);
+        }
+        let extra = &cases[2 * levels.len()..];
+        assert_eq!(
+            (
+                extra[0].group,
+                extra[0].law,
+                extra[0].refine,
+                &extra[0].path
+            ),
+            (Group::Gmsh, Law::Contact, 22, &roller)
+        );
+        assert_eq!(
+            (extra[1].group, extra[1].law, extra[1].refine),
+            (Group::Friction, Law::Coulomb, 33)
+        );
+        let small = plan(
+            problem,
+            20_000,
+            &Probe {
+                gmsh: None,
+                ..probe
+            },
+        );
+        let last = &small[small.len() - 1];
+        // A quarter of 20 000 unknowns: ⌊√(5000 / 910)⌋ = 2.
+        assert_eq!((last.group, last.refine), (Group::Friction, 2));
+        assert_eq!(small.iter().filter(|c| c.group != Group::Plate).count(), 1);
+    }
+}

@@ -1,0 +1,307 @@
+//! Running the benchmark: every case in its own `cfe run` process (so peak memory
+//! is that run's), in passes over all the cases with each case's fastest run
+//! kept, the machine's speed measured before and after; the results go to
+//! `benchmarks.json` and the report.
+
+use super::plan::{FRICTION, Planned, Probe, gmsh_problem, plan};
+use super::{Benchmarks, Case, Group, Outcome, Speeds, report};
+use crate::speed::MachineSpeed;
+use cfe::error::{Error, Result};
+use cfe::{Law, Summary};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Runs the benchmark with the `cfe` executable `exe` and writes the report into
+/// `out` (`benchmarks.json`, `benchmarks.md`, `benchmarks.png`). Every case is run
+/// in each of `repeat` passes (at least one) over all the cases and its fastest
+/// run end to end is kept, all its phases from that run. `progress` receives one
+/// line per run.
+pub fn run(
+    exe: &Path,
+    problem: &Path,
+    max_unknowns: usize,
+    repeat: usize,
+    out: &Path,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Vec<Case>> {
+    let repeat = repeat.max(1);
+    std::fs::create_dir_all(out).map_err(|e| Error::output(out, e))?;
+    let runner = Runner {
+        exe,
+        scratch: std::env::temp_dir().join(format!("cfe-bench-{}", std::process::id())),
+    };
+    let planned = plan(problem, max_unknowns, &runner.probe(problem)?);
+    // The machine's speed, once the problem is known to run.
+    let before = MachineSpeed::measure();
+    progress(&format!("machine speed before: {}", before.describe()));
+    let best = fastest_in_passes(
+        &planned,
+        repeat,
+        |case, pass| runner.outcome(case, pass, repeat, progress),
+        Outcome::total_seconds,
+    )?;
+    let _ = std::fs::remove_dir_all(&runner.scratch);
+    let cases: Vec<Case> = planned
+        .iter()
+        .zip(best)
+        .map(|(case, summary)| Case {
+            problem: case.group,
+            law: case.law,
+            refine: case.refine,
+            summary,
+        })
+        .collect();
+    let after = MachineSpeed::measure();
+    progress(&format!("machine speed after:  {}", after.describe()));
+    let raw = Benchmarks {
+        problem: problem.to_path_buf(),
+        machine: machine(),
+        speed: Some(Speeds { before, after }),
+        repeat,
+        commit: commit(),
+        cases,
+    };
+    raw.write(&out.join("benchmarks.json"))?;
+    report::write_report(out, &raw)?;
+    Ok(raw.cases)
+}
+
+/// Runs `cfe run` as a child process, each run in its own folder under `scratch`.
+struct Runner<'a> {
+    exe: &'a Path,
+    scratch: PathBuf,
+}
+
+impl Runner<'_> {
+    /// The sizes the plan is made from: `problem` at K = 1 and 2, and the Gmsh
+    /// problem (when there) at K = 1, one `contact` run each.
+    fn probe(&self, problem: &Path) -> Result<Probe> {
+        let unknowns = |path: &Path, k| Ok(self.summary(path, Law::Contact, k)?.unknowns);
+        let (n1, n2) = (unknowns(problem, 1)?, unknowns(problem, 2)?);
+        let gmsh = match gmsh_problem(problem) {
+            Some(roller) => Some((roller.clone(), unknowns(&roller, 1)?)),
+            None => None,
+        };
+        Ok(Probe { n1, n2, gmsh })
+    }
+
+    /// Runs `problem` with `law` refined `refine` times and reads its summary.
+    fn summary(&self, problem: &Path, law: Law, refine: usize) -> Result<Summary> {
+        let dir = self.scratch.join(format!("{}-{refine}", law.as_str()));
+        let child = Command::new(self.exe)
+            .arg("run")
+            .arg(problem)
+            .args(run_args(law, refine))
+            .arg("--out")
+            .arg(&dir)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .output()
+            .map_err(|e| Error::output(self.exe, format!("cannot start the benchmark run: {e}")))?;
+        if !child.status.success() {
+            let _ = std::fs::remove_dir_all(&dir);
+            return Err(Error::Subprocess {
+                command: format!(
+                    "cfe run {} {}",
+                    problem.display(),
+                    run_args(law, refine).join(" ")
+                ),
+                status: child.status.code(),
+                stderr: error_lines(&String::from_utf8_lossy(&child.stderr)),
+            });
+        }
+        let path = dir.join("summary.json");
+        let text = std::fs::read_to_string(&path).map_err(|e| Error::output(&path, e))?;
+        let summary: Summary = serde_json::from_str(&text).map_err(|e| Error::Parse {
+            line: Some(e.line()),
+            message: format!("not a summary of this version of cfe: {e}"),
+            path: path.clone(),
+        })?;
+        let _ = std::fs::remove_dir_all(&dir);
+        Ok(summary)
+    }
+
+    /// Runs a planned case in pass `pass` of `repeat` and reports it in one line:
+    /// its size, time and peak memory, or (a frictional run, which is reported,
+    /// not fatal: the rows before it stand) why it failed.
+    fn outcome(
+        &self,
+        case: &Planned,
+        pass: usize,
+        repeat: usize,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<Outcome> {
+        let k = case.refine;
+        let of = if repeat > 1 {
+            format!(" (run {pass} of {repeat})")
+        } else {
+            String::new()
+        };
+        match self.summary(&case.path, case.law, k) {
+            Ok(s) => {
+                // The Gmsh problem is named by its row group, the others by law.
+                let name = match case.group {
+                    Group::Gmsh => "gmsh",
+                    _ => case.law.as_str(),
+                };
+                progress(&format!(
+                    "{name:>7} K = {k:>3}: {:>9} unknowns, {:>8.2} s, {:>7.0} MiB{of}",
+                    s.unknowns,
+                    s.timings.total,
+                    s.peak_memory_bytes.unwrap_or(0) as f64 / 1048576.0
+                ));
+                Ok(Outcome::Ran(Box::new(s)))
+            }
+            Err(e) if case.law == Law::Coulomb => {
+                progress(&format!("coulomb K = {k:>3}: failed: {e}{of}"));
+                Ok(Outcome::Failed(e.to_string()))
+            }
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// The arguments of `cfe run` after the problem: refinement, law and (Coulomb)
+/// the benchmark's friction coefficient.
+fn run_args(law: Law, refine: usize) -> Vec<String> {
+    let mut args = vec![
+        "--refine".to_string(),
+        refine.to_string(),
+        "--law".to_string(),
+        law.as_str().to_string(),
+    ];
+    if law == Law::Coulomb {
+        args.extend(["--friction".to_string(), FRICTION.to_string()]);
+    }
+    args
+}
+
+/// What a failed child said went wrong: its error and warning lines (its
+/// progress output left out), or its last 20 lines when it has none.
+fn error_lines(stderr: &str) -> String {
+    let errors: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("error") || l.starts_with("warning"))
+        .collect();
+    let text = if errors.is_empty() {
+        stderr.lines().rev().take(20).collect::<Vec<_>>().join("\n")
+    } else {
+        errors.join("\n")
+    };
+    text.trim().to_string()
+}
+
+/// Runs every case once in each of `repeat` passes (at least one) over all the
+/// cases (`run(case, pass)`, passes counted from 1) and keeps each case's fastest
+/// result by `seconds` end to end: a case's runs lie a whole pass apart, so a slow
+/// spell of the machine touches one of them, not all. A failed run (infinite
+/// seconds) is kept only when no run of its case succeeded; an error ends the
+/// benchmark.
+fn fastest_in_passes<C, T>(
+    cases: &[C],
+    repeat: usize,
+    mut run: impl FnMut(&C, usize) -> Result<T>,
+    seconds: impl Fn(&T) -> f64,
+) -> Result<Vec<T>> {
+    let mut best: Vec<Option<T>> = cases.iter().map(|_| None).collect();
+    for pass in 1..=repeat.max(1) {
+        for (case, kept) in cases.iter().zip(best.iter_mut()) {
+            let result = run(case, pass)?;
+            if kept.as_ref().is_none_or(|b| seconds(&result) < seconds(b)) {
+                *kept = Some(result);
+            }
+        }
+    }
+    // At least one pass: every case has a result.
+    Ok(best.into_iter().flatten().collect())
+}
+
+/// The processor, its cores and the memory of this machine.
+fn machine() -> String {
+    let cpu = cfe::output::memory::cpu_model().unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
+    let mem = cfe::output::memory::total_memory_bytes()
+        .map(|b| format!("{:.0} GiB", b as f64 / 1073741824.0))
+        .unwrap_or_else(|| "unknown memory".into());
+    format!("{cpu}, {cores} cores, {mem}")
+}
+
+/// The commit checked out in the current folder (`unknown` outside a repository).
+fn commit() -> String {
+    Command::new("git")
+        .args(["rev-parse", "--short", "HEAD"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+#[cfg(test)]
+mod tests {
+    /// Three passes over two cases run them in turn (a b a b a b, not a a a b b b)
+    /// and keep each case's fastest run end to end; a failed run (infinite
+    /// seconds) gives way to any run of its case that succeeded, and an error ends
+    /// it all.
+    #[test]
+    fn each_pass_runs_every_case_and_the_fastest_is_kept() {
+        let totals = [[2.0, 1.5, 3.0], [f64::INFINITY, 4.0, 5.0]];
+        let mut order = Vec::new();
+        // Each run gives (seconds, pass).
+        let best = super::fastest_in_passes(
+            &[0usize, 1],
+            3,
+            |&case, pass| {
+                order.push((case, pass));
+                Ok((totals[case][pass - 1], pass))
+            },
+            |r| r.0,
+        )
+        .unwrap();
+        assert_eq!(order, [(0, 1), (1, 1), (0, 2), (1, 2), (0, 3), (1, 3)]);
+        assert_eq!(best[0].1, 2, "case 0's fastest is its second run");
+        assert_eq!(best[1].1, 2, "case 1's failed first run gives way");
+        let failing = super::fastest_in_passes(
+            &[0usize],
+            2,
+            |_, pass| {
+                if pass == 2 {
+                    Err(cfe::error::Error::output("x", "stopped"))
+                } else {
+                    Ok(1.0)
+                }
+            },
+            |t| *t,
+        );
+        assert!(matches!(failing, Err(cfe::error::Error::Output { .. })));
+    }
+
+    /// A failed child's message is its error and warning lines, or without any
+    /// its last lines (progress output left out when there are errors).
+    #[test]
+    fn a_failed_run_passes_its_error_lines_through() {
+        let stderr = "[1/10] solving\nwarning: slow\nerror: no pairs found\n[2/10]\n";
+        assert_eq!(
+            super::error_lines(stderr),
+            "warning: slow\nerror: no pairs found"
+        );
+        assert_eq!(super::error_lines("killed\n"), "killed");
+    }
+
+    /// The frictional run gets the benchmark's friction coefficient; the others
+    /// only refinement and law.
+    #[test]
+    fn run_arguments() {
+        use cfe::Law;
+        assert_eq!(
+            super::run_args(Law::Coulomb, 3).join(" "),
+            "--refine 3 --law coulomb --friction 0.2"
+        );
+        assert_eq!(
+            super::run_args(Law::Rigid, 1).join(" "),
+            "--refine 1 --law rigid"
+        );
+    }
+}
