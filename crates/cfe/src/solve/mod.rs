@@ -9,6 +9,7 @@ pub(crate) mod columns;
 pub mod factor;
 pub(crate) mod heap;
 pub mod linear;
+pub mod lower;
 pub mod nonlinear;
 pub(crate) mod ordering;
 pub(crate) mod setup;

@@ -16,7 +16,8 @@
 use super::capacitance::{Capacitance, Entry};
 use super::columns::{Columns, SparseColumn};
 use super::factor::Halt;
-use super::linear::{CholeskySolver, LowerMatrix};
+use super::linear::CholeskySolver;
+use super::lower::LowerMatrix;
 use crate::assembly::{DofMap, FIXED, Stiffness};
 use crate::coupling::{Interface, PairState, PairStates};
 use crate::domain::Part;
