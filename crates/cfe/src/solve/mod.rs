@@ -4,10 +4,13 @@
 //! from a coarser model.
 
 pub(crate) mod anderson;
+pub mod backend;
 pub(crate) mod capacitance;
 pub(crate) mod columns;
+pub mod direct;
 pub mod factor;
 pub(crate) mod heap;
+pub mod iterative;
 pub mod linear;
 pub mod lower;
 pub mod nonlinear;
