@@ -91,6 +91,35 @@ fn the_solver_reads_no_input_and_writes_no_files() {
     );
 }
 
+/// The linear algebra sits below the contact scheme and has no circle: the
+/// factorization and the matrix it reads (`lower.rs`) never import the Cholesky
+/// facade (`linear.rs`), and no linear back end or the seam imports the scheme.
+#[test]
+fn the_linear_algebra_is_below_the_scheme_without_a_circle() {
+    never(
+        "the factorization does not import the Cholesky facade",
+        &["solve/factor.rs", "solve/lower.rs"],
+        &["super::linear", "solve::linear"],
+    );
+    never(
+        "the linear algebra does not import the contact scheme",
+        &[
+            "solve/backend.rs",
+            "solve/direct.rs",
+            "solve/iterative.rs",
+            "solve/system.rs",
+            "solve/linear.rs",
+            "solve/factor.rs",
+            "solve/lower.rs",
+            "solve/columns.rs",
+            "solve/capacitance.rs",
+            "solve/subtree.rs",
+            "solve/symbolic.rs",
+        ],
+        &["nonlinear"],
+    );
+}
+
 #[test]
 fn elements_know_no_interface() {
     never(

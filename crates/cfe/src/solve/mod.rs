@@ -1,14 +1,22 @@
 //! Solve: the sparse Cholesky solver (symbolic analysis once, numeric factorization
 //! per state), the support check that turns a singular system into a clear error,
 //! the incremental contact schemes (`active-set`, `implex`) and their warm start
-//! from a coarser model.
+//! from a coarser model. The linear-solver seam ([`backend`]) puts the linear
+//! algebra behind a trait, implemented by the supernodal Cholesky ([`direct`])
+//! and by preconditioned conjugate gradients ([`iterative`]); the scheme
+//! (`nonlinear`) still calls the Cholesky's `ContactSystem` directly until it
+//! is wired through the seam.
 
 pub(crate) mod anderson;
+pub mod backend;
 pub(crate) mod capacitance;
 pub(crate) mod columns;
+pub mod direct;
 pub mod factor;
 pub(crate) mod heap;
+pub mod iterative;
 pub mod linear;
+pub mod lower;
 pub mod nonlinear;
 pub(crate) mod ordering;
 pub(crate) mod setup;

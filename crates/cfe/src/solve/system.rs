@@ -16,7 +16,8 @@
 use super::capacitance::{Capacitance, Entry};
 use super::columns::{Columns, SparseColumn};
 use super::factor::Halt;
-use super::linear::{CholeskySolver, LowerMatrix};
+use super::linear::CholeskySolver;
+use super::lower::LowerMatrix;
 use crate::assembly::{DofMap, FIXED, Stiffness};
 use crate::coupling::{Interface, PairState, PairStates};
 use crate::domain::Part;
@@ -679,6 +680,42 @@ impl<'a> ContactSystem<'a> {
         states: &[Vec<PairState>],
         rhs: &mut [f64],
     ) -> Result<Method, Halt> {
+        self.refactorize(interfaces, dofs, states)?;
+        // The forward half of the solve is counted by `forward_solve`.
+        self.flops += self.chol.factor_flops() + self.chol.solve_flops() / 2.0;
+        let t = Instant::now();
+        let mut z = self.forward_solve(rhs, false, Read::All);
+        self.chol.backward(&mut z, rhs);
+        self.solve_seconds += t.elapsed().as_secs_f64();
+        Ok(Method::Factorization)
+    }
+
+    /// Factorizes `K(states)` (unless the kept factorization is of these
+    /// states already) without solving: the next solve of these states reuses
+    /// it, and one of states a few pairs away may update it. Returns what it
+    /// did ([`Method::Factorization`] or [`Method::Reuse`]).
+    pub fn factorize(
+        &mut self,
+        interfaces: &[Interface],
+        dofs: &DofMap,
+        states: &[Vec<PairState>],
+    ) -> Result<Method, Halt> {
+        if self.base.as_deref() == Some(states) {
+            return Ok(Method::Reuse);
+        }
+        self.refactorize(interfaces, dofs, states)?;
+        self.flops += self.chol.factor_flops();
+        Ok(Method::Factorization)
+    }
+
+    /// A new numeric factorization of `K(states)`, kept as the base of later
+    /// updates (its flops are counted by the caller).
+    fn refactorize(
+        &mut self,
+        interfaces: &[Interface],
+        dofs: &DofMap,
+        states: &[Vec<PairState>],
+    ) -> Result<(), Halt> {
         self.invalidate();
         let (order, inverse) = self.chol.order();
         let k = self.k.get_or_insert_with(|| {
@@ -703,14 +740,8 @@ impl<'a> ContactSystem<'a> {
         self.factor_seconds += dt;
         self.first_factor_seconds.get_or_insert(dt);
         self.factorizations += 1;
-        // The forward half of the solve is counted by `forward_solve`.
-        self.flops += self.chol.factor_flops() + self.chol.solve_flops() / 2.0;
         self.base = Some(states.to_vec());
-        let t = Instant::now();
-        let mut z = self.forward_solve(rhs, false, Read::All);
-        self.chol.backward(&mut z, rhs);
-        self.solve_seconds += t.elapsed().as_secs_f64();
-        Ok(Method::Factorization)
+        Ok(())
     }
 }
 
