@@ -343,6 +343,85 @@ fn sigterm_during_the_pictures_interrupts_the_run() {
     assert!(interrupted >= 1, "SIGTERM never stopped the pictures");
 }
 
+/// SIGTERM inside a long increment (the first of a Coulomb run, about a hundred
+/// fixed-point steps of solves, sent a second after the run has started writing
+/// into its folder) ends the run within a liveness bound of 30 s, with exit status
+/// 128 + 15 and a consistent folder: a summary saying `interrupted`, no temporary
+/// file, no lock left, `results.pvd` naming exactly the VTU files on disk, and
+/// every file the run left listed in the folder's manifest (so the next run
+/// removes them). The time from the signal to the exit is printed (not asserted:
+/// the machine is shared).
+#[test]
+fn sigterm_inside_an_increment_stops_promptly() {
+    let out = std::env::temp_dir().join(format!("cfe-cli-sigterm-inc-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let plate = repo().join("examples/plate_on_base.toml");
+    let args = ["--refine", "12", "--law", "coulomb", "--friction", "0.3"];
+    let mut child = spawn_run(&plate, &out, &args);
+    let start = Instant::now();
+    while !out.join(".cfe-manifest").exists() {
+        if let Some(s) = child.try_wait().unwrap() {
+            panic!("cfe ended ({s}) before starting its run");
+        }
+        assert!(start.elapsed() < Duration::from_secs(600), "no manifest");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    std::thread::sleep(Duration::from_secs(1));
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    let sent = Instant::now();
+    let status = wait_at_most(&mut child, Duration::from_secs(30), "after SIGTERM");
+    eprintln!(
+        "SIGTERM {:.2} s after the run started: exit {:.3} s later",
+        sent.duration_since(start).as_secs_f64(),
+        sent.elapsed().as_secs_f64()
+    );
+    assert_eq!(status.code(), Some(128 + 15), "{status}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "interrupted", "{summary}");
+    let on_disk = |dir: &Path, prefix: &str| -> Vec<String> {
+        std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| format!("{prefix}{}", e.unwrap().file_name().to_string_lossy()))
+            .collect()
+    };
+    let files: Vec<String> = on_disk(&out, "")
+        .into_iter()
+        .filter(|f| f != "vtu")
+        .chain(on_disk(&out.join("vtu"), "vtu/"))
+        .collect();
+    let temporary: Vec<&String> = files.iter().filter(|f| f.ends_with(".tmp")).collect();
+    assert!(temporary.is_empty(), "{temporary:?}");
+    assert!(!files.contains(&".cfe-lock".to_string()), "{files:?}");
+    let pvd = std::fs::read_to_string(out.join("results.pvd")).unwrap();
+    let mut named: Vec<String> = pvd
+        .split("file=\"")
+        .skip(1)
+        .map(|s| s.split('"').next().unwrap().to_string())
+        .collect();
+    let mut series: Vec<String> = files
+        .iter()
+        .filter(|f| f.starts_with("vtu/"))
+        .cloned()
+        .collect();
+    named.sort();
+    series.sort();
+    assert_eq!(named, series);
+    let manifest = std::fs::read_to_string(out.join(".cfe-manifest")).unwrap();
+    let listed: Vec<&str> = manifest.lines().skip(1).collect();
+    for f in files.iter().filter(|f| !f.starts_with(".cfe-")) {
+        assert!(
+            listed.contains(&f.as_str()),
+            "{f} not in the manifest: {manifest}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// A problem whose title is a megabyte (with line breaks) runs and draws its
 /// three pictures within a generous liveness bound (drawn whole, a 30 000-
 /// character title took 204 s and a megabyte never ended); the summary keeps

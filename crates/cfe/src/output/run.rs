@@ -87,8 +87,12 @@ const WRITERS_IN_FLIGHT: usize = 2;
 /// background thread (at most [`WRITERS_IN_FLIGHT`] at a time) while the next
 /// increments are solved, their stresses recovered and the small files written;
 /// an increment's entries are added to `results.pvd` once its writer has
-/// finished, in increment order.
+/// finished, in increment order. The writers read the run's stop flag as they
+/// write ([`vtu::write_on_until`]): once it is set they abandon their files, and
+/// an increment whose parts VTU was not written leaves no file in `vtu/`.
 struct Series<'scope> {
+    /// The run's stop flag.
+    stop: &'scope AtomicUsize,
     /// The `vtu/` folder.
     vtu_dir: PathBuf,
     /// `results.pvd`.
@@ -102,8 +106,9 @@ struct Series<'scope> {
 }
 
 impl<'scope> Series<'scope> {
-    fn new(out: &Path) -> Self {
+    fn new(out: &Path, stop: &'scope AtomicUsize) -> Self {
         Series {
+            stop,
             vtu_dir: out.join(VTU),
             pvd_path: out.join("results.pvd"),
             pvd: Vec::new(),
@@ -112,18 +117,29 @@ impl<'scope> Series<'scope> {
         }
     }
 
-    /// Waits for one writer.
-    fn join(&self, h: ScopedJoinHandle<'scope, Result<()>>) -> Result<()> {
-        h.join()
-            .unwrap_or_else(|_| Err(Error::output(&self.vtu_dir, "a VTU writer thread panicked")))
+    /// Waits for one writer; if it failed (or was stopped), removes its
+    /// increment's pairs VTU too (best effort: the writer's error is what gets
+    /// reported), so `vtu/` holds only increments `results.pvd` can name.
+    fn join(&self, (h, entries): Writer<'scope>) -> Result<[vtu::PvdEntry; 2]> {
+        let written = h
+            .join()
+            .unwrap_or_else(|_| Err(Error::output(&self.vtu_dir, "a VTU writer thread panicked")));
+        if written.is_err()
+            && let Some(out) = self.pvd_path.parent()
+        {
+            for e in &entries {
+                let _ = std::fs::remove_file(out.join(&e.file));
+            }
+        }
+        written.map(|_| entries)
     }
 
     /// With [`WRITERS_IN_FLIGHT`] writers in flight, waits for the oldest and
     /// adds its increment to `results.pvd`.
     fn make_room(&mut self) -> Result<()> {
         while self.writers.len() >= WRITERS_IN_FLIGHT {
-            let (h, entries) = self.writers.pop_front().expect("a writer in flight");
-            self.join(h)?;
+            let writer = self.writers.pop_front().expect("a writer in flight");
+            let entries = self.join(writer)?;
             self.pvd.extend(entries);
             if rewrite_due(&mut self.written, self.pvd.len() / 2) {
                 vtu::write_pvd(&self.pvd_path, &self.pvd)?;
@@ -165,11 +181,8 @@ impl<'scope> Series<'scope> {
     /// `results.pvd`; the first error, if any.
     fn finish(mut self) -> Result<()> {
         let mut written = Ok(());
-        for (h, entries) in std::mem::take(&mut self.writers) {
-            let w = self.join(h);
-            if w.is_ok() {
-                self.pvd.extend(entries);
-            }
+        for writer in std::mem::take(&mut self.writers) {
+            let w = self.join(writer).map(|entries| self.pvd.extend(entries));
             written = written.and(w);
         }
         written.and(vtu::write_pvd(&self.pvd_path, &self.pvd))
@@ -237,8 +250,12 @@ impl Analysis {
     /// nonzero (e.g. set by a signal handler to the signal's number): inside the
     /// increment being solved at its next active-set iteration, fixed-point
     /// step, continuation stage or linear solve ([`Solver::set_stop`]; that
-    /// increment is abandoned), after an increment is written, or in the
-    /// pictures at their next check (no picture is kept). The converged increments stay on disk,
+    /// increment is abandoned), after an increment is written, in the
+    /// pictures at their next check (no picture is kept), or in the parts VTU
+    /// writers still in flight, within their next [`vtu::STOP_CHECK_BYTES`]
+    /// (an increment whose parts VTU is abandoned leaves no file in `vtu/` and
+    /// is not named in `results.pvd`). The converged increments whose files are
+    /// complete stay on disk,
     /// `summary.json` says `interrupted`, and the error is [`Error::Interrupted`].
     ///
     /// `out` is opened with [`OutputFolder::open`] without `force`: a folder that
@@ -331,14 +348,14 @@ impl Analysis {
         out: &Path,
         log: &mut RunLog,
         progress: &mut dyn FnMut(&IncrementResult),
-        stop: &AtomicUsize,
+        stop: &'env AtomicUsize,
     ) -> Result<()> {
         let mut solver = self.solver()?;
         // Read inside the increments too: a long search stops within its next
         // iteration, fixed-point step or solve.
         solver.set_stop(stop);
         self.prepare_solver(&mut solver, &mut log.summary);
-        let mut series = Series::new(out);
+        let mut series = Series::new(out, stop);
         let r = solver.run(|inc| {
             self.write_increment(scope, grid, inc, &mut series, log, out)?;
             progress(inc);
@@ -484,11 +501,21 @@ impl Analysis {
         );
         log.last_stresses = Some(stresses.clone());
         let grid = grid.get_or_init(|| self.parts_grid());
+        let (stop, index) = (series.stop, inc.index);
         // A named thread ("cfe-vtu"), so profiles and debuggers tell it apart.
         let handle = std::thread::Builder::new()
             .name("cfe-vtu".into())
             .spawn_scoped(scope, move || {
-                self.write_parts_vtu(&path, grid, &fields, &u, &stresses)
+                let written = self.write_parts_vtu(&path, grid, &fields, &u, &stresses, stop);
+                // Abandoned at a stop: the run's increments before this one
+                // are the last complete on disk.
+                match stop.load(Ordering::Relaxed) {
+                    0 => written,
+                    signal => written.map_err(|_| Error::Interrupted {
+                        increment: index.saturating_sub(1),
+                        signal,
+                    }),
+                }
             })
             .map_err(|e| {
                 Error::output(&series.vtu_dir, format!("cannot start a VTU writer: {e}"))
@@ -605,6 +632,7 @@ impl Analysis {
         fields: &[(&str, f64)],
         u: &[f64],
         stresses: &Stresses,
+        stop: &AtomicUsize,
     ) -> Result<()> {
         let (part_point, part_cell) = (&grid.part_point, &grid.part_cell);
         let mut nodal: [Vec<f64>; 4] =
@@ -658,7 +686,7 @@ impl Analysis {
             components: 1,
             values: vtu::Values::I32(part_cell),
         });
-        vtu::write_on(
+        vtu::write_on_until(
             path,
             &grid.geometry,
             &vtu::Fields {
@@ -666,6 +694,7 @@ impl Analysis {
                 cell_data: &cell_data,
                 field_data: fields,
             },
+            stop,
         )
     }
 

@@ -23,6 +23,7 @@ use crate::error::{Error, Result};
 use std::collections::HashSet;
 use std::io::{self, Write};
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// VTK cell types used by cfe. The discriminant is the VTK cell type number.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -254,13 +255,36 @@ pub struct Fields<'a> {
 /// inconsistent (see [`write_vtu`]), or an array's length is not points ×
 /// components (or cells × components), or a name is bad or repeated.
 pub fn write_on(path: &Path, geometry: &Geometry, fields: &Fields) -> Result<()> {
+    write_on_until(path, geometry, fields, &AtomicUsize::new(0))
+}
+
+/// [`write_on`] that abandons the file once `stop` is nonzero (e.g. a signal's
+/// number), read before every [`STOP_CHECK_BYTES`] written: the temporary file
+/// is removed, `path` is left as it was and the error (an [`Error::Output`])
+/// says the writing was stopped. A file smaller than that is written whole.
+pub fn write_on_until(
+    path: &Path,
+    geometry: &Geometry,
+    fields: &Fields,
+    stop: &AtomicUsize,
+) -> Result<()> {
     let bad = |message: String| Error::output(path, message);
     if let Some(message) = &geometry.invalid {
         return Err(bad(message.clone()));
     }
     validate_fields(geometry, fields).map_err(bad)?;
     let arrays = layout(geometry, fields);
-    write_atomic(path, |w| write_file(w, geometry, &arrays))
+    write_atomic(path, |w| {
+        write_file(
+            &mut Stoppable {
+                w,
+                stop,
+                unchecked: 0,
+            },
+            geometry,
+            &arrays,
+        )
+    })
 }
 
 /// One dataset of a .pvd series.
@@ -669,6 +693,46 @@ fn range(values: Values, components: usize) -> Option<(String, String)> {
 
 /// Size of the chunks handed to the writer.
 const CHUNK: usize = 1 << 16;
+
+/// Bytes a [`write_on_until`] writes between two reads of its stop flag (8 MiB:
+/// some milliseconds of writing; a write of a large array is handed on in
+/// pieces of this size).
+pub const STOP_CHECK_BYTES: usize = 8 << 20;
+
+/// A writer that fails once `stop` is nonzero, read before every
+/// [`STOP_CHECK_BYTES`] handed on to `w`.
+struct Stoppable<'w> {
+    w: &'w mut dyn Write,
+    stop: &'w AtomicUsize,
+    /// Bytes handed on since the flag was last read.
+    unchecked: usize,
+}
+
+impl Write for Stoppable<'_> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        if self.unchecked >= STOP_CHECK_BYTES {
+            self.unchecked = 0;
+            // Not `ErrorKind::Interrupted`: `write_all` would retry.
+            match self.stop.load(Ordering::Relaxed) {
+                0 => {}
+                signal => {
+                    return Err(io::Error::other(format!(
+                        "stopped (signal {signal}) before it was complete"
+                    )));
+                }
+            }
+        }
+        let n = self
+            .w
+            .write(&buf[..buf.len().min(STOP_CHECK_BYTES - self.unchecked)])?;
+        self.unchecked += n;
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.w.flush()
+    }
+}
 
 /// Collects small pieces of binary data into chunks before handing them to the
 /// (dynamically dispatched) writer.
@@ -1193,6 +1257,59 @@ mod tests {
             }
         }
         assert!(!path.exists());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// A writer given a stop flag: unset, it writes the bytes `write_on` writes
+    /// (a file larger than [`STOP_CHECK_BYTES`], so the flag is read and its
+    /// arrays handed on in pieces); set, a file that large is abandoned (an
+    /// output error saying it was stopped, no file, no temporary left) while a
+    /// small one, which never reaches a check, is written whole.
+    #[test]
+    fn a_stop_abandons_a_large_file() {
+        let dir = scratch("stop");
+        let n = STOP_CHECK_BYTES / 16;
+        let points: Vec<[f64; 2]> = (0..n)
+            .map(|i| [i as f64 / 7.0, 1.0 / (1.0 + i as f64)])
+            .collect();
+        let connectivity: Vec<usize> = (0..n).collect();
+        let offsets: Vec<usize> = (1..=n).collect();
+        let kinds = vec![CellKind::Vertex; n];
+        let big = Geometry::new(&points, &connectivity, &offsets, &kinds);
+        let small = Geometry::new(
+            &points[..10],
+            &connectivity[..10],
+            &offsets[..10],
+            &kinds[..10],
+        );
+        let fields = Fields {
+            point_data: &[],
+            cell_data: &[],
+            field_data: &[("TIME", 1.0)],
+        };
+        let (plain, flagged) = (dir.join("plain.vtu"), dir.join("flagged.vtu"));
+        write_on(&plain, &big, &fields).unwrap();
+        let stop = AtomicUsize::new(0);
+        write_on_until(&flagged, &big, &fields, &stop).unwrap();
+        let bytes = std::fs::read(&plain).unwrap();
+        assert!(bytes.len() > 2 * STOP_CHECK_BYTES, "{}", bytes.len());
+        assert!(bytes == std::fs::read(&flagged).unwrap());
+        stop.store(15, Ordering::Relaxed);
+        let stopped = dir.join("stopped.vtu");
+        match write_on_until(&stopped, &big, &fields, &stop) {
+            Err(Error::Output { path, message }) => {
+                assert_eq!(path, stopped);
+                assert!(message.contains("stopped (signal 15)"), "{message}");
+            }
+            other => panic!("expected a stopped write, got {other:?}"),
+        }
+        assert!(!stopped.exists());
+        assert!(
+            !dir.join(crate::output::temporary_name("stopped.vtu"))
+                .exists()
+        );
+        write_on_until(&dir.join("small.vtu"), &small, &fields, &stop).unwrap();
+        Vtu::read(&dir.join("small.vtu")).check_tiling();
         std::fs::remove_dir_all(dir).unwrap();
     }
 
