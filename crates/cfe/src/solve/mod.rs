@@ -6,6 +6,7 @@
 pub(crate) mod anderson;
 pub(crate) mod capacitance;
 pub(crate) mod columns;
+pub mod contact;
 pub mod factor;
 pub(crate) mod heap;
 pub mod linear;
