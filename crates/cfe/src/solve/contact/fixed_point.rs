@@ -122,12 +122,8 @@ impl FixedPoint for PairTerms<'_, '_> {
             FixedPointScale::Given(s) => s,
         };
         self.before = self.solver.history.clone();
-        self.solver.update_right_hand_side(
-            self.states,
-            self.u,
-            FIXED_POINT_TOLERANCE * load,
-            anderson,
-        )
+        self.solver
+            .update_right_hand_side(self.states, self.u, FIXED_POINT_TOLERANCE * load, anderson)
     }
 
     fn drifted(&self, moved: f64) -> bool {
@@ -338,6 +334,23 @@ impl<'a> Solver<'a> {
             }
         }
         self.augmented_error = augmented_error;
+        self.take_step(states, next, converged, anderson);
+        converged
+    }
+
+    /// Ends a fixed-point step on `states` whose plain step gives the histories
+    /// `next`: when `converged`, the history the solution was computed with is
+    /// kept, but for a stick pair's slip force and anchor (unused while it
+    /// sticks, they are its start should it slip); otherwise the terms that
+    /// act on the solution are `anderson`'s mix of the plain step with the
+    /// previous ones.
+    fn take_step(
+        &mut self,
+        states: &[Vec<PairState>],
+        mut next: PairHistories,
+        converged: bool,
+        anderson: &mut Anderson,
+    ) {
         if converged {
             // Keep the history the solution was computed with; a stick pair's slip
             // force and anchor (unused while it sticks) are its start should it slip.
@@ -356,18 +369,13 @@ impl<'a> Solver<'a> {
             self.set_active_terms(states, &mut next, &mixed);
             self.history = next;
         }
-        converged
     }
 
     /// The right-hand-side terms of `history` that act on the solution of
     /// `states`, each as a force: a slipping Coulomb pair's slip force and
     /// `c_slip` × its anchor; an augmented closed pair's normal multiplier, and
     /// its tangential one when it sticks.
-    pub(super) fn active_terms(
-        &self,
-        states: &[Vec<PairState>],
-        history: &PairHistories,
-    ) -> Vec<f64> {
+    pub(super) fn active_terms(&self, states: &[Vec<PairState>], history: &PairHistories) -> Vec<f64> {
         let mut x = Vec::new();
         self.visit_active_terms(states, |i, k, field, c_slip| {
             let h = &history[i][k];
@@ -381,12 +389,7 @@ impl<'a> Solver<'a> {
     }
 
     /// Writes `x` (as [`Self::active_terms`] orders it) into `history`.
-    pub(super) fn set_active_terms(
-        &self,
-        states: &[Vec<PairState>],
-        history: &mut PairHistories,
-        x: &[f64],
-    ) {
+    pub(super) fn set_active_terms(&self, states: &[Vec<PairState>], history: &mut PairHistories, x: &[f64]) {
         let mut it = x.iter();
         self.visit_active_terms(states, |i, k, field, c_slip| {
             let v = *it.next().expect("as many terms as active_terms gives");
