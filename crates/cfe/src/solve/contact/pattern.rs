@@ -112,8 +112,8 @@ impl Solver<'_> {
         // this solve's displacements and right-hand side (their pages already
         // touched: a fresh pair would be first-touched again, 61 MiB at 4 M
         // unknowns).
-        let number = self.last.take().map_or(0, |s| s.number + 1);
-        let Spare { mut u, mut x, .. } = std::mem::take(&mut self.spare);
+        let number = self.kept.last.take().map_or(0, |s| s.number + 1);
+        let Spare { mut u, mut x, .. } = std::mem::take(&mut self.kept.spare);
         // The freed vectors and the columns' scratch stay resident in the heap
         // unless given back.
         crate::solve::heap::return_free_memory();
@@ -151,7 +151,7 @@ impl Solver<'_> {
             // Its values, to be scaled by later increments, are copied from the
             // increment's result once it is accepted (`keep_for_scaling`), after
             // the factor is freed, rather than here beside it.
-            self.last = Some(Solved {
+            self.kept.last = Some(Solved {
                 number,
                 states: states.to_vec(),
                 lambda,
@@ -166,7 +166,7 @@ impl Solver<'_> {
     /// factor `lambda`, if there is one.
     fn scaled_solution(&self, lambda: f64, states: &[Vec<PairState>]) -> Option<Solution> {
         if self.proportional
-            && let Some(s) = &self.last
+            && let Some(s) = &self.kept.last
             && let Some((su, sf)) = &s.values
             && s.states == states
             && s.lambda != 0.0
@@ -195,11 +195,11 @@ impl Solver<'_> {
         // With a factor kept, the solve may be an update, whose refinement
         // reads the unrefined solution around the coupling nodes (the ring
         // is usually found by the first trial already).
-        if self.coupling_ring.is_none() && self.system.has_factor() {
-            self.coupling_ring = Some(self.coupling_ring());
+        if self.kept.coupling_ring.is_none() && self.system.has_factor() {
+            self.kept.coupling_ring = Some(self.coupling_ring());
         }
         self.check_stop(inc)?;
-        let read = self.coupling_ring.as_ref().map_or(&[][..], |r| &r.eqs[..]);
+        let read = self.kept.coupling_ring.as_ref().map_or(&[][..], |r| &r.eqs[..]);
         let solved = self
             .system
             .solve_unrefined(self.interfaces, self.dofs, states, x, read)
@@ -217,7 +217,7 @@ impl Solver<'_> {
                 // residual is read from the unrefined solution around the
                 // coupling nodes, and takes the memory of `x`.
                 let t = Instant::now();
-                let ring = self.coupling_ring.as_ref().expect("built for a kept factor");
+                let ring = self.kept.coupling_ring.as_ref().expect("built for a kept factor");
                 for &d in &ring.dofs {
                     let e = self.dofs.eq[d];
                     if e != FIXED {
@@ -296,7 +296,7 @@ impl Solver<'_> {
         inc: usize,
     ) -> Result<(Vec<f64>, Option<Method>)> {
         self.prepare_trial(states, inc)?;
-        let Spare { mut u, mut x, trial } = std::mem::take(&mut self.spare);
+        let Spare { mut u, mut x, trial } = std::mem::take(&mut self.kept.spare);
         // The last trial's vectors serve as they are when that trial was of this
         // increment and load factor, its right-hand side independent of the
         // states, and its displacements given back: the solve changed the
@@ -323,8 +323,8 @@ impl Solver<'_> {
             .solve_interface(self.interfaces, self.dofs, states, &mut x, false)
             .map_err(|h| self.halt_error(h, inc))?;
         self.trial_displacements(&x, &mut u, complete, reused);
-        self.spare.x = x;
-        self.spare.trial = rhs
+        self.kept.spare.x = x;
+        self.kept.spare.trial = rhs
             .filter(|_| !complete)
             .map(|rhs| TrialRhs { inc, lambda, rhs });
         // Only the values solved for can be infinite (the prescribed ones are
@@ -346,14 +346,14 @@ impl Solver<'_> {
         self.check_stop(inc)?;
         let t = Instant::now();
         self.supports.check(self.parts, self.interfaces, states)?;
-        if self.coupling_ring.is_none() {
+        if self.kept.coupling_ring.is_none() {
             // What the complete solve accepting a trial's pattern (an update,
             // to be refined) reads: found with the first trial rather than
             // inside that solve.
-            self.coupling_ring = Some(self.coupling_ring());
+            self.kept.coupling_ring = Some(self.coupling_ring());
         }
         self.timings.contact_update += t.elapsed().as_secs_f64();
-        if let Some(s) = &mut self.last {
+        if let Some(s) = &mut self.kept.last {
             // A trial moves on from the kept solution's pattern.
             s.values = None;
         }
@@ -391,7 +391,7 @@ impl Solver<'_> {
     /// once read: their memory, and with the same right-hand side their
     /// contents (NaN off the coupling DOFs), serve the next trial.
     pub fn return_trial(&mut self, u: Vec<f64>) {
-        self.spare.u = u;
+        self.kept.spare.u = u;
     }
 
     /// The free equations of the coupling DOFs (in their order).
@@ -448,7 +448,7 @@ impl Solver<'_> {
     /// around their nodes (the other DOFs hold partial sums): what a refinement
     /// on the coupling equations reads, for a few elements' work.
     fn coupling_force(&self, states: &[Vec<PairState>], u: &[f64]) -> Vec<f64> {
-        let ring = self.coupling_ring.as_ref().expect("built before a refinement");
+        let ring = self.kept.coupling_ring.as_ref().expect("built before a refinement");
         let part_elements = assembly::PartElements::new(self.parts, self.dofs);
         let around = assembly::SomeElements::new(&part_elements, &ring.elements);
         let history = (!self.proportional).then_some(self.history.as_slice());
@@ -489,7 +489,7 @@ impl Solver<'_> {
         let balance = total[0].hypot(total[1]) / balance_scale.max(f64::MIN_POSITIVE);
         // With the proportional shortcuts the final solve either is the last
         // solution (a method) or scales it (no method); see `solve_once`.
-        let multiple_of = match (&self.last, history.last()) {
+        let multiple_of = match (&self.kept.last, history.last()) {
             (Some(s), Some(it)) if self.proportional => Some(MultipleOf {
                 solution: s.number,
                 factor: if it.method.is_some() { 1.0 } else { lambda / s.lambda },
@@ -536,7 +536,7 @@ impl Solver<'_> {
     /// factor, a multiple 1 of it): copied once the increment is accepted, so
     /// the copies are not made beside the factor and the solve's vectors.
     pub(super) fn keep_for_scaling(&mut self, result: &IncrementResult, lambda: f64) {
-        let Some(s) = &mut self.last else {
+        let Some(s) = &mut self.kept.last else {
             return;
         };
         let its_answer = result

@@ -44,6 +44,24 @@ pub(super) struct CouplingRing {
     pub(super) eqs: Vec<usize>,
 }
 
+/// What the solves of patterns keep from one to the next: the last complete
+/// solution, the coupling ring, and the last trial's vectors.
+#[derive(Default)]
+pub(super) struct Kept {
+    /// The last complete solve's pattern and load factor (and, with
+    /// proportional loads once accepted, its values to scale).
+    pub(super) last: Option<Solved>,
+    /// The part elements around the coupling nodes (what a low-rank update's
+    /// refinement reads), found with the first trial or, failing one, the first
+    /// complete solve with a factor kept.
+    pub(super) coupling_ring: Option<CouplingRing>,
+    /// The displacement and right-hand-side vectors of the last trial solve,
+    /// kept so the next trial reuses their memory (at 8 M unknowns they are 195 MB
+    /// an iteration that would otherwise be allocated and first touched anew),
+    /// and, when their contents serve it too, which trial they were.
+    pub(super) spare: Spare,
+}
+
 /// The incremental solver for one model.
 pub struct Solver<'a> {
     pub(super) parts: &'a [Part],
@@ -57,7 +75,8 @@ pub struct Solver<'a> {
     /// The parts friction alone holds along their faces, checked against each
     /// increment's load before it is solved.
     pub(super) friction_hold: support::FrictionHold,
-    pub(super) last: Option<Solved>,
+    /// What the solves of patterns keep from one to the next.
+    pub(super) kept: Kept,
     pub(super) initial: Option<PairStates>,
     /// The pattern the previous active-set increment settled on, if it settled.
     pub(super) settled_pattern: Option<PairStates>,
@@ -95,15 +114,6 @@ pub struct Solver<'a> {
     /// Every coupling element's DOFs (sorted): the DOFs a solve restricted to the
     /// interface gives.
     pub(super) coupling_dofs: Vec<usize>,
-    /// The part elements around the coupling nodes (what a low-rank update's
-    /// refinement reads), found with the first trial or, failing one, the first
-    /// complete solve with a factor kept.
-    pub(super) coupling_ring: Option<CouplingRing>,
-    /// The displacement and right-hand-side vectors of the last trial solve,
-    /// kept so the next trial reuses their memory (at 8 M unknowns they are 195 MB
-    /// an iteration that would otherwise be allocated and first touched anew),
-    /// and, when their contents serve it too, which trial they were.
-    pub(super) spare: Spare,
     /// The caller's request to stop (nonzero: e.g. a signal's number), read at
     /// every increment, active-set iteration, fixed-point step, continuation
     /// stage and before every linear solve ([`Solver::set_stop`]).
@@ -112,7 +122,7 @@ pub struct Solver<'a> {
     pub timings: SolveTimings,
 }
 
-/// The two vectors of a trial solve, kept for the next trial ([`Solver`]'s
+/// The two vectors of a trial solve, kept for the next trial ([`Kept`]'s
 /// `spare`; taken, it is left empty).
 #[derive(Default)]
 pub(super) struct Spare {
@@ -170,7 +180,6 @@ impl<'a> Solver<'a> {
             system: ContactSystem::new(parts, k, chol),
             supports: support::SupportCheck::new(parts, dofs),
             friction_hold: support::FrictionHold::new(parts, interfaces, dofs),
-            last: None,
             initial: None,
             settled_pattern: None,
             scales: Scales {
@@ -207,8 +216,7 @@ impl<'a> Solver<'a> {
             friction_factor: 1.0,
             failed_search: Vec::new(),
             coupling_dofs: crate::coupling::coupling_dofs(interfaces, dofs),
-            coupling_ring: None,
-            spare: Spare::default(),
+            kept: Kept::default(),
             stop: None,
             timings,
         })
