@@ -11,6 +11,7 @@ pub(crate) mod anderson;
 pub mod backend;
 pub(crate) mod capacitance;
 pub(crate) mod columns;
+pub mod contact;
 pub mod direct;
 pub mod factor;
 pub(crate) mod heap;

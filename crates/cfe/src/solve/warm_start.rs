@@ -7,7 +7,7 @@
 //! Building the coarser model is the caller's business (the solver reads no input):
 //! it hands over the coarse problem, already prepared.
 
-use super::nonlinear::Solver;
+use super::contact::Solver;
 use crate::coupling::{Interface, PairState, PairStates};
 use crate::dofs::DofMap;
 use crate::domain::{Part, Settings};
