@@ -7,6 +7,8 @@
 //! 2. The solver reads no input and writes no files: solve touches no file system.
 //! 3. Elements know no interface: fem and the coupling element never name `Interface`.
 //! 4. The library knows no command line: no clap, indicatif or anyhow in cfe.
+//! 5. The writers know no analysis: output never names `Analysis`, `analysis` or the
+//!    run loop (`run`) above it.
 
 use std::path::{Path, PathBuf};
 
@@ -88,6 +90,17 @@ fn the_solver_reads_no_input_and_writes_no_files() {
             "crate::output",
             "std::io",
         ],
+    );
+}
+
+/// The writers take plain data (points, cells, named field arrays): output never
+/// reaches into the analysis or the run loop above it.
+#[test]
+fn the_writers_know_no_analysis() {
+    never(
+        "the writers know no analysis",
+        &["output"],
+        &["crate::analysis", "crate::run", "Analysis"],
     );
 }
 
