@@ -3,7 +3,7 @@
 //! solves in memory ([`Analysis::solve`], [`Analysis::solve_from`]): the
 //! displacements, stresses, pair states and forces, reactions and summary.
 //! Writing them to disk as the increments converge is [`Analysis::run`], in
-//! `output::run`.
+//! the run loop (`crate::run`).
 
 use crate::assembly::{self, DofMap};
 use crate::coupling::{

@@ -64,7 +64,9 @@
 //! `fem` (materials, element routines) → `coupling` (pair search, CFEs, laws) →
 //! `assembly` (DOF map, sparse pattern, global K and F) → `solve` (sparse
 //! Cholesky, contact schemes) → `output` (VTU, CSV, JSON, PNG).
-//! [`analysis`] strings them together for one problem. The verification report and
+//! [`analysis`] strings them together for one problem; the run loop (`run`, above
+//! analysis and output: [`Analysis::run`]) hands each converged increment to the
+//! writers. The verification report and
 //! the benchmark live in the `cfe-tools` crate, the command line in `cfe-cli`.
 //!
 //! ## Public API
@@ -102,6 +104,7 @@ layer!(fem);
 pub mod mesh;
 pub mod model;
 pub mod output;
+mod run;
 layer!(solve);
 
 pub use analysis::{Analysis, Results, RunStatus, Start, Summary};

@@ -7,6 +7,8 @@
 //! 2. The solver reads no input and writes no files: solve touches no file system.
 //! 3. Elements know no interface: fem and the coupling element never name `Interface`.
 //! 4. The library knows no command line: no clap, indicatif or anyhow in cfe.
+//! 5. The writers know no analysis: output never names `Analysis`, `analysis` or the
+//!    run loop (`run`) above it.
 
 use std::path::{Path, PathBuf};
 
@@ -116,7 +118,18 @@ fn the_linear_algebra_is_below_the_scheme_without_a_circle() {
             "solve/subtree.rs",
             "solve/symbolic.rs",
         ],
-        &["nonlinear"],
+        &["nonlinear", "super::contact", "solve::contact"],
+    );
+}
+
+/// The writers take plain data (points, cells, named field arrays): output never
+/// reaches into the analysis or the run loop above it.
+#[test]
+fn the_writers_know_no_analysis() {
+    never(
+        "the writers know no analysis",
+        &["output"],
+        &["crate::analysis", "crate::run", "Analysis"],
     );
 }
 

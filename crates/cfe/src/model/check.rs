@@ -121,7 +121,7 @@ impl<'a> Values<'a> {
 
     /// The 1-based line of byte offset `at` of the text.
     pub fn line_at(&self, at: usize) -> usize {
-        super::line_of(self.text, at)
+        super::schema::line_of(self.text, at)
     }
 
     /// The readable key of `at`: dotted, with an array item named by its `name`
@@ -272,7 +272,9 @@ impl Values<'_> {
 
 // ------------------------------------------------------- the problem file's keys
 
-use super::{InterfaceSpec, LoadSpec, MaterialSpec, PartSpec, ProblemFile, StepSpec, SupportSpec};
+use super::schema::{
+    InterfaceSpec, LoadSpec, MaterialSpec, PartSpec, ProblemFile, StepSpec, SupportSpec,
+};
 use Seg::{I, K};
 
 /// Checks every number of the problem file, and that names are unique, before

@@ -1,5 +1,7 @@
 //! Output: the summary types of a run, and the writers of what an analysis produced
-//! (VTU series, pairs CSV, JSON summary, PNG pictures) into a results folder. Every file is written atomically: to a
+//! (VTU series, pairs CSV, JSON summary, PNG pictures) into a results folder. The
+//! writers take plain data (points, cells, named field arrays); the run loop
+//! (`crate::run`) lays them out from the analysis. Every file is written atomically: to a
 //! temporary name first, then renamed, so a crash never leaves a half-written file.
 
 pub mod chart;
@@ -8,7 +10,6 @@ pub mod folder;
 pub mod memory;
 pub(crate) mod png;
 pub mod report;
-pub(crate) mod run;
 pub mod summary;
 pub mod vtu;
 

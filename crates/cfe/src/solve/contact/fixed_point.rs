@@ -8,7 +8,7 @@
 use super::scale::largest_off;
 use super::solver::Solver;
 use crate::assembly::{self, FIXED};
-use crate::coupling::{Enforcement, Law, LawParams, PairHistories, PairHistory, PairState, history};
+use crate::coupling::{Enforcement, LawParams, PairHistories, PairHistory, PairState, history};
 use crate::error::Result;
 use crate::solve::anderson::Anderson;
 use std::time::Instant;

@@ -7,7 +7,7 @@
 use super::increment::{IncrementResult, PairViolation};
 use super::solver::Solver;
 use crate::coupling::{
-    self, CheckTolerance, Interface, Law, LawParams, PairState, PairStates, ViolationKind, history,
+    self, CheckTolerance, Interface, LawParams, PairState, PairStates, ViolationKind, history,
 };
 
 /// The law checked on one solution: the state the law gives each pair next and

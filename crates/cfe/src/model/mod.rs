@@ -1,0 +1,271 @@
+//! Model: reads a problem file (TOML), checks it, meshes its parts and resolves every
+//! selection (supports, loads, interface boundaries) into nodes and nodal values.
+//! Errors name the file, the line and the key at fault.
+//!
+//! Three rooms: `schema` (private: the serde types of the problem file and
+//! the messages of a file that does not parse), `check` (every value checked where
+//! it is read, with its line and key) and `build` (the builder: schema → domain
+//! parts, interfaces, supports and loads, meshing each part); this module is the
+//! [`Model`] API on top of them.
+//!
+//! The problem-file reference is in README.md; `examples/` holds complete files.
+
+pub use crate::domain::{InterfaceDef, Load, Part, Scheme, Settings, Step, Support};
+use crate::error::{Error, Result};
+use crate::fem::PlaneKind;
+use crate::mesh::Mesh;
+use crate::mesh::input_file::{self, PROBLEM_FILE_CAP};
+pub use schema::Units;
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+
+mod build;
+mod check;
+mod schema;
+
+/// Default relative geometric tolerance of the pair search: a coupling node may lie
+/// up to this fraction of the host edge's length off that edge (it is then moved
+/// onto it). 5 % admits a fine circular face against a coarse polygonal one down
+/// to about 2.5 host edges per radian (the gap is (edge length)² / (8 radius)),
+/// as the tie constraints of established codes admit a few per cent of the
+/// element size, while faces meshed visibly apart are still rejected.
+pub const DEFAULT_PAIR_TOLERANCE: f64 = 0.05;
+/// Default `penetration_tolerance` of the augmented Lagrangian, as a fraction of
+/// the diagonal of the bounding box of the interface's two parts.
+pub const DEFAULT_PENETRATION_TOLERANCE: f64 = 1e-6;
+/// Poisson's ratio from which a part in plane strain gets a volumetric-locking
+/// warning ([`Model::warnings`]): the bulk modulus is then 1/(1 − 2ν) ≥ 50 times
+/// the shear modulus.
+pub const LOCKING_NU: f64 = 0.49;
+/// Default coupling penalty as a multiple of the softer part's E·t.
+pub const DEFAULT_PENALTY_FACTOR: f64 = 1e5;
+
+/// The name of the one step of a problem without `[[step]]` tables.
+pub const DEFAULT_STEP: &str = "step-1";
+
+/// A checked, meshed model ready for analysis.
+#[derive(Debug, Clone)]
+pub struct Model {
+    /// Title (default: the file stem).
+    pub title: String,
+    /// The problem file it came from.
+    pub source: PathBuf,
+    /// Unit labels.
+    pub units: Units,
+    /// Parts in file order.
+    pub parts: Vec<Part>,
+    /// Interfaces in file order.
+    pub interfaces: Vec<InterfaceDef>,
+    /// Dirichlet conditions.
+    pub supports: Vec<Support>,
+    /// External loads.
+    pub loads: Vec<Load>,
+    /// Analysis settings.
+    pub settings: Settings,
+    /// The load steps of `[[step]]` tables, in order; empty without them (one
+    /// step of `settings.increments`, see [`Model::steps`]).
+    pub steps: Vec<Step>,
+    /// Refinement factor: the structured meshes' cell counts are multiplied by it,
+    /// the Gmsh meshes subdivided uniformly by it.
+    pub refine: usize,
+    /// The problem text, so the same problem can be rebuilt at another refinement.
+    pub text: String,
+    /// The curved boundaries of the parts refined from a given mesh (Gmsh, or
+    /// in memory) as (part name, boundary): `--refine` kept their polygons.
+    pub kept_polygons: Vec<(String, crate::mesh::CurvedBoundary)>,
+}
+
+/// A problem given as text (TOML), read as if from a file `problem.toml` in the
+/// current folder, at refinement 1.
+impl std::str::FromStr for Model {
+    type Err = Error;
+
+    fn from_str(text: &str) -> Result<Model> {
+        Model::from_str(text, Path::new("problem.toml"), 1)
+    }
+}
+
+impl Model {
+    /// The index of the part named `name`.
+    pub fn part_index(&self, name: &str) -> Option<usize> {
+        self.parts.iter().position(|p| p.name == name)
+    }
+
+    /// Reads, checks and meshes the problem file at `path`; `refine` multiplies every
+    /// structured part's cell counts and splits every edge of a Gmsh part into that
+    /// many (1 = as written).
+    pub fn from_file(path: &Path, refine: usize) -> Result<Model> {
+        let read_error = |source| Error::ReadInput {
+            path: path.to_path_buf(),
+            source,
+        };
+        let data = input_file::read(path, "problem file", PROBLEM_FILE_CAP, read_error)?;
+        let text = String::from_utf8(data)
+            .map_err(|e| read_error(std::io::Error::new(std::io::ErrorKind::InvalidData, e)))?;
+        Model::from_str(&text, path, refine)
+    }
+
+    /// The same problem with the meshes refined `refine` times instead.
+    pub fn with_refine(&self, refine: usize) -> Result<Model> {
+        Model::from_str(&self.text, &self.source, refine)
+    }
+
+    /// A model built in code from its parts: no problem file behind it (so no
+    /// coarser level for the warm start: [`Model::with_refine`] fails). Names
+    /// given twice within a kind are refused ([`Model::check_names`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn from_parts(
+        title: impl Into<String>,
+        parts: Vec<Part>,
+        interfaces: Vec<InterfaceDef>,
+        supports: Vec<Support>,
+        loads: Vec<Load>,
+        settings: Settings,
+    ) -> Result<Model> {
+        let model = Model {
+            title: title.into(),
+            source: PathBuf::new(),
+            units: Units::default(),
+            parts,
+            interfaces,
+            supports,
+            loads,
+            settings,
+            steps: Vec::new(),
+            refine: 1,
+            text: String::new(),
+            kept_polygons: Vec::new(),
+        };
+        model.check_names()?;
+        Ok(model)
+    }
+
+    /// Refuses a name given to two parts, two interfaces, two supports, two
+    /// loads or two steps ([`Error::DuplicateName`], the key counting each kind
+    /// from 1, e.g. `interface#2.name`): results, reactions and references are
+    /// keyed by name. A problem file's names are checked as it is read, with
+    /// their lines; this check is for models built or changed in code.
+    pub fn check_names(&self) -> Result<()> {
+        let kinds: [(&str, Vec<&str>); 5] = [
+            ("part", self.parts.iter().map(|p| p.name.as_str()).collect()),
+            (
+                "interface",
+                self.interfaces.iter().map(|i| i.name.as_str()).collect(),
+            ),
+            (
+                "support",
+                self.supports.iter().map(|s| s.name.as_str()).collect(),
+            ),
+            ("load", self.loads.iter().map(|l| l.name.as_str()).collect()),
+            ("step", self.steps.iter().map(|s| s.name.as_str()).collect()),
+        ];
+        for (kind, names) in kinds {
+            let mut seen: HashMap<&str, usize> = HashMap::with_capacity(names.len());
+            for (i, name) in names.iter().enumerate() {
+                if let Some(first) = seen.insert(name, i) {
+                    return Err(Error::DuplicateName {
+                        path: self.source.clone(),
+                        line: None,
+                        key: format!("{kind}#{}.name", i + 1),
+                        name: name.to_string(),
+                        message: format!(
+                            "= \"{name}\" is defined twice: {kind} #{} has this name too; {kind} names must be unique (results, reactions and references are keyed by name): rename one",
+                            first + 1
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Advice about the model that does not stop it from being solved: parts in
+    /// plane strain with ν ≥ [`LOCKING_NU`], whose displacement elements lock
+    /// (volumetric locking: too stiff, with oscillating pressure), T3 most.
+    pub fn warnings(&self) -> Vec<String> {
+        self.parts
+            .iter()
+            .filter(|p| p.material.plane == PlaneKind::Strain && p.material.poisson >= LOCKING_NU)
+            .map(|p| {
+                let (t3, _) = p.mesh.counts();
+                let nu = p.material.poisson;
+                let ratio = 1.0 / (1.0 - 2.0 * nu);
+                let advice = if t3 > 0 {
+                    "its T3 elements lock (they cannot deform at constant volume, so displacements come out too small and stresses oscillate); use Q4 elements (`elements = \"q4\"`, which lock far less), plane = \"stress\" if the part is thin, or check the results against a finer mesh"
+                } else {
+                    "its Q4 elements (full integration) stiffen (volumetric locking: displacements come out too small); check the results against a finer mesh, or use plane = \"stress\" if the part is thin"
+                };
+                format!(
+                    "part '{}': ν = {nu} in plane strain is nearly incompressible (bulk modulus {ratio:.1e} × the shear modulus): {advice}",
+                    p.name
+                )
+            })
+            .collect()
+    }
+
+    /// The load steps: those of the `[[step]]` tables, or without them one step
+    /// named [`DEFAULT_STEP`] of `settings.increments`.
+    pub fn steps(&self) -> Vec<Step> {
+        if self.steps.is_empty() {
+            vec![Step {
+                name: DEFAULT_STEP.into(),
+                increments: self.settings.increments,
+            }]
+        } else {
+            self.steps.clone()
+        }
+    }
+
+    /// The steps in which some load or prescribed value is applied (sorted).
+    pub fn loaded_steps(&self) -> Vec<usize> {
+        let mut s: Vec<usize> = self
+            .loads
+            .iter()
+            .filter(|l| l.nodal.iter().any(|(_, f)| f[0] != 0.0 || f[1] != 0.0))
+            .map(|l| l.step)
+            .chain(
+                self.supports
+                    .iter()
+                    .filter(|s| (0..2).any(|c| s.fix[c] && s.value[c] != 0.0))
+                    .map(|s| s.step),
+            )
+            .collect();
+        s.sort_unstable();
+        s.dedup();
+        s
+    }
+
+    /// Reads, checks and meshes a problem given as text; `path` is used in messages
+    /// and for the default title.
+    pub fn from_str(text: &str, path: &Path, refine: usize) -> Result<Model> {
+        Model::from_str_with_meshes(text, path, refine, BTreeMap::new())
+    }
+
+    /// As [`Model::from_str`], with the meshes of some parts given (by part name)
+    /// instead of by a mesh key in the text (e.g. [`Mesh::from_arrays`]): such a
+    /// part has no `rectangle`, `annulus` or `gmsh` key; its boundaries are the
+    /// mesh's. Each given mesh must belong to a part of the text. `refine`
+    /// subdivides the given meshes as it does Gmsh meshes ([`Mesh::refined`]).
+    pub fn from_str_with_meshes(
+        text: &str,
+        path: &Path,
+        refine: usize,
+        meshes: BTreeMap<String, Mesh>,
+    ) -> Result<Model> {
+        let file = schema::parse(text, path)?;
+        if refine == 0 {
+            return Err(Error::Model(
+                "the refinement factor must be at least 1".into(),
+            ));
+        }
+        if let Some(name) = meshes
+            .keys()
+            .find(|m| !file.parts.iter().any(|p| p.name.get_ref() == *m))
+        {
+            return Err(Error::Model(format!(
+                "a mesh is given for part '{name}', which the problem does not define"
+            )));
+        }
+        build::Builder::new(text, path, meshes).build(file, refine)
+    }
+}

@@ -1,0 +1,283 @@
+//! The layout of a run's VTU files: which grid (points and cells) and which
+//! named field arrays each file holds, taken from the analysis and an increment
+//! and handed to the writer ([`crate::output::vtu`]) as plain data. The parts VTU
+//! of an increment holds the parts' mesh with the displacement, the stresses,
+//! von Mises and the part of each point and cell; the pairs VTU one vertex per
+//! coupling pair with its state, law check, gap, slip, forces and contact fields.
+
+use super::stresses::Stresses;
+use crate::analysis::Analysis;
+use crate::coupling::{PairState, ViolationKind};
+use crate::domain::Part;
+use crate::error::Result;
+use crate::mesh::Element;
+use crate::output::report::PairRow;
+use crate::output::vtu;
+use crate::solve::nonlinear::IncrementResult;
+use std::path::Path;
+use std::sync::atomic::AtomicUsize;
+
+/// The parts' points and cells as written to every VTU of a run (checked and
+/// encoded once), and the part of each point and cell.
+pub(super) struct PartsGrid {
+    /// The points and cells, checked and encoded.
+    pub(super) geometry: vtu::Geometry,
+    /// The part of each point.
+    pub(super) part_point: Vec<i32>,
+    /// The part of each cell.
+    pub(super) part_cell: Vec<i32>,
+}
+
+/// The field data of an increment's VTU files: the total time (step index − 1 +
+/// load factor), the step's 1-based index and its load factor.
+pub(super) fn time_fields(inc: &IncrementResult) -> [(&'static str, f64); 3] {
+    [
+        ("TIME", inc.time),
+        ("STEP", (inc.step + 1) as f64),
+        ("LOAD_FACTOR", inc.lambda),
+    ]
+}
+
+/// The names of the stress fields of the parts VTU, point and cell data alike.
+const STRESS_FIELDS: [&str; 4] = ["sigma_xx", "sigma_yy", "sigma_xy", "von_mises"];
+
+/// The stress fields of the parts: σxx, σyy, σxy and von Mises, at the points
+/// (nodal, recovered) and in the cells, each in the parts' order.
+fn stress_fields(
+    parts: &[Part],
+    stresses: &Stresses,
+    n_points: usize,
+    n_cells: usize,
+) -> ([Vec<f64>; 4], [Vec<f64>; 4]) {
+    let mut nodal: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(n_points));
+    let mut cell: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(n_cells));
+    for (part, s) in parts.iter().zip(stresses.base.iter()) {
+        for v in &s.nodal {
+            let v = stresses.value(*v);
+            for c in 0..3 {
+                nodal[c].push(v[c]);
+            }
+            nodal[3].push(part.material.von_mises(v));
+        }
+        for v in &s.element {
+            let v = stresses.value(*v);
+            for c in 0..3 {
+                cell[c].push(v[c]);
+            }
+            cell[3].push(part.material.von_mises(v));
+        }
+    }
+    (nodal, cell)
+}
+
+/// The integer codes of the pairs VTU, one per pair: `bonded` (0/1), `settled`
+/// (0/1), `violation` and `state`.
+fn pair_codes(rows: &[PairRow]) -> [Vec<i32>; 4] {
+    let bonded: Vec<i32> = rows
+        .iter()
+        .map(|r| (r.state == PairState::Bonded) as i32)
+        .collect();
+    let settled: Vec<i32> = rows.iter().map(|r| r.settled as i32).collect();
+    // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates;
+    // 3: a stick pair exceeds μ|f_n|; 4: a slip pair is off μ|f_n|.
+    let violation: Vec<i32> = rows
+        .iter()
+        .map(|r| match r.violation {
+            None => 0,
+            Some(ViolationKind::Tension) => 1,
+            Some(ViolationKind::Penetration) => 2,
+            Some(ViolationKind::Friction) => 3,
+            Some(ViolationKind::Slip) => 4,
+        })
+        .collect();
+    // 0: open, 1: bonded (stick), 2: slip.
+    let state: Vec<i32> = rows
+        .iter()
+        .map(|r| match r.state {
+            PairState::Open => 0,
+            PairState::Bonded => 1,
+            PairState::Slip => 2,
+        })
+        .collect();
+    [bonded, settled, violation, state]
+}
+
+impl Analysis {
+    /// Every node of every part, in the global node numbering.
+    pub(super) fn global_points(&self) -> Vec<[f64; 2]> {
+        self.model
+            .parts
+            .iter()
+            .flat_map(|p| p.mesh.nodes.iter().copied())
+            .collect()
+    }
+
+    /// The parts' geometry for the VTU files, built once per run (at its first
+    /// written increment).
+    pub(super) fn parts_grid(&self) -> PartsGrid {
+        let n_cells: usize = self.model.parts.iter().map(|p| p.mesh.elements.len()).sum();
+        let mut part_point = Vec::with_capacity(self.dofs.n_nodes());
+        let mut part_cell = Vec::with_capacity(n_cells);
+        let mut connectivity = Vec::with_capacity(4 * n_cells);
+        let mut offsets = Vec::with_capacity(n_cells);
+        let mut kinds = Vec::with_capacity(n_cells);
+        for (p, part) in self.model.parts.iter().enumerate() {
+            let o = self.dofs.node_offset[p];
+            part_point.extend(std::iter::repeat_n(p as i32, part.mesh.nodes.len()));
+            part_cell.extend(std::iter::repeat_n(p as i32, part.mesh.elements.len()));
+            for el in &part.mesh.elements {
+                connectivity.extend(el.nodes().iter().map(|n| n + o));
+                offsets.push(connectivity.len());
+                kinds.push(match el {
+                    Element::T3(_) => vtu::CellKind::Triangle,
+                    Element::Q4(_) => vtu::CellKind::Quad,
+                });
+            }
+        }
+        PartsGrid {
+            geometry: vtu::Geometry::new(&self.global_points(), &connectivity, &offsets, &kinds),
+            part_point,
+            part_cell,
+        }
+    }
+
+    /// Writes the parts VTU of an increment at `path`: on `grid`, the
+    /// displacement `u`, the `stresses` ([`stress_fields`]) and the part of
+    /// each point and cell, with the increment's time `fields`.
+    pub(super) fn write_parts_vtu(
+        &self,
+        path: &Path,
+        grid: &PartsGrid,
+        fields: &[(&str, f64)],
+        u: &[f64],
+        stresses: &Stresses,
+        stop: &AtomicUsize,
+    ) -> Result<()> {
+        let (part_point, part_cell) = (&grid.part_point, &grid.part_cell);
+        let (nodal, cell) = stress_fields(
+            &self.model.parts,
+            stresses,
+            part_point.len(),
+            part_cell.len(),
+        );
+        let mut point_data = vec![vtu::DataArray {
+            name: "displacement",
+            components: 2,
+            values: vtu::Values::F64(u),
+        }];
+        for (name, v) in STRESS_FIELDS.iter().zip(&nodal) {
+            point_data.push(vtu::DataArray {
+                name,
+                components: 1,
+                values: vtu::Values::F64(v),
+            });
+        }
+        point_data.push(vtu::DataArray {
+            name: "part_id",
+            components: 1,
+            values: vtu::Values::I32(part_point),
+        });
+        let mut cell_data: Vec<vtu::DataArray> = STRESS_FIELDS
+            .iter()
+            .zip(&cell)
+            .map(|(name, v)| vtu::DataArray {
+                name,
+                components: 1,
+                values: vtu::Values::F64(v),
+            })
+            .collect();
+        cell_data.push(vtu::DataArray {
+            name: "part_id",
+            components: 1,
+            values: vtu::Values::I32(part_cell),
+        });
+        vtu::write_on_until(
+            path,
+            &grid.geometry,
+            &vtu::Fields {
+                point_data: &point_data,
+                cell_data: &cell_data,
+                field_data: fields,
+            },
+            stop,
+        )
+    }
+
+    /// The unit normal, the interface number and the displacement of the
+    /// coupling node of every pair, in the order of the pairs table.
+    fn pair_geometry(&self, inc: &IncrementResult, n: usize) -> (Vec<f64>, Vec<i32>, Vec<f64>) {
+        let mut normal = Vec::with_capacity(2 * n);
+        let mut iface_id = Vec::with_capacity(n);
+        let mut disp = Vec::with_capacity(2 * n);
+        for (i, iface) in self.interfaces.iter().enumerate() {
+            for c in &iface.elements {
+                normal.extend_from_slice(&c.normal);
+                iface_id.push(i as i32);
+                let g = self.dofs.node(iface.node_part, c.node);
+                disp.extend_from_slice(&inc.u[2 * g..2 * g + 2]);
+            }
+        }
+        (normal, iface_id, disp)
+    }
+
+    /// Writes the pairs VTU of increment `inc` at `path`: one vertex per pair
+    /// (the rows of the pairs table) with its fields.
+    pub(super) fn write_pairs_vtu(
+        &self,
+        path: &Path,
+        inc: &IncrementResult,
+        rows: &[PairRow],
+    ) -> Result<()> {
+        let points: Vec<[f64; 2]> = rows.iter().map(|r| [r.x, r.y]).collect();
+        let connectivity: Vec<usize> = (0..rows.len()).collect();
+        let offsets: Vec<usize> = (1..=rows.len()).collect();
+        let kinds: Vec<vtu::CellKind> = rows.iter().map(|_| vtu::CellKind::Vertex).collect();
+        let [bonded, settled, violation, state] = pair_codes(rows);
+        let violation_amount: Vec<f64> = rows.iter().map(|r| r.violation_amount).collect();
+        let col = |f: fn(&PairRow) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
+        let (gap, slip, fn_, fs) = (
+            col(|r| r.gap_n),
+            col(|r| r.slip_s),
+            col(|r| r.force_n),
+            col(|r| r.force_s),
+        );
+        let contact = [
+            ("gap0", col(|r| r.gap0)),
+            ("gap", col(|r| r.gap)),
+            ("slip", col(|r| r.slip)),
+            ("pressure", col(|r| r.pressure)),
+            ("shear", col(|r| r.shear)),
+            ("tributary", col(|r| r.tributary)),
+        ];
+        let (normal, iface_id, disp) = self.pair_geometry(inc, rows.len());
+        let mut point_data = vec![
+            vtu::DataArray::f64("displacement", 2, &disp),
+            vtu::DataArray::i32("bonded", &bonded),
+            vtu::DataArray::i32("settled", &settled),
+            vtu::DataArray::i32("violation", &violation),
+            vtu::DataArray::f64("violation_amount", 1, &violation_amount),
+            vtu::DataArray::f64("gap_n", 1, &gap),
+            vtu::DataArray::f64("slip_s", 1, &slip),
+            vtu::DataArray::f64("force_n", 1, &fn_),
+            vtu::DataArray::f64("force_s", 1, &fs),
+            vtu::DataArray::f64("normal", 2, &normal),
+            vtu::DataArray::i32("interface_id", &iface_id),
+            vtu::DataArray::i32("state", &state),
+        ];
+        for (name, values) in &contact {
+            point_data.push(vtu::DataArray::f64(name, 1, values));
+        }
+        vtu::write_vtu(
+            path,
+            &vtu::Grid {
+                points: &points,
+                connectivity: &connectivity,
+                offsets: &offsets,
+                kinds: &kinds,
+                point_data: &point_data,
+                cell_data: &[],
+                field_data: &time_fields(inc),
+            },
+        )
+    }
+}
