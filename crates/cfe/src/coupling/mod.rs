@@ -8,6 +8,7 @@ pub mod law;
 pub(crate) mod search;
 pub mod segment;
 
+pub use crate::domain::Coupling;
 pub use element::{CouplingElement, SegmentSide, traction};
 pub use law::{
     Enforcement, Law, LawParams, LawTolerance, LawViolation, PairHistories, PairHistory, PairState,
@@ -90,27 +91,4 @@ pub fn coupling_dofs(interfaces: &[Interface], dofs: &crate::dofs::DofMap) -> Ve
     all.sort_unstable();
     all.dedup();
     all
-}
-
-/// The coupling formulation of an interface (`coupling` in the problem file).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Coupling {
-    /// One CFE per coupling node, collocated at the node (the seed's, default).
-    #[default]
-    Node,
-    /// Segment coupling: one CFE per coupling node whose jump is averaged over its
-    /// face segments, integrated exactly on the face cut at the host's vertices
-    /// ([`segment`]); passes the patch test on non-matching meshes.
-    Segment,
-}
-
-impl Coupling {
-    /// Lower-case name as in the problem file (`node`, `segment`).
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Coupling::Node => "node",
-            Coupling::Segment => "segment",
-        }
-    }
 }
