@@ -102,6 +102,7 @@ layer!(fem);
 pub mod mesh;
 pub mod model;
 pub mod output;
+pub mod results;
 layer!(solve);
 
 pub use analysis::{Analysis, Results, RunStatus, Start, Summary};

@@ -1170,7 +1170,7 @@ impl Builder<'_> {
                 )
             }
             (None, Some(at)) => (
-                format!("{}@{}", part.name, crate::output::fmt::point(at)),
+                format!("{}@{}", part.name, crate::results::fmt::point(at)),
                 vec![self.node_at(part, at, &spec.part, "support")?],
             ),
             _ => {
@@ -1284,7 +1284,7 @@ impl Builder<'_> {
             (None, None, None, Some(at)) => {
                 let n = self.node_at(part, at, &spec.part, "point load")?;
                 Load {
-                    name: format!("{}@{}", part.name, crate::output::fmt::point(at)),
+                    name: format!("{}@{}", part.name, crate::results::fmt::point(at)),
                     part: p,
                     nodal: vec![(n, force)],
                     resultant: force,
@@ -1452,12 +1452,12 @@ fn deepest_key(text: &str) -> Option<(usize, usize)> {
 }
 
 /// Refuses a model of `nodes` nodes (two unknowns each) whose estimated memory
-/// ([`crate::output::memory::estimated_peak_bytes`]) exceeds what the machine has
+/// ([`crate::results::memory::estimated_peak_bytes`]) exceeds what the machine has
 /// available, before it is meshed.
 fn check_size(nodes: u64, refine: usize) -> Result<()> {
     let unknowns = nodes.saturating_mul(2);
-    let bytes = crate::output::memory::estimated_peak_bytes(unknowns);
-    let Some(available) = crate::output::memory::available_memory_bytes() else {
+    let bytes = crate::results::memory::estimated_peak_bytes(unknowns);
+    let Some(available) = crate::results::memory::available_memory_bytes() else {
         return Ok(());
     };
     if bytes <= available {
