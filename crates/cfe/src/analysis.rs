@@ -4,24 +4,31 @@
 //! displacements, stresses, pair states and forces, reactions and summary.
 //! Writing them to disk as the increments converge is [`Analysis::run`], in
 //! `output::run`.
+//!
+//! This file is the orchestration; the interfaces are built by
+//! `coupling::build`, the results read and the summary kept by [`crate::results`]
+//! (through `post`), and `describe` writes the `cfe check` text.
 
 use crate::assembly::{self, DofMap};
-use crate::coupling::{Coupling, Interface, Law, PairStates, search, segment};
-use crate::domain::{InterfaceDef, Part, StartPattern};
+use crate::coupling::{Interface, Law, PairStates, build};
+use crate::domain::StartPattern;
 use crate::error::{Error, Result};
-use crate::fem::recovery::{self, PartStress};
+use crate::fem::recovery::PartStress;
 use crate::model::{Model, Scheme};
+use crate::results::PairRow;
 use crate::results::memory::peak_memory_bytes;
 pub use crate::results::summary::{
     IncrementStep, InterfaceSummary, MaxDisplacement, PartSummary, Reaction, RunClock, RunStatus,
     SettledPair, StepSummary, Summary, Timings, Tolerances, ViolationRecord, Warning,
 };
-use crate::results::{self, PairRow};
 use crate::solve::nonlinear::{IncrementResult, LoadSteps, Solver};
 use crate::solve::warm_start;
 use std::path::Path;
 use std::sync::atomic::AtomicUsize;
 use std::time::Instant;
+
+mod describe;
+mod post;
 
 /// Where the `active-set` iteration of the first increment starts.
 #[derive(Debug, Clone, PartialEq)]
@@ -94,94 +101,7 @@ impl Analysis {
         let clock = RunClock::start();
         // A model built or changed in code was not checked as a file is.
         model.check_names()?;
-        let mut interfaces = Vec::with_capacity(model.interfaces.len());
-        for def in &model.interfaces {
-            let host = &model.parts[def.host];
-            let node_part = &model.parts[def.node_part];
-            // The tolerance is a fraction of the host's edges as meshed in the
-            // problem file: `--refine K` subdivides edges K times but leaves the gap
-            // between two faces meshed apart (a Gmsh part keeps its polygons) as it is.
-            // The segment coupling within a search distance moves no node and
-            // finds its own host edges, point by point along the face.
-            let segment_gaps = def.coupling == Coupling::Segment && def.search_distance > 0.0;
-            let (mut elements, mut unpaired) = if segment_gaps {
-                (Vec::new(), 0)
-            } else {
-                search::find_pairs_within(
-                    &def.name,
-                    &host.mesh,
-                    &node_part.mesh,
-                    &def.nodes,
-                    def.tolerance * model.refine as f64,
-                    def.search_distance,
-                )?
-            };
-            // Within a search distance the nodes stay where they are (their gaps
-            // are kept): nothing is moved.
-            let max_projection_distance = if def.search_distance > 0.0 {
-                0.0
-            } else {
-                elements.iter().map(|c| c.distance).fold(0.0, f64::max)
-            };
-            if max_projection_distance > 0.0 {
-                let part = &mut model.parts[def.node_part];
-                for c in &elements {
-                    part.mesh.nodes[c.node] = c.position;
-                }
-                let moved: Vec<usize> = elements.iter().map(|c| c.node).collect();
-                part.mesh
-                    .validate_around(&part.name, &moved)
-                    .map_err(|e| Error::Coupling {
-                    interface: def.name.clone(),
-                    message: format!(
-                        "moving the coupling nodes onto the host edges (by up to {max_projection_distance:e}) spoils the node part's mesh: {e}; lower `tolerance` or mesh the faces closer together"
-                    ),
-                })?;
-            }
-            if def.coupling == Coupling::Segment {
-                // The nodes now lie on the host boundary (or, within a search
-                // distance, stay where they are): integrate over their face
-                // segments.
-                let (segment_elements, segment_unpaired) = segment::segment_elements_within(
-                    &def.name,
-                    &model.parts[def.host].mesh,
-                    &model.parts[def.node_part].mesh,
-                    &def.boundary,
-                    &def.nodes,
-                    def.tolerance * model.refine as f64,
-                    def.search_distance,
-                )?;
-                elements = segment_elements;
-                if segment_gaps {
-                    unpaired = segment_unpaired;
-                }
-            }
-            if elements.is_empty() && !def.nodes.is_empty() && def.search_distance > 0.0 {
-                return Err(no_pairs(
-                    def,
-                    &model.parts[def.host],
-                    &model.parts[def.node_part],
-                ));
-            }
-            let c_slip =
-                slip_stiffness(def.law, &model.parts[def.host], &model.parts[def.node_part]);
-            interfaces.push(Interface {
-                name: def.name.clone(),
-                host: def.host,
-                node_part: def.node_part,
-                law: def.law,
-                c_n: def.c_n,
-                c_s: def.c_s,
-                c_slip,
-                elements,
-                max_projection_distance,
-                friction: def.friction,
-                enforcement: def.enforcement,
-                penetration_tolerance: def.penetration_tolerance,
-                unpaired,
-                coupling: def.coupling,
-            });
-        }
+        let interfaces = build::interfaces(&model.interfaces, &mut model.parts, model.refine)?;
         let dofs = DofMap::new(&model.parts, &model.supports);
         let timings = Timings {
             pair_search: clock.wall(),
@@ -198,147 +118,17 @@ impl Analysis {
 
     /// Makes every interface follow `law` (e.g. to compare tied and contact runs of
     /// the same model).
-    pub fn override_law(&mut self, law: crate::coupling::Law) {
-        for def in &mut self.model.interfaces {
-            def.law = law;
-        }
-        for iface in &mut self.interfaces {
-            iface.law = law;
-            let parts = &self.model.parts;
-            iface.c_slip = slip_stiffness(law, &parts[iface.host], &parts[iface.node_part]);
-        }
+    pub fn override_law(&mut self, law: Law) {
+        let m = &mut self.model;
+        build::set_law(&mut m.interfaces, &mut self.interfaces, &m.parts, law);
     }
 
     /// Makes every interface follow the Coulomb law with friction coefficient `mu`
     /// (e.g. a frictional variant of a model written for the seed's law). `mu` must
     /// be finite and ≥ 0 ([`Error::Model`] otherwise).
     pub fn override_friction(&mut self, mu: f64) -> Result<()> {
-        if !(mu.is_finite() && mu >= 0.0) {
-            return Err(Error::Model(format!(
-                "the friction coefficient must be finite and ≥ 0, not {mu}"
-            )));
-        }
-        self.override_law(Law::Coulomb);
-        for def in &mut self.model.interfaces {
-            def.friction = mu;
-        }
-        for iface in &mut self.interfaces {
-            iface.friction = mu;
-        }
-        Ok(())
-    }
-
-    /// A human-readable description of the prepared model (for `cfe check`).
-    pub fn describe(&self) -> String {
-        use crate::results::fmt::{num, num_rel};
-        // The model's size: lengths below 1e-10 of it are round-off, shown as 0.
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in self.model.parts.iter().flat_map(|p| &p.mesh.nodes) {
-            for c in 0..2 {
-                lo[c] = lo[c].min(p[c]);
-                hi[c] = hi[c].max(p[c]);
-            }
-        }
-        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.0);
-        let load: f64 = self
-            .model
-            .loads
-            .iter()
-            .map(|l| l.resultant[0].hypot(l.resultant[1]))
-            .fold(0.0, f64::max);
-        let mut s = format!(
-            "{} ({})\n  unknowns: {}\n",
-            self.model.title,
-            self.model.source.display(),
-            self.dofs.n_eq
-        );
-        for p in &self.model.parts {
-            s += &format!(
-                "  part '{}': {} nodes, {} elements, E = {}, nu = {}, t = {}\n",
-                p.name,
-                p.mesh.nodes.len(),
-                p.mesh.describe_elements(),
-                num(p.material.young),
-                num(p.material.poisson),
-                num(p.material.thickness)
-            );
-        }
-        for i in &self.interfaces {
-            s += &format!(
-                "  interface '{}': host '{}', nodes '{}', law {}, {} pairs, c_n = {}, c_s = {}, max projection distance {}\n",
-                i.name,
-                self.model.parts[i.host].name,
-                self.model.parts[i.node_part].name,
-                i.law.as_str(),
-                i.elements.len(),
-                num(i.c_n),
-                num(i.c_s),
-                num_rel(i.max_projection_distance, size)
-            );
-            if i.coupling == Coupling::Segment {
-                s += "    segment coupling: each pair's gap is averaged over its node's face segments\n";
-            }
-            // The contact extensions, only when used (the seed's lines unchanged).
-            let gaps = i.elements.iter().any(|c| c.gap0 != 0.0);
-            if i.law == Law::Coulomb
-                || i.enforcement == crate::coupling::Enforcement::Augmented
-                || gaps
-                || i.unpaired > 0
-            {
-                let (lo, hi) = i
-                    .elements
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
-                        (a.min(c.gap0), b.max(c.gap0))
-                    });
-                s += &format!(
-                    "    friction {}, enforcement {}, initial gaps from {} to {}, {} node(s) unpaired (beyond the search distance)\n",
-                    num(i.friction),
-                    i.enforcement.as_str(),
-                    num_rel(if lo.is_finite() { lo } else { 0.0 }, size),
-                    num_rel(if hi.is_finite() { hi } else { 0.0 }, size),
-                    i.unpaired
-                );
-            }
-        }
-        for sup in &self.model.supports {
-            s += &format!(
-                "  support '{}': {} nodes, fix x: {}, fix y: {}\n",
-                sup.name,
-                sup.nodes.len(),
-                sup.fix[0],
-                sup.fix[1]
-            );
-        }
-        let steps = self.model.steps.len() > 1;
-        for l in &self.model.loads {
-            s += &format!(
-                "  load '{}': resultant ({}, {}) on {} nodal forces{}\n",
-                l.name,
-                num_rel(l.resultant[0], load),
-                num_rel(l.resultant[1], load),
-                l.nodal.len(),
-                if steps {
-                    format!(", step '{}'", self.step_name(l.step))
-                } else {
-                    String::new()
-                }
-            );
-        }
-        if steps {
-            for (k, st) in self.model.steps.iter().enumerate() {
-                s += &format!(
-                    "  step {} '{}': {} increments\n",
-                    k + 1,
-                    st.name,
-                    st.increments
-                );
-            }
-        }
-        for w in self.model.warnings() {
-            s += &format!("  warning: {w}\n");
-        }
-        s
+        let m = &mut self.model;
+        build::set_friction(&mut m.interfaces, &mut self.interfaces, &m.parts, mu)
     }
 
     /// For a refined model solved by `active-set`: the final pair states of the same
@@ -577,122 +367,5 @@ impl Analysis {
             summary,
             last,
         })
-    }
-
-    /// The summary before the first increment.
-    pub(crate) fn empty_summary(&self) -> Summary {
-        let m = &self.model;
-        Summary::new(
-            &self.problem(),
-            results::Heading {
-                title: m.title.clone(),
-                problem: m.source.clone(),
-                refine: m.refine,
-                steps: m.steps(),
-                warnings: results::kept_polygon_warnings(&m.kept_polygons, m.refine),
-                notes: m.warnings(),
-                shortcut_off: self.shortcut_off_reason(),
-                setup: &self.timings,
-            },
-        )
-    }
-
-    /// The reaction (x, y) of each support, in the order of `model.supports`: the
-    /// out-of-balance force F_int − F_ext summed over the DOFs it fixes.
-    pub fn reactions(&self, inc: &IncrementResult) -> Vec<[f64; 2]> {
-        self.problem().reactions(inc)
-    }
-
-    /// The name of step `step` (0-based) of the model.
-    pub fn step_name(&self, step: usize) -> String {
-        match self.model.steps.get(step) {
-            Some(s) => s.name.clone(),
-            None => crate::model::DEFAULT_STEP.into(),
-        }
-    }
-
-    /// Stresses of every part for displacements `u` (all DOFs).
-    pub fn recover(&self, u: &[f64]) -> Vec<PartStress> {
-        self.model
-            .parts
-            .iter()
-            .enumerate()
-            .map(|(p, part)| {
-                let s = 2 * self.dofs.node_offset[p];
-                recovery::recover(
-                    &part.mesh,
-                    &part.material,
-                    &u[s..s + 2 * part.mesh.nodes.len()],
-                )
-            })
-            .collect()
-    }
-
-    /// One row per coupling pair: state, jumps and forces on the node part.
-    pub fn pair_rows(&self, inc: &IncrementResult) -> Vec<PairRow> {
-        results::pair_rows(&self.problem(), inc, &self.step_name(inc.step))
-    }
-
-    /// Records converged increment `inc` (with its pair rows `rows`) in the
-    /// summary `s`.
-    pub(crate) fn fill_summary(&self, s: &mut Summary, inc: &IncrementResult, rows: &[PairRow]) {
-        s.record_increment(&self.problem(), inc, rows, self.step_name(inc.step));
-    }
-
-    /// The problem the results are read against.
-    fn problem(&self) -> results::Problem<'_> {
-        results::Problem {
-            parts: &self.model.parts,
-            supports: &self.model.supports,
-            interfaces: &self.interfaces,
-            dofs: &self.dofs,
-            settings: &self.model.settings,
-        }
-    }
-}
-
-/// The error of interface `def`, whose search distance found no pair, with the
-/// distance from its nearest coupling node to the nearest host boundary edge
-/// (measured over every node and boundary edge: only on this failure, and both
-/// are boundaries, so about as many products as the model has nodes).
-fn no_pairs(def: &InterfaceDef, host: &Part, node_part: &Part) -> Error {
-    let edges = host.mesh.boundary_edges();
-    let nearest = def
-        .nodes
-        .iter()
-        .flat_map(|&n| {
-            let p = node_part.mesh.nodes[n];
-            edges.iter().map(move |e| {
-                let [a, b] = e.nodes.map(|k| host.mesh.nodes[k]);
-                crate::coupling::search::project(p, a, b).1
-            })
-        })
-        .fold(f64::INFINITY, f64::min);
-    let nearest = nearest.is_finite().then_some(nearest);
-    Error::NoPairs {
-        interface: def.name.clone(),
-        search_distance: def.search_distance,
-        nearest,
-        message: format!(
-            "no pair within search_distance = {}: none of the {} coupling nodes of part '{}' (boundary '{}') lies within it of a boundary edge of part '{}'{}; the pairs are fixed in the initial configuration, so the interface would couple nothing: raise `search_distance` or place the faces closer",
-            def.search_distance,
-            def.nodes.len(),
-            node_part.name,
-            def.boundary,
-            host.name,
-            nearest.map_or(String::new(), |d| format!(" (the nearest is {d:e} away)")),
-        ),
-    }
-}
-
-/// The stabilising tangential stiffness of a slipping pair between `host` and
-/// `node` under `law`: [`crate::coupling::SLIP_STIFFNESS`] × the softer side's E·t
-/// for the Coulomb law, 0 for the others (they have no slip state).
-fn slip_stiffness(law: Law, host: &crate::domain::Part, node: &crate::domain::Part) -> f64 {
-    let et = |p: &crate::domain::Part| p.material.young * p.material.thickness;
-    if law == Law::Coulomb {
-        crate::coupling::SLIP_STIFFNESS * et(host).min(et(node))
-    } else {
-        0.0
     }
 }

@@ -3,6 +3,7 @@
 //! builds one coupling finite element (CFE) per pair, and evaluates the interface
 //! law that decides whether a pair is bonded or open.
 
+pub mod build;
 pub mod element;
 pub mod law;
 pub(crate) mod search;

@@ -22,6 +22,7 @@ pub use summary::{
 use crate::coupling::Interface;
 use crate::dofs::DofMap;
 use crate::domain::{Part, Settings, Support};
+use crate::fem::recovery::{self, PartStress};
 use crate::solve::nonlinear::IncrementResult;
 
 /// The solved problem results are read against: its parts, supports, interfaces
@@ -46,5 +47,21 @@ impl Problem<'_> {
         // `inc.f_ext` is already at the increment's load factor.
         self.dofs
             .reactions(self.supports.len(), &inc.f_int, &inc.f_ext, 1.0)
+    }
+
+    /// Stresses of every part for displacements `u` (all DOFs).
+    pub fn recover(&self, u: &[f64]) -> Vec<PartStress> {
+        self.parts
+            .iter()
+            .enumerate()
+            .map(|(p, part)| {
+                let s = 2 * self.dofs.node_offset[p];
+                recovery::recover(
+                    &part.mesh,
+                    &part.material,
+                    &u[s..s + 2 * part.mesh.nodes.len()],
+                )
+            })
+            .collect()
     }
 }
