@@ -192,3 +192,93 @@ fn slip_stiffness(law: Law, host: &Part, node: &Part) -> f64 {
         0.0
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::domain::Enforcement;
+    use crate::fem::{Material, PlaneKind};
+    use crate::mesh::{ElementKind, Mesh};
+
+    /// A T3 base (E·t = 2e5) under a softer Q4 block (E·t = 2e3) meshed apart along
+    /// y = 1, and the contact interface of the block's bottom on the base.
+    fn base_and_block() -> (Vec<Part>, Vec<InterfaceDef>) {
+        let part = |name: &str, mesh, young, thickness| Part {
+            name: name.into(),
+            mesh,
+            material: Material::new(young, 0.3, PlaneKind::Stress, thickness, name).unwrap(),
+        };
+        let parts = vec![
+            part(
+                "base",
+                Mesh::rectangle([0.0, 2.0], [0.0, 1.0], [2, 1], ElementKind::T3),
+                2e5,
+                1.0,
+            ),
+            part(
+                "block",
+                Mesh::rectangle([0.0, 2.0], [1.0, 2.0], [4, 2], ElementKind::Q4),
+                1e3,
+                2.0,
+            ),
+        ];
+        let def = InterfaceDef {
+            name: "base/block".into(),
+            host: 0,
+            node_part: 1,
+            nodes: parts[1].mesh.boundary_nodes("bottom").unwrap(),
+            boundary: "bottom".into(),
+            law: Law::Contact,
+            c_n: 1e6,
+            c_s: 1e6,
+            tolerance: 1e-3,
+            friction: 0.0,
+            search_distance: 0.0,
+            enforcement: Enforcement::Penalty,
+            penetration_tolerance: 0.0,
+            coupling: Coupling::Node,
+        };
+        (parts, vec![def])
+    }
+
+    /// Faces that coincide: every coupling node pairs with a base element, at its
+    /// own position (nothing moves), and the interface carries its definition's
+    /// law and penalties, with no slip stiffness outside the Coulomb law.
+    #[test]
+    fn coinciding_faces_pair_every_node_in_place() {
+        let (mut parts, defs) = base_and_block();
+        let before = parts[1].mesh.nodes.clone();
+        let ifaces = interfaces(&defs, &mut parts, 1).unwrap();
+        assert_eq!(ifaces.len(), 1);
+        let iface = &ifaces[0];
+        assert_eq!(iface.elements.len(), 5);
+        assert_eq!(parts[1].mesh.nodes, before);
+        assert_eq!(iface.max_projection_distance, 0.0);
+        for c in &iface.elements {
+            assert_eq!(c.position, before[c.node]);
+            assert!(c.host_element < parts[0].mesh.elements.len());
+        }
+        assert_eq!((iface.law, iface.c_n, iface.c_s), (Law::Contact, 1e6, 1e6));
+        assert_eq!(iface.c_slip, 0.0);
+    }
+
+    /// The friction override refuses a negative or NaN μ and changes nothing then;
+    /// a valid μ makes every interface Coulomb with that μ and a slip stiffness of
+    /// SLIP_STIFFNESS × the softer part's E·t (the block's 1e3 × 2).
+    #[test]
+    fn friction_override_checks_mu_and_sets_the_slip_stiffness() {
+        let (mut parts, mut defs) = base_and_block();
+        let mut ifaces = interfaces(&defs, &mut parts, 1).unwrap();
+        for mu in [-0.1, f64::NAN, f64::INFINITY] {
+            let e = set_friction(&mut defs, &mut ifaces, &parts, mu);
+            assert!(matches!(e, Err(Error::Model(_))), "{mu}: {e:?}");
+            assert_eq!((defs[0].law, ifaces[0].law), (Law::Contact, Law::Contact));
+        }
+        set_friction(&mut defs, &mut ifaces, &parts, 0.3).unwrap();
+        assert_eq!((defs[0].law, defs[0].friction), (Law::Coulomb, 0.3));
+        assert_eq!((ifaces[0].law, ifaces[0].friction), (Law::Coulomb, 0.3));
+        assert_eq!(ifaces[0].c_slip, SLIP_STIFFNESS * 2e3);
+        set_law(&mut defs, &mut ifaces, &parts, Law::Rigid);
+        assert_eq!((defs[0].law, ifaces[0].law, ifaces[0].c_slip), (Law::Rigid, Law::Rigid, 0.0));
+    }
+}
