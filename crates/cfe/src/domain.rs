@@ -1,9 +1,9 @@
 //! Domain: the resolved problem below the numerics — parts (mesh + material),
-//! supports, loads, interface parameters and analysis settings. The problem-file
+//! supports, loads, interface parameters (with the vocabulary of an interface:
+//! its [`Law`], [`Enforcement`] and [`Coupling`]) and analysis settings. The problem-file
 //! schema ([`crate::model`]) translates into these types; the element routines, the
 //! coupling, the assembly and the solver take only these, never the input types.
 
-use crate::coupling::{Coupling, Enforcement, Law};
 use crate::fem::Material;
 use crate::mesh::Mesh;
 use serde::Deserialize;
@@ -148,6 +148,89 @@ pub struct Part {
     pub mesh: Mesh,
     /// Material, 2D idealisation and thickness.
     pub material: Material,
+}
+
+// The interface vocabulary: what the user chose for an interface. The law's
+// behaviour (transitions, forces, checks) lives in `coupling::law`.
+
+/// Which law an interface follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Law {
+    /// Tied: D̂ = 0 always (plain non-matching mesh tying).
+    Rigid,
+    /// Unilateral: bonded (stick in both directions) where `g_n` ≤ tolerance, open
+    /// where it separates.
+    Contact,
+    /// Unilateral and frictionless: a closed pair resists penetration only; its
+    /// tangential force is zero (`c_s` is ignored).
+    Frictionless,
+    /// Unilateral with Coulomb friction (coefficient μ): stick, slip or open.
+    Coulomb,
+}
+
+impl Law {
+    /// Lower-case name as in the problem file (`rigid`, `contact`, `frictionless`,
+    /// `coulomb`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Law::Rigid => "rigid",
+            Law::Contact => "contact",
+            Law::Frictionless => "frictionless",
+            Law::Coulomb => "coulomb",
+        }
+    }
+
+    /// Whether pairs of this law open in tension (every law but `rigid`).
+    pub fn is_unilateral(self) -> bool {
+        self != Law::Rigid
+    }
+}
+
+/// How an interface enforces its law (`enforcement = …`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Enforcement {
+    /// The penalties alone (default): a closed pair penetrates by about f_n / c_n.
+    #[default]
+    Penalty,
+    /// Augmented Lagrangian: Uzawa iterations on multipliers on top of the
+    /// penalties until the penetration (and the stick error) is below
+    /// `penetration_tolerance`.
+    Augmented,
+}
+
+impl Enforcement {
+    /// Lower-case name as in the problem file (`penalty`, `augmented`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Enforcement::Penalty => "penalty",
+            Enforcement::Augmented => "augmented",
+        }
+    }
+}
+
+/// The coupling formulation of an interface (`coupling` in the problem file).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Coupling {
+    /// One CFE per coupling node, collocated at the node (the seed's, default).
+    #[default]
+    Node,
+    /// Segment coupling: one CFE per coupling node whose jump is averaged over its
+    /// face segments, integrated exactly on the face cut at the host's vertices
+    /// (`coupling::segment`); passes the patch test on non-matching meshes.
+    Segment,
+}
+
+impl Coupling {
+    /// Lower-case name as in the problem file (`node`, `segment`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Coupling::Node => "node",
+            Coupling::Segment => "segment",
+        }
+    }
 }
 
 /// An interface as defined in the problem file, with its parts resolved.

@@ -59,22 +59,25 @@
 //!
 //! ## Layers
 //!
-//! Data flows one way through the modules:
-//! `model` (problem file, validation) → `mesh` (nodes, elements, boundaries) →
-//! `fem` (materials, element routines) → `coupling` (pair search, CFEs, laws) →
-//! `assembly` (DOF map, sparse pattern, global K and F) → `solve` (sparse
-//! Cholesky, contact schemes) → `output` (VTU, CSV, JSON, PNG).
-//! [`analysis`] strings them together for one problem; the run loop (`run`, above
-//! analysis and output: [`Analysis::run`]) hands each converged increment to the
-//! writers. The verification report and
-//! the benchmark live in the `cfe-tools` crate, the command line in `cfe-cli`.
+//! Each module imports only the modules below it, in the order
+//! `error < mesh < fem < domain < dofs < coupling < assembly < solve < results <
+//! model < analysis < output < run` (checked by `tests/architecture.rs`, with no import
+//! circle): `mesh` (nodes, elements, boundaries) → `fem` (materials, element
+//! routines) → `domain` (the resolved problem) → `dofs` → `coupling` (interface
+//! building, pair search, CFEs, laws) → `assembly` (sparse pattern, global K and
+//! F) → `solve` (sparse Cholesky, contact schemes) → [`results`] (the summary and
+//! its bookkeeping, the pair rows) → [`model`] (problem file, validation) →
+//! [`analysis`] (one problem from model to results) → [`output`] (VTU, CSV, JSON,
+//! PNG) → `run` (the run loop: [`Analysis::run`] hands each converged increment
+//! to the writers). The verification report and the benchmark live in the `cfe-tools`
+//! crate, the command line in `cfe-cli`.
 //!
 //! ## Public API
 //!
 //! The crate root re-exports what a program needs to build, solve and read a model
 //! ([`Model`], [`Analysis`], [`Results`], [`Summary`], [`Error`], the domain types and
-//! the result types), and [`analysis`], [`model`], [`domain`], [`mesh`], [`output`] and
-//! [`error`] are public. The numerical layers (`fem`, `coupling`, `dofs`, `assembly`,
+//! the result types), and [`analysis`], [`model`], [`domain`], [`mesh`], [`results`],
+//! [`output`] and [`error`] are public. The numerical layers (`fem`, `coupling`, `dofs`, `assembly`,
 //! `solve`) are crate-private; the `internals` feature makes them public for the
 //! verification crate and the integration tests, with no stability promise.
 
@@ -104,6 +107,7 @@ layer!(fem);
 pub mod mesh;
 pub mod model;
 pub mod output;
+pub mod results;
 mod run;
 layer!(solve);
 

@@ -33,6 +33,8 @@
 //! slip ──(pulls: f_n > tol)──▶ open
 //! ```
 
+pub use crate::domain::{Enforcement, Law};
+
 impl std::fmt::Display for PairState {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.as_str())
@@ -41,22 +43,6 @@ impl std::fmt::Display for PairState {
 
 /// The states of every pair of a model: `states[i][k]` for pair k of interface i.
 pub type PairStates = Vec<Vec<PairState>>;
-
-/// Which law an interface follows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Law {
-    /// Tied: D̂ = 0 always (plain non-matching mesh tying).
-    Rigid,
-    /// Unilateral: bonded (stick in both directions) where `g_n` ≤ tolerance, open
-    /// where it separates.
-    Contact,
-    /// Unilateral and frictionless: a closed pair resists penetration only; its
-    /// tangential force is zero (`c_s` is ignored).
-    Frictionless,
-    /// Unilateral with Coulomb friction (coefficient μ): stick, slip or open.
-    Coulomb,
-}
 
 /// The state of one coupling pair (serialized as `bonded`, `open` or `slip`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -93,47 +79,6 @@ impl PairState {
             PairState::Bonded => "bonded",
             PairState::Open => "open",
             PairState::Slip => "slip",
-        }
-    }
-}
-
-impl Law {
-    /// Lower-case name as in the problem file (`rigid`, `contact`, `frictionless`,
-    /// `coulomb`).
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Law::Rigid => "rigid",
-            Law::Contact => "contact",
-            Law::Frictionless => "frictionless",
-            Law::Coulomb => "coulomb",
-        }
-    }
-
-    /// Whether pairs of this law open in tension (every law but `rigid`).
-    pub fn is_unilateral(self) -> bool {
-        self != Law::Rigid
-    }
-}
-
-/// How an interface enforces its law (`enforcement = …`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Enforcement {
-    /// The penalties alone (default): a closed pair penetrates by about f_n / c_n.
-    #[default]
-    Penalty,
-    /// Augmented Lagrangian: Uzawa iterations on multipliers on top of the
-    /// penalties until the penetration (and the stick error) is below
-    /// `penetration_tolerance`.
-    Augmented,
-}
-
-impl Enforcement {
-    /// Lower-case name as in the problem file (`penalty`, `augmented`).
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Enforcement::Penalty => "penalty",
-            Enforcement::Augmented => "augmented",
         }
     }
 }

@@ -749,7 +749,7 @@ impl<'a> Builder<'a> {
                 )
             }
             (None, Some(at)) => (
-                format!("{}@{}", part.name, crate::output::fmt::point(at)),
+                format!("{}@{}", part.name, crate::results::fmt::point(at)),
                 vec![self.node_at(part, at, &spec.part, "support")?],
             ),
             _ => {
@@ -828,7 +828,7 @@ impl<'a> Builder<'a> {
             (None, None, None, Some(at)) => {
                 let n = self.node_at(part, at, &spec.part, "point load")?;
                 Load {
-                    name: format!("{}@{}", part.name, crate::output::fmt::point(at)),
+                    name: format!("{}@{}", part.name, crate::results::fmt::point(at)),
                     part: p,
                     nodal: vec![(n, force)],
                     resultant: force,
@@ -1040,12 +1040,12 @@ fn unique_defaults(names: Vec<(String, bool)>) -> Vec<String> {
         .collect()
 }
 
-/// ([`crate::output::memory::estimated_peak_bytes`]) exceeds what the machine has
+/// ([`crate::results::memory::estimated_peak_bytes`]) exceeds what the machine has
 /// available, before it is meshed.
 fn check_size(nodes: u64, refine: usize) -> Result<()> {
     let unknowns = nodes.saturating_mul(2);
-    let bytes = crate::output::memory::estimated_peak_bytes(unknowns);
-    let Some(available) = crate::output::memory::available_memory_bytes() else {
+    let bytes = crate::results::memory::estimated_peak_bytes(unknowns);
+    let Some(available) = crate::results::memory::available_memory_bytes() else {
         return Ok(());
     };
     if bytes <= available {

@@ -1,17 +1,18 @@
-//! Output: the summary types of a run, and the writers of what an analysis produced
-//! (VTU series, pairs CSV, JSON summary, PNG pictures) into a results folder. The
-//! writers take plain data (points, cells, named field arrays); the run loop
-//! (`crate::run`) lays them out from the analysis. Every file is written atomically: to a
+//! Output: the writers of what an analysis produced (VTU series, pairs CSV, JSON
+//! summary, PNG pictures) into a results folder; the summary types they write are
+//! [`crate::results`]. The writers take plain data (points, cells, named field
+//! arrays); the run loop (`crate::run`) lays them out from the analysis. Every file is written atomically: to a
 //! temporary name first, then renamed, so a crash never leaves a half-written file.
 
 pub mod chart;
-pub mod fmt;
 pub mod folder;
-pub mod memory;
 pub(crate) mod png;
 pub mod report;
-pub mod summary;
 pub mod vtu;
+
+// Results vocabulary, at its former paths (`output::summary::Summary`,
+// `output::fmt::num`, `output::memory::peak_memory_bytes`).
+pub use crate::results::{fmt, memory, summary};
 
 use crate::error::{Error, Result};
 use std::io::{BufWriter, Write};

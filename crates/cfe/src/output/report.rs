@@ -1,110 +1,11 @@
-//! Tables and summaries: the interface pairs CSV and the JSON summary of a run.
+//! Tables and summaries: the interface pairs CSV (its rows, [`PairRow`], are
+//! results vocabulary: `crate::results::pairs`) and the JSON summary of a run.
 
 use super::write_atomic;
-use crate::coupling::{PairState, ViolationKind};
 use crate::error::Result;
+pub use crate::results::pairs::{PAIR_COLUMNS, PairRow};
 use serde::Serialize;
 use std::path::Path;
-
-/// One coupling pair at one increment, as written to `pairs.csv`.
-#[derive(Debug, Clone, Serialize)]
-pub struct PairRow {
-    /// Interface name.
-    pub interface: String,
-    /// Coupling node (index in the node part).
-    pub node: usize,
-    /// Reference position x of the pair: with the node coupling, the coupling
-    /// node's projection on its host edge (where the node is placed; with a search
-    /// distance the node stays where it is meshed, |g₀| away); with the segment
-    /// coupling, the coupling node's own position.
-    #[serde(serialize_with = "plain")]
-    pub x: f64,
-    /// Reference position y of the pair (as `x`).
-    #[serde(serialize_with = "plain")]
-    pub y: f64,
-    /// Host element (index in the host part).
-    pub host_element: usize,
-    /// `bonded` or `open`.
-    pub state: PairState,
-    /// Normal jump `[[u_n]]` (> 0: the faces separate).
-    #[serde(serialize_with = "sci")]
-    pub gap_n: f64,
-    /// Tangential jump `[[u_s]]`.
-    #[serde(serialize_with = "sci")]
-    pub slip_s: f64,
-    /// Normal force on the node part (> 0: the faces press together).
-    #[serde(serialize_with = "sci")]
-    pub force_n: f64,
-    /// Tangential force on the node part along s.
-    #[serde(serialize_with = "sci")]
-    pub force_s: f64,
-    /// State fixed against the law by the active-set scheme to settle a cycle.
-    pub settled: bool,
-    /// How the pair breaks its law (`tension`, `penetration`), or `None` (empty).
-    pub violation: Option<ViolationKind>,
-    /// The violation's amount: the tensile force, or the penetration depth (0 when none).
-    #[serde(serialize_with = "sci")]
-    pub violation_amount: f64,
-    /// Initial normal gap g₀ (0 unless paired within a search distance).
-    #[serde(serialize_with = "sci")]
-    pub gap0: f64,
-    /// Current normal gap g₀ + `[[u_n]]` (< 0: penetration).
-    #[serde(serialize_with = "sci")]
-    pub gap: f64,
-    /// Slip not carried elastically: the plastic slip s_p of a closed pair with
-    /// friction (0 for the seed's stick law), the tangential jump of an open or
-    /// frictionless pair.
-    #[serde(serialize_with = "sci")]
-    pub slip: f64,
-    /// Contact pressure, a stress: `force_n` / (tributary length × the node part's
-    /// thickness t) (> 0 in compression; [`crate::coupling::traction`]).
-    #[serde(serialize_with = "sci")]
-    pub pressure: f64,
-    /// Shear traction, a stress: `force_s` / (tributary length × t).
-    #[serde(serialize_with = "sci")]
-    pub shear: f64,
-    /// Tributary length of the coupling node on the node part's face (with segment
-    /// coupling, its share of the face m_a = ∫ N_a ds).
-    #[serde(serialize_with = "sci")]
-    pub tributary: f64,
-    /// With segment coupling, the node-part nodes of the pair's averaged jump (the
-    /// coupling node and its face neighbours), as `a-b-c`; empty for the node CFE.
-    pub segment: Option<String>,
-    /// The increment (1-based, over all steps).
-    pub increment: usize,
-    /// The increment's load step (its name).
-    pub step: String,
-    /// The step's load factor at this increment.
-    #[serde(serialize_with = "plain")]
-    pub load_factor: f64,
-}
-
-/// The columns of `pairs.csv` (the serialized fields of [`PairRow`]).
-pub const PAIR_COLUMNS: [&str; 23] = [
-    "interface",
-    "node",
-    "x",
-    "y",
-    "host_element",
-    "state",
-    "gap_n",
-    "slip_s",
-    "force_n",
-    "force_s",
-    "settled",
-    "violation",
-    "violation_amount",
-    "gap0",
-    "gap",
-    "slip",
-    "pressure",
-    "shear",
-    "tributary",
-    "segment",
-    "increment",
-    "step",
-    "load_factor",
-];
 
 /// Writes the pairs table (one row per coupling pair; the header is the field
 /// names of [`PairRow`]).
@@ -121,16 +22,6 @@ pub fn write_pairs_csv(path: &Path, rows: &[PairRow]) -> Result<()> {
     })
 }
 
-/// A number as Rust's `Display` writes it (`100`, `0.5`): the positions' format.
-fn plain<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
-    s.collect_str(v)
-}
-
-/// A number in scientific notation (`-1.25e-3`): the jumps' and forces' format.
-fn sci<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
-    s.collect_str(&format_args!("{v:e}"))
-}
-
 /// Writes any serializable value as pretty JSON.
 pub fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<()> {
     write_atomic(path, |w| {
@@ -142,6 +33,7 @@ pub fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::coupling::{PairState, ViolationKind};
 
     /// The CSV: header from the field names, positions as written, jumps and forces
     /// in scientific notation, a name with a comma quoted, the violation empty when

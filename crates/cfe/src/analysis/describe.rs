@@ -1,0 +1,121 @@
+//! The `cfe check` text: a human-readable description of a prepared analysis —
+//! its parts, interfaces (pairs, penalties, projection distance, gaps), supports,
+//! loads and steps, and the warnings about the model.
+
+use super::Analysis;
+use crate::domain::{Coupling, Enforcement, Law};
+use crate::results::fmt::{num, num_rel};
+
+impl Analysis {
+    /// A human-readable description of the prepared model (for `cfe check`).
+    pub fn describe(&self) -> String {
+        // The model's size: lengths below 1e-10 of it are round-off, shown as 0.
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in self.model.parts.iter().flat_map(|p| &p.mesh.nodes) {
+            for c in 0..2 {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+        }
+        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.0);
+        let load: f64 = self
+            .model
+            .loads
+            .iter()
+            .map(|l| l.resultant[0].hypot(l.resultant[1]))
+            .fold(0.0, f64::max);
+        let mut s = format!(
+            "{} ({})\n  unknowns: {}\n",
+            self.model.title,
+            self.model.source.display(),
+            self.dofs.n_eq
+        );
+        for p in &self.model.parts {
+            s += &format!(
+                "  part '{}': {} nodes, {} elements, E = {}, nu = {}, t = {}\n",
+                p.name,
+                p.mesh.nodes.len(),
+                p.mesh.describe_elements(),
+                num(p.material.young),
+                num(p.material.poisson),
+                num(p.material.thickness)
+            );
+        }
+        for i in &self.interfaces {
+            s += &format!(
+                "  interface '{}': host '{}', nodes '{}', law {}, {} pairs, c_n = {}, c_s = {}, max projection distance {}\n",
+                i.name,
+                self.model.parts[i.host].name,
+                self.model.parts[i.node_part].name,
+                i.law.as_str(),
+                i.elements.len(),
+                num(i.c_n),
+                num(i.c_s),
+                num_rel(i.max_projection_distance, size)
+            );
+            if i.coupling == Coupling::Segment {
+                s += "    segment coupling: each pair's gap is averaged over its node's face segments\n";
+            }
+            // The contact extensions, only when used (the seed's lines unchanged).
+            let gaps = i.elements.iter().any(|c| c.gap0 != 0.0);
+            if i.law == Law::Coulomb
+                || i.enforcement == Enforcement::Augmented
+                || gaps
+                || i.unpaired > 0
+            {
+                let (lo, hi) = i
+                    .elements
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
+                        (a.min(c.gap0), b.max(c.gap0))
+                    });
+                s += &format!(
+                    "    friction {}, enforcement {}, initial gaps from {} to {}, {} node(s) unpaired (beyond the search distance)\n",
+                    num(i.friction),
+                    i.enforcement.as_str(),
+                    num_rel(if lo.is_finite() { lo } else { 0.0 }, size),
+                    num_rel(if hi.is_finite() { hi } else { 0.0 }, size),
+                    i.unpaired
+                );
+            }
+        }
+        for sup in &self.model.supports {
+            s += &format!(
+                "  support '{}': {} nodes, fix x: {}, fix y: {}\n",
+                sup.name,
+                sup.nodes.len(),
+                sup.fix[0],
+                sup.fix[1]
+            );
+        }
+        let steps = self.model.steps.len() > 1;
+        for l in &self.model.loads {
+            s += &format!(
+                "  load '{}': resultant ({}, {}) on {} nodal forces{}\n",
+                l.name,
+                num_rel(l.resultant[0], load),
+                num_rel(l.resultant[1], load),
+                l.nodal.len(),
+                if steps {
+                    format!(", step '{}'", self.step_name(l.step))
+                } else {
+                    String::new()
+                }
+            );
+        }
+        if steps {
+            for (k, st) in self.model.steps.iter().enumerate() {
+                s += &format!(
+                    "  step {} '{}': {} increments\n",
+                    k + 1,
+                    st.name,
+                    st.increments
+                );
+            }
+        }
+        for w in self.model.warnings() {
+            s += &format!("  warning: {w}\n");
+        }
+        s
+    }
+}

@@ -1,0 +1,69 @@
+//! Post-processing of a solved analysis: its results read through
+//! [`results::Problem`] — stresses, reactions, pair rows — and its summary started
+//! and brought up to date increment by increment.
+
+use super::Analysis;
+use crate::fem::recovery::PartStress;
+use crate::results::{self, PairRow, Summary};
+use crate::solve::nonlinear::IncrementResult;
+
+impl Analysis {
+    /// The summary before the first increment.
+    pub(crate) fn empty_summary(&self) -> Summary {
+        let m = &self.model;
+        Summary::new(
+            &self.problem(),
+            results::Heading {
+                title: m.title.clone(),
+                problem: m.source.clone(),
+                refine: m.refine,
+                steps: m.steps(),
+                warnings: results::kept_polygon_warnings(&m.kept_polygons, m.refine),
+                notes: m.warnings(),
+                shortcut_off: self.shortcut_off_reason(),
+                setup: &self.timings,
+            },
+        )
+    }
+
+    /// The reaction (x, y) of each support, in the order of `model.supports`: the
+    /// out-of-balance force F_int − F_ext summed over the DOFs it fixes.
+    pub fn reactions(&self, inc: &IncrementResult) -> Vec<[f64; 2]> {
+        self.problem().reactions(inc)
+    }
+
+    /// The name of step `step` (0-based) of the model.
+    pub fn step_name(&self, step: usize) -> String {
+        match self.model.steps.get(step) {
+            Some(s) => s.name.clone(),
+            None => crate::model::DEFAULT_STEP.into(),
+        }
+    }
+
+    /// Stresses of every part for displacements `u` (all DOFs).
+    pub fn recover(&self, u: &[f64]) -> Vec<PartStress> {
+        self.problem().recover(u)
+    }
+
+    /// One row per coupling pair: state, jumps and forces on the node part.
+    pub fn pair_rows(&self, inc: &IncrementResult) -> Vec<PairRow> {
+        results::pair_rows(&self.problem(), inc, &self.step_name(inc.step))
+    }
+
+    /// Records converged increment `inc` (with its pair rows `rows`) in the
+    /// summary `s`.
+    pub(crate) fn fill_summary(&self, s: &mut Summary, inc: &IncrementResult, rows: &[PairRow]) {
+        s.record_increment(&self.problem(), inc, rows, self.step_name(inc.step));
+    }
+
+    /// The problem the results are read against.
+    pub(crate) fn problem(&self) -> results::Problem<'_> {
+        results::Problem {
+            parts: &self.model.parts,
+            supports: &self.model.supports,
+            interfaces: &self.interfaces,
+            dofs: &self.dofs,
+            settings: &self.model.settings,
+        }
+    }
+}

@@ -1,0 +1,284 @@
+//! Interface building: each interface of the problem ([`InterfaceDef`]) turned
+//! into an [`Interface`] with its coupling elements — the pair search, the coupling
+//! nodes moved onto their host edges, the segment coupling's elements — and the
+//! overrides of a prepared interface's law and friction.
+
+use super::{Coupling, Interface, Law, SLIP_STIFFNESS, search, segment};
+use crate::domain::{InterfaceDef, Part};
+use crate::error::{Error, Result};
+
+/// The interfaces of `defs` over `parts` (meshed `refine` times finer than the
+/// problem file gives them), in order, each seeing the nodes the earlier ones
+/// moved: finds the coupling pairs of every interface and moves each coupling node
+/// onto its host edge (its projection there: a no-op for faces that already
+/// coincide, a small adjustment for a curved face meshed apart).
+pub fn interfaces(
+    defs: &[InterfaceDef],
+    parts: &mut [Part],
+    refine: usize,
+) -> Result<Vec<Interface>> {
+    let mut interfaces = Vec::with_capacity(defs.len());
+    for def in defs {
+        let host = &parts[def.host];
+        let node_part = &parts[def.node_part];
+        // The tolerance is a fraction of the host's edges as meshed in the
+        // problem file: `--refine K` subdivides edges K times but leaves the gap
+        // between two faces meshed apart (a Gmsh part keeps its polygons) as it is.
+        // The segment coupling within a search distance moves no node and
+        // finds its own host edges, point by point along the face.
+        let segment_gaps = def.coupling == Coupling::Segment && def.search_distance > 0.0;
+        let (mut elements, mut unpaired) = if segment_gaps {
+            (Vec::new(), 0)
+        } else {
+            search::find_pairs_within(
+                &def.name,
+                &host.mesh,
+                &node_part.mesh,
+                &def.nodes,
+                def.tolerance * refine as f64,
+                def.search_distance,
+            )?
+        };
+        // Within a search distance the nodes stay where they are (their gaps
+        // are kept): nothing is moved.
+        let max_projection_distance = if def.search_distance > 0.0 {
+            0.0
+        } else {
+            elements.iter().map(|c| c.distance).fold(0.0, f64::max)
+        };
+        if max_projection_distance > 0.0 {
+            let part = &mut parts[def.node_part];
+            for c in &elements {
+                part.mesh.nodes[c.node] = c.position;
+            }
+            let moved: Vec<usize> = elements.iter().map(|c| c.node).collect();
+            part.mesh
+                .validate_around(&part.name, &moved)
+                .map_err(|e| Error::Coupling {
+                interface: def.name.clone(),
+                message: format!(
+                    "moving the coupling nodes onto the host edges (by up to {max_projection_distance:e}) spoils the node part's mesh: {e}; lower `tolerance` or mesh the faces closer together"
+                ),
+            })?;
+        }
+        if def.coupling == Coupling::Segment {
+            // The nodes now lie on the host boundary (or, within a search
+            // distance, stay where they are): integrate over their face
+            // segments.
+            let (segment_elements, segment_unpaired) = segment::segment_elements_within(
+                &def.name,
+                &parts[def.host].mesh,
+                &parts[def.node_part].mesh,
+                &def.boundary,
+                &def.nodes,
+                def.tolerance * refine as f64,
+                def.search_distance,
+            )?;
+            elements = segment_elements;
+            if segment_gaps {
+                unpaired = segment_unpaired;
+            }
+        }
+        if elements.is_empty() && !def.nodes.is_empty() && def.search_distance > 0.0 {
+            return Err(no_pairs(
+                def,
+                &parts[def.host],
+                &parts[def.node_part],
+            ));
+        }
+        let c_slip =
+            slip_stiffness(def.law, &parts[def.host], &parts[def.node_part]);
+        interfaces.push(Interface {
+            name: def.name.clone(),
+            host: def.host,
+            node_part: def.node_part,
+            law: def.law,
+            c_n: def.c_n,
+            c_s: def.c_s,
+            c_slip,
+            elements,
+            max_projection_distance,
+            friction: def.friction,
+            enforcement: def.enforcement,
+            penetration_tolerance: def.penetration_tolerance,
+            unpaired,
+            coupling: def.coupling,
+        });
+    }
+    Ok(interfaces)
+}
+
+/// Makes every interface (its definition and its prepared form) follow `law`.
+pub fn set_law(
+    defs: &mut [InterfaceDef],
+    interfaces: &mut [Interface],
+    parts: &[Part],
+    law: Law,
+) {
+    for def in defs.iter_mut() {
+        def.law = law;
+    }
+    for iface in interfaces.iter_mut() {
+        iface.law = law;
+        iface.c_slip = slip_stiffness(law, &parts[iface.host], &parts[iface.node_part]);
+    }
+}
+
+/// Makes every interface follow the Coulomb law with friction coefficient `mu`,
+/// which must be finite and ≥ 0 ([`Error::Model`] otherwise).
+pub fn set_friction(
+    defs: &mut [InterfaceDef],
+    interfaces: &mut [Interface],
+    parts: &[Part],
+    mu: f64,
+) -> Result<()> {
+    if !(mu.is_finite() && mu >= 0.0) {
+        return Err(Error::Model(format!(
+            "the friction coefficient must be finite and ≥ 0, not {mu}"
+        )));
+    }
+    set_law(defs, interfaces, parts, Law::Coulomb);
+    for def in defs.iter_mut() {
+        def.friction = mu;
+    }
+    for iface in interfaces.iter_mut() {
+        iface.friction = mu;
+    }
+    Ok(())
+}
+
+/// The error of interface `def`, whose search distance found no pair, with the
+/// distance from its nearest coupling node to the nearest host boundary edge
+/// (measured over every node and boundary edge: only on this failure, and both
+/// are boundaries, so about as many products as the model has nodes).
+fn no_pairs(def: &InterfaceDef, host: &Part, node_part: &Part) -> Error {
+    let edges = host.mesh.boundary_edges();
+    let nearest = def
+        .nodes
+        .iter()
+        .flat_map(|&n| {
+            let p = node_part.mesh.nodes[n];
+            edges.iter().map(move |e| {
+                let [a, b] = e.nodes.map(|k| host.mesh.nodes[k]);
+                search::project(p, a, b).1
+            })
+        })
+        .fold(f64::INFINITY, f64::min);
+    let nearest = nearest.is_finite().then_some(nearest);
+    Error::NoPairs {
+        interface: def.name.clone(),
+        search_distance: def.search_distance,
+        nearest,
+        message: format!(
+            "no pair within search_distance = {}: none of the {} coupling nodes of part '{}' (boundary '{}') lies within it of a boundary edge of part '{}'{}; the pairs are fixed in the initial configuration, so the interface would couple nothing: raise `search_distance` or place the faces closer",
+            def.search_distance,
+            def.nodes.len(),
+            node_part.name,
+            def.boundary,
+            host.name,
+            nearest.map_or(String::new(), |d| format!(" (the nearest is {d:e} away)")),
+        ),
+    }
+}
+
+/// The stabilising tangential stiffness of a slipping pair between `host` and
+/// `node` under `law`: [`SLIP_STIFFNESS`] × the softer side's E·t
+/// for the Coulomb law, 0 for the others (they have no slip state).
+fn slip_stiffness(law: Law, host: &Part, node: &Part) -> f64 {
+    let et = |p: &Part| p.material.young * p.material.thickness;
+    if law == Law::Coulomb {
+        SLIP_STIFFNESS * et(host).min(et(node))
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::domain::Enforcement;
+    use crate::fem::{Material, PlaneKind};
+    use crate::mesh::{ElementKind, Mesh};
+
+    /// A T3 base (E·t = 2e5) under a softer Q4 block (E·t = 2e3) meshed apart along
+    /// y = 1, and the contact interface of the block's bottom on the base.
+    fn base_and_block() -> (Vec<Part>, Vec<InterfaceDef>) {
+        let part = |name: &str, mesh, young, thickness| Part {
+            name: name.into(),
+            mesh,
+            material: Material::new(young, 0.3, PlaneKind::Stress, thickness, name).unwrap(),
+        };
+        let parts = vec![
+            part(
+                "base",
+                Mesh::rectangle([0.0, 2.0], [0.0, 1.0], [2, 1], ElementKind::T3),
+                2e5,
+                1.0,
+            ),
+            part(
+                "block",
+                Mesh::rectangle([0.0, 2.0], [1.0, 2.0], [4, 2], ElementKind::Q4),
+                1e3,
+                2.0,
+            ),
+        ];
+        let def = InterfaceDef {
+            name: "base/block".into(),
+            host: 0,
+            node_part: 1,
+            nodes: parts[1].mesh.boundary_nodes("bottom").unwrap(),
+            boundary: "bottom".into(),
+            law: Law::Contact,
+            c_n: 1e6,
+            c_s: 1e6,
+            tolerance: 1e-3,
+            friction: 0.0,
+            search_distance: 0.0,
+            enforcement: Enforcement::Penalty,
+            penetration_tolerance: 0.0,
+            coupling: Coupling::Node,
+        };
+        (parts, vec![def])
+    }
+
+    /// Faces that coincide: every coupling node pairs with a base element, at its
+    /// own position (nothing moves), and the interface carries its definition's
+    /// law and penalties, with no slip stiffness outside the Coulomb law.
+    #[test]
+    fn coinciding_faces_pair_every_node_in_place() {
+        let (mut parts, defs) = base_and_block();
+        let before = parts[1].mesh.nodes.clone();
+        let ifaces = interfaces(&defs, &mut parts, 1).unwrap();
+        assert_eq!(ifaces.len(), 1);
+        let iface = &ifaces[0];
+        assert_eq!(iface.elements.len(), 5);
+        assert_eq!(parts[1].mesh.nodes, before);
+        assert_eq!(iface.max_projection_distance, 0.0);
+        for c in &iface.elements {
+            assert_eq!(c.position, before[c.node]);
+            assert!(c.host_element < parts[0].mesh.elements.len());
+        }
+        assert_eq!((iface.law, iface.c_n, iface.c_s), (Law::Contact, 1e6, 1e6));
+        assert_eq!(iface.c_slip, 0.0);
+    }
+
+    /// The friction override refuses a negative or NaN μ and changes nothing then;
+    /// a valid μ makes every interface Coulomb with that μ and a slip stiffness of
+    /// SLIP_STIFFNESS × the softer part's E·t (the block's 1e3 × 2).
+    #[test]
+    fn friction_override_checks_mu_and_sets_the_slip_stiffness() {
+        let (mut parts, mut defs) = base_and_block();
+        let mut ifaces = interfaces(&defs, &mut parts, 1).unwrap();
+        for mu in [-0.1, f64::NAN, f64::INFINITY] {
+            let e = set_friction(&mut defs, &mut ifaces, &parts, mu);
+            assert!(matches!(e, Err(Error::Model(_))), "{mu}: {e:?}");
+            assert_eq!((defs[0].law, ifaces[0].law), (Law::Contact, Law::Contact));
+        }
+        set_friction(&mut defs, &mut ifaces, &parts, 0.3).unwrap();
+        assert_eq!((defs[0].law, defs[0].friction), (Law::Coulomb, 0.3));
+        assert_eq!((ifaces[0].law, ifaces[0].friction), (Law::Coulomb, 0.3));
+        assert_eq!(ifaces[0].c_slip, SLIP_STIFFNESS * 2e3);
+        set_law(&mut defs, &mut ifaces, &parts, Law::Rigid);
+        assert_eq!((defs[0].law, ifaces[0].law, ifaces[0].c_slip), (Law::Rigid, Law::Rigid, 0.0));
+    }
+}

@@ -1,0 +1,181 @@
+//! The rows of `pairs.csv`: one coupling pair at one increment — its state, jumps,
+//! gaps and forces on the node part — and their evaluation from an increment.
+
+use super::Problem;
+use crate::coupling::{Law, PairState, ViolationKind};
+use crate::solve::nonlinear::IncrementResult;
+use serde::Serialize;
+
+/// One coupling pair at one increment, as written to `pairs.csv`.
+#[derive(Debug, Clone, Serialize)]
+pub struct PairRow {
+    /// Interface name.
+    pub interface: String,
+    /// Coupling node (index in the node part).
+    pub node: usize,
+    /// Reference position x of the pair: with the node coupling, the coupling
+    /// node's projection on its host edge (where the node is placed; with a search
+    /// distance the node stays where it is meshed, |g₀| away); with the segment
+    /// coupling, the coupling node's own position.
+    #[serde(serialize_with = "plain")]
+    pub x: f64,
+    /// Reference position y of the pair (as `x`).
+    #[serde(serialize_with = "plain")]
+    pub y: f64,
+    /// Host element (index in the host part).
+    pub host_element: usize,
+    /// `bonded` or `open`.
+    pub state: PairState,
+    /// Normal jump `[[u_n]]` (> 0: the faces separate).
+    #[serde(serialize_with = "sci")]
+    pub gap_n: f64,
+    /// Tangential jump `[[u_s]]`.
+    #[serde(serialize_with = "sci")]
+    pub slip_s: f64,
+    /// Normal force on the node part (> 0: the faces press together).
+    #[serde(serialize_with = "sci")]
+    pub force_n: f64,
+    /// Tangential force on the node part along s.
+    #[serde(serialize_with = "sci")]
+    pub force_s: f64,
+    /// State fixed against the law by the active-set scheme to settle a cycle.
+    pub settled: bool,
+    /// How the pair breaks its law (`tension`, `penetration`), or `None` (empty).
+    pub violation: Option<ViolationKind>,
+    /// The violation's amount: the tensile force, or the penetration depth (0 when none).
+    #[serde(serialize_with = "sci")]
+    pub violation_amount: f64,
+    /// Initial normal gap g₀ (0 unless paired within a search distance).
+    #[serde(serialize_with = "sci")]
+    pub gap0: f64,
+    /// Current normal gap g₀ + `[[u_n]]` (< 0: penetration).
+    #[serde(serialize_with = "sci")]
+    pub gap: f64,
+    /// Slip not carried elastically: the plastic slip s_p of a closed pair with
+    /// friction (0 for the seed's stick law), the tangential jump of an open or
+    /// frictionless pair.
+    #[serde(serialize_with = "sci")]
+    pub slip: f64,
+    /// Contact pressure, a stress: `force_n` / (tributary length × the node part's
+    /// thickness t) (> 0 in compression; `coupling::traction`).
+    #[serde(serialize_with = "sci")]
+    pub pressure: f64,
+    /// Shear traction, a stress: `force_s` / (tributary length × t).
+    #[serde(serialize_with = "sci")]
+    pub shear: f64,
+    /// Tributary length of the coupling node on the node part's face (with segment
+    /// coupling, its share of the face m_a = ∫ N_a ds).
+    #[serde(serialize_with = "sci")]
+    pub tributary: f64,
+    /// With segment coupling, the node-part nodes of the pair's averaged jump (the
+    /// coupling node and its face neighbours), as `a-b-c`; empty for the node CFE.
+    pub segment: Option<String>,
+    /// The increment (1-based, over all steps).
+    pub increment: usize,
+    /// The increment's load step (its name).
+    pub step: String,
+    /// The step's load factor at this increment.
+    #[serde(serialize_with = "plain")]
+    pub load_factor: f64,
+}
+
+/// The columns of `pairs.csv` (the serialized fields of [`PairRow`]).
+pub const PAIR_COLUMNS: [&str; 23] = [
+    "interface",
+    "node",
+    "x",
+    "y",
+    "host_element",
+    "state",
+    "gap_n",
+    "slip_s",
+    "force_n",
+    "force_s",
+    "settled",
+    "violation",
+    "violation_amount",
+    "gap0",
+    "gap",
+    "slip",
+    "pressure",
+    "shear",
+    "tributary",
+    "segment",
+    "increment",
+    "step",
+    "load_factor",
+];
+
+/// A number as Rust's `Display` writes it (`100`, `0.5`): the positions' format.
+fn plain<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_str(v)
+}
+
+/// A number in scientific notation (`-1.25e-3`): the jumps' and forces' format.
+fn sci<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_str(&format_args!("{v:e}"))
+}
+
+/// One row per coupling pair of `p` at increment `inc` (of the load step named
+/// `step`): state, jumps and forces on the node part.
+pub(crate) fn pair_rows(p: &Problem<'_>, inc: &IncrementResult, step: &str) -> Vec<PairRow> {
+    let mut rows = Vec::new();
+    let mut violations = inc.violations.iter().peekable();
+    for (i, iface) in p.interfaces.iter().enumerate() {
+        for (k, c) in iface.elements.iter().enumerate() {
+            let state = inc.states[i][k];
+            // Violations are sorted by interface and pair, like the rows.
+            let violation = violations.next_if(|v| (v.interface, v.pair) == (i, k));
+            let h = inc
+                .pair_history
+                .get(i)
+                .and_then(|h| h.get(k))
+                .copied()
+                .unwrap_or_default();
+            let at = iface.pair_at(k, p.dofs, &inc.u, state, &h);
+            let (f, jump) = (at.force, at.jump);
+            // The slip not carried by the tangential spring: the plastic slip of
+            // a closed pair with friction, the whole tangential jump when
+            // nothing holds it (open, or frictionless).
+            let slip = if state.is_closed() && iface.law != Law::Frictionless {
+                h.slip
+            } else {
+                jump[1]
+            };
+            let thickness = p.parts[iface.node_part].material.thickness;
+            rows.push(PairRow {
+                interface: iface.name.clone(),
+                node: c.node,
+                x: c.position[0],
+                y: c.position[1],
+                host_element: c.host_element,
+                state,
+                gap_n: jump[0],
+                slip_s: jump[1],
+                // Force on the node part is −f; `+ 0.0` turns −0 into 0 for open pairs.
+                force_n: -f[0] + 0.0,
+                force_s: -f[1] + 0.0,
+                settled: inc.settled.binary_search(&(i, k)).is_ok(),
+                violation: violation.map(|v| v.kind),
+                violation_amount: violation.map_or(0.0, |v| v.amount),
+                gap0: c.gap0,
+                gap: at.gap,
+                slip,
+                pressure: c.traction(-f[0] + 0.0, thickness),
+                shear: c.traction(-f[1] + 0.0, thickness),
+                tributary: c.tributary,
+                segment: c.segment.as_ref().map(|s| {
+                    s.nodes
+                        .iter()
+                        .map(|n| n.to_string())
+                        .collect::<Vec<_>>()
+                        .join("-")
+                }),
+                increment: inc.index,
+                step: step.to_string(),
+                load_factor: inc.lambda,
+            });
+        }
+    }
+    rows
+}
