@@ -95,6 +95,7 @@ macro_rules! layer {
 pub mod analysis;
 layer!(assembly);
 layer!(coupling);
+pub mod dim;
 layer!(dofs);
 pub mod domain;
 pub mod error;
