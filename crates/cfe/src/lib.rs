@@ -60,7 +60,8 @@
 //! ## Layers
 //!
 //! Data flows one way through the modules:
-//! `model` (problem file, validation) → `mesh` (nodes, elements, boundaries) →
+//! `model` (problem file, validation) → `dim` (the dimension: DOFs per node, the
+//! tangent and local frame of the interface law) → `mesh` (nodes, elements, boundaries) →
 //! `fem` (materials, element routines) → `coupling` (pair search, CFEs, laws) →
 //! `assembly` (DOF map, sparse pattern, global K and F) → `solve` (sparse
 //! Cholesky, contact schemes) → `output` (VTU, CSV, JSON, PNG).
@@ -71,8 +72,8 @@
 //!
 //! The crate root re-exports what a program needs to build, solve and read a model
 //! ([`Model`], [`Analysis`], [`Results`], [`Summary`], [`Error`], the domain types and
-//! the result types), and [`analysis`], [`model`], [`domain`], [`mesh`], [`output`] and
-//! [`error`] are public. The numerical layers (`fem`, `coupling`, `dofs`, `assembly`,
+//! the result types), and [`analysis`], [`model`], [`domain`], [`mesh`], [`dim`],
+//! [`output`] and [`error`] are public. The numerical layers (`fem`, `coupling`, `dofs`, `assembly`,
 //! `solve`) are crate-private; the `internals` feature makes them public for the
 //! verification crate and the integration tests, with no stability promise.
 
