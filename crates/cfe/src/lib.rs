@@ -60,9 +60,10 @@
 //! ## Layers
 //!
 //! Each module imports only the modules below it, in the order
-//! `error < mesh < fem < domain < dofs < coupling < assembly < solve < results <
+//! `error < dim < mesh < fem < domain < dofs < coupling < assembly < solve < results <
 //! model < analysis < output < run` (checked by `tests/architecture.rs`, with no import
-//! circle): `mesh` (nodes, elements, boundaries) → `fem` (materials, element
+//! circle): `dim` (the dimension: DOFs per node, the tangent and local frame of
+//! the interface law) → `mesh` (nodes, elements, boundaries) → `fem` (materials, element
 //! routines) → `domain` (the resolved problem) → `dofs` → `coupling` (interface
 //! building, pair search, CFEs, laws) → `assembly` (sparse pattern, global K and
 //! F) → `solve` (sparse Cholesky, contact schemes) → [`results`] (the summary and
@@ -76,7 +77,7 @@
 //!
 //! The crate root re-exports what a program needs to build, solve and read a model
 //! ([`Model`], [`Analysis`], [`Results`], [`Summary`], [`Error`], the domain types and
-//! the result types), and [`analysis`], [`model`], [`domain`], [`mesh`], [`results`],
+//! the result types), and [`analysis`], [`model`], [`domain`], [`mesh`], [`dim`], [`results`],
 //! [`output`] and [`error`] are public. The numerical layers (`fem`, `coupling`, `dofs`, `assembly`,
 //! `solve`) are crate-private; the `internals` feature makes them public for the
 //! verification crate and the integration tests, with no stability promise.
@@ -100,6 +101,7 @@ macro_rules! layer {
 pub mod analysis;
 layer!(assembly);
 layer!(coupling);
+pub mod dim;
 layer!(dofs);
 pub mod domain;
 pub mod error;

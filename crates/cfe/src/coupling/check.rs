@@ -16,6 +16,7 @@ use super::law::{
     Law, LawParams, LawTolerance, LawViolation, PairHistory, PairState, PairStates,
     ViolationKind,
 };
+use crate::dim::Tangent;
 use crate::dofs::DofMap;
 
 /// The tolerances of a law check.
@@ -101,11 +102,11 @@ pub fn check_law(
                 normal[i] += f[0];
                 pair_force = pair_force.max(f[0].hypot(f[1]));
             }
-            let t = law.next_state(state, p.gap, f, p.jump[1], &h, tol.of_pair(p.d()));
+            let t = law.next_state(state, p.gap, (f[0], f[1]), p.jump[1], &h, tol.of_pair(p.d()));
             violations.extend(t.violations().map(|v| (i, k, v)));
             if t.normal.is_none() && state == PairState::Slip && law.law == Law::Coulomb {
                 let limit = law.cone(f[0]);
-                let ratio = law.trial_shear(p.jump[1], &h).abs() / limit;
+                let ratio = law.trial_shear(p.jump[1], &h).norm() / limit;
                 if limit > 0.0 && nearest[i].is_none_or(|(_, r)| ratio < r) {
                     nearest[i] = Some((k, ratio));
                 }

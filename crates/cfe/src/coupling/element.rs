@@ -3,7 +3,8 @@
 //!
 //! Kinematics: `[[U]] = D_c − Σᵢ N̄ᵢ(X_C) Dᵢ = B_e D_e`,
 //! `B_e = [−N̄₁I … −N̄ₙI I]` (2 × 2(n+1), n = 3 or 4 host nodes).
-//! Local frame: `R = [[n₁ n₂], [s₁ s₂]]`, s = n turned +90°, `[[u]] = R [[U]]`.
+//! Local frame: `R = [[n₁ n₂], [s₁ s₂]]`, s = n turned +90°, `[[u]] = R [[U]]`
+//! ([`Dim::frame`] of [`D2`]; this element is still the plane one).
 //! Law: `c = diag(c_n, c_s)`, `C = Rᵀ c R`; internal force `F_e = B_eᵀ Rᵀ f` and
 //! stiffness `K_e = B_eᵀ (1 − D̂) C B_e` (symmetric).
 //!
@@ -24,6 +25,7 @@
 //! coefficient 1 and ω = 1.
 
 use super::law::{LawParams, PairHistory, PairState, local_force};
+use crate::dim::{D2, Dim};
 use crate::dofs::DofMap;
 
 /// Most nodes a CFE has. The node CFE has a host element's 3 or 4 plus the coupling
@@ -284,13 +286,13 @@ impl CouplingElement {
     ) -> PairAt {
         let jump = self.local_jump(&d);
         let gap = self.gap(jump);
-        let force = self.params(law).local_force(state, gap, jump[1], h);
+        let (f_n, f_s) = self.params(law).local_force(state, gap, jump[1], h);
         PairAt {
             dofs,
             d,
             jump,
             gap,
-            force,
+            force: [f_n, f_s],
         }
     }
 
@@ -369,9 +371,10 @@ impl CfeDofs {
     }
 }
 
-/// The rotation `R = [[n₁, n₂], [s₁, s₂]]` with `s = n` turned +90° (s = (−n₂, n₁)).
+/// The rotation `R = [[n₁, n₂], [s₁, s₂]]` with `s = n` turned +90° (s = (−n₂, n₁)):
+/// the plane local frame ([`D2`]'s [`Dim::frame`]).
 fn rotation(n: [f64; 2]) -> [[f64; 2]; 2] {
-    [[n[0], n[1]], [-n[1], n[0]]]
+    D2::frame(n)
 }
 
 /// The global jump `[[U]] = D_c − Σ N̄ᵢ Dᵢ` for element displacements `d`
@@ -394,11 +397,8 @@ fn jump(shape: &[f64], node_shape: &[f64], d: &[f64]) -> [f64; 2] {
 
 /// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_s]])`.
 fn local_jump(normal: [f64; 2], jump: [f64; 2]) -> [f64; 2] {
-    let r = rotation(normal);
-    [
-        r[0][0] * jump[0] + r[0][1] * jump[1],
-        r[1][0] * jump[0] + r[1][1] * jump[1],
-    ]
+    let (u_n, u_s) = D2::to_local(&rotation(normal), jump);
+    [u_n, u_s]
 }
 
 /// The coefficients `b` of `B_e` per node, `B_e = [b₁I … b_{n+m}I]` with
@@ -483,11 +483,7 @@ fn internal_force(
 /// `F_e = B_eᵀ Rᵀ f` for the local force `f` (the first 2 (n + m) entries are the
 /// element's).
 fn nodal_force(shape: &[f64], node_shape: &[f64], normal: [f64; 2], f: [f64; 2]) -> [f64; MAX_DOFS] {
-    let r = rotation(normal);
-    let g = [
-        r[0][0] * f[0] + r[1][0] * f[1],
-        r[0][1] * f[0] + r[1][1] * f[1],
-    ];
+    let g = D2::to_global(&rotation(normal), f[0], f[1]);
     let b = b_coefficients(shape, node_shape);
     let mut out = [0.0; MAX_DOFS];
     for (p, o) in out

@@ -21,6 +21,7 @@ use super::element::PairAt;
 use super::law::{
     Enforcement, Law, LawParams, PairHistories, PairHistory, PairState, return_map,
 };
+use crate::dim::{Dim, Tangent};
 use crate::dofs::DofMap;
 
 /// What one fixed-point step did to a pair's terms ([`PairHistory::step_terms`]).
@@ -34,18 +35,18 @@ pub struct TermStep {
     pub augmented_error: Option<f64>,
 }
 
-impl PairHistory {
+impl<D: Dim> PairHistory<D> {
     /// Touch-down: a pair that closes at tangential jump `u_s` takes it as its
     /// plastic slip (so it closes without tangential force) and as its spring's
     /// anchor.
-    pub fn touch_down(&mut self, u_s: f64) {
+    pub fn touch_down(&mut self, u_s: D::Tangent) {
         self.slip = u_s;
         self.anchor = u_s;
     }
 
     /// Gives the pair the plastic slip of `start` (its history where the increment
     /// started) back; returns whether it changed.
-    pub fn restore_slip(&mut self, start: &PairHistory) -> bool {
+    pub fn restore_slip(&mut self, start: &PairHistory<D>) -> bool {
         if self.slip != start.slip {
             self.slip = start.slip;
             true
@@ -60,12 +61,18 @@ impl PairHistory {
     /// is the stick force of that slip), an open pair's slip follows its jump
     /// (Coulomb: it closes again unstressed tangentially; 0 for the other laws) and
     /// its multipliers are dropped; a bonded pair keeps its history.
-    pub fn commit(&mut self, law: &LawParams, state: PairState, u_s: f64) {
+    pub fn commit(&mut self, law: &LawParams, state: PairState, u_s: D::Tangent) {
         match state {
-            PairState::Slip if law.c_s > 0.0 => self.slip = u_s - self.slip_force / law.c_s,
+            PairState::Slip if law.c_s > 0.0 => {
+                self.slip = u_s.sub(self.slip_force.map_each(|f| f / law.c_s));
+            }
             PairState::Open => {
-                self.slip = if law.law == Law::Coulomb { u_s } else { 0.0 };
-                self.multiplier = [0.0; 2];
+                self.slip = if law.law == Law::Coulomb {
+                    u_s
+                } else {
+                    D::Tangent::default()
+                };
+                self.multiplier = Default::default();
             }
             _ => {}
         }
@@ -92,11 +99,33 @@ impl PairHistory {
         p: &PairAt,
         augmented: Option<f64>,
         tol: f64,
+    ) -> TermStep
+    where
+        D: Dim<Tangent = f64>,
+    {
+        let local = LocalPair {
+            gap: p.gap,
+            u_s: p.jump[1],
+            force: (p.force[0], p.force[1]),
+        };
+        self.step_local(law, state, &local, augmented, tol)
+    }
+
+    /// [`Self::step_terms`] for a pair given by its local quantities, in any
+    /// dimension.
+    pub fn step_local(
+        &mut self,
+        law: &LawParams,
+        state: PairState,
+        p: &LocalPair<D>,
+        augmented: Option<f64>,
+        tol: f64,
     ) -> TermStep {
         let mut settled = true;
+        let zero = D::Tangent::default();
         if !state.is_closed() {
-            if self.multiplier != [0.0; 2] {
-                self.multiplier = [0.0; 2];
+            if self.multiplier != (0.0, zero) {
+                self.multiplier = (0.0, zero);
                 settled = false;
             }
             return TermStep {
@@ -104,30 +133,30 @@ impl PairHistory {
                 augmented_error: None,
             };
         }
-        let (jump, f) = (p.jump, p.force);
+        let (u_s, f) = (p.u_s, p.force);
         if law.law == Law::Coulomb {
-            let limit = law.cone(f[0]);
-            let trial = law.trial_shear(jump[1], self);
+            let limit = law.cone(f.0);
+            let trial = law.trial_shear(u_s, self);
             let target = return_map(trial, limit);
-            let inside = state == PairState::Slip && trial.abs() < limit;
+            let inside = state == PairState::Slip && trial.norm() < limit;
             // The stabilising spring's force, which the fixed point removes.
-            let spring = law.c_slip * (jump[1] - self.anchor);
+            let spring = u_s.sub(self.anchor).scale(law.c_slip);
             if state == PairState::Slip
                 && !inside
-                && ((target - self.slip_force).abs() > tol || spring.abs() > tol)
+                && (target.sub(self.slip_force).norm() > tol || spring.norm() > tol)
             {
                 settled = false;
             }
             if !inside {
                 self.slip_force = target;
-                self.anchor = jump[1];
+                self.anchor = u_s;
             }
         }
         let mut augmented_error = None;
         if let Some(penetration_tolerance) = augmented {
             let stick = state == PairState::Bonded && law.penalties(state)[1] > 0.0;
             let stick_error = if stick {
-                (jump[1] - self.slip).abs()
+                u_s.sub(self.slip).norm()
             } else {
                 0.0
             };
@@ -136,9 +165,9 @@ impl PairHistory {
             if error > penetration_tolerance {
                 settled = false;
             }
-            self.multiplier[0] = f[0];
+            self.multiplier.0 = f.0;
             if stick {
-                self.multiplier[1] = f[1];
+                self.multiplier.1 = f.1;
             }
         }
         TermStep {
@@ -146,6 +175,18 @@ impl PairHistory {
             augmented_error,
         }
     }
+}
+
+/// A pair's local quantities at a solution, in any dimension: what the
+/// fixed-point step reads of it ([`PairHistory::step_local`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalPair<D: Dim> {
+    /// The normal gap `g₀ + [[u_n]]`.
+    pub gap: f64,
+    /// The tangential jump.
+    pub u_s: D::Tangent,
+    /// The local force `(f_n, f_s)` the host side exerts on the pair.
+    pub force: (f64, D::Tangent),
 }
 
 /// The pairs of a Coulomb interface that close (open in `states`, closed in
@@ -270,7 +311,7 @@ mod tests {
         let open = vec![PairState::Open, PairState::Open, PairState::Bonded];
         let states = vec![open.clone(), open];
         let next = vec![vec![PairState::Bonded, PairState::Open, PairState::Bonded]; 2];
-        let start = PairHistory {
+        let start: PairHistory = PairHistory {
             slip: 0.1,
             anchor: 0.1,
             ..PairHistory::default()
@@ -294,7 +335,7 @@ mod tests {
     fn restore_gives_closed_pairs_their_slip_back() {
         let ifaces = [interface(Law::Coulomb, 3, 0.5)];
         let committed = vec![vec![PairHistory::default(); 3]];
-        let moved = PairHistory {
+        let moved: PairHistory = PairHistory {
             slip: 0.3,
             slip_force: 0.2,
             ..PairHistory::default()
@@ -330,11 +371,11 @@ mod tests {
     fn commit_keeps_the_plastic_slip() {
         let ifaces = [interface(Law::Coulomb, 3, 0.5), interface(Law::Contact, 3, 0.0)];
         let u = displaced(&[[-0.2, 0.6], [0.1, 0.9], [-0.2, 0.5]]);
-        let h = PairHistory {
+        let h: PairHistory = PairHistory {
             slip: 0.05,
             slip_force: 1.0,
             anchor: 0.6,
-            multiplier: [-0.5, 0.25],
+            multiplier: (-0.5, 0.25),
         };
         let states = vec![vec![PairState::Slip, PairState::Open, PairState::Bonded]; 2];
         let mut history = vec![vec![h; 3]; 2];
@@ -343,11 +384,11 @@ mod tests {
         assert!((slipped.slip - (0.6 - 1.0 / 4.0)).abs() < 1e-15);
         let law = ifaces[0].params();
         let stick = law.local_force(PairState::Bonded, -0.2, 0.6, &slipped);
-        assert!((stick[1] - (1.0 + 0.25)).abs() < 1e-14, "{stick:?}");
+        assert!((stick.1 - (1.0 + 0.25)).abs() < 1e-14, "{stick:?}");
         assert_eq!(history[0][1].slip, 0.9);
-        assert_eq!(history[0][1].multiplier, [0.0; 2]);
+        assert_eq!(history[0][1].multiplier, (0.0, 0.0));
         assert_eq!(history[1][1].slip, 0.0);
-        assert_eq!(history[1][1].multiplier, [0.0; 2]);
+        assert_eq!(history[1][1].multiplier, (0.0, 0.0));
         assert_eq!(history[0][2], h);
         assert_eq!(history[1][2], h);
     }
@@ -377,13 +418,13 @@ mod tests {
         assert!(settled);
         assert_eq!(history[0][0].slip_force, 1.0);
         // Open with multipliers: dropped.
-        let mut h = PairHistory {
-            multiplier: [1.0, 0.0],
+        let mut h: PairHistory = PairHistory {
+            multiplier: (1.0, 0.0),
             ..PairHistory::default()
         };
         let p = ifaces[0].pair_at(0, &dofs(3), &u, PairState::Open, &h);
         let step = h.step_terms(&law, PairState::Open, &p, Some(1e-3), 1e-9);
-        assert_eq!((step.settled, h.multiplier), (false, [0.0; 2]));
+        assert_eq!((step.settled, h.multiplier), (false, (0.0, 0.0)));
     }
 
     /// The Uzawa step of an augmented stick pair: its multipliers become its force
@@ -394,16 +435,16 @@ mod tests {
         let law = interface(Law::Contact, 1, 0.0).params();
         let ifaces = [interface(Law::Contact, 1, 0.0)];
         let u = displaced(&[[-0.02, 0.03]]);
-        let mut h = PairHistory {
-            multiplier: [-1.0, 0.0],
+        let mut h: PairHistory = PairHistory {
+            multiplier: (-1.0, 0.0),
             ..PairHistory::default()
         };
         let p = ifaces[0].pair_at(0, &dofs(1), &u, PairState::Bonded, &h);
         let step = h.step_terms(&law, PairState::Bonded, &p, Some(1e-3), 1e-9);
         assert!(!step.settled);
         assert_eq!(step.augmented_error, Some(0.03));
-        assert!((h.multiplier[0] - (-0.2 - 1.0)).abs() < 1e-15);
-        assert!((h.multiplier[1] - 0.12).abs() < 1e-15);
+        assert!((h.multiplier.0 - (-0.2 - 1.0)).abs() < 1e-15);
+        assert!((h.multiplier.1 - 0.12).abs() < 1e-15);
         let step = h.step_terms(&law, PairState::Bonded, &p, Some(0.05), 1e-9);
         assert!(step.settled);
     }

@@ -32,6 +32,12 @@
 //! slip ──(coulomb: |c_s([[u_s]] − s_p)| < μ|f_n| − tol: inside the cone)──▶ bonded
 //! slip ──(pulls: f_n > tol)──▶ open
 //! ```
+//!
+//! The law reaches the dimension through [`Dim`]: the tangential jump, force,
+//! slip and multiplier are its tangent ([`Tangent`], one component in 2D, two in
+//! 3D), the cone is round and the return map radial, so one text serves both.
+
+use crate::dim::{D2, Dim, Tangent};
 
 pub use crate::domain::{Enforcement, Law};
 
@@ -114,28 +120,36 @@ pub const SLIP_STIFFNESS: f64 = 1e-3;
 /// What a pair's force depends on besides its jump: the plastic slip carried
 /// between increments (Coulomb), the tangential force of a slipping pair (iterated
 /// to a fixed point within an increment) and the augmented-Lagrangian multipliers.
-/// All zero for the penalty laws of the seed.
+/// All zero for the penalty laws of the seed. Its tangential quantities are the
+/// dimension's tangent ([`Dim::Tangent`]: one component along s in 2D, two in the
+/// face plane in 3D).
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
-pub struct PairHistory {
+#[serde(bound = "")]
+pub struct PairHistory<D: Dim = D2> {
     /// Plastic slip s_p (tangential, length): the stick force is `c_s ([[u_s]] − s_p)`.
-    pub slip: f64,
-    /// Tangential force of a slipping pair, `μ |f_n|` signed along the trial force.
-    pub slip_force: f64,
+    pub slip: D::Tangent,
+    /// Tangential force of a slipping pair, `μ |f_n|` along the trial force.
+    pub slip_force: D::Tangent,
     /// The tangential jump a slipping pair's stabilising spring (`c_slip`) is
     /// anchored at: the jump of the previous fixed-point iterate.
-    pub anchor: f64,
+    pub anchor: D::Tangent,
     /// Multipliers (normal, tangential) added to the penalty forces of a closed pair
     /// (augmented Lagrangian).
-    pub multiplier: [f64; 2],
+    pub multiplier: (f64, D::Tangent),
 }
 
 /// The histories of every pair of a model: `h[i][k]` for pair k of interface i.
-pub type PairHistories = Vec<Vec<PairHistory>>;
+pub type PairHistories<D = D2> = Vec<Vec<PairHistory<D>>>;
 
 /// `a + b`, but exactly `a` when `b` is zero (so the seed's laws keep their bits,
 /// the sign of a zero included).
 fn plus(a: f64, b: f64) -> f64 {
     if b == 0.0 { a } else { a + b }
+}
+
+/// [`plus`] on each component of two tangents.
+fn plus_t<T: Tangent>(a: T, b: T) -> T {
+    a.zip_each(b, plus)
 }
 
 impl LawParams {
@@ -155,20 +169,26 @@ impl LawParams {
     /// for the normal gap `g_n` (`g₀ + [[u_n]]`) and the tangential jump `u_s`:
     /// bonded `(c_n g_n, c_s (u_s − s_p))` (tangential 0 when frictionless), slip
     /// `(c_n g_n, slip_force + c_slip (u_s − anchor))`, open 0; plus the
-    /// multipliers when closed.
-    pub fn local_force(&self, state: PairState, g_n: f64, u_s: f64, h: &PairHistory) -> [f64; 2] {
-        let m = h.multiplier;
+    /// multipliers when closed. In any dimension (`f_s`, `u_s` tangents).
+    pub fn local_force<D: Dim>(
+        &self,
+        state: PairState,
+        g_n: f64,
+        u_s: D::Tangent,
+        h: &PairHistory<D>,
+    ) -> (f64, D::Tangent) {
+        let m_n = h.multiplier.0;
+        let zero = D::Tangent::default();
         match state {
-            PairState::Open => [0.0, 0.0],
-            PairState::Bonded if self.law == Law::Frictionless => [plus(self.c_n * g_n, m[0]), 0.0],
-            PairState::Bonded => [
-                plus(self.c_n * g_n, m[0]),
-                plus(self.c_s * plus(u_s, -h.slip), m[1]),
-            ],
-            PairState::Slip => [
-                plus(self.c_n * g_n, m[0]),
-                plus(h.slip_force, self.c_slip * (u_s - h.anchor)),
-            ],
+            PairState::Open => (0.0, zero),
+            PairState::Bonded if self.law == Law::Frictionless => {
+                (plus(self.c_n * g_n, m_n), zero)
+            }
+            PairState::Bonded => (plus(self.c_n * g_n, m_n), self.trial_shear(u_s, h)),
+            PairState::Slip => (
+                plus(self.c_n * g_n, m_n),
+                plus_t(h.slip_force, u_s.sub(h.anchor).scale(self.c_slip)),
+            ),
         }
     }
 
@@ -181,8 +201,9 @@ impl LawParams {
 
     /// The trial tangential force of a closed pair, `c_s (u_s − s_p) + m_s`: what it
     /// would carry if it stuck.
-    pub fn trial_shear(&self, u_s: f64, h: &PairHistory) -> f64 {
-        plus(self.c_s * plus(u_s, -h.slip), h.multiplier[1])
+    pub fn trial_shear<D: Dim>(&self, u_s: D::Tangent, h: &PairHistory<D>) -> D::Tangent {
+        let elastic = u_s.zip_each(h.slip, |u, s| plus(u, -s)).scale(self.c_s);
+        plus_t(elastic, h.multiplier.1)
     }
 
     /// The Coulomb check of a closed pair (after the normal check): its state
@@ -196,13 +217,14 @@ impl LawParams {
     /// slips the other way — the return map). A violation's amount is the distance
     /// of the pair's force from the law's: the trial force inside the cone, μ|f_n|
     /// along the trial force beyond it (at most 2 μ|f_n| for a reversing pair).
-    pub fn friction_check(
+    /// In any dimension: the cone is round (the tangent's length), the map radial.
+    pub fn friction_check<D: Dim>(
         &self,
         state: PairState,
         f_n: f64,
-        u_s: f64,
-        f_s: f64,
-        h: &PairHistory,
+        u_s: D::Tangent,
+        f_s: D::Tangent,
+        h: &PairHistory<D>,
         tol: f64,
     ) -> (PairState, Option<LawViolation>) {
         if self.law != Law::Coulomb || !state.is_closed() {
@@ -211,8 +233,8 @@ impl LawParams {
         let limit = self.cone(f_n);
         let trial = self.trial_shear(u_s, h);
         match state {
-            PairState::Bonded if trial.abs() > limit + tol => {
-                let excess = trial.abs() - limit;
+            PairState::Bonded if trial.norm() > limit + tol => {
+                let excess = trial.norm() - limit;
                 (
                     PairState::Slip,
                     Some(LawViolation {
@@ -222,12 +244,12 @@ impl LawParams {
                     }),
                 )
             }
-            PairState::Slip if trial.abs() < limit - tol => {
+            PairState::Slip if trial.norm() < limit - tol => {
                 // The law's force is the trial force itself.
-                let excess = if trial * f_s < 0.0 {
-                    (trial - f_s).abs()
+                let excess = if trial.dot(f_s) < 0.0 {
+                    trial.sub(f_s).norm()
                 } else {
-                    limit - trial.abs()
+                    limit - trial.norm()
                 };
                 (
                     PairState::Bonded,
@@ -239,7 +261,7 @@ impl LawParams {
                 )
             }
             PairState::Slip => {
-                let error = (f_s - return_map(trial, limit)).abs();
+                let error = f_s.sub(return_map(trial, limit)).norm();
                 let v = (error > tol).then_some(LawViolation {
                     kind: ViolationKind::Slip,
                     amount: error,
@@ -345,13 +367,14 @@ impl LawParams {
     /// Coulomb check ([`LawParams::friction_check`]). Every other pair keeps its
     /// state, so a pair within the tolerances of a boundary between two states does
     /// not flip back and forth on round-off. A rigid pair is always bonded.
-    pub fn next_state(
+    /// In any dimension (`f = (f_n, f_s)`, `f_s` and `u_s` tangents).
+    pub fn next_state<D: Dim>(
         &self,
         state: PairState,
         gap_n: f64,
-        f: [f64; 2],
-        u_s: f64,
-        h: &PairHistory,
+        f: (f64, D::Tangent),
+        u_s: D::Tangent,
+        h: &PairHistory<D>,
         tol: LawTolerance,
     ) -> Transition {
         if self.law == Law::Rigid {
@@ -361,10 +384,10 @@ impl LawParams {
                 friction: None,
             };
         }
-        if let Some(v) = self.normal_violation(state, gap_n, f[0], tol) {
+        if let Some(v) = self.normal_violation(state, gap_n, f.0, tol) {
             if state == PairState::Bonded
                 && let (PairState::Slip, Some(fv)) =
-                    self.friction_check(state, f[0], u_s, f[1], h, tol.tension)
+                    self.friction_check(state, f.0, u_s, f.1, h, tol.tension)
             {
                 return Transition {
                     next: PairState::Slip,
@@ -382,7 +405,7 @@ impl LawParams {
                 friction: None,
             };
         }
-        let (next, friction) = self.friction_check(state, f[0], u_s, f[1], h, tol.tension);
+        let (next, friction) = self.friction_check(state, f.0, u_s, f.1, h, tol.tension);
         Transition {
             next,
             normal: None,
@@ -410,11 +433,14 @@ impl Transition {
 }
 
 /// The Coulomb return map of a pair beyond its cone: the slip force the trial
-/// force `trial` returns to on a cone of radius `limit` — `limit` along the trial
-/// force (radially; in 2D the trial force's sign). A trial force turned against a
-/// pair's slip force beyond the cone so slips the other way.
-pub fn return_map(trial: f64, limit: f64) -> f64 {
-    limit * trial.signum()
+/// force `trial` returns to on a cone of radius `limit` — radially, `limit` along
+/// the trial force, `limit · trial / |trial|` ([`Tangent::direction`]; in 2D the
+/// trial force's sign, exactly, so `limit · sign(trial)` to the bit). A trial force
+/// turned against a pair's slip force beyond the cone so slips the other way. One
+/// formula for every dimension; it commutes with a rotation of the tangent plane,
+/// so no result depends on the choice of the tangents in 3D.
+pub fn return_map<T: Tangent>(trial: T, limit: f64) -> T {
+    trial.direction().scale(limit)
 }
 
 /// Local interface force `f = (1 − D̂) c [[u]]` for the local jump `[[u_n]], [[u_s]]`
@@ -459,12 +485,12 @@ mod tests {
             friction: 0.0,
             c_slip: 0.0,
         };
-        let zero = PairHistory::default();
+        let zero: PairHistory = PairHistory::default();
         // The normal law and the transition of a pair with normal force c_n g_n.
         let violation = |law, state, gap: f64| params(law).normal_violation(state, gap, c * gap, tol);
         let next_state = |law, state, gap: f64| {
             params(law)
-                .next_state(state, gap, [c * gap, 0.0], 0.0, &zero, tol)
+                .next_state(state, gap, (c * gap, 0.0), 0.0, &zero, tol)
                 .next
         };
         // Bonded, gap 2e-9: tension 2e-3 > 1e-3.
@@ -531,13 +557,13 @@ mod tests {
             friction,
             c_slip: if law == Law::Coulomb { 0.5 } else { 0.0 },
         };
-        let h = PairHistory {
+        let h: PairHistory = PairHistory {
             slip: 0.5,
             slip_force: -1.5,
             anchor: 1.0,
-            multiplier: [0.0; 2],
+            multiplier: (0.0, 0.0),
         };
-        let zero = PairHistory::default();
+        let zero: PairHistory = PairHistory::default();
         assert_eq!(
             p(Law::Frictionless, 0.0).penalties(PairState::Bonded),
             [10.0, 0.0]
@@ -552,38 +578,38 @@ mod tests {
         for (g, u) in [(-0.3, 0.7), (0.2, -1.1), (-0.0, 0.0)] {
             let seed = local_force(PairState::Bonded, 10.0, 4.0, [g, u]);
             let now = c.local_force(PairState::Bonded, g, u, &zero);
-            assert_eq!(seed.map(f64::to_bits), now.map(f64::to_bits));
+            assert_eq!(seed.map(f64::to_bits), [now.0, now.1].map(f64::to_bits));
         }
         assert_eq!(
             p(Law::Frictionless, 0.0).local_force(PairState::Bonded, -0.1, 3.0, &h),
-            [-1.0, 0.0]
+            (-1.0, 0.0)
         );
         let coulomb = p(Law::Coulomb, 0.3);
         assert_eq!(
             coulomb.local_force(PairState::Bonded, -0.1, 1.0, &h),
-            [-1.0, 2.0]
+            (-1.0, 2.0)
         );
         // At its anchor a slip pair carries its slip force; away from it, the
         // stabilising spring's force adds.
         assert_eq!(
             coulomb.local_force(PairState::Slip, -0.1, 1.0, &h),
-            [-1.0, -1.5]
+            (-1.0, -1.5)
         );
         assert_eq!(
             coulomb.local_force(PairState::Slip, -0.1, 3.0, &h),
-            [-1.0, -0.5]
+            (-1.0, -0.5)
         );
-        let m = PairHistory {
-            multiplier: [-2.0, 0.25],
+        let m: PairHistory = PairHistory {
+            multiplier: (-2.0, 0.25),
             ..h
         };
         assert_eq!(
             coulomb.local_force(PairState::Bonded, -0.1, 1.0, &m),
-            [-3.0, 2.25]
+            (-3.0, 2.25)
         );
         assert_eq!(
             coulomb.local_force(PairState::Open, -0.1, 1.0, &m),
-            [0.0, 0.0]
+            (0.0, 0.0)
         );
     }
 
@@ -603,7 +629,7 @@ mod tests {
             friction: 0.5,
             c_slip: 0.4,
         };
-        let h = PairHistory::default();
+        let h: PairHistory = PairHistory::default();
         let tol = 1e-9;
         // f_n = −2 (compression): the cone is 1.
         let (next, v) = law.friction_check(PairState::Bonded, -2.0, 0.3, 1.2, &h, tol);
@@ -685,6 +711,96 @@ mod tests {
         assert_eq!(return_map(-7.0, 0.0), 0.0);
     }
 
+    /// In 2D (one tangent component) the radial return map `limit · t / |t|` is
+    /// the sign rule `limit · sign(t)` bit for bit — for trial forces of every
+    /// magnitude, subnormal and huge ones included, and for the two signed zeros
+    /// (whose sign bit sets the direction) — so the dimension-generic law changed
+    /// no 2D result.
+    #[test]
+    fn return_map_in_2d_is_the_sign_rule_bit_for_bit() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let mut trials = vec![0.0, -0.0, 1e-310, -1e-310, 49.0, -3.0, 1e300, -7.0e-5];
+        let mut limits = vec![0.0, 1.0, 0.3, 2.5e7, 1e-12];
+        for _ in 0..2000 {
+            // Random finite doubles of every exponent, then positive limits.
+            let t = f64::from_bits(next() & !(0x7ff << 52) | ((next() % 0x7fe) << 52));
+            trials.push(t);
+            limits.push(t.abs());
+        }
+        for &t in &trials {
+            for &l in &limits {
+                let sign_rule = l * t.signum();
+                assert_eq!(return_map(t, l).to_bits(), sign_rule.to_bits(), "{t} {l}");
+            }
+        }
+    }
+
+    /// The radial return map and the Coulomb check on a two-component tangent
+    /// (the 3D shape, through the generic law with a test dimension): the map
+    /// sends a trial force beyond the cone to radius μ|f_n| along itself, and
+    /// rotating the tangent pair (trial, jump, slip, force and multiplier turned
+    /// together) rotates the slip force and leaves the states and the violation
+    /// amounts unchanged (to round-off): no result depends on the choice of the
+    /// tangents.
+    #[test]
+    fn return_map_and_friction_check_invariant_under_rotating_the_tangents() {
+        use crate::dim::PlaneTangent;
+        let law = coulomb(0.5);
+        let rot = |a: f64, v: [f64; 2]| {
+            let (c, s) = (a.cos(), a.sin());
+            [c * v[0] - s * v[1], s * v[0] + c * v[1]]
+        };
+        let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-13;
+        let trial = [0.9, -1.2];
+        let mapped = return_map(trial, 1.0);
+        assert!((mapped.norm() - 1.0).abs() < 1e-15);
+        assert!(close(mapped, [0.6, -0.8]));
+        let h: PairHistory<PlaneTangent> = PairHistory {
+            slip: [0.01, 0.02],
+            slip_force: [0.6, -0.8],
+            anchor: [0.3, -0.1],
+            multiplier: (-0.1, [0.05, -0.02]),
+        };
+        // f_n = −2: the cone is 1. Jumps inside and beyond it, slip forces on and
+        // off it.
+        let cases = [
+            (PairState::Bonded, [0.3, -0.25], [1.2, -1.0]),
+            (PairState::Bonded, [0.1, -0.05], [0.4, -0.2]),
+            (PairState::Slip, [0.3, -0.25], [0.6, -0.8]),
+            (PairState::Slip, [0.3, -0.25], [0.1, 0.3]),
+            (PairState::Slip, [0.05, 0.0], [0.6, -0.8]),
+            (PairState::Slip, [-0.3, 0.25], [0.6, -0.8]),
+        ];
+        for a in [0.0, 0.7, 2.0, -2.9] {
+            let turned: PairHistory<PlaneTangent> = PairHistory {
+                slip: rot(a, h.slip),
+                slip_force: rot(a, h.slip_force),
+                anchor: rot(a, h.anchor),
+                multiplier: (h.multiplier.0, rot(a, h.multiplier.1)),
+            };
+            assert!(close(return_map(rot(a, trial), 1.0), rot(a, mapped)));
+            for (state, u_s, f_s) in cases {
+                let (next0, v0) = law.friction_check(state, -2.0, u_s, f_s, &h, 1e-9);
+                let (next, v) =
+                    law.friction_check(state, -2.0, rot(a, u_s), rot(a, f_s), &turned, 1e-9);
+                assert_eq!(next, next0, "{state:?} {u_s:?} at {a}");
+                assert_eq!(v.map(|v| v.kind), v0.map(|v| v.kind));
+                if let (Some(v), Some(v0)) = (v, v0) {
+                    assert!((v.amount - v0.amount).abs() < 1e-13, "{v:?} {v0:?}");
+                }
+                let f0 = law.local_force(state, -0.2, u_s, &h);
+                let f = law.local_force(state, -0.2, rot(a, u_s), &turned);
+                assert!((f.0 - f0.0).abs() < 1e-15 && close(f.1, rot(a, f0.1)));
+            }
+        }
+    }
+
     /// Stick ↔ slip: a stick pair slips when its trial force leaves the cone by more
     /// than the tolerance, a slip pair sticks when its trial force is inside the
     /// cone by more than it; within the tolerance of the cone either keeps its
@@ -692,9 +808,9 @@ mod tests {
     #[test]
     fn stick_slip_transitions_and_dead_band() {
         let law = coulomb(0.5);
-        let h = PairHistory::default();
+        let h: PairHistory = PairHistory::default();
         // f_n = −2: the cone is 1; the trial force is c_s u_s = 4 u_s.
-        let at = |state, u_s: f64, f_s: f64| law.next_state(state, -0.2, [-2.0, f_s], u_s, &h, TOL);
+        let at = |state, u_s: f64, f_s: f64| law.next_state(state, -0.2, (-2.0, f_s), u_s, &h, TOL);
         let t = at(PairState::Bonded, 0.3, 1.2);
         assert_eq!(t.next, PairState::Slip);
         assert_eq!(t.normal, None);
@@ -729,24 +845,24 @@ mod tests {
     #[test]
     fn bonded_open_transitions() {
         let law = coulomb(0.5);
-        let h = PairHistory::default();
-        let t = law.next_state(PairState::Slip, 0.2, [2.0, 0.0], 0.0, &h, TOL);
+        let h: PairHistory = PairHistory::default();
+        let t = law.next_state(PairState::Slip, 0.2, (2.0, 0.0), 0.0, &h, TOL);
         assert_eq!(t.next, PairState::Open);
         assert_eq!(t.normal.unwrap().kind, ViolationKind::Tension);
         assert_eq!(t.normal.unwrap().amount, 2.0);
         assert_eq!(t.friction, None);
-        let t = law.next_state(PairState::Bonded, 0.2, [2.0, 0.0], 0.0, &h, TOL);
+        let t = law.next_state(PairState::Bonded, 0.2, (2.0, 0.0), 0.0, &h, TOL);
         assert_eq!(t.next, PairState::Open);
-        let t = law.next_state(PairState::Open, -1e-5, [0.0, 0.0], 3.0, &h, TOL);
+        let t = law.next_state(PairState::Open, -1e-5, (0.0, 0.0), 3.0, &h, TOL);
         assert_eq!(t.next, PairState::Bonded);
         let v = t.normal.unwrap();
         assert_eq!(v.kind, ViolationKind::Penetration);
         assert_eq!(v.amount, 1e-5);
         assert!((v.force - 1e-4).abs() < 1e-18);
         // Within the tolerances: a touching open pair, a closed one barely pulling.
-        let t = law.next_state(PairState::Open, -0.5e-6, [0.0, 0.0], 3.0, &h, TOL);
+        let t = law.next_state(PairState::Open, -0.5e-6, (0.0, 0.0), 3.0, &h, TOL);
         assert_eq!((t.next, t.violations().count()), (PairState::Open, 0));
-        let t = law.next_state(PairState::Bonded, 0.5e-4, [0.5e-3, 0.0], 0.0, &h, TOL);
+        let t = law.next_state(PairState::Bonded, 0.5e-4, (0.5e-3, 0.0), 0.0, &h, TOL);
         assert_eq!((t.next, t.violations().count()), (PairState::Bonded, 0));
     }
 
@@ -756,13 +872,13 @@ mod tests {
     #[test]
     fn a_pulling_stick_pair_beyond_its_cone_slips_first() {
         let law = coulomb(0.5);
-        let h = PairHistory::default();
-        let t = law.next_state(PairState::Bonded, 0.2, [2.0, 1.2], 0.3, &h, TOL);
+        let h: PairHistory = PairHistory::default();
+        let t = law.next_state(PairState::Bonded, 0.2, (2.0, 1.2), 0.3, &h, TOL);
         assert_eq!(t.next, PairState::Slip);
         let kinds: Vec<_> = t.violations().map(|v| v.kind).collect();
         assert_eq!(kinds, [ViolationKind::Tension, ViolationKind::Friction]);
         // Without tangential force it opens.
-        let t = law.next_state(PairState::Bonded, 0.2, [2.0, 0.0], 0.0, &h, TOL);
+        let t = law.next_state(PairState::Bonded, 0.2, (2.0, 0.0), 0.0, &h, TOL);
         assert_eq!(t.next, PairState::Open);
     }
 
@@ -771,13 +887,13 @@ mod tests {
     /// reported open, and breaks nothing.
     #[test]
     fn frictionless_contact_and_rigid_never_slip_and_rigid_never_opens() {
-        let h = PairHistory::default();
+        let h: PairHistory = PairHistory::default();
         for law in [Law::Frictionless, Law::Contact] {
             let p = LawParams {
                 law,
                 ..coulomb(0.0)
             };
-            let t = p.next_state(PairState::Bonded, -0.2, [-2.0, 40.0], 10.0, &h, TOL);
+            let t = p.next_state(PairState::Bonded, -0.2, (-2.0, 40.0), 10.0, &h, TOL);
             assert_eq!((t.next, t.violations().count()), (PairState::Bonded, 0));
         }
         let rigid = LawParams {
@@ -785,7 +901,7 @@ mod tests {
             ..coulomb(0.0)
         };
         for state in [PairState::Bonded, PairState::Open] {
-            let t = rigid.next_state(state, 5.0, [50.0, 40.0], 10.0, &h, TOL);
+            let t = rigid.next_state(state, 5.0, (50.0, 40.0), 10.0, &h, TOL);
             assert_eq!((t.next, t.violations().count()), (PairState::Bonded, 0));
         }
         assert_eq!(rigid.normal_violation(PairState::Open, -5.0, 0.0, TOL), None);

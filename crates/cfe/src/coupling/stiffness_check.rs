@@ -18,7 +18,7 @@ fn stiffness_is_the_derivative_of_the_force() {
         slip: 0.05,
         slip_force: 0.7,
         anchor: -0.02,
-        multiplier: [-0.3, 0.1],
+        multiplier: (-0.3, 0.1),
     };
     let dofs = fixture::dofs(2);
     let u0: Vec<f64> = (0..10).map(|i| 0.01 * ((i * 7) % 5) as f64 - 0.02).collect();

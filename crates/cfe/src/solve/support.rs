@@ -1,6 +1,6 @@
 //! Support check: is every part held against rigid-body motion by its Dirichlet
 //! conditions and its bonded coupling pairs? Each part is treated as a rigid body
-//! with three motions (two translations, one rotation); every fixed DOF and every
+//! with [`M`] motions (in 2D two translations, one rotation); every fixed DOF and every
 //! bonded pair is a constraint row on those motions. The assembly is supported when
 //! the constraint rows have full rank; otherwise the null space names the parts that
 //! can move freely. This turns a singular stiffness into an error a user can act on.
@@ -12,6 +12,7 @@
 
 use crate::assembly::{DofMap, FIXED};
 use crate::coupling::{Interface, Law, PairState};
+use crate::dim::{D2, Dim};
 use crate::domain::Part;
 use crate::error::{Error, Result};
 use faer::{Mat, Side};
@@ -25,13 +26,21 @@ use std::f64::consts::FRAC_PI_2;
 pub struct SupportCheck {
     /// Per part: centre and size.
     frames: Vec<([f64; 2], f64)>,
-    /// `Σ r rᵀ` over the fixed DOFs (3 rows and columns per part).
+    /// `Σ r rᵀ` over the fixed DOFs ([`M`] rows and columns per part).
     supports: Mat<f64>,
     /// Per part: whether a support fixes any of its DOFs.
     supported: Vec<bool>,
 }
 
 const AXES: [[f64; 2]; 2] = [[1.0, 0.0], [0.0, 1.0]];
+
+/// Rigid-body modes per part (the dimension's).
+const M: usize = D2::RIGID_MODES;
+
+/// The entries of part `p`'s rigid-body row `r` in the Gram matrix: `(M p + m, r[m])`.
+fn entries(p: usize, r: [f64; M]) -> [(usize, f64); M] {
+    std::array::from_fn(|m| (M * p + m, r[m]))
+}
 
 impl SupportCheck {
     /// The frames and the supports' rows of `parts` under the DOF map `dofs`.
@@ -58,17 +67,17 @@ impl SupportCheck {
         let np = parts.len();
         let mut check = SupportCheck {
             frames,
-            supports: Mat::<f64>::zeros(3 * np, 3 * np),
+            supports: Mat::<f64>::zeros(M * np, M * np),
             supported: (0..np).map(|p| has_support(dofs, p)).collect(),
         };
-        let mut g = Mat::<f64>::zeros(3 * np, 3 * np);
+        let mut g = Mat::<f64>::zeros(M * np, M * np);
         for (p, part) in parts.iter().enumerate() {
             for (n, x) in part.mesh.nodes.iter().enumerate() {
                 let gn = dofs.node(p, n);
                 for (c, axis) in AXES.iter().enumerate() {
-                    if dofs.eq[2 * gn + c] == FIXED {
+                    if dofs.eq[D2::N * gn + c] == FIXED {
                         let r = check.row(p, *x, *axis);
-                        add(&mut g, &[(3 * p, r[0]), (3 * p + 1, r[1]), (3 * p + 2, r[2])]);
+                        add(&mut g, &entries(p, r));
                     }
                 }
             }
@@ -78,7 +87,7 @@ impl SupportCheck {
     }
 
     /// Rigid-body row of part `p` for a motion component along `d` at point `x`.
-    fn row(&self, p: usize, x: [f64; 2], d: [f64; 2]) -> [f64; 3] {
+    fn row(&self, p: usize, x: [f64; 2], d: [f64; 2]) -> [f64; M] {
         let (c, s) = self.frames[p];
         let (rx, ry) = ((x[0] - c[0]) / s, (x[1] - c[1]) / s);
         [d[0], d[1], -ry * d[0] + rx * d[1]]
@@ -111,14 +120,10 @@ impl SupportCheck {
                 };
                 for &axis in directions {
                     let (rh, rq) = (self.row(h, c.position, axis), self.row(q, c.position, axis));
-                    add(&mut g, &[
-                        (3 * q, rq[0]),
-                        (3 * q + 1, rq[1]),
-                        (3 * q + 2, rq[2]),
-                        (3 * h, -rh[0]),
-                        (3 * h + 1, -rh[1]),
-                        (3 * h + 2, -rh[2]),
-                    ]);
+                    let (eq, eh) = (entries(q, rq), entries(h, rh.map(|v| -v)));
+                    let both: [(usize, f64); 2 * M] =
+                        std::array::from_fn(|m| if m < M { eq[m] } else { eh[m - M] });
+                    add(&mut g, &both);
                 }
             }
         }
@@ -127,14 +132,14 @@ impl SupportCheck {
             .map_err(|e| Error::Singular(format!("support check failed: {e:?}")))?;
         let s = eig.S();
         let u = eig.U();
-        let lmax = (0..3 * np).map(|i| s[i].abs()).fold(1.0, f64::max);
+        let lmax = (0..M * np).map(|i| s[i].abs()).fold(1.0, f64::max);
         let mut free = vec![false; np];
-        for k in 0..3 * np {
+        for k in 0..M * np {
             if s[k] > 1e-10 * lmax {
                 continue;
             }
             for (p, f) in free.iter_mut().enumerate() {
-                let w: f64 = (0..3).map(|c| u[(3 * p + c, k)].powi(2)).sum();
+                let w: f64 = (0..M).map(|c| u[(M * p + c, k)].powi(2)).sum();
                 if w > 1e-6 {
                     *f = true;
                 }
@@ -166,7 +171,7 @@ fn add(g: &mut Mat<f64>, entries: &[(usize, f64)]) {
 /// Whether a support fixes any DOF of part `p`.
 fn has_support(dofs: &DofMap, p: usize) -> bool {
     let nodes = dofs.node_offset[p]..dofs.node_offset[p + 1];
-    dofs.eq[2 * nodes.start..2 * nodes.end].contains(&FIXED)
+    dofs.eq[D2::N * nodes.start..D2::N * nodes.end].contains(&FIXED)
 }
 
 /// The groups of parts linked by any interface in which no part has a support

@@ -327,7 +327,7 @@ impl<'a> Solver<'a> {
             x.push(match field {
                 Term::SlipForce => h.slip_force,
                 Term::Anchor => c_slip * h.anchor,
-                Term::Multiplier(j) => h.multiplier[j],
+                Term::Multiplier(j) => [h.multiplier.0, h.multiplier.1][j],
             });
         });
         x
@@ -342,7 +342,8 @@ impl<'a> Solver<'a> {
             match field {
                 Term::SlipForce => h.slip_force = v,
                 Term::Anchor => h.anchor = v / c_slip,
-                Term::Multiplier(j) => h.multiplier[j] = v,
+                Term::Multiplier(0) => h.multiplier.0 = v,
+                Term::Multiplier(_) => h.multiplier.1 = v,
             }
         });
     }

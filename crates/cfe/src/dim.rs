@@ -1,0 +1,256 @@
+//! The dimension of a model: what the coupling layer (and, later, the mesh, the
+//! element routines and the assembly) reads of "2D" or "3D" instead of writing it
+//! out. A [`Dim`] names the DOFs per node, the rigid-body modes, the Voigt size, the
+//! point/vector type, the tangent type of the interface law and the local frame of
+//! a coupling pair (the host normal n and the tangent(s)). [`D2`] is the plane
+//! instance; a `D3` instance adds `N = 3`, six rigid modes, Voigt size 6, `[f64; 3]`
+//! points, a 2-component tangent (`[f64; 2]`, which already implements [`Tangent`])
+//! and a frame of n and two orthonormal tangents in the face plane — and the law,
+//! the pair histories and the return map take it unchanged.
+//!
+//! It sits below mesh, fem and coupling and imports nothing of the crate.
+
+use std::fmt::Debug;
+
+/// A tangential vector of the interface law, in the tangent plane of a pair's
+/// local frame: the tangential jump, the plastic slip, the tangential force, the
+/// tangential multiplier. One component in 2D (`f64`, along s), two in 3D
+/// (`[f64; 2]`, along t₁ and t₂). The law is written with these operations only,
+/// so it reads the same in any dimension.
+pub trait Tangent:
+    Copy + Debug + PartialEq + Default + serde::Serialize + Send + Sync + 'static
+{
+    /// Number of components (1 in 2D, 2 in 3D).
+    const COMPONENTS: usize;
+
+    /// `f` applied to each component.
+    fn map_each(self, f: impl Fn(f64) -> f64) -> Self;
+
+    /// `f` applied to each pair of components of `self` and `other`.
+    fn zip_each(self, other: Self, f: impl Fn(f64, f64) -> f64) -> Self;
+
+    /// The dot product `self · other`.
+    fn dot(self, other: Self) -> f64;
+
+    /// The Euclidean length |self| (in one component the absolute value, exactly).
+    fn norm(self) -> f64;
+
+    /// The unit vector along `self`, `self / |self|` (in one component its sign,
+    /// exactly ±1). A zero vector has no direction; it is given the first axis,
+    /// signed by its first component's sign bit (`f64::signum`'s rule in one
+    /// component), so the answer is always a unit vector.
+    fn direction(self) -> Self;
+
+    /// `a · self`.
+    fn scale(self, a: f64) -> Self {
+        self.map_each(|x| a * x)
+    }
+
+    /// `self + other`, component by component.
+    fn add(self, other: Self) -> Self {
+        self.zip_each(other, |a, b| a + b)
+    }
+
+    /// `self − other`, component by component.
+    fn sub(self, other: Self) -> Self {
+        self.zip_each(other, |a, b| a - b)
+    }
+}
+
+/// The tangent of a plane model: one component, along s (the normal turned +90°).
+impl Tangent for f64 {
+    const COMPONENTS: usize = 1;
+
+    fn map_each(self, f: impl Fn(f64) -> f64) -> Self {
+        f(self)
+    }
+
+    fn zip_each(self, other: Self, f: impl Fn(f64, f64) -> f64) -> Self {
+        f(self, other)
+    }
+
+    fn dot(self, other: Self) -> f64 {
+        self * other
+    }
+
+    fn norm(self) -> f64 {
+        self.abs()
+    }
+
+    fn direction(self) -> Self {
+        self.signum()
+    }
+}
+
+/// The tangent of a 3D model: two components, along t₁ and t₂.
+impl Tangent for [f64; 2] {
+    const COMPONENTS: usize = 2;
+
+    fn map_each(self, f: impl Fn(f64) -> f64) -> Self {
+        [f(self[0]), f(self[1])]
+    }
+
+    fn zip_each(self, other: Self, f: impl Fn(f64, f64) -> f64) -> Self {
+        [f(self[0], other[0]), f(self[1], other[1])]
+    }
+
+    fn dot(self, other: Self) -> f64 {
+        self[0] * other[0] + self[1] * other[1]
+    }
+
+    fn norm(self) -> f64 {
+        self[0].hypot(self[1])
+    }
+
+    fn direction(self) -> Self {
+        let n = self.norm();
+        if n > 0.0 {
+            [self[0] / n, self[1] / n]
+        } else {
+            [self[0].signum(), 0.0]
+        }
+    }
+}
+
+/// A spatial dimension: what the coupling layer reads of it. Implemented by
+/// zero-sized markers ([`D2`]; `D3` to come), used as a type parameter
+/// (`PairHistory<D>`, the law's generic methods).
+pub trait Dim: Copy + Debug + PartialEq + Default + Send + Sync + 'static {
+    /// Displacement DOFs per node (2 in 2D, 3 in 3D): node g's component c is DOF
+    /// `N g + c`.
+    const N: usize;
+    /// Rigid-body modes of a free part (3 in 2D: two translations and a rotation;
+    /// 6 in 3D).
+    const RIGID_MODES: usize;
+    /// Components of a symmetric stress or strain in Voigt notation (3 in 2D:
+    /// xx, yy, xy; 6 in 3D).
+    const VOIGT: usize;
+    /// A point or vector (`[f64; N]`).
+    type Vector: Copy + Debug + PartialEq + Default + Send + Sync + 'static;
+    /// The tangential part of a pair's local vectors (1 component in 2D, 2 in 3D).
+    type Tangent: Tangent;
+    /// A pair's local frame: the unit normal n and the unit tangent(s), orthonormal.
+    type Frame: Copy + Debug + PartialEq + Send + Sync + 'static;
+
+    /// The local frame at a host boundary point of outward unit normal `normal`:
+    /// n and the tangent(s) completing it to a right-handed orthonormal basis.
+    fn frame(normal: Self::Vector) -> Self::Frame;
+
+    /// The local components of the global vector `v` in `frame`: `(v · n, v
+    /// along the tangent(s))`.
+    fn to_local(frame: &Self::Frame, v: Self::Vector) -> (f64, Self::Tangent);
+
+    /// The global vector of the local components `(v_n, v_t)` in `frame`:
+    /// `v_n n + v_t · tangents` (the inverse of [`Dim::to_local`]).
+    fn to_global(frame: &Self::Frame, v_n: f64, v_t: Self::Tangent) -> Self::Vector;
+}
+
+/// Plane models (plane stress or strain): 2 DOFs per node, 3 rigid modes, Voigt
+/// size 3, the tangent s = n turned +90° (one component).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct D2;
+
+impl Dim for D2 {
+    const N: usize = 2;
+    const RIGID_MODES: usize = 3;
+    const VOIGT: usize = 3;
+    type Vector = [f64; 2];
+    type Tangent = f64;
+    /// The rotation `R = [n, s]` by rows: `[[n₁, n₂], [s₁, s₂]]`, s = (−n₂, n₁).
+    type Frame = [[f64; 2]; 2];
+
+    fn frame(n: [f64; 2]) -> [[f64; 2]; 2] {
+        [[n[0], n[1]], [-n[1], n[0]]]
+    }
+
+    fn to_local(r: &[[f64; 2]; 2], v: [f64; 2]) -> (f64, f64) {
+        (
+            r[0][0] * v[0] + r[0][1] * v[1],
+            r[1][0] * v[0] + r[1][1] * v[1],
+        )
+    }
+
+    fn to_global(r: &[[f64; 2]; 2], v_n: f64, v_t: f64) -> [f64; 2] {
+        [r[0][0] * v_n + r[1][0] * v_t, r[0][1] * v_n + r[1][1] * v_t]
+    }
+}
+
+/// A test-only dimension whose tangent has two components (the shape `D3` will
+/// have; its frame is not needed by the law's tests and is the identity here), so
+/// the law's generic code is exercised with a tangent plane before 3D exists.
+#[cfg(test)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct PlaneTangent;
+
+#[cfg(test)]
+impl Dim for PlaneTangent {
+    const N: usize = 3;
+    const RIGID_MODES: usize = 6;
+    const VOIGT: usize = 6;
+    type Vector = [f64; 3];
+    type Tangent = [f64; 2];
+    type Frame = ();
+
+    fn frame(_: [f64; 3]) {}
+
+    fn to_local(_: &(), v: [f64; 3]) -> (f64, [f64; 2]) {
+        (v[2], [v[0], v[1]])
+    }
+
+    fn to_global(_: &(), v_n: f64, v_t: [f64; 2]) -> [f64; 3] {
+        [v_t[0], v_t[1], v_n]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The plane frame is n and n turned +90° (right-handed, orthonormal), and
+    /// `to_global` inverts `to_local` (to round-off) for a tilted normal.
+    #[test]
+    fn plane_frame_is_orthonormal_and_invertible() {
+        let a: f64 = 0.4;
+        let n = [a.cos(), a.sin()];
+        let r = D2::frame(n);
+        assert_eq!(r[0], n);
+        assert_eq!(r[1], [-n[1], n[0]]);
+        assert!((r[0][0] * r[1][0] + r[0][1] * r[1][1]).abs() < 1e-16);
+        // Right-handed: n × s = +1.
+        assert!((r[0][0] * r[1][1] - r[0][1] * r[1][0] - 1.0).abs() < 1e-15);
+        assert_eq!(D2::to_local(&r, n), (1.0, 0.0));
+        let v = [0.3, -1.7];
+        let (v_n, v_t) = D2::to_local(&r, v);
+        let back = D2::to_global(&r, v_n, v_t);
+        assert!((back[0] - v[0]).abs() < 1e-15 && (back[1] - v[1]).abs() < 1e-15);
+    }
+
+    /// In one component the tangent's length is the absolute value and its
+    /// direction the sign, both exactly, the zeros' sign bits kept.
+    #[test]
+    fn one_component_tangent_is_exact() {
+        for t in [3.0f64, -3.0, 1e-310, -7.5e300, 0.1] {
+            assert_eq!(t.norm().to_bits(), t.abs().to_bits());
+            assert_eq!(t.direction().to_bits(), t.signum().to_bits());
+        }
+        assert_eq!(0.0f64.direction(), 1.0);
+        assert_eq!((-0.0f64).direction(), -1.0);
+    }
+
+    /// Two components: the direction is a unit vector along the vector; the
+    /// length and the dot product are a rotation's invariants.
+    #[test]
+    fn two_component_tangent() {
+        let t = [3.0, -4.0];
+        assert_eq!(t.norm(), 5.0);
+        assert_eq!(t.direction(), [0.6, -0.8]);
+        assert_eq!(t.scale(2.0).sub([1.0, 1.0]).add([0.5, 0.0]), [5.5, -9.0]);
+        let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+        let rot = |v: [f64; 2]| [c * v[0] - s * v[1], s * v[0] + c * v[1]];
+        let u = [0.7, 2.1];
+        assert!((rot(t).norm() - 5.0).abs() < 1e-14);
+        assert!((rot(t).dot(rot(u)) - t.dot(u)).abs() < 1e-14);
+        assert_eq!([0.0, 0.0].direction(), [1.0, 0.0]);
+        assert_eq!([-0.0, 0.0].direction(), [-1.0, 0.0]);
+    }
+}
