@@ -347,8 +347,9 @@ fn sigterm_during_the_pictures_interrupts_the_run() {
 /// fixed-point steps of solves, sent a second after the run has started writing
 /// into its folder) ends the run within a liveness bound of 30 s, with exit status
 /// 128 + 15 and a consistent folder: a summary saying `interrupted`, no temporary
-/// file, no lock left, `results.pvd` naming exactly the VTU files on disk, and
-/// every file the run left listed in the folder's manifest (so the next run
+/// file, no lock left, `results.pvd` naming exactly the VTU files on disk,
+/// each converged increment either in it or noted as left without VTU files by
+/// the stop, and every file the run left listed in the folder's manifest (so the next run
 /// removes them). The time from the signal to the exit is printed (not asserted:
 /// the machine is shared).
 #[test]
@@ -411,6 +412,21 @@ fn sigterm_inside_an_increment_stops_promptly() {
     named.sort();
     series.sort();
     assert_eq!(named, series);
+    // Every converged increment (all have files: output_every is 1) is either
+    // in results.pvd or named by a note saying its VTU files were not written
+    // because of the stop, never both, never neither.
+    let converged = summary["converged_increments"].as_u64().unwrap() as usize;
+    let notes = summary["notes"].as_array().unwrap();
+    for k in 1..=converged {
+        let in_pvd = named.contains(&format!("vtu/parts_{k:04}.vtu"));
+        let noted = notes.iter().any(|n| {
+            n["increment"] == k && n["message"].as_str().unwrap().contains("were not written")
+        });
+        assert!(
+            in_pvd != noted,
+            "increment {k}: in results.pvd {in_pvd}, noted {noted}: {summary}"
+        );
+    }
     let manifest = std::fs::read_to_string(out.join(".cfe-manifest")).unwrap();
     let listed: Vec<&str> = manifest.lines().skip(1).collect();
     for f in files.iter().filter(|f| !f.starts_with(".cfe-")) {

@@ -168,6 +168,13 @@ impl Analysis {
     /// The incremental solver of this analysis: its parts, interfaces, DOFs, loads
     /// and settings (the pattern and the symbolic factorization are built here).
     pub fn solver(&self) -> Result<Solver<'_>> {
+        self.solver_until(None)
+    }
+
+    /// [`Analysis::solver`] reading `stop` (if given) from the start of the
+    /// symbolic analysis on ([`Solver::new`]): a nonzero value abandons it with
+    /// [`Error::Interrupted`].
+    pub fn solver_until<'s>(&'s self, stop: Option<&'s AtomicUsize>) -> Result<Solver<'s>> {
         let f = assembly::external_force(&self.model.loads, &self.dofs);
         let mut solver = Solver::new(
             &self.model.parts,
@@ -175,6 +182,7 @@ impl Analysis {
             &self.dofs,
             f,
             &self.model.settings,
+            stop,
         )?;
         if let Some(steps) = self.load_steps() {
             solver.set_steps(steps);
@@ -335,8 +343,7 @@ impl Analysis {
         let clock = RunClock::start();
         let mut summary = self.empty_summary();
         let t = Instant::now();
-        let mut solver = self.solver()?;
-        solver.set_stop(stop);
+        let mut solver = self.solver_until(Some(stop))?;
         if self.model.settings.start == StartPattern::Coarse
             && let Some(states) = self.coarse_states()
         {

@@ -182,7 +182,7 @@ pub enum Error {
     },
     /// The run was stopped on request (e.g. SIGINT) after a converged increment.
     #[error(
-        "interrupted (signal {signal}) after increment {increment}; the converged increments are on disk"
+        "interrupted (signal {signal}) after increment {increment}; the converged increments are on disk (summary.json's notes name any whose VTU files the stop left unwritten)"
     )]
     Interrupted {
         /// The last increment written.

@@ -111,6 +111,32 @@ fn an_unset_flag_changes_no_result() {
     }
 }
 
+/// The symbolic analysis reads the flag too: a solver built with a stop
+/// already requested is refused before any factorization with
+/// `Error::Interrupted` after increment 0; one built with an unset flag gives
+/// the increments of a solver without one, bit for bit.
+#[test]
+fn the_analysis_reads_the_flag_given_to_the_solver() {
+    let a = common::analysis(&coulomb_push(2));
+    let stop = AtomicUsize::new(15);
+    match a.solver_until(Some(&stop)) {
+        Err(Error::Interrupted {
+            increment: 0,
+            signal: 15,
+        }) => {}
+        other => panic!("expected Interrupted, got {:?}", other.map(|_| ())),
+    }
+    let plain = common::run_all(a.solver().unwrap());
+    let unset = AtomicUsize::new(0);
+    let flagged = common::run_all(a.solver_until(Some(&unset)).unwrap());
+    assert_eq!(plain.len(), flagged.len());
+    for (p, f) in plain.iter().zip(&flagged) {
+        assert_eq!(p.u, f.u);
+        assert_eq!(p.states, f.states);
+        assert_eq!(p.iterations, f.iterations);
+    }
+}
+
 /// A stop set from another thread while the run goes on (after the first
 /// increment is written): the run ends `interrupted` at whatever point of the
 /// search it reached, the converged increments stay on disk, every pair and
@@ -133,7 +159,13 @@ fn a_stop_from_another_thread_leaves_the_converged_increments() {
         let r = a.run_until(
             &out,
             &mut |_| {
-                let _ = tx.send(());
+                // Wait until the other thread has set the flag: on a loaded
+                // machine it could otherwise come only after the last increment.
+                if tx.send(()).is_ok() {
+                    while stop.load(Ordering::Relaxed) == 0 {
+                        std::thread::yield_now();
+                    }
+                }
             },
             stop,
         );

@@ -16,10 +16,10 @@ use crate::analysis::Analysis;
 use crate::coupling::Law;
 use crate::error::{Error, Result};
 use crate::output::folder::{OutputFolder, PICTURES, VTU};
-use crate::output::memory::peak_memory_bytes;
 use crate::output::report;
-use crate::output::summary::{RunClock, RunStatus, Summary};
 use crate::output::vtu;
+use crate::results::memory::peak_memory_bytes;
+use crate::results::summary::{RunClock, RunStatus, Summary, Warning};
 use crate::solve::nonlinear::Solver;
 use crate::solve::nonlinear::{IncrementResult, MultipleOf};
 use layout::{PartsGrid, time_fields};
@@ -80,8 +80,13 @@ struct RunLog {
     last_multiple: Option<MultipleOf>,
 }
 
-/// A parts-VTU writer thread with the series entries of its increment.
-type Writer<'scope> = (ScopedJoinHandle<'scope, Result<()>>, [vtu::PvdEntry; 2]);
+/// A parts-VTU writer thread with the series entries of its increment and the
+/// increment's index.
+type Writer<'scope> = (
+    ScopedJoinHandle<'scope, Result<()>>,
+    [vtu::PvdEntry; 2],
+    usize,
+);
 
 /// Parts-VTU writers a run keeps in flight: two, so the writers of consecutive
 /// increments that follow each other quickly (multiples of one linear solution
@@ -112,6 +117,9 @@ struct Series<'scope> {
     writers: VecDeque<Writer<'scope>>,
     /// When `results.pvd` was last written.
     written: Option<Instant>,
+    /// The increments whose writer was abandoned at a stop: converged, but
+    /// with no file in `vtu/`.
+    abandoned: Vec<usize>,
 }
 
 impl<'scope> Series<'scope> {
@@ -123,13 +131,15 @@ impl<'scope> Series<'scope> {
             pvd: Vec::new(),
             writers: VecDeque::new(),
             written: None,
+            abandoned: Vec::new(),
         }
     }
 
     /// Waits for one writer; if it failed (or was stopped), removes its
     /// increment's pairs VTU too (best effort: the writer's error is what gets
-    /// reported), so `vtu/` holds only increments `results.pvd` can name.
-    fn join(&self, (h, entries): Writer<'scope>) -> Result<[vtu::PvdEntry; 2]> {
+    /// reported), so `vtu/` holds only increments `results.pvd` can name. An
+    /// increment abandoned at a stop is listed in `abandoned`.
+    fn join(&mut self, (h, entries, index): Writer<'scope>) -> Result<[vtu::PvdEntry; 2]> {
         let written = h
             .join()
             .unwrap_or_else(|_| Err(Error::output(&self.vtu_dir, "a VTU writer thread panicked")));
@@ -139,6 +149,9 @@ impl<'scope> Series<'scope> {
             for e in &entries {
                 let _ = std::fs::remove_file(out.join(&e.file));
             }
+        }
+        if let Err(Error::Interrupted { .. }) = written {
+            self.abandoned.push(index);
         }
         written.map(|_| entries)
     }
@@ -157,12 +170,13 @@ impl<'scope> Series<'scope> {
         Ok(())
     }
 
-    /// Registers the writer of the increment at time `lambda` (step index − 1 +
-    /// the step's load factor) whose files (in `vtu/`)
+    /// Registers the writer of increment `index` at time `lambda` (step index −
+    /// 1 + the step's load factor) whose files (in `vtu/`)
     /// are `parts_file` and `pairs_file`.
     fn push(
         &mut self,
         handle: ScopedJoinHandle<'scope, Result<()>>,
+        index: usize,
         lambda: f64,
         parts_file: String,
         pairs_file: String,
@@ -183,18 +197,33 @@ impl<'scope> Series<'scope> {
                     file: b,
                 },
             ],
+            index,
         ));
     }
 
     /// Joins all writers, adds the increments of those that succeeded and writes
     /// `results.pvd`; the first error, if any.
-    fn finish(mut self) -> Result<()> {
+    fn finish(&mut self) -> Result<()> {
         let mut written = Ok(());
         for writer in std::mem::take(&mut self.writers) {
             let w = self.join(writer).map(|entries| self.pvd.extend(entries));
             written = written.and(w);
         }
         written.and(vtu::write_pvd(&self.pvd_path, &self.pvd))
+    }
+}
+
+/// Notes in `summary` each converged increment in `abandoned` whose VTU files
+/// the stop left unwritten: the summary then tells what `vtu/` lacks, and that
+/// `summary.json` and `pairs.csv` are whole.
+fn note_abandoned(summary: &mut Summary, abandoned: &[usize]) {
+    for &index in abandoned {
+        summary.notes.push(Warning {
+            increment: index,
+            message: format!(
+                "converged, but its VTU files (vtu/parts_{index:04}.vtu, vtu/pairs_{index:04}.vtu) were not written: the run was interrupted while they were being written, and results.pvd does not name it; summary.json holds every converged increment and pairs.csv the last increment written, both complete"
+            ),
+        });
     }
 }
 
@@ -359,12 +388,18 @@ impl Analysis {
         progress: &mut dyn FnMut(&IncrementResult),
         stop: &'env AtomicUsize,
     ) -> Result<()> {
-        let mut solver = self.solver()?;
-        // Read inside the increments too: a long search stops within its next
-        // iteration, fixed-point step or solve.
-        solver.set_stop(stop);
-        self.prepare_solver(&mut solver, &mut log.summary);
         let mut series = Series::new(out, stop);
+        // Read from the symbolic analysis on, and inside the increments: a long
+        // search stops within its next iteration, fixed-point step or solve.
+        let mut solver = match self.solver_until(Some(stop)) {
+            Ok(solver) => solver,
+            Err(e) => {
+                // `results.pvd` is written whatever happens (naming no increment).
+                let _ = series.finish();
+                return Err(e);
+            }
+        };
+        self.prepare_solver(&mut solver, &mut log.summary);
         let r = solver.run(|inc| {
             self.write_increment(scope, grid, inc, &mut series, log, out)?;
             progress(inc);
@@ -394,6 +429,7 @@ impl Analysis {
         let t = Instant::now();
         let written = series.finish();
         log.output_time += t.elapsed().as_secs_f64();
+        note_abandoned(&mut log.summary, &series.abandoned);
         r?;
         let drawn = pictures.unwrap_or(Ok(()));
         if written.is_err() || drawn.is_err() {
@@ -530,7 +566,7 @@ impl Analysis {
                 Error::output(&series.vtu_dir, format!("cannot start a VTU writer: {e}"))
             })?;
         self.write_pairs_vtu(&series.vtu_dir.join(&pairs_file), inc, &rows)?;
-        series.push(handle, inc.time, parts_file, pairs_file);
+        series.push(handle, inc.index, inc.time, parts_file, pairs_file);
         log.folder.claim("pairs.csv")?;
         report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
         self.fill_summary(&mut log.summary, inc, &rows);

@@ -9,8 +9,8 @@ use crate::analysis::Analysis;
 use crate::coupling::{Law, PairState};
 use crate::error::Result;
 use crate::mesh::Element;
-use crate::output::report::PairRow;
 use crate::output::{chart, png};
+use crate::results::PairRow;
 use crate::solve::nonlinear::IncrementResult;
 use std::path::Path;
 

@@ -42,7 +42,7 @@ impl<'a> Analyse<'a> for Cholesky<'a> {
     /// (`super::setup::pattern_and_symbolic`).
     fn analyse(problem: Problem<'a>) -> crate::error::Result<Self> {
         let (k, chol) =
-            super::setup::pattern_and_symbolic(problem.parts, problem.interfaces, problem.dofs)?;
+            super::setup::pattern_and_symbolic(problem.parts, problem.interfaces, problem.dofs, None)?;
         Ok(Cholesky {
             problem,
             system: ContactSystem::new(problem.parts, k, chol),

@@ -8,7 +8,9 @@
 //! minimum degree (AMD) at large n. Coupling elements are edges of the node graph,
 //! so coupled parts are separated consistently.
 
+use super::symbolic::Stopped;
 use crate::assembly::{DofMap, FIXED, NodeGraph};
+use std::sync::atomic::AtomicUsize;
 
 /// Subsets at or below this size are not split further.
 const LEAF: usize = 16;
@@ -17,14 +19,27 @@ const LEAF: usize = 16;
 /// threads (smaller ones are not worth a task).
 const PARALLEL: usize = 16_384;
 
+/// Subsets of at least this many nodes read the stop flag before they are
+/// split (the work below a smaller one is a few milliseconds).
+const STOP_CHECK_NODES: usize = 4096;
+
 /// The elimination order of the equations: `order[k]` is the equation eliminated
 /// k-th. `coords` are the global node coordinates.
 ///
 /// The two halves below a separator are independent: large ones are ordered in
 /// parallel, each into its own part of the result (where the sequential
 /// recursion would put it), so the order does not depend on the threads.
-pub fn nested_dissection(coords: &[[f64; 2]], graph: &NodeGraph, dofs: &DofMap) -> Vec<usize> {
-    dissection_with(coords, graph, dofs, PARALLEL)
+///
+/// `stop`, if given, is read before every split of a subset of at least
+/// `STOP_CHECK_NODES` nodes: once it is nonzero the ordering is abandoned
+/// with [`Stopped`] (its value). Reading it changes nothing else.
+pub fn nested_dissection(
+    coords: &[[f64; 2]],
+    graph: &NodeGraph,
+    dofs: &DofMap,
+    stop: Option<&AtomicUsize>,
+) -> Result<Vec<usize>, Stopped> {
+    dissection_with(coords, graph, dofs, PARALLEL, stop)
 }
 
 /// [`nested_dissection`], the halves of subsets of at least `parallel` nodes
@@ -34,21 +49,29 @@ fn dissection_with(
     graph: &NodeGraph,
     dofs: &DofMap,
     parallel: usize,
-) -> Vec<usize> {
+    stop: Option<&AtomicUsize>,
+) -> Result<Vec<usize>, Stopped> {
     use std::sync::atomic::AtomicU32;
     let n = coords.len();
     let mut nodes: Vec<usize> = (0..n).collect();
     let stamp: Vec<AtomicU32> = (0..n).map(|_| AtomicU32::new(0)).collect();
     let counter = AtomicU32::new(0);
     let mut node_order = vec![0usize; n];
+    let halted = AtomicUsize::new(0);
     let split = Split {
         coords,
         graph,
         stamp: &stamp,
         counter: &counter,
         parallel,
+        stop,
+        halted: &halted,
     };
     split.dissect(&mut nodes, &mut node_order);
+    match halted.into_inner() {
+        0 => {}
+        signal => return Err(Stopped(signal)),
+    }
     let mut order = Vec::with_capacity(dofs.n_eq);
     for g in node_order {
         for c in 0..2 {
@@ -58,7 +81,7 @@ fn dissection_with(
             }
         }
     }
-    order
+    Ok(order)
 }
 
 /// What every step of the recursion reads: the coordinates, the graph and the
@@ -71,6 +94,11 @@ struct Split<'a> {
     counter: &'a std::sync::atomic::AtomicU32,
     /// Least size of a subset whose halves are ordered on two threads.
     parallel: usize,
+    /// The caller's stop flag.
+    stop: Option<&'a AtomicUsize>,
+    /// The stop flag's value when a step read it nonzero (0: none did): the
+    /// steps after it return at once, their part of the order left unfilled.
+    halted: &'a AtomicUsize,
 }
 
 impl Split<'_> {
@@ -82,6 +110,16 @@ impl Split<'_> {
         if nodes.len() <= LEAF {
             out.copy_from_slice(nodes);
             return;
+        }
+        if nodes.len() >= STOP_CHECK_NODES {
+            let signal = match self.stop.map_or(0, |s| s.load(Relaxed)) {
+                0 => self.halted.load(Relaxed),
+                signal => signal,
+            };
+            if signal != 0 {
+                self.halted.store(signal, Relaxed);
+                return;
+            }
         }
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for &a in nodes.iter() {
@@ -193,7 +231,7 @@ mod tests {
         }];
         let dofs = DofMap::new(&parts, &supports);
         let graph = NodeGraph::new(&parts, &[], &dofs);
-        let order = nested_dissection(&parts[0].mesh.nodes, &graph, &dofs);
+        let order = nested_dissection(&parts[0].mesh.nodes, &graph, &dofs, None).unwrap();
         let mut seen = vec![false; dofs.n_eq];
         for &e in &order {
             assert!(!seen[e]);
@@ -233,10 +271,38 @@ mod tests {
         };
         // The same order whatever the threads: halves ordered side by side down
         // to the smallest subsets.
-        assert_eq!(dissection_with(&parts[0].mesh.nodes, &graph, &dofs, 2), order);
+        assert_eq!(dissection_with(&parts[0].mesh.nodes, &graph, &dofs, 2, None).unwrap(), order);
         let natural: Vec<usize> = (0..dofs.n_eq).collect();
         let (nd, amd, nat) = (nnz(Some(&order)), nnz(None), nnz(Some(&natural)));
         assert!(nd < nat / 2, "nd {nd}, natural {nat}");
         assert!((nd as f64) < 1.3 * amd as f64, "nd {nd}, amd {amd}");
+    }
+
+    /// A stop flag that stays zero changes nothing (the same order, in sequence
+    /// or on two threads); one already set abandons the ordering with its
+    /// value (a grid of more nodes than `STOP_CHECK_NODES`, so the recursion
+    /// reads it).
+    #[test]
+    fn stop_flag_abandons_the_ordering() {
+        let parts = vec![Part {
+            name: "p".into(),
+            mesh: Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [80, 80], crate::mesh::ElementKind::Q4),
+            material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
+        }];
+        assert!(parts[0].mesh.nodes.len() >= STOP_CHECK_NODES);
+        let dofs = DofMap::new(&parts, &[]);
+        let graph = NodeGraph::new(&parts, &[], &dofs);
+        let coords = &parts[0].mesh.nodes;
+        let plain = nested_dissection(coords, &graph, &dofs, None).unwrap();
+        let stop = AtomicUsize::new(0);
+        for parallel in [2, PARALLEL] {
+            let flagged = dissection_with(coords, &graph, &dofs, parallel, Some(&stop));
+            assert_eq!(flagged.as_ref(), Ok(&plain));
+        }
+        stop.store(15, std::sync::atomic::Ordering::Relaxed);
+        for parallel in [2, PARALLEL] {
+            let flagged = dissection_with(coords, &graph, &dofs, parallel, Some(&stop));
+            assert_eq!(flagged, Err(Stopped(15)));
+        }
     }
 }

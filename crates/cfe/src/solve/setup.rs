@@ -8,22 +8,45 @@
 //!    stiffness keeps and the column counts read);
 //! 3. the column counts and faer's supernodes beside the assembly of the parts'
 //!    values into that copy.
+//!
+//! A caller's stop flag is read between these steps and within the long ones
+//! (the ordering's recursion, the elimination tree, the column counts, the
+//! parts' values a few thousand elements at a time): once it is nonzero the
+//! analysis is abandoned with [`Error::Interrupted`] (no increment solved).
 
 use super::linear::CholeskySolver;
 use super::ordering;
-use super::symbolic;
-use crate::assembly::{DofMap, MAX_EQUATIONS, NodeGraph, PartElements, Stiffness};
+use super::symbolic::{self, Stopped, check};
+use crate::assembly::{
+    DofMap, ElementSource, MAX_EQUATIONS, MatrixSink, NodeGraph, PartElements, Stiffness,
+    VectorSink,
+};
 use crate::coupling::Interface;
 use crate::domain::Part;
 use crate::error::{Error, Result};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Elements whose stiffness is assembled between two reads of the stop flag.
+const STOP_CHECK_ELEMENTS: usize = 16_384;
+
+/// A stop during the analysis, before any increment is solved.
+fn interrupted(Stopped(signal): Stopped) -> Error {
+    Error::Interrupted {
+        increment: 0,
+        signal,
+    }
+}
 
 /// The stiffness (pattern of every part and coupling element in the
 /// nested-dissection elimination order, values of the parts) and its Cholesky
-/// solver after the symbolic analysis in that order.
+/// solver after the symbolic analysis in that order. `stop`, if given, is read
+/// between the steps and within the long ones (see the module's text): once it
+/// is nonzero the analysis is abandoned with [`Error::Interrupted`].
 pub fn pattern_and_symbolic(
     parts: &[Part],
     interfaces: &[Interface],
     dofs: &DofMap,
+    stop: Option<&AtomicUsize>,
 ) -> Result<(Stiffness, CholeskySolver)> {
     if dofs.n_eq > MAX_EQUATIONS {
         return Err(Error::TooLarge {
@@ -36,16 +59,20 @@ pub fn pattern_and_symbolic(
             ),
         });
     }
+    check(stop).map_err(interrupted)?;
     let graph = NodeGraph::new(parts, interfaces, dofs);
+    check(stop).map_err(interrupted)?;
     let coords: Vec<[f64; 2]> = parts
         .iter()
         .flat_map(|p| p.mesh.nodes.iter().copied())
         .collect();
     let (order, k) = rayon::join(
-        || ordering::nested_dissection(&coords, &graph, dofs),
+        || ordering::nested_dissection(&coords, &graph, dofs, stop),
         || Stiffness::pattern(dofs, &graph),
     );
     drop(graph);
+    let order = order.map_err(interrupted)?;
+    check(stop).map_err(interrupted)?;
     // The order and its inverse in 4 bytes an equation (held beside the factor;
     // `n_eq ≤ MAX_EQUATIONS` is checked above).
     let order: Vec<u32> = order.into_iter().map(|e| e as u32).collect();
@@ -56,32 +83,105 @@ pub fn pattern_and_symbolic(
     // The elimination tree (from the upper triangle of P K Pᵀ) beside the lower
     // triangle in the elimination order (the stiffness's storage, also what the
     // column counts read).
-    let ((upper, etree, post), mut ordered) = rayon::join(
-        || {
-            let upper = symbolic::permuted_upper(&k.col_ptr, &k.row_idx, &inverse);
-            let etree = symbolic::elimination_tree(&upper.col_ptr, &upper.row_idx);
+    let (tree, mut ordered) = rayon::join(
+        || -> std::result::Result<_, Stopped> {
+            let upper = symbolic::permuted_upper(&k.col_ptr, &k.row_idx, &inverse, stop)?;
+            let etree = symbolic::elimination_tree_until(&upper.col_ptr, &upper.row_idx, stop)?;
             let post = symbolic::postorder(&etree);
-            (upper, etree, post)
+            Ok((upper, etree, post))
         },
         || k.in_order_pattern(&order, &inverse),
     );
     drop(k);
+    let (upper, etree, post) = tree.map_err(interrupted)?;
+    check(stop).map_err(interrupted)?;
     // The column counts and faer's supernodes beside the parts' values.
     let part_elements = PartElements::new(parts, dofs);
+    let part_elements = Until::new(&part_elements, stop);
     let (chol, values) = rayon::join(
-        || {
-            let counts =
-                symbolic::column_counts(&ordered.col_ptr, &ordered.row_idx, &etree, &post);
+        || -> Result<_> {
+            let counts = symbolic::column_counts_until(
+                &ordered.col_ptr,
+                &ordered.row_idx,
+                &etree,
+                &post,
+                stop,
+            )
+            .map_err(interrupted)?;
+            check(stop).map_err(interrupted)?;
             CholeskySolver::from_symbolic(order, inverse, &upper, &etree, &counts)
         },
         || ordered.values_of(&[&part_elements], dofs),
     );
+    let chol = chol?;
+    part_elements.stopped().map_err(interrupted)?;
+    check(stop).map_err(interrupted)?;
     ordered.set_parts_values(values);
     // The graph, the permuted copies and the tree are freed: their pages go back
     // before the factorization allocates the factor.
     drop((upper, etree, post));
     super::heap::return_free_memory();
-    Ok((ordered, chol?))
+    Ok((ordered, chol))
+}
+
+/// An element source whose stiffnesses, given all at once
+/// ([`ElementSource::for_each_stiffness`]), stop once the caller's stop flag,
+/// read every `STOP_CHECK_ELEMENTS` elements, is nonzero (the values are then
+/// incomplete: [`Until::stopped`] says so). Element by element it is its
+/// source: the same elements in the same order, so the same sums.
+struct Until<'s> {
+    source: &'s dyn ElementSource,
+    stop: Option<&'s AtomicUsize>,
+    /// The flag's value when it was read nonzero (0: never).
+    halted: AtomicUsize,
+}
+
+impl<'s> Until<'s> {
+    fn new(source: &'s dyn ElementSource, stop: Option<&'s AtomicUsize>) -> Self {
+        Until {
+            source,
+            stop,
+            halted: AtomicUsize::new(0),
+        }
+    }
+
+    /// `Err(Stopped)` when the stiffnesses were cut short by the stop flag.
+    fn stopped(&self) -> std::result::Result<(), Stopped> {
+        match self.halted.load(Ordering::Relaxed) {
+            0 => Ok(()),
+            signal => Err(Stopped(signal)),
+        }
+    }
+}
+
+impl ElementSource for Until<'_> {
+    fn len(&self) -> usize {
+        self.source.len()
+    }
+
+    fn nodes(&self, e: usize, f: &mut dyn FnMut(&[usize])) {
+        self.source.nodes(e, f);
+    }
+
+    fn stiffness(&self, e: usize, sink: &mut MatrixSink<'_>) {
+        self.source.stiffness(e, sink);
+    }
+
+    fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>) {
+        self.source.internal_force(e, u, sink);
+    }
+
+    fn for_each_stiffness(&self, sink: &mut MatrixSink<'_>) {
+        for e in 0..self.len() {
+            if e % STOP_CHECK_ELEMENTS == 0
+                && let Err(Stopped(signal)) = check(self.stop)
+            {
+                self.halted.store(signal, Ordering::Relaxed);
+                return;
+            }
+            self.source.stiffness(e, sink);
+        }
+    }
 }
 
 /// The stiffness's pattern (every part and coupling element) in the elimination
@@ -116,9 +216,43 @@ mod tests {
             prescribed: Vec::new(),
             fixed: Vec::new(),
         };
-        match pattern_and_symbolic(&[], &[], &dofs) {
+        match pattern_and_symbolic(&[], &[], &dofs, None) {
             Err(Error::TooLarge { unknowns, .. }) => assert_eq!(unknowns, MAX_EQUATIONS as u64 + 1),
             other => panic!("expected TooLarge, got {:?}", other.map(|_| ())),
+        }
+    }
+
+    /// A stop flag that stays zero gives the analysis without one (the same
+    /// pattern, values and factor size); one already set abandons it with
+    /// `Error::Interrupted` carrying its value, before any increment.
+    #[test]
+    fn stop_flag_abandons_the_analysis() {
+        use crate::fem::{Material, PlaneKind};
+        use crate::mesh::{ElementKind, Mesh};
+        let parts = vec![Part {
+            name: "p".into(),
+            mesh: Mesh::rectangle([0.0, 2.0], [0.0, 1.0], [60, 30], ElementKind::T3),
+            material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
+        }];
+        let supports = vec![crate::domain::Support {
+            name: "s".into(),
+            part: 0,
+            nodes: parts[0].mesh.boundary_nodes("bottom").unwrap(),
+            fix: [true, true],
+            value: [0.0, 0.0],
+            step: 0,
+        }];
+        let dofs = DofMap::new(&parts, &supports);
+        let (k, chol) = pattern_and_symbolic(&parts, &[], &dofs, None).unwrap();
+        let stop = AtomicUsize::new(0);
+        let (flagged, flagged_chol) = pattern_and_symbolic(&parts, &[], &dofs, Some(&stop)).unwrap();
+        assert_eq!((&flagged.col_ptr, &flagged.row_idx), (&k.col_ptr, &k.row_idx));
+        assert!(flagged.values.iter().zip(&k.values).all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert_eq!(flagged_chol.factor_nnz(), chol.factor_nnz());
+        stop.store(2, Ordering::Relaxed);
+        match pattern_and_symbolic(&parts, &[], &dofs, Some(&stop)) {
+            Err(Error::Interrupted { increment: 0, signal: 2 }) => {}
+            other => panic!("expected Interrupted, got {:?}", other.map(|_| ())),
         }
     }
 }

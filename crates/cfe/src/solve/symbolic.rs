@@ -22,6 +22,27 @@
 //! nonzeros of `A`, and so the row-subtree counting was most of the symbolic
 //! analysis: this module does the same in a few passes over `A`.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A step of the symbolic analysis abandoned because the caller's stop flag
+/// was nonzero (its value, e.g. a signal's number): what the ordering
+/// ([`super::ordering::nested_dissection`]) and the steps here return once it
+/// is read nonzero.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Stopped(pub usize);
+
+/// Columns of the elimination tree or the column counts done between two reads
+/// of the stop flag (a few milliseconds of work at most).
+const STOP_CHECK_COLUMNS: usize = 1 << 16;
+
+/// `Err(Stopped)` once `stop` (if any) is nonzero: one relaxed load.
+pub fn check(stop: Option<&AtomicUsize>) -> Result<(), Stopped> {
+    match stop.map_or(0, |s| s.load(Ordering::Relaxed)) {
+        0 => Ok(()),
+        signal => Err(Stopped(signal)),
+    }
+}
+
 /// A row index as a pattern stores it: 4 bytes (the stiffness's) or 8 (faer's).
 pub trait Row: Copy + Send + Sync {
     /// The index as a `usize`.
@@ -81,24 +102,33 @@ pub fn permuted_triangles<R: Row, P: Row>(
 /// The upper triangle of `P K Pᵀ` alone (see [`permuted_triangles`]): what the
 /// elimination tree and faer's supernodal analysis read, when the lower
 /// triangle in the elimination order is built elsewhere (the stiffness's own,
-/// [`crate::assembly::Stiffness::in_order_pattern`]).
-pub fn permuted_upper<R: Row, P: Row>(col_ptr: &[usize], row_idx: &[R], inverse: &[P]) -> Pattern {
+/// [`crate::assembly::Stiffness::in_order_pattern`]). `stop`, if given, is
+/// read before each of its two passes over the entries ([`Stopped`] once
+/// nonzero).
+pub fn permuted_upper<R: Row, P: Row>(
+    col_ptr: &[usize],
+    row_idx: &[R],
+    inverse: &[P],
+    stop: Option<&AtomicUsize>,
+) -> Result<Pattern, Stopped> {
+    check(stop)?;
     let n = col_ptr.len() - 1;
     let mut up = vec![0usize; n + 1];
     each_moved(col_ptr, row_idx, inverse, |_, c| up[c + 1] += 1);
     for c in 0..n {
         up[c + 1] += up[c];
     }
+    check(stop)?;
     let mut next = up[..n].to_vec();
     let mut rows = vec![0usize; up[n]];
     each_moved(col_ptr, row_idx, inverse, |r, c| {
         rows[next[c]] = r;
         next[c] += 1;
     });
-    Pattern {
+    Ok(Pattern {
         col_ptr: up,
         row_idx: rows,
-    }
+    })
 }
 
 /// Calls `f(r, c)` for every entry `(i, j)`, `i ≥ j`, of the lower triangle
@@ -130,11 +160,24 @@ pub struct Pattern {
 /// The elimination tree of the matrix whose upper triangle is `(col_ptr,
 /// row_idx)`: `parent[j]`, `-1` for a root (faer's convention).
 pub fn elimination_tree(col_ptr: &[usize], row_idx: &[usize]) -> Vec<isize> {
+    elimination_tree_until(col_ptr, row_idx, None).unwrap_or_else(|_| unreachable!("no stop flag"))
+}
+
+/// [`elimination_tree`] reading `stop`, if given, every
+/// `STOP_CHECK_COLUMNS` columns: [`Stopped`] once it is nonzero.
+pub fn elimination_tree_until(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    stop: Option<&AtomicUsize>,
+) -> Result<Vec<isize>, Stopped> {
     let n = col_ptr.len() - 1;
     let mut parent = vec![-1isize; n];
     // The root of each partial subtree, path-compressed (`usize::MAX`: none yet).
     let mut ancestor = vec![usize::MAX; n];
     for k in 0..n {
+        if k % STOP_CHECK_COLUMNS == 0 {
+            check(stop)?;
+        }
         for &row in &row_idx[col_ptr[k]..col_ptr[k + 1]] {
             let mut i = row;
             while i < k {
@@ -148,7 +191,7 @@ pub fn elimination_tree(col_ptr: &[usize], row_idx: &[usize]) -> Vec<isize> {
             }
         }
     }
-    parent
+    Ok(parent)
 }
 
 /// A postorder of the forest `parent` (`-1` for a root): children before their
@@ -194,6 +237,19 @@ pub fn column_counts<R: Row>(
     parent: &[isize],
     post: &[usize],
 ) -> Vec<usize> {
+    column_counts_until(col_ptr, row_idx, parent, post, None)
+        .unwrap_or_else(|_| unreachable!("no stop flag"))
+}
+
+/// [`column_counts`] reading `stop`, if given, every `STOP_CHECK_COLUMNS`
+/// columns of the postorder: [`Stopped`] once it is nonzero.
+pub fn column_counts_until<R: Row>(
+    col_ptr: &[usize],
+    row_idx: &[R],
+    parent: &[isize],
+    post: &[usize],
+    stop: Option<&AtomicUsize>,
+) -> Result<Vec<usize>, Stopped> {
     const NONE: usize = usize::MAX;
     let n = parent.len();
     // first[j]: the postorder number of the first descendant of j (leaf end of
@@ -214,7 +270,10 @@ pub fn column_counts<R: Row>(
     let mut max_first = vec![NONE; n];
     let mut prev_leaf = vec![NONE; n];
     let mut ancestor: Vec<usize> = (0..n).collect();
-    for &j in post {
+    for (k, &j) in post.iter().enumerate() {
+        if k % STOP_CHECK_COLUMNS == 0 {
+            check(stop)?;
+        }
         if parent[j] >= 0 {
             delta[parent[j] as usize] -= 1;
         }
@@ -254,13 +313,13 @@ pub fn column_counts<R: Row>(
             delta[parent[j] as usize] += delta[j];
         }
     }
-    delta
+    Ok(delta
         .into_iter()
         .map(|d| {
             debug_assert!(d >= 1, "a column count below one");
             d as usize
         })
-        .collect()
+        .collect())
 }
 
 #[cfg(test)]
@@ -426,5 +485,32 @@ mod tests {
         // (0,0)→(1,1), (1,0)→(1,2), (2,0)→(0,1), (1,1)→(2,2), (2,2)→(0,0).
         assert_eq!(columns(&upper), vec![vec![0], vec![0, 1], vec![1, 2]]);
         assert_eq!(columns(&lower), vec![vec![1], vec![2], vec![]]);
+    }
+
+    /// With a stop flag that stays zero the permuted triangle, the tree and the
+    /// counts are those without one; with the flag set each returns
+    /// [`Stopped`] with its value.
+    #[test]
+    fn stop_flag_abandons_the_symbolic_steps() {
+        let (ptr, rows, order) = grid(16, 40);
+        let mut inverse = vec![0; order.len()];
+        for (k, &e) in order.iter().enumerate() {
+            inverse[e] = k;
+        }
+        let (upper, lower) = permuted_triangles(&ptr, &rows, &inverse);
+        let parent = elimination_tree(&upper.col_ptr, &upper.row_idx);
+        let post = postorder(&parent);
+        let counts = column_counts(&lower.col_ptr, &lower.row_idx, &parent, &post);
+        let stop = AtomicUsize::new(0);
+        let flag = Some(&stop);
+        assert_eq!(permuted_upper(&ptr, &rows, &inverse, flag).as_ref(), Ok(&upper));
+        assert_eq!(elimination_tree_until(&upper.col_ptr, &upper.row_idx, flag).as_ref(), Ok(&parent));
+        let flagged = column_counts_until(&lower.col_ptr, &lower.row_idx, &parent, &post, flag);
+        assert_eq!(flagged.as_ref(), Ok(&counts));
+        stop.store(2, Ordering::Relaxed);
+        assert_eq!(permuted_upper(&ptr, &rows, &inverse, flag), Err(Stopped(2)));
+        assert_eq!(elimination_tree_until(&upper.col_ptr, &upper.row_idx, flag), Err(Stopped(2)));
+        let flagged = column_counts_until(&lower.col_ptr, &lower.row_idx, &parent, &post, flag);
+        assert_eq!(flagged, Err(Stopped(2)));
     }
 }

@@ -48,6 +48,7 @@ pub fn states_from_coarse(
         coarse.dofs,
         coarse.f_ext,
         &settings,
+        None,
     )
     .ok()?;
     if let Some(s) = coarse_start {

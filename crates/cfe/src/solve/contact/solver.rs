@@ -146,13 +146,16 @@ pub(super) struct TrialRhs {
 
 impl<'a> Solver<'a> {
     /// Builds the node graph, the nested-dissection ordering, the fixed sparsity
-    /// pattern and the symbolic factorization.
+    /// pattern and the symbolic factorization. `stop`, if given, is read during
+    /// that analysis too (a nonzero value abandons it with
+    /// [`Error::Interrupted`]) and then as [`Solver::set_stop`] says.
     pub fn new(
         parts: &'a [Part],
         interfaces: &'a [Interface],
         dofs: &'a DofMap,
         f_ext: Vec<f64>,
         settings: &'a Settings,
+        stop: Option<&'a AtomicUsize>,
     ) -> Result<Self> {
         if dofs.n_eq == 0 {
             return Err(Error::Model(
@@ -160,7 +163,7 @@ impl<'a> Solver<'a> {
             ));
         }
         let t = Instant::now();
-        let (k, chol) = crate::solve::setup::pattern_and_symbolic(parts, interfaces, dofs)?;
+        let (k, chol) = crate::solve::setup::pattern_and_symbolic(parts, interfaces, dofs, stop)?;
         let timings = SolveTimings {
             pattern_and_symbolic: t.elapsed().as_secs_f64(),
             ..Default::default()
@@ -171,7 +174,7 @@ impl<'a> Solver<'a> {
             .iter()
             .map(|i| vec![PairHistory::default(); i.elements.len()])
             .collect();
-        Ok(Solver {
+        let mut solver = Solver {
             parts,
             interfaces,
             dofs,
@@ -219,7 +222,11 @@ impl<'a> Solver<'a> {
             kept: Kept::default(),
             stop: None,
             timings,
-        })
+        };
+        if let Some(stop) = stop {
+            solver.set_stop(stop);
+        }
+        Ok(solver)
     }
 
     /// Has the solver read `stop` at every increment, active-set iteration,
