@@ -4,8 +4,8 @@
 //! from a coarser model. The linear-solver seam ([`backend`]) puts the linear
 //! algebra behind a trait, implemented by the supernodal Cholesky ([`direct`])
 //! and by preconditioned conjugate gradients ([`iterative`]); the scheme
-//! (`nonlinear`) still calls the Cholesky's `ContactSystem` directly until it
-//! is wired through the seam.
+//! ([`contact`], re-exported under its former path [`nonlinear`]) still calls
+//! the Cholesky's `ContactSystem` directly until it is wired through the seam.
 
 pub(crate) mod anderson;
 pub mod backend;
