@@ -136,6 +136,13 @@ impl Analysis {
     /// this model's pairs by position — a start close to the final pattern, so the
     /// iteration needs few, small state changes. `None` when no coarser level exists.
     pub fn coarse_states(&self) -> Option<PairStates> {
+        self.coarse_states_until(None)
+    }
+
+    /// [`Analysis::coarse_states`] whose coarse solves read `stop` (if given) as
+    /// [`Solver::new`] says: a stop ends them, with no start (`None`); the caller's
+    /// own solver then sees the same flag.
+    pub fn coarse_states_until(&self, stop: Option<&AtomicUsize>) -> Option<PairStates> {
         let m = &self.model;
         let contact = self
             .interfaces
@@ -154,7 +161,7 @@ impl Analysis {
         for (c, i) in coarse.interfaces.iter_mut().zip(&self.interfaces) {
             c.law = i.law;
         }
-        let start = coarse.coarse_states();
+        let start = coarse.coarse_states_until(stop);
         let problem = warm_start::Problem {
             parts: &coarse.model.parts,
             interfaces: &coarse.interfaces,
@@ -162,7 +169,7 @@ impl Analysis {
             f_ext: assembly::external_force(&coarse.model.loads, &coarse.dofs),
             settings: &m.settings,
         };
-        warm_start::states_from_coarse(problem, start, &self.interfaces)
+        warm_start::states_from_coarse(problem, start, &self.interfaces, stop)
     }
 
     /// The incremental solver of this analysis: its parts, interfaces, DOFs, loads
@@ -345,7 +352,7 @@ impl Analysis {
         let t = Instant::now();
         let mut solver = self.solver_until(Some(stop))?;
         if self.model.settings.start == StartPattern::Coarse
-            && let Some(states) = self.coarse_states()
+            && let Some(states) = self.coarse_states_until(Some(stop))
         {
             solver.set_initial_states(states);
         }

@@ -193,3 +193,17 @@ fn a_stop_from_another_thread_leaves_the_converged_increments() {
     assert_eq!(common::vtu_files(&out), expected);
     std::fs::remove_dir_all(&out).unwrap();
 }
+
+/// The coarse warm start reads the stop flag: on the seed's plate refined 4
+/// times (a coarser level exists), the start from the coarse solve is found with
+/// the flag clear and abandoned (no start, nothing solved to the end) with it set.
+#[test]
+fn the_coarse_start_reads_the_flag() {
+    let text = Problem::plate_on_base().plate_load_down().text();
+    let model: cfe::Model = text.parse().unwrap();
+    let a = cfe::Analysis::new(model.with_refine(4).unwrap()).unwrap();
+    let clear = AtomicUsize::new(0);
+    assert!(a.coarse_states_until(Some(&clear)).is_some());
+    let set = AtomicUsize::new(15);
+    assert!(a.coarse_states_until(Some(&set)).is_none());
+}

@@ -399,7 +399,7 @@ impl Analysis {
                 return Err(e);
             }
         };
-        self.prepare_solver(&mut solver, &mut log.summary);
+        self.prepare_solver(&mut solver, &mut log.summary, stop);
         let r = solver.run(|inc| {
             self.write_increment(scope, grid, inc, &mut series, log, out)?;
             progress(inc);
@@ -477,11 +477,12 @@ impl Analysis {
         self.write_pictures(out, inc, &stresses, &proceed)
     }
 
-    /// The coarse start (if the settings ask for it) and the matrix sizes.
-    fn prepare_solver(&self, solver: &mut Solver<'_>, summary: &mut Summary) {
+    /// The coarse start (if the settings ask for it; its coarse solves read
+    /// `stop`) and the matrix sizes.
+    fn prepare_solver(&self, solver: &mut Solver<'_>, summary: &mut Summary, stop: &AtomicUsize) {
         let t = Instant::now();
         if self.model.settings.start == crate::domain::StartPattern::Coarse
-            && let Some(states) = self.coarse_states()
+            && let Some(states) = self.coarse_states_until(Some(stop))
         {
             solver.set_initial_states(states);
         }

@@ -11,6 +11,7 @@ use super::contact::Solver;
 use crate::coupling::{Interface, PairState, PairStates};
 use crate::dofs::DofMap;
 use crate::domain::{Part, Settings};
+use std::sync::atomic::AtomicUsize;
 
 /// A prepared problem to solve for its final states: parts, interfaces with their
 /// coupling elements, DOF numbering, external force at full load, settings.
@@ -29,11 +30,13 @@ pub struct Problem<'a> {
 
 /// The final pair states of `coarse` solved in one increment (its own iteration
 /// starting from `coarse_start` when given), mapped onto the pairs of `fine`.
-/// `None` when the coarse problem does not solve or its interfaces do not match.
-pub fn states_from_coarse(
-    coarse: Problem<'_>,
+/// `None` when the coarse problem does not solve, its interfaces do not match,
+/// or `stop` (read as [`Solver::new`] says) is set.
+pub fn states_from_coarse<'a>(
+    coarse: Problem<'a>,
     coarse_start: Option<PairStates>,
     fine: &[Interface],
+    stop: Option<&'a AtomicUsize>,
 ) -> Option<PairStates> {
     if coarse.interfaces.len() != fine.len() {
         return None;
@@ -48,7 +51,7 @@ pub fn states_from_coarse(
         coarse.dofs,
         coarse.f_ext,
         &settings,
-        None,
+        stop,
     )
     .ok()?;
     if let Some(s) = coarse_start {
