@@ -1,6 +1,6 @@
 //! Line charts (linear or logarithmic axes) for reports: convergence plots and
 //! benchmark curves, drawn with plotters on the bundled font and written as PNG.
-//! The title, axis labels and legend names are bounded by [`label_text`].
+//! The title, axis labels and legend names are bounded by `png::label_text`.
 
 use super::png::label_text;
 use crate::error::{Error, Result};

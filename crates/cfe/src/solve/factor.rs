@@ -199,7 +199,7 @@ impl NumericPlan {
     /// value is overwritten). A non-positive pivot is returned as its column in
     /// the elimination order (the smallest one if parts fail at the same time).
     /// `stop`, if given, is read before every supernode and inside each, before
-    /// every block of an update (at most [`BLOCK_VALUES`] entries of a product)
+    /// every block of an update (at most `BLOCK_VALUES` entries of a product)
     /// and before the Cholesky of its diagonal block and the solve below it, so a
     /// large separator alone does not delay a stop: once nonzero the
     /// factorization is abandoned with [`Halt::Stopped`] (a pivot failure found

@@ -26,7 +26,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A step of the symbolic analysis abandoned because the caller's stop flag
 /// was nonzero (its value, e.g. a signal's number): what the ordering
-/// ([`super::ordering::nested_dissection`]) and the steps here return once it
+/// (`ordering::nested_dissection`) and the steps here return once it
 /// is read nonzero.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Stopped(pub usize);

@@ -11,7 +11,7 @@ use crate::solve::system::Method;
 pub struct SolveTimings {
     /// Node graph, ordering, sparsity pattern and symbolic factorization (once),
     /// and the pattern built again when a freed one is needed
-    /// ([`ContactSystem::keep_pattern`]).
+    /// (`ContactSystem::keep_pattern`).
     pub pattern_and_symbolic: f64,
     /// Assembly of K values and right-hand sides.
     pub assembly: f64,
@@ -77,8 +77,8 @@ pub struct IncrementResult {
     /// relative to it.
     pub load_scale: f64,
     /// The scale the out-of-balance force is measured against
-    /// ([`Solver::balance_scale`]): the load scale, or, where larger, the largest
-    /// pair force (an interference fit) or [`BALANCE_FLOOR`] × the smallest E·t
+    /// (`Solver::balance_scale`): the load scale, or, where larger, the largest
+    /// pair force (an interference fit) or `BALANCE_FLOOR` × the smallest E·t
     /// × the largest nodal |u| (a rigid approach under a prescribed displacement).
     pub balance_scale: f64,
     /// Internal force of all DOFs (reactions are F_int − F_ext at fixed DOFs).

@@ -26,9 +26,9 @@
 //! beyond `force_tolerance` × the load scale, penetration of open pairs beyond
 //! `gap_tolerance` × the pair's displacement scale) and the out-of-balance force is
 //! checked against the load: above `max_residual` (default 1e-4) the run stops
-//! with [`Error::Precision`], above [`RESIDUAL_WARN`] the result is flagged.
+//! with [`crate::error::Error::Precision`], above [`RESIDUAL_WARN`] the result is flagged.
 //!
-//! Linear solves go through [`ContactSystem`], which refactorizes or corrects the
+//! Linear solves go through [`crate::solve::system::ContactSystem`], which refactorizes or corrects the
 //! current factorization by a low-rank update, whichever costs less. A state set
 //! already solved at another load factor is not solved again: with proportional
 //! loads its solution scales with λ exactly. For the same reason an increment that
