@@ -14,6 +14,8 @@ pub(crate) mod columns;
 pub mod contact;
 pub mod direct;
 pub mod factor;
+#[cfg(test)]
+mod fixture;
 pub(crate) mod heap;
 pub mod iterative;
 pub mod linear;

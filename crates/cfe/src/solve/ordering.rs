@@ -211,25 +211,8 @@ mod tests {
     /// fewer nonzeros than the natural order and no more than 1.3 × those of AMD.
     #[test]
     fn permutation_with_low_fill() {
-        let parts = vec![Part {
-            name: "p".into(),
-            mesh: Mesh::rectangle(
-                [0.0, 1.0],
-                [0.0, 1.0],
-                [40, 40],
-                crate::mesh::ElementKind::T3,
-            ),
-            material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
-        }];
-        let supports = vec![crate::domain::Support {
-            name: "s".into(),
-            part: 0,
-            nodes: parts[0].mesh.boundary_nodes("bottom").unwrap(),
-            fix: [true, true],
-            value: [0.0, 0.0],
-            step: 0,
-        }];
-        let dofs = DofMap::new(&parts, &supports);
+        let (parts, dofs) =
+            crate::solve::fixture::clamped_rectangle([0.0, 1.0], [0.0, 1.0], [40, 40]);
         let graph = NodeGraph::new(&parts, &[], &dofs);
         let order = nested_dissection(&parts[0].mesh.nodes, &graph, &dofs, None).unwrap();
         let mut seen = vec![false; dofs.n_eq];

@@ -227,22 +227,8 @@ mod tests {
     /// `Error::Interrupted` carrying its value, before any increment.
     #[test]
     fn stop_flag_abandons_the_analysis() {
-        use crate::fem::{Material, PlaneKind};
-        use crate::mesh::{ElementKind, Mesh};
-        let parts = vec![Part {
-            name: "p".into(),
-            mesh: Mesh::rectangle([0.0, 2.0], [0.0, 1.0], [60, 30], ElementKind::T3),
-            material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
-        }];
-        let supports = vec![crate::domain::Support {
-            name: "s".into(),
-            part: 0,
-            nodes: parts[0].mesh.boundary_nodes("bottom").unwrap(),
-            fix: [true, true],
-            value: [0.0, 0.0],
-            step: 0,
-        }];
-        let dofs = DofMap::new(&parts, &supports);
+        let (parts, dofs) =
+            crate::solve::fixture::clamped_rectangle([0.0, 2.0], [0.0, 1.0], [60, 30]);
         let (k, chol) = pattern_and_symbolic(&parts, &[], &dofs, None).unwrap();
         let stop = AtomicUsize::new(0);
         let (flagged, flagged_chol) = pattern_and_symbolic(&parts, &[], &dofs, Some(&stop)).unwrap();
