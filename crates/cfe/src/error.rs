@@ -2,9 +2,26 @@
 //! which part, node, key or file is at fault and what to do about it.
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The library's result type.
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// A step abandoned because the caller's stop flag was nonzero (its value,
+/// e.g. a signal's number): what the node graph and the matrix pattern
+/// (`assembly`), the ordering and the steps of the symbolic analysis (`solve`)
+/// return once they read it nonzero. The callers turn it into
+/// [`Error::Interrupted`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Stopped(pub usize);
+
+/// `Err(Stopped)` once `stop` (if any) is nonzero: one relaxed load.
+pub fn check_stop(stop: Option<&AtomicUsize>) -> std::result::Result<(), Stopped> {
+    match stop.map_or(0, |s| s.load(Ordering::Relaxed)) {
+        0 => Ok(()),
+        signal => Err(Stopped(signal)),
+    }
+}
 
 /// Everything that can go wrong between reading a problem file and writing results.
 #[derive(Debug, thiserror::Error)]

@@ -207,3 +207,61 @@ fn the_coarse_start_reads_the_flag() {
     let set = AtomicUsize::new(15);
     assert!(a.coarse_states_until(Some(&set)).is_none());
 }
+
+/// A frictional solve ends on the flag (issue 41): the shrink fit of
+/// `examples/shrink_fit.toml` with Coulomb friction μ = 0.3 on both interfaces
+/// (its one increment runs slip-force fixed points for minutes), the flag set
+/// from another thread once the run is well into that increment, ends
+/// `Interrupted` after increment 0 with an `interrupted` summary, no increment
+/// converged, and a consistent folder: `results.pvd` names no file, `vtu/` is
+/// empty, no `pairs.csv`, no temporary file and no lock left.
+#[test]
+fn a_coulomb_solve_ends_on_the_flag_with_an_interrupted_summary() {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/shrink_fit.toml");
+    let text = std::fs::read_to_string(example).unwrap().replace(
+        "law = \"frictionless\"",
+        "law = \"coulomb\"\nfriction = 0.3",
+    );
+    assert_eq!(text.matches("friction = 0.3").count(), 2);
+    let out = fresh_folder("coulomb");
+    let mut a = common::analysis(&text);
+    let stop = AtomicUsize::new(0);
+    let e = std::thread::scope(|s| {
+        let stop = &stop;
+        s.spawn(move || {
+            // The set-up of these 34 000 unknowns takes a fraction of this.
+            std::thread::sleep(std::time::Duration::from_secs(2));
+            stop.store(15, Ordering::Relaxed);
+        });
+        a.run_until(&out, &mut |_| {}, stop)
+    })
+    .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::Interrupted {
+                increment: 0,
+                signal: 15
+            }
+        ),
+        "{e:?}"
+    );
+    let s = common::summary_json(&out);
+    assert_eq!(s["status"], "interrupted");
+    assert_eq!(s["converged_increments"], 0);
+    assert_eq!(pvd_names_existing(&out), 0);
+    assert!(
+        common::vtu_files(&out).is_empty(),
+        "{:?}",
+        common::vtu_files(&out)
+    );
+    assert!(!out.join("pairs.csv").exists());
+    assert!(!out.join(".cfe-lock").exists());
+    for dir in [out.clone(), out.join("vtu")] {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+            assert!(!name.ends_with(".tmp"), "{name} left in {}", dir.display());
+        }
+    }
+    std::fs::remove_dir_all(&out).unwrap();
+}

@@ -8,10 +8,17 @@ mod source;
 use crate::coupling::{Interface, PairHistory, PairState};
 pub use crate::dofs::{DofMap, FIXED};
 use crate::domain::{Load, Part};
+use crate::error::{Stopped, check_stop};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 pub use source::{
     CouplingElements, ElementSource, MatrixSink, PartElements, SomeElements, VectorSink,
 };
+use std::sync::atomic::AtomicUsize;
+
+/// Elements listed, or nodes or columns gone through, between two reads of a
+/// caller's stop flag while the node graph or the pattern is built (well under
+/// a millisecond of work each: the read is one relaxed load).
+const STOP_CHECK_ROWS: usize = 1 << 14;
 
 /// The node adjacency graph of the whole model (CSR, each row sorted, self
 /// included): two nodes are adjacent when an element — a part element or a coupling
@@ -28,56 +35,98 @@ pub struct NodeGraph {
 impl NodeGraph {
     /// The graph of all part elements and all coupling elements (whatever their state).
     pub fn new(parts: &[Part], interfaces: &[Interface], dofs: &DofMap) -> NodeGraph {
+        NodeGraph::new_until(parts, interfaces, dofs, None)
+            .unwrap_or_else(|_| unreachable!("no stop flag to read"))
+    }
+
+    /// [`NodeGraph::new`] reading the caller's stop flag `stop` (if any) every
+    /// few thousand elements or rows: [`Stopped`] once it is nonzero. The graph
+    /// is that of [`NodeGraph::new`] otherwise.
+    pub fn new_until(
+        parts: &[Part],
+        interfaces: &[Interface],
+        dofs: &DofMap,
+        stop: Option<&AtomicUsize>,
+    ) -> Result<NodeGraph, Stopped> {
         let part_elements = PartElements::new(parts, dofs);
         let coupling_elements = CouplingElements::new(interfaces, None, dofs);
-        NodeGraph::from_sources(&[&part_elements, &coupling_elements], dofs.n_nodes())
+        NodeGraph::from_sources_until(&[&part_elements, &coupling_elements], dofs.n_nodes(), stop)
     }
 
     /// The graph of the elements of `sources` over `n_nodes` global nodes.
     pub fn from_sources(sources: &[&dyn ElementSource], n_nodes: usize) -> NodeGraph {
+        NodeGraph::from_sources_until(sources, n_nodes, None)
+            .unwrap_or_else(|_| unreachable!("no stop flag to read"))
+    }
+
+    /// [`NodeGraph::from_sources`] reading `stop` (if any) every
+    /// [`STOP_CHECK_ROWS`] elements of each pass and every block of rows sorted:
+    /// [`Stopped`] once it is nonzero.
+    pub fn from_sources_until(
+        sources: &[&dyn ElementSource],
+        n_nodes: usize,
+        stop: Option<&AtomicUsize>,
+    ) -> Result<NodeGraph, Stopped> {
         // Two passes (count, fill), then sort and dedup each row. The nodes are
         // cut into one range per thread; every thread goes through all the
         // elements and counts and fills the rows of its range only (an element's
         // nodes are cheap to list; the rows are the memory traffic).
         use rayon::prelude::*;
-        let each_element = |f: &mut dyn FnMut(&[usize])| {
+        // Every element's nodes to `f`, in order, the flag read every
+        // `STOP_CHECK_ROWS` elements (once read nonzero the rest is skipped).
+        let each_element = |f: &mut dyn FnMut(&[usize])| -> Result<(), Stopped> {
+            let mut seen = 0usize;
+            let mut halted = Ok(());
             for source in sources {
-                source.for_each_nodes(f);
+                source.for_each_nodes(&mut |nodes| {
+                    if halted.is_ok() && seen.is_multiple_of(STOP_CHECK_ROWS) {
+                        halted = check_stop(stop);
+                    }
+                    if halted.is_ok() {
+                        seen += 1;
+                        f(nodes);
+                    }
+                });
+                halted?;
             }
+            Ok(())
         };
         let threads = rayon::current_num_threads().clamp(1, 8);
         let bounds: Vec<usize> = (0..=threads).map(|t| t * n_nodes / threads).collect();
         let mut count = vec![0usize; n_nodes + 1];
         cut_at(&mut count[1..], &bounds, |b| b)
             .into_par_iter()
-            .for_each(|(range, count)| {
+            .try_for_each(|(range, count)| {
                 each_element(&mut |nodes| {
                     for &a in nodes {
                         if range.contains(&a) {
                             count[a - range.start] += nodes.len();
                         }
                     }
-                });
-            });
+                })
+            })?;
         for i in 0..n_nodes {
             count[i + 1] += count[i];
         }
         let mut adj = vec![0usize; count[n_nodes]];
-        cut_at(&mut adj, &bounds, |b| count[b]).into_par_iter().for_each(|(range, adj)| {
-            let base = count[range.start];
-            let mut fill: Vec<usize> = count[range.clone()].iter().map(|&c| c - base).collect();
-            each_element(&mut |nodes| {
-                for &a in nodes {
-                    if range.contains(&a) {
-                        let at = &mut fill[a - range.start];
-                        for &b in nodes {
-                            adj[*at] = b;
-                            *at += 1;
+        cut_at(&mut adj, &bounds, |b| count[b])
+            .into_par_iter()
+            .try_for_each(|(range, adj)| {
+                let base = count[range.start];
+                let mut fill: Vec<usize> =
+                    count[range.clone()].iter().map(|&c| c - base).collect();
+                each_element(&mut |nodes| {
+                    for &a in nodes {
+                        if range.contains(&a) {
+                            let at = &mut fill[a - range.start];
+                            for &b in nodes {
+                                adj[*at] = b;
+                                *at += 1;
+                            }
                         }
                     }
-                }
-            });
-        });
+                })
+            })?;
         // Each row sorted and deduplicated in place, blocks of rows in parallel,
         // then the rows' unique prefixes gathered.
         const BLOCK: usize = 4096;
@@ -86,7 +135,8 @@ impl NodeGraph {
         blocks
             .into_par_iter()
             .zip(unique.par_chunks_mut(BLOCK))
-            .for_each(|((nodes, block), unique)| {
+            .try_for_each(|((nodes, block), unique)| {
+                check_stop(stop)?;
                 let base = count[nodes.start];
                 for (a, u) in nodes.zip(unique) {
                     let row = &mut block[count[a] - base..count[a + 1] - base];
@@ -100,7 +150,8 @@ impl NodeGraph {
                     }
                     *u = k;
                 }
-            });
+                Ok(())
+            })?;
         let mut ptr = vec![0usize; n_nodes + 1];
         for a in 0..n_nodes {
             ptr[a + 1] = ptr[a] + unique[a];
@@ -109,7 +160,7 @@ impl NodeGraph {
         for a in 0..n_nodes {
             out.extend_from_slice(&adj[count[a]..count[a] + unique[a]]);
         }
-        NodeGraph { ptr, adj: out }
+        Ok(NodeGraph { ptr, adj: out })
     }
 
     /// The neighbours of node `a` (including itself).
@@ -171,6 +222,18 @@ impl Stiffness {
     /// The pattern of `graph` over the equations of `dofs` (in the equations'
     /// order), every value zero: the symbolic analysis needs no more.
     pub fn pattern(dofs: &DofMap, graph: &NodeGraph) -> Stiffness {
+        Stiffness::pattern_until(dofs, graph, None)
+            .unwrap_or_else(|_| unreachable!("no stop flag to read"))
+    }
+
+    /// [`Stiffness::pattern`] reading the caller's stop flag `stop` (if any)
+    /// every [`STOP_CHECK_ROWS`] nodes of each of its two passes: [`Stopped`]
+    /// once it is nonzero.
+    pub fn pattern_until(
+        dofs: &DofMap,
+        graph: &NodeGraph,
+        stop: Option<&AtomicUsize>,
+    ) -> Result<Stiffness, Stopped> {
         use rayon::prelude::*;
         let n_nodes = dofs.n_nodes();
         // DOF-level lower-triangular CSC over equations. Equation numbers increase
@@ -194,15 +257,18 @@ impl Stiffness {
             .into_par_iter()
             .with_min_len(4096)
             .map(|a| {
-                std::array::from_fn(|ca| {
+                if a.is_multiple_of(STOP_CHECK_ROWS) {
+                    check_stop(stop)?;
+                }
+                Ok(std::array::from_fn(|ca| {
                     let mut n = 0;
                     if free(a, ca) {
                         rows_of(a, ca, &mut |_| n += 1);
                     }
                     n
-                })
+                }))
             })
-            .collect();
+            .collect::<Result<_, Stopped>>()?;
         let mut col_ptr = Vec::with_capacity(dofs.n_eq + 1);
         col_ptr.push(0);
         let mut node_start = Vec::with_capacity(n_nodes + 1);
@@ -222,7 +288,8 @@ impl Stiffness {
         // Blocks of nodes, each with its slice of the row indices.
         const BLOCK: usize = 8192;
         let slices = cut_at(&mut row_idx, &blocks_of(n_nodes, BLOCK), |b| node_start[b]);
-        slices.into_par_iter().for_each(|(nodes, slice)| {
+        slices.into_par_iter().try_for_each(|(nodes, slice)| {
+            check_stop(stop)?;
             let mut k = 0;
             for a in nodes {
                 for ca in 0..2 {
@@ -234,14 +301,15 @@ impl Stiffness {
                     }
                 }
             }
-        });
-        Stiffness {
+            Ok(())
+        })?;
+        Ok(Stiffness {
             col_ptr,
             row_idx,
             values: vec![0.0; nnz],
             position: Vec::new(),
             parts_only: false,
-        }
+        })
     }
 
     /// This matrix stored in the elimination order `order` (`order[k]` = equation
@@ -257,14 +325,21 @@ impl Stiffness {
             zeros = vec![0.0; self.row_idx.len()];
             &zeros
         };
-        self.permuted(Some(values), self.parts_only, order, inverse)
+        self.permuted(Some(values), self.parts_only, order, inverse, None)
+            .unwrap_or_else(|_| unreachable!("no stop flag to read"))
     }
 
     /// The pattern of this matrix in the elimination order, as [`Stiffness::in_order`]
     /// stores it, without values (set them with [`Stiffness::set_parts_values`] or
-    /// [`Stiffness::assemble`]).
-    pub fn in_order_pattern(&self, order: &[u32], inverse: &[u32]) -> Stiffness {
-        self.permuted(None, false, order, inverse)
+    /// [`Stiffness::assemble`]). `stop`, if given, is read every
+    /// [`STOP_CHECK_ROWS`] columns of each pass: [`Stopped`] once it is nonzero.
+    pub fn in_order_pattern(
+        &self,
+        order: &[u32],
+        inverse: &[u32],
+        stop: Option<&AtomicUsize>,
+    ) -> Result<Stiffness, Stopped> {
+        self.permuted(None, false, order, inverse, stop)
     }
 
     /// The values of the elements of `sources` in this matrix's storage (those
@@ -286,14 +361,16 @@ impl Stiffness {
     }
 
     /// This matrix with `values` (`None`: the pattern only, no values) in the
-    /// elimination order (see [`Stiffness::in_order`]).
+    /// elimination order (see [`Stiffness::in_order`]), `stop` (if any) read
+    /// every [`STOP_CHECK_ROWS`] columns of each pass.
     fn permuted(
         &self,
         values: Option<&[f64]>,
         parts_only: bool,
         order: &[u32],
         inverse: &[u32],
-    ) -> Stiffness {
+        stop: Option<&AtomicUsize>,
+    ) -> Result<Stiffness, Stopped> {
         let n = self.n();
         let nnz = self.row_idx.len();
         // A wrong order would misplace entries silently: checked here (O(n), next
@@ -325,6 +402,9 @@ impl Stiffness {
         // then each (short) column sorted by row; the values move along.
         let mut col_ptr = vec![0usize; n + 1];
         for j in 0..n {
+            if j.is_multiple_of(STOP_CHECK_ROWS) {
+                check_stop(stop)?;
+            }
             let pj = inverse[j] as usize;
             for &i in &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]] {
                 col_ptr[(inverse[i as usize] as usize).min(pj) + 1] += 1;
@@ -337,6 +417,9 @@ impl Stiffness {
         let mut row_idx = vec![0u32; nnz];
         let mut new_values = vec![0.0; if values.is_some() { nnz } else { 0 }];
         for j in 0..n {
+            if j.is_multiple_of(STOP_CHECK_ROWS) {
+                check_stop(stop)?;
+            }
             let pj = inverse[j] as usize;
             for p in self.col_ptr[j]..self.col_ptr[j + 1] {
                 let pi = inverse[self.row_idx[p] as usize] as usize;
@@ -351,6 +434,9 @@ impl Stiffness {
         }
         drop(next);
         for c in 0..n {
+            if c.is_multiple_of(STOP_CHECK_ROWS) {
+                check_stop(stop)?;
+            }
             let (s, e) = (col_ptr[c], col_ptr[c + 1]);
             let rows = &mut row_idx[s..e];
             if values.is_none() {
@@ -375,13 +461,13 @@ impl Stiffness {
         for (e, p) in position.iter_mut().enumerate() {
             *p = inverse[self.stored(e)];
         }
-        Stiffness {
+        Ok(Stiffness {
             col_ptr,
             row_idx,
             values: new_values,
             position,
             parts_only,
-        }
+        })
     }
 
     /// Sets the values to those of the elements of `sources` (the constant part,
@@ -956,5 +1042,52 @@ mod tests {
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&back.values), bits(&k.values));
         assert!((0..n).all(|e| back.stored(e) == e && scrambled.stored(e) == inverse[e] as usize));
+    }
+
+    /// The node graph, the pattern and its copy in an elimination order read
+    /// the caller's stop flag: set, each returns `Stopped` with its value; left
+    /// zero, each gives what the call without a flag gives (the same graph,
+    /// pattern and copy).
+    #[test]
+    fn a_set_stop_flag_ends_the_graph_and_the_patterns() {
+        use std::sync::atomic::Ordering;
+        let parts = vec![Part {
+            name: "p".into(),
+            mesh: Mesh::rectangle([0.0, 2.0], [0.0, 1.0], [40, 20], ElementKind::T3),
+            material: Material::new(1.0, 0.3, PlaneKind::Strain, 1.0, "p").unwrap(),
+        }];
+        let dofs = DofMap::new(&parts, &[]);
+        let graph = NodeGraph::new(&parts, &[], &dofs);
+        let k = Stiffness::pattern(&dofs, &graph);
+        let n = dofs.n_eq;
+        // A scrambled order (5 is prime to the 1722 equations) and its inverse.
+        assert_eq!(n, 1722);
+        let order: Vec<u32> = (0..n).map(|i| ((i * 5 + 3) % n) as u32).collect();
+        let mut inverse = vec![0; n];
+        for (new, &old) in order.iter().enumerate() {
+            inverse[old as usize] = new as u32;
+        }
+        let ordered = k.in_order_pattern(&order, &inverse, None).unwrap();
+        let stop = AtomicUsize::new(0);
+        let flagged = NodeGraph::new_until(&parts, &[], &dofs, Some(&stop)).unwrap();
+        assert_eq!((&flagged.ptr, &flagged.adj), (&graph.ptr, &graph.adj));
+        let flagged = Stiffness::pattern_until(&dofs, &graph, Some(&stop)).unwrap();
+        assert_eq!((&flagged.col_ptr, &flagged.row_idx), (&k.col_ptr, &k.row_idx));
+        let flagged = k.in_order_pattern(&order, &inverse, Some(&stop)).unwrap();
+        assert_eq!((&flagged.col_ptr, &flagged.row_idx), (&ordered.col_ptr, &ordered.row_idx));
+        assert_ne!(ordered.row_idx, k.row_idx);
+        stop.store(15, Ordering::Relaxed);
+        assert_eq!(
+            NodeGraph::new_until(&parts, &[], &dofs, Some(&stop)).map(|_| ()),
+            Err(Stopped(15))
+        );
+        assert_eq!(
+            Stiffness::pattern_until(&dofs, &graph, Some(&stop)).map(|_| ()),
+            Err(Stopped(15))
+        );
+        assert_eq!(
+            k.in_order_pattern(&order, &inverse, Some(&stop)).map(|_| ()),
+            Err(Stopped(15))
+        );
     }
 }

@@ -108,20 +108,24 @@ impl CholeskySolver {
         let post = symbolic::postorder(&etree);
         let counts = symbolic::column_counts(&lower.col_ptr, &lower.row_idx, &etree, &post);
         drop(lower);
-        Self::from_symbolic(order, inverse, &upper, &etree, &counts)
+        Self::from_symbolic(order, inverse, upper, etree, counts, None)
     }
 
     /// The solver for the elimination order `order` (and its `inverse`) from the
     /// symbolic analysis done: `upper` the upper triangle of `P K Pᵀ`, `etree` its
     /// elimination tree ([`symbolic::elimination_tree`]) and `counts` the column
     /// counts of its factor ([`symbolic::column_counts`]). faer finds the
-    /// supernodes; the numeric plan and the solves' parallel split follow.
+    /// supernodes (and frees these three); the numeric plan and the solves'
+    /// parallel split follow. With a stop flag faer's analysis, which cannot
+    /// read it, runs on a thread of its own that a stop abandons
+    /// ([`symbolic::run_until`]): [`Error::Interrupted`] after increment 0.
     pub fn from_symbolic(
         order: Vec<u32>,
         inverse: Vec<u32>,
-        upper: &symbolic::Pattern,
-        etree: &[isize],
-        counts: &[usize],
+        upper: symbolic::Pattern,
+        etree: Vec<isize>,
+        counts: Vec<usize>,
+        stop: Option<&AtomicUsize>,
     ) -> Result<Self> {
         let n = order.len();
         assert!(
@@ -132,29 +136,38 @@ impl CholeskySolver {
                 && etree.iter().enumerate().all(|(j, &p)| p == -1 || (p > j as isize && (p as usize) < n)),
             "a symbolic analysis of another matrix, or not an elimination tree"
         );
-        let upper_ref = SymbolicSparseColMatRef::new_unsorted_checked(
-            n,
-            n,
-            &upper.col_ptr,
-            None,
-            &upper.row_idx,
-        );
-        let mut mem = MemBuffer::new(factorize_supernodal_symbolic_cholesky_scratch::<usize>(n));
-        // SAFETY: faer asks for the array `prefactorize_symbolic_cholesky` fills: the
-        // elimination tree of `upper`, each entry −1 (a root) or the parent column,
-        // which is greater than the column (faer indexes with it unchecked; checked
-        // above). `elimination_tree` is Liu's algorithm, and `symbolic::tests`
-        // checks it and `column_counts` equal faer's.
-        let tree_ref = unsafe { EliminationTreeRef::<usize>::from_inner(etree) };
-        let sn = factorize_supernodal_symbolic_cholesky(
-            upper_ref,
-            tree_ref,
-            counts,
-            MemStack::new(&mut mem),
-            SymbolicSupernodalParams::default(),
-        )
-        .map_err(|e| Error::Singular(format!("symbolic analysis failed: {e:?}")))?;
-        drop(mem);
+        // faer's analysis owns its inputs: it may run on a thread of its own
+        // (with a stop flag), which a stop leaves to finish and free them.
+        let sn = symbolic::run_until(stop, move || {
+            let upper_ref = SymbolicSparseColMatRef::new_unsorted_checked(
+                n,
+                n,
+                &upper.col_ptr,
+                None,
+                &upper.row_idx,
+            );
+            let mut mem =
+                MemBuffer::new(factorize_supernodal_symbolic_cholesky_scratch::<usize>(n));
+            // SAFETY: faer asks for the array `prefactorize_symbolic_cholesky` fills: the
+            // elimination tree of `upper`, each entry −1 (a root) or the parent column,
+            // which is greater than the column (faer indexes with it unchecked; checked
+            // above). `elimination_tree` is Liu's algorithm, and `symbolic::tests`
+            // checks it and `column_counts` equal faer's.
+            let tree_ref = unsafe { EliminationTreeRef::<usize>::from_inner(&etree) };
+            factorize_supernodal_symbolic_cholesky(
+                upper_ref,
+                tree_ref,
+                &counts,
+                MemStack::new(&mut mem),
+                SymbolicSupernodalParams::default(),
+            )
+            .map_err(|e| format!("{e:?}"))
+        })
+        .map_err(|symbolic::Stopped(signal)| Error::Interrupted {
+            increment: 0,
+            signal,
+        })?
+        .map_err(|e| Error::Singular(format!("symbolic analysis failed: {e}")))?;
         // The solves' scratch (the numeric factorization has its own, per thread).
         let req = sn.solve_in_place_scratch::<f64>(1, Par::Seq);
         let (supernode_of, parent, factor_flops) = tree(&sn);

@@ -10,8 +10,11 @@
 //!    values into that copy.
 //!
 //! A caller's stop flag is read between these steps and within the long ones
-//! (the ordering's recursion, the elimination tree, the column counts, the
-//! parts' values a few thousand elements at a time): once it is nonzero the
+//! (the node graph, the pattern and its copy in the elimination order, the
+//! ordering's recursion, the elimination tree, the column counts, the parts'
+//! values, each a few thousand rows or elements at a time), and faer's
+//! supernodal analysis, which cannot read it, runs on a thread of its own that
+//! a stop abandons ([`symbolic::run_until`]): once the flag is nonzero the
 //! analysis is abandoned with [`Error::Interrupted`] (no increment solved).
 
 use super::linear::CholeskySolver;
@@ -60,18 +63,18 @@ pub fn pattern_and_symbolic(
         });
     }
     check(stop).map_err(interrupted)?;
-    let graph = NodeGraph::new(parts, interfaces, dofs);
-    check(stop).map_err(interrupted)?;
+    let graph = NodeGraph::new_until(parts, interfaces, dofs, stop).map_err(interrupted)?;
     let coords: Vec<[f64; 2]> = parts
         .iter()
         .flat_map(|p| p.mesh.nodes.iter().copied())
         .collect();
     let (order, k) = rayon::join(
         || ordering::nested_dissection(&coords, &graph, dofs, stop),
-        || Stiffness::pattern(dofs, &graph),
+        || Stiffness::pattern_until(dofs, &graph, stop),
     );
     drop(graph);
     let order = order.map_err(interrupted)?;
+    let k = k.map_err(interrupted)?;
     check(stop).map_err(interrupted)?;
     // The order and its inverse in 4 bytes an equation (held beside the factor;
     // `n_eq ≤ MAX_EQUATIONS` is checked above).
@@ -83,17 +86,18 @@ pub fn pattern_and_symbolic(
     // The elimination tree (from the upper triangle of P K Pᵀ) beside the lower
     // triangle in the elimination order (the stiffness's storage, also what the
     // column counts read).
-    let (tree, mut ordered) = rayon::join(
+    let (tree, ordered) = rayon::join(
         || -> std::result::Result<_, Stopped> {
             let upper = symbolic::permuted_upper(&k.col_ptr, &k.row_idx, &inverse, stop)?;
             let etree = symbolic::elimination_tree_until(&upper.col_ptr, &upper.row_idx, stop)?;
             let post = symbolic::postorder(&etree);
             Ok((upper, etree, post))
         },
-        || k.in_order_pattern(&order, &inverse),
+        || k.in_order_pattern(&order, &inverse, stop),
     );
     drop(k);
     let (upper, etree, post) = tree.map_err(interrupted)?;
+    let mut ordered = ordered.map_err(interrupted)?;
     check(stop).map_err(interrupted)?;
     // The column counts and faer's supernodes beside the parts' values.
     let part_elements = PartElements::new(parts, dofs);
@@ -108,8 +112,11 @@ pub fn pattern_and_symbolic(
                 stop,
             )
             .map_err(interrupted)?;
+            drop(post);
             check(stop).map_err(interrupted)?;
-            CholeskySolver::from_symbolic(order, inverse, &upper, &etree, &counts)
+            // The tree and the upper triangle go to faer's supernodal analysis,
+            // which frees them (on the thread it may run on).
+            CholeskySolver::from_symbolic(order, inverse, upper, etree, counts, stop)
         },
         || ordered.values_of(&[&part_elements], dofs),
     );
@@ -119,7 +126,6 @@ pub fn pattern_and_symbolic(
     ordered.set_parts_values(values);
     // The graph, the permuted copies and the tree are freed: their pages go back
     // before the factorization allocates the factor.
-    drop((upper, etree, post));
     super::heap::return_free_memory();
     Ok((ordered, chol))
 }
@@ -188,17 +194,19 @@ impl ElementSource for Until<'_> {
 /// order `order` (`inverse` its inverse) of a solver from [`pattern_and_symbolic`],
 /// built again without values: what a factorization needs when the pattern was
 /// freed after the last one ([`super::system::ContactSystem::keep_pattern`]).
+/// `stop`, if given, is read within each step: [`Stopped`] once it is nonzero.
 pub fn pattern_in_order(
     parts: &[Part],
     interfaces: &[Interface],
     dofs: &DofMap,
     order: &[u32],
     inverse: &[u32],
-) -> Stiffness {
-    let graph = NodeGraph::new(parts, interfaces, dofs);
-    let k = Stiffness::pattern(dofs, &graph);
+    stop: Option<&AtomicUsize>,
+) -> std::result::Result<Stiffness, Stopped> {
+    let graph = NodeGraph::new_until(parts, interfaces, dofs, stop)?;
+    let k = Stiffness::pattern_until(dofs, &graph, stop)?;
     drop(graph);
-    k.in_order_pattern(order, inverse)
+    k.in_order_pattern(order, inverse, stop)
 }
 
 #[cfg(test)]
@@ -238,6 +246,48 @@ mod tests {
         stop.store(2, Ordering::Relaxed);
         match pattern_and_symbolic(&parts, &[], &dofs, Some(&stop)) {
             Err(Error::Interrupted { increment: 0, signal: 2 }) => {}
+            other => panic!("expected Interrupted, got {:?}", other.map(|_| ())),
+        }
+    }
+
+    /// The pattern built again for a later factorization and faer's supernodal
+    /// analysis read the flag too: left zero, `pattern_in_order` gives the
+    /// analysis's pattern and `from_symbolic` a solver with its factor; set,
+    /// the first returns `Stopped` and the second `Error::Interrupted` after
+    /// increment 0, each carrying the flag's value.
+    #[test]
+    fn the_pattern_built_again_and_the_supernodes_read_the_flag() {
+        let (parts, dofs) =
+            crate::solve::fixture::clamped_rectangle([0.0, 2.0], [0.0, 1.0], [60, 30]);
+        let (k, chol) = pattern_and_symbolic(&parts, &[], &dofs, None).unwrap();
+        let (order, inverse) = chol.order();
+        let stop = AtomicUsize::new(0);
+        let again = pattern_in_order(&parts, &[], &dofs, order, inverse, Some(&stop)).unwrap();
+        assert_eq!((&again.col_ptr, &again.row_idx), (&k.col_ptr, &k.row_idx));
+        let plain = Stiffness::pattern(&dofs, &NodeGraph::new(&parts, &[], &dofs));
+        let upper = symbolic::permuted_upper(&plain.col_ptr, &plain.row_idx, inverse, None).unwrap();
+        let etree = symbolic::elimination_tree_until(&upper.col_ptr, &upper.row_idx, None).unwrap();
+        let post = symbolic::postorder(&etree);
+        let counts =
+            symbolic::column_counts_until(&k.col_ptr, &k.row_idx, &etree, &post, None).unwrap();
+        let analyse = |stop: &AtomicUsize| {
+            CholeskySolver::from_symbolic(
+                order.to_vec(),
+                inverse.to_vec(),
+                upper.clone(),
+                etree.clone(),
+                counts.clone(),
+                Some(stop),
+            )
+        };
+        assert_eq!(analyse(&stop).unwrap().factor_nnz(), chol.factor_nnz());
+        stop.store(15, Ordering::Relaxed);
+        assert_eq!(
+            pattern_in_order(&parts, &[], &dofs, order, inverse, Some(&stop)).map(|_| ()),
+            Err(Stopped(15))
+        );
+        match analyse(&stop) {
+            Err(Error::Interrupted { increment: 0, signal: 15 }) => {}
             other => panic!("expected Interrupted, got {:?}", other.map(|_| ())),
         }
     }

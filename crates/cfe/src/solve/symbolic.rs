@@ -22,24 +22,78 @@
 //! nonzeros of `A`, and so the row-subtree counting was most of the symbolic
 //! analysis: this module does the same in a few passes over `A`.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::AtomicUsize;
 
-/// A step of the symbolic analysis abandoned because the caller's stop flag
-/// was nonzero (its value, e.g. a signal's number): what the ordering
-/// (`ordering::nested_dissection`) and the steps here return once it
-/// is read nonzero.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Stopped(pub usize);
+/// A step abandoned on the stop flag, and the flag's read (their home is
+/// [`crate::error`], below the assembly, which reads the flag too).
+pub use crate::error::{Stopped, check_stop as check};
 
 /// Columns of the elimination tree or the column counts done between two reads
 /// of the stop flag (a few milliseconds of work at most).
 const STOP_CHECK_COLUMNS: usize = 1 << 16;
 
-/// `Err(Stopped)` once `stop` (if any) is nonzero: one relaxed load.
-pub fn check(stop: Option<&AtomicUsize>) -> Result<(), Stopped> {
-    match stop.map_or(0, |s| s.load(Ordering::Relaxed)) {
-        0 => Ok(()),
-        signal => Err(Stopped(signal)),
+/// How often the caller reads the stop flag while a step runs on a thread of
+/// its own ([`run_until`]).
+const STOP_POLL: std::time::Duration = std::time::Duration::from_millis(10);
+
+/// `work` (a step that cannot read the stop flag itself: faer's supernodal
+/// analysis) run to its end, or [`Stopped`] within [`STOP_POLL`] of `stop`
+/// being read nonzero.
+///
+/// Without a flag `work` runs here. With one it runs on a thread of its own,
+/// which owns everything it reads (hence `'static`), while this thread waits
+/// for its answer and reads the flag every [`STOP_POLL`]. On a stop that thread
+/// is left to end on its own: a thread cannot be stopped safely from outside,
+/// and the step writes no file and holds no lock, so all it does after the
+/// stop is finish its computation, drop the answer nobody waits for and free
+/// its inputs (a run being stopped exits meanwhile, which ends it). The answer
+/// is the same on either thread (the step is sequential). A panic in `work` is
+/// resumed here.
+pub fn run_until<T, F>(stop: Option<&AtomicUsize>, work: F) -> Result<T, Stopped>
+where
+    T: Send + 'static,
+    F: FnOnce() -> T + Send + 'static,
+{
+    use std::sync::mpsc::{RecvTimeoutError, sync_channel};
+    use std::sync::{Arc, Mutex, PoisonError};
+    if stop.is_none() {
+        return Ok(work());
+    }
+    check(stop)?;
+    // The work stays reachable from here should no thread be available for it
+    // (it then runs here, reading no flag, as without one).
+    let slot = Arc::new(Mutex::new(Some(work)));
+    let theirs = Arc::clone(&slot);
+    let (tx, rx) = sync_channel(1);
+    let spawned = std::thread::Builder::new()
+        .name("cfe-symbolic".into())
+        .spawn(move || {
+            let work = theirs.lock().unwrap_or_else(PoisonError::into_inner).take();
+            if let Some(work) = work {
+                // The receiver is gone after a stop: the answer is dropped.
+                let _ = tx.send(work());
+            }
+        });
+    let worker = match spawned {
+        Ok(worker) => worker,
+        Err(_) => {
+            let work = slot.lock().unwrap_or_else(PoisonError::into_inner).take();
+            return Ok(work.expect("not taken by a thread that was never started")());
+        }
+    };
+    drop(slot);
+    loop {
+        match rx.recv_timeout(STOP_POLL) {
+            Ok(answer) => {
+                let _ = worker.join();
+                return Ok(answer);
+            }
+            Err(RecvTimeoutError::Timeout) => check(stop)?,
+            Err(RecvTimeoutError::Disconnected) => match worker.join() {
+                Err(panic) => std::panic::resume_unwind(panic),
+                Ok(()) => unreachable!("the worker sends its answer before it ends"),
+            },
+        }
     }
 }
 
@@ -325,6 +379,7 @@ pub fn column_counts_until<R: Row>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::sync::atomic::Ordering;
     use faer::dyn_stack::{MemBuffer, MemStack};
     use faer::sparse::SymbolicSparseColMatRef;
     use faer::sparse::linalg::cholesky::simplicial::{
@@ -512,5 +567,45 @@ mod tests {
         assert_eq!(elimination_tree_until(&upper.col_ptr, &upper.row_idx, flag), Err(Stopped(2)));
         let flagged = column_counts_until(&lower.col_ptr, &lower.row_idx, &parent, &post, flag);
         assert_eq!(flagged, Err(Stopped(2)));
+    }
+
+    /// A step run with [`run_until`]: without a flag, or with one left zero,
+    /// its answer; with the flag set before, `Stopped` and the step never
+    /// started; with it set while the step runs (a step that cannot end before
+    /// the stop is answered: it waits for a gate opened only afterwards),
+    /// `Stopped` with the flag's value, the step then ending on its own.
+    #[test]
+    fn a_step_on_its_own_thread_is_abandoned_on_a_stop() {
+        use std::sync::mpsc::channel;
+        assert_eq!(run_until(None, || 6 * 7), Ok(42));
+        let clear = AtomicUsize::new(0);
+        assert_eq!(run_until(Some(&clear), || 6 * 7), Ok(42));
+        let set = AtomicUsize::new(2);
+        let (started_tx, started_rx) = channel::<()>();
+        assert_eq!(
+            run_until(Some(&set), move || {
+                let _ = started_tx.send(());
+                1
+            }),
+            Err(Stopped(2))
+        );
+        assert!(started_rx.recv().is_err(), "the step started");
+        let stop = AtomicUsize::new(0);
+        let (gate_tx, gate_rx) = channel::<()>();
+        let (done_tx, done_rx) = channel::<()>();
+        let stopped = std::thread::scope(|s| {
+            s.spawn(|| {
+                std::thread::sleep(std::time::Duration::from_millis(50));
+                stop.store(15, Ordering::Relaxed);
+            });
+            run_until(Some(&stop), move || {
+                let _ = gate_rx.recv();
+                let _ = done_tx.send(());
+                7
+            })
+        });
+        assert_eq!(stopped, Err(Stopped(15)));
+        gate_tx.send(()).unwrap();
+        done_rx.recv().unwrap();
     }
 }

@@ -185,7 +185,8 @@ impl<'a> ContactSystem<'a> {
         self.chol.factor_flops()
     }
 
-    /// Has every numeric factorization read `stop` before each supernode: once
+    /// Has every numeric factorization read `stop` before each supernode (and
+    /// the pattern built again for one, every few thousand rows): once
     /// it is nonzero the factorization is abandoned and the solve returns
     /// [`Halt::Stopped`] (the factor is then incomplete: the next solve
     /// refactorizes).
@@ -718,12 +719,16 @@ impl<'a> ContactSystem<'a> {
     ) -> Result<(), Halt> {
         self.invalidate();
         let (order, inverse) = self.chol.order();
-        let k = self.k.get_or_insert_with(|| {
+        if self.k.is_none() {
             let t = Instant::now();
-            let k = super::setup::pattern_in_order(self.parts, interfaces, dofs, order, inverse);
+            let k = super::setup::pattern_in_order(
+                self.parts, interfaces, dofs, order, inverse, self.stop,
+            )
+            .map_err(|super::symbolic::Stopped(signal)| Halt::Stopped(signal))?;
             self.pattern_seconds += t.elapsed().as_secs_f64();
-            k
-        });
+            self.k = Some(k);
+        }
+        let k = self.k.as_mut().expect("the pattern is built above");
         k.assemble(self.parts, interfaces, states, dofs);
         let t = Instant::now();
         // The values are needed by a factorization only: given to it, which frees
