@@ -157,6 +157,7 @@ impl FixedPoint for PairTerms<'_, '_> {
             .linear
             .solve_pattern(request, &mut self.du)
             .map_err(|f| s.linear_error(f, self.inc))?;
+        s.record(&outcome);
         if outcome.complete {
             for (d, &e) in s.dofs.eq.iter().enumerate() {
                 if e != FIXED {

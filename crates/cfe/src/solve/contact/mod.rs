@@ -67,7 +67,8 @@ mod solver;
 pub use active_set::CONTINUATION;
 pub use fixed_point::{ANDERSON_DEPTH, FIXED_POINT_TOLERANCE, MAX_FIXED_POINT};
 pub use increment::{
-    IncrementResult, Iteration, LoadSteps, MultipleOf, PairViolation, SolveTimings,
+    IncrementResult, IterativeSolves, Iteration, LoadSteps, MultipleOf, PairViolation,
+    SolveTimings,
 };
 pub use scale::{BALANCE_FLOOR, FORCE_FLOOR, RESIDUAL_WARN};
 pub use solver::Solver;

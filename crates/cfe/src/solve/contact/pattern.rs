@@ -74,9 +74,11 @@ impl Solver<'_> {
         };
         // The summed change is on the coupling equations only.
         self.check_stop(inc)?;
-        self.linear
+        let outcome = self
+            .linear
             .solve_pattern(Request::new(states).rhs_on_interface(), &mut total)
             .map_err(|f| self.linear_error(f, inc))?;
+        self.record(&outcome);
         let mut u = u_first;
         for (d, &e) in self.dofs.eq.iter().enumerate() {
             if e != FIXED {
@@ -254,6 +256,7 @@ impl Solver<'_> {
         }
         let outcome = linear.solve_pattern(request, x);
         let outcome = outcome.map_err(|f| self.linear_error(f, inc))?;
+        self.record(&outcome);
         self.keep_guess(x);
         Ok(outcome.method)
     }
@@ -353,6 +356,7 @@ impl Solver<'_> {
         }
         let outcome = self.linear.solve_pattern(request, &mut x);
         let outcome = outcome.map_err(|f| self.linear_error(f, inc))?;
+        self.record(&outcome);
         let (method, complete) = (outcome.method, outcome.complete);
         if complete {
             self.keep_guess(&x);

@@ -5,14 +5,15 @@
 //! the plumbing every layer reads: the stop flag, the scales of a solution
 //! ([`Scales`]) and the errors of a linear solve.
 
-use super::increment::{Iteration, LoadPath, LoadSteps, SolveTimings};
+use super::increment::{IterativeSolves, Iteration, LoadPath, LoadSteps, SolveTimings};
 use super::scale::{Scales, largest_off, total_force};
 use crate::assembly::{DofMap, FIXED};
 use crate::coupling::{Interface, Law, PairHistories, PairHistory, PairState, PairStates};
-use crate::domain::{Part, Scheme, Settings};
+use crate::domain::{CG_TOLERANCE, LinearBackend, Part, Scheme, Settings};
 use crate::error::{Error, Result};
-use crate::solve::backend::{LinearFailure, LinearSolver, Problem, Statistics};
+use crate::solve::backend::{Analyse, LinearFailure, LinearSolver, Outcome, Problem, Statistics};
 use crate::solve::direct::Cholesky;
+use crate::solve::iterative::ConjugateGradients;
 use crate::solve::support;
 use crate::solve::system::{ContactSystem, UpdatePolicy};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -78,6 +79,8 @@ pub struct Solver<'a> {
     /// initial guess of the next, kept only for a back end that starts from
     /// one ([`LinearSolver::starts_from_guess`]; empty otherwise).
     pub(super) guess: Vec<f64>,
+    /// The iterations of every solve of an iterative back end (`None`: direct).
+    pub(super) iterative: Option<IterativeSolves>,
     /// The support check's constant part (frames and fixed DOFs).
     pub(super) supports: support::SupportCheck,
     /// The parts friction alone holds along their faces, checked against each
@@ -171,7 +174,30 @@ impl<'a> Solver<'a> {
             ));
         }
         let t = Instant::now();
-        let (k, chol) = crate::solve::setup::pattern_and_symbolic(parts, interfaces, dofs, stop)?;
+        let problem = Problem {
+            parts,
+            interfaces,
+            dofs,
+        };
+        let (linear, iterative): (Box<dyn LinearSolver<'a> + 'a>, _) = match settings.solver {
+            LinearBackend::Direct => {
+                let (k, chol) =
+                    crate::solve::setup::pattern_and_symbolic(parts, interfaces, dofs, stop)?;
+                let system = ContactSystem::new(parts, k, chol);
+                (Box::new(Cholesky::with_system(problem, system)), None)
+            }
+            LinearBackend::Cg => {
+                let mut cg = ConjugateGradients::analyse(problem)?;
+                cg.tolerance = CG_TOLERANCE;
+                let solves = IterativeSolves {
+                    back_end: "cg".into(),
+                    preconditioner: "jacobi".into(),
+                    tolerance: CG_TOLERANCE,
+                    ..IterativeSolves::default()
+                };
+                (Box::new(cg), Some(solves))
+            }
+        };
         let timings = SolveTimings {
             pattern_and_symbolic: t.elapsed().as_secs_f64(),
             ..Default::default()
@@ -188,15 +214,9 @@ impl<'a> Solver<'a> {
             dofs,
             settings,
             f_ext,
-            linear: Box::new(Cholesky::with_system(
-                Problem {
-                    parts,
-                    interfaces,
-                    dofs,
-                },
-                ContactSystem::new(parts, k, chol),
-            )),
+            linear,
             guess: Vec::new(),
+            iterative,
             supports: support::SupportCheck::new(parts, dofs),
             friction_hold: support::FrictionHold::new(parts, interfaces, dofs),
             initial: None,
@@ -281,6 +301,21 @@ impl<'a> Solver<'a> {
     /// Number of nonzeros of the Cholesky factor (0 for a back end without one).
     pub fn factor_nnz(&self) -> usize {
         self.linear.statistics().factor_nnz
+    }
+
+    /// What the iterative back end did (iterations per solve), when the run
+    /// uses one.
+    pub fn iterative_solves(&self) -> Option<&IterativeSolves> {
+        self.iterative.as_ref()
+    }
+
+    /// Counts a linear solve's iterations, for an iterative back end.
+    pub(super) fn record(&mut self, outcome: &Outcome) {
+        if let (Some(solves), Some(it)) = (&mut self.iterative, outcome.iterations) {
+            solves.iterations.push(it.count);
+            solves.largest_relative_residual =
+                solves.largest_relative_residual.max(it.relative_residual);
+        }
     }
 
     /// The linear back end's counts and times so far.
