@@ -30,6 +30,25 @@ enum LawArg {
     Coulomb,
 }
 
+/// A linear solver on the command line.
+#[derive(Clone, Copy, ValueEnum)]
+enum SolverArg {
+    /// Supernodal Cholesky with low-rank updates (default).
+    Direct,
+    /// Jacobi-preconditioned conjugate gradients (slow; a moderate penalty or
+    /// augmented enforcement).
+    Cg,
+}
+
+impl From<SolverArg> for cfe::LinearBackend {
+    fn from(s: SolverArg) -> cfe::LinearBackend {
+        match s {
+            SolverArg::Direct => cfe::LinearBackend::Direct,
+            SolverArg::Cg => cfe::LinearBackend::Cg,
+        }
+    }
+}
+
 impl From<LawArg> for cfe::Law {
     fn from(l: LawArg) -> cfe::Law {
         match l {
@@ -70,6 +89,9 @@ enum Command {
         /// `[analysis] output_every`. pairs.csv and summary.json stay complete.
         #[arg(long, value_name = "N|last", value_parser = parse_write_every, allow_negative_numbers = true)]
         write_every: Option<usize>,
+        /// The linear solver; overrides the file's `[analysis] solver`.
+        #[arg(long, value_enum)]
+        solver: Option<SolverArg>,
         /// Write into the output folder even if it is not empty and holds no cfe
         /// run, or holds files at the names cfe writes (summary.json, pairs.csv,
         /// results.pvd, the PNGs, vtu/parts_N.vtu, vtu/pairs_N.vtu) that no cfe run
@@ -246,8 +268,17 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             law,
             friction,
             write_every,
+            solver,
             force,
-        } => run_problem(&problem, out, refine, law, friction, write_every, force),
+        } => run_problem(
+            &problem,
+            out,
+            refine,
+            (law, friction),
+            write_every,
+            solver,
+            force,
+        ),
     }
 }
 
@@ -293,9 +324,9 @@ fn run_problem(
     problem: &Path,
     out: Option<PathBuf>,
     refine: usize,
-    law: Option<LawArg>,
-    friction: Option<f64>,
+    (law, friction): (Option<LawArg>, Option<f64>),
     write_every: Option<usize>,
+    solver: Option<SolverArg>,
     force: bool,
 ) -> anyhow::Result<()> {
     let out = out.unwrap_or_else(|| {
@@ -314,6 +345,9 @@ fn run_problem(
     }
     if let Some(n) = write_every {
         a.model.settings.output_every = n;
+    }
+    if let Some(s) = solver {
+        a.model.settings.solver = s.into();
     }
     let folder = cfe::output::folder::OutputFolder::open(&out, force)?;
     eprint!("{}", a.describe());

@@ -230,7 +230,8 @@ impl PyModel {
             .collect()
     }
 
-    /// The analysis settings: increments, scheme, max_iterations, gap_tolerance.
+    /// The analysis settings: increments, scheme, max_iterations, gap_tolerance,
+    /// solver (`direct` or `cg`).
     #[getter]
     fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let s = &self.model.settings;
@@ -245,6 +246,13 @@ impl PyModel {
         )?;
         d.set_item("max_iterations", s.max_iterations)?;
         d.set_item("gap_tolerance", s.gap_tolerance)?;
+        d.set_item(
+            "solver",
+            match s.solver {
+                cfe::LinearBackend::Direct => "direct",
+                cfe::LinearBackend::Cg => "cg",
+            },
+        )?;
         Ok(d.into_any())
     }
 

@@ -374,6 +374,7 @@ impl Analysis {
         summary.timings.set_totals(&self.timings, &clock);
         summary.peak_memory_bytes = peak_memory_bytes();
         summary.solve_flops = solver.solve_flops();
+        summary.linear_solver = solver.iterative_solves().cloned();
         summary.set_ratios();
         Ok(Results {
             pairs: self.pair_rows(&last),

@@ -18,6 +18,33 @@ pub enum Scheme {
     Implex,
 }
 
+/// The linear solver every pattern of pair states is solved by (`[analysis]
+/// solver`, `--solver`): a back end behind the linear-solver seam.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LinearBackend {
+    /// The supernodal Cholesky factorization with low-rank updates and
+    /// restricted solves (default): exact to round-off.
+    #[default]
+    Direct,
+    /// Jacobi-preconditioned conjugate gradients on the assembled matrix,
+    /// warm-started from the last solution, to a relative residual of
+    /// [`crate::domain::CG_TOLERANCE`]: slow, and only for a well-conditioned
+    /// coupling (a moderate penalty, or augmented-Lagrangian enforcement).
+    Cg,
+}
+
+impl LinearBackend {
+    /// Whether this is the default back end (then summary.json does not name it).
+    pub fn is_direct(&self) -> bool {
+        *self == LinearBackend::Direct
+    }
+}
+
+/// The relative residual `‖b − K x‖ / ‖b‖` every linear solve of the `cg`
+/// back end must reach; a solve that does not ends the run with an error.
+pub const CG_TOLERANCE: f64 = 1e-10;
+
 /// Where the `active-set` iteration of the first increment starts (`[analysis] start`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -70,6 +97,9 @@ pub struct Settings {
     /// `output_every = "last"`) writes only those.
     #[serde(with = "output_every")]
     pub output_every: usize,
+    /// The linear solver: `direct` (default) or `cg`.
+    #[serde(skip_serializing_if = "LinearBackend::is_direct")]
+    pub solver: LinearBackend,
 }
 
 /// [`Settings::output_every`] for "write only the last increment (of each step)":
@@ -135,6 +165,7 @@ impl Default for Settings {
             max_violation: 0.05,
             max_residual: 1e-4,
             output_every: 1,
+            solver: LinearBackend::Direct,
         }
     }
 }

@@ -477,7 +477,8 @@ class Model:
 
     @property
     def settings(self) -> Dict[str, Any]:
-        """The analysis settings (increments, scheme, max_iterations, gap_tolerance)."""
+        """The analysis settings (increments, scheme, max_iterations, gap_tolerance,
+        solver: ``"direct"`` or ``"cg"``, set by ``"analysis": {"solver": "cg"}``)."""
         return dict(self._native.settings)
 
     @property

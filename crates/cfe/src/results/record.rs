@@ -112,6 +112,7 @@ impl Summary {
             peak_memory_bytes: None,
             peak_over_factor: None,
             solve_flops: 0.0,
+            linear_solver: None,
             total_over_factorization: None,
             threads: rayon::current_num_threads(),
             timings: Timings {

@@ -5,7 +5,7 @@
 use super::memory::cpu_seconds;
 use crate::coupling::{Enforcement, Law, PairState, ViolationKind};
 use crate::domain::Scheme;
-use crate::solve::nonlinear::{Iteration, SolveTimings};
+use crate::solve::nonlinear::{Iteration, IterativeSolves, SolveTimings};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -437,6 +437,11 @@ pub struct Summary {
     /// columns, counted from the factor's supernodes: the solver's work, the same
     /// on every run of the same problem.
     pub solve_flops: f64,
+    /// The iterative linear solver (`[analysis] solver = "cg"`): its name,
+    /// preconditioner, tolerance and the iterations of every linear solve.
+    /// Absent for the direct solver (the default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub linear_solver: Option<IterativeSolves>,
     /// End-to-end time relative to the time in numeric factorizations (the floor of
     /// a run: one factorization).
     pub total_over_factorization: Option<f64>,

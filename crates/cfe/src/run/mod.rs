@@ -416,6 +416,7 @@ impl Analysis {
         (summary.factorizations, summary.low_rank_updates) = solver.solve_counts();
         summary.first_factorization_seconds = solver.first_factorization_seconds();
         summary.solve_flops = solver.solve_flops();
+        summary.linear_solver = solver.iterative_solves().cloned();
         // The factor is not needed for the pictures or the writers still in flight.
         drop(solver);
         // The pictures of the last increment are drawn while its parts VTU (and

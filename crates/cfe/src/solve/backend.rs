@@ -205,6 +205,12 @@ pub trait LinearSolver<'a> {
     /// Whether prepared values are kept (a solve may reuse or update them).
     fn is_prepared(&self) -> bool;
 
+    /// Whether a solve starts from the initial guess it is given (an iterative
+    /// back end): only then is a guess worth keeping for it.
+    fn starts_from_guess(&self) -> bool {
+        false
+    }
+
     /// A hint: `false` when another preparation is unlikely (proportional
     /// loads), so what only a later one would need may be freed after each.
     fn keep_pattern(&mut self, _keep: bool) {}

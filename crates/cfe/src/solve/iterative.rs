@@ -342,6 +342,10 @@ impl<'a> LinearSolver<'a> for ConjugateGradients<'a> {
         self.prepared.is_some()
     }
 
+    fn starts_from_guess(&self) -> bool {
+        true
+    }
+
     fn statistics(&self) -> Statistics {
         self.stats
     }

@@ -4,6 +4,7 @@
 
 pub use super::contact::{
     ANDERSON_DEPTH, BALANCE_FLOOR, CONTINUATION, FIXED_POINT_TOLERANCE, FORCE_FLOOR,
-    IncrementResult, Iteration, LoadSteps, MAX_FIXED_POINT, MultipleOf, PairViolation,
+    IncrementResult, IterativeSolves, Iteration, LoadSteps, MAX_FIXED_POINT, MultipleOf,
+    PairViolation,
     RESIDUAL_WARN, SolveTimings, Solver,
 };

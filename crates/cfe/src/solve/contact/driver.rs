@@ -28,7 +28,8 @@ impl Solver<'_> {
         // With proportional loads the active set's first factorization answers
         // every increment (the factor is freed after the first): the stiffness's
         // pattern is not held beside the factor for another one.
-        self.system.keep_pattern = !(self.settings.scheme == Scheme::ActiveSet && self.proportional);
+        let keep = !(self.settings.scheme == Scheme::ActiveSet && self.proportional);
+        self.linear.keep_pattern(keep);
         let all_bonded = self.all_bonded();
         let warm = match self.settings.scheme {
             Scheme::ActiveSet => self.initial.take(),
@@ -55,11 +56,12 @@ impl Solver<'_> {
             }
             last = Some(result);
         }
+        let stats = self.linear.statistics();
         let t = &mut self.timings;
-        t.factorization = self.system.factor_seconds;
-        t.solve = self.system.solve_seconds;
+        t.factorization = stats.prepare_seconds;
+        t.solve = stats.solve_seconds;
         // A pattern built again for a later factorization is setup work too.
-        t.pattern_and_symbolic += std::mem::take(&mut self.system.pattern_seconds);
+        t.pattern_and_symbolic += self.linear.take_pattern_seconds();
         Ok(last.expect("at least one increment"))
     }
 
@@ -164,7 +166,7 @@ impl Solver<'_> {
             // initial gaps, friction or augmented enforcement every increment is
             // solved, so the factor is kept until the last one (with either
             // scheme), and freed before the last increment's stresses and files.
-            self.system.release();
+            self.linear.release();
         }
         self.keep_for_scaling(result, lambda);
         Ok(())

@@ -11,6 +11,7 @@ use crate::assembly::{self, FIXED};
 use crate::coupling::{Enforcement, LawParams, PairHistories, PairHistory, PairState, history};
 use crate::error::Result;
 use crate::solve::anderson::Anderson;
+use crate::solve::backend::{Request, Solve};
 use std::time::Instant;
 
 /// The fixed point on the slip forces stops when none changes by more than this
@@ -149,11 +150,15 @@ impl FixedPoint for PairTerms<'_, '_> {
             }
         }
         s.timings.contact_update += t.elapsed().as_secs_f64();
-        let (_, complete) = s
-            .system
-            .solve_interface(s.interfaces, s.dofs, self.states, &mut self.du, true)
-            .map_err(|h| s.halt_error(h, self.inc))?;
-        if complete {
+        // The change of the solution: at the coupling equations (restricted),
+        // or in full (its right-hand side lives there).
+        let request = Request::new(self.states).interface_only().rhs_on_interface();
+        let outcome = s
+            .linear
+            .solve_pattern(request, &mut self.du)
+            .map_err(|f| s.linear_error(f, self.inc))?;
+        s.record(&outcome);
+        if outcome.complete {
             for (d, &e) in s.dofs.eq.iter().enumerate() {
                 if e != FIXED {
                     self.u[d] += self.du[e];

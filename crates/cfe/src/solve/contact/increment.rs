@@ -6,6 +6,23 @@
 use crate::coupling::{PairHistories, PairState, PairStates, ViolationKind};
 use crate::solve::system::Method;
 
+/// What an iterative linear back end did over a run (summary.json's
+/// `linear_solver`, present only when the run used one).
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct IterativeSolves {
+    /// The back end (`cg`).
+    pub back_end: String,
+    /// Its preconditioner (`jacobi`).
+    pub preconditioner: String,
+    /// The relative residual `‖b − K x‖ / ‖b‖` every solve had to reach.
+    pub tolerance: f64,
+    /// Iterations of each linear solve, in the order solved (0: the initial
+    /// guess met the tolerance).
+    pub iterations: Vec<usize>,
+    /// The largest relative residual of a solve returned (at most `tolerance`).
+    pub largest_relative_residual: f64,
+}
+
 /// Seconds spent in each phase of the solution.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct SolveTimings {

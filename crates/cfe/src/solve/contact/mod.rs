@@ -28,8 +28,12 @@
 //! checked against the load: above `max_residual` (default 1e-4) the run stops
 //! with [`crate::error::Error::Precision`], above [`RESIDUAL_WARN`] the result is flagged.
 //!
-//! Linear solves go through [`crate::solve::system::ContactSystem`], which refactorizes or corrects the
-//! current factorization by a low-rank update, whichever costs less. A state set
+//! Linear solves go through the linear-solver seam ([`crate::solve::backend`]):
+//! the [`Solver`] holds its back end as a `Box<dyn LinearSolver>` and asks it to
+//! solve a pattern through one call (`solve_pattern`), using restricted and
+//! refined solves and low-rank updates only when the back end offers them. The
+//! direct back end ([`crate::solve::direct::Cholesky`]) refactorizes or corrects
+//! the current factorization by a low-rank update, whichever costs less. A state set
 //! already solved at another load factor is not solved again: with proportional
 //! loads its solution scales with λ exactly. For the same reason an increment that
 //! starts from the pattern the previous one ended on needs no new solve: the law is
@@ -63,7 +67,8 @@ mod solver;
 pub use active_set::CONTINUATION;
 pub use fixed_point::{ANDERSON_DEPTH, FIXED_POINT_TOLERANCE, MAX_FIXED_POINT};
 pub use increment::{
-    IncrementResult, Iteration, LoadSteps, MultipleOf, PairViolation, SolveTimings,
+    IncrementResult, IterativeSolves, Iteration, LoadSteps, MultipleOf, PairViolation,
+    SolveTimings,
 };
 pub use scale::{BALANCE_FLOOR, FORCE_FLOOR, RESIDUAL_WARN};
 pub use solver::Solver;

@@ -10,10 +10,12 @@ use super::fixed_point::FixedPointScale;
 use super::increment::{IncrementResult, Iteration, MultipleOf, count_changes};
 use super::pairs::LawCheck;
 use super::solver::{CouplingRing, Solved, Solver, Spare, TrialRhs};
-use crate::assembly::{self, ElementSource, FIXED};
-use crate::coupling::{PairState, PairStates};
+use crate::assembly::{self, DofMap, ElementSource, FIXED};
+use crate::coupling::{Interface, PairHistory, PairState, PairStates};
+use crate::domain::Part;
 use crate::error::{Error, Result};
-use crate::solve::system::{Method, Solve};
+use crate::solve::backend::{Request, Solve};
+use crate::solve::system::Method;
 use std::time::Instant;
 
 /// Out-of-balance tolerance above which a low-rank solution is redone by factorization.
@@ -72,9 +74,11 @@ impl Solver<'_> {
         };
         // The summed change is on the coupling equations only.
         self.check_stop(inc)?;
-        self.system
-            .solve_pair_forces(self.interfaces, self.dofs, states, &mut total)
-            .map_err(|h| self.halt_error(h, inc))?;
+        let outcome = self
+            .linear
+            .solve_pattern(Request::new(states).rhs_on_interface(), &mut total)
+            .map_err(|f| self.linear_error(f, inc))?;
+        self.record(&outcome);
         let mut u = u_first;
         for (d, &e) in self.dofs.eq.iter().enumerate() {
             if e != FIXED {
@@ -143,7 +147,7 @@ impl Solver<'_> {
                 && !refactored
             {
                 // The update lost accuracy: solve again with a fresh factorization.
-                self.system.invalidate();
+                self.linear.forget();
                 refactored = true;
                 let _ = self.right_hand_side_into(lambda, states, &mut u, &mut x);
                 continue;
@@ -180,10 +184,11 @@ impl Solver<'_> {
         None
     }
 
-    /// Solves the right-hand side `x` (free equations) in place for `states`:
-    /// by the factorization, or by a low-rank update refined on the coupling
-    /// equations (the unrefined solution read into `u` around the coupling
-    /// nodes).
+    /// Solves the right-hand side `x` (free equations) in place for `states`,
+    /// through the seam: by the back end's complete solve (from the last
+    /// solution, when it starts from a guess), or, when it offers refined
+    /// solves, by a low-rank update refined on the coupling equations (the
+    /// unrefined solution read into `u` around the coupling nodes).
     fn solve_in_place(
         &mut self,
         lambda: f64,
@@ -195,48 +200,74 @@ impl Solver<'_> {
         // With a factor kept, the solve may be an update, whose refinement
         // reads the unrefined solution around the coupling nodes (the ring
         // is usually found by the first trial already).
-        if self.kept.coupling_ring.is_none() && self.system.has_factor() {
+        if self.kept.coupling_ring.is_none() && self.linear.is_prepared() {
             self.kept.coupling_ring = Some(self.coupling_ring());
         }
         self.check_stop(inc)?;
-        let read = self.kept.coupling_ring.as_ref().map_or(&[][..], |r| &r.eqs[..]);
-        let solved = self
-            .system
-            .solve_unrefined(self.interfaces, self.dofs, states, x, read)
-            .map_err(|h| self.halt_error(h, inc))?;
-        Ok(match solved {
-            Solve::Complete(method) => method,
-            Solve::Unrefined(unrefined) => {
-                // One step of iterative refinement: the Woodbury correction
-                // of a stiff pair opening cancels large terms, and on soft
-                // models loses digits a factorization keeps. They are lost
-                // in the capacitance's solution, so the residual they leave
-                // is on the coupling DOFs (`ContactSystem::solve_unrefined`):
-                // its correction there restores them, and keeps elsewhere
-                // the round-off of the factorization the update shares. The
-                // residual is read from the unrefined solution around the
-                // coupling nodes, and takes the memory of `x`.
-                let t = Instant::now();
-                let ring = self.kept.coupling_ring.as_ref().expect("built for a kept factor");
-                for &d in &ring.dofs {
-                    let e = self.dofs.eq[d];
-                    if e != FIXED {
-                        u[d] = x[e];
-                    }
+        let Solver {
+            parts,
+            interfaces,
+            dofs,
+            f_ext,
+            linear,
+            kept,
+            history,
+            proportional,
+            coupling_dofs,
+            timings,
+            guess,
+            ..
+        } = self;
+        let ring = kept.coupling_ring.as_ref();
+        let read = ring.map_or(&[][..], |r| &r.eqs[..]);
+        let history = (!*proportional).then_some(history.as_slice());
+        // One step of iterative refinement after a low-rank update: the
+        // Woodbury correction of a stiff pair opening cancels large terms, and
+        // on soft models loses digits a factorization keeps. They are lost in
+        // the capacitance's solution, so the residual they leave is on the
+        // coupling DOFs (`ContactSystem::solve_unrefined`): its correction
+        // there restores them, and keeps elsewhere the round-off of the
+        // factorization the update shares. The residual is read from the
+        // unrefined solution around the coupling nodes, and takes the memory
+        // of `x`.
+        let mut residual = |x: &mut [f64]| {
+            let t = Instant::now();
+            let ring = ring.expect("built for a kept factor");
+            for &d in &ring.dofs {
+                let e = dofs.eq[d];
+                if e != FIXED {
+                    u[d] = x[e];
                 }
-                let f_c = self.coupling_force(states, u);
-                x.fill(0.0);
-                for &d in &self.coupling_dofs {
-                    let e = self.dofs.eq[d];
-                    if e != FIXED {
-                        x[e] = lambda * self.f_ext[d] - f_c[d];
-                    }
-                }
-                drop(f_c);
-                self.timings.contact_update += t.elapsed().as_secs_f64();
-                self.system.refine(unrefined, x)
             }
-        })
+            let f_c = ring_force(ring, parts, interfaces, dofs, history, states, u);
+            x.fill(0.0);
+            for &d in coupling_dofs.iter() {
+                let e = dofs.eq[d];
+                if e != FIXED {
+                    x[e] = lambda * f_ext[d] - f_c[d];
+                }
+            }
+            drop(f_c);
+            timings.contact_update += t.elapsed().as_secs_f64();
+        };
+        let mut request = Request::new(states).refined(read, &mut residual);
+        if guess.len() == x.len() {
+            request = request.guess(guess);
+        }
+        let outcome = linear.solve_pattern(request, x);
+        let outcome = outcome.map_err(|f| self.linear_error(f, inc))?;
+        self.record(&outcome);
+        self.keep_guess(x);
+        Ok(outcome.method)
+    }
+
+    /// Keeps the solution `x` (free equations) as the next solve's initial
+    /// guess, for a back end that starts from one.
+    fn keep_guess(&mut self, x: &[f64]) {
+        if self.linear.starts_from_guess() {
+            self.guess.clear();
+            self.guess.extend_from_slice(x);
+        }
     }
 
     /// The prescribed displacements at load factor `lambda` (all DOFs, zero at the
@@ -286,7 +317,8 @@ impl Solver<'_> {
     /// A trial solution of `states` for the law check of an active-set iteration
     /// (seed laws only): the displacements at the coupling elements' DOFs, from a
     /// solve on the elimination-tree paths of their equations
-    /// (`ContactSystem::solve_interface`); every other free DOF is NaN. No
+    /// (a back end's restricted solve; a complete one where it has none, then
+    /// every DOF is given); every other free DOF is NaN. No
     /// internal force, residual or refinement: a pattern the trial finds
     /// consistent is solved in full before it is accepted.
     pub fn solve_interface(
@@ -318,10 +350,17 @@ impl Solver<'_> {
             None => (!self.right_hand_side_into(lambda, states, &mut u, &mut x))
                 .then(|| self.coupling_equations().map(|e| x[e]).collect()),
         };
-        let (method, complete) = self
-            .system
-            .solve_interface(self.interfaces, self.dofs, states, &mut x, false)
-            .map_err(|h| self.halt_error(h, inc))?;
+        let mut request = Request::new(states).interface_only();
+        if self.guess.len() == x.len() {
+            request = request.guess(&self.guess);
+        }
+        let outcome = self.linear.solve_pattern(request, &mut x);
+        let outcome = outcome.map_err(|f| self.linear_error(f, inc))?;
+        self.record(&outcome);
+        let (method, complete) = (outcome.method, outcome.complete);
+        if complete {
+            self.keep_guess(&x);
+        }
         self.trial_displacements(&x, &mut u, complete, reused);
         self.kept.spare.x = x;
         self.kept.spare.trial = rhs
@@ -442,21 +481,6 @@ impl Solver<'_> {
         }
     }
 
-    /// The internal force at the coupling elements' DOFs for `u` (read at the
-    /// [`CouplingRing`]'s DOFs only) with the pairs in `states` and their
-    /// current histories, from the coupling elements and the part elements
-    /// around their nodes (the other DOFs hold partial sums): what a refinement
-    /// on the coupling equations reads, for a few elements' work.
-    fn coupling_force(&self, states: &[Vec<PairState>], u: &[f64]) -> Vec<f64> {
-        let ring = self.kept.coupling_ring.as_ref().expect("built before a refinement");
-        let part_elements = assembly::PartElements::new(self.parts, self.dofs);
-        let around = assembly::SomeElements::new(&part_elements, &ring.elements);
-        let history = (!self.proportional).then_some(self.history.as_slice());
-        let pairs = assembly::CouplingElements::new(self.interfaces, Some(states), self.dofs)
-            .with_history(history);
-        assembly::internal_force_of(&[&around, &pairs], u)
-    }
-
     /// The internal force of all DOFs for `u` with the pairs in `states` and their
     /// current histories (none for the seed's laws).
     fn internal_force(&self, states: &[Vec<PairState>], u: &[f64]) -> Vec<f64> {
@@ -477,7 +501,7 @@ impl Solver<'_> {
         settled: bool,
     ) -> IncrementResult {
         // The increment is accepted: its right-hand side is not solved again.
-        self.system.forget_right_hand_side();
+        self.linear.forget_right_hand_side();
         let f_ext: Vec<f64> = self.f_ext.iter().map(|f| lambda * f).collect();
         let balance_scale = self.balance_scale(check.load_scale, check.pair_force, &u);
         let residual = self.residual(lambda, &f_int, balance_scale);
@@ -552,4 +576,25 @@ impl Solver<'_> {
             s.values = Some((result.u.clone(), result.f_int.clone()));
         }
     }
+}
+
+/// The internal force at the coupling elements' DOFs for `u` (read at the
+/// [`CouplingRing`]'s DOFs only) with the pairs in `states` and their
+/// `history` (none for the seed's laws), from the coupling elements and the
+/// part elements around their nodes (the other DOFs hold partial sums): what a
+/// refinement on the coupling equations reads, for a few elements' work.
+fn ring_force(
+    ring: &CouplingRing,
+    parts: &[Part],
+    interfaces: &[Interface],
+    dofs: &DofMap,
+    history: Option<&[Vec<PairHistory>]>,
+    states: &[Vec<PairState>],
+    u: &[f64],
+) -> Vec<f64> {
+    let part_elements = assembly::PartElements::new(parts, dofs);
+    let around = assembly::SomeElements::new(&part_elements, &ring.elements);
+    let pairs =
+        assembly::CouplingElements::new(interfaces, Some(states), dofs).with_history(history);
+    assembly::internal_force_of(&[&around, &pairs], u)
 }

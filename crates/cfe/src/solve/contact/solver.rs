@@ -5,13 +5,15 @@
 //! the plumbing every layer reads: the stop flag, the scales of a solution
 //! ([`Scales`]) and the errors of a linear solve.
 
-use super::increment::{Iteration, LoadPath, LoadSteps, SolveTimings};
+use super::increment::{IterativeSolves, Iteration, LoadPath, LoadSteps, SolveTimings};
 use super::scale::{Scales, largest_off, total_force};
 use crate::assembly::{DofMap, FIXED};
 use crate::coupling::{Interface, Law, PairHistories, PairHistory, PairState, PairStates};
-use crate::domain::{Part, Scheme, Settings};
+use crate::domain::{CG_TOLERANCE, LinearBackend, Part, Scheme, Settings};
 use crate::error::{Error, Result};
-use crate::solve::factor::Halt;
+use crate::solve::backend::{Analyse, LinearFailure, LinearSolver, Outcome, Problem, Statistics};
+use crate::solve::direct::Cholesky;
+use crate::solve::iterative::ConjugateGradients;
 use crate::solve::support;
 use crate::solve::system::{ContactSystem, UpdatePolicy};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -69,7 +71,16 @@ pub struct Solver<'a> {
     pub(super) dofs: &'a DofMap,
     pub(super) settings: &'a Settings,
     pub(super) f_ext: Vec<f64>,
-    pub(super) system: ContactSystem<'a>,
+    /// The linear back end every pattern is solved by, behind the seam
+    /// ([`crate::solve::backend`]); its optional capabilities (restricted and
+    /// refined solves, low-rank updates) are used when it offers them.
+    pub(super) linear: Box<dyn LinearSolver<'a> + 'a>,
+    /// The last solution of a complete or trial solve (free equations): the
+    /// initial guess of the next, kept only for a back end that starts from
+    /// one ([`LinearSolver::starts_from_guess`]; empty otherwise).
+    pub(super) guess: Vec<f64>,
+    /// The iterations of every solve of an iterative back end (`None`: direct).
+    pub(super) iterative: Option<IterativeSolves>,
     /// The support check's constant part (frames and fixed DOFs).
     pub(super) supports: support::SupportCheck,
     /// The parts friction alone holds along their faces, checked against each
@@ -163,7 +174,30 @@ impl<'a> Solver<'a> {
             ));
         }
         let t = Instant::now();
-        let (k, chol) = crate::solve::setup::pattern_and_symbolic(parts, interfaces, dofs, stop)?;
+        let problem = Problem {
+            parts,
+            interfaces,
+            dofs,
+        };
+        let (linear, iterative): (Box<dyn LinearSolver<'a> + 'a>, _) = match settings.solver {
+            LinearBackend::Direct => {
+                let (k, chol) =
+                    crate::solve::setup::pattern_and_symbolic(parts, interfaces, dofs, stop)?;
+                let system = ContactSystem::new(parts, k, chol);
+                (Box::new(Cholesky::with_system(problem, system)), None)
+            }
+            LinearBackend::Cg => {
+                let mut cg = ConjugateGradients::analyse(problem)?;
+                cg.tolerance = CG_TOLERANCE;
+                let solves = IterativeSolves {
+                    back_end: "cg".into(),
+                    preconditioner: "jacobi".into(),
+                    tolerance: CG_TOLERANCE,
+                    ..IterativeSolves::default()
+                };
+                (Box::new(cg), Some(solves))
+            }
+        };
         let timings = SolveTimings {
             pattern_and_symbolic: t.elapsed().as_secs_f64(),
             ..Default::default()
@@ -180,7 +214,9 @@ impl<'a> Solver<'a> {
             dofs,
             settings,
             f_ext,
-            system: ContactSystem::new(parts, k, chol),
+            linear,
+            guess: Vec::new(),
+            iterative,
             supports: support::SupportCheck::new(parts, dofs),
             friction_hold: support::FrictionHold::new(parts, interfaces, dofs),
             initial: None,
@@ -232,12 +268,12 @@ impl<'a> Solver<'a> {
     /// Has the solver read `stop` at every increment, active-set iteration,
     /// fixed-point step and continuation stage, before every factorization or
     /// low-rank update, and before every supernode of a numeric factorization
-    /// ([`ContactSystem::set_stop`]): once it is nonzero (the caller sets it, e.g. to a
+    /// ([`LinearSolver::set_stop`]): once it is nonzero (the caller sets it, e.g. to a
     /// signal's number) the run ends there with [`Error::Interrupted`], the
     /// increment being solved abandoned. Reading it changes nothing else.
     pub fn set_stop(&mut self, stop: &'a AtomicUsize) {
         self.stop = Some(stop);
-        self.system.set_stop(stop);
+        self.linear.set_stop(stop);
     }
 
     /// `Err(Error::Interrupted)` once the stop flag is set, while increment
@@ -259,12 +295,32 @@ impl<'a> Solver<'a> {
 
     /// Number of nonzeros in the lower triangle of K.
     pub fn matrix_nnz(&self) -> usize {
-        self.system.matrix_nnz()
+        self.linear.statistics().matrix_nnz
     }
 
-    /// Number of nonzeros of the Cholesky factor.
+    /// Number of nonzeros of the Cholesky factor (0 for a back end without one).
     pub fn factor_nnz(&self) -> usize {
-        self.system.factor_nnz()
+        self.linear.statistics().factor_nnz
+    }
+
+    /// What the iterative back end did (iterations per solve), when the run
+    /// uses one.
+    pub fn iterative_solves(&self) -> Option<&IterativeSolves> {
+        self.iterative.as_ref()
+    }
+
+    /// Counts a linear solve's iterations, for an iterative back end.
+    pub(super) fn record(&mut self, outcome: &Outcome) {
+        if let (Some(solves), Some(it)) = (&mut self.iterative, outcome.iterations) {
+            solves.iterations.push(it.count);
+            solves.largest_relative_residual =
+                solves.largest_relative_residual.max(it.relative_residual);
+        }
+    }
+
+    /// The linear back end's counts and times so far.
+    pub fn linear_statistics(&self) -> Statistics {
+        self.linear.statistics()
     }
 
     /// Whether the factor is kept from one increment to the next, so the files
@@ -275,9 +331,9 @@ impl<'a> Solver<'a> {
         !(self.settings.scheme == Scheme::ActiveSet && self.proportional)
     }
 
-    /// Seconds of the first numeric factorization (None before it).
+    /// Seconds of the first numeric factorization or preconditioner (None before it).
     pub fn first_factorization_seconds(&self) -> Option<f64> {
-        self.system.first_factor_seconds
+        self.linear.statistics().first_prepare_seconds
     }
 
     /// Whether the proportional-load shortcuts are on: a pattern solved at one load
@@ -364,12 +420,14 @@ impl<'a> Solver<'a> {
     /// Flops of the factorizations, solves and update columns so far (counted from
     /// the factor's supernodes, not measured).
     pub fn solve_flops(&self) -> f64 {
-        self.system.flops
+        self.linear.statistics().flops
     }
 
-    /// Numeric factorizations and low-rank updates performed so far.
+    /// Numeric factorizations (preconditioners built) and low-rank updates
+    /// performed so far.
     pub fn solve_counts(&self) -> (usize, usize) {
-        (self.system.factorizations, self.system.updates)
+        let s = self.linear.statistics();
+        (s.preparations, s.updates)
     }
 
     /// Starts the `active-set` iteration of the first increment from these states
@@ -388,9 +446,12 @@ impl<'a> Solver<'a> {
 
     /// Chooses when a changed pattern is solved by a low-rank update of the current
     /// factorization rather than a new one (default: by a cost model). The answer
-    /// does not depend on it beyond round-off.
+    /// does not depend on it beyond round-off. Ignored by a back end without
+    /// low-rank updates.
     pub fn set_update_policy(&mut self, policy: UpdatePolicy) {
-        self.system.policy = policy;
+        if let Some(l) = self.linear.low_rank() {
+            l.set_policy(policy);
+        }
     }
 
     /// Every pair of every interface bonded.
@@ -456,17 +517,28 @@ impl<'a> Solver<'a> {
     }
 
     /// The error of a linear solve of increment `inc` that did not finish: a
-    /// stop request ([`Error::Interrupted`]) or a non-positive pivot at an
-    /// equation (where, named by part and node).
-    pub(super) fn halt_error(&self, halt: Halt, inc: usize) -> Error {
-        let eq = match halt {
-            Halt::Stopped(signal) => {
+    /// stop request ([`Error::Interrupted`]), a matrix not positive definite
+    /// (at an equation, named by part and node, when known), or an iterative
+    /// solve short of its tolerance ([`Error::NoConvergence`]).
+    pub(super) fn linear_error(&self, failure: LinearFailure, inc: usize) -> Error {
+        let eq = match failure {
+            LinearFailure::Stopped(signal) => {
                 return Error::Interrupted {
                     increment: inc.saturating_sub(1),
                     signal,
                 };
             }
-            Halt::Pivot(eq) => eq,
+            LinearFailure::NotPositiveDefinite { equation: Some(eq) } => eq,
+            LinearFailure::NotPositiveDefinite { equation: None } => {
+                return Error::Singular(format!(
+                    "increment {inc}: {failure}; check for a mechanism or an unsupported part"
+                ));
+            }
+            LinearFailure::NotConverged { .. } => {
+                return Error::NoConvergence(format!(
+                    "increment {inc}: {failure}; the penalty's conditioning is too poor for the iterative solver (lower the interface's penalty, use enforcement = \"augmented\", or solver = \"direct\")"
+                ));
+            }
         };
         let d = self.dofs.eq.iter().position(|&e| e == eq).unwrap_or(0);
         let (p, n) = self.dofs.locate(d / 2);
