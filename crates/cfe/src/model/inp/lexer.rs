@@ -201,11 +201,22 @@ impl Deck {
             ));
         }
         let target = path.parent().unwrap_or(Path::new("")).join(input);
+        // A refusal (not a regular file, too large) is told at the *INCLUDE line.
         let data = input_file::read(&target, "included deck file", MESH_FILE_CAP, |e| {
             err(
                 DeckFault::Include,
                 format!("cannot read the included file {}: {e}", target.display()),
             )
+        })
+        .map_err(|e| match e {
+            Error::InputFile { message, .. } => err(
+                DeckFault::Include,
+                format!(
+                    "cannot read the included file {}: {message}",
+                    target.display()
+                ),
+            ),
+            e => e,
         })?;
         let text = String::from_utf8(data).map_err(|_| {
             err(
