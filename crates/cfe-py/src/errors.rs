@@ -17,7 +17,7 @@ create_exception!(
     _cfe,
     ParseError,
     CfeError,
-    "The problem cannot be read: unreadable file, invalid TOML, a key the schema does not know or a name that does not exist or is given twice. Attributes: `path`, `line` (1-based or None); for a name given twice also `key` (e.g. `interface#2.name`) and `name`."
+    "The problem cannot be read: unreadable file, invalid TOML, a key the schema does not know or a name that does not exist or is given twice. Attributes: `path`, `line` (1-based or None); for a name given twice also `key` (e.g. `interface#2.name`) and `name`; for a CalculiX/Abaqus deck also `keyword` (e.g. `*PLASTIC`) and `fault` (`unsupported`, `malformed`, `undefined`, `conflict` or `include`)."
 );
 create_exception!(
     _cfe,
@@ -250,6 +250,21 @@ pub fn to_py(py: Python<'_>, e: cfe::Error) -> PyErr {
         E::InputFile { path, .. } => (
             ParseError::new_err(message),
             vec![("path", obj(py, path)), ("line", py.None())],
+        ),
+        E::Deck {
+            path,
+            line,
+            keyword,
+            fault,
+            ..
+        } => (
+            ParseError::new_err(message),
+            vec![
+                ("path", obj(py, path)),
+                ("line", obj(py, line)),
+                ("keyword", obj(py, keyword)),
+                ("fault", obj(py, format!("{fault:?}").to_lowercase())),
+            ],
         ),
         E::OutputFolderNotOurs { folder, files, .. } => (
             OutputError::new_err(message),

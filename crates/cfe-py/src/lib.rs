@@ -172,6 +172,24 @@ impl PyModel {
         Ok(PyModel { model })
     }
 
+    /// Reads a CalculiX/Abaqus input deck (`.inp`): its common subset mapped onto
+    /// cfe's parts, interfaces, supports, loads and steps (README, "Running a
+    /// CalculiX/Abaqus deck"); anything outside it raises `ParseError` with the
+    /// line, the keyword and the fault.
+    #[staticmethod]
+    fn from_inp(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        let model = py
+            .detach(|| cfe::Model::from_inp(&path))
+            .map_err(|e| to_py(py, e))?;
+        Ok(PyModel { model })
+    }
+
+    /// What reading the input noted (a deck's ignored keywords and mapping).
+    #[getter]
+    fn notes(&self) -> Vec<String> {
+        self.model.notes.clone()
+    }
+
     /// Reads, checks and meshes a problem given as TOML text; `path` is used in
     /// messages and to find Gmsh files (relative to its folder); `meshes` gives
     /// the meshes of parts that have no mesh key, by part name.

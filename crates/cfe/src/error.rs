@@ -329,6 +329,41 @@ pub enum Error {
         /// The message, with the file's type or its size and the cap.
         message: String,
     },
+    /// A CalculiX/Abaqus input deck (`.inp`) that cfe cannot read: a keyword,
+    /// parameter or element type outside the subset it reads, a malformed line,
+    /// a name that is not defined, or a construct cfe cannot represent. `line`
+    /// is the line at fault (1-based) in `path` (the deck or a file it includes).
+    #[error("{}: {message}", path.display())]
+    Deck {
+        /// The deck file holding the line.
+        path: PathBuf,
+        /// The line at fault (1-based).
+        line: usize,
+        /// The keyword of that line or of its card (`*PLASTIC`, `*BOUNDARY`).
+        keyword: String,
+        /// What kind of fault.
+        fault: DeckFault,
+        /// `KEYWORD at line N` and what is wrong and what to do.
+        message: String,
+    },
+}
+
+/// The kind of an [`Error::Deck`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DeckFault {
+    /// A keyword, parameter, element type or option outside what cfe reads or
+    /// computes (`*PLASTIC`: cfe is linear elastic).
+    Unsupported,
+    /// A line that does not say what its keyword needs (a missing or extra
+    /// field, a number that is not one, a missing parameter).
+    Malformed,
+    /// A name or number that is not defined (a set, a node, a material).
+    Undefined,
+    /// Statements that contradict each other or that cfe's model cannot hold
+    /// together (a node shared by two sections' bodies, a value changed twice).
+    Conflict,
+    /// An `*INCLUDE` that cannot be read (missing file, nesting too deep).
+    Include,
 }
 
 /// Why an input file is refused ([`Error::InputFile`]).

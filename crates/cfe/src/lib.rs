@@ -119,7 +119,7 @@ pub use coupling::{
 };
 pub use dofs::DofMap;
 pub use domain::{InterfaceDef, LinearBackend, Load, OUTPUT_LAST, Part, Scheme, Settings, Support};
-pub use error::{Error, Result};
+pub use error::{DeckFault, Error, Result};
 pub use fem::material::{Material, PlaneKind};
 pub use fem::recovery::PartStress;
 pub use mesh::{BoundarySelection, Element, ElementKind, Mesh};

@@ -439,6 +439,20 @@ class Model:
         return cls._wrap(_cfe.Model.from_file(Path(path), refine))
 
     @classmethod
+    def from_inp(cls, path: PathLike) -> "Model":
+        """Reads a CalculiX/Abaqus input deck (as ``cfe run model.inp``): its
+        common subset mapped onto cfe's model (README, "Running a CalculiX/Abaqus
+        deck"); anything outside it raises :class:`ParseError` with ``line``,
+        ``keyword`` and ``fault``. The keywords it ignored are in :attr:`notes`."""
+        return cls._wrap(_cfe.Model.from_inp(Path(path)))
+
+    @property
+    def notes(self) -> List[str]:
+        """What reading the input noted: a deck's ignored keywords (with their
+        lines) and how its contact behaviour was mapped."""
+        return list(self._native.notes)
+
+    @classmethod
     def from_toml(
         cls,
         text: str,

@@ -73,6 +73,10 @@ class Model:
     @classmethod
     def from_file(cls, path: _Path, *, refine: int = 1) -> Model: ...
     @classmethod
+    def from_inp(cls, path: _Path) -> Model: ...
+    @property
+    def notes(self) -> List[str]: ...
+    @classmethod
     def from_toml(
         cls,
         text: str,

@@ -104,6 +104,10 @@ class Model:
     @staticmethod
     def from_file(path: Union[str, PathLike[str]], refine: int = 1) -> Model: ...
     @staticmethod
+    def from_inp(path: Union[str, PathLike[str]]) -> Model: ...
+    @property
+    def notes(self) -> List[str]: ...
+    @staticmethod
     def from_toml(
         text: str,
         refine: int = 1,

@@ -116,6 +116,10 @@ impl Analysis {
         for w in self.model.warnings() {
             s += &format!("  warning: {w}\n");
         }
+        // What reading the input noted (a deck's ignored keywords, its mapping).
+        for n in &self.model.notes {
+            s += &format!("  note: {n}\n");
+        }
         s
     }
 }

@@ -227,6 +227,7 @@ impl<'a> Builder<'a> {
             refine,
             text: self.text.to_string(),
             kept_polygons,
+            notes: Vec::new(),
         })
     }
 

@@ -14,13 +14,14 @@ pub use crate::domain::{InterfaceDef, Load, Part, Scheme, Settings, Step, Suppor
 use crate::error::{Error, Result};
 use crate::fem::PlaneKind;
 use crate::mesh::Mesh;
-use crate::mesh::input_file::{self, PROBLEM_FILE_CAP};
+use crate::mesh::input_file::{self, MESH_FILE_CAP, PROBLEM_FILE_CAP};
 pub use schema::Units;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
 mod build;
 mod check;
+mod inp;
 mod schema;
 
 /// Default relative geometric tolerance of the pair search: a coupling node may lie
@@ -73,6 +74,28 @@ pub struct Model {
     /// The curved boundaries of the parts refined from a given mesh (Gmsh, or
     /// in memory) as (part name, boundary): `--refine` kept their polygons.
     pub kept_polygons: Vec<(String, crate::mesh::CurvedBoundary)>,
+    /// What reading the input noted that a user should know: for a CalculiX/
+    /// Abaqus deck, the keywords accepted and ignored (with their lines) and
+    /// how its contact behaviour was mapped ([`Model::from_inp`]).
+    pub notes: Vec<String>,
+}
+
+/// Whether `path` names a CalculiX/Abaqus deck (extension `.inp`, any case).
+fn is_deck(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("inp"))
+}
+
+/// The UTF-8 text of the input file at `path` (`what` names it in messages), of
+/// at most `cap` bytes, from a regular file only ([`input_file::read`]).
+fn read_text(path: &Path, cap: u64, what: &str) -> Result<String> {
+    let read_error = |source| Error::ReadInput {
+        path: path.to_path_buf(),
+        source,
+    };
+    let data = input_file::read(path, what, cap, read_error)?;
+    String::from_utf8(data)
+        .map_err(|e| read_error(std::io::Error::new(std::io::ErrorKind::InvalidData, e)))
 }
 
 /// A problem given as text (TOML), read as if from a file `problem.toml` in the
@@ -93,20 +116,39 @@ impl Model {
 
     /// Reads, checks and meshes the problem file at `path`; `refine` multiplies every
     /// structured part's cell counts and splits every edge of a Gmsh part into that
-    /// many (1 = as written).
+    /// many (1 = as written). A file named `*.inp` is read as a CalculiX/Abaqus
+    /// deck ([`Model::from_inp`]; its mesh as written, `refine` must be 1).
     pub fn from_file(path: &Path, refine: usize) -> Result<Model> {
-        let read_error = |source| Error::ReadInput {
-            path: path.to_path_buf(),
-            source,
-        };
-        let data = input_file::read(path, "problem file", PROBLEM_FILE_CAP, read_error)?;
-        let text = String::from_utf8(data)
-            .map_err(|e| read_error(std::io::Error::new(std::io::ErrorKind::InvalidData, e)))?;
+        if is_deck(path) {
+            let text = read_text(path, MESH_FILE_CAP, "CalculiX/Abaqus deck")?;
+            return inp::model(&text, path, refine);
+        }
+        let text = read_text(path, PROBLEM_FILE_CAP, "problem file")?;
         Model::from_str(&text, path, refine)
+    }
+
+    /// Reads a CalculiX/Abaqus input deck: the common subset (nodes, CPS3/CPE3/
+    /// CPS4/CPE4 elements, sets, surfaces, elastic materials, solid sections,
+    /// boundary conditions, concentrated and pressure loads, static steps, ties
+    /// and contact pairs) mapped onto cfe's parts, interfaces, supports, loads
+    /// and steps as README.md, "Running a CalculiX/Abaqus deck", states; anything
+    /// outside it is an [`Error::Deck`] naming the line and the keyword.
+    pub fn from_inp(path: &Path) -> Result<Model> {
+        let text = read_text(path, MESH_FILE_CAP, "CalculiX/Abaqus deck")?;
+        inp::model(&text, path, 1)
+    }
+
+    /// [`Model::from_inp`] of deck text; `path` is used in messages and to find
+    /// its `*INCLUDE`d files (relative to its folder).
+    pub fn from_inp_str(text: &str, path: &Path) -> Result<Model> {
+        inp::model(text, path, 1)
     }
 
     /// The same problem with the meshes refined `refine` times instead.
     pub fn with_refine(&self, refine: usize) -> Result<Model> {
+        if is_deck(&self.source) {
+            return inp::model(&self.text, &self.source, refine);
+        }
         Model::from_str(&self.text, &self.source, refine)
     }
 
@@ -135,6 +177,7 @@ impl Model {
             refine: 1,
             text: String::new(),
             kept_polygons: Vec::new(),
+            notes: Vec::new(),
         };
         model.check_names()?;
         Ok(model)
