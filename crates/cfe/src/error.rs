@@ -114,6 +114,19 @@ pub enum Error {
         /// What is wrong, with the element or node numbers.
         message: String,
     },
+    /// A node of an axisymmetric part lies at r = x < 0: the r–z half-plane is
+    /// x ≥ 0 (the axis is x = 0).
+    #[error(
+        "part '{part}': node {node} lies at r = x = {r} < 0; an axisymmetric part is meshed in the half-plane r ≥ 0 about the axis r = 0 (x = radius, y = axial coordinate): mirror or move the mesh"
+    )]
+    NegativeRadius {
+        /// The part.
+        part: String,
+        /// The node (in the part's numbering).
+        node: usize,
+        /// Its radius.
+        r: f64,
+    },
     /// An interface cannot be built (a host element's inverse map fails, moving
     /// the coupling nodes spoils the node part's mesh).
     #[error("interface '{interface}': {message}")]

@@ -100,6 +100,8 @@ pub struct PartElements<'a> {
     offset: Vec<usize>,
     /// The constitutive matrix of each part.
     d: Vec<[[f64; 3]; 3]>,
+    /// The 4×4 D of each axisymmetric part (`None` for a plane part).
+    axi: Vec<Option<[[f64; 4]; 4]>>,
 }
 
 impl<'a> PartElements<'a> {
@@ -113,11 +115,47 @@ impl<'a> PartElements<'a> {
         }
         offset.push(n);
         let d = parts.iter().map(|p| p.material.d_matrix()).collect();
+        let axi = parts
+            .iter()
+            .map(|p| p.material.is_axisymmetric().then(|| p.material.d_axisymmetric()))
+            .collect();
         PartElements {
             parts,
             dofs,
             offset,
             d,
+            axi,
+        }
+    }
+
+    /// The stiffness of element `el` (corners `x`) of part `p`: the plane
+    /// element's, or the axisymmetric one's ([`crate::fem::axisymmetric`]).
+    #[inline(always)]
+    fn stiffness_of(
+        &self,
+        p: usize,
+        el: &crate::mesh::Element,
+        x: &[[f64; 2]; element::MAX_NODES],
+    ) -> element::ElementMatrix {
+        match &self.axi[p] {
+            None => element::stiffness(el, x, &self.d[p], self.parts[p].material.thickness),
+            Some(d) => crate::fem::axisymmetric::stiffness(el, x, d),
+        }
+    }
+
+    /// The internal force `K_e u_e` of element `el` of part `p`, as
+    /// [`Self::stiffness_of`] chooses.
+    #[inline(always)]
+    fn force_of(
+        &self,
+        p: usize,
+        el: &crate::mesh::Element,
+        x: &[[f64; 2]; element::MAX_NODES],
+        ue: &[f64; element::MAX_DOFS],
+    ) -> [f64; element::MAX_DOFS] {
+        match &self.axi[p] {
+            None => element::internal_force(el, x, &self.d[p], self.parts[p].material.thickness, ue),
+            Some(d) => crate::fem::axisymmetric::internal_force(el, x, d, ue),
         }
     }
 
@@ -166,7 +204,7 @@ impl<'a> PartElements<'a> {
         let part = &self.parts[p];
         let el = &part.mesh.elements[e];
         let x = element::coordinates(&part.mesh, el);
-        let ke = element::stiffness(el, &x, &self.d[p], part.material.thickness);
+        let ke = self.stiffness_of(p, el, &x);
         let (g, n) = self.dofs.element_dofs(self.parts, p, e);
         (ke, g, n)
     }
@@ -186,7 +224,7 @@ impl<'a> PartElements<'a> {
         let (g, n) = self.dofs.element_dofs(self.parts, p, e);
         let ue: [f64; element::MAX_DOFS] =
             std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
-        let fe = element::internal_force(el, &x, &self.d[p], part.material.thickness, &ue);
+        let fe = self.force_of(p, el, &x, &ue);
         (fe, g, n)
     }
 }
@@ -233,7 +271,7 @@ impl ElementSource for PartElements<'_> {
         for (p, part) in self.parts.iter().enumerate() {
             for (e, el) in part.mesh.elements.iter().enumerate() {
                 let x = element::coordinates(&part.mesh, el);
-                let ke = element::stiffness(el, &x, &self.d[p], part.material.thickness);
+                let ke = self.stiffness_of(p, el, &x);
                 let (g, n) = self.dofs.element_dofs(self.parts, p, e);
                 sink(&g[..n], ke.as_flattened(), element::MAX_DOFS);
             }
@@ -252,7 +290,6 @@ impl ElementSource for PartElements<'_> {
             // The part's DOFs in `f` (from `first_dof` on).
             let fp = &mut f[base.saturating_sub(first_dof)..];
             let shift = first_dof.saturating_sub(base);
-            let (d, t) = (&self.d[p], part.material.thickness);
             for el in elements {
                 let nodes = el.nodes();
                 let x = element::coordinates(&part.mesh, el);
@@ -261,7 +298,7 @@ impl ElementSource for PartElements<'_> {
                     ue[2 * a] = u[base + 2 * n];
                     ue[2 * a + 1] = u[base + 2 * n + 1];
                 }
-                let fe = element::internal_force(el, &x, d, t, &ue);
+                let fe = self.force_of(p, el, &x, &ue);
                 for (a, &n) in nodes.iter().enumerate() {
                     fp[2 * n - shift] += fe[2 * a];
                     fp[2 * n + 1 - shift] += fe[2 * a + 1];

@@ -86,6 +86,17 @@ pub fn interfaces(
                 &parts[def.node_part],
             ));
         }
+        if parts[def.node_part].material.is_axisymmetric() {
+            // Each pair stands for its ring: penalties and forces per unit
+            // circumference times 2π r̄.
+            let rings = crate::fem::axisymmetric::face_rings(&parts[def.node_part].mesh, &def.nodes);
+            for c in &mut elements {
+                c.ring = rings
+                    .get(&c.node)
+                    .copied()
+                    .unwrap_or(2.0 * std::f64::consts::PI * c.position[0]);
+            }
+        }
         let c_slip =
             slip_stiffness(def.law, &parts[def.host], &parts[def.node_part]);
         interfaces.push(Interface {

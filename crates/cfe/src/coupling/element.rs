@@ -74,6 +74,11 @@ pub struct CouplingElement {
     /// Length of the host edge the node was projected on (the scale of the
     /// geometrically linear limit: slip small against it).
     pub edge_length: f64,
+    /// The ring the pair stands for in an axisymmetric model, 2π r̄ (r̄ the mean
+    /// radius of the node's share of the face, `∫ N_a r ds / ∫ N_a ds`): the
+    /// pair's penalties and forces are per unit circumference times it, totals
+    /// over the ring. 1 in a plane model.
+    pub ring: f64,
     /// `None` for the node CFE; for the segment coupling, the node side of the
     /// coupling node's integrated gap (then `host_nodes` and `shape` are the host
     /// nodes under its face segments and their coefficients N̂_ai).
@@ -120,8 +125,12 @@ impl CouplingElement {
     /// parts, but the force crosses it where the node part meets it, over the node
     /// part's thickness; when the host's thickness differs, this is the node part's
     /// side of the interface.
+    ///
+    /// In an axisymmetric model the force is a total over the ring and crosses
+    /// the ring's band of the face, tributary length × 2π r̄ ([`Self::ring`]; the
+    /// thickness is 1 there).
     pub fn traction(&self, force: f64, thickness: f64) -> f64 {
-        traction(force, self.tributary, thickness)
+        traction(force, self.tributary, thickness * self.ring)
     }
 
     /// Number of DOFs of the CFE: 2 × (host nodes + node-side nodes).
@@ -147,9 +156,10 @@ impl CouplingElement {
         }
     }
 
-    /// The penalty weight ω: 1 for the node CFE, m_a / h̄ for the segment coupling.
+    /// The penalty weight ω: 1 for the node CFE, m_a / h̄ for the segment
+    /// coupling; times the ring 2π r̄ in an axisymmetric model ([`Self::ring`]).
     pub fn weight(&self) -> f64 {
-        self.segment.as_ref().map_or(1.0, |s| s.weight)
+        self.ring * self.segment.as_ref().map_or(1.0, |s| s.weight)
     }
 
     /// The global nodes of the CFE in its local order: the host element's nodes
@@ -651,6 +661,7 @@ mod tests {
                 gap0: 0.0,
                 tributary: 1.0,
                 edge_length: 1.0,
+                ring: 1.0,
                 segment: None,
             };
             let k = c.stiffness(1e9, 5e8, PairState::Bonded);
@@ -695,6 +706,7 @@ mod tests {
                 gap0: 0.0,
                 tributary: 0.5,
                 edge_length: 1.0,
+                ring: 1.0,
                 segment: Some(SegmentSide {
                     nodes: vec![10, 11, 12],
                     shape: m.to_vec(),

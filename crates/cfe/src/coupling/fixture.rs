@@ -27,6 +27,7 @@ pub fn interface(law: Law, n: usize, friction: f64) -> Interface {
                 gap0: 0.0,
                 tributary: 1.0,
                 edge_length: 1.0,
+                ring: 1.0,
                 segment: None,
             }
         })

@@ -257,6 +257,7 @@ pub fn find_pairs_within(
             gap0,
             tributary: tributary.get(&node).copied().unwrap_or(0.0),
             edge_length: dist(a, b),
+            ring: 1.0,
             segment: None,
         });
     }

@@ -321,6 +321,7 @@ pub fn segment_elements_within(
             tributary: e.m,
             // The geometrically linear limit's scale: the face's mean segment.
             edge_length: mean_length,
+            ring: 1.0,
             segment: Some(SegmentSide {
                 nodes: side.iter().map(|&(b, _)| b).collect(),
                 shape: side.iter().map(|&(_, v)| v / e.m).collect(),

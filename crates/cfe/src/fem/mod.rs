@@ -3,6 +3,7 @@
 //! the bilinear quadrilateral [`q4`] as small pure functions, and the
 //! [`element`] provider that dispatches between them for mixed meshes.
 
+pub mod axisymmetric;
 pub mod element;
 pub(crate) mod loads;
 pub mod material;

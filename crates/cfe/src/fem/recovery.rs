@@ -19,6 +19,24 @@ pub struct PartStress {
     pub element: Vec<[f64; 3]>,
     /// Area-weighted nodal averages.
     pub nodal: Vec<[f64; 3]>,
+    /// The hoop stress σθθ of an axisymmetric part (`None` for a plane part).
+    pub hoop: Option<Hoop>,
+}
+
+/// The hoop stress σθθ of an axisymmetric part, per element (the mean of its
+/// points' values) and per node (area-weighted average of the corner values, as
+/// the other components).
+#[derive(Debug, Clone)]
+pub struct Hoop {
+    /// Element values.
+    pub element: Vec<f64>,
+    /// Nodal averages.
+    pub nodal: Vec<f64>,
+}
+
+/// A scalar `v` scaled by each of `factors` in turn, as [`scaled_in_turn`].
+pub fn scalar_scaled_in_turn(v: f64, factors: &[f64]) -> f64 {
+    factors.iter().fold(v, |x, &f| f * x)
 }
 
 /// `v` scaled by each of `factors` in turn: bit for bit the value after as many
@@ -43,9 +61,16 @@ impl PartStress {
         let scale = |v: &[[f64; 3]]| -> Vec<[f64; 3]> {
             v.iter().map(|&s| scaled_in_turn(s, factors)).collect()
         };
+        let hoop = |v: &[f64]| -> Vec<f64> {
+            v.iter().map(|&h| scalar_scaled_in_turn(h, factors)).collect()
+        };
         PartStress {
             element: scale(&self.element),
             nodal: scale(&self.nodal),
+            hoop: self.hoop.as_ref().map(|h| Hoop {
+                element: hoop(&h.element),
+                nodal: hoop(&h.nodal),
+            }),
         }
     }
 }
@@ -53,6 +78,9 @@ impl PartStress {
 /// Recovers the stresses of a part (its `mesh` and `material`) from its nodal
 /// displacements `u` (2 per node, the part's own numbering).
 pub fn recover(mesh: &Mesh, material: &Material, u: &[f64]) -> PartStress {
+    if material.is_axisymmetric() {
+        return recover_axisymmetric(mesh, material, u);
+    }
     use rayon::prelude::*;
     let d = material.d_matrix();
     let mut nodal = vec![[0.0; 3]; mesh.nodes.len()];
@@ -91,5 +119,52 @@ pub fn recover(mesh: &Mesh, material: &Material, u: &[f64]) -> PartStress {
             }
         }
     }
-    PartStress { element, nodal }
+    PartStress {
+        element,
+        nodal,
+        hoop: None,
+    }
+}
+
+/// [`recover`] for an axisymmetric part: the same averages, with σθθ.
+fn recover_axisymmetric(mesh: &Mesh, material: &Material, u: &[f64]) -> PartStress {
+    use rayon::prelude::*;
+    let d = material.d_axisymmetric();
+    let all: Vec<(super::axisymmetric::AxiStress, f64)> = mesh
+        .elements
+        .par_iter()
+        .enumerate()
+        .map(|(e, el)| {
+            let x = element::coordinates(mesh, el);
+            let s = super::axisymmetric::stresses(el, &x, &d, &element::gather(el, u));
+            (s, mesh.element_area(e))
+        })
+        .collect();
+    let n = mesh.nodes.len();
+    let (mut nodal, mut nodal_hoop, mut weight) = (vec![[0.0; 3]; n], vec![0.0; n], vec![0.0; n]);
+    for (el, (s, a)) in mesh.elements.iter().zip(&all) {
+        for (k, &node) in el.nodes().iter().enumerate() {
+            for (v, c) in nodal[node].iter_mut().zip(&s.plane.corners[k]) {
+                *v += a * c;
+            }
+            nodal_hoop[node] += a * s.hoop_corners[k];
+            weight[node] += a;
+        }
+    }
+    for ((s, h), w) in nodal.iter_mut().zip(&mut nodal_hoop).zip(&weight) {
+        if *w > 0.0 {
+            for v in s.iter_mut() {
+                *v /= w;
+            }
+            *h /= w;
+        }
+    }
+    PartStress {
+        element: all.iter().map(|(s, _)| s.plane.element).collect(),
+        nodal,
+        hoop: Some(Hoop {
+            element: all.iter().map(|(s, _)| s.hoop).collect(),
+            nodal: nodal_hoop,
+        }),
+    }
 }

@@ -15,7 +15,7 @@ use super::{
 };
 use crate::coupling::{Enforcement, Law};
 use crate::error::{Error, Result};
-use crate::fem::{Material, PlaneKind, loads};
+use crate::fem::{Material, PlaneKind, axisymmetric, loads};
 use crate::mesh::gmsh::{GmshMesh, Group};
 use crate::mesh::input_file::{self, MESH_FILE_CAP};
 use crate::mesh::{Mesh, bounding_diagonal};
@@ -401,7 +401,10 @@ impl<'a> Builder<'a> {
                 format!("part '{name}' has a mesh given in memory and a `rectangle`, `annulus` or `gmsh` key: give one of them"),
             ));
         }
-        let mesh = self.part_mesh(spec, &name, refine, gmsh_files)?;
+        let mut mesh = self.part_mesh(spec, &name, refine, gmsh_files)?;
+        if material.is_axisymmetric() {
+            axisymmetric::check_radii(&mut mesh.nodes, &name)?;
+        }
         mesh.validate(&name)?;
         Ok(Part {
             name,
@@ -841,7 +844,11 @@ impl<'a> Builder<'a> {
                 Load {
                     name: format!("{}/{}", part.name, b.get_ref()),
                     part: p,
-                    nodal: loads::chain_forces(&edges, force),
+                    nodal: if part.material.is_axisymmetric() {
+                        axisymmetric::chain_forces(&edges, force)
+                    } else {
+                        loads::chain_forces(&edges, force)
+                    },
                     resultant: force,
                     step: 0,
                 }
@@ -871,7 +878,11 @@ impl<'a> Builder<'a> {
             }
         };
         let edges = edges_of(part, self.boundary(part, b)?);
-        let nodal = loads::pressure_forces(&edges, pressure);
+        let nodal = if part.material.is_axisymmetric() {
+            axisymmetric::pressure_forces(&edges, pressure)
+        } else {
+            loads::pressure_forces(&edges, pressure)
+        };
         let mut resultant = [0.0; 2];
         for (_, f) in &nodal {
             resultant[0] += f[0];
@@ -907,7 +918,11 @@ impl<'a> Builder<'a> {
             None => edges_of(part, &part.mesh.boundary_edges()),
         };
         let tol = 1e-6 * part.mesh.max_edge_length();
-        let (nodal, covered) = loads::segment_forces(&edges, from, to, force, tol);
+        let (nodal, covered) = if part.material.is_axisymmetric() {
+            axisymmetric::segment_forces(&edges, from, to, force, tol)
+        } else {
+            loads::segment_forces(&edges, from, to, force, tol)
+        };
         if (covered - seg_len).abs() > 1e-6 * seg_len {
             return Err(self.err(
                 &spec.part,

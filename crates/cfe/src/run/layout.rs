@@ -52,22 +52,37 @@ fn stress_fields(
     let mut nodal: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(n_points));
     let mut cell: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(n_cells));
     for (part, s) in parts.iter().zip(stresses.base.iter()) {
-        for v in &s.nodal {
+        let hoop = |h: Option<&Vec<f64>>, i: usize| h.map(|h| stresses.hoop_value(h[i]));
+        for (i, v) in s.nodal.iter().enumerate() {
             let v = stresses.value(*v);
             for c in 0..3 {
                 nodal[c].push(v[c]);
             }
-            nodal[3].push(part.material.von_mises(v));
+            let h = hoop(s.hoop.as_ref().map(|h| &h.nodal), i);
+            nodal[3].push(part.material.von_mises_with(v, h));
         }
-        for v in &s.element {
+        for (i, v) in s.element.iter().enumerate() {
             let v = stresses.value(*v);
             for c in 0..3 {
                 cell[c].push(v[c]);
             }
-            cell[3].push(part.material.von_mises(v));
+            let h = hoop(s.hoop.as_ref().map(|h| &h.element), i);
+            cell[3].push(part.material.von_mises_with(v, h));
         }
     }
     (nodal, cell)
+}
+
+/// The hoop stress σθθ at the points and in the cells when every part is
+/// axisymmetric (the model's `plane`), `None` otherwise (no such field).
+fn hoop_fields(stresses: &Stresses) -> Option<(Vec<f64>, Vec<f64>)> {
+    let (mut nodal, mut cell) = (Vec::new(), Vec::new());
+    for s in stresses.base.iter() {
+        let h = s.hoop.as_ref()?;
+        nodal.extend(h.nodal.iter().map(|&v| stresses.hoop_value(v)));
+        cell.extend(h.element.iter().map(|&v| stresses.hoop_value(v)));
+    }
+    (!stresses.base.is_empty()).then_some((nodal, cell))
 }
 
 /// The integer codes of the pairs VTU, one per pair: `bonded` (0/1), `settled`
@@ -172,6 +187,14 @@ impl Analysis {
                 values: vtu::Values::F64(v),
             });
         }
+        let hoop = hoop_fields(stresses);
+        if let Some((h, _)) = &hoop {
+            point_data.push(vtu::DataArray {
+                name: "sigma_theta",
+                components: 1,
+                values: vtu::Values::F64(h),
+            });
+        }
         point_data.push(vtu::DataArray {
             name: "part_id",
             components: 1,
@@ -186,6 +209,13 @@ impl Analysis {
                 values: vtu::Values::F64(v),
             })
             .collect();
+        if let Some((_, h)) = &hoop {
+            cell_data.push(vtu::DataArray {
+                name: "sigma_theta",
+                components: 1,
+                values: vtu::Values::F64(h),
+            });
+        }
         cell_data.push(vtu::DataArray {
             name: "part_id",
             components: 1,

@@ -29,6 +29,11 @@ impl Stresses {
         scaled_in_turn(v, &self.factors)
     }
 
+    /// A hoop stress of `base` at these stresses' scale.
+    pub(super) fn hoop_value(&self, v: f64) -> f64 {
+        crate::fem::recovery::scalar_scaled_in_turn(v, &self.factors)
+    }
+
     /// These stresses times `factor`: shares `base`, or, once [`MAX_FACTORS`]
     /// factors are pending, a new base holding the scaled values.
     pub(super) fn times(&self, factor: f64) -> Stresses {
@@ -64,10 +69,12 @@ mod tests {
             PartStress {
                 element: (1..4).map(|k| v(k as f64)).collect(),
                 nodal: (1..6).map(|k| v(k as f64 * 0.7)).collect(),
+                hoop: None,
             },
             PartStress {
                 element: vec![v(11.0)],
                 nodal: vec![v(0.3), v(1e-9)],
+                hoop: None,
             },
         ]
     }

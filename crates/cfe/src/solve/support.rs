@@ -82,6 +82,15 @@ impl SupportCheck {
                 }
             }
         }
+        // An axisymmetric part's only rigid motion is along the axis: a radial
+        // translation or an in-plane rotation strains its rings (the hoop strain
+        // u_r / r), so they are held whatever its supports.
+        for (p, part) in parts.iter().enumerate() {
+            if part.material.is_axisymmetric() {
+                add(&mut g, &[(M * p, 1.0)]);
+                add(&mut g, &[(M * p + 2, 1.0)]);
+            }
+        }
         check.supports = g;
         check
     }
@@ -350,7 +359,17 @@ struct FrictionBody {
 impl FrictionHold {
     /// The bodies of `parts` that friction alone holds along their faces,
     /// under the supports of `dofs` and the interfaces `interfaces`.
+    ///
+    /// An axisymmetric model has no such body to judge: a ring's pairs push it
+    /// radially from all sides, their resultant is along the axis alone, and the
+    /// cone of one direction does not bound it (the search decides).
     pub fn new(parts: &[Part], interfaces: &[Interface], dofs: &DofMap) -> Self {
+        if parts.iter().any(|p| p.material.is_axisymmetric()) {
+            return FrictionHold {
+                bodies: Vec::new(),
+                judges_all: false,
+            };
+        }
         let nodes = |p: usize| dofs.node_offset[p]..dofs.node_offset[p + 1];
         let free: Vec<bool> = (0..parts.len()).map(|p| !has_support(dofs, p)).collect();
         // A part linked to no supported part at all is not held by friction
