@@ -184,20 +184,15 @@ fn interface_dict<'py>(
         state.push(r.state.as_str());
         settled.push(r.settled);
         // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates;
-        // 3: a stick pair exceeds μ|f_n|; 4: a slip pair is off μ|f_n|.
-        violation.push(match r.violation {
-            None => 0i32,
-            Some(cfe::ViolationKind::Tension) => 1,
-            Some(cfe::ViolationKind::Penetration) => 2,
-            Some(cfe::ViolationKind::Friction) => 3,
-            Some(cfe::ViolationKind::Slip) => 4,
-        });
+        // 3: a stick pair exceeds μ|f_n|; 4: a slip pair is off μ|f_n|; 5: a
+        // stick pair pulls and carries shear (tension and friction).
+        violation.push(r.violation_code());
         for (c, v) in columns.iter_mut().zip([
             r.gap_n,
             r.slip_s,
             r.force_n,
             r.force_s,
-            r.violation_amount,
+            r.violation_amount.first().copied().unwrap_or(0.0),
             r.gap0,
             r.gap,
             r.slip,

@@ -177,7 +177,7 @@ fn bearing_with_falling_diagonals_settles_and_reports() {
         .expect("settled row");
     assert_eq!(row.state, cfe::coupling::PairState::Bonded);
     assert!((row.force_n + v.amount).abs() <= 1e-9 * v.amount, "{row:?}");
-    assert_eq!(row.violation, Some(ViolationKind::Tension));
+    assert_eq!(row.violation, [ViolationKind::Tension]);
     assert!(!consistent_pattern_near(&a, &last.states, i, p, 5).unwrap());
 
     // Written out: status, violations and warnings in the summary, columns in the CSV.

@@ -738,8 +738,10 @@ class InterfaceResult:
     [[u_n]] (> 0: separated), ``slip_s`` = [[u_s]], ``force_n`` (> 0: pressing)
     and ``force_s`` on the node part in the local frame, ``violation`` (0: the law
     holds, 1: a bonded pair pulls, 2: an open pair penetrates, 3: a stick pair
-    beyond μ f_n, 4: a slip pair off μ f_n) and ``violation_amount`` (the tensile
-    force, or the penetration depth). The contact laws add ``friction`` (μ),
+    beyond μ f_n, 4: a slip pair off μ f_n, 5: a stick pair that pulls while
+    carrying shear, tension and friction) and ``violation_amount`` (the tensile
+    force, the penetration depth or the friction excess; for 5 the pull, the
+    friction excess being its whole ``abs(force_s)``). The contact laws add ``friction`` (μ),
     ``unpaired`` (nodes beyond the search distance), ``gap0`` (initial normal
     gap), ``gap`` (g0 + [[u_n]]), ``slip`` (the slip not carried elastically),
     ``pressure`` and ``shear`` (stresses: the forces / (``tributary`` length ×

@@ -39,6 +39,9 @@ pub enum Group {
     Gmsh,
     /// The frictional run of the problem.
     Friction,
+    /// The problem with the `frictionless` and the `coulomb` law at the
+    /// headline sizes (beside the plate's `contact` rows of the same K).
+    Laws,
 }
 
 /// One benchmark run (a record of `benchmarks.json`): its row group, law,

@@ -1,5 +1,6 @@
 //! Which cases the benchmark runs: the refined problem with the `rigid` and the
-//! `contact` law at refinements doubling up to the largest size, and beside it a
+//! `contact` law at refinements doubling up to the largest size, the
+//! `frictionless` and `coulomb` laws at its headline sizes, and beside them a
 //! Gmsh problem and a frictional run at about a quarter of that size.
 
 use super::Group;
@@ -49,6 +50,22 @@ pub fn refinements(unknowns: impl Fn(usize) -> f64, max_unknowns: usize) -> Vec<
     ks
 }
 
+/// The headline refinements among `ks` (ascending): the first reaching each
+/// reference size, 1 M and 4 M unknowns, within `max_unknowns`; the largest
+/// when none does. `unknowns(K)` predicts the unknowns at refinement K.
+pub fn headline(ks: &[usize], unknowns: impl Fn(usize) -> f64, max_unknowns: usize) -> Vec<usize> {
+    let mut heads: Vec<usize> = [1e6, 4e6]
+        .into_iter()
+        .filter(|&size| size <= max_unknowns as f64)
+        .filter_map(|size| ks.iter().copied().find(|&k| unknowns(k) >= size))
+        .collect();
+    heads.dedup();
+    if heads.is_empty() {
+        heads.extend(ks.last().copied());
+    }
+    heads
+}
+
 /// The unknowns of a 2D structured model at refinement K, `a K² + b K`, fitted to
 /// the counts at K = 1 and K = 2.
 pub fn unknowns_model(n1: usize, n2: usize) -> impl Fn(usize) -> f64 {
@@ -94,12 +111,15 @@ pub(super) fn gmsh_problem(problem: &Path) -> Option<PathBuf> {
 }
 
 /// The cases to run, in order: `problem` with the `rigid` law at every
-/// refinement of [`refinements`], then with `contact`; then the Gmsh problem
+/// refinement of [`refinements`], then with `contact`; then at each
+/// [`headline`] refinement with `frictionless` and `coulomb` (the stick law's
+/// rows beside laws that have consistent states); then the Gmsh problem
 /// (when there) and a frictional run of `problem` (every increment of which is
 /// solved: no proportional shortcut), each at about a quarter of the largest size
 /// (at most a million unknowns).
 pub(super) fn plan(problem: &Path, max_unknowns: usize, probe: &Probe) -> Vec<Planned> {
-    let ks = refinements(unknowns_model(probe.n1, probe.n2), max_unknowns);
+    let unknowns = unknowns_model(probe.n1, probe.n2);
+    let ks = refinements(&unknowns, max_unknowns);
     let case = |path: &Path, group, law, refine| Planned {
         path: path.to_path_buf(),
         group,
@@ -111,6 +131,11 @@ pub(super) fn plan(problem: &Path, max_unknowns: usize, probe: &Probe) -> Vec<Pl
         .flat_map(|law| ks.iter().map(move |&k| (law, k)))
         .map(|(law, k)| case(problem, Group::Plate, law, k))
         .collect();
+    for k in headline(&ks, &unknowns, max_unknowns) {
+        for law in [Law::Frictionless, Law::Coulomb] {
+            cases.push(case(problem, Group::Laws, law, k));
+        }
+    }
     let target = (max_unknowns as f64 / 4.0).min(1e6);
     let refine_for = |n1: usize| ((target / (n1 as f64).max(1.0)).sqrt().floor() as usize).max(1);
     if let Some((roller, n1)) = &probe.gmsh {
@@ -143,6 +168,20 @@ mod tests {
         );
         assert_eq!(refinements(&n, 100_000), vec![1, 2, 4, 8, 12]);
         assert_eq!(refinements(&n, 910), vec![1]);
+    }
+
+    /// The headline refinements are the first levels reaching 1 M and 4 M
+    /// unknowns (each within the largest size), or the largest level below a
+    /// million.
+    #[test]
+    fn the_headline_sizes_are_the_reference_sizes() {
+        let n = unknowns_model(910, 3450);
+        let at = |max| headline(&refinements(&n, max), &n, max);
+        assert_eq!(at(4_000_000), [35, 70]);
+        assert_eq!(at(8_100_000), [35, 70]);
+        assert_eq!(at(1_000_000), [35]);
+        assert_eq!(at(100_000), [12]);
+        assert!(n(35) >= 1e6 && n(34) < 1e6 && n(70) >= 4e6 && n(69) < 4e6);
     }
 
     /// The levels rise and stop at the first K whose unknowns reach
@@ -178,13 +217,28 @@ mod tests {
         };
         let cases = plan(problem, 4_000_000, &probe);
         let levels = [1, 2, 4, 8, 16, 32, 35, 70];
-        assert_eq!(cases.len(), 2 * levels.len() + 2);
+        assert_eq!(cases.len(), 2 * levels.len() + 4 + 2);
         for (i, law) in [Law::Rigid, Law::Contact].into_iter().enumerate() {
             let rows = &cases[i * levels.len()..(i + 1) * levels.len()];
             assert!(rows.iter().all(|c| c.law == law && c.group == Group::Plate));
             assert_eq!(rows.iter().map(|c| c.refine).collect::<Vec<_>>(), levels);
         }
-        let extra = &cases[2 * levels.len()..];
+        // The headline sizes, 1 M (K = 35) and 4 M (K = 70), with the
+        // frictionless and the Coulomb law.
+        let laws: Vec<(Group, Law, usize)> = cases[2 * levels.len()..2 * levels.len() + 4]
+            .iter()
+            .map(|c| (c.group, c.law, c.refine))
+            .collect();
+        assert_eq!(
+            laws,
+            [
+                (Group::Laws, Law::Frictionless, 35),
+                (Group::Laws, Law::Coulomb, 35),
+                (Group::Laws, Law::Frictionless, 70),
+                (Group::Laws, Law::Coulomb, 70)
+            ]
+        );
+        let extra = &cases[2 * levels.len() + 4..];
         assert_eq!(
             (
                 extra[0].group,
@@ -209,6 +263,19 @@ mod tests {
         let last = &small[small.len() - 1];
         // A quarter of 20 000 unknowns: ⌊√(5000 / 910)⌋ = 2.
         assert_eq!((last.group, last.refine), (Group::Friction, 2));
-        assert_eq!(small.iter().filter(|c| c.group != Group::Plate).count(), 1);
+        // Below a million unknowns the headline is the largest size, K = 5.
+        let laws: Vec<(Law, usize)> = small
+            .iter()
+            .filter(|c| c.group == Group::Laws)
+            .map(|c| (c.law, c.refine))
+            .collect();
+        assert_eq!(laws, [(Law::Frictionless, 5), (Law::Coulomb, 5)]);
+        assert_eq!(
+            small
+                .iter()
+                .filter(|c| !matches!(c.group, Group::Plate | Group::Laws))
+                .count(),
+            1
+        );
     }
 }

@@ -48,6 +48,7 @@ pub(super) fn report(raw: &Benchmarks) -> String {
             &gmsh,
         );
     }
+    laws_table(&mut s, &plate, &raw.cases);
     friction(&mut s, &raw.cases);
     targets::targets(&mut s, &plate);
     convergence_table(&mut s, &plate);
@@ -99,6 +100,107 @@ fn speed_line(speed: &Speeds) -> String {
         pair(before.copy_gb_per_s, after.copy_gb_per_s),
         pair(before.fresh_gb_per_s, after.fresh_gb_per_s),
     )
+}
+
+/// The headline sizes with every law: per refinement of the `laws` group, the
+/// plate's `contact` (stick) row beside its `frictionless` and `coulomb` runs,
+/// with the Coulomb run's time over the frictionless one's. The stick law may
+/// end with settled pairs (no consistent state on the mesh, docs/method.md §4);
+/// the other two have consistent states. Nothing for a report whose runs have
+/// no such group (a `benchmarks.json` written before it).
+fn laws_table(s: &mut String, plate: &[Run], cases: &[Case]) {
+    let laws: Vec<&Case> = cases.iter().filter(|c| c.problem == Group::Laws).collect();
+    let mut ks: Vec<usize> = laws.iter().map(|c| c.refine).collect();
+    ks.dedup();
+    if ks.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "## The laws at the headline sizes: stick (`contact`), `frictionless` and `coulomb` (μ = {FRICTION})
+
+The seed's stick law can have no consistent state on a mesh (then its row says how many pairs it settled, see docs/method.md §4); the frictionless and Coulomb laws have one. *coulomb / frictionless* is the Coulomb run's end-to-end time over the frictionless run's (the issue's target: ≤ 2×).
+"
+    );
+    let _ = writeln!(
+        s,
+        "| K | law | unknowns | status | iterations | # fact | # upd | fact | later it. | **total** | total / fact | coulomb / frictionless |"
+    );
+    let _ = writeln!(s, "|{}", "---|".repeat(12));
+    let total = |law: Law, k: usize| {
+        laws.iter()
+            .find(|c| c.law == law && c.refine == k)
+            .and_then(|c| c.ran())
+            .map(|m| m.timings.total)
+    };
+    for k in ks {
+        let stick = plate
+            .iter()
+            .find(|r| r.case.law == Law::Contact && r.case.refine == k)
+            .map(|r| Outcome::Ran(Box::new(r.summary.clone())));
+        let rows = [
+            (Law::Contact, stick.as_ref()),
+            (
+                Law::Frictionless,
+                laws.iter()
+                    .find(|c| c.law == Law::Frictionless && c.refine == k)
+                    .map(|c| &c.summary),
+            ),
+            (
+                Law::Coulomb,
+                laws.iter()
+                    .find(|c| c.law == Law::Coulomb && c.refine == k)
+                    .map(|c| &c.summary),
+            ),
+        ];
+        for (law, outcome) in rows {
+            let ratio = match (law, total(Law::Coulomb, k), total(Law::Frictionless, k)) {
+                (Law::Coulomb, Some(c), Some(f)) if f > 0.0 => format!("{:.2}×", c / f),
+                _ => String::new(),
+            };
+            let _ = match outcome {
+                None => writeln!(
+                    s,
+                    "| {k} | `{}` | | not run | | | | | | | | |",
+                    law.as_str()
+                ),
+                Some(Outcome::Failed(error)) => writeln!(
+                    s,
+                    "| {k} | `{}` | | failed: {} | | | | | | | | |",
+                    law.as_str(),
+                    error.replace('|', "\\|")
+                ),
+                Some(Outcome::Ran(m)) => {
+                    let first = m.first_factorization_seconds.unwrap_or(0.0);
+                    let later = later_iterations(m)
+                        .iter()
+                        .map(|(it, _)| it.seconds)
+                        .fold(0.0, f64::max);
+                    let its: Vec<String> = m
+                        .iteration_history
+                        .iter()
+                        .map(|h| h.len().to_string())
+                        .collect();
+                    writeln!(
+                        s,
+                        "| {k} | `{}` | {} | {} | {} | {} | {} | {:.2} | {:.2} ({:.2}×) | **{:.2}** | {:.2} | {ratio} |",
+                        law.as_str(),
+                        m.unknowns,
+                        status(m),
+                        its.join(" "),
+                        m.factorizations,
+                        m.low_rank_updates,
+                        m.timings.solve.factorization,
+                        later,
+                        if first > 0.0 { later / first } else { 0.0 },
+                        m.timings.total,
+                        m.total_over_factorization.unwrap_or(0.0),
+                    )
+                }
+            };
+        }
+    }
+    let _ = writeln!(s);
 }
 
 /// The frictional run: why it failed, or its table.
@@ -369,6 +471,84 @@ mod tests {
         assert_eq!(super::status(&summary(json!({}))), "completed");
         let unbalanced = summary(json!({"status": "completed_with_violations"}));
         assert!(super::status(&unbalanced).contains("out of balance"));
+    }
+
+    /// The headline laws table: per refinement of the `laws` group, the stick
+    /// law's row (from the plate's `contact` runs) beside the frictionless and
+    /// Coulomb runs, the Coulomb row with its time over the frictionless one's
+    /// (6 s / 4 s = 1.50×), a failed run with its error; a report from runs
+    /// without the group (an old `benchmarks.json`) has no such table.
+    #[test]
+    fn the_headline_rows_report_every_law_and_the_coulomb_ratio() {
+        use super::super::{Case, Group, Outcome};
+        use cfe::Law;
+        let ran = |group, law, refine, total: f64| Case {
+            problem: group,
+            law,
+            refine,
+            summary: Outcome::Ran(Box::new(summary(json!({
+                "unknowns": 1000 * refine,
+                "timings": {"total": total},
+            })))),
+        };
+        let mut raw = Benchmarks {
+            problem: "plate.toml".into(),
+            machine: "some CPU".into(),
+            speed: None,
+            repeat: 1,
+            commit: "abc1234".into(),
+            cases: vec![
+                ran(Group::Plate, Law::Rigid, 35, 1.0),
+                ran(Group::Plate, Law::Contact, 35, 3.0),
+                ran(Group::Laws, Law::Frictionless, 35, 4.0),
+                ran(Group::Laws, Law::Coulomb, 35, 6.0),
+                ran(Group::Laws, Law::Frictionless, 70, 9.0),
+                Case {
+                    problem: Group::Laws,
+                    law: Law::Coulomb,
+                    refine: 70,
+                    summary: Outcome::Failed("no convergence".into()),
+                },
+            ],
+        };
+        let text = super::report(&raw);
+        let section: Vec<&str> = text
+            .split("## The laws at the headline sizes")
+            .nth(1)
+            .expect("the laws table")
+            .split("\n## ")
+            .next()
+            .unwrap()
+            .lines()
+            .filter(|l| l.starts_with("| 35 ") || l.starts_with("| 70 "))
+            .collect();
+        assert_eq!(section.len(), 6, "{text}");
+        assert!(
+            section[0].starts_with("| 35 | `contact` | 35000 | completed |"),
+            "{}",
+            section[0]
+        );
+        assert!(section[0].contains("**3.00**"), "{}", section[0]);
+        assert!(
+            section[1].starts_with("| 35 | `frictionless` |") && section[1].contains("**4.00**")
+        );
+        assert!(
+            section[2].starts_with("| 35 | `coulomb` |") && section[2].ends_with("| 1.50× |"),
+            "{}",
+            section[2]
+        );
+        assert!(
+            section[3].starts_with("| 70 | `contact` | | not run |"),
+            "{}",
+            section[3]
+        );
+        assert!(
+            section[5].starts_with("| 70 | `coulomb` | | failed: no convergence |"),
+            "{}",
+            section[5]
+        );
+        raw.cases.retain(|c| c.problem == Group::Plate);
+        assert!(!super::report(&raw).contains("## The laws at the headline sizes"));
     }
 
     /// The report states the machine's speed before and after the runs, each

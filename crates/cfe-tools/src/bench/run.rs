@@ -122,8 +122,8 @@ impl Runner<'_> {
     }
 
     /// Runs a planned case in pass `pass` of `repeat` and reports it in one line:
-    /// its size, time and peak memory, or (a frictional run, which is reported,
-    /// not fatal: the rows before it stand) why it failed.
+    /// its size, time and peak memory, or (a `coulomb` or `frictionless` run,
+    /// which is reported, not fatal: the rows before it stand) why it failed.
     fn outcome(
         &self,
         case: &Planned,
@@ -152,8 +152,11 @@ impl Runner<'_> {
                 ));
                 Ok(Outcome::Ran(Box::new(s)))
             }
-            Err(e) if case.law == Law::Coulomb => {
-                progress(&format!("coulomb K = {k:>3}: failed: {e}{of}"));
+            Err(e) if matches!(case.law, Law::Coulomb | Law::Frictionless) => {
+                progress(&format!(
+                    "{:>7} K = {k:>3}: failed: {e}{of}",
+                    case.law.as_str()
+                ));
                 Ok(Outcome::Failed(e.to_string()))
             }
             Err(e) => Err(e),

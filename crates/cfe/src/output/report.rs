@@ -37,7 +37,8 @@ mod tests {
 
     /// The CSV: header from the field names, positions as written, jumps and forces
     /// in scientific notation, a name with a comma quoted, the violation empty when
-    /// there is none; an empty table keeps its header.
+    /// there is none, both of a pair breaking the law twice (`;`-separated, the
+    /// amounts in the same order); an empty table keeps its header.
     #[test]
     fn pairs_csv_format() {
         let dir = std::env::temp_dir().join(format!("cfe-report-{}", std::process::id()));
@@ -55,8 +56,8 @@ mod tests {
             force_n: -0.5,
             force_s: 2.0,
             settled: false,
-            violation: None,
-            violation_amount: 0.0,
+            violation: Vec::new(),
+            violation_amount: Vec::new(),
             gap0: -1.0,
             gap: 0.5,
             slip: 0.0,
@@ -71,17 +72,28 @@ mod tests {
         let pulling = PairRow {
             state: PairState::Bonded,
             settled: true,
-            violation: Some(ViolationKind::Tension),
-            violation_amount: 0.5,
+            violation: vec![ViolationKind::Tension],
+            violation_amount: vec![0.5],
             segment: Some("3-4".into()),
             ..row.clone()
         };
-        write_pairs_csv(&path, &[row, pulling]).unwrap();
+        // A stick pair pulling while it carries shear: both violations, the
+        // normal one first, with their amounts.
+        let twice = PairRow {
+            violation: vec![ViolationKind::Tension, ViolationKind::Friction],
+            violation_amount: vec![0.5, 2.0],
+            ..pulling.clone()
+        };
+        assert_eq!(
+            [&row, &pulling, &twice].map(|r| r.violation_code()),
+            [0, 1, 5]
+        );
+        write_pairs_csv(&path, &[row, pulling, twice]).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(
             text,
             format!(
-                "{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0,false,,0e0,-1e0,5e-1,0e0,2.5e-1,0e0,2e0,,2,shear,0.5\n\"a,b\",3,100,-6.5,7,bonded,1.25e-3,0e0,-5e-1,2e0,true,tension,5e-1,-1e0,5e-1,0e0,2.5e-1,0e0,2e0,3-4,2,shear,0.5\n",
+                "{}\n\"a,b\",3,100,-6.5,7,open,1.25e-3,0e0,-5e-1,2e0,false,,0e0,-1e0,5e-1,0e0,2.5e-1,0e0,2e0,,2,shear,0.5\n\"a,b\",3,100,-6.5,7,bonded,1.25e-3,0e0,-5e-1,2e0,true,tension,5e-1,-1e0,5e-1,0e0,2.5e-1,0e0,2e0,3-4,2,shear,0.5\n\"a,b\",3,100,-6.5,7,bonded,1.25e-3,0e0,-5e-1,2e0,true,tension;friction,5e-1;2e0,-1e0,5e-1,0e0,2.5e-1,0e0,2e0,3-4,2,shear,0.5\n",
                 PAIR_COLUMNS.join(",")
             )
         );

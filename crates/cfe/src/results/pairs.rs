@@ -40,11 +40,18 @@ pub struct PairRow {
     pub force_s: f64,
     /// State fixed against the law by the active-set scheme to settle a cycle.
     pub settled: bool,
-    /// How the pair breaks its law (`tension`, `penetration`), or `None` (empty).
-    pub violation: Option<ViolationKind>,
-    /// The violation's amount: the tensile force, or the penetration depth (0 when none).
-    #[serde(serialize_with = "sci")]
-    pub violation_amount: f64,
+    /// Every way the pair breaks its law, as the law check found them and
+    /// `summary.json` lists them (the normal law first): none (empty), one
+    /// (`tension`, `penetration`, `friction`, `slip`), or a stick pair that pulls
+    /// while carrying shear, `tension;friction` (the only pair the law breaks
+    /// twice).
+    #[serde(serialize_with = "kinds")]
+    pub violation: Vec<ViolationKind>,
+    /// Each violation's amount, in the order of `violation`: the tensile force,
+    /// the penetration depth, the friction excess over μ f_n (`0e0` when none;
+    /// `a;b` for two).
+    #[serde(serialize_with = "amounts")]
+    pub violation_amount: Vec<f64>,
     /// Initial normal gap g₀ (0 unless paired within a search distance).
     #[serde(serialize_with = "sci")]
     pub gap0: f64,
@@ -116,16 +123,66 @@ fn sci<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Err
     s.collect_str(&format_args!("{v:e}"))
 }
 
+/// The violation kinds as `a;b` (empty: none), as serde names them.
+fn kinds<S: serde::Serializer>(v: &[ViolationKind], s: S) -> std::result::Result<S::Ok, S::Error> {
+    let names: Vec<&str> = v.iter().map(|k| k.as_str()).collect();
+    s.collect_str(&names.join(";"))
+}
+
+/// The violation amounts as `a;b` in scientific notation (`0e0`: none).
+fn amounts<S: serde::Serializer>(v: &[f64], s: S) -> std::result::Result<S::Ok, S::Error> {
+    if v.is_empty() {
+        return s.collect_str(&format_args!("{:e}", 0.0));
+    }
+    let text: Vec<String> = v.iter().map(|a| format!("{a:e}")).collect();
+    s.collect_str(&text.join(";"))
+}
+
+impl PairRow {
+    /// Whether the pair breaks its law.
+    pub fn breaks_law(&self) -> bool {
+        !self.violation.is_empty()
+    }
+
+    /// The pair's violation code in the pairs VTU and Python: 0 the law holds,
+    /// 1 a bonded pair pulls, 2 an open pair penetrates, 3 a stick pair beyond
+    /// μ f_n, 4 a slip pair off μ f_n, 5 a stick pair that pulls and carries shear
+    /// (tension and friction; its amounts are the pull, `violation_amount`, and the
+    /// friction excess, its whole |`force_s`|: the cone of a pulling pair is 0).
+    pub fn violation_code(&self) -> i32 {
+        use ViolationKind::*;
+        match self.violation.as_slice() {
+            [] => 0,
+            [Tension] => 1,
+            [Penetration] => 2,
+            [Friction] => 3,
+            [Slip] => 4,
+            _ => 5,
+        }
+    }
+}
+
 /// One row per coupling pair of `p` at increment `inc` (of the load step named
 /// `step`): state, jumps and forces on the node part.
 pub(crate) fn pair_rows(p: &Problem<'_>, inc: &IncrementResult, step: &str) -> Vec<PairRow> {
     let mut rows = Vec::new();
-    let mut violations = inc.violations.iter().peekable();
+    // Every violation of the law check (the list summary.json reports): a pair
+    // takes all of its own, in the check's order (its normal violation before
+    // its friction one). A stable sort by pair, like the rows (the check's list
+    // is sorted so already).
+    let mut sorted: Vec<_> = inc.violations.iter().collect();
+    sorted.sort_by_key(|v| (v.interface, v.pair));
+    let mut violations = sorted.into_iter().peekable();
     for (i, iface) in p.interfaces.iter().enumerate() {
         for (k, c) in iface.elements.iter().enumerate() {
             let state = inc.states[i][k];
             // Violations are sorted by interface and pair, like the rows.
-            let violation = violations.next_if(|v| (v.interface, v.pair) == (i, k));
+            let mut violation = Vec::new();
+            let mut violation_amount = Vec::new();
+            while let Some(v) = violations.next_if(|v| (v.interface, v.pair) == (i, k)) {
+                violation.push(v.kind);
+                violation_amount.push(v.amount);
+            }
             let h = inc
                 .pair_history
                 .get(i)
@@ -156,8 +213,8 @@ pub(crate) fn pair_rows(p: &Problem<'_>, inc: &IncrementResult, step: &str) -> V
                 force_n: -f[0] + 0.0,
                 force_s: -f[1] + 0.0,
                 settled: inc.settled.binary_search(&(i, k)).is_ok(),
-                violation: violation.map(|v| v.kind),
-                violation_amount: violation.map_or(0.0, |v| v.amount),
+                violation,
+                violation_amount,
                 gap0: c.gap0,
                 gap: at.gap,
                 slip,

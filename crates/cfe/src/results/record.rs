@@ -176,7 +176,7 @@ impl Summary {
                             force_n: r.force_n,
                         })
                         .collect(),
-                    violations: mine.iter().filter(|r| r.violation.is_some()).count(),
+                    violations: mine.iter().filter(|r| r.breaks_law()).count(),
                     max_penetration: mine.iter().map(|r| -r.gap).fold(0.0, f64::max),
                     total_force_n: mine.iter().map(|r| r.force_n).sum(),
                     max_projection_distance: iface.max_projection_distance,
@@ -307,6 +307,15 @@ impl Summary {
         {
             let iface = &p.interfaces[worst.interface];
             let c = &iface.elements[worst.pair];
+            // Pairs, not violations: a stick pair that pulls while carrying
+            // shear breaks the law twice (tension and friction) but is one pair.
+            let mut pairs: Vec<(usize, usize)> = inc
+                .violations
+                .iter()
+                .map(|v| (v.interface, v.pair))
+                .collect();
+            pairs.sort_unstable();
+            pairs.dedup();
             let why = if inc.settled.is_empty() {
                 "lagged states of the implex scheme"
             } else {
@@ -316,7 +325,7 @@ impl Summary {
                 increment: inc.index,
                 message: format!(
                     "{} pair(s) break the contact law ({why}); the worst, node {} at ({}, {}) of interface '{}', {} {:.4e} ({:.2e} of the load scale)",
-                    inc.violations.len(),
+                    pairs.len(),
                     c.node,
                     c.position[0],
                     c.position[1],

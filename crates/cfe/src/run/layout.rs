@@ -7,7 +7,7 @@
 
 use super::stresses::Stresses;
 use crate::analysis::Analysis;
-use crate::coupling::{PairState, ViolationKind};
+use crate::coupling::PairState;
 use crate::domain::Part;
 use crate::error::Result;
 use crate::mesh::Element;
@@ -93,18 +93,8 @@ fn pair_codes(rows: &[PairRow]) -> [Vec<i32>; 4] {
         .map(|r| (r.state == PairState::Bonded) as i32)
         .collect();
     let settled: Vec<i32> = rows.iter().map(|r| r.settled as i32).collect();
-    // 0: the law holds; 1: a bonded pair pulls; 2: an open pair penetrates;
-    // 3: a stick pair exceeds μ|f_n|; 4: a slip pair is off μ|f_n|.
-    let violation: Vec<i32> = rows
-        .iter()
-        .map(|r| match r.violation {
-            None => 0,
-            Some(ViolationKind::Tension) => 1,
-            Some(ViolationKind::Penetration) => 2,
-            Some(ViolationKind::Friction) => 3,
-            Some(ViolationKind::Slip) => 4,
-        })
-        .collect();
+    // `PairRow::violation_code`: 0 the law holds, 1–4 one violation, 5 two.
+    let violation: Vec<i32> = rows.iter().map(PairRow::violation_code).collect();
     // 0: open, 1: bonded (stick), 2: slip.
     let state: Vec<i32> = rows
         .iter()
@@ -263,7 +253,12 @@ impl Analysis {
         let offsets: Vec<usize> = (1..=rows.len()).collect();
         let kinds: Vec<vtu::CellKind> = rows.iter().map(|_| vtu::CellKind::Vertex).collect();
         let [bonded, settled, violation, state] = pair_codes(rows);
-        let violation_amount: Vec<f64> = rows.iter().map(|r| r.violation_amount).collect();
+        // A pair's first violation's amount (the normal one, for code 5: the
+        // friction one is its |force_s|).
+        let violation_amount: Vec<f64> = rows
+            .iter()
+            .map(|r| r.violation_amount.first().copied().unwrap_or(0.0))
+            .collect();
         let col = |f: fn(&PairRow) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
         let (gap, slip, fn_, fs) = (
             col(|r| r.gap_n),

@@ -20,7 +20,7 @@ fn marker(row: &PairRow, at: [f64; 2]) -> png::PairMarker {
         at,
         bonded: row.state.is_closed(),
         slip: row.state == PairState::Slip,
-        violates: row.violation.is_some(),
+        violates: row.breaks_law(),
     }
 }
 
@@ -108,7 +108,7 @@ impl Analysis {
         let rows = self.pair_rows(inc);
         let markers: Vec<png::PairMarker> = rows.iter().map(|r| marker(r, [r.x, r.y])).collect();
         let units = &self.model.units;
-        let broken = rows.iter().filter(|r| r.violation.is_some()).count();
+        let broken = rows.iter().filter(|r| r.breaks_law()).count();
         let note = if broken > 0 {
             format!(" ({broken} pair(s) break the contact law: red squares)")
         } else {

@@ -11,7 +11,7 @@
 //! spring.)
 
 use crate::assembly::{DofMap, FIXED};
-use crate::coupling::{Interface, Law, PairState};
+use crate::coupling::{Interface, Law, PairHistory, PairState};
 use crate::dim::{D2, Dim};
 use crate::domain::Part;
 use crate::error::{Error, Result};
@@ -333,6 +333,9 @@ fn unsupported(
 /// condition: a body that passes may still find no state.
 pub struct FrictionHold {
     bodies: Vec<FrictionBody>,
+    /// The parts a support holds only across their faces, with the axis (0: x,
+    /// 1: y) of every DOF their supports fix ([`FrictionHold::check_settled`]).
+    across: Vec<(FrictionBody, usize)>,
     /// Whether every part without a support that touches a `coulomb`
     /// interface is in a body checked (see [`FrictionHold::judges_all`]).
     judges_all: bool,
@@ -344,6 +347,9 @@ struct FrictionBody {
     parts: Vec<String>,
     /// Its parts' global nodes (their DOFs are 2g and 2g + 1).
     nodes: Vec<std::ops::Range<usize>>,
+    /// The interfaces holding it, with the sign of the direction their pairs
+    /// push it (+1: it holds their node side).
+    holding: Vec<(usize, f64)>,
     /// The interfaces holding it, their names quoted, for messages.
     interfaces: String,
     /// Number of their coupling pairs.
@@ -370,7 +376,6 @@ impl FrictionHold {
                 judges_all: false,
             };
         }
-        let nodes = |p: usize| dofs.node_offset[p]..dofs.node_offset[p + 1];
         let free: Vec<bool> = (0..parts.len()).map(|p| !has_support(dofs, p)).collect();
         // A part linked to no supported part at all is not held by friction
         // against anything: the support check names it (no support), and
@@ -406,54 +411,17 @@ impl FrictionHold {
         }
         let bodies: Vec<FrictionBody> = candidates
             .into_iter()
-            .filter_map(|body| {
-                let inside = |p: usize| body.contains(&p);
-                // The interfaces between the body and the rest, with the sign of
-                // the direction their pairs push the body.
-                let holding: Vec<(usize, f64)> = (0..interfaces.len())
-                    .filter_map(|i| {
-                        let iface = &interfaces[i];
-                        match (inside(iface.host), inside(iface.node_part)) {
-                            (false, true) => Some((i, 1.0)),
-                            (true, false) => Some((i, -1.0)),
-                            _ => None,
-                        }
-                    })
-                    .collect();
-                let laws = || holding.iter().map(|&(i, _)| interfaces[i].law);
-                if !laws().all(|l| matches!(l, Law::Coulomb | Law::Frictionless))
-                    || !laws().any(|l| l == Law::Coulomb)
-                {
-                    return None;
-                }
-                let directions = holding.iter().flat_map(|&(i, sign)| {
-                    interfaces[i]
-                        .elements
-                        .iter()
-                        .map(move |c| [sign * c.normal[0], sign * c.normal[1]])
-                });
-                let (normal, spread) = face_direction(directions)?;
-                let friction = holding
-                    .iter()
-                    .map(|&(i, _)| interfaces[i].friction)
-                    .fold(0.0, f64::max);
-                // Past 90° the cone holds every direction: no bound.
-                if friction.atan() + spread >= FRAC_PI_2 - 1e-9 {
-                    return None;
-                }
-                let names: Vec<String> = holding
-                    .iter()
-                    .map(|&(i, _)| format!("'{}'", interfaces[i].name))
-                    .collect();
-                Some(FrictionBody {
-                    parts: body.iter().map(|&p| parts[p].name.clone()).collect(),
-                    nodes: body.iter().map(|&p| nodes(p)).collect(),
-                    pairs: holding.iter().map(|&(i, _)| interfaces[i].elements.len()).sum(),
-                    interfaces: names.join(", "),
-                    normal,
-                    friction,
-                    spread,
-                })
+            .filter_map(|body| friction_body(parts, interfaces, dofs, &body))
+            .collect();
+        // Parts a support holds only across their faces: every DOF their
+        // supports fix is along one axis, the faces' mean direction, so along
+        // the faces only friction holds them (a block held in y on a face in x).
+        let across: Vec<(FrictionBody, usize)> = (0..parts.len())
+            .filter(|&p| !free[p])
+            .filter_map(|p| {
+                let axis = support_axis(dofs, p)?;
+                let body = friction_body(parts, interfaces, dofs, &[p])?;
+                (body.normal[axis].abs() >= 1.0 - 1e-12).then_some((body, axis))
             })
             .collect();
         let judged: Vec<&String> = bodies.iter().flat_map(|b| &b.parts).collect();
@@ -464,7 +432,11 @@ impl FrictionHold {
                     .iter()
                     .any(|i| i.law == Law::Coulomb && (i.host == p || i.node_part == p))
         });
-        FrictionHold { bodies, judges_all }
+        FrictionHold {
+            bodies,
+            across,
+            judges_all,
+        }
     }
 
     /// Whether every part friction holds along its faces (a part without a
@@ -549,6 +521,160 @@ impl FrictionHold {
             parts: held,
         })
     }
+
+    /// Checks, at a solution in which the contact search found no state
+    /// satisfying the law (`u` in the pair `states` with the pairs' `history`,
+    /// under the load `lambda × f_ext`), every part a support holds only across
+    /// its faces: along them only friction holds it, so at rest its faces carry
+    /// its whole load along them, |F·t|, and friction holds at most
+    /// tan(φ + ε) × the force N with which they press it — here the force they
+    /// carry in this state (its loads' and its supports' share: statics alone
+    /// cannot tell it, the supports' reaction being indeterminate). A load beyond
+    /// it (by more than the pairs' `slack`, as [`FrictionHold::check`]) is
+    /// Coulomb's no-rest case: an [`Error::Unsupported`] naming the part, the
+    /// axis its supports fix and the amounts.
+    #[allow(clippy::too_many_arguments)]
+    pub fn check_settled(
+        &self,
+        interfaces: &[Interface],
+        dofs: &DofMap,
+        f_ext: &[f64],
+        lambda: f64,
+        slack: f64,
+        u: &[f64],
+        states: &[Vec<PairState>],
+        history: &[Vec<PairHistory>],
+        when: impl Fn() -> String,
+    ) -> Result<()> {
+        let mut held = Vec::new();
+        let mut messages = Vec::new();
+        for (body, axis) in &self.across {
+            let load = body.nodes.iter().flat_map(|r| r.clone()).fold([0.0, 0.0], |a, g| {
+                [a[0] + lambda * f_ext[2 * g], a[1] + lambda * f_ext[2 * g + 1]]
+            });
+            // The force with which the faces press the body: each closed
+            // pair's normal force on it (−f_n, > 0 pressing).
+            let mut pressing = 0.0;
+            for &(i, _) in &body.holding {
+                for (k, &state) in states[i].iter().enumerate() {
+                    if state.is_closed() {
+                        let h = history.get(i).and_then(|h| h.get(k)).copied().unwrap_or_default();
+                        pressing -= interfaces[i].pair_at(k, dofs, u, state, &h).force[0];
+                    }
+                }
+            }
+            let m = body.normal;
+            let along = (load[0] * m[1] - load[1] * m[0]).abs();
+            let cone = (body.friction.atan() + body.spread).tan();
+            let capacity = cone * pressing.max(0.0);
+            let margin = body.pairs as f64 * slack * (1.0 + cone);
+            if along <= capacity + margin {
+                continue;
+            }
+            let part = &body.parts[0];
+            let by_loads = -(load[0] * m[0] + load[1] * m[1]);
+            messages.push(format!(
+                "'{part}' at {}: its supports fix only {} (across its faces), so along its faces only friction holds it; in the least-violating state the contact search settled on, its faces press it with {:.4e} (its loads with {:.4e}, its supports with the rest), and its loads push it along them with {:.4e}, but friction (μ = {} on {}) holds at most {:.4e} × {:.4e} = {:.4e}",
+                when(),
+                ["x", "y"][*axis],
+                pressing,
+                by_loads + 0.0,
+                along,
+                body.friction,
+                body.interfaces,
+                cone,
+                pressing.max(0.0),
+                capacity,
+            ));
+            held.push(part.clone());
+        }
+        if held.is_empty() {
+            return Ok(());
+        }
+        let quoted: Vec<String> = held.iter().map(|n| format!("'{n}'")).collect();
+        Err(Error::Unsupported {
+            message: format!(
+                "part(s) {} pushed along their faces harder than friction holds them at the normal force their faces carry (Coulomb: a tangential load beyond μ × the normal force), so no state of rest was found and none exists at that normal force: {}. Hold the part along its faces, raise the friction coefficient, or reduce the tangential load",
+                quoted.join(", "),
+                messages.join("; ")
+            ),
+            parts: held,
+        })
+    }
+}
+
+/// The body of the parts `body` held along its faces by friction alone, if
+/// every interface between it and the rest is frictional (`coulomb`, or
+/// `frictionless` beside one), its faces push it one way and the friction
+/// cone does not reach 90° (see [`FrictionHold`]).
+fn friction_body(
+    parts: &[Part],
+    interfaces: &[Interface],
+    dofs: &DofMap,
+    body: &[usize],
+) -> Option<FrictionBody> {
+    let inside = |p: usize| body.contains(&p);
+    // The interfaces between the body and the rest, with the sign of the
+    // direction their pairs push the body.
+    let holding: Vec<(usize, f64)> = (0..interfaces.len())
+        .filter_map(|i| {
+            let iface = &interfaces[i];
+            match (inside(iface.host), inside(iface.node_part)) {
+                (false, true) => Some((i, 1.0)),
+                (true, false) => Some((i, -1.0)),
+                _ => None,
+            }
+        })
+        .collect();
+    let laws = || holding.iter().map(|&(i, _)| interfaces[i].law);
+    if !laws().all(|l| matches!(l, Law::Coulomb | Law::Frictionless))
+        || !laws().any(|l| l == Law::Coulomb)
+    {
+        return None;
+    }
+    let directions = holding.iter().flat_map(|&(i, sign)| {
+        interfaces[i]
+            .elements
+            .iter()
+            .map(move |c| [sign * c.normal[0], sign * c.normal[1]])
+    });
+    let (normal, spread) = face_direction(directions)?;
+    let friction = holding
+        .iter()
+        .map(|&(i, _)| interfaces[i].friction)
+        .fold(0.0, f64::max);
+    // Past 90° the cone holds every direction: no bound.
+    if friction.atan() + spread >= FRAC_PI_2 - 1e-9 {
+        return None;
+    }
+    let names: Vec<String> = holding
+        .iter()
+        .map(|&(i, _)| format!("'{}'", interfaces[i].name))
+        .collect();
+    Some(FrictionBody {
+        parts: body.iter().map(|&p| parts[p].name.clone()).collect(),
+        nodes: body
+            .iter()
+            .map(|&p| dofs.node_offset[p]..dofs.node_offset[p + 1])
+            .collect(),
+        pairs: holding.iter().map(|&(i, _)| interfaces[i].elements.len()).sum(),
+        interfaces: names.join(", "),
+        holding,
+        normal,
+        friction,
+        spread,
+    })
+}
+
+/// The one axis (0: x, 1: y) along which the supports of part `p` fix its
+/// DOFs, if they fix some and all along the same axis.
+fn support_axis(dofs: &DofMap, p: usize) -> Option<usize> {
+    let (a, b) = (D2::N * dofs.node_offset[p], D2::N * dofs.node_offset[p + 1]);
+    let first = dofs.fixed.partition_point(|&(d, _)| d < a);
+    let last = dofs.fixed.partition_point(|&(d, _)| d < b);
+    let mut axes = dofs.fixed[first..last].iter().map(|&(d, _)| d % D2::N);
+    let axis = axes.next()?;
+    axes.all(|c| c == axis).then_some(axis)
 }
 
 /// The connected groups of `n` parts under the `links` (pairs of parts: an

@@ -50,6 +50,9 @@ impl Solver<'_> {
             };
             self.end_increment(inc, n_inc, lambda, &mut result)?;
             on_increment(&result)?;
+            if !result.violations.is_empty() {
+                self.check_no_rest(inc, lambda, &result)?;
+            }
             // implex lags its states by design: only its final answer must obey the law.
             if self.settings.scheme == Scheme::ActiveSet || inc == n_inc {
                 self.check_violation_limit(&result)?;
@@ -191,6 +194,24 @@ impl Solver<'_> {
                 penalty_advice(self.parts, self.interfaces)
             ),
         })
+    }
+
+    /// Stops the run when the increment, which found no state satisfying the
+    /// law, leaves a part held by its supports only across its faces pushed
+    /// along them beyond μ × the normal force they carry
+    /// ([`crate::solve::support::FrictionHold::check_settled`]).
+    fn check_no_rest(&self, inc: usize, lambda: f64, r: &IncrementResult) -> Result<()> {
+        self.friction_hold.check_settled(
+            self.interfaces,
+            self.dofs,
+            &self.f_ext,
+            lambda,
+            self.settings.force_tolerance * lambda * self.scales.total_load,
+            &r.u,
+            &r.states,
+            &r.pair_history,
+            || format!("increment {inc} ({})", self.where_in_path(inc, lambda)),
+        )
     }
 
     /// Stops the run when a violation exceeds `max_violation` × the load scale.
