@@ -385,14 +385,18 @@ impl Solver<'_> {
     /// ([`Solver::solve_pattern_exact`]'s system) and then updates the
     /// directions: a pair whose trial force turned against its direction
     /// beyond the cone slides the other way, and the system (same columns) is
-    /// solved again, at most [`MAX_DIRECTION_UPDATES`] times. Returns the
-    /// changes of the terms, and whether every direction is consistent; `None`
-    /// when the system is singular (no state of rest in the pattern).
+    /// solved again, at most [`MAX_DIRECTION_UPDATES`] times and never back to
+    /// directions already solved. Returns the changes of the terms (for the
+    /// directions `slips` ends with), and whether every direction is
+    /// consistent; `None` when the system is singular (no state of rest in the
+    /// pattern).
     fn solve_slip_terms(slips: &mut [Slipping], cols: &Columns) -> Option<(Vec<f64>, bool)> {
         let m = slips.len();
+        let directions = |slips: &[Slipping]| -> Vec<bool> { slips.iter().map(|s| s.xi > 0.0).collect() };
         let mut seen: HashSet<Vec<bool>> = HashSet::new();
-        for _ in 0..=MAX_DIRECTION_UPDATES {
-            seen.insert(slips.iter().map(|s| s.xi > 0.0).collect());
+        let mut updates = 0;
+        loop {
+            seen.insert(directions(slips));
             let a = Mat::<f64>::from_fn(m, m, |p, q| {
                 let s = &slips[p];
                 let eye = if p == q { 1.0 } else { 0.0 };
@@ -408,25 +412,34 @@ impl Solver<'_> {
                 return None;
             }
             // Directions: the trial force at the solution against the cone.
-            let mut turned = false;
-            for (p, s) in slips.iter_mut().enumerate() {
-                let dn: f64 = (0..m).map(|q| cols.pn[p * m + q] * dz[q]).sum();
-                let ds: f64 = (0..m).map(|q| cols.ps[p * m + q] * dz[q]).sum();
-                let f_n = s.f_n + s.c_n * dn;
-                let trial = s.c_s * (s.u_s + ds - s.slip);
-                if trial * s.xi < 0.0 && trial.abs() > s.mu * (-f_n).max(0.0) {
-                    s.xi = -s.xi;
-                    turned = true;
-                }
-            }
-            if !turned {
+            let turned: Vec<usize> = slips
+                .iter()
+                .enumerate()
+                .filter(|(p, s)| {
+                    let dn: f64 = (0..m).map(|q| cols.pn[p * m + q] * dz[q]).sum();
+                    let ds: f64 = (0..m).map(|q| cols.ps[p * m + q] * dz[q]).sum();
+                    let f_n = s.f_n + s.c_n * dn;
+                    let trial = s.c_s * (s.u_s + ds - s.slip);
+                    trial * s.xi < 0.0 && trial.abs() > s.mu * (-f_n).max(0.0)
+                })
+                .map(|(p, _)| p)
+                .collect();
+            if turned.is_empty() {
                 return Some((dz, true));
             }
-            if seen.contains(&slips.iter().map(|s| s.xi > 0.0).collect::<Vec<_>>()) {
+            let mut next = directions(slips);
+            for &p in &turned {
+                next[p] = !next[p];
+            }
+            if updates == MAX_DIRECTION_UPDATES || seen.contains(&next) {
+                // The directions do not settle: the solution of the last ones.
                 return Some((dz, false));
             }
+            for &p in &turned {
+                slips[p].xi = -slips[p].xi;
+            }
+            updates += 1;
         }
-        None
     }
 
     /// Solves the pattern `states` at load factor `lambda` exactly, in one shot,
@@ -435,7 +448,8 @@ impl Solver<'_> {
     /// slip forces of the slipping Coulomb pairs solved for rather than iterated.
     /// Each slipping pair slides along the direction of its trial force in the
     /// pattern's first solution (turned where the solution's trial force turns
-    /// beyond the cone, then solved again). The slip forces' constant terms
+    /// beyond the cone, then solved again; directions that do not settle are
+    /// left to the law check to report). The slip forces' constant terms
     /// `z = t − c_slip a` (slip force less the stabilising spring's anchor term)
     /// satisfy, with the pattern's K (springs included), the m × m system
     ///
