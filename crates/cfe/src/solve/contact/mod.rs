@@ -47,6 +47,7 @@
 //! ```text
 //! driver       Solver::run: the increment loop, implex, the end of an increment
 //! active_set   the search: trials, flips, settling, stick point, continuation in μ
+//! friction     Coulomb as a semi-smooth Newton: the pair update, exact pattern solves
 //! pattern      one pattern solved (complete or restricted), right-hand sides, finish
 //! fixed_point  the pairs' right-hand-side terms (slip forces, multipliers), Anderson
 //! pairs        the law sweep and the pair-history rules
@@ -58,6 +59,7 @@
 mod active_set;
 mod driver;
 mod fixed_point;
+mod friction;
 mod increment;
 mod pairs;
 mod pattern;
@@ -66,6 +68,10 @@ mod solver;
 
 pub use active_set::CONTINUATION;
 pub use fixed_point::{ANDERSON_DEPTH, FIXED_POINT_TOLERANCE, MAX_FIXED_POINT};
+pub use friction::{
+    Active, Condensed, CondensedPair, NewtonRun, Tolerance, newton_condensed, next_active,
+    return_map_derivative, solve_pattern_linear,
+};
 pub use increment::{
     IncrementResult, IterativeSolves, Iteration, LoadSteps, MultipleOf, PairViolation,
     SolveTimings,

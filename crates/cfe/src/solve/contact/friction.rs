@@ -1,0 +1,661 @@
+//! Coulomb friction as a semi-smooth Newton (primal–dual active set) on the
+//! pairs, with each pattern solved exactly (docs/method.md §2.1, "A Newton
+//! solve of Coulomb friction").
+//!
+//! For a fixed *pattern* — every pair open, stick, or slipping along a fixed unit
+//! direction ξ — the penalty problem is linear: a slipping pair's tangential force
+//! is `μ ξ (−f_n)` with `f_n = c_n g_n` affine in the displacements, a rank-one,
+//! non-symmetric coupling of the pair's tangential row to its normal row. So a
+//! pattern has one solution, found in one shot ([`solve_pattern_linear`] on a
+//! condensed interface, [`Solver::solve_pattern_exact`] on a model: the
+//! symmetric factorization of the pattern's K plus a dense correction of rank
+//! the number of slipping pairs), with no fixed point. The outer loop over
+//! patterns is the Newton step of the complementarity function
+//! ([`next_active`]: the radial return of the trial force onto the cone, the
+//! normal law's gap and tension), globalised by taking one flip at a time once a
+//! pattern repeats ([`newton_condensed`]).
+//!
+//! Everything per pair is written on [`Tangent`], so the 3D law (a two-component
+//! tangent, the radial return and its consistent tangent
+//! `μ (−f_n)/|trial| (I − ξ⊗ξ)`, [`return_map_derivative`]) uses it unchanged.
+//!
+//! The run's search does not use it yet: it iterates the slip forces
+//! ([`super::fixed_point`]); docs/method.md gives what remains (the columns
+//! from the low-rank cache, then the search as this Newton loop) and why.
+
+use super::increment::{IncrementResult, Iteration, count_changes};
+use super::solver::Solver;
+use crate::assembly::FIXED;
+use crate::coupling::{Enforcement, Law, PairState};
+use crate::dim::Tangent;
+use crate::error::Result;
+use faer::Mat;
+use faer::linalg::solvers::{PartialPivLu, Solve};
+use std::collections::HashSet;
+use std::time::Instant;
+
+/// A pair's place in a Newton pattern: open, stick, or slipping along the unit
+/// direction ξ (fixed for the pattern).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Active<T: Tangent> {
+    /// No force.
+    Open,
+    /// Closed, sticking: `f_s = c_s ([[u_s]] − s_p)`.
+    Stick,
+    /// Closed, slipping along ξ: `f_s = μ (−f_n) ξ`.
+    Slip(T),
+}
+
+/// The tolerances of the complementarity rule: a force (tension of a closed
+/// pair, a trial force beyond the cone) and a length (penetration of an open
+/// pair).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerance {
+    /// Force tolerance.
+    pub force: f64,
+    /// Length tolerance.
+    pub gap: f64,
+}
+
+/// The Newton update of one pair: its place in the next pattern from its
+/// solution in this one. `closed` says whether it is closed now, `gap` is its
+/// normal gap `g₀ + [[u_n]]`, `f_n` the normal force it carries if closed
+/// (`c_n g_n`, negative in compression), `trial` its trial tangential force
+/// `c_s ([[u_s]] − s_p)` and `mu` the friction coefficient. A closed pair in
+/// tension beyond the tolerance opens, an open pair penetrating beyond it
+/// closes; a closed pair sticks when its trial force is inside the cone
+/// `μ (−f_n)` (with the tolerance) and slips along the trial force otherwise —
+/// the radial return, in any number of tangent components. This is the
+/// active-set form of the semi-smooth Newton step on the complementarity
+/// function `C(f, u) = max(μ(−f_n), |f_t + c_s u_t|) f_t − μ(−f_n)(f_t + c_s u_t)`
+/// (with its normal part `min(−f_n, −c_n g_n)`).
+pub fn next_active<T: Tangent>(
+    closed: bool,
+    gap: f64,
+    f_n: f64,
+    trial: T,
+    mu: f64,
+    tol: Tolerance,
+) -> Active<T> {
+    let stays_open = if closed {
+        f_n > tol.force
+    } else {
+        gap >= -tol.gap
+    };
+    if stays_open {
+        return Active::Open;
+    }
+    let limit = mu * (-f_n).max(0.0);
+    if trial.norm() <= limit + tol.force {
+        Active::Stick
+    } else {
+        Active::Slip(trial.direction())
+    }
+}
+
+/// The derivative of the radial return `f_t = μ (−f_n) trial/|trial|` of a
+/// slipping pair applied to a change `(d_fn, d_trial)`: `μ (−d_fn) ξ +
+/// μ (−f_n)/|trial| (I − ξ⊗ξ) d_trial`, ξ the trial's direction. In one
+/// tangent component the second term is zero (the direction does not turn):
+/// the 2D pattern's coupling is the rank-one `μ ξ c_n` of the normal row alone;
+/// in two it is the consistent tangent of the 3D return map (symmetric, so it
+/// joins K).
+pub fn return_map_derivative<T: Tangent>(trial: T, f_n: f64, mu: f64, d_fn: f64, d_trial: T) -> T {
+    let xi = trial.direction();
+    let along = xi.scale(-mu * d_fn);
+    let norm = trial.norm();
+    if norm == 0.0 {
+        return along;
+    }
+    let turn = d_trial.sub(xi.scale(xi.dot(d_trial)));
+    along.add(turn.scale(mu * (-f_n).max(0.0) / norm))
+}
+
+/// One pair of a condensed interface (2D: one tangent component): penalties,
+/// friction coefficient, initial gap and plastic slip.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CondensedPair {
+    /// Normal penalty.
+    pub c_n: f64,
+    /// Tangential penalty.
+    pub c_s: f64,
+    /// Friction coefficient.
+    pub mu: f64,
+    /// Initial normal gap g₀.
+    pub gap0: f64,
+    /// Plastic slip s_p.
+    pub slip: f64,
+}
+
+impl CondensedPair {
+    /// The local force `(f_n, f_s)` of the pair at jump `(j_n, j_s)` in `place`.
+    pub fn force(&self, place: Active<f64>, j: [f64; 2]) -> [f64; 2] {
+        let f_n = self.c_n * (self.gap0 + j[0]);
+        match place {
+            Active::Open => [0.0, 0.0],
+            Active::Stick => [f_n, self.c_s * (j[1] - self.slip)],
+            Active::Slip(xi) => [f_n, -self.mu * xi * f_n],
+        }
+    }
+}
+
+/// An interface condensed onto its pairs: the local jumps `j` (2 per pair,
+/// normal then tangential) of the model under its loads are `j = free − F f`,
+/// `f` the pairs' local forces, `F` the interface's flexibility (2m × 2m, the
+/// Schur complement's inverse: `R B K⁻¹ Bᵀ Rᵀ` of the parts alone).
+#[derive(Debug, Clone)]
+pub struct Condensed {
+    /// The flexibility F, row-major.
+    pub flex: Vec<f64>,
+    /// The jumps with no pair force.
+    pub free: Vec<f64>,
+    /// The pairs.
+    pub pairs: Vec<CondensedPair>,
+}
+
+/// The exact solution of one pattern of a condensed interface: the jumps `j`
+/// solving `(I + F L) j = free − F l₀`, `f = L j + l₀` the pattern's (affine)
+/// pair forces. `None` when the pattern's system is singular (no state of rest
+/// in it, e.g. every pair of a part slipping one way under a load along the
+/// faces).
+pub fn solve_pattern_linear(c: &Condensed, pattern: &[Active<f64>]) -> Option<Vec<f64>> {
+    let n = 2 * c.pairs.len();
+    // L (block-diagonal 2×2 per pair) and l₀.
+    let mut l = vec![[[0.0; 2]; 2]; c.pairs.len()];
+    let mut l0 = vec![0.0; n];
+    for (p, (pair, place)) in c.pairs.iter().zip(pattern).enumerate() {
+        let at_zero = pair.force(*place, [0.0, 0.0]);
+        l0[2 * p] = at_zero[0];
+        l0[2 * p + 1] = at_zero[1];
+        for a in 0..2 {
+            let mut e = [0.0; 2];
+            e[a] = 1.0;
+            let f = pair.force(*place, e);
+            l[p][0][a] = f[0] - at_zero[0];
+            l[p][1][a] = f[1] - at_zero[1];
+        }
+    }
+    let a = Mat::<f64>::from_fn(n, n, |r, col| {
+        let (q, b) = (col / 2, col % 2);
+        let fl: f64 = (0..2).map(|k| c.flex[r * n + 2 * q + k] * l[q][k][b]).sum();
+        fl + if r == col { 1.0 } else { 0.0 }
+    });
+    let rhs = Mat::<f64>::from_fn(n, 1, |r, _| {
+        c.free[r] - (0..n).map(|k| c.flex[r * n + k] * l0[k]).sum::<f64>()
+    });
+    let j = PartialPivLu::new(a.as_ref()).solve(rhs.as_ref());
+    let j: Vec<f64> = (0..n).map(|r| j[(r, 0)]).collect();
+    j.iter().all(|v| v.is_finite()).then_some(j)
+}
+
+/// What [`newton_condensed`] did: the patterns it solved, in order, and the
+/// jumps of the last.
+#[derive(Debug, Clone)]
+pub struct NewtonRun {
+    /// Every pattern solved, the first the start.
+    pub patterns: Vec<Vec<Active<f64>>>,
+    /// The jumps of the consistent pattern.
+    pub jumps: Vec<f64>,
+}
+
+/// The semi-smooth Newton on a condensed interface from `start`: solve the
+/// pattern exactly ([`solve_pattern_linear`]), update every pair
+/// ([`next_active`]), repeat until no pair changes. Damping: once the update
+/// leads back to a pattern already solved (a cycle of the full step), only the
+/// pair with the largest complementarity residual changes — the least step that
+/// leaves the cycle. `None` when a pattern is singular, or `max` patterns pass,
+/// or a repeated pattern has no single change left: no state of rest is within
+/// reach.
+pub fn newton_condensed(
+    c: &Condensed,
+    start: Vec<Active<f64>>,
+    tol: Tolerance,
+    max: usize,
+) -> Option<NewtonRun> {
+    let mut seen: HashSet<Vec<u8>> = HashSet::new();
+    let key = |p: &[Active<f64>]| -> Vec<u8> {
+        p.iter()
+            .map(|a| match a {
+                Active::Open => 0,
+                Active::Stick => 1,
+                Active::Slip(x) if *x > 0.0 => 2,
+                Active::Slip(_) => 3,
+            })
+            .collect()
+    };
+    let mut pattern = start;
+    let mut patterns = Vec::new();
+    for _ in 0..max {
+        seen.insert(key(&pattern));
+        patterns.push(pattern.clone());
+        let j = solve_pattern_linear(c, &pattern)?;
+        let mut next = Vec::with_capacity(pattern.len());
+        let mut residual = Vec::with_capacity(pattern.len());
+        for (p, (pair, place)) in c.pairs.iter().zip(&pattern).enumerate() {
+            let jp = [j[2 * p], j[2 * p + 1]];
+            let gap = pair.gap0 + jp[0];
+            let f_n = pair.c_n * gap;
+            let trial = pair.c_s * (jp[1] - pair.slip);
+            let closed = *place != Active::Open;
+            let n = next_active(closed, gap, f_n, trial, pair.mu, tol);
+            let f = pair.force(*place, jp);
+            // The residual of the law in this pattern: how far the pair's force
+            // is from what the law gives it.
+            let r = if n == *place {
+                0.0
+            } else {
+                let law = pair.force(n, jp);
+                (law[0] - f[0]).abs().max((law[1] - f[1]).abs()).max(tol.force)
+            };
+            next.push(n);
+            residual.push(r);
+        }
+        if next == pattern {
+            return Some(NewtonRun { patterns, jumps: j });
+        }
+        if seen.contains(&key(&next)) {
+            // Damped: the single worst change, if it leads somewhere new.
+            let mut order: Vec<usize> = (0..next.len()).filter(|&p| next[p] != pattern[p]).collect();
+            order.sort_by(|&a, &b| residual[b].total_cmp(&residual[a]).then(a.cmp(&b)));
+            let step = order.into_iter().find_map(|p| {
+                let mut one = pattern.clone();
+                one[p] = next[p];
+                (!seen.contains(&key(&one))).then_some(one)
+            })?;
+            pattern = step;
+        } else {
+            pattern = next;
+        }
+    }
+    None
+}
+
+/// Most direction updates within one pattern's exact solve: a slipping pair
+/// whose trial force turns against its direction beyond the cone slips the
+/// other way, and the pattern is solved again (the columns do not change).
+pub const MAX_DIRECTION_UPDATES: usize = 8;
+
+/// A slipping Coulomb pair as a pattern's exact solve reads it.
+struct Slipping {
+    i: usize,
+    k: usize,
+    mu: f64,
+    c_n: f64,
+    c_s: f64,
+    c_slip: f64,
+    /// Its plastic slip.
+    slip: f64,
+    /// The direction it slides along in the pattern (±1).
+    xi: f64,
+    /// Its normal force and tangential jump at the pattern's first solution.
+    f_n: f64,
+    u_s: f64,
+    /// Its constant term there: slip force less the spring's anchor term.
+    z: f64,
+}
+
+/// The columns of a pattern's exact solve: the jumps a unit change of each
+/// slipping pair's term causes at every slipping pair (`pn` normal, `ps`
+/// tangential; m × m row-major: row the pair, column the term).
+struct Columns {
+    pn: Vec<f64>,
+    ps: Vec<f64>,
+}
+
+impl Solver<'_> {
+    /// The slipping Coulomb pairs of `states` at the solution `u` (valid at the
+    /// coupling DOFs), each sliding along its trial force there.
+    fn slipping(&self, states: &[Vec<PairState>], u: &[f64]) -> Vec<Slipping> {
+        let mut slips = Vec::new();
+        for (i, iface) in self.interfaces.iter().enumerate() {
+            if iface.law != Law::Coulomb {
+                continue;
+            }
+            let base = self.law_params(iface);
+            for (k, c) in iface.elements.iter().enumerate() {
+                let law = c.params(&base);
+                if states[i][k] != PairState::Slip || law.c_slip <= 0.0 {
+                    continue;
+                }
+                let h = &self.history[i][k];
+                let p = iface.pair_at(k, self.dofs, u, PairState::Slip, h);
+                let trial = law.trial_shear(p.jump[1], h);
+                slips.push(Slipping {
+                    i,
+                    k,
+                    mu: law.friction,
+                    c_n: law.c_n,
+                    c_s: law.c_s,
+                    c_slip: law.c_slip,
+                    slip: h.slip,
+                    xi: trial.direction(),
+                    f_n: p.force[0],
+                    u_s: p.jump[1],
+                    z: h.slip_force - law.c_slip * h.anchor,
+                });
+            }
+        }
+        slips
+    }
+
+    /// The columns of the slipping pairs `slips` of `states`: each pair's term
+    /// raised by 1, its force change solved on the interface's paths.
+    fn slip_columns(&mut self, states: &[Vec<PairState>], inc: usize, slips: &[Slipping]) -> Result<Columns> {
+        let m = slips.len();
+        let n = self.dofs.eq.len();
+        let zero = vec![0.0; n];
+        let mut cols = Columns {
+            pn: vec![0.0; m * m],
+            ps: vec![0.0; m * m],
+        };
+        let mut rhs = vec![0.0; self.dofs.n_eq];
+        let mut v = vec![0.0; n];
+        let before = self.history.clone();
+        for (q, s) in slips.iter().enumerate() {
+            self.check_stop(inc)?;
+            self.history[s.i][s.k].slip_force += 1.0;
+            let change = self.pair_term_change(states, &before, &zero);
+            self.history[s.i][s.k] = before[s.i][s.k];
+            rhs.fill(0.0);
+            for (&d, c) in self.coupling_dofs.iter().zip(&change) {
+                let e = self.dofs.eq[d];
+                if e != FIXED {
+                    rhs[e] = -c;
+                }
+            }
+            self.system
+                .solve_interface(self.interfaces, self.dofs, states, &mut rhs, true)
+                .map_err(|h| self.halt_error(h, inc))?;
+            self.fixed_point += 1;
+            for &d in &self.coupling_dofs {
+                let e = self.dofs.eq[d];
+                v[d] = if e == FIXED { 0.0 } else { rhs[e] };
+            }
+            for (p, sp) in slips.iter().enumerate() {
+                let iface = &self.interfaces[sp.i];
+                let at = iface.pair_at(sp.k, self.dofs, &v, PairState::Slip, &before[sp.i][sp.k]);
+                cols.pn[p * m + q] = at.jump[0];
+                cols.ps[p * m + q] = at.jump[1];
+            }
+        }
+        Ok(cols)
+    }
+
+    /// Solves the slipping pairs' terms of a pattern exactly
+    /// ([`Solver::solve_pattern_exact`]'s system) and then updates the
+    /// directions: a pair whose trial force turned against its direction
+    /// beyond the cone slides the other way, and the system (same columns) is
+    /// solved again, at most [`MAX_DIRECTION_UPDATES`] times and never back to
+    /// directions already solved. Returns the changes of the terms (for the
+    /// directions `slips` ends with), and whether every direction is
+    /// consistent; `None` when the system is singular (no state of rest in the
+    /// pattern).
+    fn solve_slip_terms(slips: &mut [Slipping], cols: &Columns) -> Option<(Vec<f64>, bool)> {
+        let m = slips.len();
+        let directions = |slips: &[Slipping]| -> Vec<bool> { slips.iter().map(|s| s.xi > 0.0).collect() };
+        let mut seen: HashSet<Vec<bool>> = HashSet::new();
+        let mut updates = 0;
+        loop {
+            seen.insert(directions(slips));
+            let a = Mat::<f64>::from_fn(m, m, |p, q| {
+                let s = &slips[p];
+                let eye = if p == q { 1.0 } else { 0.0 };
+                eye + s.mu * s.xi * s.c_n * cols.pn[p * m + q] + s.c_slip * cols.ps[p * m + q]
+            });
+            let b = Mat::<f64>::from_fn(m, 1, |p, _| {
+                let s = &slips[p];
+                -s.mu * s.xi * s.f_n - s.c_slip * s.u_s - s.z
+            });
+            let dz = PartialPivLu::new(a.as_ref()).solve(b.as_ref());
+            let dz: Vec<f64> = (0..m).map(|p| dz[(p, 0)]).collect();
+            if dz.iter().any(|v| !v.is_finite()) {
+                return None;
+            }
+            // Directions: the trial force at the solution against the cone.
+            let turned: Vec<usize> = slips
+                .iter()
+                .enumerate()
+                .filter(|(p, s)| {
+                    let dn: f64 = (0..m).map(|q| cols.pn[p * m + q] * dz[q]).sum();
+                    let ds: f64 = (0..m).map(|q| cols.ps[p * m + q] * dz[q]).sum();
+                    let f_n = s.f_n + s.c_n * dn;
+                    let trial = s.c_s * (s.u_s + ds - s.slip);
+                    trial * s.xi < 0.0 && trial.abs() > s.mu * (-f_n).max(0.0)
+                })
+                .map(|(p, _)| p)
+                .collect();
+            if turned.is_empty() {
+                return Some((dz, true));
+            }
+            let mut next = directions(slips);
+            for &p in &turned {
+                next[p] = !next[p];
+            }
+            if updates == MAX_DIRECTION_UPDATES || seen.contains(&next) {
+                // The directions do not settle: the solution of the last ones.
+                return Some((dz, false));
+            }
+            for &p in &turned {
+                slips[p].xi = -slips[p].xi;
+            }
+            updates += 1;
+        }
+    }
+
+    /// Solves the pattern `states` at load factor `lambda` exactly, in one shot,
+    /// and checks the law on every pair: the increment a run would end on if this
+    /// pattern were its answer, as [`Solver::solve_pattern`] gives it but with the
+    /// slip forces of the slipping Coulomb pairs solved for rather than iterated.
+    /// Each slipping pair slides along the direction of its trial force in the
+    /// pattern's first solution (turned where the solution's trial force turns
+    /// beyond the cone, then solved again; directions that do not settle are
+    /// left to the law check to report). The slip forces' constant terms
+    /// `z = t − c_slip a` (slip force less the stabilising spring's anchor term)
+    /// satisfy, with the pattern's K (springs included), the m × m system
+    ///
+    /// ```text
+    ///     (I + diag(μ ξ c_n) P_n + diag(c_slip) P_s) δz = −μ ξ f_n⁰ − c_slip u_s⁰ − z⁰
+    /// ```
+    ///
+    /// `P_n`, `P_s` the normal and tangential jumps of the slipping pairs under a
+    /// unit change of each pair's term (one solve on the interface's paths per
+    /// slipping pair: the columns of the interface's Schur complement), `f_n⁰`,
+    /// `u_s⁰`, `z⁰` those of the first solution. Its solution is the fixed point
+    /// the iteration of [`Solver::solve_pattern`] converges to, when it
+    /// converges; a singular system (a part free to slide under a load along its
+    /// faces) has none and gives `None`. A model with augmented-Lagrangian
+    /// interfaces is solved by [`Solver::solve_pattern`] (its multipliers are
+    /// iterated).
+    pub fn solve_pattern_exact(
+        &mut self,
+        lambda: f64,
+        states: &[Vec<PairState>],
+    ) -> Result<Option<IncrementResult>> {
+        let augmented = self
+            .interfaces
+            .iter()
+            .any(|i| i.enforcement == Enforcement::Augmented);
+        if self.proportional || augmented {
+            return self.solve_pattern(lambda, states).map(Some);
+        }
+        let t = Instant::now();
+        let inc = 1;
+        let (u0, _, _) = self.solve_once(lambda, states, inc)?;
+        let mut slips = self.slipping(states, &u0);
+        if !slips.is_empty() {
+            let cols = self.slip_columns(states, inc, &slips)?;
+            let Some((dz, _)) = Self::solve_slip_terms(&mut slips, &cols) else {
+                return Ok(None);
+            };
+            let m = slips.len();
+            for (p, s) in slips.iter().enumerate() {
+                let dn: f64 = (0..m).map(|q| cols.pn[p * m + q] * dz[q]).sum();
+                let ds: f64 = (0..m).map(|q| cols.ps[p * m + q] * dz[q]).sum();
+                let h = &mut self.history[s.i][s.k];
+                h.slip_force = -s.mu * s.xi * (s.f_n + s.c_n * dn).min(0.0);
+                h.anchor = s.u_s + ds;
+            }
+        }
+        // One complete solve with the solved terms.
+        let (u, f_int, method) = self.solve_once(lambda, states, inc)?;
+        let check = self.check_law(states, &u, &f_int, lambda);
+        let history = vec![Iteration {
+            method,
+            changed: count_changes(&check.next, states),
+            seconds: t.elapsed().as_secs_f64(),
+        }];
+        Ok(Some(self.finish(inc, lambda, history, u, f_int, states.to_vec(), check, false)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TOL: Tolerance = Tolerance {
+        force: 1e-9,
+        gap: 1e-12,
+    };
+
+    /// The complementarity rule: tension opens a closed pair, penetration closes
+    /// an open one, a closed pair sticks inside the cone and slips along its trial
+    /// force beyond it — in one tangent component and in two (the radial return:
+    /// the direction is the trial's, whatever the axes).
+    #[test]
+    fn the_newton_update_is_the_return_map() {
+        assert_eq!(next_active(true, 1e-3, 5.0, 0.0, 0.3, TOL), Active::Open);
+        assert_eq!(next_active(false, 1e-3, 0.0, 0.0, 0.3, TOL), Active::Open);
+        assert_eq!(next_active(false, -1e-3, -10.0, 2.0, 0.3, TOL), Active::Stick);
+        assert_eq!(next_active(true, -1e-3, -10.0, -3.5, 0.3, TOL), Active::Slip(-1.0));
+        let t = [3.0, 4.0];
+        match next_active(true, -1e-3, -10.0, t, 0.3, TOL) {
+            Active::Slip(xi) => {
+                let e = xi.sub([0.6, 0.8]).norm();
+                assert!(e < 1e-15, "ξ = {xi:?}");
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// The consistent tangent of the radial return, against central differences
+    /// of `μ (−f_n) t/|t|`: in two components it turns with the trial force
+    /// (μ f/|t| (I − ξ⊗ξ)); in one it is the normal coupling μ ξ alone.
+    #[test]
+    fn the_return_maps_derivative_is_its_difference_quotient() {
+        let map = |t: [f64; 2], f_n: f64| t.direction().scale(0.4 * -f_n);
+        let (t, f_n) = ([3.0, -1.5], -7.0);
+        let (d_fn, d_t) = (0.3, [-0.2, 0.5]);
+        let h = 1e-6;
+        let fd = map(t.add(d_t.scale(h)), f_n + h * d_fn)
+            .sub(map(t.sub(d_t.scale(h)), f_n - h * d_fn))
+            .scale(0.5 / h);
+        let exact = return_map_derivative(t, f_n, 0.4, d_fn, d_t);
+        assert!(fd.sub(exact).norm() < 1e-8, "{fd:?} vs {exact:?}");
+        // ξ = −1: μ (−d_fn) ξ = 0.4 × 0.3.
+        assert_eq!(return_map_derivative(-2.0, -7.0, 0.4, 0.3, 5.0), 0.4 * 0.3);
+    }
+
+    /// A tiny condensed model: two pairs on one elastic body (flexibility with
+    /// coupling between them), pressed and pushed sideways.
+    fn two_pairs(push: f64, mu: f64) -> Condensed {
+        let flex = vec![
+            1.0, 0.2, 0.3, 0.0, //
+            0.2, 2.0, 0.1, 0.4, //
+            0.3, 0.1, 1.0, 0.2, //
+            0.0, 0.4, 0.2, 2.0,
+        ]
+        .into_iter()
+        .map(|v| v * 1e-3)
+        .collect();
+        let pair = CondensedPair {
+            c_n: 1e6,
+            c_s: 1e6,
+            mu,
+            gap0: 0.0,
+            slip: 0.0,
+        };
+        Condensed {
+            flex,
+            free: vec![-0.1, push, -0.1, 0.2 * push],
+            pairs: vec![pair; 2],
+        }
+    }
+
+    /// Per-pattern exactness: the one-shot solve of a pattern with both pairs
+    /// slipping equals the fixed point of the slip forces (the explicit
+    /// right-hand-side iteration with its stabilising spring, run to round-off),
+    /// and the solution obeys the pattern's law: |f_s| = μ (−f_n) along ξ.
+    #[test]
+    fn a_pattern_solved_in_one_shot_is_the_fixed_points_limit() {
+        let c = two_pairs(0.3, 0.2);
+        let pattern = vec![Active::Slip(1.0); 2];
+        let j = solve_pattern_linear(&c, &pattern).unwrap();
+        // The fixed point: slip force t and anchor a as right-hand-side terms,
+        // a spring c_slip in the pattern's matrix.
+        let c_slip = 1e3;
+        let (mut t, mut a) = ([0.0; 2], [0.0; 2]);
+        let mut jf = vec![0.0; 4];
+        for _ in 0..2000 {
+            // Solve (I + F L_s) j = free − F l₀ with L_s: c_n normal, c_slip tangential.
+            let cs = Condensed {
+                pairs: c
+                    .pairs
+                    .iter()
+                    .map(|p| CondensedPair { c_s: c_slip, ..*p })
+                    .collect(),
+                free: (0..4)
+                    .map(|r| {
+                        let l0 = [0.0, t[0] - c_slip * a[0], 0.0, t[1] - c_slip * a[1]];
+                        c.free[r] - (0..4).map(|k| c.flex[r * 4 + k] * l0[k]).sum::<f64>()
+                    })
+                    .collect(),
+                ..c.clone()
+            };
+            jf = solve_pattern_linear(&cs, &[Active::Stick, Active::Stick]).unwrap();
+            for p in 0..2 {
+                t[p] = -0.2 * c.pairs[p].c_n * jf[2 * p];
+                a[p] = jf[2 * p + 1];
+            }
+        }
+        for r in 0..4 {
+            assert!((j[r] - jf[r]).abs() <= 1e-12 * 0.1, "{j:?} vs {jf:?}");
+        }
+        // Consistent: each pair in compression, its trial force beyond the cone
+        // along ξ.
+        for (p, pair) in c.pairs.iter().enumerate() {
+            let f = pair.force(pattern[p], [j[2 * p], j[2 * p + 1]]);
+            assert!(f[0] < 0.0);
+            assert!(pair.c_s * j[2 * p + 1] > 0.2 * -f[0], "pair {p}: {f:?}");
+        }
+    }
+
+    /// The Newton loop's state changes on the tiny model: from all stick, a
+    /// light push stays stuck (one pattern); a push beyond friction slips a
+    /// pair (two patterns or more, the last consistent) and the answer obeys
+    /// Coulomb's law on both pairs; with μ = 0 both pairs slip.
+    #[test]
+    fn the_newton_loop_changes_states_until_the_law_holds() {
+        let stick = vec![Active::Stick; 2];
+        let light = newton_condensed(&two_pairs(0.001, 0.2), stick.clone(), TOL, 20).unwrap();
+        assert_eq!(light.patterns.len(), 1);
+        let c = two_pairs(0.1, 0.2);
+        let run = newton_condensed(&c, stick.clone(), TOL, 20).unwrap();
+        let last = run.patterns.last().unwrap();
+        assert!(run.patterns.len() >= 2, "{:?}", run.patterns);
+        assert!(last.iter().any(|a| matches!(a, Active::Slip(_))), "{last:?}");
+        for (p, pair) in c.pairs.iter().enumerate() {
+            let j = [run.jumps[2 * p], run.jumps[2 * p + 1]];
+            let f = pair.force(last[p], j);
+            let cone = pair.mu * (-f[0]).max(0.0);
+            assert!(f[0] <= 0.0);
+            assert!(f[1].abs() <= cone + 1e-9, "pair {p}: {f:?}");
+            if let Active::Slip(xi) = last[p] {
+                assert!((f[1] - xi * cone).abs() <= 1e-9);
+                assert!(pair.c_s * (j[1] - pair.slip) * xi > cone);
+            }
+        }
+        // μ = 0: the pairs carry no shear, the body (bounded F) takes the push.
+        let free = newton_condensed(&two_pairs(0.1, 0.0), stick, TOL, 20).unwrap();
+        assert!(free.patterns.last().unwrap().iter().all(|a| matches!(a, Active::Slip(_))));
+    }
+}

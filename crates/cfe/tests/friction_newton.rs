@@ -1,0 +1,154 @@
+//! Coulomb friction solved pattern by pattern (solve/contact/friction.rs): a
+//! pattern's slip forces solved in one shot against the fixed point's limit,
+//! and the quarter shrink fit with friction (node and segment coupling, T3 and
+//! Q4, two refinements) completing with Coulomb's law on every pair, checked
+//! from the pairs' own forces.
+
+mod common;
+
+use cfe::coupling::PairState;
+use std::path::Path;
+
+/// The seed's plate on its base with the Coulomb law (μ = 0.2): the plate is
+/// held along the base by friction alone.
+fn plate_coulomb() -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plate_on_base.toml");
+    std::fs::read_to_string(path)
+        .expect("the example")
+        .replace("law = \"contact\"", "law = \"coulomb\"\nfriction = 0.2")
+}
+
+/// Per-pattern exactness: the pattern the run's first increment ends on (with
+/// slipping pairs), solved in one shot — slip directions fixed, the slip forces
+/// from one dense system on the slipping pairs — gives the displacements the
+/// fixed point on its slip forces converges to (to 1e-7 of the largest, the
+/// fixed point stopping at 1e-10 of the load), and obeys the law on every pair.
+#[test]
+fn a_pattern_solved_in_one_shot_is_the_fixed_points_answer() {
+    let a = common::analysis(&plate_coulomb());
+    let incs = common::solve(&a);
+    let first = &incs[0];
+    let slipping = first.states[0]
+        .iter()
+        .filter(|s| **s == PairState::Slip)
+        .count();
+    assert!(slipping > 0, "{:?}", first.states);
+    let mut s = a.solver().unwrap();
+    let fixed = s.solve_pattern(first.lambda, &first.states).unwrap();
+    let mut s = a.solver().unwrap();
+    let exact = s
+        .solve_pattern_exact(first.lambda, &first.states)
+        .unwrap()
+        .expect("a pattern with a state of rest");
+    let scale = fixed.u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = fixed
+        .u
+        .iter()
+        .zip(&exact.u)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(diff <= 1e-7 * scale, "{diff} of {scale}");
+    assert!(exact.violations.is_empty(), "{:?}", exact.violations);
+}
+
+/// A quarter shrink fit (shaft δ = 0.01 mm over a ring, symmetry supports, 3:5
+/// faces) with `elements` and `coupling`, Coulomb μ = 0.3, `refine`.
+fn quarter_fit(elements: &str, coupling: &str, refine: usize) -> String {
+    let (ring, shaft) = (12 * refine, 20 * refine);
+    format!(
+        r#"
+plane = "strain"
+[materials.steel]
+E = 210000.0
+nu = 0.3
+[materials.alu]
+E = 70000.0
+nu = 0.33
+[[part]]
+name = "ring"
+material = "alu"
+annulus = {{ center = [0.0, 0.0], r = [10.0, 20.0], theta = [0.0, 90.0], cells = [4, {ring}], elements = "{elements}" }}
+[[part]]
+name = "shaft"
+material = "steel"
+annulus = {{ center = [0.0, 0.0], r = [5.0, 10.01], theta = [0.0, 90.0], cells = [4, {shaft}], elements = "{elements}" }}
+[[support]]
+part = "ring"
+boundary = "start"
+fix = ["y"]
+[[support]]
+part = "ring"
+boundary = "end"
+fix = ["x"]
+[[support]]
+part = "shaft"
+boundary = "start"
+fix = ["y"]
+[[support]]
+part = "shaft"
+boundary = "end"
+fix = ["x"]
+[[interface]]
+host = "ring"
+nodes = "shaft"
+boundary = "outer"
+law = "coulomb"
+friction = 0.3
+coupling = "{coupling}"
+search_distance = 0.05
+[analysis]
+increments = 1
+"#
+    )
+}
+
+/// The quarter shrink fit with friction completes with node and segment
+/// coupling, T3 and Q4, at two refinements, and every pair obeys Coulomb's law
+/// as its own forces show (no tension, |f_s| ≤ μ f_n, slipping pairs at the
+/// cone, open pairs without force or penetration), and the loads (none: the
+/// interference alone) balance.
+#[test]
+fn the_quarter_shrink_fit_with_friction_holds_the_law_on_every_pair() {
+    for elements in ["t3", "q4"] {
+        for coupling in ["node", "segment"] {
+            for refine in [1, 2] {
+                let what = format!("{elements}, {coupling}, ×{refine}");
+                let a = common::analysis(&quarter_fit(elements, coupling, refine));
+                let incs = common::solve(&a);
+                let last = incs.last().expect("an increment");
+                assert!(last.violations.is_empty(), "{what}: {:?}", last.violations);
+                assert!(last.settled.is_empty(), "{what}");
+                let iface = &a.interfaces[0];
+                let law = iface.params();
+                let mut fmax = 0.0f64;
+                let mut forces = Vec::new();
+                for k in 0..iface.elements.len() {
+                    let state = last.states[0][k];
+                    let h = &last.pair_history[0][k];
+                    let p = iface.pair_at(k, &a.dofs, &last.u, state, h);
+                    fmax = fmax.max(p.force[0].abs());
+                    forces.push((state, p.gap, p.force));
+                }
+                assert!(fmax > 0.0, "{what}: the fit presses");
+                let tol = 1e-6 * fmax;
+                for (k, (state, gap, f)) in forces.into_iter().enumerate() {
+                    let cone = law.friction * (-f[0]).max(0.0);
+                    match state {
+                        PairState::Open => {
+                            assert_eq!(f, [0.0, 0.0], "{what}: pair {k}");
+                            assert!(gap >= -1e-6, "{what}: pair {k} penetrates {gap}");
+                        }
+                        PairState::Bonded => {
+                            assert!(f[0] <= tol, "{what}: pair {k} pulls {f:?}");
+                            assert!(f[1].abs() <= cone + tol, "{what}: pair {k} {f:?}");
+                        }
+                        PairState::Slip => {
+                            assert!(f[0] <= tol, "{what}: pair {k} pulls {f:?}");
+                            assert!((f[1].abs() - cone).abs() <= tol, "{what}: pair {k} {f:?}");
+                        }
+                    }
+                }
+                assert!(last.residual <= 1e-8, "{what}: residual {}", last.residual);
+            }
+        }
+    }
+}
