@@ -4,6 +4,7 @@
 //! runs them all ([`CASES`]) and writes `docs/verification.md` with its
 //! pictures; the tests assert every case of that list, quick and full.
 
+pub mod axisymmetric;
 pub mod cantilever;
 pub mod closed_forms;
 pub mod contact;
@@ -134,7 +135,7 @@ pub type CaseFn = fn(bool) -> Result<Case>;
 /// progress line shows. The one list: [`run_all`] runs it and the tests
 /// (`crates/cfe-tools/tests/verification.rs`) assert every case of it at both
 /// levels, so a case added here is asserted without a test of its own.
-pub const CASES: [(&str, CaseFn); 18] = [
+pub const CASES: [(&str, CaseFn); 20] = [
     ("patch tests", patch::constant_stress),
     ("contact patch test", patch::contact_patch),
     ("tied cantilever", cantilever::convergence),
@@ -153,6 +154,8 @@ pub const CASES: [(&str, CaseFn); 18] = [
     ("shrink fit", fits::shrink_fit),
     ("frictionless patch test", fits::frictionless_patch),
     ("receding contact", fits::receding),
+    ("axisymmetric cylinder", axisymmetric::thick_cylinder),
+    ("axisymmetric press fit", axisymmetric::press_fit),
 ];
 
 /// Runs every case of [`CASES`] (`quick`: the reduced versions), calling
