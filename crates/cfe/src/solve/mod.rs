@@ -4,8 +4,8 @@
 //! from a coarser model. The linear-solver seam ([`backend`]) puts the linear
 //! algebra behind a trait, implemented by the supernodal Cholesky ([`direct`])
 //! and by preconditioned conjugate gradients ([`iterative`]); the scheme
-//! ([`contact`], re-exported under its former path [`nonlinear`]) still calls
-//! the Cholesky's `ContactSystem` directly until it is wired through the seam.
+//! ([`contact`], re-exported under its former path [`nonlinear`]) reaches the
+//! linear algebra only through that seam, the back end chosen per run.
 
 pub(crate) mod anderson;
 pub mod backend;
@@ -20,6 +20,7 @@ pub(crate) mod heap;
 pub mod iterative;
 pub mod linear;
 pub mod lower;
+pub mod paths;
 pub mod nonlinear;
 pub(crate) mod ordering;
 pub(crate) mod setup;

@@ -13,8 +13,8 @@
 //! `K = K₀ + W Δ Wᵀ`, `V = L⁻¹ P W`, `z = L⁻¹ P b`:
 //! `K⁻¹ b = Pᵀ L⁻ᵀ (z − V t)`, `(Δ⁻¹ + VᵀV) t = Vᵀ z`.
 
-use super::capacitance::{Capacitance, Entry};
-use super::columns::{Columns, SparseColumn};
+use super::capacitance::Capacitance;
+use super::columns::Columns;
 use super::factor::Halt;
 use super::linear::CholeskySolver;
 use super::lower::LowerMatrix;
@@ -24,6 +24,8 @@ use crate::domain::Part;
 use std::collections::HashMap;
 use std::sync::atomic::AtomicUsize;
 use std::time::Instant;
+
+mod update;
 
 /// How one solve was done.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -431,187 +433,6 @@ impl<'a> ContactSystem<'a> {
         }
     }
 
-    /// The forward half of a solve with the kept factor: `y = z − V t` (in the
-    /// elimination order) for the backward solve, on the rows `read` (the others
-    /// meaningless), or, when a new factorization is needed or cheaper, the
-    /// complete solution in `rhs`.
-    fn forward_half(
-        &mut self,
-        interfaces: &[Interface],
-        dofs: &DofMap,
-        states: &[Vec<PairState>],
-        rhs: &mut [f64],
-        rhs_on_interface: bool,
-        read: Read,
-    ) -> Result<Half, Halt> {
-        let Some(base) = &self.base else {
-            return self
-                .refactor_and_solve(interfaces, dofs, states, rhs)
-                .map(Half::Solved);
-        };
-        let flips: Vec<(usize, usize)> = states
-            .iter()
-            .zip(base)
-            .enumerate()
-            .flat_map(|(i, (s, b))| {
-                s.iter()
-                    .zip(b)
-                    .enumerate()
-                    .filter(|(_, (x, y))| x != y)
-                    .map(move |(k, _)| (i, k))
-            })
-            .collect();
-        // The change of each flipped pair's penalties (c_n, c_s) from the base state.
-        let changes: Vec<[f64; 2]> = flips
-            .iter()
-            .map(|&(i, k)| {
-                let law = interfaces[i].elements[k].params(&interfaces[i].params());
-                let (now, was) = (law.penalties(states[i][k]), law.penalties(base[i][k]));
-                [now[0] - was[0], now[1] - was[1]]
-            })
-            .collect();
-        if flips.is_empty() {
-            let t = Instant::now();
-            let z = self.forward_solve(rhs, rhs_on_interface, read);
-            self.solve_seconds += t.elapsed().as_secs_f64();
-            return Ok(Half::Forward(z, Method::Reuse));
-        }
-        let new: Vec<(usize, usize)> = flips
-            .iter()
-            .copied()
-            .filter(|p| !self.cached.contains_key(p))
-            .collect();
-        if new.is_empty() {
-            let entries = self.correction(&flips, &changes);
-            if let Some(cap) = self.capacitance.take_if(|c| c.entries() == entries.as_slice()) {
-                return Ok(self.same_correction(cap, rhs, rhs_on_interface, read));
-            }
-        }
-        let mut cols = Vec::with_capacity(2 * new.len());
-        for &(i, k) in &new {
-            for col in pair_columns(&interfaces[i], k, dofs) {
-                cols.push(SparseColumn {
-                    entries: col
-                        .eq
-                        .iter()
-                        .zip(&col.w)
-                        .map(|(&e, &w)| (self.chol.permuted(e), w))
-                        .collect(),
-                });
-            }
-        }
-        let paths: Vec<Vec<u32>> = cols.iter().map(|c| Columns::path(&self.chol, c)).collect();
-        let r = (2 * flips.len()) as f64;
-        // The dense system costed as one LU of it (an upper bound: a change of a
-        // few entries is bordered, see `super::capacitance`).
-        let dense = 2.0 / 3.0 * r * r * r;
-        let cost_update = self.columns.add_flops(&self.chol, &paths) + self.chol.solve_flops() + dense;
-        let cost_factor = self.chol.factor_flops() + self.chol.solve_flops();
-        let memory = self.columns.bytes()
-            + 8 * paths.iter().map(|p| self.path_width(p)).sum::<usize>()
-            + self.columns.gram_bytes_with(2 * self.cached.len() + cols.len());
-        let cheaper = match self.policy {
-            UpdatePolicy::Auto => UPDATE_FLOP_WEIGHT * cost_update < cost_factor,
-            UpdatePolicy::Always => true,
-            UpdatePolicy::Never => false,
-        };
-        if !cheaper || memory > self.budget {
-            return self
-                .refactor_and_solve(interfaces, dofs, states, rhs)
-                .map(Half::Solved);
-        }
-        let t = Instant::now();
-        // The solve's halves are counted where they are done (the forward one only
-        // when it is not kept, the backward one full or on the interface).
-        self.flops += cost_update - self.chol.solve_flops() - dense;
-        if !cols.is_empty() {
-            let first = self.columns.add(&self.chol, &cols, paths);
-            for (j, &(i, k)) in new.iter().enumerate() {
-                self.cached.insert((i, k), first + 2 * j);
-            }
-            // The columns' blocks grow by reallocation (each supernode's), and
-            // their sparse solves' scratch is freed: pages that would stay
-            // resident beside the factor through the next trials. Given back
-            // once the columns have grown by a sixty-fourth of the factor.
-            if self.columns.bytes() >= self.trimmed_at + self.chol.factor_nnz() / 8 {
-                super::heap::return_free_memory();
-                self.trimmed_at = self.columns.bytes();
-            }
-        }
-        let mut z = self.forward_solve(rhs, rhs_on_interface, read);
-        let entries = self.correction(&flips, &changes);
-        let r = entries.len();
-        let columns = &self.columns;
-        let gram = |a: usize, b: usize| columns.gram(a, b);
-        let cap = match self.capacitance.take() {
-            Some(cap) => cap.update(entries, gram),
-            None => Capacitance::new(entries, gram),
-        };
-        self.flops += cap.flops();
-        self.apply_correction(&cap, &mut z);
-        self.solve_seconds += t.elapsed().as_secs_f64();
-        self.updates += 1;
-        self.capacitance = Some(cap);
-        Ok(Half::Forward(z, Method::LowRank { rank: r }))
-    }
-
-    /// The forward half of a solve with the same correction as the last update
-    /// (only the right-hand side changed): the forward solve, r products with the
-    /// kept columns and the capacitance's triangular solves.
-    fn same_correction(
-        &mut self,
-        cap: Capacitance,
-        rhs: &[f64],
-        rhs_on_interface: bool,
-        read: Read,
-    ) -> Half {
-        let t = Instant::now();
-        let mut z = self.forward_solve(rhs, rhs_on_interface, read);
-        let r = cap.entries().len();
-        self.correct_again(cap, &mut z);
-        self.solve_seconds += t.elapsed().as_secs_f64();
-        Half::Forward(z, Method::LowRank { rank: r })
-    }
-
-    /// `z ← z − V_S t` with the last update's correction `cap` (its r products
-    /// with the kept columns and the capacitance's triangular solves), which is
-    /// kept for the next solve.
-    fn correct_again(&mut self, cap: Capacitance, z: &mut [f64]) {
-        let r = cap.entries().len();
-        self.apply_correction(&cap, z);
-        self.flops += 2.0 * (r * r) as f64;
-        self.capacitance = Some(cap);
-    }
-
-    /// `z ← z − V_S t` with `M_S t = V_Sᵀ z` (the correction's entries S).
-    fn apply_correction(&self, cap: &Capacitance, z: &mut [f64]) {
-        let columns: Vec<usize> = cap.entries().iter().map(|e| e.column).collect();
-        let mut t = self.columns.dots(&self.chol, &columns, z);
-        cap.solve_in_place(&mut t);
-        let terms: Vec<(usize, f64)> = columns.into_iter().zip(t).collect();
-        self.columns.subtract_all(&self.chol, &terms, z);
-    }
-
-    /// The Woodbury correction of the flipped pairs: the cached columns whose
-    /// penalty changed and the change (±c_k: a pair bonding or opening changes
-    /// both, a stick pair slipping or a frictionless pair closing only the normal
-    /// one; a segment element's penalties include its weight).
-    fn correction(&self, flips: &[(usize, usize)], changes: &[[f64; 2]]) -> Vec<Entry> {
-        let mut entries = Vec::with_capacity(2 * flips.len());
-        for (p, change) in flips.iter().zip(changes) {
-            let c = self.cached[p];
-            for (t, &dc) in change.iter().enumerate() {
-                if dc != 0.0 {
-                    entries.push(Entry {
-                        column: c + t,
-                        weight: dc,
-                    });
-                }
-            }
-        }
-        entries
-    }
-
     /// `z = L⁻¹ P b`, on the rows `read` (with the interface set computed, the
     /// others may be left meaningless: O(unknowns) less to zero or copy for a
     /// trial). The first right-hand side solved in full with a factorization,
@@ -664,14 +485,6 @@ impl<'a> ContactSystem<'a> {
             self.forward = Some((KeptVector::of(b), z.clone()));
         }
         z
-    }
-
-    /// Rows of the factor on the supernodes of `path`.
-    fn path_width(&self, path: &[u32]) -> usize {
-        let sn = self.chol.supernodal();
-        path.iter()
-            .map(|&s| sn.supernode_end()[s as usize] - sn.supernode_begin()[s as usize])
-            .sum()
     }
 
     fn refactor_and_solve(
@@ -852,36 +665,6 @@ fn interface_equations(interfaces: &[Interface], dofs: &DofMap) -> Vec<usize> {
         .collect();
     eqs.sort_unstable();
     eqs
-}
-
-/// One correction column: the free equations and values of `w_k`.
-struct Column {
-    eq: Vec<usize>,
-    w: Vec<f64>,
-}
-
-/// The two correction columns (normal, tangential) of pair `k` of `iface`: the
-/// element's rank-2 terms `w_k` restricted to the free equations (their weights,
-/// the change of the penalty c_k between the base state and the current one, are
-/// taken at each solve).
-fn pair_columns(iface: &Interface, k: usize, dofs: &DofMap) -> [Column; 2] {
-    let c = &iface.elements[k];
-    let g = c.dofs(dofs, iface.host, iface.node_part);
-    let g = g.as_slice();
-    c.stiffness_terms(iface.c_n, iface.c_s).map(|(_, w)| {
-        let mut col = Column {
-            eq: Vec::with_capacity(g.len()),
-            w: Vec::with_capacity(g.len()),
-        };
-        for (p, &gp) in g.iter().enumerate() {
-            let e = dofs.eq[gp];
-            if e != FIXED {
-                col.eq.push(e);
-                col.w.push(w[p]);
-            }
-        }
-        col
-    })
 }
 
 #[cfg(test)]
