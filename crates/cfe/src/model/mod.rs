@@ -73,6 +73,8 @@ pub struct Model {
     /// The curved boundaries of the parts refined from a given mesh (Gmsh, or
     /// in memory) as (part name, boundary): `--refine` kept their polygons.
     pub kept_polygons: Vec<(String, crate::mesh::CurvedBoundary)>,
+    /// The line probes of `[[line]]` tables, located in the parts.
+    pub lines: Vec<crate::results::lines::LineProbe>,
 }
 
 /// A problem given as text (TOML), read as if from a file `problem.toml` in the
@@ -135,6 +137,7 @@ impl Model {
             refine: 1,
             text: String::new(),
             kept_polygons: Vec::new(),
+            lines: Vec::new(),
         };
         model.check_names()?;
         Ok(model)
