@@ -4,6 +4,7 @@
 
 use super::Analysis;
 use crate::fem::recovery::PartStress;
+use crate::results::lines::LineSample;
 use crate::results::{self, PairRow, Summary};
 use crate::solve::nonlinear::IncrementResult;
 
@@ -48,6 +49,19 @@ impl Analysis {
     /// One row per coupling pair: state, jumps and forces on the node part.
     pub fn pair_rows(&self, inc: &IncrementResult) -> Vec<PairRow> {
         results::pair_rows(&self.problem(), inc, &self.step_name(inc.step))
+    }
+
+    /// The samples of every line probe (`[[line]]`) at increment `inc`, by
+    /// name, in file order: the points of each line that lie in a part.
+    pub fn line_samples(&self, inc: &IncrementResult) -> Vec<(&str, Vec<LineSample>)> {
+        let m = &self.model;
+        m.lines
+            .iter()
+            .map(|l| {
+                let samples = results::lines::sample(l, &m.parts, &self.dofs.node_offset, &inc.u);
+                (l.name.as_str(), samples)
+            })
+            .collect()
     }
 
     /// Records converged increment `inc` (with its pair rows `rows`) in the

@@ -6,8 +6,8 @@
 //! fault.
 
 use super::schema::{
-    AnnulusSpec, Component, GmshSpec, GroupSpec, InterfaceSpec, LoadSpec, MaterialSpec, PartSpec,
-    ProblemFile, RectangleSpec, StepSpec, SupportSpec, line_of,
+    AnnulusSpec, Component, GmshSpec, GroupSpec, InterfaceSpec, LineSpec, LoadSpec, MaterialSpec,
+    PartSpec, ProblemFile, RectangleSpec, StepSpec, SupportSpec, line_of,
 };
 use super::{
     DEFAULT_PAIR_TOLERANCE, DEFAULT_PENALTY_FACTOR, DEFAULT_PENETRATION_TOLERANCE, InterfaceDef,
@@ -19,6 +19,7 @@ use crate::fem::{Material, PlaneKind, axisymmetric, loads};
 use crate::mesh::gmsh::{GmshMesh, Group};
 use crate::mesh::input_file::{self, MESH_FILE_CAP};
 use crate::mesh::{Mesh, bounding_diagonal};
+use crate::results::lines::{LineProbe, locate};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -194,6 +195,7 @@ impl<'a> Builder<'a> {
             loads: load_specs,
             mut analysis,
             steps: step_specs,
+            lines: line_specs,
         } = file;
         if part_specs.is_empty() {
             return Err(Error::Model("the problem defines no [[part]]".into()));
@@ -208,6 +210,7 @@ impl<'a> Builder<'a> {
         }
         let supports = self.supports(&support_specs, &parts, &steps)?;
         let loads = self.loads(&load_specs, &parts, &steps)?;
+        let lines = self.lines(&line_specs, &parts)?;
         let title = title.unwrap_or_else(|| {
             self.path
                 .file_stem()
@@ -228,7 +231,68 @@ impl<'a> Builder<'a> {
             text: self.text.to_string(),
             kept_polygons,
             notes: Vec::new(),
+            lines,
         })
+    }
+
+    /// The line probes: each named uniquely (letters, digits, `-`, `_`: its file
+    /// names), of nonzero length, with at least two points, its part known, and
+    /// some point inside a part (else a typed [`Error::Invalid`] naming it).
+    fn lines(&self, specs: &[LineSpec], parts: &[Part]) -> Result<Vec<LineProbe>> {
+        let mut lines: Vec<LineProbe> = Vec::with_capacity(specs.len());
+        for spec in specs {
+            let name = spec.name.get_ref();
+            let invalid = |message: String| Error::Invalid {
+                path: self.path.to_path_buf(),
+                line: Some(line_of(self.text, spec.name.span().start)),
+                key: format!("line.{name}"),
+                message,
+            };
+            if name.is_empty()
+                || !name
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+            {
+                return Err(invalid(
+                    "name must be letters, digits, '-' or '_' (it names the files lines/<name>.csv and .png)".into(),
+                ));
+            }
+            if lines.iter().any(|l| &l.name == name) {
+                return Err(invalid(
+                    "names a second [[line]]: line names must be unique".into(),
+                ));
+            }
+            let (from, to) = (spec.from, spec.to);
+            let length = (to[0] - from[0]).hypot(to[1] - from[1]);
+            if !(length.is_finite() && length > 0.0) {
+                return Err(invalid(format!(
+                    "has zero length (from = to = [{}, {}]): a line needs two distinct finite ends",
+                    from[0], from[1]
+                )));
+            }
+            let points = spec.points.unwrap_or(101);
+            if !(2..=1_000_000).contains(&points) {
+                return Err(invalid(format!(
+                    "points = {points}: a line is sampled at 2 to 1000000 points, ends included"
+                )));
+            }
+            let only = match &spec.part {
+                Some(part) => Some(self.part_index(parts, part, "part")?),
+                None => None,
+            };
+            let line = locate(parts, only, name, from, to, points);
+            if line.points.iter().all(|p| p.2.is_none()) {
+                let within = only.map_or("every part".to_string(), |p| {
+                    format!("part '{}'", parts[p].name)
+                });
+                return Err(invalid(format!(
+                    "from [{}, {}] to [{}, {}] lies outside {within}: none of its {points} points is in an element",
+                    from[0], from[1], to[0], to[1]
+                )));
+            }
+            lines.push(line);
+        }
+        Ok(lines)
     }
 
     /// Resources are checked before they are spent: the structured parts' sizes

@@ -78,6 +78,8 @@ pub struct Model {
     /// Abaqus deck, the keywords accepted and ignored (with their lines) and
     /// how its contact behaviour was mapped ([`Model::from_inp`]).
     pub notes: Vec<String>,
+    /// The line probes of `[[line]]` tables, located in the parts.
+    pub lines: Vec<crate::results::lines::LineProbe>,
 }
 
 /// Whether `path` names a CalculiX/Abaqus deck (extension `.inp`, any case).
@@ -178,6 +180,7 @@ impl Model {
             text: String::new(),
             kept_polygons: Vec::new(),
             notes: Vec::new(),
+            lines: Vec::new(),
         };
         model.check_names()?;
         Ok(model)

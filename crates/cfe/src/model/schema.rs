@@ -36,6 +36,23 @@ pub(super) struct ProblemFile {
     pub(super) analysis: Settings,
     #[serde(rename = "step", default)]
     pub(super) steps: Vec<StepSpec>,
+    #[serde(rename = "line", default)]
+    pub(super) lines: Vec<LineSpec>,
+}
+
+/// `[[line]]`: a line probe, sampled for displacement and stresses.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct LineSpec {
+    pub(super) name: Spanned<String>,
+    #[serde(deserialize_with = "pair")]
+    pub(super) from: [f64; 2],
+    #[serde(deserialize_with = "pair")]
+    pub(super) to: [f64; 2],
+    /// Sample points, ends included (default 101).
+    pub(super) points: Option<usize>,
+    /// Only this part (default: every part).
+    pub(super) part: Option<Spanned<String>>,
 }
 
 /// `[[step]]`: a load step.

@@ -46,6 +46,9 @@ const MANIFEST_TMP: &str = ".cfe-manifest.tmp";
 pub const LOCK: &str = ".cfe-lock";
 /// The folder of the VTU series.
 pub const VTU: &str = "vtu";
+/// The folder of the line probes' tables and charts (`lines/<name>.csv`,
+/// `lines/<name>.png`).
+pub const LINES: &str = "lines";
 /// The pictures a successful run draws into its output folder.
 pub const PICTURES: [&str; 3] = ["sigma_yy.png", "displacement.png", "pressure.png"];
 /// The files a run writes into its output folder (besides `vtu/`).
@@ -81,8 +84,8 @@ fn is_series(name: &str) -> bool {
 }
 
 /// Whether `rel` (relative to the output folder, `/`-separated) is a name a run
-/// writes: one of [`RUN_FILES`], a series file in `vtu/`, or the temporary name
-/// of one of them.
+/// writes: one of [`RUN_FILES`], a series file in `vtu/`, a line probe's
+/// `lines/<name>.csv` or `.png`, or the temporary name of one of them.
 pub fn is_run_name(rel: &str) -> bool {
     let (dir, name) = match rel.split_once('/') {
         Some((dir, name)) => (Some(dir), name),
@@ -95,6 +98,13 @@ pub fn is_run_name(rel: &str) -> bool {
     match dir {
         None => RUN_FILES.contains(&file),
         Some(VTU) => !file.contains('/') && is_series(file),
+        Some(LINES) => [".csv", ".png"].iter().any(|ext| {
+            file.strip_suffix(ext).is_some_and(|n| {
+                !n.is_empty()
+                    && n.chars()
+                        .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+            })
+        }),
         Some(_) => false,
     }
 }
@@ -548,6 +558,7 @@ mod tests {
         for n in RUN_FILES
             .into_iter()
             .chain(["vtu/parts_0001.vtu", "vtu/pairs_12345.vtu"])
+            .chain(["lines/mid.csv", "lines/a-b_1.png"])
         {
             assert!(is_run_name(n), "{n}");
             assert!(is_run_name(&temporary(n)), "{}", temporary(n));
@@ -566,6 +577,11 @@ mod tests {
             "vtu",
             ".cfe-manifest",
             "build.tmp",
+            "lines/.csv",
+            "lines/mid.txt",
+            "lines/../summary.csv",
+            "lines/a b.png",
+            "lines/sub/mid.csv",
         ] {
             assert!(!is_run_name(n), "{n}");
         }

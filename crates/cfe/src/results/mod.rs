@@ -6,6 +6,7 @@
 //! analysis fills them; the writers in [`crate::output`] write them.
 
 pub mod fmt;
+pub mod lines;
 pub mod memory;
 pub mod pairs;
 mod record;

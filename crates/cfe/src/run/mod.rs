@@ -9,6 +9,7 @@
 //! analysis, and written by [`crate::output`] from plain data.
 
 mod layout;
+mod lines;
 mod pictures;
 mod stresses;
 
@@ -423,7 +424,9 @@ impl Analysis {
         // any other writer in flight) still streams in the background.
         let pictures = r.as_ref().ok().map(|inc| {
             let t = Instant::now();
-            let drawn = self.draw_pictures(out, inc, log, stop);
+            let drawn = self
+                .draw_pictures(out, inc, log, stop)
+                .and_then(|_| self.write_lines(out, inc, &mut log.folder));
             log.summary.timings.pictures = t.elapsed().as_secs_f64();
             drawn
         });
