@@ -373,6 +373,7 @@ impl FrictionHold {
         if parts.iter().any(|p| p.material.is_axisymmetric()) {
             return FrictionHold {
                 bodies: Vec::new(),
+                across: Vec::new(),
                 judges_all: false,
             };
         }

@@ -29,6 +29,7 @@ use crate::assembly::FIXED;
 use crate::coupling::{Enforcement, Law, PairState};
 use crate::dim::Tangent;
 use crate::error::Result;
+use crate::solve::backend::{Request, Solve as _};
 use faer::Mat;
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use std::collections::HashSet;
@@ -363,9 +364,12 @@ impl Solver<'_> {
                     rhs[e] = -c;
                 }
             }
-            self.system
-                .solve_interface(self.interfaces, self.dofs, states, &mut rhs, true)
-                .map_err(|h| self.halt_error(h, inc))?;
+            let request = Request::new(states).interface_only().rhs_on_interface();
+            let outcome = self
+                .linear
+                .solve_pattern(request, &mut rhs)
+                .map_err(|f| self.linear_error(f, inc))?;
+            self.record(&outcome);
             self.fixed_point += 1;
             for &d in &self.coupling_dofs {
                 let e = self.dofs.eq[d];
