@@ -91,6 +91,8 @@ impl Deck {
     fn lex_file(&mut self, text: &str, path: &Path, depth: usize) -> Result<()> {
         let file = self.files.len();
         self.files.push(path.to_path_buf());
+        // A byte-order mark (as some Windows editors write) is not part of line 1.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut lines = text.lines().enumerate().peekable();
         while let Some((i, raw)) = lines.next() {
             let loc = Loc { file, line: i + 1 };
@@ -238,10 +240,10 @@ mod tests {
     use super::*;
 
     /// Comments, blank lines, case, continued keyword lines and trailing commas
-    /// are read as CalculiX reads them.
+    /// are read as CalculiX reads them; a byte-order mark is skipped.
     #[test]
     fn cards_and_fields() {
-        let text = "** a comment\n*Node,  nset=All\n1, 0.0, 0.0\n\n2, 1.0, 0.0,\n*SOLID   section, elset=E,\n  material=Steel\n1.5\n";
+        let text = "\u{feff}** a comment\n*Node,  nset=All\n1, 0.0, 0.0\n\n2, 1.0, 0.0,\n*SOLID   section, elset=E,\n  material=Steel\n1.5\n";
         let d = Deck::lex(text, Path::new("m.inp")).unwrap();
         assert_eq!(d.cards.len(), 2);
         assert_eq!(d.cards[0].keyword, "NODE");
