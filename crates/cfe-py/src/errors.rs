@@ -135,6 +135,14 @@ pub fn to_py(py: Python<'_>, e: cfe::Error) -> PyErr {
             vec![("part", obj(py, part)), ("key", obj(py, key))],
         ),
         E::Mesh { part, .. } => (MeshError::new_err(message), vec![("part", obj(py, part))]),
+        E::NegativeRadius { part, node, r } => (
+            MeshError::new_err(message),
+            vec![
+                ("part", obj(py, part)),
+                ("node", obj(py, node)),
+                ("r", obj(py, r)),
+            ],
+        ),
         E::Coupling { interface, .. } => (
             CouplingError::new_err(message),
             vec![("interface", obj(py, interface))],

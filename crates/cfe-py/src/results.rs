@@ -130,15 +130,30 @@ fn part_dict<'py>(
     material.set_item("nu", m.poisson)?;
     material.set_item("thickness", m.thickness)?;
     d.set_item("material", material)?;
-    let von_mises = |s: &[[f64; 3]]| -> Vec<f64> { s.iter().map(|v| m.von_mises(*v)).collect() };
+    // An axisymmetric part's von Mises includes its hoop stress σθθ, which
+    // comes as its own arrays (`nodal_sigma_theta`, `element_sigma_theta`).
+    let von_mises = |s: &[[f64; 3]], hoop: Option<&Vec<f64>>| -> Vec<f64> {
+        s.iter()
+            .enumerate()
+            .map(|(i, v)| m.von_mises_with(*v, hoop.map(|h| h[i])))
+            .collect()
+    };
+    let hoop = stress.hoop.as_ref();
     d.set_item(
         "nodal_von_mises",
-        PyArray1::from_vec(py, von_mises(&stress.nodal)),
+        PyArray1::from_vec(py, von_mises(&stress.nodal, hoop.map(|h| &h.nodal))),
     )?;
     d.set_item(
         "element_von_mises",
-        PyArray1::from_vec(py, von_mises(&stress.element)),
+        PyArray1::from_vec(py, von_mises(&stress.element, hoop.map(|h| &h.element))),
     )?;
+    if let Some(h) = hoop {
+        d.set_item("nodal_sigma_theta", PyArray1::from_vec(py, h.nodal.clone()))?;
+        d.set_item(
+            "element_sigma_theta",
+            PyArray1::from_vec(py, h.element.clone()),
+        )?;
+    }
     d.set_item(
         "nodal_stress",
         matrix(py, stress.nodal.into_flattened(), 3)?,

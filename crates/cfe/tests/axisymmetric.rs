@@ -277,7 +277,9 @@ fn negative_radius_and_thickness_are_refused() {
 /// singularity make the model stiffer than the half-space: measured F = 1.066 ×
 /// Sneddon's here (1.048 on a 48a block at a/8 with the punch at a/32, where two
 /// pairs near the edge open: the node coupling's oscillation on 4:1 faces under
-/// the singular pressure); asserted within +8 % and above Sneddon's.
+/// the singular pressure); asserted within +8 % and above Sneddon's. u_r on the
+/// axis, not imposed, stays below 2 % of δ (measured 0.98 %: the hoop term holds
+/// it to the discretization's order).
 #[test]
 fn flat_punch_is_within_the_stated_tolerance_of_sneddon() {
     let text = format!(
@@ -333,6 +335,16 @@ increments = 1
         .unwrap();
     let sneddon = 2.0 * E / (1.0 - NU * NU) * 0.001;
     let ratio = -press.fy / sneddon;
-    eprintln!("F / (2 a E* δ) = {ratio}");
+    // u_r on the axis is not imposed; the hoop term keeps it near 0.
+    let mut axis: f64 = 0.0;
+    for (p, part) in a.model.parts.iter().enumerate() {
+        for (n, x) in part.mesh.nodes.iter().enumerate() {
+            if x[0] == 0.0 {
+                axis = axis.max(res.last.u[2 * a.dofs.node(p, n)].abs());
+            }
+        }
+    }
+    eprintln!("F / (2 a E* δ) = {ratio}, largest |u_r| on the axis {axis:e} (δ = 1e-3)");
+    assert!(axis < 2e-2 * 0.001, "{axis}");
     assert!(ratio > 1.0 && ratio < 1.08, "{ratio}");
 }

@@ -650,7 +650,9 @@ class PartResult:
     edges), ``displacement`` (n, 2) a view of :attr:`Results.displacements`;
     ``stress`` (n, 3) nodal (σxx, σyy, σxy) averaged within the part,
     ``element_stress`` (m, 3) per element (element order: see ``triangle_ids``,
-    ``quad_ids``).
+    ``quad_ids``). In an axisymmetric model (``plane = "axisymmetric"``: x = r,
+    y = z) ``sigma_theta`` (n,) and ``element_sigma_theta`` (m,) hold the hoop
+    stress σθθ (``None`` otherwise), and von Mises includes it.
     """
 
     name: str
@@ -666,6 +668,8 @@ class PartResult:
     element_stress: np.ndarray
     von_mises: np.ndarray
     element_von_mises: np.ndarray
+    sigma_theta: Optional[np.ndarray] = None
+    element_sigma_theta: Optional[np.ndarray] = None
 
     @property
     def sigma_xx(self) -> np.ndarray:
@@ -724,6 +728,9 @@ class PartResult:
             "sigma_xy": self.element_stress[:, 2],
             "von_mises": self.element_von_mises,
         }
+        if self.sigma_theta is not None:
+            point_data["sigma_theta"] = self.sigma_theta
+            cell_values["sigma_theta"] = self.element_sigma_theta
         cell_data = {k: [v[ids] for ids in blocks] for k, v in cell_values.items()}
         return meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data)
 
@@ -841,6 +848,8 @@ class Results:
                 element_stress=p["element_stress"],
                 von_mises=p["nodal_von_mises"],
                 element_von_mises=p["element_von_mises"],
+                sigma_theta=p.get("nodal_sigma_theta"),
+                element_sigma_theta=p.get("element_sigma_theta"),
             )
         known = {f for f in InterfaceResult.__dataclass_fields__ if f != "extra"}
         self.interfaces: Dict[str, InterfaceResult] = {}

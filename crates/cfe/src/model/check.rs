@@ -439,11 +439,11 @@ fn material(v: &Values, name: &str, m: &MaterialSpec, plane: PlaneKind) -> Resul
             ),
         ));
     }
-    if plane == PlaneKind::Strain && 0.5 - m.nu < NU_MARGIN {
+    if matches!(plane, PlaneKind::Strain | PlaneKind::Axisymmetric) && 0.5 - m.nu < NU_MARGIN {
         return Err(v.invalid(
             &nu,
             format!(
-                "= {} is within {NU_MARGIN:e} of 0.5 in plane strain: the bulk modulus E/(2(1+ν)(1−2ν)) is {:.1e} × the shear modulus, so the stiffness (the D matrix) is too ill-conditioned for double precision (at one ulp from 0.5 it is singular and the factorization reports a mechanism); use ν ≤ 0.499 (near-incompressible displacement elements lock anyway), or plane = \"stress\" if the part is thin",
+                "= {} is within {NU_MARGIN:e} of 0.5 in plane strain (or axisymmetry): the bulk modulus E/(2(1+ν)(1−2ν)) is {:.1e} × the shear modulus, so the stiffness (the D matrix) is too ill-conditioned for double precision (at one ulp from 0.5 it is singular and the factorization reports a mechanism); use ν ≤ 0.499 (near-incompressible displacement elements lock anyway), or plane = \"stress\" if the part is thin",
                 m.nu,
                 1.0 / (1.0 - 2.0 * m.nu)
             ),

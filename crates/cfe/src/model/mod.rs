@@ -226,12 +226,15 @@ impl Model {
     }
 
     /// Advice about the model that does not stop it from being solved: parts in
-    /// plane strain with ν ≥ [`LOCKING_NU`], whose displacement elements lock
+    /// plane strain (or axisymmetric: as constrained out of plane) with ν ≥ [`LOCKING_NU`], whose displacement elements lock
     /// (volumetric locking: too stiff, with oscillating pressure), T3 most.
     pub fn warnings(&self) -> Vec<String> {
         self.parts
             .iter()
-            .filter(|p| p.material.plane == PlaneKind::Strain && p.material.poisson >= LOCKING_NU)
+            .filter(|p| {
+                matches!(p.material.plane, PlaneKind::Strain | PlaneKind::Axisymmetric)
+                    && p.material.poisson >= LOCKING_NU
+            })
             .map(|p| {
                 let (t3, _) = p.mesh.counts();
                 let nu = p.material.poisson;
@@ -241,8 +244,13 @@ impl Model {
                 } else {
                     "its Q4 elements (full integration) stiffen (volumetric locking: displacements come out too small); check the results against a finer mesh, or use plane = \"stress\" if the part is thin"
                 };
+                let plane = if p.material.is_axisymmetric() {
+                    "an axisymmetric model"
+                } else {
+                    "plane strain"
+                };
                 format!(
-                    "part '{}': ν = {nu} in plane strain is nearly incompressible (bulk modulus {ratio:.1e} × the shear modulus): {advice}",
+                    "part '{}': ν = {nu} in {plane} is nearly incompressible (bulk modulus {ratio:.1e} × the shear modulus): {advice}",
                     p.name
                 )
             })
