@@ -385,7 +385,14 @@ fn run_problem(
     bar.finish_and_clear();
     let summary = match summary {
         Ok(s) => s,
-        Err(e @ cfe::Error::Interrupted { .. }) => return Err(e.into()),
+        Err(e @ cfe::Error::Interrupted { .. }) => {
+            // The folder is complete (summary, results.pvd, lock released) and
+            // the process ends at once (`main`): the model is left to the
+            // system rather than freed piece by piece, which took seconds at
+            // millions of unknowns on a loaded machine.
+            std::mem::forget(a);
+            return Err(e.into());
+        }
         Err(e) => {
             // The summary on disk records the failure unless even it could not be
             // written (then the library removed a stale one).

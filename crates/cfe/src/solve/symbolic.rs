@@ -157,28 +157,26 @@ pub fn permuted_triangles<R: Row, P: Row>(
 /// elimination tree and faer's supernodal analysis read, when the lower
 /// triangle in the elimination order is built elsewhere (the stiffness's own,
 /// [`crate::assembly::Stiffness::in_order_pattern`]). `stop`, if given, is
-/// read before each of its two passes over the entries ([`Stopped`] once
-/// nonzero).
+/// read every [`STOP_CHECK_COLUMNS`] columns of each of its two passes over
+/// the entries ([`Stopped`] once nonzero).
 pub fn permuted_upper<R: Row, P: Row>(
     col_ptr: &[usize],
     row_idx: &[R],
     inverse: &[P],
     stop: Option<&AtomicUsize>,
 ) -> Result<Pattern, Stopped> {
-    check(stop)?;
     let n = col_ptr.len() - 1;
     let mut up = vec![0usize; n + 1];
-    each_moved(col_ptr, row_idx, inverse, |_, c| up[c + 1] += 1);
+    each_moved_until(col_ptr, row_idx, inverse, stop, |_, c| up[c + 1] += 1)?;
     for c in 0..n {
         up[c + 1] += up[c];
     }
-    check(stop)?;
     let mut next = up[..n].to_vec();
     let mut rows = vec![0usize; up[n]];
-    each_moved(col_ptr, row_idx, inverse, |r, c| {
+    each_moved_until(col_ptr, row_idx, inverse, stop, |r, c| {
         rows[next[c]] = r;
         next[c] += 1;
-    });
+    })?;
     Ok(Pattern {
         col_ptr: up,
         row_idx: rows,
@@ -192,14 +190,32 @@ fn each_moved<R: Row, P: Row>(
     col_ptr: &[usize],
     row_idx: &[R],
     inverse: &[P],
-    mut f: impl FnMut(usize, usize),
+    f: impl FnMut(usize, usize),
 ) {
+    each_moved_until(col_ptr, row_idx, inverse, None, f)
+        .unwrap_or_else(|_| unreachable!("no stop flag to read"));
+}
+
+/// [`each_moved`] reading `stop` (if any) every [`STOP_CHECK_COLUMNS`]
+/// columns: [`Stopped`] once it is nonzero (the entries after it are not given).
+#[inline]
+fn each_moved_until<R: Row, P: Row>(
+    col_ptr: &[usize],
+    row_idx: &[R],
+    inverse: &[P],
+    stop: Option<&AtomicUsize>,
+    mut f: impl FnMut(usize, usize),
+) -> Result<(), Stopped> {
     for (j, pj) in inverse.iter().map(|p| p.at()).enumerate().take(col_ptr.len() - 1) {
+        if j.is_multiple_of(STOP_CHECK_COLUMNS) {
+            check(stop)?;
+        }
         for i in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().map(|r| r.at()).filter(|&i| i >= j) {
             let pi = inverse[i].at();
             if pi < pj { f(pi, pj) } else { f(pj, pi) }
         }
     }
+    Ok(())
 }
 
 /// A sparsity pattern in compressed columns.
