@@ -193,7 +193,8 @@ impl Analysis {
 
     /// `pressure.png`: the contact pressure of every pair along each interface
     /// with a contact law (one curve per interface, against x, or y where the
-    /// interface spans more in y); `false` when no interface has a contact law
+    /// interface spans more in y), and its shear traction (dashed) where the law
+    /// carries shear; `false` when no interface has a contact law
     /// with pairs.
     fn write_pressure_chart(&self, out: &Path, rows: &[PairRow]) -> Result<bool> {
         let mut series = Vec::new();
@@ -225,18 +226,36 @@ impl Analysis {
                 points,
                 reference: false,
             });
+            // The shear traction beside it (dashed) where the law carries
+            // shear (the seed's stick law, Coulomb).
+            if matches!(iface.law, Law::Contact | Law::Coulomb) {
+                let mut shear: Vec<(f64, f64)> = mine
+                    .iter()
+                    .map(|r| (if use_y { r.y } else { r.x }, r.shear))
+                    .collect();
+                shear.sort_by(|a, b| a.0.total_cmp(&b.0));
+                series.push(chart::Series {
+                    name: format!("{} (shear)", iface.name),
+                    points: shear,
+                    reference: true,
+                });
+            }
         }
         if series.is_empty() {
             return Ok(false);
         }
         let units = &self.model.units;
-        let axis = if along_y == series.len() { "y" } else { "x" };
+        let curves = series.iter().filter(|s| !s.reference).count();
+        let axis = if along_y == curves { "y" } else { "x" };
         chart::line_chart(
             &out.join("pressure.png"),
             &chart::Axes {
-                title: &format!("{}: contact pressure along the interface", self.model.title),
+                title: &format!(
+                    "{}: contact pressure and shear traction along the interface",
+                    self.model.title
+                ),
                 x: &format!("{axis} [{}]", units.length),
-                y: &format!("pressure [{}]", units.stress),
+                y: &format!("traction [{}]", units.stress),
                 log_x: false,
                 log_y: false,
             },
