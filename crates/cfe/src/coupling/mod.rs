@@ -13,6 +13,8 @@ pub mod element;
 pub(crate) mod fixture;
 #[cfg(test)]
 mod stiffness_check;
+#[cfg(test)]
+mod tangent_plane_check;
 pub mod history;
 pub mod law;
 pub mod pair_set;
