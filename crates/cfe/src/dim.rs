@@ -29,6 +29,12 @@ pub trait Tangent:
     /// `f` applied to each pair of components of `self` and `other`.
     fn zip_each(self, other: Self, f: impl Fn(f64, f64) -> f64) -> Self;
 
+    /// Component `j` (0 ≤ j < [`Tangent::COMPONENTS`]).
+    fn component(self, j: usize) -> f64;
+
+    /// Sets component `j` (0 ≤ j < [`Tangent::COMPONENTS`]) to `v`.
+    fn set_component(&mut self, j: usize, v: f64);
+
     /// The dot product `self · other`.
     fn dot(self, other: Self) -> f64;
 
@@ -69,6 +75,16 @@ impl Tangent for f64 {
         f(self, other)
     }
 
+    fn component(self, j: usize) -> f64 {
+        debug_assert_eq!(j, 0);
+        self
+    }
+
+    fn set_component(&mut self, j: usize, v: f64) {
+        debug_assert_eq!(j, 0);
+        *self = v;
+    }
+
     fn dot(self, other: Self) -> f64 {
         self * other
     }
@@ -92,6 +108,14 @@ impl Tangent for [f64; 2] {
 
     fn zip_each(self, other: Self, f: impl Fn(f64, f64) -> f64) -> Self {
         [f(self[0], other[0]), f(self[1], other[1])]
+    }
+
+    fn component(self, j: usize) -> f64 {
+        self[j]
+    }
+
+    fn set_component(&mut self, j: usize, v: f64) {
+        self[j] = v;
     }
 
     fn dot(self, other: Self) -> f64 {
@@ -126,15 +150,37 @@ pub trait Dim: Copy + Debug + PartialEq + Default + Send + Sync + 'static {
     /// xx, yy, xy; 6 in 3D).
     const VOIGT: usize;
     /// A point or vector (`[f64; N]`).
-    type Vector: Copy + Debug + PartialEq + Default + Send + Sync + 'static;
+    type Vector: Copy
+        + Debug
+        + PartialEq
+        + Default
+        + AsRef<[f64]>
+        + AsMut<[f64]>
+        + Send
+        + Sync
+        + 'static;
     /// The tangential part of a pair's local vectors (1 component in 2D, 2 in 3D).
     type Tangent: Tangent;
     /// A pair's local frame: the unit normal n and the unit tangent(s), orthonormal.
     type Frame: Copy + Debug + PartialEq + Send + Sync + 'static;
 
+    /// The global DOF of component `c` (0 ≤ c < N) of global node `node`: `N node
+    /// + c`. The one home of the DOF numbering by node.
+    fn dof(node: usize, c: usize) -> usize {
+        Self::N * node + c
+    }
+
+    /// The Euclidean length of a vector given by its `N` components `v` (in 2D
+    /// `hypot`, to the bit).
+    fn length(v: &[f64]) -> f64;
+
     /// The local frame at a host boundary point of outward unit normal `normal`:
     /// n and the tangent(s) completing it to a right-handed orthonormal basis.
     fn frame(normal: Self::Vector) -> Self::Frame;
+
+    /// Axis `k` of `frame` as a global unit vector: the normal n for k = 0, the
+    /// tangent k for 1 ≤ k ≤ `Tangent::COMPONENTS`.
+    fn axis(frame: &Self::Frame, k: usize) -> Self::Vector;
 
     /// The local components of the global vector `v` in `frame`: `(v · n, v
     /// along the tangent(s))`.
@@ -159,8 +205,16 @@ impl Dim for D2 {
     /// The rotation `R = [n, s]` by rows: `[[n₁, n₂], [s₁, s₂]]`, s = (−n₂, n₁).
     type Frame = [[f64; 2]; 2];
 
+    fn length(v: &[f64]) -> f64 {
+        v[0].hypot(v[1])
+    }
+
     fn frame(n: [f64; 2]) -> [[f64; 2]; 2] {
         [[n[0], n[1]], [-n[1], n[0]]]
+    }
+
+    fn axis(r: &[[f64; 2]; 2], k: usize) -> [f64; 2] {
+        r[k]
     }
 
     fn to_local(r: &[[f64; 2]; 2], v: [f64; 2]) -> (f64, f64) {
@@ -191,7 +245,18 @@ impl Dim for PlaneTangent {
     type Tangent = [f64; 2];
     type Frame = ();
 
+    fn length(v: &[f64]) -> f64 {
+        v[0].hypot(v[1]).hypot(v[2])
+    }
+
     fn frame(_: [f64; 3]) {}
+
+    fn axis(_: &(), k: usize) -> [f64; 3] {
+        // n along z, the tangents along x and y.
+        let mut a = [0.0; 3];
+        a[(k + 2) % 3] = 1.0;
+        a
+    }
 
     fn to_local(_: &(), v: [f64; 3]) -> (f64, [f64; 2]) {
         (v[2], [v[0], v[1]])
@@ -219,10 +284,31 @@ mod tests {
         // Right-handed: n × s = +1.
         assert!((r[0][0] * r[1][1] - r[0][1] * r[1][0] - 1.0).abs() < 1e-15);
         assert_eq!(D2::to_local(&r, n), (1.0, 0.0));
+        assert_eq!((D2::axis(&r, 0), D2::axis(&r, 1)), (r[0], r[1]));
+        // Each axis is its own unit component in the frame.
+        assert_eq!(D2::to_local(&r, D2::axis(&r, 1)).0, 0.0);
         let v = [0.3, -1.7];
         let (v_n, v_t) = D2::to_local(&r, v);
         let back = D2::to_global(&r, v_n, v_t);
         assert!((back[0] - v[0]).abs() < 1e-15 && (back[1] - v[1]).abs() < 1e-15);
+    }
+
+    /// Node g's component c is DOF N g + c (in the plane 2 g + c, every DOF once);
+    /// a vector's length is its Euclidean norm (`hypot` in the plane, to the
+    /// bit; 13 for (3, 4, 12) with three components).
+    #[test]
+    fn dof_numbering_and_length() {
+        let all: Vec<usize> = (0..4)
+            .flat_map(|g| (0..D2::N).map(move |c| D2::dof(g, c)))
+            .collect();
+        assert_eq!(all, (0..8).collect::<Vec<_>>());
+        assert_eq!(PlaneTangent::dof(5, 2), 17);
+        let v = [1e-3, -7.1e4];
+        assert_eq!(D2::length(&v).to_bits(), v[0].hypot(v[1]).to_bits());
+        assert_eq!(PlaneTangent::length(&[3.0, 4.0, 12.0]), 13.0);
+        let mut t = 2.5f64;
+        t.set_component(0, -1.0);
+        assert_eq!(t.component(0), -1.0);
     }
 
     /// In one component the tangent's length is the absolute value and its
@@ -251,6 +337,9 @@ mod tests {
         assert!((rot(t).norm() - 5.0).abs() < 1e-14);
         assert!((rot(t).dot(rot(u)) - t.dot(u)).abs() < 1e-14);
         assert_eq!([0.0, 0.0].direction(), [1.0, 0.0]);
+        let mut w = [1.0, 2.0];
+        w.set_component(1, -3.0);
+        assert_eq!((w.component(0), w.component(1)), (1.0, -3.0));
         assert_eq!([-0.0, 0.0].direction(), [-1.0, 0.0]);
     }
 }

@@ -2,16 +2,19 @@
 //! Dirichlet DOFs eliminated. Below the elements: the part elements and the coupling
 //! elements find their global DOFs here.
 
+use crate::dim::{D2, Dim};
 use crate::domain::{Part, Support};
 use crate::fem::element::MAX_DOFS;
+use std::marker::PhantomData;
 
 /// Marks a DOF that is prescribed (eliminated from the system).
 pub const FIXED: usize = usize::MAX;
 
 /// Numbering of nodes and degrees of freedom across parts: global node
-/// `g = node_offset[part] + local`, DOFs `2g` (x) and `2g + 1` (y).
+/// `g = node_offset[part] + local`, its DOFs `N g + c` for its components c
+/// ([`Dim::dof`] of the model's dimension `D`; `2g` (x) and `2g + 1` (y) in 2D).
 #[derive(Debug, Clone)]
-pub struct DofMap {
+pub struct DofMap<D: Dim = D2> {
     /// First global node of each part (length parts + 1).
     pub node_offset: Vec<usize>,
     /// Equation number of each DOF, or `FIXED` (`usize::MAX`).
@@ -24,10 +27,13 @@ pub struct DofMap {
     /// (the first one listed wins). A list rather than an entry per DOF: a
     /// structure's supports fix a boundary, a small share of its DOFs.
     pub fixed: Vec<(usize, usize)>,
+    /// The dimension the DOFs are numbered in (`D::N` a node).
+    pub dim: PhantomData<D>,
 }
 
 impl DofMap {
-    /// Numbers the DOFs of `parts`, eliminating those fixed by `supports`.
+    /// Numbers the DOFs of `parts`, eliminating those fixed by `supports` (plane
+    /// supports: x and y).
     pub fn new(parts: &[Part], supports: &[Support]) -> DofMap {
         let mut node_offset = Vec::with_capacity(parts.len() + 1);
         let mut n = 0;
@@ -36,18 +42,19 @@ impl DofMap {
             n += p.mesh.nodes.len();
         }
         node_offset.push(n);
-        let mut prescribed = vec![0.0; 2 * n];
+        let mut prescribed = vec![0.0; D2::dof(n, 0)];
         // `eq` marks the fixed DOFs first (free: 0), then numbers the free ones.
-        let mut eq = vec![0; 2 * n];
+        let mut eq = vec![0; D2::dof(n, 0)];
         let mut fixed = Vec::new();
         for (s, sup) in supports.iter().enumerate() {
             for &node in &sup.nodes {
                 let g = node_offset[sup.part] + node;
-                for c in 0..2 {
-                    if sup.fix[c] && eq[2 * g + c] != FIXED {
-                        eq[2 * g + c] = FIXED;
-                        fixed.push((2 * g + c, s));
-                        prescribed[2 * g + c] = sup.value[c];
+                for c in 0..D2::N {
+                    let d = D2::dof(g, c);
+                    if sup.fix[c] && eq[d] != FIXED {
+                        eq[d] = FIXED;
+                        fixed.push((d, s));
+                        prescribed[d] = sup.value[c];
                     }
                 }
             }
@@ -64,7 +71,20 @@ impl DofMap {
             n_eq,
             prescribed,
             fixed,
+            dim: PhantomData,
         }
+    }
+}
+
+impl<D: Dim> DofMap<D> {
+    /// DOFs per node (`D::N`).
+    pub fn per_node(&self) -> usize {
+        D::N
+    }
+
+    /// The DOF of component `c` of global node `g` ([`Dim::dof`]).
+    pub fn dof(&self, g: usize, c: usize) -> usize {
+        D::dof(g, c)
     }
 
     /// Number of global nodes.
@@ -85,10 +105,10 @@ impl DofMap {
         f_int: &[f64],
         f_ext: &[f64],
         lambda: f64,
-    ) -> Vec<[f64; 2]> {
-        let mut r = vec![[0.0; 2]; count];
+    ) -> Vec<D::Vector> {
+        let mut r = vec![D::Vector::default(); count];
         for &(d, k) in &self.fixed {
-            r[k][d % 2] += f_int[d] - lambda * f_ext[d];
+            r[k].as_mut()[d % D::N] += f_int[d] - lambda * f_ext[d];
         }
         r
     }
@@ -105,8 +125,8 @@ impl DofMap {
         (p, g - self.node_offset[p])
     }
 
-    /// The global DOFs of element `e` of `part` (the first 2n entries, n its node
-    /// count) and their number.
+    /// The global DOFs of element `e` of `part` (the first N n entries, n its
+    /// node count) and their number.
     pub fn element_dofs(
         &self,
         parts: &[Part],
@@ -117,9 +137,60 @@ impl DofMap {
         let mut g = [0; MAX_DOFS];
         for (a, &n) in nodes.iter().enumerate() {
             let gn = self.node(part, n);
-            g[2 * a] = 2 * gn;
-            g[2 * a + 1] = 2 * gn + 1;
+            for c in 0..D::N {
+                g[D::N * a + c] = D::dof(gn, c);
+            }
         }
-        (g, 2 * nodes.len())
+        (g, D::N * nodes.len())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::{Material, PlaneKind};
+    use crate::mesh::{ElementKind, Mesh};
+
+    /// The plane numbering through the dimension: node g's components are DOFs
+    /// 2g and 2g + 1 (`dof`, `per_node`), an element's DOFs are its nodes' in
+    /// order, a support's fixed DOF gets its prescribed value and no equation,
+    /// and a reaction sums F_int − λ F_ext over the DOFs its support fixes, per
+    /// component.
+    #[test]
+    fn plane_numbering_through_the_dimension() {
+        let parts = vec![Part {
+            name: "p".into(),
+            mesh: Mesh::rectangle([0.0, 1.0], [0.0, 1.0], [2, 1], ElementKind::Q4),
+            material: Material::new(1.0, 0.3, PlaneKind::Stress, 1.0, "p").unwrap(),
+        }];
+        let bottom = parts[0].mesh.boundary_nodes("bottom").unwrap();
+        let supports = vec![Support {
+            name: "s".into(),
+            part: 0,
+            nodes: bottom.clone(),
+            fix: [false, true],
+            value: [0.0, -0.5],
+            step: 0,
+        }];
+        let dofs = DofMap::new(&parts, &supports);
+        assert_eq!(dofs.per_node(), 2);
+        assert_eq!((dofs.dof(4, 0), dofs.dof(4, 1)), (8, 9));
+        let n = dofs.n_nodes();
+        assert_eq!(dofs.eq.len(), 2 * n);
+        for &g in &bottom {
+            assert_eq!(dofs.eq[dofs.dof(g, 1)], FIXED);
+            assert_eq!(dofs.prescribed[dofs.dof(g, 1)], -0.5);
+            assert_ne!(dofs.eq[dofs.dof(g, 0)], FIXED);
+        }
+        assert_eq!(dofs.n_eq, 2 * n - bottom.len());
+        let (g, len) = dofs.element_dofs(&parts, 0, 1);
+        let nodes = parts[0].mesh.elements[1].nodes();
+        let expected: Vec<usize> = nodes.iter().flat_map(|&a| [2 * a, 2 * a + 1]).collect();
+        assert_eq!(&g[..len], &expected[..]);
+        // F_int = 1 at every DOF, F_ext = 2 at every DOF, λ = 0.25: each fixed
+        // DOF contributes 0.5 to the y reaction.
+        let (f_int, f_ext) = (vec![1.0; 2 * n], vec![2.0; 2 * n]);
+        let r = dofs.reactions(1, &f_int, &f_ext, 0.25);
+        assert_eq!(r, vec![[0.0, 0.5 * bottom.len() as f64]]);
     }
 }

@@ -241,17 +241,17 @@ impl Stiffness {
         // those of node a − 1: the nodes are done in parallel blocks, each into its
         // own slice of the row indices (counted first).
         let rows_of = |a: usize, ca: usize, out: &mut dyn FnMut(usize)| {
-            let j = dofs.eq[2 * a + ca];
+            let j = dofs.eq[dofs.dof(a, ca)];
             for &b in graph.neighbours(a) {
-                for cb in 0..2 {
-                    let i = dofs.eq[2 * b + cb];
+                for cb in 0..dofs.per_node() {
+                    let i = dofs.eq[dofs.dof(b, cb)];
                     if i != FIXED && i >= j {
                         out(i);
                     }
                 }
             }
         };
-        let free = |a: usize, ca: usize| dofs.eq[2 * a + ca] != FIXED;
+        let free = |a: usize, ca: usize| dofs.eq[dofs.dof(a, ca)] != FIXED;
         // Row count of each node's columns (0, 1 or 2 columns).
         let counts: Vec<[usize; 2]> = (0..n_nodes)
             .into_par_iter()
@@ -771,12 +771,13 @@ pub fn internal_force_of(sources: &[&dyn ElementSource], u: &[f64]) -> Vec<f64> 
 
 /// The external force vector over all DOFs at full load.
 pub fn external_force(loads: &[Load], dofs: &DofMap) -> Vec<f64> {
-    let mut f = vec![0.0; 2 * dofs.n_nodes()];
+    let mut f = vec![0.0; dofs.dof(dofs.n_nodes(), 0)];
     for load in loads {
         for &(n, v) in &load.nodal {
             let g = dofs.node(load.part, n);
-            f[2 * g] += v[0];
-            f[2 * g + 1] += v[1];
+            for (c, v) in v.iter().enumerate() {
+                f[dofs.dof(g, c)] += v;
+            }
         }
     }
     f

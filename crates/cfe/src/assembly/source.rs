@@ -286,7 +286,7 @@ impl ElementSource for PartElements<'_> {
         first_dof: usize,
     ) {
         for (p, part, elements) in self.by_part(range) {
-            let base = 2 * self.dofs.node(p, 0);
+            let base = self.dofs.dof(self.dofs.node(p, 0), 0);
             // The part's DOFs in `f` (from `first_dof` on).
             let fp = &mut f[base.saturating_sub(first_dof)..];
             let shift = first_dof.saturating_sub(base);
@@ -294,14 +294,17 @@ impl ElementSource for PartElements<'_> {
                 let nodes = el.nodes();
                 let x = element::coordinates(&part.mesh, el);
                 let mut ue = [0.0; element::MAX_DOFS];
+                let dof = |a: usize, c: usize| self.dofs.dof(a, c);
                 for (a, &n) in nodes.iter().enumerate() {
-                    ue[2 * a] = u[base + 2 * n];
-                    ue[2 * a + 1] = u[base + 2 * n + 1];
+                    for c in 0..self.dofs.per_node() {
+                        ue[dof(a, c)] = u[base + dof(n, c)];
+                    }
                 }
                 let fe = self.force_of(p, el, &x, &ue);
                 for (a, &n) in nodes.iter().enumerate() {
-                    fp[2 * n - shift] += fe[2 * a];
-                    fp[2 * n + 1 - shift] += fe[2 * a + 1];
+                    for c in 0..self.dofs.per_node() {
+                        fp[dof(n, c) - shift] += fe[dof(a, c)];
+                    }
                 }
             }
         }
@@ -312,8 +315,8 @@ impl ElementSource for PartElements<'_> {
         for (p, _, elements) in self.by_part(range) {
             for &n in elements.iter().flat_map(|el| el.nodes()) {
                 let g = self.dofs.node(p, n);
-                lo = lo.min(2 * g);
-                hi = hi.max(2 * g + 2);
+                lo = lo.min(self.dofs.dof(g, 0));
+                hi = hi.max(self.dofs.dof(g + 1, 0));
             }
         }
         (lo < hi).then_some(lo..hi)

@@ -1,6 +1,6 @@
 //! The law checked on every pair of a model at one solution (the sweep the
 //! contact scheme runs after every solve): each pair is evaluated at the
-//! displacements ([`Interface::pair_at`]) and judged by its law
+//! displacements ([`PairSet::at`]) and judged by its law
 //! ([`LawParams::next_state`]); the sweep adds the rule that binds pairs
 //! together — friction first: while some stick pair exceeds its cone, no pair is
 //! opened for tension (the tension may come from the shear friction cannot carry,
@@ -11,13 +11,12 @@
 //! It receives the displacements, the states, the histories, the laws and the
 //! tolerances, and knows no solver.
 
-use super::Interface;
 use super::law::{
     Law, LawParams, LawTolerance, LawViolation, PairHistory, PairState, PairStates,
     ViolationKind,
 };
-use crate::dim::Tangent;
-use crate::dofs::DofMap;
+use super::pair_set::PairSet;
+use crate::dim::{Dim, Tangent};
 
 /// The tolerances of a law check.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,11 +33,8 @@ impl CheckTolerance {
     /// The tolerances of a pair with element displacements `d`: the force
     /// tolerance, and the gap tolerance × the largest displacement magnitude
     /// among its nodes.
-    pub fn of_pair(&self, d: &[f64]) -> LawTolerance {
-        let scale = d
-            .chunks_exact(2)
-            .map(|v| v[0].hypot(v[1]))
-            .fold(0.0, f64::max);
+    pub fn of_pair<D: Dim>(&self, d: &[f64]) -> LawTolerance {
+        let scale = d.chunks_exact(D::N).map(D::length).fold(0.0, f64::max);
         LawTolerance {
             tension: self.force,
             penetration: self.gap * scale,
@@ -71,42 +67,42 @@ pub struct Verdicts {
 /// interface's own, or its friction coefficient scaled by a continuation in μ):
 /// the state the law gives each pair next and every violation with its amount.
 /// Pairs of a `rigid` interface stay bonded and are not evaluated.
-pub fn check_law(
-    interfaces: &[Interface],
+pub fn check_law<P: PairSet>(
+    pairs: &P,
     laws: &[LawParams],
-    dofs: &DofMap,
     states: &[Vec<PairState>],
-    history: Option<&[Vec<PairHistory>]>,
+    history: Option<&[Vec<PairHistory<P::Dim>>]>,
     u: &[f64],
     tol: CheckTolerance,
 ) -> Verdicts {
-    debug_assert_eq!(laws.len(), interfaces.len());
+    let count = pairs.interface_count();
+    debug_assert_eq!(laws.len(), count);
     let mut violations = Vec::new();
-    let mut nearest: Vec<Option<(usize, f64)>> = vec![None; interfaces.len()];
-    let mut normal = vec![0.0; interfaces.len()];
+    let mut nearest: Vec<Option<(usize, f64)>> = vec![None; count];
+    let mut normal = vec![0.0; count];
     let mut pair_force = 0.0f64;
-    let mut next: PairStates = Vec::with_capacity(interfaces.len());
-    for (i, ((iface, base), st)) in interfaces.iter().zip(laws).zip(states).enumerate() {
+    let mut next: PairStates = Vec::with_capacity(count);
+    for (i, (base, st)) in laws.iter().zip(states).enumerate() {
         if base.law == Law::Rigid {
             next.push(vec![PairState::Bonded; st.len()]);
             continue;
         }
         let mut next_i = Vec::with_capacity(st.len());
-        for (k, (c, &state)) in iface.elements.iter().zip(st).enumerate() {
+        for (k, &state) in st.iter().enumerate().take(pairs.pair_count(i)) {
             let h = history.map_or(PairHistory::default(), |h| h[i][k]);
-            let p = iface.pair_at(k, dofs, u, state, &h);
+            let p = pairs.at(i, k, u, state, &h);
             // A segment point's penalties are its weight × the interface's.
-            let law = c.params(base);
+            let law = pairs.pair_law(i, k, base);
             let f = p.force;
             if state.is_closed() {
-                normal[i] += f[0];
-                pair_force = pair_force.max(f[0].hypot(f[1]));
+                normal[i] += f.0;
+                pair_force = pair_force.max(f.0.hypot(f.1.norm()));
             }
-            let t = law.next_state(state, p.gap, (f[0], f[1]), p.jump[1], &h, tol.of_pair(p.d()));
+            let t = law.next_state(state, p.gap, f, p.jump.1, &h, tol.of_pair::<P::Dim>(p.d()));
             violations.extend(t.violations().map(|v| (i, k, v)));
             if t.normal.is_none() && state == PairState::Slip && law.law == Law::Coulomb {
-                let limit = law.cone(f[0]);
-                let ratio = law.trial_shear(p.jump[1], &h).norm() / limit;
+                let limit = law.cone(f.0);
+                let ratio = law.trial_shear(p.jump.1, &h).norm() / limit;
                 if limit > 0.0 && nearest[i].is_none_or(|(_, r)| ratio < r) {
                     nearest[i] = Some((k, ratio));
                 }
@@ -139,6 +135,7 @@ pub fn check_law(
 mod tests {
     use super::*;
     use crate::coupling::fixture::{displaced, dofs, interface};
+    use crate::coupling::pair_set::InterfacePairs;
 
     const TOL: CheckTolerance = CheckTolerance {
         force: 1e-3,
@@ -166,7 +163,7 @@ mod tests {
             vec![PairState::Bonded, PairState::Bonded, PairState::Open, PairState::Open],
             vec![PairState::Bonded, PairState::Open],
         ];
-        let v = check_law(&ifaces, &laws, &dofs(4), &states, None, &u, TOL);
+        let v = check_law(&InterfacePairs::new(&ifaces, &dofs(4)), &laws, &states, None, &u, TOL);
         assert_eq!(
             v.next,
             vec![
@@ -214,7 +211,7 @@ mod tests {
             history[0][k].slip_force = 1.0;
             history[0][k].anchor = jumps[k][1];
         }
-        let v = check_law(&ifaces, &laws, &dofs(4), &states, Some(&history), &u, TOL);
+        let v = check_law(&InterfacePairs::new(&ifaces, &dofs(4)), &laws, &states, Some(&history), &u, TOL);
         assert_eq!(
             v.next,
             vec![vec![
@@ -236,7 +233,7 @@ mod tests {
         assert!((v.pair_force - 2.0f64.hypot(1.2)).abs() < 1e-12);
         // Pair 0 inside its cone: pair 1 opens.
         let u = displaced(&[[-0.2, 0.2], jumps[1], jumps[2], jumps[3]]);
-        let v = check_law(&ifaces, &laws, &dofs(4), &states, Some(&history), &u, TOL);
+        let v = check_law(&InterfacePairs::new(&ifaces, &dofs(4)), &laws, &states, Some(&history), &u, TOL);
         assert_eq!(v.next[0][..2], [PairState::Bonded, PairState::Open]);
         // A continuation's laws at 16 μ: pair 0 sticks, so pair 1 opens.
         let wide = [LawParams {
@@ -244,7 +241,7 @@ mod tests {
             ..laws[0]
         }];
         let u = displaced(&jumps);
-        let v = check_law(&ifaces, &wide, &dofs(4), &states, Some(&history), &u, TOL);
+        let v = check_law(&InterfacePairs::new(&ifaces, &dofs(4)), &wide, &states, Some(&history), &u, TOL);
         assert_eq!(v.next[0][..2], [PairState::Bonded, PairState::Open]);
     }
 
@@ -253,7 +250,7 @@ mod tests {
     /// tolerance.
     #[test]
     fn tolerances_of_a_pair() {
-        let t = TOL.of_pair(&[0.0, 0.0, 3.0, 4.0, -1.0, 0.0]);
+        let t = TOL.of_pair::<crate::dim::D2>(&[0.0, 0.0, 3.0, 4.0, -1.0, 0.0]);
         assert_eq!(t.tension, 1e-3);
         assert!((t.penetration - 5e-3).abs() < 1e-18);
     }

@@ -24,22 +24,25 @@
 //! (`c = ω diag(c_n, c_s)`); the node CFE is the case of one node-side node with
 //! coefficient 1 and ω = 1.
 
-use super::law::{LawParams, PairHistory, PairState, local_force};
-use crate::dim::{D2, Dim};
+use super::law::{LawParams, PairHistory, PairState};
+use crate::dim::{D2, Dim, Tangent};
 use crate::dofs::DofMap;
 
 /// Most nodes a CFE has. The node CFE has a host element's 3 or 4 plus the coupling
 /// node; a segment-coupling element has up to 3 node-part nodes and the host nodes
 /// of the host elements under them (up to 9: three Q4 or T3 hosts).
 pub const MAX_NODES: usize = 12;
-/// Most DOFs a CFE has.
+/// Most DOFs a CFE has (in 2D; a 3D element on a HEX8 host needs 3 × 9).
 pub const MAX_DOFS: usize = 2 * MAX_NODES;
 
 /// One coupling pair: a coupling node of the node part and the host element that
 /// contains it, with everything the CFE needs, computed once in the reference
 /// configuration.
+///
+/// Generic over the dimension `D` (DOFs per node, point and frame types; [`D2`]
+/// by default): a 3D element is `CouplingElement<D3>` with the same fields.
 #[derive(Debug, Clone, PartialEq)]
-pub struct CouplingElement {
+pub struct CouplingElement<D: Dim = D2> {
     /// The coupling node (index in the node part's mesh).
     pub node: usize,
     /// The host element (index in the host part's mesh).
@@ -51,10 +54,10 @@ pub struct CouplingElement {
     /// sum to 1).
     pub shape: Vec<f64>,
     /// Unit outward normal n of the host boundary at the coupling node.
-    pub normal: [f64; 2],
+    pub normal: D::Vector,
     /// Reference position X_C of the coupling node: its projection on the host
     /// edge, where the node part's node is placed.
-    pub position: [f64; 2],
+    pub position: D::Vector,
     /// Distance from the coupling node, as meshed, to the host edge it was
     /// projected on (how far it was moved, unless it was paired within a search
     /// distance: then it stays and the distance is its gap's magnitude); with
@@ -118,7 +121,7 @@ pub fn traction(force: f64, length: f64, thickness: f64) -> f64 {
     }
 }
 
-impl CouplingElement {
+impl<D: Dim> CouplingElement<D> {
     /// The traction of `force` (a force of this pair on the node part, normal or
     /// tangential) on the node part's face: [`traction`] over the pair's tributary
     /// length and the node part's thickness `thickness`. The face belongs to both
@@ -133,9 +136,9 @@ impl CouplingElement {
         traction(force, self.tributary, thickness * self.ring)
     }
 
-    /// Number of DOFs of the CFE: 2 × (host nodes + node-side nodes).
+    /// Number of DOFs of the CFE: `D::N` × (host nodes + node-side nodes).
     pub fn n_dofs(&self) -> usize {
-        2 * (self.host_nodes.len() + self.node_shape().len())
+        D::N * (self.host_nodes.len() + self.node_shape().len())
     }
 
     /// The node side's nodes (in the node part): the coupling node, or for the
@@ -183,27 +186,30 @@ impl CouplingElement {
         (g, n + side.len())
     }
 
-    /// The global DOFs of the CFE, `[u₁ v₁ … uₙ vₙ u_c v_c]` (host nodes in part
-    /// `host`, then the coupling node in part `node_part`).
+    /// The global DOFs of the CFE, `[u₁ v₁ … uₙ vₙ u_c v_c]` in 2D, `D::N` per
+    /// node (host nodes in part `host`, then the coupling node in part
+    /// `node_part`).
     pub fn dofs(&self, dofs: &DofMap, host: usize, node_part: usize) -> CfeDofs {
         let (g, n) = self.global_nodes(dofs, host, node_part);
         let mut ids = [0; MAX_DOFS];
         for (a, &gn) in g[..n].iter().enumerate() {
-            ids[2 * a] = 2 * gn;
-            ids[2 * a + 1] = 2 * gn + 1;
+            for c in 0..D::N {
+                ids[D::N * a + c] = D::dof(gn, c);
+            }
         }
-        CfeDofs { ids, len: 2 * n }
+        CfeDofs { ids, len: D::N * n }
     }
 
     /// The global jump `[[U]] = D_c − Σ N̄ᵢ Dᵢ` for element displacements `d`
     /// (as `CfeDofs::gather` orders them; entries past [`n_dofs`](Self::n_dofs) are ignored).
-    pub fn jump(&self, d: &[f64]) -> [f64; 2] {
-        jump(&self.shape, self.node_shape(), &d[..self.n_dofs()])
+    pub fn jump(&self, d: &[f64]) -> D::Vector {
+        jump::<D>(&self.shape, self.node_shape(), &d[..self.n_dofs()])
     }
 
-    /// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_s]])` for element displacements `d`.
-    pub fn local_jump(&self, d: &[f64]) -> [f64; 2] {
-        local_jump(self.normal, self.jump(d))
+    /// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_t]])` for element
+    /// displacements `d`: normal and tangential.
+    pub fn local_jump(&self, d: &[f64]) -> (f64, D::Tangent) {
+        local_jump::<D>(self.normal, self.jump(d))
     }
 
     /// The normal gap `gap_n = g₀ + [[u_n]]` (positive: the faces are apart) for
@@ -213,20 +219,20 @@ impl CouplingElement {
     }
 
     /// The normal gap `g₀ + [[u_n]]` for the local jump `jump`.
-    pub fn gap(&self, jump: [f64; 2]) -> f64 {
+    pub fn gap(&self, jump: (f64, D::Tangent)) -> f64 {
         if self.gap0 == 0.0 {
-            jump[0]
+            jump.0
         } else {
-            self.gap0 + jump[0]
+            self.gap0 + jump.0
         }
     }
 
     /// The stiffness `K_e = B_eᵀ (1 − D̂) C B_e`, `C = Rᵀ c R`, for penalties
     /// `c_n`, `c_s` and the pair's `state` (zero when open).
     /// For a segment point the penalties are scaled by its weight ω.
-    pub fn stiffness(&self, c_n: f64, c_s: f64, state: PairState) -> CfeStiffness {
+    pub fn stiffness(&self, c_n: f64, c_s: f64, state: PairState) -> CfeStiffness<D> {
         let w = self.weight();
-        stiffness(
+        stiffness::<D>(
             &self.shape,
             self.node_shape(),
             self.normal,
@@ -236,23 +242,29 @@ impl CouplingElement {
         )
     }
 
-    /// The bonded stiffness in rank-2 form, `K_e = Σ_k c_k w_k w_kᵀ` (k = n, s), with
-    /// `w_k = (R_k B_e)ᵀ`, i.e. `w_k[2a + i] = b_a R_k[i]`: the pairs `(c_k, w_k)`,
-    /// from the same `b` and `R` as [`stiffness`](Self::stiffness). Bonding a pair
-    /// adds these terms to K, opening it removes them (the low-rank update). For a
-    /// segment point `c_k` includes its weight ω.
-    pub fn stiffness_terms(&self, c_n: f64, c_s: f64) -> [(f64, [f64; MAX_DOFS]); 2] {
-        let r = rotation(self.normal);
+    /// The bonded stiffness in rank-one terms, `K_e = Σ_k c_k w_k w_kᵀ` over the
+    /// local axes k (the normal, then each tangent: 1 + `Tangent::COMPONENTS`),
+    /// with `w_k = (R_k B_e)ᵀ`, i.e. `w_k[N a + i] = b_a R_k[i]`: `f(k, c_k, w_k)`
+    /// for each, from the same `b` and `R` as [`stiffness`](Self::stiffness).
+    /// Bonding a pair adds these terms to K, opening it removes them (the
+    /// low-rank update). For a segment point `c_k` includes its weight ω.
+    pub fn for_each_stiffness_term(
+        &self,
+        c_n: f64,
+        c_s: f64,
+        mut f: impl FnMut(usize, f64, &[f64; MAX_DOFS]),
+    ) {
+        let r = D::frame(self.normal);
         let b = b_coefficients(&self.shape, self.node_shape());
         let wt = self.weight();
-        let w = |k: usize| -> [f64; MAX_DOFS] {
+        for k in 0..=<D::Tangent as Tangent>::COMPONENTS {
+            let axis = D::axis(&r, k);
             let mut w = [0.0; MAX_DOFS];
             for (p, x) in w.iter_mut().enumerate().take(self.n_dofs()) {
-                *x = b[p / 2] * r[k][p % 2];
+                *x = b[p / D::N] * axis.as_ref()[p % D::N];
             }
-            w
-        };
-        [(wt * c_n, w(0)), (wt * c_s, w(1))]
+            f(k, wt * if k == 0 { c_n } else { c_s }, &w);
+        }
     }
 
     /// The internal force `F_e = B_eᵀ Rᵀ f`, `f = (1 − D̂) c [[u]]`, for element
@@ -265,9 +277,9 @@ impl CouplingElement {
         c_s: f64,
         state: PairState,
         d: &[f64],
-    ) -> ([f64; MAX_DOFS], [f64; 2]) {
+    ) -> ([f64; MAX_DOFS], (f64, D::Tangent)) {
         let w = self.weight();
-        internal_force(
+        internal_force::<D>(
             &self.shape,
             self.node_shape(),
             self.normal,
@@ -279,7 +291,7 @@ impl CouplingElement {
     }
 }
 
-impl CouplingElement {
+impl<D: Dim> CouplingElement<D> {
     /// The pair at element displacements `d` (gathered at `dofs`) under the law
     /// `law` (the interface's; scaled here by the element's weight ω,
     /// [`Self::params`]) in `state` with history `h`: its local jump, its normal gap
@@ -292,25 +304,24 @@ impl CouplingElement {
         d: [f64; MAX_DOFS],
         law: &LawParams,
         state: PairState,
-        h: &PairHistory,
-    ) -> PairAt {
+        h: &PairHistory<D>,
+    ) -> PairAt<D> {
         let jump = self.local_jump(&d);
         let gap = self.gap(jump);
-        let (f_n, f_s) = self.params(law).local_force(state, gap, jump[1], h);
         PairAt {
             dofs,
             d,
             jump,
             gap,
-            force: [f_n, f_s],
+            force: self.params(law).local_force(state, gap, jump.1, h),
         }
     }
 
     /// The internal force `F_e = B_eᵀ Rᵀ f` of the local force `f` (the force the
     /// host side exerts on the pair, in (n, s); the first
     /// [`n_dofs`](Self::n_dofs) entries are the element's).
-    pub fn nodal_force(&self, f: [f64; 2]) -> [f64; MAX_DOFS] {
-        nodal_force(&self.shape, self.node_shape(), self.normal, f)
+    pub fn nodal_force(&self, f: (f64, D::Tangent)) -> [f64; MAX_DOFS] {
+        nodal_force::<D>(&self.shape, self.node_shape(), self.normal, f)
     }
 
     /// The interface's law with this element's penalties: `c_n`, `c_s` scaled by its
@@ -330,26 +341,39 @@ impl CouplingElement {
     }
 }
 
+impl CouplingElement<D2> {
+    /// The bonded stiffness of a plane element in rank-one form (k = n, s):
+    /// [`for_each_stiffness_term`](Self::for_each_stiffness_term)'s two terms
+    /// `(c_k, w_k)` as an array.
+    pub fn stiffness_terms(&self, c_n: f64, c_s: f64) -> [(f64, [f64; MAX_DOFS]); 2] {
+        let mut terms = [(0.0, [0.0; MAX_DOFS]); 2];
+        self.for_each_stiffness_term(c_n, c_s, |k, c, w| terms[k] = (c, *w));
+        terms
+    }
+}
+
 /// A coupling pair evaluated at displacements u: its DOFs, its element
 /// displacements, its local jump, its normal gap and its force under its law in a
 /// state (`Interface::pair_at`, the one evaluation of a pair that the law check,
 /// the pair-history rules, the assembly of internal forces and the pair outputs
 /// read).
+/// In any dimension: the tangential parts are the dimension's tangent
+/// ([`Dim::Tangent`]; one component along s in 2D).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PairAt {
+pub struct PairAt<D: Dim = D2> {
     /// The pair's global DOFs.
     pub dofs: CfeDofs,
     /// Its element displacements (zero past its DOFs): see [`Self::d`].
     pub d: [f64; MAX_DOFS],
-    /// The local jump `[[u]] = ([[u_n]], [[u_s]])`.
-    pub jump: [f64; 2],
+    /// The local jump `[[u]] = ([[u_n]], [[u_t]])`: normal, tangential.
+    pub jump: (f64, D::Tangent),
     /// The normal gap `g₀ + [[u_n]]` (positive: the faces are apart).
     pub gap: f64,
-    /// The local force `f = (f_n, f_s)` the host side exerts on the pair.
-    pub force: [f64; 2],
+    /// The local force `f = (f_n, f_t)` the host side exerts on the pair.
+    pub force: (f64, D::Tangent),
 }
 
-impl PairAt {
+impl<D: Dim> PairAt<D> {
     /// The element displacements, as many as the pair has DOFs.
     pub fn d(&self) -> &[f64] {
         &self.d[..self.dofs.len]
@@ -365,6 +389,16 @@ pub struct CfeDofs {
 }
 
 impl CfeDofs {
+    /// The DOFs `ids` (at most [`MAX_DOFS`]), in a pair's local order.
+    pub fn new(ids: &[usize]) -> Self {
+        let mut all = [0; MAX_DOFS];
+        all[..ids.len()].copy_from_slice(ids);
+        Self {
+            ids: all,
+            len: ids.len(),
+        }
+    }
+
     /// The DOF numbers, 2 (n + 1) of them.
     pub fn as_slice(&self) -> &[usize] {
         &self.ids[..self.len]
@@ -381,34 +415,31 @@ impl CfeDofs {
     }
 }
 
-/// The rotation `R = [[n₁, n₂], [s₁, s₂]]` with `s = n` turned +90° (s = (−n₂, n₁)):
-/// the plane local frame ([`D2`]'s [`Dim::frame`]).
-fn rotation(n: [f64; 2]) -> [[f64; 2]; 2] {
-    D2::frame(n)
-}
-
 /// The global jump `[[U]] = D_c − Σ N̄ᵢ Dᵢ` for element displacements `d`
-/// (2 (n + m) values: host nodes, then the node side's m nodes), with
+/// (`D::N` (n + m) values: host nodes, then the node side's m nodes), with
 /// `D_c = Σ_j N_j D_j` over the node side (`node_shape`; `[1]` for a coupling node).
-fn jump(shape: &[f64], node_shape: &[f64], d: &[f64]) -> [f64; 2] {
+fn jump<D: Dim>(shape: &[f64], node_shape: &[f64], d: &[f64]) -> D::Vector {
     let n = shape.len();
-    debug_assert_eq!(d.len(), 2 * (n + node_shape.len()));
-    std::array::from_fn(|c| {
+    let dim = D::N;
+    debug_assert_eq!(d.len(), dim * (n + node_shape.len()));
+    let mut out = D::Vector::default();
+    for (c, o) in out.as_mut().iter_mut().enumerate() {
         let node = node_shape
             .iter()
             .enumerate()
             .skip(1)
-            .fold(node_shape[0] * d[2 * n + c], |acc, (j, nj)| {
-                acc + nj * d[2 * (n + j) + c]
+            .fold(node_shape[0] * d[dim * n + c], |acc, (j, nj)| {
+                acc + nj * d[dim * (n + j) + c]
             });
-        node - (0..n).map(|i| shape[i] * d[2 * i + c]).sum::<f64>()
-    })
+        *o = node - (0..n).map(|i| shape[i] * d[dim * i + c]).sum::<f64>();
+    }
+    out
 }
 
-/// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_s]])`.
-fn local_jump(normal: [f64; 2], jump: [f64; 2]) -> [f64; 2] {
-    let (u_n, u_s) = D2::to_local(&rotation(normal), jump);
-    [u_n, u_s]
+/// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_t]])` in the frame of the
+/// host normal `normal` ([`Dim::frame`]).
+fn local_jump<D: Dim>(normal: D::Vector, jump: D::Vector) -> (f64, D::Tangent) {
+    D::to_local(&D::frame(normal), jump)
 }
 
 /// The coefficients `b` of `B_e` per node, `B_e = [b₁I … b_{n+m}I]` with
@@ -424,21 +455,26 @@ fn b_coefficients(shape: &[f64], node_shape: &[f64]) -> [f64; MAX_NODES] {
 }
 
 /// A CFE stiffness `K_e = B_eᵀ (1 − D̂) C B_e` in factored form: since
-/// `B_e = b ⊗ I`, `K_e[2a+i][2b+j] = b_a b_b C_ij` with `C = (1 − D̂) Rᵀ c R`.
+/// `B_e = b ⊗ I`, `K_e[N a+i][N b+j] = b_a b_b C_ij` with `C = (1 − D̂) Rᵀ c R`
+/// (N = `D::N`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CfeStiffness {
+pub struct CfeStiffness<D: Dim = D2> {
     /// `b = (−N̄₁, …, −N̄ₙ, 1)` (zero past the element's nodes).
     pub b: [f64; MAX_NODES],
-    /// `(1 − D̂) Rᵀ c R` (2×2, symmetric).
-    pub c: [[f64; 2]; 2],
-    /// Number of DOFs, 2 (n + 1).
+    /// `(1 − D̂) Rᵀ c R` (N×N, symmetric; its first N rows and columns).
+    pub c: [[f64; MAX_N]; MAX_N],
+    /// Number of DOFs, N (n + 1).
     pub dofs: usize,
+    dim: std::marker::PhantomData<D>,
 }
 
-impl CfeStiffness {
+/// Most DOFs per node of a dimension ([`CfeStiffness::c`]'s size).
+pub const MAX_N: usize = 3;
+
+impl<D: Dim> CfeStiffness<D> {
     /// Entry (p, q), p, q < `dofs`.
     pub fn get(&self, p: usize, q: usize) -> f64 {
-        self.b[p / 2] * self.b[q / 2] * self.c[p % 2][q % 2]
+        self.b[p / D::N] * self.b[q / D::N] * self.c[p % D::N][q % D::N]
     }
 
     /// `K_e d` for element displacements `d`.
@@ -452,56 +488,77 @@ impl CfeStiffness {
 }
 
 /// CFE stiffness `K_e = B_eᵀ (1 − D̂) C B_e`, `C = Rᵀ c R` (symmetric, positive
-/// semidefinite; zero for an open pair).
-fn stiffness(
+/// semidefinite; zero for an open pair): `C_ij = (1 − D̂) (c_n n_i n_j + c_s Σ_t
+/// t_i t_j)` over the frame's axes.
+fn stiffness<D: Dim>(
     shape: &[f64],
     node_shape: &[f64],
-    normal: [f64; 2],
+    normal: D::Vector,
     c_n: f64,
     c_s: f64,
     state: PairState,
-) -> CfeStiffness {
-    let r = rotation(normal);
+) -> CfeStiffness<D> {
+    let r = D::frame(normal);
     let k = 1.0 - state.d_hat();
+    let n = D::axis(&r, 0);
+    let n = n.as_ref();
+    let tangents: Vec<D::Vector> = (1..=<D::Tangent as Tangent>::COMPONENTS)
+        .map(|t| D::axis(&r, t))
+        .collect();
+    let mut c = [[0.0; MAX_N]; MAX_N];
+    for (i, row) in c.iter_mut().enumerate().take(D::N) {
+        for (j, cij) in row.iter_mut().enumerate().take(D::N) {
+            let sum = tangents.iter().fold(c_n * n[i] * n[j], |sum, t| {
+                sum + c_s * t.as_ref()[i] * t.as_ref()[j]
+            });
+            *cij = k * sum;
+        }
+    }
     CfeStiffness {
         b: b_coefficients(shape, node_shape),
-        c: std::array::from_fn(|i| {
-            std::array::from_fn(|j| k * (c_n * r[0][i] * r[0][j] + c_s * r[1][i] * r[1][j]))
-        }),
-        dofs: 2 * (shape.len() + node_shape.len()),
+        c,
+        dofs: D::N * (shape.len() + node_shape.len()),
+        dim: std::marker::PhantomData,
     }
 }
 
 /// CFE internal force `F_e = B_eᵀ Rᵀ f` with `f = (1 − D̂) c [[u]]`, for element
-/// displacements `d` (the first 2 (n + 1) entries of the result are the element's).
+/// displacements `d` (the first N (n + 1) entries of the result are the element's).
 /// Also returns the local force `f` (the force the host side exerts on the pair,
-/// in (n, s)).
-fn internal_force(
+/// normal and tangential).
+fn internal_force<D: Dim>(
     shape: &[f64],
     node_shape: &[f64],
-    normal: [f64; 2],
+    normal: D::Vector,
     c_n: f64,
     c_s: f64,
     state: PairState,
     d: &[f64],
-) -> ([f64; MAX_DOFS], [f64; 2]) {
-    let u = local_jump(normal, jump(shape, node_shape, d));
-    let f = local_force(state, c_n, c_s, u);
-    (nodal_force(shape, node_shape, normal, f), f)
+) -> ([f64; MAX_DOFS], (f64, D::Tangent)) {
+    let (u_n, u_t) = local_jump::<D>(normal, jump::<D>(shape, node_shape, d));
+    let k = 1.0 - state.d_hat();
+    let f = (k * c_n * u_n, u_t.scale(k * c_s));
+    (nodal_force::<D>(shape, node_shape, normal, f), f)
 }
 
-/// `F_e = B_eᵀ Rᵀ f` for the local force `f` (the first 2 (n + m) entries are the
+/// `F_e = B_eᵀ Rᵀ f` for the local force `f` (the first N (n + m) entries are the
 /// element's).
-fn nodal_force(shape: &[f64], node_shape: &[f64], normal: [f64; 2], f: [f64; 2]) -> [f64; MAX_DOFS] {
-    let g = D2::to_global(&rotation(normal), f[0], f[1]);
+fn nodal_force<D: Dim>(
+    shape: &[f64],
+    node_shape: &[f64],
+    normal: D::Vector,
+    f: (f64, D::Tangent),
+) -> [f64; MAX_DOFS] {
+    let g = D::to_global(&D::frame(normal), f.0, f.1);
+    let g = g.as_ref();
     let b = b_coefficients(shape, node_shape);
     let mut out = [0.0; MAX_DOFS];
     for (p, o) in out
         .iter_mut()
         .enumerate()
-        .take(2 * (shape.len() + node_shape.len()))
+        .take(D::N * (shape.len() + node_shape.len()))
     {
-        *o = b[p / 2] * g[p % 2];
+        *o = b[p / D::N] * g[p % D::N];
     }
     out
 }
@@ -556,7 +613,7 @@ mod tests {
     #[test]
     fn stiffness_symmetric_psd() {
         for (_, shape, _) in hosts() {
-            let ks = stiffness(&shape, &[1.0], normal(), 1e9, 5e8, PairState::Bonded);
+            let ks = stiffness::<D2>(&shape, &[1.0], normal(), 1e9, 5e8, PairState::Bonded);
             assert_eq!(ks.dofs, 2 * (shape.len() + 1));
             let k = dense(&ks);
             for (i, row) in k.iter().enumerate() {
@@ -579,7 +636,7 @@ mod tests {
                     .sum();
                 assert!(e >= -1e-6);
             }
-            let open = stiffness(&shape, &[1.0], normal(), 1e9, 5e8, PairState::Open);
+            let open = stiffness::<D2>(&shape, &[1.0], normal(), 1e9, 5e8, PairState::Open);
             assert!(dense(&open).iter().flatten().all(|&v| v == 0.0));
         }
     }
@@ -592,7 +649,7 @@ mod tests {
         for (x, shape, xc) in hosts() {
             let pts: Vec<[f64; 2]> = x.iter().copied().chain([xc]).collect();
             let m = 2 * pts.len();
-            let k = stiffness(&shape, &[1.0], normal(), 1e9, 1e9, PairState::Bonded);
+            let k = stiffness::<D2>(&shape, &[1.0], normal(), 1e9, 1e9, PairState::Bonded);
             let modes: [Vec<f64>; 3] = [
                 (0..m).map(|i| if i % 2 == 0 { 1.0 } else { 0.0 }).collect(),
                 (0..m).map(|i| if i % 2 == 1 { 1.0 } else { 0.0 }).collect(),
@@ -607,7 +664,7 @@ mod tests {
                     .collect(),
             ];
             for d in modes {
-                assert!(jump(&shape, &[1.0], &d).iter().all(|v| v.abs() < 1e-12));
+                assert!(jump::<D2>(&shape, &[1.0], &d).iter().all(|v| v.abs() < 1e-12));
                 let kd = k.mul(&d);
                 assert!(kd.iter().all(|v| v.abs() < 1e-9 * 1e9), "{kd:?}");
             }
@@ -621,8 +678,8 @@ mod tests {
         for (_, shape, _) in hosts() {
             let m = 2 * (shape.len() + 1);
             let d: Vec<f64> = (0..m).map(|i| ((i * 7) % 5) as f64 * 0.1 - 0.2).collect();
-            let k = stiffness(&shape, &[1.0], normal(), 2.0, 3.0, PairState::Bonded);
-            let (f, _) = internal_force(&shape, &[1.0], normal(), 2.0, 3.0, PairState::Bonded, &d);
+            let k = stiffness::<D2>(&shape, &[1.0], normal(), 2.0, 3.0, PairState::Bonded);
+            let (f, _) = internal_force::<D2>(&shape, &[1.0], normal(), 2.0, 3.0, PairState::Bonded, &d);
             let kd = k.mul(&d);
             for i in 0..m {
                 assert!((kd[i] - f[i]).abs() < 1e-12);
@@ -640,17 +697,17 @@ mod tests {
     fn local_jump_components() {
         let n = normal();
         let s = [-n[1], n[0]];
-        let u = local_jump(n, [-2.0 * n[0], -2.0 * n[1]]);
-        assert!((u[0] + 2.0).abs() < 1e-15 && u[1].abs() < 1e-15);
-        let u = local_jump(n, [0.5 * s[0], 0.5 * s[1]]);
-        assert!(u[0].abs() < 1e-15 && (u[1] - 0.5).abs() < 1e-15);
+        let u = local_jump::<D2>(n, [-2.0 * n[0], -2.0 * n[1]]);
+        assert!((u.0 + 2.0).abs() < 1e-15 && u.1.abs() < 1e-15);
+        let u = local_jump::<D2>(n, [0.5 * s[0], 0.5 * s[1]]);
+        assert!(u.0.abs() < 1e-15 && (u.1 - 0.5).abs() < 1e-15);
     }
 
     /// The rank-2 form `Σ_k c_k w_k w_kᵀ` is the bonded stiffness, for T3 and Q4 hosts.
     #[test]
     fn stiffness_terms_sum_to_the_stiffness() {
         for (x, shape, position) in hosts() {
-            let c = CouplingElement {
+            let c = CouplingElement::<D2> {
                 node: 0,
                 host_element: 0,
                 host_nodes: (0..x.len()).collect(),
@@ -695,7 +752,7 @@ mod tests {
                 pts[2][0] + (position[0] - mean[0]) / m[2],
                 pts[2][1] + (position[1] - mean[1]) / m[2],
             ];
-            let mut c = CouplingElement {
+            let mut c = CouplingElement::<D2> {
                 node: 11,
                 host_element: 0,
                 host_nodes: (0..x.len()).collect(),

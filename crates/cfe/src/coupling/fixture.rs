@@ -59,6 +59,7 @@ pub fn dofs(n: usize) -> DofMap {
         n_eq: 2 * nodes,
         prescribed: vec![0.0; 2 * nodes],
         fixed: Vec::new(),
+        dim: std::marker::PhantomData,
     }
 }
 

@@ -2,7 +2,7 @@
 //! spring anchor, multipliers): how a pair's history follows its solution within
 //! an increment and from one increment to the next. Each rule is a method of one
 //! pair's history; the sweeps apply it to every pair of a model at the
-//! displacements `u` ([`Interface::pair_at`]). They know no solver: the contact
+//! displacements `u` ([`PairSet::at`]). They know no solver: the contact
 //! scheme decides when each applies.
 //!
 //! - touch-down ([`touch_down`]): a Coulomb pair that closes does so where it is,
@@ -16,13 +16,10 @@
 //! - commit ([`commit`]): at the end of an increment a slipping pair keeps its
 //!   plastic slip, an open one follows its jump and loses its multipliers.
 
-use super::Interface;
 use super::element::PairAt;
-use super::law::{
-    Enforcement, Law, LawParams, PairHistories, PairHistory, PairState, return_map,
-};
+use super::law::{Law, LawParams, PairHistories, PairHistory, PairState, return_map};
+use super::pair_set::PairSet;
 use crate::dim::{Dim, Tangent};
-use crate::dofs::DofMap;
 
 /// What one fixed-point step did to a pair's terms ([`PairHistory::step_terms`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -96,17 +93,14 @@ impl<D: Dim> PairHistory<D> {
         &mut self,
         law: &LawParams,
         state: PairState,
-        p: &PairAt,
+        p: &PairAt<D>,
         augmented: Option<f64>,
         tol: f64,
-    ) -> TermStep
-    where
-        D: Dim<Tangent = f64>,
-    {
+    ) -> TermStep {
         let local = LocalPair {
             gap: p.gap,
-            u_s: p.jump[1],
-            force: (p.force[0], p.force[1]),
+            u_s: p.jump.1,
+            force: p.force,
         };
         self.step_local(law, state, &local, augmented, tol)
     }
@@ -192,23 +186,20 @@ pub struct LocalPair<D: Dim> {
 /// The pairs of a Coulomb interface that close (open in `states`, closed in
 /// `next`) touch down at their tangential jump in the solution `u`
 /// ([`PairHistory::touch_down`]).
-pub fn touch_down(
-    interfaces: &[Interface],
-    dofs: &DofMap,
+pub fn touch_down<P: PairSet>(
+    pairs: &P,
     states: &[Vec<PairState>],
     next: &[Vec<PairState>],
     u: &[f64],
-    history: &mut PairHistories,
+    history: &mut PairHistories<P::Dim>,
 ) {
-    for (i, iface) in interfaces.iter().enumerate() {
-        if iface.law != Law::Coulomb {
+    for i in 0..pairs.interface_count() {
+        if pairs.law(i).law != Law::Coulomb {
             continue;
         }
-        for k in 0..iface.elements.len() {
+        for k in 0..pairs.pair_count(i) {
             if states[i][k] == PairState::Open && next[i][k].is_closed() {
-                let u_s = iface
-                    .pair_at(k, dofs, u, states[i][k], &history[i][k])
-                    .jump[1];
+                let u_s = pairs.at(i, k, u, states[i][k], &history[i][k]).jump.1;
                 history[i][k].touch_down(u_s);
             }
         }
@@ -220,16 +211,16 @@ pub fn touch_down(
 /// increment's start (`committed`) back ([`PairHistory::restore_slip`]): a
 /// touch-down of a pattern tried, not of the path, moved it. Returns whether any
 /// changed.
-pub fn restore_closed_slips(
-    interfaces: &[Interface],
+pub fn restore_closed_slips<P: PairSet>(
+    pairs: &P,
     closed_at_start: &[Vec<bool>],
-    committed: &PairHistories,
+    committed: &PairHistories<P::Dim>,
     states: &[Vec<PairState>],
-    history: &mut PairHistories,
+    history: &mut PairHistories<P::Dim>,
 ) -> bool {
     let mut changed = false;
-    for (i, iface) in interfaces.iter().enumerate() {
-        if iface.law != Law::Coulomb {
+    for i in 0..pairs.interface_count() {
+        if pairs.law(i).law != Law::Coulomb {
             continue;
         }
         let closed = closed_at_start[i].iter().zip(&states[i]);
@@ -248,26 +239,24 @@ pub fn restore_closed_slips(
 /// `laws` (per interface), on `history` (the histories `u` was computed with,
 /// stepped in place). Returns whether every pair is settled, and the largest
 /// augmented-Lagrangian error (0 without augmented interfaces).
-pub fn step_terms(
-    interfaces: &[Interface],
+pub fn step_terms<P: PairSet>(
+    pairs: &P,
     laws: &[LawParams],
-    dofs: &DofMap,
     states: &[Vec<PairState>],
     u: &[f64],
-    history: &mut PairHistories,
+    history: &mut PairHistories<P::Dim>,
     tol: f64,
 ) -> (bool, f64) {
     let mut settled = true;
     let mut augmented_error: f64 = 0.0;
-    for (i, (iface, base)) in interfaces.iter().zip(laws).enumerate() {
-        let augmented =
-            (iface.enforcement == Enforcement::Augmented).then_some(iface.penetration_tolerance);
-        for (k, c) in iface.elements.iter().enumerate() {
+    for (i, base) in laws.iter().enumerate().take(pairs.interface_count()) {
+        let augmented = pairs.augmented(i);
+        for k in 0..pairs.pair_count(i) {
             let state = states[i][k];
             let h = &mut history[i][k];
-            let p = iface.pair_at(k, dofs, u, state, h);
+            let p = pairs.at(i, k, u, state, h);
             // A segment point's penalties are its weight × the interface's.
-            let step = h.step_terms(&c.params(base), state, &p, augmented, tol);
+            let step = h.step_terms(&pairs.pair_law(i, k, base), state, &p, augmented, tol);
             settled &= step.settled;
             if let Some(e) = step.augmented_error {
                 augmented_error = augmented_error.max(e);
@@ -279,19 +268,18 @@ pub fn step_terms(
 
 /// Ends an increment on every pair ([`PairHistory::commit`]) at its solution `u`
 /// and final `states`.
-pub fn commit(
-    interfaces: &[Interface],
-    dofs: &DofMap,
+pub fn commit<P: PairSet>(
+    pairs: &P,
     states: &[Vec<PairState>],
     u: &[f64],
-    history: &mut PairHistories,
+    history: &mut PairHistories<P::Dim>,
 ) {
-    for (i, iface) in interfaces.iter().enumerate() {
-        let base = iface.params();
-        for (k, c) in iface.elements.iter().enumerate() {
+    for i in 0..pairs.interface_count() {
+        let base = pairs.law(i);
+        for k in 0..pairs.pair_count(i) {
             let state = states[i][k];
-            let u_s = iface.pair_at(k, dofs, u, state, &history[i][k]).jump[1];
-            history[i][k].commit(&c.params(&base), state, u_s);
+            let u_s = pairs.at(i, k, u, state, &history[i][k]).jump.1;
+            history[i][k].commit(&pairs.pair_law(i, k, &base), state, u_s);
         }
     }
 }
@@ -300,6 +288,7 @@ pub fn commit(
 mod tests {
     use super::*;
     use crate::coupling::fixture::{displaced, dofs, interface};
+    use crate::coupling::pair_set::InterfacePairs;
 
     /// Touch-down: the Coulomb pairs that close take their tangential jump as
     /// their plastic slip and anchor (so they close without tangential force);
@@ -317,14 +306,14 @@ mod tests {
             ..PairHistory::default()
         };
         let mut history = vec![vec![start; 3]; 2];
-        touch_down(&ifaces, &dofs(3), &states, &next, &u, &mut history);
+        touch_down(&InterfacePairs::new(&ifaces, &dofs(3)), &states, &next, &u, &mut history);
         assert_eq!((history[0][0].slip, history[0][0].anchor), (0.7, 0.7));
         assert_eq!(history[0][1], start);
         assert_eq!(history[0][2], start);
         assert!(history[1].iter().all(|h| *h == start));
         // At touch-down the pair's stick force is zero.
         let p = ifaces[0].pair_at(0, &dofs(3), &u, PairState::Bonded, &history[0][0]);
-        assert_eq!(p.force[1], 0.0);
+        assert_eq!(p.force.1, 0.0);
     }
 
     /// Restore: a Coulomb pair closed where the increment started and closed now
@@ -344,7 +333,7 @@ mod tests {
         let closed_at_start = vec![vec![true, false, true]];
         let states = vec![vec![PairState::Bonded, PairState::Bonded, PairState::Open]];
         assert!(restore_closed_slips(
-            &ifaces,
+            &InterfacePairs::new(&ifaces, &dofs(3)),
             &closed_at_start,
             &committed,
             &states,
@@ -355,7 +344,7 @@ mod tests {
         assert_eq!(history[0][1], moved);
         assert_eq!(history[0][2], moved);
         assert!(!restore_closed_slips(
-            &ifaces,
+            &InterfacePairs::new(&ifaces, &dofs(3)),
             &closed_at_start,
             &committed,
             &states,
@@ -379,7 +368,7 @@ mod tests {
         };
         let states = vec![vec![PairState::Slip, PairState::Open, PairState::Bonded]; 2];
         let mut history = vec![vec![h; 3]; 2];
-        commit(&ifaces, &dofs(3), &states, &u, &mut history);
+        commit(&InterfacePairs::new(&ifaces, &dofs(3)), &states, &u, &mut history);
         let slipped = history[0][0];
         assert!((slipped.slip - (0.6 - 1.0 / 4.0)).abs() < 1e-15);
         let law = ifaces[0].params();
@@ -408,13 +397,13 @@ mod tests {
         let mut history = vec![vec![PairHistory::default(); 3]];
         let laws = [law];
         let (settled, error) =
-            step_terms(&ifaces, &laws, &dofs(3), &states, &u, &mut history, 1e-9);
+            step_terms(&InterfacePairs::new(&ifaces, &dofs(3)), &laws, &states, &u, &mut history, 1e-9);
         assert!(!settled);
         assert_eq!(error, 0.0);
         assert_eq!((history[0][0].slip_force, history[0][0].anchor), (1.0, 0.3));
         assert_eq!((history[0][1].slip_force, history[0][1].anchor), (-1.0, -0.3));
         assert_eq!(history[0][2], PairHistory::default());
-        let (settled, _) = step_terms(&ifaces, &laws, &dofs(3), &states, &u, &mut history, 1e-9);
+        let (settled, _) = step_terms(&InterfacePairs::new(&ifaces, &dofs(3)), &laws, &states, &u, &mut history, 1e-9);
         assert!(settled);
         assert_eq!(history[0][0].slip_force, 1.0);
         // Open with multipliers: dropped.

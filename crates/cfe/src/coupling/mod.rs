@@ -13,22 +13,28 @@ pub mod element;
 pub(crate) mod fixture;
 #[cfg(test)]
 mod stiffness_check;
+#[cfg(test)]
+mod tangent_plane_check;
 pub mod history;
 pub mod law;
+pub mod pair_set;
 pub(crate) mod search;
 pub mod segment;
 
 pub use crate::domain::Coupling;
+use crate::dim::{D2, Dim};
 pub use check::{CheckTolerance, Verdicts, check_law};
 pub use element::{CouplingElement, PairAt, SegmentSide, traction};
+pub use pair_set::{InterfacePairs, PairSet};
 pub use law::{
     Enforcement, Law, LawParams, LawTolerance, LawViolation, PairHistories, PairHistory, PairState,
     PairStates, SLIP_STIFFNESS, Transition, ViolationKind, return_map,
 };
 
-/// An interface between a host part and a node part, with its coupling elements.
+/// An interface between a host part and a node part, with its coupling elements
+/// (of the dimension `D`, [`D2`] by default).
 #[derive(Debug, Clone)]
-pub struct Interface {
+pub struct Interface<D: Dim = D2> {
     /// Name used in messages and outputs.
     pub name: String,
     /// Index of the host part (usually the coarser mesh).
@@ -46,7 +52,7 @@ pub struct Interface {
     /// (`SLIP_STIFFNESS` × the softer part's E·t; Coulomb law only, else 0).
     pub c_slip: f64,
     /// One coupling element per coupling node.
-    pub elements: Vec<CouplingElement>,
+    pub elements: Vec<CouplingElement<D>>,
     /// Largest distance from a coupling node to its host edge (geometric check).
     pub max_projection_distance: f64,
     /// Friction coefficient μ (`coulomb`; 0 for the other laws).
@@ -64,7 +70,7 @@ pub struct Interface {
     pub coupling: Coupling,
 }
 
-impl Interface {
+impl<D: Dim> Interface<D> {
     /// The law with its parameters.
     pub fn params(&self) -> LawParams {
         LawParams {
@@ -86,8 +92,8 @@ impl Interface {
         dofs: &crate::dofs::DofMap,
         u: &[f64],
         state: PairState,
-        h: &PairHistory,
-    ) -> PairAt {
+        h: &PairHistory<D>,
+    ) -> PairAt<D> {
         let c = &self.elements[k];
         let g = c.dofs(dofs, self.host, self.node_part);
         c.at(g, g.gather(u), &self.params(), state, h)

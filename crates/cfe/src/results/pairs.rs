@@ -190,7 +190,7 @@ pub(crate) fn pair_rows(p: &Problem<'_>, inc: &IncrementResult, step: &str) -> V
                 .copied()
                 .unwrap_or_default();
             let at = iface.pair_at(k, p.dofs, &inc.u, state, &h);
-            let (f, jump) = (at.force, at.jump);
+            let (f, jump) = ([at.force.0, at.force.1], [at.jump.0, at.jump.1]);
             // The slip not carried by the tangential spring: the plastic slip of
             // a closed pair with friction, the whole tangential jump when
             // nothing holds it (open, or frictionless).

@@ -223,6 +223,7 @@ mod tests {
             n_eq: MAX_EQUATIONS + 1,
             prescribed: Vec::new(),
             fixed: Vec::new(),
+            dim: std::marker::PhantomData,
         };
         match pattern_and_symbolic(&[], &[], &dofs, None) {
             Err(Error::TooLarge { unknowns, .. }) => assert_eq!(unknowns, MAX_EQUATIONS as u64 + 1),

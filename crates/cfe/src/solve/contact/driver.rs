@@ -6,7 +6,7 @@
 
 use super::increment::{IncrementResult, Iteration, PairViolation, count_changes};
 use super::solver::Solver;
-use crate::coupling::{Interface, PairStates, ViolationKind};
+use crate::coupling::{Interface, PairSet, PairStates, ViolationKind};
 use crate::domain::{Part, Scheme};
 use crate::error::{Error, Result};
 use std::time::Instant;
@@ -221,12 +221,12 @@ impl Solver<'_> {
         if over.is_empty() {
             return Ok(());
         }
+        let pairs = self.pairs();
         let list: Vec<String> = over
             .iter()
             .take(10)
             .map(|v| {
-                let iface = &self.interfaces[v.interface];
-                let c = &iface.elements[v.pair];
+                let (name, node, position) = pairs.label(v.interface, v.pair);
                 let what = match v.kind {
                     ViolationKind::Tension => format!("bonded in tension {:.4e}", v.amount),
                     ViolationKind::Penetration => {
@@ -242,17 +242,18 @@ impl Solver<'_> {
                         format!("slipping off μ|f_n| by {:.4e}", v.amount)
                     }
                 };
+                let at: Vec<String> = position.as_ref().iter().map(f64::to_string).collect();
                 format!(
-                    "interface '{}' node {} at ({}, {}): {what}",
-                    iface.name, c.node, c.position[0], c.position[1]
+                    "interface '{name}' node {node} at ({}): {what}",
+                    at.join(", ")
                 )
             })
             .collect();
         let pairs = over
             .iter()
             .map(|v| {
-                let iface = &self.interfaces[v.interface];
-                (iface.name.clone(), iface.elements[v.pair].node)
+                let (name, node, _) = pairs.label(v.interface, v.pair);
+                (name.to_string(), node)
             })
             .collect();
         Err(Error::LawViolation {

@@ -6,9 +6,10 @@
 //! nodes drifted further than a state of rest moves them is not converged.
 
 use super::scale::largest_off;
-use super::solver::Solver;
+use super::solver::{SchemeDim, Solver};
 use crate::assembly::{self, FIXED};
-use crate::coupling::{Enforcement, LawParams, PairHistories, PairHistory, PairState, history};
+use crate::coupling::{PairHistories, PairHistory, PairSet, PairState, history};
+use crate::dim::{Dim, Tangent};
 use crate::error::Result;
 use crate::solve::anderson::Anderson;
 use crate::solve::backend::{Request, Solve};
@@ -28,12 +29,15 @@ pub const MAX_FIXED_POINT: usize = 60;
 /// right-hand-side terms mixes (`Anderson`, in `solve::anderson`).
 pub const ANDERSON_DEPTH: usize = 8;
 
-/// A right-hand-side term of a pair that the fixed point iterates.
+/// A right-hand-side term of a pair that the fixed point iterates: one
+/// component of a tangential term (the index: 0 ≤ j < `Tangent::COMPONENTS`),
+/// or the normal multiplier.
 #[derive(Debug, Clone, Copy)]
 pub(super) enum Term {
-    SlipForce,
-    Anchor,
-    Multiplier(usize),
+    SlipForce(usize),
+    Anchor(usize),
+    NormalMultiplier,
+    TangentMultiplier(usize),
 }
 
 /// The load scale a fixed point's tolerance is taken from.
@@ -110,7 +114,7 @@ impl FixedPoint for PairTerms<'_, '_> {
         Ok(self
             .coupling_nodes
             .iter()
-            .map(|&n| u[2 * n].hypot(u[2 * n + 1]))
+            .map(|&n| SchemeDim::length(&u[SchemeDim::dof(n, 0)..SchemeDim::dof(n + 1, 0)]))
             .fold(0.0, f64::max))
     }
 
@@ -167,7 +171,7 @@ impl FixedPoint for PairTerms<'_, '_> {
             // Solved in full: zero off the coupling equations again.
             self.du.fill(0.0);
             if let FixedPointScale::Forces(..) = self.scale {
-                self.u_rest = largest_off(self.u, &self.coupling_nodes);
+                self.u_rest = largest_off::<SchemeDim>(self.u, &self.coupling_nodes);
             }
         } else {
             for &d in &s.coupling_dofs {
@@ -204,12 +208,13 @@ impl<'a> Solver<'a> {
         // The largest nodal displacement off the coupling nodes (the load scale's
         // floor reads the largest of all): fixed until a step solves in full.
         let coupling_nodes: Vec<usize> = {
-            let mut nodes: Vec<usize> = self.coupling_dofs.iter().map(|&d| d / 2).collect();
+            let mut nodes: Vec<usize> =
+                self.coupling_dofs.iter().map(|&d| d / SchemeDim::N).collect();
             nodes.dedup();
             nodes
         };
         let u_rest = match scale {
-            FixedPointScale::Forces(..) => largest_off(u, &coupling_nodes),
+            FixedPointScale::Forces(..) => largest_off::<SchemeDim>(u, &coupling_nodes),
             FixedPointScale::Given(_) => 0.0,
         };
         let mut terms = PairTerms {
@@ -280,9 +285,9 @@ impl<'a> Solver<'a> {
         anderson: &mut Anderson,
     ) -> bool {
         let mut next = self.history.clone();
-        let laws: Vec<LawParams> = self.interfaces.iter().map(|i| self.law_params(i)).collect();
+        let laws = self.laws();
         let (converged, augmented_error) =
-            history::step_terms(self.interfaces, &laws, self.dofs, states, u, &mut next, tol);
+            history::step_terms(&self.pairs(), &laws, states, u, &mut next, tol);
         self.augmented_error = augmented_error;
         self.take_step(states, next, converged, anderson);
         converged
@@ -330,9 +335,10 @@ impl<'a> Solver<'a> {
         self.visit_active_terms(states, |i, k, field, c_slip| {
             let h = &history[i][k];
             x.push(match field {
-                Term::SlipForce => h.slip_force,
-                Term::Anchor => c_slip * h.anchor,
-                Term::Multiplier(j) => [h.multiplier.0, h.multiplier.1][j],
+                Term::SlipForce(j) => h.slip_force.component(j),
+                Term::Anchor(j) => c_slip * h.anchor.component(j),
+                Term::NormalMultiplier => h.multiplier.0,
+                Term::TangentMultiplier(j) => h.multiplier.1.component(j),
             });
         });
         x
@@ -345,35 +351,44 @@ impl<'a> Solver<'a> {
             let v = *it.next().expect("as many terms as active_terms gives");
             let h = &mut history[i][k];
             match field {
-                Term::SlipForce => h.slip_force = v,
-                Term::Anchor => h.anchor = v / c_slip,
-                Term::Multiplier(0) => h.multiplier.0 = v,
-                Term::Multiplier(_) => h.multiplier.1 = v,
+                Term::SlipForce(j) => h.slip_force.set_component(j, v),
+                Term::Anchor(j) => h.anchor.set_component(j, v / c_slip),
+                Term::NormalMultiplier => h.multiplier.0 = v,
+                Term::TangentMultiplier(j) => h.multiplier.1.set_component(j, v),
             }
         });
     }
 
     /// Calls `f(interface, pair, term, c_slip)` for each right-hand-side term that
-    /// acts on the solution of `states`, in a fixed order.
+    /// acts on the solution of `states`, in a fixed order (per pair: the slip
+    /// force's components, the anchor's, the normal multiplier, the tangential
+    /// multiplier's; one component each in 2D).
     pub(super) fn visit_active_terms(
         &self,
         states: &[Vec<PairState>],
         mut f: impl FnMut(usize, usize, Term, f64),
     ) {
-        for (i, iface) in self.interfaces.iter().enumerate() {
-            let base = iface.params();
-            let augmented = iface.enforcement == Enforcement::Augmented;
-            for (k, c) in iface.elements.iter().enumerate() {
-                let state = states[i][k];
-                let law = c.params(&base);
+        let pairs = self.pairs();
+        let components = <<SchemeDim as Dim>::Tangent as Tangent>::COMPONENTS;
+        for (i, st) in states.iter().enumerate().take(pairs.interface_count()) {
+            let base = pairs.law(i);
+            let augmented = pairs.augmented(i).is_some();
+            for (k, &state) in st.iter().enumerate().take(pairs.pair_count(i)) {
+                let law = pairs.pair_law(i, k, &base);
                 if state == PairState::Slip && law.c_slip > 0.0 {
-                    f(i, k, Term::SlipForce, law.c_slip);
-                    f(i, k, Term::Anchor, law.c_slip);
+                    for j in 0..components {
+                        f(i, k, Term::SlipForce(j), law.c_slip);
+                    }
+                    for j in 0..components {
+                        f(i, k, Term::Anchor(j), law.c_slip);
+                    }
                 }
                 if augmented && state.is_closed() {
-                    f(i, k, Term::Multiplier(0), law.c_slip);
+                    f(i, k, Term::NormalMultiplier, law.c_slip);
                     if state == PairState::Bonded && law.penalties(state)[1] > 0.0 {
-                        f(i, k, Term::Multiplier(1), law.c_slip);
+                        for j in 0..components {
+                            f(i, k, Term::TangentMultiplier(j), law.c_slip);
+                        }
                     }
                 }
             }

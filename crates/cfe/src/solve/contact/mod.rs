@@ -42,6 +42,11 @@
 //! So with `active-set` the factorization is freed once an increment has converged,
 //! before its output is written (a later solve, if any, refactorizes).
 //!
+//! The scheme reaches the coupling pairs only through [`crate::coupling::PairSet`]
+//! (the model's interfaces and DOF map as `InterfacePairs`, `Solver::pairs`):
+//! their count, law, DOFs, evaluation at u and labels; its nodal vectors, DOFs
+//! per node and tangent components are the pair set's dimension (`SchemeDim`).
+//!
 //! The scheme is a stack of layers, each file using only those below it:
 //!
 //! ```text

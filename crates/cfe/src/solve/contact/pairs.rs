@@ -7,7 +7,7 @@
 use super::increment::{IncrementResult, PairViolation};
 use super::solver::Solver;
 use crate::coupling::{
-    self, CheckTolerance, Interface, LawParams, PairState, PairStates, ViolationKind, history,
+    self, CheckTolerance, LawParams, PairSet, PairState, PairStates, ViolationKind, history,
 };
 
 /// The law checked on one solution: the state the law gives each pair next and
@@ -41,12 +41,20 @@ impl LawCheck {
 }
 
 impl Solver<'_> {
-    /// The law parameters of `iface` as the search reads them: its friction
-    /// coefficient times [`Solver::friction_factor`].
-    pub(super) fn law_params(&self, iface: &Interface) -> crate::coupling::LawParams {
-        let mut p = iface.params();
+    /// The law parameters of interface `i` as the search reads them: its
+    /// friction coefficient times [`Solver::friction_factor`].
+    pub(super) fn law_params(&self, i: usize) -> LawParams {
+        let mut p = self.pairs().law(i);
         p.friction *= self.friction_factor;
         p
+    }
+
+    /// The law parameters of every interface as the search reads them
+    /// ([`Solver::law_params`]).
+    pub(super) fn laws(&self) -> Vec<LawParams> {
+        (0..self.pairs().interface_count())
+            .map(|i| self.law_params(i))
+            .collect()
     }
 
     /// Checks the law on every pair of the solution `u` of `states`: the state the
@@ -64,13 +72,13 @@ impl Solver<'_> {
     /// [`Solver::check_law`] with a given load scale (reads `u` at the coupling
     /// elements' DOFs only).
     pub(super) fn check_law_scaled(&self, states: &[Vec<PairState>], u: &[f64], load_scale: f64) -> LawCheck {
-        let laws: Vec<LawParams> = self.interfaces.iter().map(|i| self.law_params(i)).collect();
+        let laws = self.laws();
         let history = (!self.proportional).then_some(self.history.as_slice());
         let tol = CheckTolerance {
             force: self.settings.force_tolerance * load_scale,
             gap: self.settings.gap_tolerance,
         };
-        let v = coupling::check_law(self.interfaces, &laws, self.dofs, states, history, u, tol);
+        let v = coupling::check_law(&self.pairs(), &laws, states, history, u, tol);
         LawCheck {
             next: v.next,
             violations: v
@@ -101,7 +109,7 @@ impl Solver<'_> {
         if self.proportional {
             return;
         }
-        history::touch_down(self.interfaces, self.dofs, states, next, u, &mut self.history);
+        history::touch_down(&self.pairs(), states, next, u, &mut self.history);
     }
 
     /// Gives every pair closed both where the increment started and in `states`
@@ -114,7 +122,7 @@ impl Solver<'_> {
             return false;
         }
         history::restore_closed_slips(
-            self.interfaces,
+            &self.pairs(),
             &self.closed_at_start,
             &self.committed,
             states,
@@ -134,8 +142,7 @@ impl Solver<'_> {
             return;
         }
         history::commit(
-            self.interfaces,
-            self.dofs,
+            &self.pairs(),
             &result.states,
             &result.u,
             &mut self.history,

@@ -9,9 +9,10 @@
 use super::fixed_point::FixedPointScale;
 use super::increment::{IncrementResult, Iteration, MultipleOf, count_changes};
 use super::pairs::LawCheck;
-use super::solver::{CouplingRing, Solved, Solver, Spare, TrialRhs};
+use super::solver::{CouplingRing, SchemeDim, Solved, Solver, Spare, TrialRhs};
 use crate::assembly::{self, DofMap, ElementSource, FIXED};
 use crate::coupling::{Interface, PairHistory, PairState, PairStates};
+use crate::dim::Dim;
 use crate::domain::Part;
 use crate::error::{Error, Result};
 use crate::solve::backend::{Request, Solve};
@@ -458,14 +459,14 @@ impl Solver<'_> {
         let part_elements = assembly::PartElements::new(self.parts, self.dofs);
         let mut at_coupling = vec![false; self.dofs.n_nodes()];
         for &d in &self.coupling_dofs {
-            at_coupling[d / 2] = true;
+            at_coupling[d / SchemeDim::N] = true;
         }
         let elements = part_elements.touching(|n| at_coupling[n]);
         let mut dofs = self.coupling_dofs.clone();
         for &e in &elements {
             part_elements.nodes(e, &mut |nodes| {
                 for &n in nodes {
-                    dofs.extend([2 * n, 2 * n + 1]);
+                    dofs.extend((0..SchemeDim::N).map(|c| SchemeDim::dof(n, c)));
                 }
             });
         }
@@ -506,16 +507,16 @@ impl Solver<'_> {
         let balance_scale = self.balance_scale(check.load_scale, check.pair_force, &u);
         let residual = self.residual(lambda, &f_int, balance_scale);
         // Σ reactions + Σ loads = Σ over fixed DOFs of (F_int − F_ext) + Σ F_ext.
-        let mut total = [0.0; 2];
+        let mut total = <SchemeDim as Dim>::Vector::default();
         for (d, &e) in self.dofs.eq.iter().enumerate() {
-            total[d % 2] += if e == FIXED { f_int[d] } else { f_ext[d] };
+            total.as_mut()[d % SchemeDim::N] += if e == FIXED { f_int[d] } else { f_ext[d] };
         }
         // Axisymmetric forces are totals over the ring: their radial sums
         // balance through the hoop stresses, so statics checks z alone.
         if self.parts.iter().any(|p| p.material.is_axisymmetric()) {
-            total[0] = 0.0;
+            total.as_mut()[0] = 0.0;
         }
-        let balance = total[0].hypot(total[1]) / balance_scale.max(f64::MIN_POSITIVE);
+        let balance = SchemeDim::length(total.as_ref()) / balance_scale.max(f64::MIN_POSITIVE);
         // With the proportional shortcuts the final solve either is the last
         // solution (a method) or scales it (no method); see `solve_once`.
         let multiple_of = match (&self.kept.last, history.last()) {

@@ -4,6 +4,8 @@
 //! (how far a state of rest may move a coupling node); with the two norms of
 //! nodal vectors they read. Pure functions of the model's sizes ([`Scales`]).
 
+use crate::dim::Dim;
+
 /// Out-of-balance force (relative to the balance scale) above which a result is
 /// flagged as imprecise.
 pub const RESIDUAL_WARN: f64 = 1e-8;
@@ -97,24 +99,25 @@ impl Scales {
     }
 }
 
-/// Σ ‖f‖ over the nodes of the force vector `f`.
-pub(super) fn total_force(f: &[f64]) -> f64 {
-    f.chunks_exact(2).map(|f| f[0].hypot(f[1])).sum()
+/// Σ ‖f‖ over the nodes of the force vector `f` (`D::N` DOFs a node).
+pub(super) fn total_force<D: Dim>(f: &[f64]) -> f64 {
+    f.chunks_exact(D::N).map(D::length).sum()
 }
 
-/// The largest nodal displacement |u_n| of `u` (two DOFs a node) over the nodes
-/// not in `skip` (sorted).
-pub(super) fn largest_off(u: &[f64], skip: &[usize]) -> f64 {
-    u.chunks_exact(2)
+/// The largest nodal displacement |u_n| of `u` (`D::N` DOFs a node) over the
+/// nodes not in `skip` (sorted).
+pub(super) fn largest_off<D: Dim>(u: &[f64], skip: &[usize]) -> f64 {
+    u.chunks_exact(D::N)
         .enumerate()
         .filter(|(n, _)| skip.binary_search(n).is_err())
-        .map(|(_, v)| v[0].hypot(v[1]))
+        .map(|(_, v)| D::length(v))
         .fold(0.0, f64::max)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dim::D2;
 
     fn scales() -> Scales {
         Scales {
@@ -177,8 +180,8 @@ mod tests {
     #[test]
     fn nodal_norms() {
         let v = [3.0, 4.0, 6.0, 8.0];
-        assert_eq!(total_force(&v), 15.0);
-        assert_eq!(largest_off(&v, &[]), 10.0);
-        assert_eq!(largest_off(&v, &[1]), 5.0);
+        assert_eq!(total_force::<D2>(&v), 15.0);
+        assert_eq!(largest_off::<D2>(&v, &[]), 10.0);
+        assert_eq!(largest_off::<D2>(&v, &[1]), 5.0);
     }
 }

@@ -8,7 +8,10 @@
 use super::increment::{IterativeSolves, Iteration, LoadPath, LoadSteps, SolveTimings};
 use super::scale::{Scales, largest_off, total_force};
 use crate::assembly::{DofMap, FIXED};
-use crate::coupling::{Interface, Law, PairHistories, PairHistory, PairState, PairStates};
+use crate::coupling::{
+    Interface, InterfacePairs, Law, PairHistories, PairHistory, PairSet, PairState, PairStates,
+};
+use crate::dim::Dim;
 use crate::domain::{CG_TOLERANCE, LinearBackend, Part, Scheme, Settings};
 use crate::error::{Error, Result};
 use crate::solve::backend::{Analyse, LinearFailure, LinearSolver, Outcome, Problem, Statistics};
@@ -18,6 +21,14 @@ use crate::solve::support;
 use crate::solve::system::{ContactSystem, UpdatePolicy};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
+
+/// The pair set the scheme reaches the pairs through ([`PairSet`]): the
+/// model's interfaces with its DOF numbering.
+pub(super) type Pairs<'a> = InterfacePairs<'a>;
+
+/// The dimension of the scheme's pairs (its nodal vectors, DOFs per node and
+/// tangent), read from its pair set.
+pub(super) type SchemeDim = <Pairs<'static> as PairSet>::Dim;
 
 /// The solution of one state set, kept to answer the same states at another λ.
 pub(super) struct Solved {
@@ -156,6 +167,11 @@ pub(super) struct TrialRhs {
 }
 
 impl<'a> Solver<'a> {
+    /// The pairs the scheme solves with, through the [`PairSet`] it reads them by.
+    pub(super) fn pairs(&self) -> Pairs<'a> {
+        InterfacePairs::new(self.interfaces, self.dofs)
+    }
+
     /// Builds the node graph, the nested-dissection ordering, the fixed sparsity
     /// pattern and the symbolic factorization. `stop`, if given, is read during
     /// that analysis too (a nonzero value abandons it with
@@ -202,11 +218,12 @@ impl<'a> Solver<'a> {
             pattern_and_symbolic: t.elapsed().as_secs_f64(),
             ..Default::default()
         };
-        let total_load = total_force(&f_ext);
+        let total_load = total_force::<SchemeDim>(&f_ext);
         let proportional = !interfaces.iter().any(Interface::non_proportional);
-        let history: PairHistories = interfaces
-            .iter()
-            .map(|i| vec![PairHistory::default(); i.elements.len()])
+        let pairs = InterfacePairs::new(interfaces, dofs);
+        let each_pair = |i: usize| (0..pairs.pair_count(i)).map(move |k| (i, k));
+        let history: PairHistories = (0..pairs.interface_count())
+            .map(|i| vec![PairHistory::default(); pairs.pair_count(i)])
             .collect();
         let mut solver = Solver {
             parts,
@@ -227,10 +244,10 @@ impl<'a> Solver<'a> {
                     .iter()
                     .map(|p| crate::mesh::bounding_diagonal(&[&p.mesh]))
                     .fold(0.0, f64::max),
-                largest_prescribed: interfaces
-                    .iter()
-                    .flat_map(|i| i.elements.iter().map(|c| c.gap0.abs()))
-                    .fold(largest_off(&dofs.prescribed, &[]), f64::max),
+                largest_prescribed: (0..pairs.interface_count())
+                    .flat_map(each_pair)
+                    .map(|(i, k)| pairs.initial_gap(i, k).abs())
+                    .fold(largest_off::<SchemeDim>(&dofs.prescribed, &[]), f64::max),
                 stiffest: parts
                     .iter()
                     .map(|p| p.material.young * p.material.thickness)
@@ -243,15 +260,17 @@ impl<'a> Solver<'a> {
             proportional,
             committed: history.clone(),
             history,
-            closed_at_start: interfaces
-                .iter()
-                .map(|i| i.elements.iter().map(|c| c.gap([0.0; 2]) <= 0.0).collect())
+            // At u = 0 a pair's gap is its initial gap (`CouplingElement::gap`).
+            closed_at_start: (0..pairs.interface_count())
+                .map(|i| each_pair(i).map(|(i, k)| pairs.initial_gap(i, k) <= 0.0).collect())
                 .collect(),
             fixed_point: 0,
             path: LoadPath::default(),
             augmented_error: 0.0,
             fixed_point_converged: true,
-            coulomb: interfaces.iter().map(|i| i.law == Law::Coulomb).collect(),
+            coulomb: (0..pairs.interface_count())
+                .map(|i| pairs.law(i).law == Law::Coulomb)
+                .collect(),
             friction_factor: 1.0,
             failed_search: Vec::new(),
             coupling_dofs: crate::coupling::coupling_dofs(interfaces, dofs),
@@ -370,7 +389,7 @@ impl<'a> Solver<'a> {
         self.scales.largest_prescribed = steps
             .prescribed
             .iter()
-            .map(|p| largest_off(p, &[]))
+            .map(|p| largest_off::<SchemeDim>(p, &[]))
             .fold(self.scales.largest_prescribed, f64::max);
         let loaded = steps.loaded();
         if loaded.len() <= 1 {
@@ -379,7 +398,7 @@ impl<'a> Solver<'a> {
             self.path.factors = Some(steps.increments.iter().map(|(_, f)| f[s]).collect());
             self.f_ext = std::mem::take(&mut steps.forces[s]);
             self.path.prescribed = Some(std::mem::take(&mut steps.prescribed[s]));
-            self.scales.total_load = total_force(&self.f_ext);
+            self.scales.total_load = total_force::<SchemeDim>(&self.f_ext);
         } else {
             self.proportional = false;
             self.path.factors = Some(vec![1.0; steps.increments.len()]);
@@ -398,7 +417,7 @@ impl<'a> Solver<'a> {
         let prescribed = path.prescribed.get_or_insert_with(Vec::new);
         prescribed.resize(self.f_ext.len(), 0.0);
         steps.combine(k, &mut self.f_ext, prescribed);
-        self.scales.total_load = total_force(&self.f_ext);
+        self.scales.total_load = total_force::<SchemeDim>(&self.f_ext);
     }
 
     /// Where increment `inc` (1-based, solved at factor `lambda`) is on the load
@@ -474,7 +493,7 @@ impl<'a> Solver<'a> {
         if self.proportional {
             return self.load_scale_of_forces(lambda, f_int);
         }
-        self.load_scale_with(lambda, f_int, largest_off(u, &[]))
+        self.load_scale_with(lambda, f_int, largest_off::<SchemeDim>(u, &[]))
     }
 
     /// [`Solver::load_scale`] without the proportional shortcuts, given the
@@ -491,7 +510,7 @@ impl<'a> Solver<'a> {
             .dofs
             .reactions(self.dofs.support_count(), f_int, &self.f_ext, lambda)
             .iter()
-            .map(|r| r[0].hypot(r[1]))
+            .map(|r| SchemeDim::length(r))
             .fold(0.0, f64::max);
         self.scales.of_forces(lambda, largest)
     }
@@ -500,7 +519,7 @@ impl<'a> Solver<'a> {
     /// against ([`Scales::balance`]), from its load scale and largest pair force.
     pub(super) fn balance_scale(&self, load_scale: f64, pair_force: f64, u: &[f64]) -> f64 {
         self.scales
-            .balance(load_scale, pair_force, largest_off(u, &[]))
+            .balance(load_scale, pair_force, largest_off::<SchemeDim>(u, &[]))
     }
 
     /// Largest out-of-balance force at a free DOF relative to `scale`.
@@ -541,16 +560,17 @@ impl<'a> Solver<'a> {
             }
         };
         let d = self.dofs.eq.iter().position(|&e| e == eq).unwrap_or(0);
-        let (p, n) = self.dofs.locate(d / 2);
+        let (p, n) = self.dofs.locate(d / SchemeDim::N);
+        let c = d % SchemeDim::N;
         Error::NotPositiveDefinite {
             increment: inc,
             part: self.parts[p].name.clone(),
             node: n,
-            component: d % 2,
+            component: c,
             message: format!(
                 "increment {inc}: the stiffness matrix is not positive definite (pivot at part '{}', node {n}, {} displacement); check for a mechanism or an unsupported part",
                 self.parts[p].name,
-                if d % 2 == 0 { "x" } else { "y" }
+                ["x", "y", "z"][c]
             ),
         }
     }
