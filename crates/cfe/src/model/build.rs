@@ -14,6 +14,7 @@ use super::{
     Load, Model, Part, Step, Support, check,
 };
 use crate::coupling::{Enforcement, Law};
+use crate::domain::Loading;
 use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, loads};
 use crate::mesh::gmsh::{GmshMesh, Group};
@@ -208,6 +209,7 @@ impl<'a> Builder<'a> {
         }
         let supports = self.supports(&support_specs, &parts, &steps)?;
         let loads = self.loads(&load_specs, &parts, &steps)?;
+        let steps = self.step_factors(&step_specs, steps, &loads, &supports)?;
         let title = title.unwrap_or_else(|| {
             self.path
                 .file_stem()
@@ -287,6 +289,65 @@ impl<'a> Builder<'a> {
             .enumerate()
             .map(|(i, (spec, name))| self.interface(i, spec, name, parts, &mut claimed))
             .collect()
+    }
+
+    /// The steps with their `factors` resolved: each key names a load or a
+    /// support (not both) applied in this step or an earlier one.
+    fn step_factors(
+        &self,
+        specs: &[StepSpec],
+        mut steps: Vec<Step>,
+        loads: &[Load],
+        supports: &[Support],
+    ) -> Result<Vec<Step>> {
+        for (i, (spec, step)) in specs.iter().zip(&mut steps).enumerate() {
+            for (name, &f) in &spec.factors {
+                let at = [
+                    check::Seg::K("step"),
+                    check::Seg::I(i),
+                    check::Seg::K("factors"),
+                    check::Seg::K(name),
+                ];
+                let load = loads.iter().position(|l| &l.name == name);
+                let support = supports.iter().position(|s| &s.name == name);
+                let (which, first) = match (load, support) {
+                    (Some(l), None) => (Loading::Load(l), loads[l].step),
+                    (None, Some(k)) => (Loading::Support(k), supports[k].step),
+                    (Some(_), Some(_)) => {
+                        return Err(self.values.invalid(
+                            &at,
+                            format!("names both a load and a support '{name}': rename one (`name` of its [[load]] or [[support]])"),
+                        ));
+                    }
+                    (None, None) => {
+                        let known: Vec<&str> = (loads.iter().map(|l| l.name.as_str()))
+                            .chain(supports.iter().map(|s| s.name.as_str()))
+                            .collect();
+                        return Err(self.values.invalid(
+                            &at,
+                            format!(
+                                "names no load or support (loads and supports: {})",
+                                known.join(", ")
+                            ),
+                        ));
+                    }
+                };
+                if first > i {
+                    return Err(self.values.invalid(
+                        &at,
+                        format!(
+                            "sets '{name}', which is applied in a later step ('{}'): a step can set only the loads and supports of itself and earlier steps",
+                            specs[first].name.get_ref()
+                        ),
+                    ));
+                }
+                match which {
+                    Loading::Load(l) => step.load_factors.push((l, f)),
+                    Loading::Support(k) => step.support_factors.push((k, f)),
+                }
+            }
+        }
+        Ok(steps)
     }
 
     /// The supports in file order, each in its step, named (see [`names`]).
@@ -962,13 +1023,14 @@ fn kept_polygons(
         .collect()
 }
 
-/// The load steps of the `[[step]]` tables, in order.
+/// The load steps of the `[[step]]` tables, in order (their factors resolved
+/// once the loads and supports are named: [`Builder::step_factors`]).
 fn steps(step_specs: &[StepSpec]) -> Vec<Step> {
     step_specs
         .iter()
         .map(|s| Step {
-            name: s.name.get_ref().clone(),
-            increments: s.increments,
+            scale: s.scale,
+            ..Step::new(s.name.get_ref().clone(), s.increments)
         })
         .collect()
 }

@@ -207,10 +207,7 @@ impl Model {
     /// named [`DEFAULT_STEP`] of `settings.increments`.
     pub fn steps(&self) -> Vec<Step> {
         if self.steps.is_empty() {
-            vec![Step {
-                name: DEFAULT_STEP.into(),
-                increments: self.settings.increments,
-            }]
+            vec![Step::new(DEFAULT_STEP, self.settings.increments)]
         } else {
             self.steps.clone()
         }

@@ -44,6 +44,13 @@ pub(super) struct ProblemFile {
 pub(super) struct StepSpec {
     pub(super) name: Spanned<String>,
     pub(super) increments: usize,
+    /// The factor every load and prescribed value of the earlier steps reaches
+    /// at the end of this step (default: held).
+    pub(super) scale: Option<f64>,
+    /// Loads and supports by name, each with its own factor at the end of this
+    /// step.
+    #[serde(default)]
+    pub(super) factors: BTreeMap<String, f64>,
 }
 
 fn default_plane() -> PlaneKind {
