@@ -303,6 +303,20 @@ pub struct Load {
     pub step: usize,
 }
 
+/// A probe point (`[[probe]]`, as CalculiX's `*NODE PRINT`): a node of a part
+/// whose displacement the history records at every increment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Probe {
+    /// Name, as the history's columns (`probe:NAME.ux`) refer to it.
+    pub name: String,
+    /// Part index.
+    pub part: usize,
+    /// The part's node nearest to the point asked for.
+    pub node: usize,
+    /// The point asked for.
+    pub at: [f64; 2],
+}
+
 /// A load step (`[[step]]`, as Abaqus's or CalculiX's *STEP). The loads and
 /// prescribed values of the step ramp linearly from 0 to their full value over
 /// its increments (or to the factor `load_factors`/`support_factors` give them);

@@ -7,11 +7,11 @@
 
 use super::schema::{
     AnnulusSpec, Component, GmshSpec, GroupSpec, InterfaceSpec, LoadSpec, MaterialSpec, PartSpec,
-    ProblemFile, RectangleSpec, StepSpec, SupportSpec, line_of,
+    ProbeSpec, ProblemFile, RectangleSpec, StepSpec, SupportSpec, line_of,
 };
 use super::{
     DEFAULT_PAIR_TOLERANCE, DEFAULT_PENALTY_FACTOR, DEFAULT_PENETRATION_TOLERANCE, InterfaceDef,
-    Load, Model, Part, Step, Support, check,
+    Load, Model, Part, Probe, Step, Support, check,
 };
 use crate::coupling::{Enforcement, Law};
 use crate::domain::Loading;
@@ -195,6 +195,8 @@ impl<'a> Builder<'a> {
             loads: load_specs,
             mut analysis,
             steps: step_specs,
+            probes: probe_specs,
+            output,
         } = file;
         if part_specs.is_empty() {
             return Err(Error::Model("the problem defines no [[part]]".into()));
@@ -210,6 +212,30 @@ impl<'a> Builder<'a> {
         let supports = self.supports(&support_specs, &parts, &steps)?;
         let loads = self.loads(&load_specs, &parts, &steps)?;
         let steps = self.step_factors(&step_specs, steps, &loads, &supports)?;
+        let probes = self.probes(&probe_specs, &parts)?;
+        let history_plot = output.history_plot.map(|p| [p.x, p.y]);
+        if let Some(plot) = &history_plot {
+            let columns = crate::results::history::column_names(
+                supports.iter().map(|s| s.name.as_str()),
+                interfaces.iter().map(|i| i.name.as_str()),
+                probes.iter().map(|p| p.name.as_str()),
+            );
+            for (axis, name) in ["x", "y"].iter().zip(plot) {
+                if !columns.contains(name) {
+                    return Err(self.values.invalid(
+                        &[
+                            check::Seg::K("output"),
+                            check::Seg::K("history_plot"),
+                            check::Seg::K(axis),
+                        ],
+                        format!(
+                            "= \"{name}\" is no column of history.csv (columns: {})",
+                            columns.join(", ")
+                        ),
+                    ));
+                }
+            }
+        }
         let title = title.unwrap_or_else(|| {
             self.path
                 .file_stem()
@@ -229,6 +255,8 @@ impl<'a> Builder<'a> {
             refine,
             text: self.text.to_string(),
             kept_polygons,
+            probes,
+            history_plot,
         })
     }
 
@@ -288,6 +316,42 @@ impl<'a> Builder<'a> {
             .zip(iface_names)
             .enumerate()
             .map(|(i, (spec, name))| self.interface(i, spec, name, parts, &mut claimed))
+            .collect()
+    }
+
+    /// The probes in file order, each at the node of its part nearest to its
+    /// point (the first of equally near ones).
+    fn probes(&self, specs: &[ProbeSpec], parts: &[Part]) -> Result<Vec<Probe>> {
+        specs
+            .iter()
+            .enumerate()
+            .map(|(i, spec)| {
+                let Some(part) = parts.iter().position(|p| &p.name == spec.part.get_ref()) else {
+                    let names: Vec<&str> = parts.iter().map(|p| p.name.as_str()).collect();
+                    return Err(self.values.invalid(
+                        &[
+                            check::Seg::K("probe"),
+                            check::Seg::I(i),
+                            check::Seg::K("part"),
+                        ],
+                        format!(
+                            "= \"{}\" names no part (parts: {})",
+                            spec.part.get_ref(),
+                            names.join(", ")
+                        ),
+                    ));
+                };
+                let d = |x: &[f64; 2]| (x[0] - spec.at[0]).hypot(x[1] - spec.at[1]);
+                let node = (parts[part].mesh.nodes.iter().enumerate())
+                    .min_by(|a, b| d(a.1).total_cmp(&d(b.1)))
+                    .map_or(0, |(n, _)| n);
+                Ok(Probe {
+                    name: spec.name.get_ref().clone(),
+                    part,
+                    node,
+                    at: spec.at,
+                })
+            })
             .collect()
     }
 

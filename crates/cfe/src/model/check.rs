@@ -297,6 +297,9 @@ pub(super) fn problem(v: &Values, f: &ProblemFile) -> Result<()> {
         load(v, i, l)?;
     }
     steps(v, f)?;
+    for (i, p) in f.probes.iter().enumerate() {
+        probe(v, i, p)?;
+    }
     analysis(v, &f.analysis)
 }
 
@@ -313,7 +316,16 @@ fn names(v: &Values, f: &ProblemFile) -> Result<()> {
     let loads: Vec<_> = f.loads.iter().map(|l| l.name.as_ref()).collect();
     unique(v, "load", &loads)?;
     let steps: Vec<_> = f.steps.iter().map(|s| Some(&s.name)).collect();
-    unique(v, "step", &steps)
+    unique(v, "step", &steps)?;
+    let probes: Vec<_> = f.probes.iter().map(|p| Some(&p.name)).collect();
+    unique(v, "probe", &probes)
+}
+
+/// `[[probe]]`: a finite point.
+fn probe(v: &Values, i: usize, p: &super::schema::ProbeSpec) -> Result<()> {
+    let at = [K("probe"), I(i), K("at")];
+    v.check_pair(&at, p.at, f64::is_finite, "")?;
+    v.magnitude(&at, &p.at, false)
 }
 
 /// Refuses a `name` of a `[[table]]` given to an earlier table of the same kind

@@ -10,7 +10,7 @@
 //!
 //! The problem-file reference is in README.md; `examples/` holds complete files.
 
-pub use crate::domain::{InterfaceDef, Load, Part, Scheme, Settings, Step, Support};
+pub use crate::domain::{InterfaceDef, Load, Part, Probe, Scheme, Settings, Step, Support};
 use crate::error::{Error, Result};
 use crate::fem::PlaneKind;
 use crate::mesh::Mesh;
@@ -73,6 +73,11 @@ pub struct Model {
     /// The curved boundaries of the parts refined from a given mesh (Gmsh, or
     /// in memory) as (part name, boundary): `--refine` kept their polygons.
     pub kept_polygons: Vec<(String, crate::mesh::CurvedBoundary)>,
+    /// Probe points (`[[probe]]`): nodes whose displacement the history records.
+    pub probes: Vec<Probe>,
+    /// `history.png`'s axes as two history columns (x, y) (`[output]
+    /// history_plot`); `None`: the default (see README, Outputs).
+    pub history_plot: Option<[String; 2]>,
 }
 
 /// A problem given as text (TOML), read as if from a file `problem.toml` in the
@@ -135,6 +140,8 @@ impl Model {
             refine: 1,
             text: String::new(),
             kept_polygons: Vec::new(),
+            probes: Vec::new(),
+            history_plot: None,
         };
         model.check_names()?;
         Ok(model)
@@ -146,7 +153,7 @@ impl Model {
     /// keyed by name. A problem file's names are checked as it is read, with
     /// their lines; this check is for models built or changed in code.
     pub fn check_names(&self) -> Result<()> {
-        let kinds: [(&str, Vec<&str>); 5] = [
+        let kinds: [(&str, Vec<&str>); 6] = [
             ("part", self.parts.iter().map(|p| p.name.as_str()).collect()),
             (
                 "interface",
@@ -158,6 +165,10 @@ impl Model {
             ),
             ("load", self.loads.iter().map(|l| l.name.as_str()).collect()),
             ("step", self.steps.iter().map(|s| s.name.as_str()).collect()),
+            (
+                "probe",
+                self.probes.iter().map(|p| p.name.as_str()).collect(),
+            ),
         ];
         for (kind, names) in kinds {
             let mut seen: HashMap<&str, usize> = HashMap::with_capacity(names.len());

@@ -36,6 +36,37 @@ pub(super) struct ProblemFile {
     pub(super) analysis: Settings,
     #[serde(rename = "step", default)]
     pub(super) steps: Vec<StepSpec>,
+    #[serde(rename = "probe", default)]
+    pub(super) probes: Vec<ProbeSpec>,
+    #[serde(default)]
+    pub(super) output: OutputSpec,
+}
+
+/// `[[probe]]`: a point whose displacement the history records (the part's
+/// node nearest to `at`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ProbeSpec {
+    pub(super) name: Spanned<String>,
+    pub(super) part: Spanned<String>,
+    #[serde(deserialize_with = "pair")]
+    pub(super) at: [f64; 2],
+}
+
+/// `[output]`: what the run draws besides its fixed pictures.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct OutputSpec {
+    /// `history.png`'s axes: two columns of `history.csv`.
+    pub(super) history_plot: Option<PlotSpec>,
+}
+
+/// `history_plot = { x = "probe:tip.uy", y = "reaction:base.fy" }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PlotSpec {
+    pub(super) x: String,
+    pub(super) y: String,
 }
 
 /// `[[step]]`: a load step.

@@ -6,6 +6,7 @@
 //! analysis fills them; the writers in [`crate::output`] write them.
 
 pub mod fmt;
+pub mod history;
 pub mod memory;
 pub mod pairs;
 mod record;
@@ -21,7 +22,7 @@ pub use summary::{
 
 use crate::coupling::Interface;
 use crate::dofs::DofMap;
-use crate::domain::{Part, Settings, Support};
+use crate::domain::{Part, Probe, Settings, Support};
 use crate::fem::recovery::{self, PartStress};
 use crate::solve::nonlinear::IncrementResult;
 
@@ -38,6 +39,8 @@ pub(crate) struct Problem<'a> {
     pub dofs: &'a DofMap,
     /// The analysis settings (scheme, increments, tolerances).
     pub settings: &'a Settings,
+    /// The probe points the history records.
+    pub probes: &'a [Probe],
 }
 
 impl Problem<'_> {
