@@ -86,6 +86,7 @@ pub fn to_dict<'py>(
     out.set_item("step", analysis.step_name(last.step))?;
     out.set_item("time", last.time)?;
     out.set_item("u", PyArray1::from_vec(py, last.u))?;
+    out.set_item("history", history(py, &summary.history)?)?;
 
     let parts = PyList::empty(py);
     for (p, (part, stress)) in analysis.model.parts.iter().zip(stresses).enumerate() {
@@ -101,6 +102,28 @@ pub fn to_dict<'py>(
     }
     out.set_item("interfaces", interfaces)?;
     Ok(out)
+}
+
+/// The history as a dict of columns (`history.csv`'s names) in order: NumPy
+/// arrays of the counts (int64) and numbers (float64), a list of the step
+/// names.
+fn history<'py>(
+    py: Python<'py>,
+    rows: &[cfe::results::history::HistoryRow],
+) -> PyResult<Bound<'py, PyDict>> {
+    use cfe::results::history::{Values, columns};
+    let d = PyDict::new(py);
+    for (name, values) in columns(rows) {
+        match values {
+            Values::Count(c) => {
+                let c: Vec<i64> = c.into_iter().map(|x| x as i64).collect();
+                d.set_item(name, PyArray1::from_vec(py, c))?
+            }
+            Values::Number(x) => d.set_item(name, PyArray1::from_vec(py, x))?,
+            Values::Name(n) => d.set_item(name, n)?,
+        }
+    }
+    Ok(d)
 }
 
 /// Part `p` (`part`) as a dict: name, node offset, points, connectivity, boundaries,

@@ -232,41 +232,84 @@ impl Analysis {
         })
     }
 
-    /// The loads of a model with several `[[step]]`s, step by step (`None` for one
-    /// step: the solver's default ramp). Each support's prescribed values belong to
-    /// its step; its DOFs are held in every step.
+    /// The loads of a model with several `[[step]]`s (or one whose step sets
+    /// factors), grouped by amplitude (`None` for one plain step: the solver's
+    /// default ramp). Every load and support's prescribed values belong to the
+    /// group of the loadings with the same step and the same factors at every
+    /// step's end ([`crate::domain::Step::targets`]): without `scale` or factors
+    /// one group per step, in step order; each support's DOFs are held in every
+    /// step.
     pub fn load_steps(&self) -> Option<LoadSteps> {
+        use crate::domain::{Loading, Step};
         let steps = &self.model.steps;
-        if steps.len() < 2 {
+        let amplitudes = steps.iter().any(|s| {
+            s.scale.is_some() || !s.load_factors.is_empty() || !s.support_factors.is_empty()
+        });
+        if steps.len() < 2 && !amplitudes {
             return None;
         }
-        let forces = (0..steps.len())
-            .map(|s| {
-                let loads: Vec<crate::domain::Load> = self
-                    .model
-                    .loads
-                    .iter()
-                    .filter(|l| l.step == s)
-                    .cloned()
+        // One group per step (its own loadings, unmodified), then any others.
+        let mut keys: Vec<(usize, Vec<f64>)> = (0..steps.len())
+            .map(|s| (s, Step::targets(steps, s, Loading::Load(usize::MAX))))
+            .collect();
+        let mut group = |first: usize, which: Loading| {
+            let key = (first, Step::targets(steps, first, which));
+            match keys.iter().position(|k| *k == key) {
+                Some(g) => g,
+                None => {
+                    keys.push(key);
+                    keys.len() - 1
+                }
+            }
+        };
+        let last = steps.len() - 1;
+        let load_group: Vec<usize> = (self.model.loads.iter().enumerate())
+            .map(|(i, l)| group(l.step.min(last), Loading::Load(i)))
+            .collect();
+        let support_group: Vec<usize> = (self.model.supports.iter().enumerate())
+            .map(|(k, s)| group(s.step.min(last), Loading::Support(k)))
+            .collect();
+        // Groups in step order (a step's unmodified group first).
+        let mut order: Vec<usize> = (0..keys.len()).collect();
+        order.sort_by_key(|&g| keys[g].0);
+        let mut rank = vec![0; keys.len()];
+        for (r, &g) in order.iter().enumerate() {
+            rank[g] = r;
+        }
+        let forces = order
+            .iter()
+            .map(|&g| {
+                let loads: Vec<crate::domain::Load> = (self.model.loads.iter().zip(&load_group))
+                    .filter(|(_, lg)| **lg == g)
+                    .map(|(l, _)| l.clone())
                     .collect();
                 assembly::external_force(&loads, &self.dofs)
             })
             .collect();
-        let mut prescribed = vec![vec![0.0; self.dofs.prescribed.len()]; steps.len()];
+        let mut prescribed = vec![vec![0.0; self.dofs.prescribed.len()]; keys.len()];
         for &(d, k) in &self.dofs.fixed {
-            let s = self.model.supports[k].step.min(steps.len() - 1);
-            prescribed[s][d] = self.dofs.prescribed[d];
+            prescribed[rank[support_group[k]]][d] = self.dofs.prescribed[d];
         }
+        let ramps: Vec<Vec<f64>> = order
+            .iter()
+            .map(|&g| Step::ramp(steps, &keys[g].1))
+            .collect();
+        let labels = Step::labels(steps);
+        let increments = (labels.iter().enumerate())
+            .map(|(k, &(s, _))| (s, ramps.iter().map(|r| r[k]).collect()))
+            .collect();
         Some(LoadSteps {
             forces,
             prescribed,
-            increments: crate::domain::Step::factors(steps),
+            increments,
+            progress: labels.iter().map(|&(_, l)| l).collect(),
         })
     }
 
     /// Why the proportional-load shortcuts are off (`None` when they are on):
     /// an interface whose answer is not proportional to the load or depends on
-    /// its path, or loads applied in more than one step.
+    /// its path, loads applied in more than one step or with different
+    /// factors, or a load reversed (a negative factor).
     pub fn shortcut_off_reason(&self) -> Option<String> {
         let mut why = Vec::new();
         if self
@@ -277,11 +320,22 @@ impl Analysis {
             why.push("initial gaps, friction or augmented Lagrangian".to_string());
         }
         let loaded = self.model.loaded_steps();
+        let steps = self.load_steps();
+        let groups = steps.as_ref().map_or(Vec::new(), LoadSteps::loaded);
         if self.model.steps.len() > 1 && loaded.len() > 1 {
             why.push(format!(
                 "loads in {} steps: the loading is not proportional",
                 loaded.len()
             ));
+        } else if groups.len() > 1 {
+            why.push(
+                "loads with different factors in the steps: the loading is not proportional".into(),
+            );
+        }
+        if let Some(steps) = &steps
+            && groups.iter().any(|&g| steps.reversed(g))
+        {
+            why.push("a load or prescribed value reversed (a negative factor): contact states do not carry over to the reversed load".into());
         }
         (!why.is_empty()).then(|| why.join("; "))
     }

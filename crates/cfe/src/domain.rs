@@ -334,37 +334,167 @@ pub struct Load {
     pub step: usize,
 }
 
-/// A load step (`[[step]]`, as Abaqus's or CalculiX's *STEP): the loads and
-/// prescribed values of the step ramp linearly from 0 to full over its
-/// increments, those of earlier steps stay at full value, those of later steps
-/// are 0.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// A probe point (`[[probe]]`, as CalculiX's `*NODE PRINT`): a node of a part
+/// whose displacement the history records at every increment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Probe {
+    /// Name, as the history's columns (`probe:NAME.ux`) refer to it.
+    pub name: String,
+    /// Part index.
+    pub part: usize,
+    /// The part's node nearest to the point asked for.
+    pub node: usize,
+    /// The point asked for.
+    pub at: [f64; 2],
+}
+
+/// A load step (`[[step]]`, as Abaqus's or CalculiX's *STEP). The loads and
+/// prescribed values of the step ramp linearly from 0 to their full value over
+/// its increments (or to the factor `load_factors`/`support_factors` give them);
+/// those of earlier steps ramp from where the previous step left them to
+/// `scale` × their full value, or to their own factor, or are held; those of
+/// later steps are 0. Without `scale` and factors this is the Abaqus
+/// convention: a step's loads go 0 → full and stay.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Step {
     /// Name, as the loads and supports refer to it.
     pub name: String,
     /// Number of increments of the step (≥ 1).
     pub increments: usize,
+    /// The factor (of its full value) every load and prescribed value of the
+    /// earlier steps reaches at the end of this step, ramped linearly from
+    /// where the previous step left it (0: unloaded, negative: reversed);
+    /// `None`: held.
+    pub scale: Option<f64>,
+    /// Loads (index into the model's loads) with their own factor at the end of
+    /// this step, instead of `scale` (for a load of this step, instead of 1).
+    pub load_factors: Vec<(usize, f64)>,
+    /// Supports (index into the model's supports) whose prescribed values reach
+    /// this factor of `value` at the end of this step (as `load_factors`).
+    pub support_factors: Vec<(usize, f64)>,
+}
+
+/// One loading of a model a step's factors refer to: a load, or a support's
+/// prescribed values (indices into the model's loads and supports).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Loading {
+    /// A `[[load]]`.
+    Load(usize),
+    /// The prescribed values of a `[[support]]`.
+    Support(usize),
 }
 
 impl Step {
-    /// The load factors of every increment of `steps` in turn: for each increment,
-    /// its step and every step's factor λ_s (the Abaqus convention: the step's own
-    /// factor goes k / n over its n increments, earlier steps stay at 1, later
-    /// ones at 0).
-    pub fn factors(steps: &[Step]) -> Vec<(usize, Vec<f64>)> {
+    /// A step named `name` of `increments` increments that holds the loads of the
+    /// earlier steps (no `scale`, no factors).
+    pub fn new(name: impl Into<String>, increments: usize) -> Step {
+        Step {
+            name: name.into(),
+            increments,
+            scale: None,
+            load_factors: Vec::new(),
+            support_factors: Vec::new(),
+        }
+    }
+
+    /// The factor a step gives `which` at its end, when it names it.
+    fn own_factor(&self, which: Loading) -> Option<f64> {
+        let (list, i) = match which {
+            Loading::Load(i) => (&self.load_factors, i),
+            Loading::Support(i) => (&self.support_factors, i),
+        };
+        list.iter().find(|(j, _)| *j == i).map(|(_, f)| *f)
+    }
+
+    /// The factor of loading `which`, applied in step `first`, at the end of each
+    /// of `steps`: 0 before `first`; in `first` its own factor or 1; after it
+    /// its own factor, else the step's `scale`, else the previous step's.
+    pub fn targets(steps: &[Step], first: usize, which: Loading) -> Vec<f64> {
+        let mut a = 0.0;
+        steps
+            .iter()
+            .enumerate()
+            .map(|(s, step)| {
+                let own = step.own_factor(which);
+                a = match s.cmp(&first) {
+                    std::cmp::Ordering::Less => 0.0,
+                    std::cmp::Ordering::Equal => own.unwrap_or(1.0),
+                    std::cmp::Ordering::Greater => own.or(step.scale).unwrap_or(a),
+                };
+                a
+            })
+            .collect()
+    }
+
+    /// Every increment of `steps` in turn: its step and the step's own load
+    /// factor k / n over its n increments (its progress, 1 at its end).
+    pub fn labels(steps: &[Step]) -> Vec<(usize, f64)> {
         let mut out = Vec::with_capacity(steps.iter().map(|s| s.increments).sum());
         for (s, step) in steps.iter().enumerate() {
-            for k in 1..=step.increments {
-                let f = (0..steps.len())
-                    .map(|j| match j.cmp(&s) {
-                        std::cmp::Ordering::Less => 1.0,
-                        std::cmp::Ordering::Equal => k as f64 / step.increments as f64,
-                        std::cmp::Ordering::Greater => 0.0,
-                    })
-                    .collect();
-                out.push((s, f));
-            }
+            let n = step.increments;
+            out.extend((1..=n).map(|k| (s, k as f64 / n as f64)));
         }
         out
+    }
+
+    /// The factor at every increment of an amplitude whose value at the end of
+    /// each of `steps` is `ends` ([`Step::targets`]): linear within each step
+    /// from the previous step's end value (0 before the first), so a loading a
+    /// step does not change is held exactly, and one it applies goes k / n.
+    pub fn ramp(steps: &[Step], ends: &[f64]) -> Vec<f64> {
+        let mut out = Vec::with_capacity(steps.iter().map(|s| s.increments).sum());
+        let mut a0 = 0.0;
+        for (step, &a1) in steps.iter().zip(ends) {
+            let n = step.increments;
+            out.extend((1..=n).map(|k| {
+                if k == n {
+                    a1
+                } else {
+                    a0 + (k as f64 / n as f64) * (a1 - a0)
+                }
+            }));
+            a0 = a1;
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Loading, Step};
+
+    /// Step-end factors and their ramps, worked by hand: a load of step 1 goes
+    /// 0 → 1, is held by a plain step, set to 0 by `scale`, reversed by its own
+    /// factor; a load of step 2 goes 0 → 1 there whatever `scale` says; every
+    /// increment ends its step exactly on the step's factor.
+    #[test]
+    fn step_factors_ramp_from_the_previous_step() {
+        let steps = vec![
+            Step::new("a", 2),
+            Step::new("b", 1),
+            Step {
+                scale: Some(0.0),
+                ..Step::new("c", 2)
+            },
+            Step {
+                load_factors: vec![(0, -0.3)],
+                ..Step::new("d", 3)
+            },
+        ];
+        let first = Step::targets(&steps, 0, Loading::Load(0));
+        assert_eq!(first, vec![1.0, 1.0, 0.0, -0.3]);
+        let ramp = Step::ramp(&steps, &first);
+        let expect = [0.5, 1.0, 1.0, 0.5, 0.0, -0.1, -0.2, -0.3];
+        for (r, e) in ramp.iter().zip(expect) {
+            assert!((r - e).abs() < 1e-15, "{ramp:?}");
+        }
+        // Step ends exact: held values and every step's last increment.
+        assert_eq!([ramp[1], ramp[2], ramp[4], ramp[7]], [1.0, 1.0, 0.0, -0.3]);
+        let second = Step::targets(&steps, 1, Loading::Support(0));
+        assert_eq!(second, vec![0.0, 1.0, 0.0, 0.0]);
+        let labels = Step::labels(&steps);
+        assert_eq!(labels.len(), 8);
+        assert_eq!(labels[3], (2, 0.5));
+        assert_eq!(labels[7], (3, 1.0));
     }
 }

@@ -809,7 +809,8 @@ class Results:
 
     ``parts`` and ``interfaces`` map names to :class:`PartResult` and
     :class:`InterfaceResult`; ``reactions`` maps each support to its reaction
-    ``[fx, fy]``; ``summary`` is the content of ``summary.json``;
+    ``[fx, fy]``; ``summary`` is the content of ``summary.json``; ``history``
+    maps each column of ``history.csv`` to its values over the increments;
     ``displacements`` the displacements of all DOFs (x, y of each node, parts in
     order), of which every part's ``displacement`` is a view.
     """
@@ -860,6 +861,12 @@ class Results:
         self.reactions: Dict[str, np.ndarray] = {
             r["support"]: np.array([r["fx"], r["fy"]]) for r in self.summary["reactions"]
         }
+        #: Every converged increment, as the columns of ``history.csv``:
+        #: ``increment``, ``step`` (a list of names), ``step_index``,
+        #: ``load_factor``, ``time``, ``reaction:SUPPORT.fx``/``.fy``,
+        #: ``interface:NAME.force_n``/``.force_s``/``.contact_length``/``.max_pressure``,
+        #: ``probe:NAME.ux``/``.uy`` — NumPy arrays, one entry per increment.
+        self.history: Dict[str, Any] = dict(raw.get("history", {}))
 
     @property
     def status(self) -> str:

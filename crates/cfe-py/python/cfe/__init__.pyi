@@ -198,6 +198,7 @@ class Results:
     parts: Dict[str, PartResult]
     interfaces: Dict[str, InterfaceResult]
     reactions: Dict[str, _Floats]
+    history: Dict[str, Any]
     def __init__(self, raw: Dict[str, Any], model: Model, law: Optional[str] = None) -> None: ...
     @property
     def status(self) -> str: ...

@@ -78,6 +78,7 @@ impl Analysis {
             interfaces: &self.interfaces,
             dofs: &self.dofs,
             settings: &self.model.settings,
+            probes: &self.model.probes,
         }
     }
 }

@@ -7,13 +7,14 @@
 
 use super::schema::{
     AnnulusSpec, Component, GmshSpec, GroupSpec, InterfaceSpec, LineSpec, LoadSpec, MaterialSpec,
-    PartSpec, ProblemFile, RectangleSpec, StepSpec, SupportSpec, line_of,
+    PartSpec, ProbeSpec, ProblemFile, RectangleSpec, StepSpec, SupportSpec, line_of,
 };
 use super::{
     DEFAULT_PAIR_TOLERANCE, DEFAULT_PENALTY_FACTOR, DEFAULT_PENETRATION_TOLERANCE, InterfaceDef,
-    Load, Model, Part, Step, Support, check,
+    Load, Model, Part, Probe, Step, Support, check,
 };
 use crate::coupling::{Enforcement, Law};
+use crate::domain::Loading;
 use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, axisymmetric, loads};
 use crate::mesh::gmsh::{GmshMesh, Group};
@@ -196,6 +197,8 @@ impl<'a> Builder<'a> {
             mut analysis,
             steps: step_specs,
             lines: line_specs,
+            probes: probe_specs,
+            output,
         } = file;
         if part_specs.is_empty() {
             return Err(Error::Model("the problem defines no [[part]]".into()));
@@ -211,6 +214,31 @@ impl<'a> Builder<'a> {
         let supports = self.supports(&support_specs, &parts, &steps)?;
         let loads = self.loads(&load_specs, &parts, &steps)?;
         let lines = self.lines(&line_specs, &parts)?;
+        let steps = self.step_factors(&step_specs, steps, &loads, &supports)?;
+        let probes = self.probes(&probe_specs, &parts)?;
+        let history_plot = output.history_plot.map(|p| [p.x, p.y]);
+        if let Some(plot) = &history_plot {
+            let columns = crate::results::history::column_names(
+                supports.iter().map(|s| s.name.as_str()),
+                interfaces.iter().map(|i| i.name.as_str()),
+                probes.iter().map(|p| p.name.as_str()),
+            );
+            for (axis, name) in ["x", "y"].iter().zip(plot) {
+                if !columns.contains(name) {
+                    return Err(self.values.invalid(
+                        &[
+                            check::Seg::K("output"),
+                            check::Seg::K("history_plot"),
+                            check::Seg::K(axis),
+                        ],
+                        format!(
+                            "= \"{name}\" is no column of history.csv (columns: {})",
+                            columns.join(", ")
+                        ),
+                    ));
+                }
+            }
+        }
         let title = title.unwrap_or_else(|| {
             self.path
                 .file_stem()
@@ -232,6 +260,8 @@ impl<'a> Builder<'a> {
             kept_polygons,
             notes: Vec::new(),
             lines,
+            probes,
+            history_plot,
         })
     }
 
@@ -352,6 +382,101 @@ impl<'a> Builder<'a> {
             .enumerate()
             .map(|(i, (spec, name))| self.interface(i, spec, name, parts, &mut claimed))
             .collect()
+    }
+
+    /// The probes in file order, each at the node of its part nearest to its
+    /// point (the first of equally near ones).
+    fn probes(&self, specs: &[ProbeSpec], parts: &[Part]) -> Result<Vec<Probe>> {
+        specs
+            .iter()
+            .enumerate()
+            .map(|(i, spec)| {
+                let Some(part) = parts.iter().position(|p| &p.name == spec.part.get_ref()) else {
+                    let names: Vec<&str> = parts.iter().map(|p| p.name.as_str()).collect();
+                    return Err(self.values.invalid(
+                        &[
+                            check::Seg::K("probe"),
+                            check::Seg::I(i),
+                            check::Seg::K("part"),
+                        ],
+                        format!(
+                            "= \"{}\" names no part (parts: {})",
+                            spec.part.get_ref(),
+                            names.join(", ")
+                        ),
+                    ));
+                };
+                let d = |x: &[f64; 2]| (x[0] - spec.at[0]).hypot(x[1] - spec.at[1]);
+                let node = (parts[part].mesh.nodes.iter().enumerate())
+                    .min_by(|a, b| d(a.1).total_cmp(&d(b.1)))
+                    .map_or(0, |(n, _)| n);
+                Ok(Probe {
+                    name: spec.name.get_ref().clone(),
+                    part,
+                    node,
+                    at: spec.at,
+                })
+            })
+            .collect()
+    }
+
+    /// The steps with their `factors` resolved: each key names a load or a
+    /// support (not both) applied in this step or an earlier one.
+    fn step_factors(
+        &self,
+        specs: &[StepSpec],
+        mut steps: Vec<Step>,
+        loads: &[Load],
+        supports: &[Support],
+    ) -> Result<Vec<Step>> {
+        for (i, (spec, step)) in specs.iter().zip(&mut steps).enumerate() {
+            for (name, &f) in &spec.factors {
+                let at = [
+                    check::Seg::K("step"),
+                    check::Seg::I(i),
+                    check::Seg::K("factors"),
+                    check::Seg::K(name),
+                ];
+                let load = loads.iter().position(|l| &l.name == name);
+                let support = supports.iter().position(|s| &s.name == name);
+                let (which, first) = match (load, support) {
+                    (Some(l), None) => (Loading::Load(l), loads[l].step),
+                    (None, Some(k)) => (Loading::Support(k), supports[k].step),
+                    (Some(_), Some(_)) => {
+                        return Err(self.values.invalid(
+                            &at,
+                            format!("names both a load and a support '{name}': rename one (`name` of its [[load]] or [[support]])"),
+                        ));
+                    }
+                    (None, None) => {
+                        let known: Vec<&str> = (loads.iter().map(|l| l.name.as_str()))
+                            .chain(supports.iter().map(|s| s.name.as_str()))
+                            .collect();
+                        return Err(self.values.invalid(
+                            &at,
+                            format!(
+                                "names no load or support (loads and supports: {})",
+                                known.join(", ")
+                            ),
+                        ));
+                    }
+                };
+                if first > i {
+                    return Err(self.values.invalid(
+                        &at,
+                        format!(
+                            "sets '{name}', which is applied in a later step ('{}'): a step can set only the loads and supports of itself and earlier steps",
+                            specs[first].name.get_ref()
+                        ),
+                    ));
+                }
+                match which {
+                    Loading::Load(l) => step.load_factors.push((l, f)),
+                    Loading::Support(k) => step.support_factors.push((k, f)),
+                }
+            }
+        }
+        Ok(steps)
     }
 
     /// The supports in file order, each in its step, named (see [`names`]).
@@ -1042,13 +1167,14 @@ fn kept_polygons(
         .collect()
 }
 
-/// The load steps of the `[[step]]` tables, in order.
+/// The load steps of the `[[step]]` tables, in order (their factors resolved
+/// once the loads and supports are named: [`Builder::step_factors`]).
 fn steps(step_specs: &[StepSpec]) -> Vec<Step> {
     step_specs
         .iter()
         .map(|s| Step {
-            name: s.name.get_ref().clone(),
-            increments: s.increments,
+            scale: s.scale,
+            ..Step::new(s.name.get_ref().clone(), s.increments)
         })
         .collect()
 }

@@ -297,6 +297,9 @@ pub(super) fn problem(v: &Values, f: &ProblemFile) -> Result<()> {
         load(v, i, l)?;
     }
     steps(v, f)?;
+    for (i, p) in f.probes.iter().enumerate() {
+        probe(v, i, p)?;
+    }
     analysis(v, &f.analysis)
 }
 
@@ -313,7 +316,16 @@ fn names(v: &Values, f: &ProblemFile) -> Result<()> {
     let loads: Vec<_> = f.loads.iter().map(|l| l.name.as_ref()).collect();
     unique(v, "load", &loads)?;
     let steps: Vec<_> = f.steps.iter().map(|s| Some(&s.name)).collect();
-    unique(v, "step", &steps)
+    unique(v, "step", &steps)?;
+    let probes: Vec<_> = f.probes.iter().map(|p| Some(&p.name)).collect();
+    unique(v, "probe", &probes)
+}
+
+/// `[[probe]]`: a finite point.
+fn probe(v: &Values, i: usize, p: &super::schema::ProbeSpec) -> Result<()> {
+    let at = [K("probe"), I(i), K("at")];
+    v.check_pair(&at, p.at, f64::is_finite, "")?;
+    v.magnitude(&at, &p.at, false)
 }
 
 /// Refuses a `name` of a `[[table]]` given to an earlier table of the same kind
@@ -351,7 +363,12 @@ fn steps(v: &Values, f: &ProblemFile) -> Result<()> {
     let names: Vec<&str> = f.steps.iter().map(|s| s.name.get_ref().as_str()).collect();
     let mut total: usize = 0;
     for (i, s) in f.steps.iter().enumerate() {
-        let StepSpec { name, increments } = s;
+        let StepSpec {
+            name,
+            increments,
+            scale,
+            factors,
+        } = s;
         if name.get_ref().trim().is_empty() {
             return Err(v.invalid(
                 &[K("step"), I(i), K("name")],
@@ -363,6 +380,22 @@ fn steps(v: &Values, f: &ProblemFile) -> Result<()> {
                 &[K("step"), I(i), K("increments")],
                 "= 0 must be at least 1: a step applies its loads over its increments",
             ));
+        }
+        if let Some(scale) = scale {
+            let at = [K("step"), I(i), K("scale")];
+            if i == 0 {
+                return Err(v.invalid(
+                    &at,
+                    "is given on the first step: `scale` sets the loads of the earlier steps, and the first step has none (give a load's own factor in `factors`)",
+                ));
+            }
+            v.check(&at, *scale, f64::is_finite, "")?;
+            v.magnitude(&at, &[*scale], false)?;
+        }
+        for (key, f) in factors {
+            let at = [K("step"), I(i), K("factors"), K(key)];
+            v.check(&at, *f, f64::is_finite, "")?;
+            v.magnitude(&at, &[*f], false)?;
         }
         total = total.saturating_add(*increments);
     }

@@ -10,7 +10,7 @@
 //!
 //! The problem-file reference is in README.md; `examples/` holds complete files.
 
-pub use crate::domain::{InterfaceDef, Load, Part, Scheme, Settings, Step, Support};
+pub use crate::domain::{InterfaceDef, Load, Part, Probe, Scheme, Settings, Step, Support};
 use crate::error::{Error, Result};
 use crate::fem::PlaneKind;
 use crate::mesh::Mesh;
@@ -80,6 +80,11 @@ pub struct Model {
     pub notes: Vec<String>,
     /// The line probes of `[[line]]` tables, located in the parts.
     pub lines: Vec<crate::results::lines::LineProbe>,
+    /// Probe points (`[[probe]]`): nodes whose displacement the history records.
+    pub probes: Vec<Probe>,
+    /// `history.png`'s axes as two history columns (x, y) (`[output]
+    /// history_plot`); `None`: the default (see README, Outputs).
+    pub history_plot: Option<[String; 2]>,
 }
 
 /// Whether `path` names a CalculiX/Abaqus deck (extension `.inp`, any case).
@@ -181,6 +186,8 @@ impl Model {
             kept_polygons: Vec::new(),
             notes: Vec::new(),
             lines: Vec::new(),
+            probes: Vec::new(),
+            history_plot: None,
         };
         model.check_names()?;
         Ok(model)
@@ -192,7 +199,7 @@ impl Model {
     /// keyed by name. A problem file's names are checked as it is read, with
     /// their lines; this check is for models built or changed in code.
     pub fn check_names(&self) -> Result<()> {
-        let kinds: [(&str, Vec<&str>); 5] = [
+        let kinds: [(&str, Vec<&str>); 6] = [
             ("part", self.parts.iter().map(|p| p.name.as_str()).collect()),
             (
                 "interface",
@@ -204,6 +211,10 @@ impl Model {
             ),
             ("load", self.loads.iter().map(|l| l.name.as_str()).collect()),
             ("step", self.steps.iter().map(|s| s.name.as_str()).collect()),
+            (
+                "probe",
+                self.probes.iter().map(|p| p.name.as_str()).collect(),
+            ),
         ];
         for (kind, names) in kinds {
             let mut seen: HashMap<&str, usize> = HashMap::with_capacity(names.len());
@@ -261,10 +272,7 @@ impl Model {
     /// named [`DEFAULT_STEP`] of `settings.increments`.
     pub fn steps(&self) -> Vec<Step> {
         if self.steps.is_empty() {
-            vec![Step {
-                name: DEFAULT_STEP.into(),
-                increments: self.settings.increments,
-            }]
+            vec![Step::new(DEFAULT_STEP, self.settings.increments)]
         } else {
             self.steps.clone()
         }

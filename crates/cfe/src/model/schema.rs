@@ -38,6 +38,10 @@ pub(super) struct ProblemFile {
     pub(super) steps: Vec<StepSpec>,
     #[serde(rename = "line", default)]
     pub(super) lines: Vec<LineSpec>,
+    #[serde(rename = "probe", default)]
+    pub(super) probes: Vec<ProbeSpec>,
+    #[serde(default)]
+    pub(super) output: OutputSpec,
 }
 
 /// `[[line]]`: a line probe, sampled for displacement and stresses.
@@ -55,12 +59,46 @@ pub(super) struct LineSpec {
     pub(super) part: Option<Spanned<String>>,
 }
 
+/// `[[probe]]`: a point whose displacement the history records (the part's
+/// node nearest to `at`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ProbeSpec {
+    pub(super) name: Spanned<String>,
+    pub(super) part: Spanned<String>,
+    #[serde(deserialize_with = "pair")]
+    pub(super) at: [f64; 2],
+}
+
+/// `[output]`: what the run draws besides its fixed pictures.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct OutputSpec {
+    /// `history.png`'s axes: two columns of `history.csv`.
+    pub(super) history_plot: Option<PlotSpec>,
+}
+
+/// `history_plot = { x = "probe:tip.uy", y = "reaction:base.fy" }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PlotSpec {
+    pub(super) x: String,
+    pub(super) y: String,
+}
+
 /// `[[step]]`: a load step.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct StepSpec {
     pub(super) name: Spanned<String>,
     pub(super) increments: usize,
+    /// The factor every load and prescribed value of the earlier steps reaches
+    /// at the end of this step (default: held).
+    pub(super) scale: Option<f64>,
+    /// Loads and supports by name, each with its own factor at the end of this
+    /// step.
+    #[serde(default)]
+    pub(super) factors: BTreeMap<String, f64>,
 }
 
 fn default_plane() -> PlaneKind {

@@ -50,15 +50,22 @@ pub const VTU: &str = "vtu";
 /// `lines/<name>.png`).
 pub const LINES: &str = "lines";
 /// The pictures a successful run draws into its output folder.
-pub const PICTURES: [&str; 3] = ["sigma_yy.png", "displacement.png", "pressure.png"];
+pub const PICTURES: [&str; 4] = [
+    "sigma_yy.png",
+    "displacement.png",
+    "pressure.png",
+    "history.png",
+];
 /// The files a run writes into its output folder (besides `vtu/`).
-pub const RUN_FILES: [&str; 6] = [
+pub const RUN_FILES: [&str; 8] = [
     "summary.json",
     "pairs.csv",
     "results.pvd",
+    "history.csv",
     PICTURES[0],
     PICTURES[1],
     PICTURES[2],
+    PICTURES[3],
 ];
 /// The largest manifest read (a run of a million written increments lists about
 /// 60 MB).

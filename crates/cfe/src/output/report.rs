@@ -3,6 +3,7 @@
 
 use super::write_atomic;
 use crate::error::Result;
+pub use crate::results::history::HistoryRow;
 pub use crate::results::pairs::{PAIR_COLUMNS, PairRow};
 use serde::Serialize;
 use std::path::Path;
@@ -17,6 +18,35 @@ pub fn write_pairs_csv(path: &Path, rows: &[PairRow]) -> Result<()> {
         }
         for r in rows {
             csv.serialize(r).map_err(std::io::Error::other)?;
+        }
+        csv.flush()
+    })
+}
+
+/// Writes the history table (`history.csv`): one row per converged increment,
+/// the columns of [`crate::results::history::columns`] (counts and names as
+/// they are, the load factor and time in Rust's shortest form, the other
+/// numbers in scientific notation); an empty history writes the header of its
+/// first five columns.
+pub fn write_history_csv(path: &Path, rows: &[HistoryRow]) -> Result<()> {
+    use crate::results::history::{Values, column_names, columns};
+    let cols = columns(rows);
+    write_atomic(path, |w| {
+        let mut csv = csv::Writer::from_writer(w);
+        if cols.is_empty() {
+            let names = column_names([].into_iter(), [].into_iter(), [].into_iter());
+            csv.write_record(&names)?;
+            return csv.flush();
+        }
+        csv.write_record(cols.iter().map(|(n, _)| n))?;
+        for k in 0..rows.len() {
+            let record = cols.iter().map(|(name, v)| match v {
+                Values::Count(c) => c[k].to_string(),
+                Values::Name(n) => n[k].clone(),
+                Values::Number(x) if name == "load_factor" || name == "time" => x[k].to_string(),
+                Values::Number(x) => format!("{:e}", x[k]),
+            });
+            csv.write_record(record)?;
         }
         csv.flush()
     })

@@ -7,6 +7,7 @@
 
 pub mod fmt;
 pub mod lines;
+pub mod history;
 pub mod memory;
 pub mod pairs;
 mod record;
@@ -22,7 +23,7 @@ pub use summary::{
 
 use crate::coupling::Interface;
 use crate::dofs::DofMap;
-use crate::domain::{Part, Settings, Support};
+use crate::domain::{Part, Probe, Settings, Support};
 use crate::fem::recovery::{self, PartStress};
 use crate::solve::nonlinear::IncrementResult;
 
@@ -39,6 +40,8 @@ pub(crate) struct Problem<'a> {
     pub dofs: &'a DofMap,
     /// The analysis settings (scheme, increments, tolerances).
     pub settings: &'a Settings,
+    /// The probe points the history records.
+    pub probes: &'a [Probe],
 }
 
 impl Problem<'_> {

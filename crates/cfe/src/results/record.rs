@@ -3,10 +3,11 @@
 //! interfaces, largest displacement, reactions, equilibrium).
 
 use super::Problem;
+use super::history::{HistoryRow, InterfaceHistory, ProbeHistory, ReactionHistory};
 use super::pairs::PairRow;
 use super::summary::{
-    IncrementStep, InterfaceSummary, MaxDisplacement, PartSummary, Reaction, RunStatus,
-    SettledPair, StepSummary, Summary, Timings, Tolerances, ViolationRecord, Warning,
+    IncrementStep, InterfaceSummary, MaxDisplacement, PartSummary, ProbeSummary, Reaction,
+    RunStatus, SettledPair, StepSummary, Summary, Timings, Tolerances, ViolationRecord, Warning,
 };
 use crate::coupling::{Law, PairState, ViolationKind};
 use crate::domain::{Scheme, Step};
@@ -97,6 +98,23 @@ impl Summary {
                 })
                 .collect(),
             increment_steps: Vec::new(),
+            probes: p
+                .probes
+                .iter()
+                .map(|pr| {
+                    let part = &p.parts[pr.part];
+                    let x = part.mesh.nodes[pr.node];
+                    ProbeSummary {
+                        name: pr.name.clone(),
+                        part: part.name.clone(),
+                        node: pr.node,
+                        at: pr.at,
+                        x: x[0],
+                        y: x[1],
+                    }
+                })
+                .collect(),
+            history: Vec::new(),
             fixed_point_iterations: Vec::new(),
             augmented_penetration: 0.0,
             // Advice about the model as a whole (volumetric locking) is noted
@@ -267,6 +285,54 @@ impl Summary {
         } else {
             0.0
         };
+        s.record_history(p, inc, rows);
+    }
+
+    /// Adds increment `inc`'s row to the history (after its step, reactions and
+    /// interfaces are recorded): reactions, each interface's Σ f_n, Σ f_s,
+    /// contact length and largest pressure, each probe's displacement.
+    fn record_history(&mut self, p: &Problem<'_>, inc: &IncrementResult, rows: &[PairRow]) {
+        let step = self
+            .increment_steps
+            .last()
+            .map_or(String::new(), |s| s.step.clone());
+        let row = HistoryRow {
+            increment: inc.index,
+            step,
+            step_index: inc.step + 1,
+            load_factor: inc.lambda,
+            time: inc.time,
+            reactions: (self.reactions.iter())
+                .map(|r| ReactionHistory {
+                    support: r.support.clone(),
+                    fx: r.fx,
+                    fy: r.fy,
+                })
+                .collect(),
+            interfaces: (self.interfaces.iter())
+                .map(|i| InterfaceHistory {
+                    interface: i.name.clone(),
+                    force_n: i.total_force_n,
+                    force_s: (rows.iter())
+                        .filter(|r| r.interface == i.name)
+                        .map(|r| r.force_s)
+                        .sum(),
+                    contact_length: i.contact_length,
+                    max_pressure: i.max_pressure,
+                })
+                .collect(),
+            probes: (p.probes.iter())
+                .map(|pr| {
+                    let g = p.dofs.node_offset[pr.part] + pr.node;
+                    ProbeHistory {
+                        probe: pr.name.clone(),
+                        ux: inc.u[2 * g],
+                        uy: inc.u[2 * g + 1],
+                    }
+                })
+                .collect(),
+        };
+        self.history.push(row);
     }
 
     /// Adds the increment's law violations and precision warning to the summary

@@ -326,6 +326,23 @@ pub struct StepSummary {
     pub increments: usize,
 }
 
+/// A probe point in the summary: the node it records.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ProbeSummary {
+    /// Name.
+    pub name: String,
+    /// Its part's name.
+    pub part: String,
+    /// The part's node nearest to `at` (index in the part's mesh).
+    pub node: usize,
+    /// The point asked for.
+    pub at: [f64; 2],
+    /// The node's position.
+    pub x: f64,
+    /// See `x`.
+    pub y: f64,
+}
+
 /// The step of one converged increment in the summary.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct IncrementStep {
@@ -419,6 +436,14 @@ pub struct Summary {
     /// Per converged increment: its step and that step's load factor, and the
     /// total time (step index − 1 + load factor).
     pub increment_steps: Vec<IncrementStep>,
+    /// The probe points (`[[probe]]`): the node each records.
+    #[serde(default)]
+    pub probes: Vec<ProbeSummary>,
+    /// Per converged increment: step, load factor, time, reactions, contact
+    /// resultants, contact length, largest pressure, probe displacements (the
+    /// rows of `history.csv`).
+    #[serde(default)]
+    pub history: Vec<super::history::HistoryRow>,
     /// Fixed-point solves (slip forces, Uzawa steps) per converged increment, each
     /// a triangular solve with the pattern's factorization.
     pub fixed_point_iterations: Vec<usize>,

@@ -214,6 +214,13 @@ impl<'scope> Series<'scope> {
     }
 }
 
+/// Writes `summary.json`, then the history it holds as `history.csv` (the run
+/// claimed both before its first increment).
+fn write_summary(out: &Path, summary: &Summary) -> Result<()> {
+    report::write_json(&out.join("summary.json"), summary)?;
+    report::write_history_csv(&out.join("history.csv"), &summary.history)
+}
+
 /// Notes in `summary` each converged increment in `abandoned` whose VTU files
 /// the stop left unwritten: the summary then tells what `vtu/` lacks, and that
 /// `summary.json` and `pairs.csv` are whole.
@@ -327,7 +334,7 @@ impl Analysis {
         let clock = RunClock::start();
         folder.start()?;
         // Written whatever happens next (a failure is recorded in the summary).
-        for f in ["summary.json", "results.pvd"] {
+        for f in ["summary.json", "results.pvd", "history.csv"] {
             folder.claim(f)?;
         }
         let out = &folder.path().to_path_buf();
@@ -422,7 +429,13 @@ impl Analysis {
         drop(solver);
         // The pictures of the last increment are drawn while its parts VTU (and
         // any other writer in flight) still streams in the background.
-        let pictures = r.as_ref().ok().map(|inc| {
+        // The whole history, before the pictures (a failure here leaves none).
+        let history = r
+            .as_ref()
+            .ok()
+            .map(|_| report::write_history_csv(&out.join("history.csv"), &log.summary.history));
+        let history = history.unwrap_or(Ok(()));
+        let pictures = r.as_ref().ok().filter(|_| history.is_ok()).map(|inc| {
             let t = Instant::now();
             let drawn = self
                 .draw_pictures(out, inc, log, stop)
@@ -435,6 +448,7 @@ impl Analysis {
         log.output_time += t.elapsed().as_secs_f64();
         note_abandoned(&mut log.summary, &series.abandoned);
         r?;
+        history?;
         let drawn = pictures.unwrap_or(Ok(()));
         if written.is_err() || drawn.is_err() {
             // Pictures belong to a successful run only (after a writer's failure
@@ -471,6 +485,8 @@ impl Analysis {
                 log.folder.claim(f)?;
             }
         }
+        self.write_history_chart(out, &log.summary.history)?;
+        proceed()?;
         let stresses = match log.last_stresses.take() {
             Some(s) => s,
             None => Stresses {
@@ -520,7 +536,7 @@ impl Analysis {
         if !files {
             self.fill_summary(&mut log.summary, inc, &self.pair_rows(inc));
             if rewrite_due(&mut log.summary_written, inc.index) {
-                report::write_json(&out.join("summary.json"), &log.summary)?;
+                write_summary(out, &log.summary)?;
             }
             log.output_time += t.elapsed().as_secs_f64();
             return Ok(());
@@ -576,7 +592,7 @@ impl Analysis {
         report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
         self.fill_summary(&mut log.summary, inc, &rows);
         if rewrite_due(&mut log.summary_written, inc.index) {
-            report::write_json(&out.join("summary.json"), &log.summary)?;
+            write_summary(out, &log.summary)?;
         }
         log.output_time += t.elapsed().as_secs_f64();
         Ok(())
@@ -599,7 +615,10 @@ impl Analysis {
         summary.error = Some(e.to_string());
         summary.timings.set_totals(&self.timings, clock);
         summary.peak_memory_bytes = peak_memory_bytes();
-        report::write_json(&out.join("summary.json"), summary)
+        report::write_json(&out.join("summary.json"), summary)?;
+        // Best effort: the summary that records the failure comes first.
+        let _ = report::write_history_csv(&out.join("history.csv"), &summary.history);
+        Ok(())
     }
 
     /// Finishes a run whose increments all converged and whose files (pictures
@@ -614,6 +633,7 @@ impl Analysis {
         summary.timings.set_totals(&self.timings, clock);
         summary.peak_memory_bytes = peak_memory_bytes();
         summary.set_ratios();
+        // `history.csv` is whole already (written before the pictures).
         report::write_json(&out.join("summary.json"), summary)?;
         self.timings = summary.timings.clone();
         Ok(summary.clone())

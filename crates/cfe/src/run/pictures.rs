@@ -11,6 +11,7 @@ use crate::error::Result;
 use crate::mesh::Element;
 use crate::output::{chart, png};
 use crate::results::PairRow;
+use crate::results::history::{self, HistoryRow};
 use crate::solve::nonlinear::IncrementResult;
 use std::path::Path;
 
@@ -262,5 +263,61 @@ impl Analysis {
             &series,
         )?;
         Ok(true)
+    }
+
+    /// Draws `history.png`: the two history columns `[output] history_plot`
+    /// names (x, y), or [`history::default_plot`]'s (the largest reaction
+    /// against the first probe's displacement in its direction, or the time),
+    /// one curve per step, each from where the previous step ended.
+    pub(super) fn write_history_chart(&self, out: &Path, rows: &[HistoryRow]) -> Result<()> {
+        let [x, y] = self
+            .model
+            .history_plot
+            .clone()
+            .or_else(|| history::default_plot(rows))
+            .unwrap_or_else(|| ["time".to_string(), "load_factor".to_string()]);
+        let cols = history::columns(rows);
+        let (Some(xs), Some(ys)) = (history::numbers(&cols, &x), history::numbers(&cols, &y))
+        else {
+            return Ok(());
+        };
+        let mut series: Vec<chart::Series> = Vec::new();
+        let mut last: Option<(f64, f64)> = None;
+        for (k, r) in rows.iter().enumerate() {
+            let p = (xs[k], ys[k]);
+            match series.last_mut() {
+                Some(s) if s.name == r.step => s.points.push(p),
+                _ => series.push(chart::Series {
+                    name: r.step.clone(),
+                    points: last.into_iter().chain([p]).collect(),
+                    reference: false,
+                }),
+            }
+            last = Some(p);
+        }
+        let units = &self.model.units;
+        let label = |c: &str| {
+            let unit = match c.rsplit('.').next().unwrap_or("") {
+                "fx" | "fy" | "force_n" | "force_s" => Some(&units.force),
+                "ux" | "uy" | "contact_length" => Some(&units.length),
+                "max_pressure" => Some(&units.stress),
+                _ => None,
+            };
+            match unit {
+                Some(u) if c.contains(':') => format!("{c} [{u}]"),
+                _ => c.to_string(),
+            }
+        };
+        chart::line_chart(
+            &out.join("history.png"),
+            &chart::Axes {
+                title: &format!("{}: history", self.model.title),
+                x: &label(&x),
+                y: &label(&y),
+                log_x: false,
+                log_y: false,
+            },
+            &series,
+        )
     }
 }

@@ -160,19 +160,23 @@ pub struct PairViolation {
     pub force: f64,
 }
 
-/// The loads of a run in load steps (the problem file's `[[step]]`): every step's
-/// external forces and prescribed values at full value, and every increment's
-/// factors. The load of increment k is Σ_s λ_s(k) f_s, its prescribed values
-/// Σ_s λ_s(k) p_s.
+/// The loads of a run in load steps (the problem file's `[[step]]`), in groups
+/// of the same amplitude: every group's external forces and prescribed values
+/// at full value, and every increment's factors. The load of increment k is
+/// Σ_g λ_g(k) f_g, its prescribed values Σ_g λ_g(k) p_g. Without factors or
+/// `scale` in the steps a group is a step's loads.
 #[derive(Debug, Clone)]
 pub struct LoadSteps {
-    /// Per step: the external force of every DOF at full value.
+    /// Per group: the external force of every DOF at full value.
     pub forces: Vec<Vec<f64>>,
-    /// Per step: the prescribed value of every DOF at full value (0 at the DOFs
-    /// another step prescribes, and at free DOFs).
+    /// Per group: the prescribed value of every DOF at full value (0 at the
+    /// DOFs another group prescribes, and at free DOFs).
     pub prescribed: Vec<Vec<f64>>,
-    /// Per increment: its step and every step's load factor λ_s.
+    /// Per increment: its step and every group's load factor λ_g.
     pub increments: Vec<(usize, Vec<f64>)>,
+    /// Per increment: its step's own load factor (k / n over the step's n
+    /// increments), which labels it.
+    pub progress: Vec<f64>,
 }
 
 impl LoadSteps {
@@ -182,6 +186,11 @@ impl LoadSteps {
         (0..self.forces.len())
             .filter(|&s| nonzero(&self.forces[s]) || nonzero(&self.prescribed[s]))
             .collect()
+    }
+
+    /// Whether group `g` is ever reversed (a negative factor).
+    pub fn reversed(&self, g: usize) -> bool {
+        self.increments.iter().any(|(_, f)| f.get(g).is_some_and(|&x| x < 0.0))
     }
 
     /// The load and prescribed values of increment `k` (0-based) into `f_ext`
@@ -261,8 +270,10 @@ mod tests {
             forces: vec![vec![2.0, -4.0, 0.0, 0.0], vec![0.0, 8.0, 6.0, 0.0], vec![0.0; 4]],
             prescribed: vec![vec![0.0, 0.0, 0.0, 0.5], vec![0.0; 4], vec![0.0; 4]],
             increments: vec![(0, vec![0.5, 0.0, 0.0]), (1, vec![1.0, 0.5, 0.0])],
+            progress: vec![0.5, 0.5],
         };
         assert_eq!(steps.loaded(), vec![0, 1]);
+        assert!(!steps.reversed(1));
         let (mut f, mut p) = (vec![9.0; 4], vec![9.0; 4]);
         steps.combine(0, &mut f, &mut p);
         assert_eq!(f, vec![1.0, -2.0, 0.0, 0.0]);

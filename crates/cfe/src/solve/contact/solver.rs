@@ -364,36 +364,44 @@ impl<'a> Solver<'a> {
         self.proportional
     }
 
-    /// Applies the loads in steps: increment k carries the load Σ_s λ_s(k) f_s and
-    /// the prescribed values Σ_s λ_s(k) p_s, and reports its step and that step's
-    /// factor. When at most one step carries load the loading stays proportional
-    /// (that step's vectors scaled by its factor, the shortcuts kept); otherwise
+    /// Applies the loads in steps: increment k carries the load Σ_g λ_g(k) f_g and
+    /// the prescribed values Σ_g λ_g(k) p_g, and reports its step and that step's
+    /// own factor. When at most one group carries load and its factor never goes
+    /// negative the loading stays proportional (that group's vectors scaled by
+    /// its factor, the shortcuts kept); otherwise
     /// the proportional shortcuts are off and the combined vectors are formed
     /// once per increment. Ignored when the vectors' lengths do not match the DOFs
-    /// or an increment's factors do not match the steps.
+    /// or an increment's factors do not match the groups.
     pub fn set_steps(&mut self, mut steps: LoadSteps) {
         let n = self.f_ext.len();
         let m = steps.forces.len();
         if m == 0
             || steps.prescribed.len() != m
             || steps.increments.is_empty()
+            || steps.progress.len() != steps.increments.len()
             || steps.forces.iter().chain(&steps.prescribed).any(|v| v.len() != n)
             || steps
                 .increments
                 .iter()
-                .any(|(s, f)| *s >= m || f.len() != m || f.iter().any(|x| !x.is_finite()))
+                .any(|(_, f)| f.len() != m || f.iter().any(|x| !x.is_finite()))
         {
             return;
         }
-        self.path.labels = Some(steps.increments.iter().map(|(s, f)| (*s, f[*s])).collect());
+        self.path.labels = Some(
+            (steps.increments.iter().zip(&steps.progress))
+                .map(|((s, _), l)| (*s, *l))
+                .collect(),
+        );
         self.scales.largest_prescribed = steps
             .prescribed
             .iter()
             .map(|p| largest_off::<SchemeDim>(p, &[]))
             .fold(self.scales.largest_prescribed, f64::max);
         let loaded = steps.loaded();
-        if loaded.len() <= 1 {
-            // Proportional: one step's load, scaled by its factor.
+        // A reversed load breaks the contact states' homogeneity (a bonded
+        // pair in compression would pull): not proportional.
+        if loaded.len() <= 1 && !loaded.first().is_some_and(|&g| steps.reversed(g)) {
+            // Proportional: one group's load, scaled by its factor.
             let s = loaded.first().copied().unwrap_or(0);
             self.path.factors = Some(steps.increments.iter().map(|(_, f)| f[s]).collect());
             self.f_ext = std::mem::take(&mut steps.forces[s]);
