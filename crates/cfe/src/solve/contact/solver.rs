@@ -179,25 +179,7 @@ impl<'a> Solver<'a> {
             interfaces,
             dofs,
         };
-        let (linear, iterative): (Box<dyn LinearSolver<'a> + 'a>, _) = match settings.solver {
-            LinearBackend::Direct => {
-                let (k, chol) =
-                    crate::solve::setup::pattern_and_symbolic(parts, interfaces, dofs, stop)?;
-                let system = ContactSystem::new(parts, k, chol);
-                (Box::new(Cholesky::with_system(problem, system)), None)
-            }
-            LinearBackend::Cg => {
-                let mut cg = ConjugateGradients::analyse(problem)?;
-                cg.tolerance = CG_TOLERANCE;
-                let solves = IterativeSolves {
-                    back_end: "cg".into(),
-                    preconditioner: "jacobi".into(),
-                    tolerance: CG_TOLERANCE,
-                    ..IterativeSolves::default()
-                };
-                (Box::new(cg), Some(solves))
-            }
-        };
+        let (linear, iterative) = linear_back_end(settings.solver, problem, stop)?;
         let timings = SolveTimings {
             pattern_and_symbolic: t.elapsed().as_secs_f64(),
             ..Default::default()
@@ -221,25 +203,7 @@ impl<'a> Solver<'a> {
             friction_hold: support::FrictionHold::new(parts, interfaces, dofs),
             initial: None,
             settled_pattern: None,
-            scales: Scales {
-                total_load,
-                extent: parts
-                    .iter()
-                    .map(|p| crate::mesh::bounding_diagonal(&[&p.mesh]))
-                    .fold(0.0, f64::max),
-                largest_prescribed: interfaces
-                    .iter()
-                    .flat_map(|i| i.elements.iter().map(|c| c.gap0.abs()))
-                    .fold(largest_off(&dofs.prescribed, &[]), f64::max),
-                stiffest: parts
-                    .iter()
-                    .map(|p| p.material.young * p.material.thickness)
-                    .fold(0.0, f64::max),
-                softest: parts
-                    .iter()
-                    .map(|p| p.material.young * p.material.thickness)
-                    .fold(f64::INFINITY, f64::min),
-            },
+            scales: model_scales(parts, interfaces, dofs, total_load),
             proportional,
             committed: history.clone(),
             history,
@@ -553,5 +517,68 @@ impl<'a> Solver<'a> {
                 if d % 2 == 0 { "x" } else { "y" }
             ),
         }
+    }
+}
+
+/// The linear back end `kind` analysed for `problem`'s pattern (the direct one
+/// reading `stop` during that analysis), and, for an iterative one, the record
+/// of its solves.
+#[allow(clippy::type_complexity)]
+fn linear_back_end<'a>(
+    kind: LinearBackend,
+    problem: Problem<'a>,
+    stop: Option<&'a AtomicUsize>,
+) -> Result<(Box<dyn LinearSolver<'a> + 'a>, Option<IterativeSolves>)> {
+    let Problem {
+        parts,
+        interfaces,
+        dofs,
+    } = problem;
+    Ok(match kind {
+        LinearBackend::Direct => {
+            let (k, chol) =
+                crate::solve::setup::pattern_and_symbolic(parts, interfaces, dofs, stop)?;
+            let system = ContactSystem::new(parts, k, chol);
+            (Box::new(Cholesky::with_system(problem, system)), None)
+        }
+        LinearBackend::Cg => {
+            let mut cg = ConjugateGradients::analyse(problem)?;
+            cg.tolerance = CG_TOLERANCE;
+            let solves = IterativeSolves {
+                back_end: "cg".into(),
+                preconditioner: "jacobi".into(),
+                tolerance: CG_TOLERANCE,
+                ..IterativeSolves::default()
+            };
+            (Box::new(cg), Some(solves))
+        }
+    })
+}
+
+/// The model's sizes the load and balance scales and the drift guard read.
+fn model_scales(
+    parts: &[Part],
+    interfaces: &[Interface],
+    dofs: &DofMap,
+    total_load: f64,
+) -> Scales {
+    Scales {
+        total_load,
+        extent: parts
+            .iter()
+            .map(|p| crate::mesh::bounding_diagonal(&[&p.mesh]))
+            .fold(0.0, f64::max),
+        largest_prescribed: interfaces
+            .iter()
+            .flat_map(|i| i.elements.iter().map(|c| c.gap0.abs()))
+            .fold(largest_off(&dofs.prescribed, &[]), f64::max),
+        stiffest: parts
+            .iter()
+            .map(|p| p.material.young * p.material.thickness)
+            .fold(0.0, f64::max),
+        softest: parts
+            .iter()
+            .map(|p| p.material.young * p.material.thickness)
+            .fold(f64::INFINITY, f64::min),
     }
 }
