@@ -43,9 +43,11 @@ use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
 use std::borrow::Cow;
 use std::ops::Range;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::AtomicUsize;
 
 mod dense;
+use super::halt::check;
+pub use super::halt::Halt;
 use dense::{diagonal_cholesky, lower_solve};
 
 /// Entries of the dense update block formed at once (8 MiB): wider updates are
@@ -56,27 +58,6 @@ const BLOCK_VALUES: usize = 1 << 20;
 /// the top supernodes, or any when the tree is not split (below the top each
 /// thread has subtrees of its own and uses sequential kernels).
 const PARALLEL_KERNEL_FLOPS: f64 = 4.0e6;
-
-/// Why a numeric factorization did not finish.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Halt {
-    /// A non-positive pivot at this column (of the elimination order from
-    /// [`NumericPlan::factorize`], of the equations' order from
-    /// [`super::linear::CholeskySolver::factorize`]).
-    Pivot(usize),
-    /// The caller's stop flag was nonzero (its value, e.g. a signal's number)
-    /// before a supernode, between two blocks of its updates or before its
-    /// dense kernels: the factor is incomplete.
-    Stopped(usize),
-}
-
-/// `Err(Halt::Stopped)` once `stop` (if any) is nonzero: one relaxed load.
-fn check(stop: Option<&AtomicUsize>) -> Result<(), Halt> {
-    match stop.map_or(0, |s| s.load(Ordering::Relaxed)) {
-        0 => Ok(()),
-        signal => Err(Halt::Stopped(signal)),
-    }
-}
 
 /// What a numeric factorization needs beyond faer's symbolic structure: the
 /// updaters of each supernode and the split of the tree into parallel parts.

@@ -156,6 +156,80 @@ impl ConjugateGradients<'_> {
         }
     }
 
+    /// Conjugate gradients from `x` for `K x = b` at most `cap` iterations in
+    /// all (`done` counts them), restarted from the iterate while the true
+    /// residual is above the tolerance the recursive one met.
+    fn iterate(
+        &self,
+        b: &[f64],
+        x: &mut [f64],
+        cap: usize,
+        done: &mut usize,
+    ) -> Result<Iterations, LinearFailure> {
+        let n = b.len();
+        let precond = ColRef::from_slice(&self.inverse_diagonal).as_diagonal();
+        let a = self.matrix();
+        let mut buffer = MemBuffer::new(conjugate_gradient_scratch(precond, a, 1, Par::Seq));
+        let mut restarts = 0usize;
+        let result = loop {
+            // Always "maybe nonzero" (the zero guess too): faer 0.24's
+            // `InitialGuessStatus::Zero` leaves its residual vector unset.
+            let params = CgParams {
+                initial_guess: InitialGuessStatus::MaybeNonZero,
+                abs_tolerance: 0.0,
+                rel_tolerance: self.tolerance,
+                max_iters: cap - *done,
+                ..CgParams::default()
+            };
+            let solved = conjugate_gradient(
+                MatMut::from_column_major_slice_mut(x, n, 1),
+                precond,
+                a,
+                MatRef::from_column_major_slice(b, n, 1),
+                params,
+                |_| {},
+                Par::Seq,
+                MemStack::new(&mut buffer),
+            );
+            match solved {
+                Ok(info) => {
+                    *done += info.iter_count;
+                    // The recursively updated residual met the tolerance: the
+                    // true one decides.
+                    let relative_residual = self.relative_residual(b, x);
+                    if relative_residual <= self.tolerance {
+                        break Ok(Iterations {
+                            count: *done,
+                            relative_residual,
+                        });
+                    }
+                    if *done >= cap || restarts == MAX_RESTARTS || info.iter_count == 0 {
+                        break Err(LinearFailure::NotConverged {
+                            iterations: *done,
+                            relative_residual,
+                            tolerance: self.tolerance,
+                        });
+                    }
+                    restarts += 1;
+                    self.check_stop()?;
+                }
+                Err(CgError::NoConvergence { .. }) => {
+                    break Err(LinearFailure::NotConverged {
+                        iterations: cap,
+                        relative_residual: self.relative_residual(b, x),
+                        tolerance: self.tolerance,
+                    });
+                }
+                Err(
+                    CgError::NonPositiveDefiniteOperator
+                    | CgError::NonPositiveDefinitePreconditioner,
+                ) => break Err(LinearFailure::NotPositiveDefinite { equation: None }),
+            }
+        };
+        drop(buffer);
+        result
+    }
+
     /// `‖b − K x‖ / ‖b‖` (0 for `b = 0` and `x = 0`).
     fn relative_residual(&self, b: &[f64], x: &[f64]) -> f64 {
         let n = b.len();
@@ -244,66 +318,8 @@ impl<'a> LinearSolver<'a> for ConjugateGradients<'a> {
         let cap = self
             .max_iterations
             .unwrap_or_else(|| n.saturating_mul(10).max(100));
-        let precond = ColRef::from_slice(&self.inverse_diagonal).as_diagonal();
-        let a = self.matrix();
-        let mut buffer = MemBuffer::new(conjugate_gradient_scratch(precond, a, 1, Par::Seq));
-        let (mut done, mut restarts) = (0usize, 0usize);
-        let result = loop {
-            // Always "maybe nonzero" (the zero guess too): faer 0.24's
-            // `InitialGuessStatus::Zero` leaves its residual vector unset.
-            let params = CgParams {
-                initial_guess: InitialGuessStatus::MaybeNonZero,
-                abs_tolerance: 0.0,
-                rel_tolerance: self.tolerance,
-                max_iters: cap - done,
-                ..CgParams::default()
-            };
-            let solved = conjugate_gradient(
-                MatMut::from_column_major_slice_mut(&mut x, n, 1),
-                precond,
-                a,
-                MatRef::from_column_major_slice(&b, n, 1),
-                params,
-                |_| {},
-                Par::Seq,
-                MemStack::new(&mut buffer),
-            );
-            match solved {
-                Ok(info) => {
-                    done += info.iter_count;
-                    // The recursively updated residual met the tolerance: the
-                    // true one decides.
-                    let relative_residual = self.relative_residual(&b, &x);
-                    if relative_residual <= self.tolerance {
-                        break Ok(Iterations {
-                            count: done,
-                            relative_residual,
-                        });
-                    }
-                    if done >= cap || restarts == MAX_RESTARTS || info.iter_count == 0 {
-                        break Err(LinearFailure::NotConverged {
-                            iterations: done,
-                            relative_residual,
-                            tolerance: self.tolerance,
-                        });
-                    }
-                    restarts += 1;
-                    self.check_stop()?;
-                }
-                Err(CgError::NoConvergence { .. }) => {
-                    break Err(LinearFailure::NotConverged {
-                        iterations: cap,
-                        relative_residual: self.relative_residual(&b, &x),
-                        tolerance: self.tolerance,
-                    });
-                }
-                Err(
-                    CgError::NonPositiveDefiniteOperator
-                    | CgError::NonPositiveDefinitePreconditioner,
-                ) => break Err(LinearFailure::NotPositiveDefinite { equation: None }),
-            }
-        };
-        drop(buffer);
+        let mut done = 0usize;
+        let result = self.iterate(&b, &mut x, cap, &mut done);
         self.stats.solve_seconds += t.elapsed().as_secs_f64();
         // The cost model: per iteration one product with the matrix and a few
         // vector operations.

@@ -16,6 +16,7 @@ pub mod direct;
 pub mod factor;
 #[cfg(test)]
 mod fixture;
+pub(crate) mod halt;
 pub(crate) mod heap;
 pub mod iterative;
 pub mod linear;

@@ -555,12 +555,12 @@ impl FrictionHold {
             });
             // The force with which the faces press the body: each closed
             // pair's normal force on it (−f_n, > 0 pressing).
-            let mut pressing = 0.0;
+            let mut pressing: f64 = 0.0;
             for &(i, _) in &body.holding {
                 for (k, &state) in states[i].iter().enumerate() {
                     if state.is_closed() {
                         let h = history.get(i).and_then(|h| h.get(k)).copied().unwrap_or_default();
-                        pressing -= interfaces[i].pair_at(k, dofs, u, state, &h).force[0];
+                        pressing -= interfaces[i].pair_at(k, dofs, u, state, &h).force.0;
                     }
                 }
             }

@@ -312,7 +312,7 @@ impl Solver<'_> {
             if iface.law != Law::Coulomb {
                 continue;
             }
-            let base = self.law_params(iface);
+            let base = self.law_params(i);
             for (k, c) in iface.elements.iter().enumerate() {
                 let law = c.params(&base);
                 if states[i][k] != PairState::Slip || law.c_slip <= 0.0 {
@@ -320,7 +320,7 @@ impl Solver<'_> {
                 }
                 let h = &self.history[i][k];
                 let p = iface.pair_at(k, self.dofs, u, PairState::Slip, h);
-                let trial = law.trial_shear(p.jump[1], h);
+                let trial = law.trial_shear(p.jump.1, h);
                 slips.push(Slipping {
                     i,
                     k,
@@ -330,8 +330,8 @@ impl Solver<'_> {
                     c_slip: law.c_slip,
                     slip: h.slip,
                     xi: trial.direction(),
-                    f_n: p.force[0],
-                    u_s: p.jump[1],
+                    f_n: p.force.0,
+                    u_s: p.jump.1,
                     z: h.slip_force - law.c_slip * h.anchor,
                 });
             }
@@ -378,8 +378,8 @@ impl Solver<'_> {
             for (p, sp) in slips.iter().enumerate() {
                 let iface = &self.interfaces[sp.i];
                 let at = iface.pair_at(sp.k, self.dofs, &v, PairState::Slip, &before[sp.i][sp.k]);
-                cols.pn[p * m + q] = at.jump[0];
-                cols.ps[p * m + q] = at.jump[1];
+                cols.pn[p * m + q] = at.jump.0;
+                cols.ps[p * m + q] = at.jump.1;
             }
         }
         Ok(cols)

@@ -195,25 +195,7 @@ impl<'a> Solver<'a> {
             interfaces,
             dofs,
         };
-        let (linear, iterative): (Box<dyn LinearSolver<'a> + 'a>, _) = match settings.solver {
-            LinearBackend::Direct => {
-                let (k, chol) =
-                    crate::solve::setup::pattern_and_symbolic(parts, interfaces, dofs, stop)?;
-                let system = ContactSystem::new(parts, k, chol);
-                (Box::new(Cholesky::with_system(problem, system)), None)
-            }
-            LinearBackend::Cg => {
-                let mut cg = ConjugateGradients::analyse(problem)?;
-                cg.tolerance = CG_TOLERANCE;
-                let solves = IterativeSolves {
-                    back_end: "cg".into(),
-                    preconditioner: "jacobi".into(),
-                    tolerance: CG_TOLERANCE,
-                    ..IterativeSolves::default()
-                };
-                (Box::new(cg), Some(solves))
-            }
-        };
+        let (linear, iterative) = linear_back_end(settings.solver, problem, stop)?;
         let timings = SolveTimings {
             pattern_and_symbolic: t.elapsed().as_secs_f64(),
             ..Default::default()
@@ -238,25 +220,7 @@ impl<'a> Solver<'a> {
             friction_hold: support::FrictionHold::new(parts, interfaces, dofs),
             initial: None,
             settled_pattern: None,
-            scales: Scales {
-                total_load,
-                extent: parts
-                    .iter()
-                    .map(|p| crate::mesh::bounding_diagonal(&[&p.mesh]))
-                    .fold(0.0, f64::max),
-                largest_prescribed: (0..pairs.interface_count())
-                    .flat_map(each_pair)
-                    .map(|(i, k)| pairs.initial_gap(i, k).abs())
-                    .fold(largest_off::<SchemeDim>(&dofs.prescribed, &[]), f64::max),
-                stiffest: parts
-                    .iter()
-                    .map(|p| p.material.young * p.material.thickness)
-                    .fold(0.0, f64::max),
-                softest: parts
-                    .iter()
-                    .map(|p| p.material.young * p.material.thickness)
-                    .fold(f64::INFINITY, f64::min),
-            },
+            scales: model_scales(parts, &pairs, dofs, total_load),
             proportional,
             committed: history.clone(),
             history,
@@ -581,5 +545,67 @@ impl<'a> Solver<'a> {
                 ["x", "y", "z"][c]
             ),
         }
+    }
+}
+
+/// The linear back end `kind` analysed for `problem`'s pattern (the direct one
+/// reading `stop` during that analysis), and, for an iterative one, the record
+/// of its solves.
+#[allow(clippy::type_complexity)]
+fn linear_back_end<'a>(
+    kind: LinearBackend,
+    problem: Problem<'a>,
+    stop: Option<&'a AtomicUsize>,
+) -> Result<(Box<dyn LinearSolver<'a> + 'a>, Option<IterativeSolves>)> {
+    let Problem {
+        parts,
+        interfaces,
+        dofs,
+    } = problem;
+    Ok(match kind {
+        LinearBackend::Direct => {
+            let (k, chol) =
+                crate::solve::setup::pattern_and_symbolic(parts, interfaces, dofs, stop)?;
+            let system = ContactSystem::new(parts, k, chol);
+            (Box::new(Cholesky::with_system(problem, system)), None)
+        }
+        LinearBackend::Cg => {
+            let mut cg = ConjugateGradients::analyse(problem)?;
+            cg.tolerance = CG_TOLERANCE;
+            let solves = IterativeSolves {
+                back_end: "cg".into(),
+                preconditioner: "jacobi".into(),
+                tolerance: CG_TOLERANCE,
+                ..IterativeSolves::default()
+            };
+            (Box::new(cg), Some(solves))
+        }
+    })
+}
+
+/// The model's sizes the load and balance scales and the drift guard read.
+fn model_scales(
+    parts: &[Part],
+    pairs: &impl PairSet<SchemeDim>,
+    dofs: &DofMap,
+    total_load: f64,
+) -> Scales {
+    Scales {
+        total_load,
+        extent: parts
+            .iter()
+            .map(|p| crate::mesh::bounding_diagonal(&[&p.mesh]))
+            .fold(0.0, f64::max),
+        largest_prescribed: (0..pairs.interface_count())
+            .flat_map(|i| (0..pairs.pair_count(i)).map(move |k| pairs.initial_gap(i, k).abs()))
+            .fold(largest_off::<SchemeDim>(&dofs.prescribed, &[]), f64::max),
+        stiffest: parts
+            .iter()
+            .map(|p| p.material.young * p.material.thickness)
+            .fold(0.0, f64::max),
+        softest: parts
+            .iter()
+            .map(|p| p.material.young * p.material.thickness)
+            .fold(f64::INFINITY, f64::min),
     }
 }

@@ -4,7 +4,7 @@
 //! (the unit tests hold them to it), so a stop can end a factorization inside
 //! one large separator without changing its values.
 
-use super::{Halt, check};
+use crate::solve::halt::{Halt, check};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{
     LltError, LltRegularization, cholesky_in_place,
