@@ -586,7 +586,7 @@ fn linear_back_end<'a>(
 /// The model's sizes the load and balance scales and the drift guard read.
 fn model_scales(
     parts: &[Part],
-    pairs: &impl PairSet<SchemeDim>,
+    pairs: &impl PairSet<Dim = SchemeDim>,
     dofs: &DofMap,
     total_load: f64,
 ) -> Scales {
