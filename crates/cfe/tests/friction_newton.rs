@@ -125,25 +125,25 @@ fn the_quarter_shrink_fit_with_friction_holds_the_law_on_every_pair() {
                     let state = last.states[0][k];
                     let h = &last.pair_history[0][k];
                     let p = iface.pair_at(k, &a.dofs, &last.u, state, h);
-                    fmax = fmax.max(p.force[0].abs());
+                    fmax = fmax.max(p.force.0.abs());
                     forces.push((state, p.gap, p.force));
                 }
                 assert!(fmax > 0.0, "{what}: the fit presses");
                 let tol = 1e-6 * fmax;
                 for (k, (state, gap, f)) in forces.into_iter().enumerate() {
-                    let cone = law.friction * (-f[0]).max(0.0);
+                    let cone = law.friction * (-f.0).max(0.0);
                     match state {
                         PairState::Open => {
-                            assert_eq!(f, [0.0, 0.0], "{what}: pair {k}");
+                            assert_eq!(f, (0.0, 0.0), "{what}: pair {k}");
                             assert!(gap >= -1e-6, "{what}: pair {k} penetrates {gap}");
                         }
                         PairState::Bonded => {
-                            assert!(f[0] <= tol, "{what}: pair {k} pulls {f:?}");
-                            assert!(f[1].abs() <= cone + tol, "{what}: pair {k} {f:?}");
+                            assert!(f.0 <= tol, "{what}: pair {k} pulls {f:?}");
+                            assert!(f.1.abs() <= cone + tol, "{what}: pair {k} {f:?}");
                         }
                         PairState::Slip => {
-                            assert!(f[0] <= tol, "{what}: pair {k} pulls {f:?}");
-                            assert!((f[1].abs() - cone).abs() <= tol, "{what}: pair {k} {f:?}");
+                            assert!(f.0 <= tol, "{what}: pair {k} pulls {f:?}");
+                            assert!((f.1.abs() - cone).abs() <= tol, "{what}: pair {k} {f:?}");
                         }
                     }
                 }
