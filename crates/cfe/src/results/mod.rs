@@ -6,8 +6,8 @@
 //! analysis fills them; the writers in [`crate::output`] write them.
 
 pub mod fmt;
-pub mod lines;
 pub mod history;
+pub mod lines;
 pub mod memory;
 pub mod pairs;
 mod record;
