@@ -85,6 +85,7 @@ pub fn to_dict<'py>(
     out.set_item("load_factor", last.lambda)?;
     out.set_item("step", analysis.step_name(last.step))?;
     out.set_item("time", last.time)?;
+    out.set_item("lines", lines(py, analysis, &last)?)?;
     out.set_item("u", PyArray1::from_vec(py, last.u))?;
     out.set_item("history", history(py, &summary.history)?)?;
 
@@ -122,6 +123,48 @@ fn history<'py>(
             Values::Number(x) => d.set_item(name, PyArray1::from_vec(py, x))?,
             Values::Name(n) => d.set_item(name, n)?,
         }
+    }
+    Ok(d)
+}
+
+/// The line probes (`[[line]]`) sampled at increment `inc`, by name: per line a
+/// dict of `s` `(n,)` (distance from its start), `x` `(n, 2)`, `part` `(n,)`
+/// (the part's name per sample), `u` `(n, 2)`, `stress` `(n, 3)` (σxx, σyy,
+/// σxy) and `von_mises` `(n,)` — the columns of `lines/<name>.csv`.
+fn lines<'py>(
+    py: Python<'py>,
+    analysis: &Analysis,
+    inc: &cfe::IncrementResult,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (name, samples) in analysis.line_samples(inc) {
+        let line = PyDict::new(py);
+        line.set_item(
+            "s",
+            PyArray1::from_vec(py, samples.iter().map(|p| p.s).collect()),
+        )?;
+        line.set_item(
+            "x",
+            matrix(py, samples.iter().flat_map(|p| p.x).collect(), 2)?,
+        )?;
+        let parts: Vec<&str> = samples
+            .iter()
+            .map(|p| analysis.model.parts[p.part].name.as_str())
+            .collect();
+        line.set_item("part", parts)?;
+        line.set_item(
+            "u",
+            matrix(py, samples.iter().flat_map(|p| p.u).collect(), 2)?,
+        )?;
+        line.set_item(
+            "stress",
+            matrix(py, samples.iter().flat_map(|p| p.stress).collect(), 3)?,
+        )?;
+        line.set_item(
+            "von_mises",
+            PyArray1::from_vec(py, samples.iter().map(|p| p.von_mises).collect()),
+        )?;
+        d.set_item(name, line)?;
     }
     Ok(d)
 }

@@ -867,6 +867,12 @@ class Results:
         #: ``interface:NAME.force_n``/``.force_s``/``.contact_length``/``.max_pressure``,
         #: ``probe:NAME.ux``/``.uy`` — NumPy arrays, one entry per increment.
         self.history: Dict[str, Any] = dict(raw.get("history", {}))
+        #: The line probes (``[[line]]``) at the last increment, by name: each a
+        #: dict of ``s`` (distance from the line's start), ``x`` ``(n, 2)``,
+        #: ``part`` (a list of part names), ``u`` ``(n, 2)``, ``stress``
+        #: ``(n, 3)`` (σxx, σyy, σxy) and ``von_mises`` — the columns of
+        #: ``lines/<name>.csv``, for the points of the line that lie in a part.
+        self.lines: Dict[str, Dict[str, Any]] = dict(raw.get("lines", {}))
 
     @property
     def status(self) -> str:

@@ -199,6 +199,7 @@ class Results:
     interfaces: Dict[str, InterfaceResult]
     reactions: Dict[str, _Floats]
     history: Dict[str, Any]
+    lines: Dict[str, Dict[str, Any]]
     def __init__(self, raw: Dict[str, Any], model: Model, law: Optional[str] = None) -> None: ...
     @property
     def status(self) -> str: ...
