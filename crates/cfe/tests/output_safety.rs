@@ -389,3 +389,51 @@ fn a_folder_in_use_is_refused_naming_its_process() {
     assert!(!out.join(LOCK).exists());
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// The line probes' folder is checked as `vtu/` is: a user's `lines/mid.csv`
+/// (a name a `[[line]]` run writes) in a folder holding an earlier run is
+/// refused untouched, and replaced only when forced while the user's
+/// `lines/notes.txt` stays; a `lines` link is never followed, even with force.
+#[test]
+fn lines_folder_is_checked_like_the_vtu_folder() {
+    let out = scratch("lines");
+    run(1, &out).unwrap();
+    write(&out.join("lines/mid.csv"), "mine");
+    write(&out.join("lines/notes.txt"), "mine");
+    let before = tree(&out);
+    let e = run(1, &out).unwrap_err();
+    assert!(
+        matches!(&e, Error::OutputFolderNotOurs { files, .. } if files == &[PathBuf::from("lines/mid.csv")]),
+        "{e:?}"
+    );
+    assert_eq!(tree(&out), before);
+    assert_eq!(read(&out.join("lines/mid.csv")), "mine");
+    run_forced(1, &out).unwrap();
+    assert!(
+        !out.join("lines/mid.csv").exists(),
+        "forced: the colliding name is replaced"
+    );
+    assert_eq!(read(&out.join("lines/notes.txt")), "mine");
+
+    let other = scratch("lines-other");
+    std::fs::remove_dir_all(out.join("lines")).unwrap();
+    write(&other.join("lines/mid.csv"), "theirs");
+    std::os::unix::fs::symlink(other.join("lines"), out.join("lines")).unwrap();
+    let (before, there) = (tree(&out), tree(&other));
+    for force in [false, true] {
+        let e = if force {
+            run_forced(1, &out)
+        } else {
+            run(1, &out)
+        }
+        .unwrap_err();
+        assert!(
+            matches!(&e, Error::OutputPathBlocked { path, .. } if path == Path::new("lines")),
+            "{e:?}"
+        );
+        assert_eq!(tree(&out), before);
+        assert_eq!(tree(&other), there);
+    }
+    let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_dir_all(&other);
+}

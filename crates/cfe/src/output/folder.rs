@@ -20,14 +20,16 @@
 //!     ([`Error::OutputFolderNotOurs`], naming them). With `force` both are
 //!     accepted: the files at the names a run writes are replaced, every other
 //!     file is left alone;
-//!   - `vtu` is not a folder of its own (a symbolic link, a file), or a name a run
+//!   - `vtu` or `lines` is not a folder of its own (a symbolic link, a file), or a name a run
 //!     writes is taken by a folder ([`Error::OutputPathBlocked`]; `force` does
 //!     not override: cfe never writes or deletes through a link inside its output
 //!     folder, and never removes a folder).
 //!
 //! The names a run writes are [`RUN_FILES`] in the folder and
-//! `vtu/parts_N.vtu`, `vtu/pairs_N.vtu` (N: digits), each with its temporary
-//! name; [`MANIFEST`], its temporary `.cfe-manifest.tmp` and [`LOCK`] are cfe's
+//! `vtu/parts_N.vtu`, `vtu/pairs_N.vtu` (N: digits), `lines/NAME.csv` and
+//! `lines/NAME.png` (a line probe's; NAME of letters, digits, `-` and `_`), each
+//! with its temporary name — the files inside `vtu/` and `lines/` are checked as
+//! those of the folder itself; [`MANIFEST`], its temporary `.cfe-manifest.tmp` and [`LOCK`] are cfe's
 //! own.
 
 use crate::error::{Error, Result};
@@ -470,20 +472,30 @@ fn inspect(folder: &Path, force: bool) -> Result<Vec<String>> {
             }
             (MANIFEST_TMP, _) => continue,
             (MANIFEST, _) if listed.is_some() => continue,
-            (VTU, Entry::Folder) => {
+            // The folders cfe writes into (the VTU series, the line probes):
+            // their files are checked as the top level's are.
+            (VTU | LINES, Entry::Folder) => {
+                let inside = entries(&folder.join(&name), &format!("{name}/"))?;
                 all.push((name, kind));
-                all.extend(entries(&folder.join(VTU), "vtu/")?);
+                all.extend(inside);
             }
-            (VTU, Entry::Link) => {
+            (VTU | LINES, Entry::Link) => {
                 return Err(blocked(
-                    VTU,
+                    &name,
                     "is a symbolic link; cfe never writes or deletes through a link in its output folder, even with force: remove the link (what it points to is left alone) or choose another output folder".into(),
                 ));
             }
-            (VTU, Entry::File) => {
+            (VTU | LINES, Entry::File) => {
+                let what = if name == VTU {
+                    "its VTU series"
+                } else {
+                    "its line probes"
+                };
                 return Err(blocked(
-                    VTU,
-                    "is a file where cfe writes its VTU series into a folder; cfe does not remove it, even with force: rename it or choose another output folder".into(),
+                    &name,
+                    format!(
+                        "is a file where cfe writes {what} into a folder; cfe does not remove it, even with force: rename it or choose another output folder"
+                    ),
                 ));
             }
             _ => all.push((name, kind)),
@@ -536,7 +548,7 @@ fn inspect(folder: &Path, force: bool) -> Result<Vec<String>> {
         let names: Vec<String> = all
             .iter()
             .map(|(n, _)| n)
-            .filter(|n| !n.starts_with("vtu/"))
+            .filter(|n| !n.starts_with("vtu/") && !n.starts_with("lines/"))
             .cloned()
             .collect();
         let why = match &previous {
