@@ -3,10 +3,10 @@
 //! out. A [`Dim`] names the DOFs per node, the rigid-body modes, the Voigt size, the
 //! point/vector type, the tangent type of the interface law and the local frame of
 //! a coupling pair (the host normal n and the tangent(s)). [`D2`] is the plane
-//! instance; a `D3` instance adds `N = 3`, six rigid modes, Voigt size 6, `[f64; 3]`
-//! points, a 2-component tangent (`[f64; 2]`, which already implements [`Tangent`])
-//! and a frame of n and two orthonormal tangents in the face plane — and the law,
-//! the pair histories and the return map take it unchanged.
+//! instance; [`D3`] has `N = 3`, six rigid modes, Voigt size 6, `[f64; 3]` points,
+//! a 2-component tangent (`[f64; 2]`) and a frame of n and two orthonormal
+//! tangents in the face plane — and the law, the pair histories and the return map
+//! take it unchanged.
 //!
 //! It sits below mesh, fem and coupling and imports nothing of the crate.
 
@@ -137,7 +137,7 @@ impl Tangent for [f64; 2] {
 }
 
 /// A spatial dimension: what the coupling layer reads of it. Implemented by
-/// zero-sized markers ([`D2`]; `D3` to come), used as a type parameter
+/// zero-sized markers ([`D2`], [`D3`]), used as a type parameter
 /// (`PairHistory<D>`, the law's generic methods).
 pub trait Dim: Copy + Debug + PartialEq + Default + Send + Sync + 'static {
     /// Displacement DOFs per node (2 in 2D, 3 in 3D): node g's component c is DOF
@@ -226,6 +226,65 @@ impl Dim for D2 {
 
     fn to_global(r: &[[f64; 2]; 2], v_n: f64, v_t: f64) -> [f64; 2] {
         [r[0][0] * v_n + r[1][0] * v_t, r[0][1] * v_n + r[1][1] * v_t]
+    }
+}
+
+/// Solid models: 3 DOFs per node, 6 rigid modes, Voigt size 6, `[f64; 3]` points
+/// and a tangent plane of two components along t₁ and t₂.
+///
+/// The frame at a normal n is built deterministically: a = the coordinate axis
+/// least aligned with n (the first of the smallest |nᵢ|), t₁ = the unit part of a
+/// orthogonal to n, t₂ = n × t₁, so (n, t₁, t₂) is right-handed and orthonormal.
+/// Any other orthonormal pair in the face plane is as good: the law is written
+/// so that no result depends on the choice (the bonded element with c_n = c_s is
+/// c·I, the Coulomb return map is radial).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct D3;
+
+impl Dim for D3 {
+    const N: usize = 3;
+    const RIGID_MODES: usize = 6;
+    const VOIGT: usize = 6;
+    type Vector = [f64; 3];
+    type Tangent = [f64; 2];
+    /// The rotation `R = [n, t₁, t₂]` by rows.
+    type Frame = [[f64; 3]; 3];
+
+    fn length(v: &[f64]) -> f64 {
+        v[0].hypot(v[1]).hypot(v[2])
+    }
+
+    fn frame(n: [f64; 3]) -> [[f64; 3]; 3] {
+        let mut k = 0;
+        for i in 1..3 {
+            if n[i].abs() < n[k].abs() {
+                k = i;
+            }
+        }
+        // t₁ = (a − (a·n) n) / |…| with a = e_k: |…|² = 1 − n_k² ≥ 2/3 for a unit n.
+        let mut t1 = [-n[k] * n[0], -n[k] * n[1], -n[k] * n[2]];
+        t1[k] += 1.0;
+        let l = D3::length(&t1);
+        let t1 = [t1[0] / l, t1[1] / l, t1[2] / l];
+        let t2 = [
+            n[1] * t1[2] - n[2] * t1[1],
+            n[2] * t1[0] - n[0] * t1[2],
+            n[0] * t1[1] - n[1] * t1[0],
+        ];
+        [n, t1, t2]
+    }
+
+    fn axis(r: &[[f64; 3]; 3], k: usize) -> [f64; 3] {
+        r[k]
+    }
+
+    fn to_local(r: &[[f64; 3]; 3], v: [f64; 3]) -> (f64, [f64; 2]) {
+        let dot = |a: [f64; 3]| a[0] * v[0] + a[1] * v[1] + a[2] * v[2];
+        (dot(r[0]), [dot(r[1]), dot(r[2])])
+    }
+
+    fn to_global(r: &[[f64; 3]; 3], v_n: f64, v_t: [f64; 2]) -> [f64; 3] {
+        std::array::from_fn(|i| r[0][i] * v_n + r[1][i] * v_t[0] + r[2][i] * v_t[1])
     }
 }
 
@@ -341,5 +400,45 @@ mod tests {
         w.set_component(1, -3.0);
         assert_eq!((w.component(0), w.component(1)), (1.0, -3.0));
         assert_eq!([-0.0, 0.0].direction(), [-1.0, 0.0]);
+    }
+
+    /// The solid frame is right-handed and orthonormal for normals along the axes,
+    /// tilted and nearly axis-aligned, its first axis is n, and `to_global`
+    /// inverts `to_local` to round-off.
+    #[test]
+    fn solid_frame_is_orthonormal_right_handed_and_invertible() {
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let normals = [
+            [1.0, 0.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.48, -0.6, 0.64],
+            [1.0 - 1e-12, 1e-6, -1.4e-6],
+            [-0.2, 0.1, -0.9],
+        ];
+        for n in normals {
+            let l = D3::length(&n);
+            let n = [n[0] / l, n[1] / l, n[2] / l];
+            let r = D3::frame(n);
+            assert_eq!(D3::axis(&r, 0), n);
+            for i in 0..3 {
+                for j in 0..3 {
+                    let want = if i == j { 1.0 } else { 0.0 };
+                    assert!((dot(r[i], r[j]) - want).abs() < 1e-15, "{n:?}: {i} {j}");
+                }
+            }
+            // Right-handed: n · (t₁ × t₂) = +1.
+            let [a, b, c] = r;
+            let triple = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]);
+            assert!((triple - 1.0).abs() < 1e-15);
+            let v = [0.3, -1.7, 2.2];
+            let (v_n, v_t) = D3::to_local(&r, v);
+            assert!((v_n - dot(v, n)).abs() < 1e-15);
+            assert!((v_n.hypot(v_t.norm()) - D3::length(&v)).abs() < 1e-14);
+            let back = D3::to_global(&r, v_n, v_t);
+            assert!((0..3).all(|i| (back[i] - v[i]).abs() < 1e-15), "{back:?}");
+        }
+        assert_eq!(D3::dof(5, 2), 17);
     }
 }
