@@ -7,13 +7,12 @@
 mod common;
 
 use cfe::coupling::PairState;
-use std::path::Path;
+use common::Problem;
 
 /// The seed's plate on its base with the Coulomb law (μ = 0.2): the plate is
 /// held along the base by friction alone.
 fn plate_coulomb() -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plate_on_base.toml");
-    std::fs::read_to_string(path)
+    std::fs::read_to_string(common::example_path("plate_on_base.toml"))
         .expect("the example")
         .replace("law = \"contact\"", "law = \"coulomb\"\nfriction = 0.2")
 }
@@ -54,51 +53,23 @@ fn a_pattern_solved_in_one_shot_is_the_fixed_points_answer() {
 /// faces) with `elements` and `coupling`, Coulomb μ = 0.3, `refine`.
 fn quarter_fit(elements: &str, coupling: &str, refine: usize) -> String {
     let (ring, shaft) = (12 * refine, 20 * refine);
-    format!(
-        r#"
-plane = "strain"
-[materials.steel]
-E = 210000.0
-nu = 0.3
-[materials.alu]
-E = 70000.0
-nu = 0.33
-[[part]]
-name = "ring"
-material = "alu"
-annulus = {{ center = [0.0, 0.0], r = [10.0, 20.0], theta = [0.0, 90.0], cells = [4, {ring}], elements = "{elements}" }}
-[[part]]
-name = "shaft"
-material = "steel"
-annulus = {{ center = [0.0, 0.0], r = [5.0, 10.01], theta = [0.0, 90.0], cells = [4, {shaft}], elements = "{elements}" }}
-[[support]]
-part = "ring"
-boundary = "start"
-fix = ["y"]
-[[support]]
-part = "ring"
-boundary = "end"
-fix = ["x"]
-[[support]]
-part = "shaft"
-boundary = "start"
-fix = ["y"]
-[[support]]
-part = "shaft"
-boundary = "end"
-fix = ["x"]
-[[interface]]
-host = "ring"
-nodes = "shaft"
-boundary = "outer"
-law = "coulomb"
-friction = 0.3
-coupling = "{coupling}"
-search_distance = 0.05
-[analysis]
-increments = 1
-"#
-    )
+    Problem::compact()
+        .plane("strain")
+        .material("steel", 210000.0, 0.3)
+        .material("alu", 70000.0, 0.33)
+        .part("ring", "alu")
+        .annulus([0.0, 0.0], [10.0, 20.0], [0.0, 90.0], [4, ring], elements)
+        .part("shaft", "steel")
+        .annulus([0.0, 0.0], [5.0, 10.01], [0.0, 90.0], [4, shaft], elements)
+        .quarter_symmetry("ring")
+        .quarter_symmetry("shaft")
+        .interface("ring", "shaft", "outer")
+        .law("coulomb")
+        .friction(0.3)
+        .iface_key("coupling", coupling)
+        .iface_key("search_distance", 0.05)
+        .increments(1)
+        .text()
 }
 
 /// The quarter shrink fit with friction completes with node and segment

@@ -7,60 +7,37 @@
 
 mod common;
 
+use common::{Raw, Text};
+
 use cfe::analysis::Analysis;
-use cfe::assembly::{NodeGraph, Stiffness, external_force};
+use cfe::assembly::{NodeGraph, Stiffness};
 use cfe::coupling::PairState;
-use cfe::model::Model;
 use cfe::solve::backend::{Analyse, LinearFailure, LinearSolver, Problem, Request, Solve};
 use cfe::solve::direct::Cholesky;
 use cfe::solve::iterative::ConjugateGradients;
 use cfe::solve::system::Method;
-use std::path::Path;
 
 /// Two unit-square-ish blocks of different meshes and stiffnesses tied along a
 /// face (law `rigid`, a moderate penalty), the lower one supported at its
 /// bottom, the upper one pushed down and sideways on its top.
-const TIED: &str = r#"
-title = "tied"
-plane = "strain"
-[materials.soft]
-E = 1000.0
-nu = 0.3
-[materials.stiff]
-E = 5000.0
-nu = 0.25
-[[part]]
-name = "A"
-material = "stiff"
-rectangle = { x = [0.0, 2.0], y = [0.0, 1.0], cells = [8, 4] }
-[[part]]
-name = "B"
-material = "soft"
-rectangle = { x = [0.0, 2.0], y = [1.0, 2.0], cells = [11, 5], elements = "q4" }
-[[interface]]
-name = "A-B"
-host = "A"
-nodes = "B"
-boundary = "bottom"
-law = "rigid"
-c_n = 1e5
-c_s = 1e5
-[[support]]
-part = "A"
-boundary = "bottom"
-fix = ["x", "y"]
-[[load]]
-part = "B"
-boundary = "top"
-force = [30.0, -100.0]
-"#;
-
-fn plate() -> Analysis {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join("examples/plate_on_base.toml");
-    Analysis::new(Model::from_file(&path, 1).unwrap()).unwrap()
-}
+static TIED: Text = Text::new(|| {
+    common::Problem::compact()
+        .head("title", "tied")
+        .plane("strain")
+        .material("soft", 1000.0, 0.3)
+        .material("stiff", 5000.0, 0.25)
+        .part("A", "stiff")
+        .rectangle([0.0, 2.0], [0.0, 1.0], [8, 4])
+        .part("B", "soft")
+        .rectangle_of([0.0, 2.0], [1.0, 2.0], [11, 5], "q4")
+        .named_interface("A-B", "A", "B", "bottom")
+        .law("rigid")
+        .iface_key("c_n", Raw("1e5"))
+        .iface_key("c_s", Raw("1e5"))
+        .support("A", "bottom", ["x", "y"])
+        .load("B", "top", [30.0, -100.0])
+        .text()
+});
 
 fn problem(a: &Analysis) -> Problem<'_> {
     Problem {
@@ -68,18 +45,6 @@ fn problem(a: &Analysis) -> Problem<'_> {
         interfaces: &a.interfaces,
         dofs: &a.dofs,
     }
-}
-
-/// The load of `a` on its free equations.
-fn load(a: &Analysis) -> Vec<f64> {
-    let f = external_force(&a.model.loads, &a.dofs);
-    a.dofs
-        .eq
-        .iter()
-        .enumerate()
-        .filter(|(_, e)| **e != usize::MAX)
-        .map(|(d, _)| f[d])
-        .collect()
 }
 
 /// `b − K x` with `K(states)` assembled here, apart from both back ends (its
@@ -119,7 +84,7 @@ fn relative_difference(x: &[f64], y: &[f64]) -> f64 {
 /// Solves `states` with the load by both back ends through the seam: the
 /// Cholesky's solution, the CG's, and its iterations.
 fn both(a: &Analysis, states: &[Vec<PairState>], tolerance: f64) -> (Vec<f64>, Vec<f64>, usize) {
-    let b = load(a);
+    let b = common::free_load(a);
     let mut direct = Cholesky::analyse(problem(a)).unwrap();
     let mut x = b.clone();
     let done = direct.solve_pattern(Request::new(states), &mut x).unwrap();
@@ -142,27 +107,12 @@ fn both(a: &Analysis, states: &[Vec<PairState>], tolerance: f64) -> (Vec<f64>, V
     (x, y, it.count)
 }
 
-/// Three patterns of one interface with `n` pairs: all bonded; the three
-/// outermost pairs at each end open; every third pair open.
-fn patterns(n: usize) -> [Vec<Vec<PairState>>; 3] {
-    let bonded = vec![vec![PairState::Bonded; n]];
-    let mut ends = bonded.clone();
-    for k in [0, 1, 2, n - 3, n - 2, n - 1] {
-        ends[0][k] = PairState::Open;
-    }
-    let mut thirds = bonded.clone();
-    for k in (0..n).step_by(3) {
-        thirds[0][k] = PairState::Open;
-    }
-    [bonded, ends, thirds]
-}
-
 /// On the tied two-part problem, conjugate gradients to a relative residual of
 /// 1e-12 give the Cholesky's displacements to 1e-9 (the relative error is at
 /// most the condition number times the relative residual).
 #[test]
 fn conjugate_gradients_agree_with_cholesky_on_a_tied_problem() {
-    let a = common::analysis(TIED);
+    let a = common::analysis(&TIED);
     let states = vec![vec![PairState::Bonded; a.interfaces[0].elements.len()]];
     let (x, y, _) = both(&a, &states, 1e-12);
     let d = relative_difference(&y, &x);
@@ -176,8 +126,8 @@ fn conjugate_gradients_agree_with_cholesky_on_a_tied_problem() {
 /// 1e-7.
 #[test]
 fn conjugate_gradients_agree_with_cholesky_on_contact_patterns() {
-    let a = plate();
-    for states in patterns(a.interfaces[0].elements.len()) {
+    let a = common::example("plate_on_base.toml", 1);
+    for states in common::contact_patterns(a.interfaces[0].elements.len()) {
         let (x, y, _) = both(&a, &states, 1e-9);
         let d = relative_difference(&y, &x);
         assert!(d < 1e-7, "CG differs from Cholesky by {d:e}");
@@ -190,9 +140,9 @@ fn conjugate_gradients_agree_with_cholesky_on_contact_patterns() {
 /// other states prepare anew.
 #[test]
 fn a_warm_start_from_the_solution_converges_at_once() {
-    let a = plate();
-    let [bonded, ends, _] = patterns(a.interfaces[0].elements.len());
-    let b = load(&a);
+    let a = common::example("plate_on_base.toml", 1);
+    let [bonded, ends, _] = common::contact_patterns(a.interfaces[0].elements.len());
+    let b = common::free_load(&a);
     let mut direct = Cholesky::analyse(problem(&a)).unwrap();
     let mut exact = b.clone();
     direct
@@ -240,21 +190,10 @@ fn a_warm_start_from_the_solution_converges_at_once() {
 /// restricted solve (the elimination-tree paths only) gives there.
 #[test]
 fn a_restricted_request_falls_back_to_a_complete_solve() {
-    let a = plate();
-    let [bonded, ..] = patterns(a.interfaces[0].elements.len());
-    let b = load(&a);
-    let iface = &a.interfaces[0];
-    let coupling: Vec<usize> = iface
-        .elements
-        .iter()
-        .flat_map(|c| {
-            c.dofs(&a.dofs, iface.host, iface.node_part)
-                .as_slice()
-                .to_vec()
-        })
-        .map(|d| a.dofs.eq[d])
-        .filter(|&e| e != usize::MAX)
-        .collect();
+    let a = common::example("plate_on_base.toml", 1);
+    let [bonded, ..] = common::contact_patterns(a.interfaces[0].elements.len());
+    let b = common::free_load(&a);
+    let coupling: Vec<usize> = common::coupling_equations(&a, 0);
     let mut direct = Cholesky::analyse(problem(&a)).unwrap();
     let mut cg = ConjugateGradients::analyse(problem(&a)).unwrap();
     cg.tolerance = 1e-9;
@@ -294,7 +233,7 @@ fn a_singular_system_is_a_typed_error() {
     let states = vec![vec![PairState::Bonded; a.interfaces[0].elements.len()]];
     let mut cg = ConjugateGradients::analyse(problem(&a)).unwrap();
     cg.max_iterations = Some(2000);
-    let mut x = load(&a);
+    let mut x = common::free_load(&a);
     match cg.solve_pattern(Request::new(&states), &mut x) {
         Err(LinearFailure::NotPositiveDefinite { equation: None }) => {}
         Err(LinearFailure::NotConverged {
@@ -316,19 +255,19 @@ fn a_singular_system_is_a_typed_error() {
 /// of non-positive curvature), as the Cholesky does (a non-positive pivot).
 #[test]
 fn an_indefinite_system_is_a_typed_error() {
-    let mut a = common::analysis(TIED);
+    let mut a = common::analysis(&TIED);
     a.interfaces[0].c_n = -1e5;
     a.interfaces[0].c_s = -1e5;
     let states = vec![vec![PairState::Bonded; a.interfaces[0].elements.len()]];
     let mut cg = ConjugateGradients::analyse(problem(&a)).unwrap();
-    let mut x = load(&a);
+    let mut x = common::free_load(&a);
     let failed = cg.solve_pattern(Request::new(&states), &mut x);
     assert!(
         matches!(failed, Err(LinearFailure::NotPositiveDefinite { .. })),
         "{failed:?}"
     );
     let mut direct = Cholesky::analyse(problem(&a)).unwrap();
-    let mut x = load(&a);
+    let mut x = common::free_load(&a);
     let failed = direct.solve_pattern(Request::new(&states), &mut x);
     assert!(
         matches!(
@@ -348,21 +287,10 @@ fn an_indefinite_system_is_a_typed_error() {
 #[test]
 fn the_refined_solve_corrects_an_update_at_the_coupling_equations() {
     use cfe::solve::system::UpdatePolicy;
-    let a = plate();
-    let [bonded, ends, _] = patterns(a.interfaces[0].elements.len());
-    let b = load(&a);
-    let iface = &a.interfaces[0];
-    let mut coupling: Vec<usize> = iface
-        .elements
-        .iter()
-        .flat_map(|c| {
-            c.dofs(&a.dofs, iface.host, iface.node_part)
-                .as_slice()
-                .to_vec()
-        })
-        .map(|d| a.dofs.eq[d])
-        .filter(|&e| e != usize::MAX)
-        .collect();
+    let a = common::example("plate_on_base.toml", 1);
+    let [bonded, ends, _] = common::contact_patterns(a.interfaces[0].elements.len());
+    let b = common::free_load(&a);
+    let mut coupling: Vec<usize> = common::coupling_equations(&a, 0);
     coupling.sort_unstable();
     coupling.dedup();
     let every: Vec<usize> = (0..b.len()).collect();

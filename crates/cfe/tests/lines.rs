@@ -2,41 +2,27 @@
 //! displacement and the stresses, against closed forms — a uniformly stressed
 //! block and a cantilever's linear σxx — and the schema's typed errors.
 
+mod common;
+
 use cfe::Error;
 use cfe::analysis::Analysis;
 use cfe::model::Model;
+use common::Problem;
 use std::path::Path;
 
 /// A block x ∈ [0, 1], y ∈ [0, 2] (`elements`, 4 × 8 cells; E = 1000, ν = 0.3,
 /// plane stress, t = 1) on rollers at its bottom, pinned in x at the origin,
 /// pressed by 3 on its top, and the line `line` (its keys).
 fn block(elements: &str, line: &str) -> String {
-    format!(
-        r#"
-plane = "stress"
-[materials.steel]
-E = 1000.0
-nu = 0.3
-[[part]]
-name = "block"
-material = "steel"
-rectangle = {{ x = [0.0, 1.0], y = [0.0, 2.0], cells = [4, 8], elements = "{elements}" }}
-[[support]]
-part = "block"
-boundary = "bottom"
-fix = ["y"]
-[[support]]
-part = "block"
-at = [0.0, 0.0]
-fix = ["x"]
-[[load]]
-part = "block"
-boundary = "top"
-force = [0.0, -3.0]
-[[line]]
-{line}
-"#
-    )
+    Problem::compact()
+        .plane("stress")
+        .material("steel", 1000.0, 0.3)
+        .part("block", "steel")
+        .rectangle_of([0.0, 1.0], [0.0, 2.0], [4, 8], elements)
+        .rollers("block", [0.0, 0.0])
+        .load("block", "top", [0.0, -3.0])
+        .raw(&format!("[[line]]\n{line}"))
+        .text()
 }
 
 fn model(text: &str) -> Result<Model, Error> {
@@ -88,30 +74,20 @@ fn a_line_through_a_uniformly_stressed_block_gives_the_constant_stress() {
 /// manifest.
 #[test]
 fn a_line_across_a_cantilever_follows_beam_theory() {
-    let text = r#"
-plane = "stress"
-[materials.steel]
-E = 1000.0
-nu = 0.3
-[[part]]
-name = "beam"
-material = "steel"
-rectangle = { x = [0.0, 100.0], y = [0.0, 10.0], cells = [80, 8], elements = "q4" }
-[[support]]
-part = "beam"
-boundary = "left"
-fix = ["x", "y"]
-[[load]]
-part = "beam"
-boundary = "right"
-force = [0.0, -1.0]
-[[line]]
-name = "mid"
-from = [50.0, 0.0]
-to = [50.0, 10.0]
-points = 21
-"#;
-    let mut a = Analysis::new(model(text).unwrap()).unwrap();
+    let text = Problem::compact()
+        .plane("stress")
+        .material("steel", 1000.0, 0.3)
+        .part("beam", "steel")
+        .rectangle_of([0.0, 100.0], [0.0, 10.0], [80, 8], "q4")
+        .support("beam", "left", ["x", "y"])
+        .load("beam", "right", [0.0, -1.0])
+        .table("[[line]]")
+        .key("name", "mid")
+        .key("from", [50.0, 0.0])
+        .key("to", [50.0, 10.0])
+        .key("points", 21usize)
+        .text();
+    let mut a = Analysis::new(model(&text).unwrap()).unwrap();
     let out = std::env::temp_dir().join(format!("cfe-test-lines-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
     a.run(&out, &mut |_| {}).unwrap();

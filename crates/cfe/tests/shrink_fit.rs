@@ -17,7 +17,7 @@
 mod common;
 
 use cfe::RunStatus;
-use common::{Problem, Raw, Toml};
+use common::Problem;
 
 const E: f64 = 210_000.0;
 const NU: f64 = 0.3;
@@ -45,20 +45,13 @@ fn fit(
     coupling: &str,
     supports: fn(Problem) -> Problem,
 ) -> String {
-    let annulus = |r: [f64; 2], around: usize| {
-        format!(
-            "{{ center = [0.0, 0.0], r = {}, theta = {}, cells = [6, {around}], elements = \"q4\" }}",
-            r.toml(),
-            theta.toml()
-        )
-    };
     let problem = Problem::compact()
         .plane(plane)
         .material("steel", E, NU)
         .part("shaft", "steel")
-        .key("annulus", Raw(&annulus([A, B + DELTA], cells[0])))
+        .annulus([0.0, 0.0], [A, B + DELTA], theta, [6, cells[0]], "q4")
         .part("hub", "steel")
-        .key("annulus", Raw(&annulus([B, C], cells[1])))
+        .annulus([0.0, 0.0], [B, C], theta, [6, cells[1]], "q4")
         .interface("hub", "shaft", "outer")
         .law(law)
         .iface_key("coupling", coupling)
@@ -68,10 +61,7 @@ fn fit(
 
 /// Symmetry supports on both parts' radial edges (a quarter model).
 fn symmetry(p: Problem) -> Problem {
-    p.support("shaft", "start", ["y"])
-        .support("shaft", "end", ["x"])
-        .support("hub", "start", ["y"])
-        .support("hub", "end", ["x"])
+    p.quarter_symmetry("shaft").quarter_symmetry("hub")
 }
 
 /// The shaft's bore pinned at (a, 0) in x and y and at (−a, 0) in y.

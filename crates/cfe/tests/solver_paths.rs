@@ -6,19 +6,12 @@
 mod common;
 
 use cfe::analysis::{Analysis, Start};
-use cfe::assembly::{NodeGraph, Stiffness, external_force};
+use cfe::assembly::{NodeGraph, Stiffness};
 use cfe::coupling::PairState;
 use cfe::model::Model;
 use cfe::solve::linear::CholeskySolver;
 use cfe::solve::system::{ContactSystem, Method, Solve, UpdatePolicy};
 use std::path::Path;
-
-fn plate(refine: usize) -> Analysis {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join("examples/plate_on_base.toml");
-    Analysis::new(Model::from_file(&path, refine).unwrap()).unwrap()
-}
 
 /// The contact system of `a`, its solves cut into `parts` parallel subtrees (1:
 /// sequential; the fast paths under test use 2, whatever the size).
@@ -41,33 +34,6 @@ fn fresh(a: &Analysis, states: &[Vec<PairState>], rhs: &[f64]) -> Vec<f64> {
     x
 }
 
-/// The load of `a` on its free equations.
-fn load(a: &Analysis) -> Vec<f64> {
-    let f = external_force(&a.model.loads, &a.dofs);
-    a.dofs
-        .eq
-        .iter()
-        .enumerate()
-        .filter(|(_, e)| **e != usize::MAX)
-        .map(|(d, _)| f[d])
-        .collect()
-}
-
-/// Three patterns of one interface with `n` pairs: all bonded; the three
-/// outermost pairs at each end open; every third pair open.
-fn patterns(n: usize) -> [Vec<Vec<PairState>>; 3] {
-    let bonded = vec![vec![PairState::Bonded; n]];
-    let mut ends = bonded.clone();
-    for k in [0, 1, 2, n - 3, n - 2, n - 1] {
-        ends[0][k] = PairState::Open;
-    }
-    let mut thirds = bonded.clone();
-    for k in (0..n).step_by(3) {
-        thirds[0][k] = PairState::Open;
-    }
-    [bonded, ends, thirds]
-}
-
 /// Largest difference of `x` from `y`, relative to the largest entry of `y`.
 fn relative_difference(x: &[f64], y: &[f64]) -> f64 {
     let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -85,10 +51,10 @@ fn relative_difference(x: &[f64], y: &[f64]) -> f64 {
 /// the next solve refactorizes.
 #[test]
 fn low_rank_update_equals_refactorization() {
-    let a = plate(2);
-    let rhs = load(&a);
+    let a = common::example("plate_on_base.toml", 2);
+    let rhs = common::free_load(&a);
     let n = a.interfaces[0].elements.len();
-    let [bonded, ends, thirds] = patterns(n);
+    let [bonded, ends, thirds] = common::contact_patterns(n);
     let mut back = ends.clone();
     back[0][0] = PairState::Bonded;
     back[0][n - 1] = PairState::Bonded;
@@ -125,14 +91,14 @@ fn low_rank_update_equals_refactorization() {
 /// work (one forward solve fewer), and a fresh factorization's answer to 1e-10.
 #[test]
 fn the_next_right_hand_side_is_kept_once_the_last_is_forgotten() {
-    let a = plate(2);
-    let rhs = load(&a);
+    let a = common::example("plate_on_base.toml", 2);
+    let rhs = common::free_load(&a);
     let other: Vec<f64> = rhs
         .iter()
         .enumerate()
         .map(|(i, v)| 2.0 * v + if i % 7 == 0 { 1.0 } else { 0.0 })
         .collect();
-    let [bonded, ends, thirds] = patterns(a.interfaces[0].elements.len());
+    let [bonded, ends, thirds] = common::contact_patterns(a.interfaces[0].elements.len());
     let solve = |s: &mut ContactSystem<'_>, states: &[Vec<PairState>], b: &[f64]| {
         let mut x = b.to_vec();
         s.solve(&a.interfaces, &a.dofs, states, &mut x).unwrap();
@@ -165,7 +131,7 @@ fn the_next_right_hand_side_is_kept_once_the_last_is_forgotten() {
 /// balances the load.
 #[test]
 fn coarse_start_reaches_a_law_consistent_pattern() {
-    let a = plate(4);
+    let a = common::example("plate_on_base.toml", 4);
     let start = a.coarse_states().expect("a coarser level exists");
     assert_eq!(start[0].len(), a.interfaces[0].elements.len());
     let run = |initial: Option<Vec<Vec<PairState>>>| {
@@ -207,22 +173,12 @@ fn coarse_start_reaches_a_law_consistent_pattern() {
 /// (a factorization) is complete.
 #[test]
 fn interface_solve_equals_full_solve_at_the_pairs() {
-    let a = plate(2);
-    let rhs = load(&a);
+    let a = common::example("plate_on_base.toml", 2);
+    let rhs = common::free_load(&a);
     let iface = &a.interfaces[0];
     let n = iface.elements.len();
-    let [bonded, ends, thirds] = patterns(n);
-    let coupling_eqs: Vec<usize> = iface
-        .elements
-        .iter()
-        .flat_map(|c| {
-            c.dofs(&a.dofs, iface.host, iface.node_part)
-                .as_slice()
-                .to_vec()
-        })
-        .map(|d| a.dofs.eq[d])
-        .filter(|&e| e != usize::MAX)
-        .collect();
+    let [bonded, ends, thirds] = common::contact_patterns(n);
+    let coupling_eqs: Vec<usize> = common::coupling_equations(&a, 0);
     let mut s = system(&a, 2);
     s.policy = UpdatePolicy::Always;
     let mut x = rhs.clone();
@@ -283,9 +239,9 @@ fn interface_solve_equals_full_solve_at_the_pairs() {
 /// and after a Woodbury correction.
 #[test]
 fn pair_forces_solve_on_the_paths_with_the_full_solves_bits() {
-    let a = plate(2);
+    let a = common::example("plate_on_base.toml", 2);
     let n = a.interfaces[0].elements.len();
-    let [bonded, ends, _] = patterns(n);
+    let [bonded, ends, _] = common::contact_patterns(n);
     let iface = &a.interfaces[0];
     let mut forces = vec![0.0; a.dofs.n_eq];
     for (i, c) in iface.elements.iter().enumerate() {
@@ -324,9 +280,9 @@ fn pair_forces_solve_on_the_paths_with_the_full_solves_bits() {
 /// outermost pairs at each end open, then every third pair open.
 #[test]
 fn a_trial_reusing_the_last_ones_vectors_solves_its_own_pattern() {
-    let a = plate(2);
+    let a = common::example("plate_on_base.toml", 2);
     let n = a.interfaces[0].elements.len();
-    let [bonded, ends, thirds] = patterns(n);
+    let [bonded, ends, thirds] = common::contact_patterns(n);
     let coupling = cfe::coupling::coupling_dofs(&a.interfaces, &a.dofs);
     let mut solver = a.solver().unwrap();
     let mut direct = a.solver().unwrap();
@@ -358,9 +314,9 @@ fn a_trial_reusing_the_last_ones_vectors_solves_its_own_pattern() {
 /// into the permuted storage, after being freed.
 #[test]
 fn stiffness_in_elimination_order_is_the_same_matrix() {
-    let a = plate(2);
+    let a = common::example("plate_on_base.toml", 2);
     let n = a.interfaces[0].elements.len();
-    let [_, ends, _] = patterns(n);
+    let [_, ends, _] = common::contact_patterns(n);
     let graph = NodeGraph::new(&a.model.parts, &a.interfaces, &a.dofs);
     let mut k = Stiffness::new(&a.model.parts, &a.dofs, &graph);
     let chol = k.with_matrix(|m| CholeskySolver::new(m, None)).unwrap();
@@ -397,9 +353,9 @@ fn stiffness_in_elimination_order_is_the_same_matrix() {
 /// with the pattern kept, and the stored entries are still counted.
 #[test]
 fn a_freed_pattern_is_built_again_for_the_next_factorization() {
-    let a = plate(2);
-    let b = load(&a);
-    let [bonded, ends, _] = patterns(a.interfaces[0].elements.len());
+    let a = common::example("plate_on_base.toml", 2);
+    let b = common::free_load(&a);
+    let [bonded, ends, _] = common::contact_patterns(a.interfaces[0].elements.len());
     let solve_twice = |keep: bool| {
         let mut s = system(&a, 1);
         let entries = s.matrix_nnz();
@@ -426,9 +382,9 @@ fn a_freed_pattern_is_built_again_for_the_next_factorization() {
 /// kept whole through the backward solve on the paths).
 #[test]
 fn an_unrefined_update_reads_the_plain_update_and_refines_from_it() {
-    let a = plate(2);
-    let rhs = load(&a);
-    let [bonded, ends, _] = patterns(a.interfaces[0].elements.len());
+    let a = common::example("plate_on_base.toml", 2);
+    let rhs = common::free_load(&a);
+    let [bonded, ends, _] = common::contact_patterns(a.interfaces[0].elements.len());
     let read: Vec<usize> = (0..rhs.len()).step_by(97).collect();
     let (mut plain, mut split) = (system(&a, 2), system(&a, 2));
     for s in [&mut plain, &mut split] {

@@ -121,19 +121,7 @@ impl Capacitance {
         if entries == self.entries {
             return Capacitance { flops: 0.0, ..self };
         }
-        let at: HashMap<(usize, u64), usize> = self
-            .anchor
-            .iter()
-            .enumerate()
-            .map(|(p, e)| (e.key(), p))
-            .collect();
-        let place: Vec<Option<usize>> = entries.iter().map(|e| at.get(&e.key()).copied()).collect();
-        let mut kept = vec![false; self.anchor.len()];
-        for p in place.iter().flatten() {
-            kept[*p] = true;
-        }
-        let removed: Vec<usize> = (0..kept.len()).filter(|&p| !kept[p]).collect();
-        let added: Vec<usize> = (0..entries.len()).filter(|&i| place[i].is_none()).collect();
+        let (place, removed, added) = placement(&self.anchor, &entries);
         let (m, k) = (self.anchor.len(), removed.len() + added.len());
         if m <= SMALL || k as f64 > MAX_BORDER * m as f64 {
             return Capacitance::new(entries, gram);
@@ -148,54 +136,14 @@ impl Capacitance {
                 ..self
             };
         }
-        // The border Z = [E_R  M_AN] and W = M_A⁻¹ Z.
-        let nr = removed.len();
-        let m_an = Mat::<f64>::from_fn(m, added.len(), |p, j| {
-            gram(self.anchor[p].column, entries[added[j]].column)
-        });
-        let mut w = Mat::<f64>::zeros(m, k);
-        for (j, &p) in removed.iter().enumerate() {
-            w[(p, j)] = 1.0;
-        }
-        w.as_mut().subcols_mut(nr, added.len()).copy_from(&m_an);
-        self.anchor_lu.solve_in_place(w.as_mut());
-        // C = D − Zᵀ W, D = diag(0_R, M_NN).
-        let mut c = Mat::<f64>::from_fn(k, k, |a, b| {
-            if a < nr || b < nr {
-                0.0
-            } else {
-                let (ea, eb) = (entries[added[a - nr]], entries[added[b - nr]]);
-                let g = gram(ea.column, eb.column);
-                if a == b { g + 1.0 / ea.weight } else { g }
-            }
-        });
-        for (j, &p) in removed.iter().enumerate() {
-            for b in 0..k {
-                c[(j, b)] -= w[(p, b)];
-            }
-        }
-        faer::linalg::matmul::matmul(
-            c.as_mut().subrows_mut(nr, added.len()),
-            Accum::Add,
-            m_an.transpose(),
-            w.as_ref(),
-            -1.0,
-            Par::Seq,
-        );
-        let schur = c.partial_piv_lu();
+        let border = Border::new(&self.anchor, &self.anchor_lu, &entries, removed, added, gram);
         let (mf, kf) = (m as f64, k as f64);
         Capacitance {
             entries,
             anchor: self.anchor,
             anchor_lu: self.anchor_lu,
             place,
-            border: Some(Border {
-                removed,
-                added,
-                m_an,
-                w,
-                schur,
-            }),
+            border: Some(border),
             flops: 2.0 * mf * mf * kf + 2.0 * mf * kf * kf + 2.0 / 3.0 * kf * kf * kf,
         }
     }
@@ -263,6 +211,86 @@ impl Capacitance {
         }
         for (j, &i) in b.added.iter().enumerate() {
             s[i] = x2[(nr + j, 0)];
+        }
+    }
+}
+
+/// Where the entries of a new set S lie against the anchor A: per entry of S
+/// its position in A (`None`: added), the positions in A of the entries S
+/// lacks (R, ascending) and the positions in S of the added entries (N,
+/// ascending). Entries are matched by column and weight bits, so a re-weighted
+/// column is one removed and one added.
+fn placement(anchor: &[Entry], entries: &[Entry]) -> (Vec<Option<usize>>, Vec<usize>, Vec<usize>) {
+    let at: HashMap<(usize, u64), usize> = anchor
+        .iter()
+        .enumerate()
+        .map(|(p, e)| (e.key(), p))
+        .collect();
+    let place: Vec<Option<usize>> = entries.iter().map(|e| at.get(&e.key()).copied()).collect();
+    let mut kept = vec![false; anchor.len()];
+    for p in place.iter().flatten() {
+        kept[*p] = true;
+    }
+    let removed: Vec<usize> = (0..kept.len()).filter(|&p| !kept[p]).collect();
+    let added: Vec<usize> = (0..entries.len()).filter(|&i| place[i].is_none()).collect();
+    (place, removed, added)
+}
+
+impl Border {
+    /// The border of `entries` around the anchor (its entries `anchor`, the LU
+    /// of M_A `anchor_lu`) with the anchor positions `removed` (R) and the
+    /// positions in `entries` of the `added` ones (N): `M_AN`, `W = M_A⁻¹ Z`
+    /// for `Z = [E_R  M_AN]`, and the LU of `C = D − Zᵀ W`, `D = diag(0_R, M_NN)`.
+    fn new(
+        anchor: &[Entry],
+        anchor_lu: &PartialPivLu<f64>,
+        entries: &[Entry],
+        removed: Vec<usize>,
+        added: Vec<usize>,
+        gram: impl Fn(usize, usize) -> f64,
+    ) -> Self {
+        let (m, nr) = (anchor.len(), removed.len());
+        let k = nr + added.len();
+        // The border Z = [E_R  M_AN] and W = M_A⁻¹ Z.
+        let m_an = Mat::<f64>::from_fn(m, added.len(), |p, j| {
+            gram(anchor[p].column, entries[added[j]].column)
+        });
+        let mut w = Mat::<f64>::zeros(m, k);
+        for (j, &p) in removed.iter().enumerate() {
+            w[(p, j)] = 1.0;
+        }
+        w.as_mut().subcols_mut(nr, added.len()).copy_from(&m_an);
+        anchor_lu.solve_in_place(w.as_mut());
+        // C = D − Zᵀ W, D = diag(0_R, M_NN).
+        let mut c = Mat::<f64>::from_fn(k, k, |a, b| {
+            if a < nr || b < nr {
+                0.0
+            } else {
+                let (ea, eb) = (entries[added[a - nr]], entries[added[b - nr]]);
+                let g = gram(ea.column, eb.column);
+                if a == b { g + 1.0 / ea.weight } else { g }
+            }
+        });
+        for (j, &p) in removed.iter().enumerate() {
+            for b in 0..k {
+                c[(j, b)] -= w[(p, b)];
+            }
+        }
+        faer::linalg::matmul::matmul(
+            c.as_mut().subrows_mut(nr, added.len()),
+            Accum::Add,
+            m_an.transpose(),
+            w.as_ref(),
+            -1.0,
+            Par::Seq,
+        );
+        let schur = c.partial_piv_lu();
+        Border {
+            removed,
+            added,
+            m_an,
+            w,
+            schur,
         }
     }
 }
@@ -361,4 +389,19 @@ mod tests {
         let cap = cap.update(set, gram);
         assert_eq!(cap.flops(), 0.0);
     }
+
+    /// A set against its anchor: kept entries point at their anchor position
+    /// (in the set's own order), a re-weighted column counts as removed and
+    /// added, an entry of the anchor missing from the set as removed.
+    #[test]
+    fn placement_finds_kept_removed_and_added_entries() {
+        let e = |column, weight| Entry { column, weight };
+        let anchor = [e(0, 1.0), e(1, 2.0), e(2, 3.0), e(3, 4.0)];
+        let set = [e(2, 3.0), e(5, 1.0), e(0, 1.0), e(1, -2.0)];
+        let (place, removed, added) = placement(&anchor, &set);
+        assert_eq!(place, vec![Some(2), None, Some(0), None]);
+        assert_eq!(removed, vec![1, 3]);
+        assert_eq!(added, vec![1, 3]);
+    }
+
 }

@@ -20,6 +20,7 @@ use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// The columns stored on one supernode: their indices and values (supernode
 /// width × number of columns, column-major).
@@ -144,6 +145,19 @@ impl Columns {
             self.touched.clear();
         }
         let first = self.paths.len();
+        let union = self.place(chol, paths);
+        self.scatter(chol, cols, first);
+        self.make_room(first);
+        let bounds = self.solve_new(chol, &union, first);
+        self.fill_gram(chol, &union, &bounds, first);
+        first
+    }
+
+    /// Gives each new column (numbered on from `len()`, with its `paths`) a
+    /// zeroed place in the block of every supernode on its path; returns the
+    /// supernodes receiving new columns, ascending.
+    fn place(&mut self, chol: &CholeskySolver, paths: Vec<Vec<u32>>) -> Vec<usize> {
+        let first = self.paths.len();
         let mut union: Vec<usize> = Vec::new();
         for path in paths {
             let j = self.paths.len() as u32;
@@ -165,6 +179,14 @@ impl Columns {
             }
             self.paths.push(placed);
         }
+        union.sort_unstable();
+        union
+    }
+
+    /// Adds the entries of the new columns `cols` (numbered from `first`) into
+    /// their places: the right-hand sides the forward solve starts from.
+    fn scatter(&mut self, chol: &CholeskySolver, cols: &[SparseColumn], first: usize) {
+        let sn = chol.supernodal();
         for (k, col) in cols.iter().enumerate() {
             let j = first + k;
             for &(r, w) in &col.entries {
@@ -175,56 +197,36 @@ impl Columns {
                 self.blocks[s].vals[pos * c + r - begin] += w;
             }
         }
-        union.sort_unstable();
+    }
+
+    /// Makes room in the Gram matrix for every column stored, keeping the
+    /// entries of the `first` columns there before: twice the room, so n columns
+    /// added a few at a time are copied O(log n) times (`gram_bytes_with` counts
+    /// the same).
+    fn make_room(&mut self, first: usize) {
         let m = self.paths.len();
-        if m > self.stride {
-            // Twice the room, so n columns added a few at a time are copied
-            // O(log n) times (`gram_bytes_with` counts the same).
-            let stride = m.max(2 * self.stride);
-            let mut gram = vec![0.0; stride * stride];
-            for a in 0..first {
-                gram[a * stride..a * stride + first]
-                    .copy_from_slice(&self.gram[a * self.stride..a * self.stride + first]);
-            }
-            self.gram = gram;
-            self.stride = stride;
+        if m <= self.stride {
+            return;
         }
+        let stride = m.max(2 * self.stride);
+        let mut gram = vec![0.0; stride * stride];
+        for a in 0..first {
+            gram[a * stride..a * stride + first]
+                .copy_from_slice(&self.gram[a * self.stride..a * self.stride + first]);
+        }
+        self.gram = gram;
+        self.stride = stride;
+    }
+
+    /// Fills the rows and columns of the new columns `first..` in the Gram
+    /// matrix: each group of new columns (between consecutive `bounds`) computes
+    /// its rows on the supernodes `union` ([`gram_rows`]; the groups in
+    /// parallel), then the rows are copied in and mirrored into the old columns.
+    fn fill_gram(&mut self, chol: &CholeskySolver, union: &[usize], bounds: &[usize], first: usize) {
+        let m = self.paths.len();
         let stride = self.stride;
-        let bounds = self.solve_new(chol, &union, first);
-        // Rows `ja` of the Gram matrix for each group of new columns: per supernode
-        // `x_groupᵀ x_all` (the groups in parallel, each into its own rows).
         let blocks = &self.blocks;
-        let group_rows = |w: &[usize]| -> Vec<f64> {
-            let (a0, a1) = (w[0], w[1]);
-            let mut g = vec![0.0; (a1 - a0) * m];
-            for &s in &union {
-                let blk = &blocks[s];
-                let c = sn.supernode_end()[s] - sn.supernode_begin()[s];
-                let lo = blk.cols.partition_point(|&j| (j as usize) < a0);
-                let hi = blk.cols.partition_point(|&j| (j as usize) < a1);
-                if lo == hi {
-                    continue;
-                }
-                let x_group = MatRef::from_column_major_slice(&blk.vals[lo * c..hi * c], c, hi - lo);
-                let x_all = MatRef::from_column_major_slice(&blk.vals, c, blk.cols.len());
-                let mut h = Mat::<f64>::zeros(hi - lo, blk.cols.len());
-                matmul(
-                    h.as_mut(),
-                    Accum::Replace,
-                    x_group.transpose(),
-                    x_all,
-                    1.0,
-                    Par::Seq,
-                );
-                for a in 0..hi - lo {
-                    let row = &mut g[(blk.cols[lo + a] as usize - a0) * m..][..m];
-                    for (k, &jk) in blk.cols.iter().enumerate() {
-                        row[jk as usize] += h[(a, k)];
-                    }
-                }
-            }
-            g
-        };
+        let group_rows = |w: &[usize]| gram_rows(blocks, chol, union, w[0]..w[1], m);
         let windows: Vec<&[usize]> = bounds.windows(2).collect();
         let rows: Vec<Vec<f64>> = if windows.len() > 1 {
             windows.par_iter().map(|w| group_rows(w)).collect()
@@ -240,7 +242,6 @@ impl Columns {
                 }
             }
         }
-        first
     }
 
     /// Forward-solves the new columns `first..` (scattered into their blocks) on
@@ -255,7 +256,6 @@ impl Columns {
     /// values do not depend on the grouping.
     /// Returns the groups' bounds (`first`, …, `m`).
     fn solve_new(&mut self, chol: &CholeskySolver, union: &[usize], first: usize) -> Vec<usize> {
-        let sn = chol.supernodal();
         let m = self.paths.len();
         if m == first {
             return vec![first, m];
@@ -272,93 +272,15 @@ impl Columns {
                     .sum()
             })
             .collect();
-        let total: f64 = work.iter().sum();
-        let threads = chol.solve_parts().clamp(1, m - first);
-        // Contiguous groups of columns of about equal work.
-        let mut bounds = vec![first];
-        let mut acc = 0.0;
-        for (k, w) in work.iter().enumerate() {
-            acc += w;
-            if bounds.len() < threads && acc >= total * bounds.len() as f64 / threads as f64 {
-                bounds.push(first + k + 1);
-            }
-        }
-        bounds.push(m);
-        bounds.dedup();
+        let bounds = balanced_groups(&work, first, chol.solve_parts().clamp(1, m - first));
         let groups = bounds.len() - 1;
         let mut index = vec![u32::MAX; self.blocks.len()];
         for (u, &s) in union.iter().enumerate() {
             index[s] = u as u32;
         }
-        // Per group and union supernode: the first position of the group's
-        // columns in the block, the block's columns and the group's values.
-        let mut slices: Vec<Vec<GroupSlice>> =
-            (0..groups).map(|_| Vec::with_capacity(union.len())).collect();
-        for (s, blk) in self.blocks.iter_mut().enumerate() {
-            if index[s] == u32::MAX {
-                continue;
-            }
-            let c = sn.supernode_end()[s] - sn.supernode_begin()[s];
-            let Block { cols, vals } = blk;
-            let cols: &[u32] = cols;
-            let mut rest: &mut [f64] = vals;
-            let mut at = 0;
-            for (g, w) in bounds.windows(2).enumerate() {
-                let lo = cols.partition_point(|&j| (j as usize) < w[0]);
-                let hi = cols.partition_point(|&j| (j as usize) < w[1]);
-                let tail = std::mem::take(&mut rest).split_at_mut((lo - at) * c).1;
-                let (mine, after) = tail.split_at_mut((hi - lo) * c);
-                slices[g].push((lo, cols, mine));
-                rest = after;
-                at = hi;
-            }
-        }
+        let mut slices = group_slices(&mut self.blocks, chol, &index, union.len(), &bounds);
         let paths = &self.paths;
-        let l = chol.factor();
-        let solve = |slices: &mut Vec<GroupSlice>| {
-            let mut tmp: Vec<f64> = Vec::new();
-            for (u, &s) in union.iter().enumerate() {
-                let node = l.supernode(s);
-                let lv = node.val();
-                let c = lv.ncols();
-                let (head, after) = slices.split_at_mut(u + 1);
-                let (lo, cols, x) = &mut head[u];
-                let k = x.len() / c;
-                if k == 0 {
-                    continue;
-                }
-                let (top, bottom) = lv.split_at_row(c);
-                let mut xm = MatMut::from_column_major_slice_mut(x, c, k);
-                solve_lower_triangular_in_place(top, xm.as_mut(), Par::Seq);
-                let pattern = node.pattern();
-                if pattern.is_empty() {
-                    continue;
-                }
-                tmp.clear();
-                tmp.resize(pattern.len() * k, 0.0);
-                let tm = MatMut::from_column_major_slice_mut(&mut tmp, pattern.len(), k);
-                matmul(tm, Accum::Replace, bottom, xm.as_ref(), 1.0, Par::Seq);
-                let mut i = 0;
-                while i < pattern.len() {
-                    let t = chol.supernode_of(pattern[i]);
-                    let begin = sn.supernode_begin()[t];
-                    let end = sn.supernode_end()[t];
-                    let run = pattern[i..].partition_point(|&r| r < end);
-                    let ct = end - begin;
-                    let (lo_t, _, dst_all) = &mut after[index[t] as usize - u - 1];
-                    for q in 0..k {
-                        let j = cols[*lo + q] as usize;
-                        let pos = position(paths, j, t) - *lo_t;
-                        let dst = &mut dst_all[pos * ct..(pos + 1) * ct];
-                        let src = &tmp[q * pattern.len() + i..q * pattern.len() + i + run];
-                        for (&r, &v) in pattern[i..i + run].iter().zip(src) {
-                            dst[r - begin] -= v;
-                        }
-                    }
-                    i += run;
-                }
-            }
-        };
+        let solve = |slices: &mut Vec<GroupSlice>| forward_group(chol, union, &index, paths, slices);
         if groups > 1 {
             slices.par_iter_mut().for_each(solve);
         } else {
@@ -485,6 +407,177 @@ fn position(paths: &[Vec<(u32, u32)>], j: usize, s: usize) -> usize {
 }
 
 
+/// The columns `first..first + work.len()` cut into at most `groups`
+/// contiguous groups of about equal `work` (a group closes once the work up to
+/// it reaches its share of the total): the groups' bounds, `first` to the end,
+/// without an empty group.
+fn balanced_groups(work: &[f64], first: usize, groups: usize) -> Vec<usize> {
+    let total: f64 = work.iter().sum();
+    let mut bounds = vec![first];
+    let mut acc = 0.0;
+    for (k, w) in work.iter().enumerate() {
+        acc += w;
+        if bounds.len() < groups && acc >= total * bounds.len() as f64 / groups as f64 {
+            bounds.push(first + k + 1);
+        }
+    }
+    bounds.push(first + work.len());
+    bounds.dedup();
+    bounds
+}
+
+/// Each group's share (between consecutive `bounds`) of the blocks of the
+/// supernodes with an `index` in the union (`union_len` of them), in the
+/// union's order: the position of its first column in the block, the block's
+/// columns and its values, split off the blocks so the groups can be solved in
+/// parallel.
+fn group_slices<'a>(
+    blocks: &'a mut [Block],
+    chol: &CholeskySolver,
+    index: &[u32],
+    union_len: usize,
+    bounds: &[usize],
+) -> Vec<Vec<GroupSlice<'a>>> {
+    let sn = chol.supernodal();
+    let groups = bounds.len() - 1;
+    let mut slices: Vec<Vec<GroupSlice>> =
+        (0..groups).map(|_| Vec::with_capacity(union_len)).collect();
+    for (s, blk) in blocks.iter_mut().enumerate() {
+        if index[s] == u32::MAX {
+            continue;
+        }
+        let c = sn.supernode_end()[s] - sn.supernode_begin()[s];
+        let Block { cols, vals } = blk;
+        let cols: &[u32] = cols;
+        let mut rest: &mut [f64] = vals;
+        let mut at = 0;
+        for (g, w) in bounds.windows(2).enumerate() {
+            let lo = cols.partition_point(|&j| (j as usize) < w[0]);
+            let hi = cols.partition_point(|&j| (j as usize) < w[1]);
+            let tail = std::mem::take(&mut rest).split_at_mut((lo - at) * c).1;
+            let (mine, after) = tail.split_at_mut((hi - lo) * c);
+            slices[g].push((lo, cols, mine));
+            rest = after;
+            at = hi;
+        }
+    }
+    slices
+}
+
+/// Forward-solves one group's columns on the supernodes `union` (ascending,
+/// `slices` the group's share of each, `index` a supernode's place in the
+/// union): per supernode `x ← L_ss⁻¹ x` and the product `L_ps x` subtracted
+/// from the ancestors' rows ([`subtract_from_ancestors`]).
+fn forward_group(
+    chol: &CholeskySolver,
+    union: &[usize],
+    index: &[u32],
+    paths: &[Vec<(u32, u32)>],
+    slices: &mut [GroupSlice],
+) {
+    let l = chol.factor();
+    let mut tmp: Vec<f64> = Vec::new();
+    for (u, &s) in union.iter().enumerate() {
+        let node = l.supernode(s);
+        let lv = node.val();
+        let c = lv.ncols();
+        let (head, after) = slices.split_at_mut(u + 1);
+        let (lo, cols, x) = &mut head[u];
+        let k = x.len() / c;
+        if k == 0 {
+            continue;
+        }
+        let (top, bottom) = lv.split_at_row(c);
+        let mut xm = MatMut::from_column_major_slice_mut(x, c, k);
+        solve_lower_triangular_in_place(top, xm.as_mut(), Par::Seq);
+        let pattern = node.pattern();
+        if pattern.is_empty() {
+            continue;
+        }
+        tmp.clear();
+        tmp.resize(pattern.len() * k, 0.0);
+        let tm = MatMut::from_column_major_slice_mut(&mut tmp, pattern.len(), k);
+        matmul(tm, Accum::Replace, bottom, xm.as_ref(), 1.0, Par::Seq);
+        let group = &cols[*lo..*lo + k];
+        subtract_from_ancestors(chol, pattern, &tmp, group, paths, after, |t| {
+            index[t] as usize - u - 1
+        });
+    }
+}
+
+/// `x_t[rows] −= product[rows]` for each column `j` of `group` on the
+/// ancestors `t` its supernode's `pattern` reaches: `product` holds one
+/// column of `pattern.len()` values per column of the group, the pattern runs
+/// through the ancestors in ascending runs, and `after[slot(t)]` is the
+/// group's share of the block of `t`.
+fn subtract_from_ancestors(
+    chol: &CholeskySolver,
+    pattern: &[usize],
+    product: &[f64],
+    group: &[u32],
+    paths: &[Vec<(u32, u32)>],
+    after: &mut [GroupSlice],
+    slot: impl Fn(usize) -> usize,
+) {
+    let sn = chol.supernodal();
+    let rows = pattern.len();
+    let mut i = 0;
+    while i < rows {
+        let t = chol.supernode_of(pattern[i]);
+        let begin = sn.supernode_begin()[t];
+        let end = sn.supernode_end()[t];
+        let run = pattern[i..].partition_point(|&r| r < end);
+        let ct = end - begin;
+        let (lo_t, _, dst_all) = &mut after[slot(t)];
+        for (q, &j) in group.iter().enumerate() {
+            let pos = position(paths, j as usize, t) - *lo_t;
+            let dst = &mut dst_all[pos * ct..(pos + 1) * ct];
+            let src = &product[q * rows + i..q * rows + i + run];
+            for (&r, &v) in pattern[i..i + run].iter().zip(src) {
+                dst[r - begin] -= v;
+            }
+        }
+        i += run;
+    }
+}
+
+/// The rows `a` of the Gram matrix `G = VᵀV` of `m` columns (row-major,
+/// `a.len() × m`), summed supernode by supernode over `union` (ascending) as
+/// `x_aᵀ x_all` of the columns stored there: the same sums in the same order
+/// for any cut of the rows into groups.
+fn gram_rows(blocks: &[Block], chol: &CholeskySolver, union: &[usize], a: Range<usize>, m: usize) -> Vec<f64> {
+    let sn = chol.supernodal();
+    let (a0, a1) = (a.start, a.end);
+    let mut g = vec![0.0; (a1 - a0) * m];
+    for &s in union {
+        let blk = &blocks[s];
+        let c = sn.supernode_end()[s] - sn.supernode_begin()[s];
+        let lo = blk.cols.partition_point(|&j| (j as usize) < a0);
+        let hi = blk.cols.partition_point(|&j| (j as usize) < a1);
+        if lo == hi {
+            continue;
+        }
+        let x_group = MatRef::from_column_major_slice(&blk.vals[lo * c..hi * c], c, hi - lo);
+        let x_all = MatRef::from_column_major_slice(&blk.vals, c, blk.cols.len());
+        let mut h = Mat::<f64>::zeros(hi - lo, blk.cols.len());
+        matmul(
+            h.as_mut(),
+            Accum::Replace,
+            x_group.transpose(),
+            x_all,
+            1.0,
+            Par::Seq,
+        );
+        for a in 0..hi - lo {
+            let row = &mut g[(blk.cols[lo + a] as usize - a0) * m..][..m];
+            for (k, &jk) in blk.cols.iter().enumerate() {
+                row[jk as usize] += h[(a, k)];
+            }
+        }
+    }
+    g
+}
+
 /// Width `c` and rows below `p` of supernode `s`.
 fn width(chol: &CholeskySolver, s: usize) -> (f64, f64) {
     let sn = chol.supernodal();
@@ -582,4 +675,22 @@ mod tests {
             assert!((p - q).abs() < 1e-13 * q.abs().max(1.0));
         }
     }
+
+    /// Columns of unequal work cut into groups: each group closes once the
+    /// running work reaches its share of the total (10 of 20 for two groups;
+    /// equal work into three: 2 + 2 + 2), never more groups than asked, no
+    /// empty group, the bounds starting at `first` and ending past the last.
+    #[test]
+    fn groups_balance_the_work_of_contiguous_columns() {
+        assert_eq!(balanced_groups(&[4.0, 6.0, 5.0, 5.0], 7, 2), vec![7, 9, 11]);
+        assert_eq!(balanced_groups(&[1.0; 6], 0, 3), vec![0, 2, 4, 6]);
+        assert_eq!(balanced_groups(&[1.0, 9.0], 3, 1), vec![3, 5]);
+        assert_eq!(balanced_groups(&[9.0, 1.0], 0, 2), vec![0, 1, 2]);
+        // A heavy column closes the first group; each later one then reaches
+        // the next share at once.
+        assert_eq!(balanced_groups(&[0.0, 30.0, 1.0, 1.0], 0, 3), vec![0, 2, 3, 4]);
+        // Three groups asked of two columns: two groups (the last bound once).
+        assert_eq!(balanced_groups(&[1.0, 1.0], 0, 3), vec![0, 1, 2]);
+    }
+
 }

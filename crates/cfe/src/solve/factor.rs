@@ -199,8 +199,6 @@ impl NumericPlan {
         stop: Option<&AtomicUsize>,
     ) -> Result<(), Halt> {
         assert_eq!(values.len(), sn.len_val(), "factor storage of another size");
-        let n = sn.nrows();
-        let val_ptr = sn.col_ptr_for_val();
         let (col_ptr, row_idx, mut a_values) = a.into_parts();
         let whole = Input {
             col_ptr,
@@ -209,100 +207,102 @@ impl NumericPlan {
             first: 0,
         };
         let Some(split) = &self.split else {
-            let mut ws = Workspace::new(n, self.max_cols);
-            for s in 0..sn.n_supernodes() {
-                check(stop)?;
-                self.supernode(sn, Some(whole), s, values, 0, &mut ws, self.kernel_par(s), stop)?;
-            }
-            return Ok(());
+            return self.in_order(sn, Some(whole), 0..sn.n_supernodes(), values, stop);
         };
-        let mut local = vec![0u32; n];
-        for &s in split.top() {
-            let block = &mut values[val_ptr[s]..val_ptr[s + 1]];
-            load(sn, whole, s, block, &mut local);
-        }
-        drop(local);
-        // The values of each subtree (a contiguous range of supernodes, so of
-        // the factor's values and of the columns of `a`), handed to the thread of
-        // its part.
-        let mut pieces: Vec<(usize, Range<usize>)> = split
-            .part_subtrees()
-            .enumerate()
-            .flat_map(|(p, ts)| ts.into_iter().map(move |t| (p, t)))
-            .collect();
-        pieces.sort_by_key(|(_, t)| t.start);
-        let (begin, end) = (sn.supernode_begin(), sn.supernode_end());
-        let entries = |t: &Range<usize>| col_ptr[begin[t.start]]..col_ptr[end[t.end - 1]];
-        let mut tasks: Vec<Vec<Subtree<'_>>> = (0..split.parts()).map(|_| Vec::new()).collect();
-        let mut rest: &mut [f64] = values;
-        let mut at = 0;
-        let mut a_rest = match &mut a_values {
-            Cow::Owned(v) => Piece::Owned(v.as_mut_slice()),
-            Cow::Borrowed(v) => Piece::Shared(v),
-        };
-        let mut a_at = 0;
-        for (p, t) in pieces {
-            let (from, to) = (val_ptr[t.start], val_ptr[t.end]);
-            let tail = std::mem::take(&mut rest).split_at_mut(from - at).1;
-            let (mine, after) = tail.split_at_mut(to - from);
-            rest = after;
-            at = to;
-            let r = entries(&t);
-            let (a_mine, a_after) = a_rest.split(r.start - a_at, r.end - a_at);
-            a_rest = a_after;
-            a_at = r.end;
-            tasks[p].push(Subtree {
-                supernodes: t,
-                values: mine,
-                a: a_mine,
-                a_first: r.start,
-            });
-        }
-        let failed = tasks
-            .into_par_iter()
-            .map(|subtrees| {
-                let mut ws = Workspace::new(n, self.max_cols);
-                for Subtree {
-                    supernodes,
-                    values: vals,
-                    a: mut piece,
-                    a_first,
-                } in subtrees
-                {
-                    let base = val_ptr[supernodes.start];
-                    let mut given_back = 0;
-                    for s in supernodes {
-                        check(stop)?;
-                        let input = Input {
-                            col_ptr,
-                            row_idx,
-                            values: piece.get(),
-                            first: a_first,
-                        };
-                        self.supernode(sn, Some(input), s, vals, base, &mut ws, Par::Seq, stop)?;
-                        // The columns of `a` up to this supernode's are read.
-                        let read = col_ptr[end[s]] - a_first;
-                        if read >= given_back + DISCARD_VALUES {
-                            given_back = piece.discard(given_back, read);
-                        }
-                    }
-                    let read = piece.get().len();
-                    piece.discard(given_back, read);
-                }
-                Ok(())
-            })
-            .filter_map(|r: Result<(), Halt>| r.err())
-            .min();
+        load_top(sn, split, whole, values);
+        let tasks = subtree_tasks(sn, split, col_ptr, values, &mut a_values);
+        let failed = self.factorize_parts(sn, tasks, col_ptr, row_idx, stop);
         // Every column of `a` has been read.
         drop(a_values);
         if let Some(col) = failed {
             return Err(col);
         }
-        let mut ws = Workspace::new(n, self.max_cols);
-        for &s in split.top() {
+        self.in_order(sn, None, split.top().iter().copied(), values, stop)
+    }
+
+    /// The supernodes `nodes` computed one after another on this thread (each
+    /// with faer's parallel kernels if it is large, see
+    /// [`NumericPlan::kernel_par`]), their blocks loaded from `a` (`None`:
+    /// loaded already), into `values` (the whole factor); `stop` is read before
+    /// each.
+    fn in_order(
+        &self,
+        sn: &SymbolicSupernodalCholesky<usize>,
+        a: Option<Input<'_>>,
+        nodes: impl Iterator<Item = usize>,
+        values: &mut [f64],
+        stop: Option<&AtomicUsize>,
+    ) -> Result<(), Halt> {
+        let mut ws = Workspace::new(sn.nrows(), self.max_cols);
+        for s in nodes {
             check(stop)?;
-            self.supernode(sn, None, s, values, 0, &mut ws, self.kernel_par(s), stop)?;
+            self.supernode(sn, a, s, values, 0, &mut ws, self.kernel_par(s), stop)?;
         }
+        Ok(())
+    }
+
+    /// The subtrees of each part factorized, the parts in parallel (one thread
+    /// each, sequential kernels): the first pivot failure or stop of any part
+    /// (the smallest column if several parts fail), `None` when all succeed.
+    fn factorize_parts(
+        &self,
+        sn: &SymbolicSupernodalCholesky<usize>,
+        tasks: Vec<Vec<Subtree<'_>>>,
+        col_ptr: &[usize],
+        row_idx: &[u32],
+        stop: Option<&AtomicUsize>,
+    ) -> Option<Halt> {
+        tasks
+            .into_par_iter()
+            .map(|subtrees| {
+                let mut ws = Workspace::new(sn.nrows(), self.max_cols);
+                for subtree in subtrees {
+                    self.factorize_subtree(sn, subtree, col_ptr, row_idx, &mut ws, stop)?;
+                }
+                Ok(())
+            })
+            .filter_map(|r: Result<(), Halt>| r.err())
+            .min()
+    }
+
+    /// The supernodes of one subtree computed in order with sequential
+    /// kernels, each from its columns of `a`, whose pages are given back (when
+    /// owned) as they are read, every `DISCARD_VALUES` values and at the end.
+    fn factorize_subtree(
+        &self,
+        sn: &SymbolicSupernodalCholesky<usize>,
+        subtree: Subtree<'_>,
+        col_ptr: &[usize],
+        row_idx: &[u32],
+        ws: &mut Workspace,
+        stop: Option<&AtomicUsize>,
+    ) -> Result<(), Halt> {
+        let Subtree {
+            supernodes,
+            values: vals,
+            a: mut piece,
+            a_first,
+        } = subtree;
+        let end = sn.supernode_end();
+        let base = sn.col_ptr_for_val()[supernodes.start];
+        let mut given_back = 0;
+        for s in supernodes {
+            check(stop)?;
+            let input = Input {
+                col_ptr,
+                row_idx,
+                values: piece.get(),
+                first: a_first,
+            };
+            self.supernode(sn, Some(input), s, vals, base, ws, Par::Seq, stop)?;
+            // The columns of `a` up to this supernode's are read.
+            let read = col_ptr[end[s]] - a_first;
+            if read >= given_back + DISCARD_VALUES {
+                given_back = piece.discard(given_back, read);
+            }
+        }
+        let read = piece.get().len();
+        piece.discard(given_back, read);
         Ok(())
     }
 
@@ -397,6 +397,65 @@ impl NumericPlan {
         lower_solve(top.as_ref(), bottom.transpose_mut(), par, stop)?;
         Ok(())
     }
+}
+
+/// Loads the blocks of the top supernodes of `split` from `a` into `values` (the
+/// whole factor), before the subtrees take their columns of `a` away.
+fn load_top(sn: &SymbolicSupernodalCholesky<usize>, split: &SubtreeSplit, a: Input<'_>, values: &mut [f64]) {
+    let val_ptr = sn.col_ptr_for_val();
+    let mut local = vec![0u32; sn.nrows()];
+    for &s in split.top() {
+        let block = &mut values[val_ptr[s]..val_ptr[s + 1]];
+        load(sn, a, s, block, &mut local);
+    }
+}
+
+/// The work of each part of `split`: its subtrees, each handed its values of
+/// the factor and its values of `a` (a subtree is a contiguous range of
+/// supernodes, so of the factor's values and of the columns of `a`; the
+/// subtrees are cut off `values` and `a_values` in ascending order).
+fn subtree_tasks<'v>(
+    sn: &SymbolicSupernodalCholesky<usize>,
+    split: &SubtreeSplit,
+    col_ptr: &[usize],
+    values: &'v mut [f64],
+    a_values: &'v mut Cow<'_, [f64]>,
+) -> Vec<Vec<Subtree<'v>>> {
+    let val_ptr = sn.col_ptr_for_val();
+    let mut pieces: Vec<(usize, Range<usize>)> = split
+        .part_subtrees()
+        .enumerate()
+        .flat_map(|(p, ts)| ts.into_iter().map(move |t| (p, t)))
+        .collect();
+    pieces.sort_by_key(|(_, t)| t.start);
+    let (begin, end) = (sn.supernode_begin(), sn.supernode_end());
+    let entries = |t: &Range<usize>| col_ptr[begin[t.start]]..col_ptr[end[t.end - 1]];
+    let mut tasks: Vec<Vec<Subtree<'_>>> = (0..split.parts()).map(|_| Vec::new()).collect();
+    let mut rest: &mut [f64] = values;
+    let mut at = 0;
+    let mut a_rest = match a_values {
+        Cow::Owned(v) => Piece::Owned(v.as_mut_slice()),
+        Cow::Borrowed(v) => Piece::Shared(v),
+    };
+    let mut a_at = 0;
+    for (p, t) in pieces {
+        let (from, to) = (val_ptr[t.start], val_ptr[t.end]);
+        let tail = std::mem::take(&mut rest).split_at_mut(from - at).1;
+        let (mine, after) = tail.split_at_mut(to - from);
+        rest = after;
+        at = to;
+        let r = entries(&t);
+        let (a_mine, a_after) = a_rest.split(r.start - a_at, r.end - a_at);
+        a_rest = a_after;
+        a_at = r.end;
+        tasks[p].push(Subtree {
+            supernodes: t,
+            values: mine,
+            a: a_mine,
+            a_first: r.start,
+        });
+    }
+    tasks
 }
 
 /// Loads the block `ls` of supernode `s` from `a`: zeros, then the columns of

@@ -40,17 +40,9 @@ fn interrupted(Stopped(signal): Stopped) -> Error {
     }
 }
 
-/// The stiffness (pattern of every part and coupling element in the
-/// nested-dissection elimination order, values of the parts) and its Cholesky
-/// solver after the symbolic analysis in that order. `stop`, if given, is read
-/// between the steps and within the long ones (see the module's text): once it
-/// is nonzero the analysis is abandoned with [`Error::Interrupted`].
-pub fn pattern_and_symbolic(
-    parts: &[Part],
-    interfaces: &[Interface],
-    dofs: &DofMap,
-    stop: Option<&AtomicUsize>,
-) -> Result<(Stiffness, CholeskySolver)> {
+/// Refuses with [`Error::TooLarge`] a system of more equations than a
+/// stiffness matrix can index (`MAX_EQUATIONS`), before anything is built.
+fn check_indexable(dofs: &DofMap) -> Result<()> {
     if dofs.n_eq > MAX_EQUATIONS {
         return Err(Error::TooLarge {
             unknowns: dofs.n_eq as u64,
@@ -62,6 +54,33 @@ pub fn pattern_and_symbolic(
             ),
         });
     }
+    Ok(())
+}
+
+/// The elimination order (`order[new] = old`) and its inverse in 4 bytes an
+/// equation, as they are held beside the factor (the equations are at most
+/// `MAX_EQUATIONS`, checked by [`check_indexable`]).
+fn compact_order(order: Vec<usize>) -> (Vec<u32>, Vec<u32>) {
+    let order: Vec<u32> = order.into_iter().map(|e| e as u32).collect();
+    let mut inverse = vec![0u32; order.len()];
+    for (new, &old) in order.iter().enumerate() {
+        inverse[old as usize] = new as u32;
+    }
+    (order, inverse)
+}
+
+/// The stiffness (pattern of every part and coupling element in the
+/// nested-dissection elimination order, values of the parts) and its Cholesky
+/// solver after the symbolic analysis in that order. `stop`, if given, is read
+/// between the steps and within the long ones (see the module's text): once it
+/// is nonzero the analysis is abandoned with [`Error::Interrupted`].
+pub fn pattern_and_symbolic(
+    parts: &[Part],
+    interfaces: &[Interface],
+    dofs: &DofMap,
+    stop: Option<&AtomicUsize>,
+) -> Result<(Stiffness, CholeskySolver)> {
+    check_indexable(dofs)?;
     check(stop).map_err(interrupted)?;
     let graph = NodeGraph::new_until(parts, interfaces, dofs, stop).map_err(interrupted)?;
     let coords: Vec<[f64; 2]> = parts
@@ -76,13 +95,7 @@ pub fn pattern_and_symbolic(
     let order = order.map_err(interrupted)?;
     let k = k.map_err(interrupted)?;
     check(stop).map_err(interrupted)?;
-    // The order and its inverse in 4 bytes an equation (held beside the factor;
-    // `n_eq ≤ MAX_EQUATIONS` is checked above).
-    let order: Vec<u32> = order.into_iter().map(|e| e as u32).collect();
-    let mut inverse = vec![0u32; order.len()];
-    for (new, &old) in order.iter().enumerate() {
-        inverse[old as usize] = new as u32;
-    }
+    let (order, inverse) = compact_order(order);
     // The elimination tree (from the upper triangle of P K Pᵀ) beside the lower
     // triangle in the elimination order (the stiffness's storage, also what the
     // column counts read).
@@ -292,4 +305,15 @@ mod tests {
             other => panic!("expected Interrupted, got {:?}", other.map(|_| ())),
         }
     }
+
+    /// The compact order keeps the permutation and its inverse undoes it:
+    /// `inverse[order[new]] = new` for every equation.
+    #[test]
+    fn compact_order_is_the_permutation_and_its_inverse() {
+        let (order, inverse) = compact_order(vec![3, 0, 4, 1, 2]);
+        assert_eq!(order, vec![3, 0, 4, 1, 2]);
+        assert_eq!(inverse, vec![1, 3, 4, 0, 2]);
+        assert!(order.iter().enumerate().all(|(new, &old)| inverse[old as usize] as usize == new));
+    }
+
 }

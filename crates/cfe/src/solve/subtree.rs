@@ -100,77 +100,43 @@ impl SubtreeSplit {
         if parts < 2 || ns < 2 || parent.len() != ns {
             return None;
         }
-        let begin = sn.supernode_begin();
-        let end = sn.supernode_end();
-        // Subtree work, first supernode and size (children are numbered first).
-        let mut work: Vec<f64> = (0..ns).map(own_work).collect();
-        let mut first: Vec<usize> = (0..ns).collect();
-        let mut size = vec![1usize; ns];
-        let mut children: Vec<Vec<usize>> = vec![Vec::new(); ns];
-        let mut roots = Vec::new();
-        for s in 0..ns {
-            let p = parent[s];
-            if p == usize::MAX {
-                roots.push(s);
-                continue;
-            }
-            if p <= s || p >= ns {
-                return None;
-            }
-            work[p] += work[s];
-            first[p] = first[p].min(first[s]);
-            size[p] += size[s];
-            children[p].push(s);
-        }
-        let total: f64 = roots.iter().map(|&r| work[r]).sum();
-        let own = |s: usize| work[s] - children[s].iter().map(|&c| work[c]).sum::<f64>();
-        // Greedy: move the root of the heaviest subtree to the top while that
-        // shortens the critical path (top work + heaviest part).
-        let mut frontier = roots;
-        let mut top_work = 0.0;
-        let mut best: Option<(f64, Vec<usize>)> = None;
-        let mut stale = 0;
-        for _ in 0..MAX_SPLITS.min(ns) {
-            let loads = pack(&frontier, &work, parts).1;
-            let cost = top_work + loads.iter().cloned().fold(0.0, f64::max);
-            if best.as_ref().is_none_or(|(c, _)| cost < *c) {
-                best = Some((cost, frontier.clone()));
-                stale = 0;
-            }
-            stale += 1;
-            if top_work > 0.5 * total || stale > MAX_STALE {
-                break;
-            }
-            let Some((i, _)) = frontier
-                .iter()
-                .enumerate()
-                .filter(|(_, s)| !children[**s].is_empty())
-                .max_by(|a, b| work[*a.1].total_cmp(&work[*b.1]))
-            else {
-                break;
-            };
-            let s = frontier.swap_remove(i);
-            top_work += own(s);
-            frontier.extend_from_slice(&children[s]);
-        }
-        let (critical, frontier) = best?;
+        let tree = Tree::new(parent, own_work)?;
+        let total = tree.total();
+        let (critical, frontier) = tree.best_frontier(parts, total)?;
         if critical > 0.9 * total {
             return None;
         }
-        if frontier.iter().any(|&s| size[s] != s + 1 - first[s]) {
+        if frontier.iter().any(|&s| !tree.is_contiguous(s)) {
             return None;
         }
-        let (bins, _) = pack(&frontier, &work, parts);
+        let (begin, end) = (sn.supernode_begin(), sn.supernode_end());
+        Some(Self::below(begin, end, &tree, &frontier, parts, critical / total))
+    }
+
+    /// The split with the subtrees of the roots `frontier` packed into `parts`
+    /// parts and every other supernode on top (`begin`, `end`: the supernodes'
+    /// column ranges; `critical`: the critical path's fraction of the work).
+    fn below<I: Index>(
+        begin: &[I],
+        end: &[I],
+        tree: &Tree,
+        frontier: &[usize],
+        parts: usize,
+        critical: f64,
+    ) -> Self {
+        let ns = tree.work.len();
+        let (bins, _) = pack(frontier, &tree.work, parts);
         let mut below = vec![false; ns];
         let parts: Vec<Vec<Subtree>> = bins
             .into_iter()
             .map(|bin| {
                 bin.into_iter()
                     .map(|s| {
-                        below[first[s]..=s].fill(true);
+                        let first = tree.first[s];
+                        below[first..=s].fill(true);
                         Subtree {
-                            supernodes: first[s]..s + 1,
-                            columns: begin[first[s]].zx()..end[s].zx(),
+                            supernodes: first..s + 1,
+                            columns: begin[first].zx()..end[s].zx(),
                         }
                     })
                     .collect()
@@ -183,13 +149,13 @@ impl SubtreeSplit {
             top_offset[s] = top_len;
             top_len += end[s].zx() - begin[s].zx();
         }
-        Some(SubtreeSplit {
+        SubtreeSplit {
             parts,
             top,
             top_offset,
             top_len,
-            critical: critical / total,
-        })
+            critical,
+        }
     }
 
     /// Number of parts solved in parallel.
@@ -375,6 +341,110 @@ impl<I: Index> Spill<'_, I> {
     }
 }
 
+/// The supernodal tree with its subtree sums (children are numbered before
+/// their parents).
+#[derive(Debug)]
+struct Tree {
+    /// Work of the subtree rooted at each supernode.
+    work: Vec<f64>,
+    /// First supernode (smallest number) of each subtree.
+    first: Vec<usize>,
+    /// Supernodes in each subtree.
+    size: Vec<usize>,
+    /// The children of each supernode, ascending.
+    children: Vec<Vec<usize>>,
+    /// The roots, ascending.
+    roots: Vec<usize>,
+}
+
+impl Tree {
+    /// The tree of `parent` (`usize::MAX` for a root) with the work of supernode
+    /// `s` given by `own_work(s)`, its subtree sums accumulated children first;
+    /// `None` when a parent is not numbered after its child.
+    fn new(parent: &[usize], own_work: impl Fn(usize) -> f64) -> Option<Self> {
+        let ns = parent.len();
+        let mut work: Vec<f64> = (0..ns).map(own_work).collect();
+        let mut first: Vec<usize> = (0..ns).collect();
+        let mut size = vec![1usize; ns];
+        let mut children: Vec<Vec<usize>> = vec![Vec::new(); ns];
+        let mut roots = Vec::new();
+        for s in 0..ns {
+            let p = parent[s];
+            if p == usize::MAX {
+                roots.push(s);
+                continue;
+            }
+            if p <= s || p >= ns {
+                return None;
+            }
+            work[p] += work[s];
+            first[p] = first[p].min(first[s]);
+            size[p] += size[s];
+            children[p].push(s);
+        }
+        Some(Tree {
+            work,
+            first,
+            size,
+            children,
+            roots,
+        })
+    }
+
+    /// The work of the whole tree (its roots' subtrees).
+    fn total(&self) -> f64 {
+        self.roots.iter().map(|&r| self.work[r]).sum()
+    }
+
+    /// The work of supernode `s` alone.
+    fn own(&self, s: usize) -> f64 {
+        self.work[s] - self.children[s].iter().map(|&c| self.work[c]).sum::<f64>()
+    }
+
+    /// True when the subtree of `s` is the contiguous range of supernodes
+    /// `first[s]..=s`.
+    fn is_contiguous(&self, s: usize) -> bool {
+        self.size[s] == s + 1 - self.first[s]
+    }
+
+    /// The cut of the tree with the shortest critical path (the work above the
+    /// cut plus the heaviest of `parts` parts packed from the subtrees below
+    /// it), found greedily: the root of the heaviest subtree is moved to the top
+    /// while that may shorten the path (at most `MAX_SPLITS` moves, stopping
+    /// `MAX_STALE` moves past the best or once the top holds half of `total`).
+    /// Returns the critical path and the roots of the subtrees below the cut.
+    fn best_frontier(&self, parts: usize, total: f64) -> Option<(f64, Vec<usize>)> {
+        let mut frontier = self.roots.clone();
+        let mut top_work = 0.0;
+        let mut best: Option<(f64, Vec<usize>)> = None;
+        let mut stale = 0;
+        for _ in 0..MAX_SPLITS.min(self.work.len()) {
+            let loads = pack(&frontier, &self.work, parts).1;
+            let cost = top_work + loads.iter().cloned().fold(0.0, f64::max);
+            if best.as_ref().is_none_or(|(c, _)| cost < *c) {
+                best = Some((cost, frontier.clone()));
+                stale = 0;
+            }
+            stale += 1;
+            if top_work > 0.5 * total || stale > MAX_STALE {
+                break;
+            }
+            let Some((i, _)) = frontier
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| !self.children[**s].is_empty())
+                .max_by(|a, b| self.work[*a.1].total_cmp(&self.work[*b.1]))
+            else {
+                break;
+            };
+            let s = frontier.swap_remove(i);
+            top_work += self.own(s);
+            frontier.extend_from_slice(&self.children[s]);
+        }
+        best
+    }
+}
+
 /// The subtrees packed into `parts` bins, heaviest first into the lightest bin
 /// (LPT), and the bins' loads.
 fn pack(subtrees: &[usize], work: &[f64], parts: usize) -> (Vec<Vec<usize>>, Vec<f64>) {
@@ -462,5 +532,47 @@ fn backward_nodes<I: Index>(
             matmul(x.as_mut(), Accum::Add, bottom.transpose(), xp, -1.0, Par::Seq);
         }
         solve_upper_triangular_in_place(top.transpose(), x, Par::Seq);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Subtree sums of a small tree, children numbered first: 0, 1 → 2 and
+    /// 2, 3 → 4, the work of each subtree the sum of its own (1, 2, 4, 8, 16),
+    /// its first supernode and size; a parent numbered before its child is refused.
+    #[test]
+    fn tree_sums_its_subtrees_and_refuses_a_parent_before_its_child() {
+        let parent = [2, 2, 4, 4, usize::MAX];
+        let tree = Tree::new(&parent, |s| (1u32 << s) as f64).unwrap();
+        assert_eq!(tree.work, vec![1.0, 2.0, 7.0, 8.0, 31.0]);
+        assert_eq!(tree.first, vec![0, 1, 0, 3, 0]);
+        assert_eq!(tree.size, vec![1, 1, 3, 1, 5]);
+        assert_eq!(tree.roots, vec![4]);
+        assert_eq!(tree.total(), 31.0);
+        assert_eq!(tree.own(2), 4.0);
+        assert!((0..5).all(|s| tree.is_contiguous(s)));
+        assert!(Tree::new(&[usize::MAX, 0], |_| 1.0).is_none());
+    }
+
+    /// A root over two equal leaves: cutting below the root gives a critical
+    /// path of the root's own work plus one leaf (1 + 10, against 21 uncut),
+    /// and the split puts one leaf in each part and the root on top.
+    #[test]
+    fn the_best_cut_of_a_root_over_two_leaves_is_below_the_root() {
+        let parent = [2, 2, usize::MAX];
+        let tree = Tree::new(&parent, |s| if s < 2 { 10.0 } else { 1.0 }).unwrap();
+        let (critical, frontier) = tree.best_frontier(2, tree.total()).unwrap();
+        assert_eq!(critical, 11.0);
+        assert_eq!(frontier, vec![0, 1]);
+        let (begin, end) = ([0usize, 2, 4], [2usize, 4, 5]);
+        let split = SubtreeSplit::below(&begin, &end, &tree, &frontier, 2, critical / tree.total());
+        assert_eq!(split.parts(), 2);
+        let subtrees: Vec<Vec<Range<usize>>> = split.part_subtrees().collect();
+        assert_eq!(subtrees, vec![vec![0..1], vec![1..2]]);
+        assert_eq!(split.parts[1][0].columns, 2..4);
+        assert_eq!(split.top(), &[2]);
+        assert_eq!((split.top_offset[2], split.top_len), (0, 1));
     }
 }

@@ -50,6 +50,64 @@ pub fn solve_completed(a: &Analysis) -> cfe::analysis::Results {
     res
 }
 
+/// The path of `examples/<name>` (e.g. `"plate_on_base.toml"`).
+pub fn example_path(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
+
+/// The analysis of `examples/<name>`, its meshes refined `refine` times.
+pub fn example(name: &str, refine: usize) -> Analysis {
+    Analysis::new(Model::from_file(&example_path(name), refine).unwrap()).unwrap()
+}
+
+/// The external load of `a` on its free equations (the right-hand side of a
+/// linear solve).
+pub fn free_load(a: &Analysis) -> Vec<f64> {
+    let f = cfe::assembly::external_force(&a.model.loads, &a.dofs);
+    a.dofs
+        .eq
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| **e != usize::MAX)
+        .map(|(d, _)| f[d])
+        .collect()
+}
+
+/// The free equations of the DOFs of interface `i`'s coupling elements,
+/// element by element in their DOF order (an equation shared by elements
+/// repeats).
+pub fn coupling_equations(a: &Analysis, i: usize) -> Vec<usize> {
+    let iface = &a.interfaces[i];
+    iface
+        .elements
+        .iter()
+        .flat_map(|c| {
+            c.dofs(&a.dofs, iface.host, iface.node_part)
+                .as_slice()
+                .to_vec()
+        })
+        .map(|d| a.dofs.eq[d])
+        .filter(|&e| e != usize::MAX)
+        .collect()
+}
+
+/// Three patterns of one interface with `n` pairs: all bonded; the three
+/// outermost pairs at each end open; every third pair open.
+pub fn contact_patterns(n: usize) -> [Vec<Vec<PairState>>; 3] {
+    let bonded = vec![vec![PairState::Bonded; n]];
+    let mut ends = bonded.clone();
+    for k in [0, 1, 2, n - 3, n - 2, n - 1] {
+        ends[0][k] = PairState::Open;
+    }
+    let mut thirds = bonded.clone();
+    for k in (0..n).step_by(3) {
+        thirds[0][k] = PairState::Open;
+    }
+    [bonded, ends, thirds]
+}
+
 /// Displacement (x, y) of the node of `part` at `at`.
 pub fn displacement_at(a: &Analysis, inc: &IncrementResult, part: &str, at: [f64; 2]) -> [f64; 2] {
     let p = a.model.part_index(part).expect("part");
@@ -318,6 +376,27 @@ impl Problem {
         p
     }
 
+    /// The last part's mesh: an annulus sector about `center` (radii `r`,
+    /// angles `theta` in degrees, `cells` radially and around) of `elements`
+    /// ("q4", "t3").
+    pub fn annulus(
+        self,
+        center: [f64; 2],
+        r: [f64; 2],
+        theta: [f64; 2],
+        cells: [usize; 2],
+        elements: &str,
+    ) -> Problem {
+        let mesh = format!(
+            "{{ center = {}, r = {}, theta = {}, cells = {}, elements = \"{elements}\" }}",
+            center.toml(),
+            r.toml(),
+            theta.toml(),
+            cells.toml()
+        );
+        self.key("annulus", Raw(&mesh))
+    }
+
     /// The cells of part `name`'s rectangle.
     pub fn cells(mut self, name: &str, cells: [usize; 2]) -> Problem {
         self.rect_of(name).cells = cells;
@@ -375,6 +454,14 @@ impl Problem {
             .key("part", part)
             .key("at", at)
             .key("fix", fix)
+    }
+
+    /// The symmetry supports of a quarter annulus `part` (θ from 0 to 90°): its
+    /// `start` edge (on the x axis) held in y, its `end` edge (on the y axis)
+    /// in x.
+    pub fn quarter_symmetry(self, part: &str) -> Problem {
+        self.support(part, "start", ["y"])
+            .support(part, "end", ["x"])
     }
 
     /// `part`'s bottom on rollers (y fixed) and its node at `at` held in x.
