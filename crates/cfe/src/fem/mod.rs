@@ -9,11 +9,13 @@
 
 pub mod axisymmetric;
 pub mod element;
+pub mod face3;
 pub(crate) mod loads;
 pub mod material;
 pub mod q4;
 pub mod recovery;
 pub mod solid;
 pub mod t3;
+pub mod tet4;
 
 pub use material::{Material, PlaneKind};
