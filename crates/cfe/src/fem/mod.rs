@@ -10,6 +10,7 @@
 pub mod axisymmetric;
 pub mod element;
 pub mod face3;
+pub mod hex8;
 pub(crate) mod loads;
 pub mod material;
 pub mod q4;
