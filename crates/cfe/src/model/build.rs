@@ -1210,7 +1210,7 @@ fn names<'s>(
 /// triangulated mesh, whose edges are at most 3 and triangles at most 2 per
 /// node), `u64::MAX` when that overflows, so [`check_size`] refuses it before
 /// any memory is spent.
-fn refined_nodes(nodes: usize, refine: usize) -> u64 {
+pub(super) fn refined_nodes(nodes: usize, refine: usize) -> u64 {
     let k = refine as u64;
     (nodes as u64)
         .checked_mul(k)
@@ -1248,7 +1248,7 @@ fn unique_defaults(names: Vec<(String, bool)>) -> Vec<String> {
 
 /// ([`crate::results::memory::estimated_peak_bytes`]) exceeds what the machine has
 /// available, before it is meshed.
-fn check_size(nodes: u64, refine: usize) -> Result<()> {
+pub(super) fn check_size(nodes: u64, refine: usize) -> Result<()> {
     let unknowns = nodes.saturating_mul(2);
     let bytes = crate::results::memory::estimated_peak_bytes(unknowns);
     let Some(available) = crate::results::memory::available_memory_bytes() else {
