@@ -108,6 +108,7 @@ impl Summary {
                         name: pr.name.clone(),
                         part: part.name.clone(),
                         node: pr.node,
+                        element: pr.element,
                         at: pr.at,
                         x: x[0],
                         y: x[1],
@@ -323,11 +324,11 @@ impl Summary {
                 .collect(),
             probes: (p.probes.iter())
                 .map(|pr| {
-                    let g = p.dofs.node_offset[pr.part] + pr.node;
+                    let [ux, uy] = pr.displacement(&inc.u, p.dofs.node_offset[pr.part]);
                     ProbeHistory {
                         probe: pr.name.clone(),
-                        ux: inc.u[2 * g],
-                        uy: inc.u[2 * g + 1],
+                        ux,
+                        uy,
                     }
                 })
                 .collect(),
