@@ -832,8 +832,9 @@ fn axisymmetric_deck_matches_its_toml_twin() {
 /// displacement of the same block meshed by the built-in rectangle with K× the
 /// cells (its twin, the node matched by position) to round-off (1e-10 of the
 /// largest): the refined clamp holds the new nodes of its face, the pressure
-/// acts on the refined top, the point force stays on its node; and
-/// `with_refine` gives the same model as reading at that factor.
+/// acts on the refined top, the point force stays on its node — also when the
+/// clamp is written node by node, one *BOUNDARY line each; and `with_refine`
+/// gives the same model as reading at that factor.
 #[test]
 fn deck_refined_matches_the_refined_rectangle() {
     let text = "*NODE, NSET=ALL\n1, 0., 0.\n2, 1., 0.\n3, 2., 0.\n4, 0., 1.\n5, 1., 1.\n6, 2., 1.\n\
@@ -843,40 +844,59 @@ fn deck_refined_matches_the_refined_rectangle() {
         *BOUNDARY\nCLAMP, 1, 2\n\
         *STEP\n*STATIC\n*CLOAD\n6, 2, -3.\n6, 1, 1.\n*DLOAD\nBLOCK, P3, 4.\n*END STEP\n";
     let dir = scratch("refine");
-    let path = dir.join("block.inp");
-    std::fs::write(&path, text).unwrap();
-    for k in 1..=3usize {
-        let twin = format!(
-            "plane = \"strain\"\n[materials.M]\nE = 1000.0\nnu = 0.25\n[[part]]\nname = \"BLOCK\"\nmaterial = \"M\"\nthickness = 0.5\nrectangle = {{ x = [0.0, 2.0], y = [0.0, 1.0], cells = [{}, {}], elements = \"q4\" }}\n[[support]]\npart = \"BLOCK\"\nboundary = \"bottom\"\nfix = [\"x\", \"y\"]\n[[load]]\npart = \"BLOCK\"\nat = [2.0, 1.0]\nforce = [1.0, -3.0]\n[[load]]\npart = \"BLOCK\"\nboundary = \"top\"\npressure = 2.0\n[analysis]\nincrements = 1\n",
-            2 * k,
-            k
-        );
-        let a = Analysis::new(Model::from_str(&twin, Path::new("twin.toml"), 1).unwrap()).unwrap();
-        let model = Model::from_file(&path, k).unwrap();
-        assert_eq!(model.refine, k);
-        let again = Model::from_file(&path, 1).unwrap().with_refine(k).unwrap();
-        assert_eq!(again.parts[0].mesh.nodes, model.parts[0].mesh.nodes);
-        assert_eq!(again.supports[0].nodes, model.supports[0].nodes);
-        let b = Analysis::new(model).unwrap();
-        assert_eq!(b.model.parts[0].mesh.elements.len(), 2 * k * k);
-        assert_eq!(b.model.supports[0].nodes.len(), 2 * k + 1);
-        let (ua, ub) = (common::solve(&a), common::solve(&b));
-        let (ua, ub) = (&ua.last().unwrap().u, &ub.last().unwrap().u);
-        let scale = ua.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-        let (ma, mb) = (&a.model.parts[0].mesh, &b.model.parts[0].mesh);
-        assert_eq!(ma.nodes.len(), mb.nodes.len());
-        let mut worst: f64 = 0.0;
-        for (n, x) in mb.nodes.iter().enumerate() {
-            let m = ma
-                .nodes
-                .iter()
-                .position(|y| (y[0] - x[0]).abs() < 1e-12 && (y[1] - x[1]).abs() < 1e-12)
-                .expect("the twin has a node here");
-            let (ga, gb) = (a.dofs.node(0, m), b.dofs.node(0, n));
-            for c in 0..2 {
-                worst = worst.max((ua[2 * ga + c] - ub[2 * gb + c]).abs());
+    for (file, text) in [
+        ("block.inp", text.to_string()),
+        (
+            "by_node.inp",
+            text.replace("CLAMP, 1, 2\n", "1, 1, 2\n2, 1, 2\n3, 1, 2\n"),
+        ),
+    ] {
+        let path = dir.join(file);
+        std::fs::write(&path, &text).unwrap();
+        for k in 1..=3usize {
+            let twin = format!(
+                "plane = \"strain\"\n[materials.M]\nE = 1000.0\nnu = 0.25\n[[part]]\nname = \"BLOCK\"\nmaterial = \"M\"\nthickness = 0.5\nrectangle = {{ x = [0.0, 2.0], y = [0.0, 1.0], cells = [{}, {}], elements = \"q4\" }}\n[[support]]\npart = \"BLOCK\"\nboundary = \"bottom\"\nfix = [\"x\", \"y\"]\n[[load]]\npart = \"BLOCK\"\nat = [2.0, 1.0]\nforce = [1.0, -3.0]\n[[load]]\npart = \"BLOCK\"\nboundary = \"top\"\npressure = 2.0\n[analysis]\nincrements = 1\n",
+                2 * k,
+                k
+            );
+            let a =
+                Analysis::new(Model::from_str(&twin, Path::new("twin.toml"), 1).unwrap()).unwrap();
+            let model = Model::from_file(&path, k).unwrap();
+            assert_eq!(model.refine, k);
+            let again = Model::from_file(&path, 1).unwrap().with_refine(k).unwrap();
+            assert_eq!(again.parts[0].mesh.nodes, model.parts[0].mesh.nodes);
+            assert!(
+                again
+                    .supports
+                    .iter()
+                    .map(|s| &s.nodes)
+                    .eq(model.supports.iter().map(|s| &s.nodes))
+            );
+            let b = Analysis::new(model).unwrap();
+            assert_eq!(b.model.parts[0].mesh.elements.len(), 2 * k * k);
+            let held: usize = b.model.supports.iter().map(|s| s.nodes.len()).sum();
+            assert_eq!(held, 2 * k + 1);
+            let (ua, ub) = (common::solve(&a), common::solve(&b));
+            let (ua, ub) = (&ua.last().unwrap().u, &ub.last().unwrap().u);
+            let scale = ua.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            let (ma, mb) = (&a.model.parts[0].mesh, &b.model.parts[0].mesh);
+            assert_eq!(ma.nodes.len(), mb.nodes.len());
+            let mut worst: f64 = 0.0;
+            for (n, x) in mb.nodes.iter().enumerate() {
+                let m = ma
+                    .nodes
+                    .iter()
+                    .position(|y| (y[0] - x[0]).abs() < 1e-12 && (y[1] - x[1]).abs() < 1e-12)
+                    .expect("the twin has a node here");
+                let (ga, gb) = (a.dofs.node(0, m), b.dofs.node(0, n));
+                for c in 0..2 {
+                    worst = worst.max((ua[2 * ga + c] - ub[2 * gb + c]).abs());
+                }
             }
+            assert!(
+                worst <= 1e-10 * scale,
+                "{file}, refine {k}: {worst:e} of {scale:e}"
+            );
         }
-        assert!(worst <= 1e-10 * scale, "refine {k}: {worst:e} of {scale:e}");
     }
 }

@@ -865,12 +865,15 @@ fn draw_triad(
 pub struct InterfacePlane {
     /// The centroid of the positions.
     pub origin: [f64; 3],
-    /// The unit normal, its largest component positive.
+    /// The unit normal, on the side the map is seen from.
     pub normal: [f64; 3],
     /// The picture's horizontal and vertical axes: the model axis most nearly
     /// in the plane (the first such of x, y, z) projected onto it, and
     /// normal × that axis, so (axes\[0\], axes\[1\], normal) is right-handed and
-    /// the map is seen from the normal's side.
+    /// the map is seen from the normal's side; of the two sides, the one whose
+    /// vertical axis' largest component is positive (a plane normal to z is
+    /// seen with x across and y up, one normal to y with x across and z up,
+    /// one normal to x with y across and z up).
     pub axes: [[f64; 3]; 2],
 }
 
@@ -900,12 +903,6 @@ impl InterfacePlane {
         if !normal.iter().all(|x| x.is_finite()) {
             return None;
         }
-        let largest = (0..3)
-            .max_by(|&a, &b| normal[a].abs().total_cmp(&normal[b].abs()).then(b.cmp(&a)))
-            .unwrap_or(2);
-        if normal[largest] < 0.0 {
-            normal = normal.map(|x| -x);
-        }
         // The model axis most nearly in the plane (the first of equals).
         let k = (0..3)
             .min_by(|&a, &b| normal[a].abs().total_cmp(&normal[b].abs()).then(a.cmp(&b)))
@@ -913,7 +910,16 @@ impl InterfacePlane {
         let e = Axis::unit([Axis::X, Axis::Y, Axis::Z][k]);
         let along = dot(e, normal);
         let first = normalized([0, 1, 2].map(|i| e[i] - along * normal[i]));
-        let second = cross(normal, first);
+        let mut second = cross(normal, first);
+        // The side the map is seen from: the one whose vertical axis' largest
+        // component is positive (for an interface normal to y: x across, z up).
+        let largest = (0..3)
+            .max_by(|&a, &b| second[a].abs().total_cmp(&second[b].abs()).then(b.cmp(&a)))
+            .unwrap_or(2);
+        if second[largest] < 0.0 {
+            normal = normal.map(|x| -x);
+            second = second.map(|x| -x);
+        }
         Some(InterfacePlane {
             origin,
             normal,
@@ -997,7 +1003,8 @@ const ZONE_LEVEL: f64 = 1e-6;
 /// let labels = MapLabels { title: "punch: contact pressure", colorbar: "p [MPa]", axis_unit: "mm" };
 /// let plane = render_pressure_map(&path, &PressureMap { points: &points, pressure: &pressure }, &labels, &|| Ok(()))
 ///     .unwrap();
-/// assert!((plane.normal[1] - 1.0).abs() < 1e-12); // the plane y = 1
+/// assert!((plane.normal[1].abs() - 1.0).abs() < 1e-12); // the plane y = 1
+/// assert!((plane.axes[0][0] - 1.0).abs() < 1e-12 && (plane.axes[1][2] - 1.0).abs() < 1e-12); // x across, z up
 /// std::fs::remove_file(&path).unwrap();
 /// ```
 pub fn render_pressure_map(
@@ -1493,7 +1500,10 @@ mod tests {
             pressure: &pressure,
         };
         let plane = render_pressure_map(&path, &map, &labels, GO).unwrap();
-        assert!((dot(plane.normal, normal) - 1.0).abs() < 1e-12, "{plane:?}");
+        assert!(
+            (dot(plane.normal, normal).abs() - 1.0).abs() < 1e-12,
+            "{plane:?}"
+        );
         for (o, c) in plane.origin.iter().zip(centre) {
             assert!((o - c).abs() < 1e-12, "{o} ≠ {c}");
         }
@@ -1534,6 +1544,39 @@ mod tests {
         let d = (at[0] - c[0]).hypot(at[1] - c[1]);
         assert!(d < radius_px / 8.0, "highest colour {d} px from the centre");
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// The plane of points on a plane normal to a model axis has that axis as
+    /// its normal and the other two as its axes, both positive: x and y for a
+    /// plane normal to z, x and z for y, y and z for x.
+    #[test]
+    fn an_axis_plane_is_drawn_on_positive_axes() {
+        let grid = |k: usize| -> Vec<[f64; 3]> {
+            (0..9)
+                .map(|i| {
+                    let mut p = [2.0; 3];
+                    let (a, b) = ((k + 1) % 3, (k + 2) % 3);
+                    p[a] = (i % 3) as f64;
+                    p[b] = (i / 3) as f64 + 0.1 * (i % 3) as f64;
+                    p
+                })
+                .collect()
+        };
+        let x = [1.0, 0.0, 0.0];
+        let y = [0.0, 1.0, 0.0];
+        let z = [0.0, 0.0, 1.0];
+        for (k, axes, names) in [
+            (2, [x, y], ["x", "y"]),
+            (1, [x, z], ["x", "z"]),
+            (0, [y, z], ["y", "z"]),
+        ] {
+            let plane = InterfacePlane::through(&grid(k)).unwrap();
+            assert!((plane.normal[k].abs() - 1.0).abs() < 1e-12, "{plane:?}");
+            for (a, e) in plane.axes.iter().zip(axes) {
+                assert!((dot(*a, e) - 1.0).abs() < 1e-12, "{plane:?}");
+            }
+            assert_eq!([plane.axis_name(0), plane.axis_name(1)], names);
+        }
     }
 
     /// The same input gives the same bytes, for both pictures.

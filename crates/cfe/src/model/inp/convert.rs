@@ -643,9 +643,7 @@ pub fn convert(read: &Read, refine: usize) -> Result<InpModel> {
     }
     let mut supports = supports(read, &drafts, &node_part)?;
     if let Some(coarse) = &coarse {
-        for s in &mut supports {
-            s.nodes = with_edge_nodes(&coarse[&drafts[s.part].name], &s.nodes, refine);
-        }
+        refine_supports(coarse, &drafts, &mut supports, refine);
     }
     // CalculiX gives an axisymmetric model's point forces for a 2° segment
     // (its manual, "Eight-node axisymmetric element (CAX8 and CAX8R)"); cfe's
@@ -687,29 +685,55 @@ pub fn convert(read: &Read, refine: usize) -> Result<InpModel> {
     })
 }
 
-/// `nodes` of `mesh` with the nodes [`Mesh::refined`] puts inside each edge
-/// joining two of them at the factor `k` (its numbering: the input nodes keep
+/// The supports of a deck refined `k` times: each holds, besides its nodes,
+/// the nodes [`Mesh::refined`] puts inside every edge of the deck's `coarse`
+/// meshes whose two ends are held alike (the same components, values and
+/// step, by this support or another: a face clamped node by node stays
+/// clamped), the first such support of the edge's first end taking them. The
+/// new nodes are numbered as `Mesh::refined` numbers them: the input nodes keep
 /// their indices, then the k − 1 new nodes of each edge, edges in the order the
-/// elements first use them): a support of a refined deck holds the whole of
-/// each face it held.
-fn with_edge_nodes(mesh: &Mesh, nodes: &[usize], k: usize) -> Vec<usize> {
-    let held: BTreeSet<usize> = nodes.iter().copied().collect();
-    let mut out = nodes.to_vec();
-    let mut seen: std::collections::HashSet<(usize, usize)> = std::collections::HashSet::new();
-    let mut next = mesh.nodes.len();
-    for el in &mesh.elements {
-        for [a, b] in el.edges() {
-            let key = (a.min(b), a.max(b));
-            if !seen.insert(key) {
-                continue;
+/// elements first use them.
+fn refine_supports(
+    coarse: &BTreeMap<String, Mesh>,
+    drafts: &[PartDraft],
+    supports: &mut [Support],
+    k: usize,
+) {
+    type Key = ([bool; 2], [u64; 2], usize);
+    let key = |s: &Support| (s.fix, s.value.map(f64::to_bits), s.step);
+    for (p, d) in drafts.iter().enumerate() {
+        let mesh = &coarse[&d.name];
+        let mut held: HashMap<usize, Vec<(usize, Key)>> = HashMap::new();
+        for (i, s) in supports.iter().enumerate().filter(|(_, s)| s.part == p) {
+            for &n in &s.nodes {
+                held.entry(n).or_default().push((i, key(s)));
             }
-            if held.contains(&a) && held.contains(&b) {
-                out.extend(next..next + k - 1);
+        }
+        let mut added: Vec<(usize, std::ops::Range<usize>)> = Vec::new();
+        let mut seen: std::collections::HashSet<(usize, usize)> = std::collections::HashSet::new();
+        let mut next = mesh.nodes.len();
+        for el in &mesh.elements {
+            for [a, b] in el.edges() {
+                if !seen.insert((a.min(b), a.max(b))) {
+                    continue;
+                }
+                let (lo, hi) = (a.min(b), a.max(b));
+                if let (Some(at_lo), Some(at_hi)) = (held.get(&lo), held.get(&hi)) {
+                    let mut keys: Vec<Key> = Vec::new();
+                    for &(i, kl) in at_lo {
+                        if !keys.contains(&kl) && at_hi.iter().any(|&(_, kh)| kh == kl) {
+                            keys.push(kl);
+                            added.push((i, next..next + k - 1));
+                        }
+                    }
+                }
+                next += k - 1;
             }
-            next += k - 1;
+        }
+        for (i, range) in added {
+            supports[i].nodes.extend(range);
         }
     }
-    out
 }
 
 /// A load from its nodal forces.
