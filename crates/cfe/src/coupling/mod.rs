@@ -22,7 +22,7 @@ pub mod history;
 pub mod law;
 pub mod pair_set;
 pub(crate) mod search;
-
+pub mod search3d;
 pub mod segment;
 
 pub use crate::domain::Coupling;
