@@ -83,10 +83,12 @@ pub struct CouplingElement<D: Dim = D2> {
     /// of the lengths of the node part's boundary edges at the node whose both ends
     /// couple in the same interface (for the segment coupling, m_a). Force /
     /// (tributary length × the node part's thickness) = traction
-    /// ([`CouplingElement::traction`]).
+    /// ([`CouplingElement::traction`]). In 3D an area: the node's share ∫ Nᵢ dA of
+    /// the node part's faces whose corners all couple (the thickness is then 1).
     pub tributary: f64,
     /// Length of the host edge the node was projected on (the scale of the
-    /// geometrically linear limit: slip small against it).
+    /// geometrically linear limit: slip small against it); in 3D the host face's
+    /// size, its longest edge.
     pub edge_length: f64,
     /// The ring the pair stands for in an axisymmetric model, 2π r̄ (r̄ the mean
     /// radius of the node's share of the face, `∫ N_a r ds / ∫ N_a ds`): the
