@@ -10,6 +10,9 @@ pub mod build;
 pub mod check;
 pub mod element;
 #[cfg(test)]
+mod element3d_check;
+pub mod face;
+#[cfg(test)]
 pub(crate) mod fixture;
 #[cfg(test)]
 mod stiffness_check;
@@ -19,6 +22,7 @@ pub mod history;
 pub mod law;
 pub mod pair_set;
 pub(crate) mod search;
+pub mod search3d;
 pub mod segment;
 
 pub use crate::domain::Coupling;
@@ -89,7 +93,7 @@ impl<D: Dim> Interface<D> {
     pub fn pair_at(
         &self,
         k: usize,
-        dofs: &crate::dofs::DofMap,
+        dofs: &crate::dofs::DofMap<D>,
         u: &[f64],
         state: PairState,
         h: &PairHistory<D>,
