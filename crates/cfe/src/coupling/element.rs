@@ -170,7 +170,7 @@ impl<D: Dim> CouplingElement<D> {
     /// `n + m` entries are used (m = 1 node, or 2 for a segment point).
     pub fn global_nodes(
         &self,
-        dofs: &DofMap,
+        dofs: &DofMap<D>,
         host: usize,
         node_part: usize,
     ) -> ([usize; MAX_NODES], usize) {
@@ -189,7 +189,7 @@ impl<D: Dim> CouplingElement<D> {
     /// The global DOFs of the CFE, `[u₁ v₁ … uₙ vₙ u_c v_c]` in 2D, `D::N` per
     /// node (host nodes in part `host`, then the coupling node in part
     /// `node_part`).
-    pub fn dofs(&self, dofs: &DofMap, host: usize, node_part: usize) -> CfeDofs {
+    pub fn dofs(&self, dofs: &DofMap<D>, host: usize, node_part: usize) -> CfeDofs {
         let (g, n) = self.global_nodes(dofs, host, node_part);
         let mut ids = [0; MAX_DOFS];
         for (a, &gn) in g[..n].iter().enumerate() {

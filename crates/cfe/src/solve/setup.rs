@@ -25,6 +25,7 @@ use crate::assembly::{
     VectorSink,
 };
 use crate::coupling::Interface;
+use crate::dim::Dim;
 use crate::domain::Part;
 use crate::error::{Error, Result};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -40,34 +41,37 @@ fn interrupted(Stopped(signal): Stopped) -> Error {
     }
 }
 
+/// `Ok` when a stiffness matrix can index `n_eq` equations (at most
+/// [`MAX_EQUATIONS`]), else [`Error::TooLarge`].
+fn indexable(n_eq: usize) -> Result<()> {
+    if n_eq > MAX_EQUATIONS {
+        return Err(Error::TooLarge {
+            unknowns: n_eq as u64,
+            bytes: 0,
+            available: 0,
+            message: format!(
+                "{n_eq} equations, more than the {MAX_EQUATIONS} a stiffness matrix can index; use a smaller refinement or fewer cells"
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// The stiffness (pattern of every part and coupling element in the
 /// nested-dissection elimination order, values of the parts) and its Cholesky
 /// solver after the symbolic analysis in that order. `stop`, if given, is read
 /// between the steps and within the long ones (see the module's text): once it
 /// is nonzero the analysis is abandoned with [`Error::Interrupted`].
-pub fn pattern_and_symbolic(
+pub fn pattern_and_symbolic<D: Dim>(
     parts: &[Part],
-    interfaces: &[Interface],
-    dofs: &DofMap,
+    interfaces: &[Interface<D>],
+    dofs: &DofMap<D>,
     stop: Option<&AtomicUsize>,
 ) -> Result<(Stiffness, CholeskySolver)> {
-    if dofs.n_eq > MAX_EQUATIONS {
-        return Err(Error::TooLarge {
-            unknowns: dofs.n_eq as u64,
-            bytes: 0,
-            available: 0,
-            message: format!(
-                "{} equations, more than the {MAX_EQUATIONS} a stiffness matrix can index; use a smaller refinement or fewer cells",
-                dofs.n_eq
-            ),
-        });
-    }
+    indexable(dofs.n_eq)?;
     check(stop).map_err(interrupted)?;
     let graph = NodeGraph::new_until(parts, interfaces, dofs, stop).map_err(interrupted)?;
-    let coords: Vec<[f64; 2]> = parts
-        .iter()
-        .flat_map(|p| p.mesh.nodes.iter().copied())
-        .collect();
+    let coords = dofs.positions(parts);
     let (order, k) = rayon::join(
         || ordering::nested_dissection(&coords, &graph, dofs, stop),
         || Stiffness::pattern_until(dofs, &graph, stop),
@@ -195,10 +199,10 @@ impl ElementSource for Until<'_> {
 /// built again without values: what a factorization needs when the pattern was
 /// freed after the last one ([`super::system::ContactSystem::keep_pattern`]).
 /// `stop`, if given, is read within each step: [`Stopped`] once it is nonzero.
-pub fn pattern_in_order(
+pub fn pattern_in_order<D: Dim>(
     parts: &[Part],
-    interfaces: &[Interface],
-    dofs: &DofMap,
+    interfaces: &[Interface<D>],
+    dofs: &DofMap<D>,
     order: &[u32],
     inverse: &[u32],
     stop: Option<&AtomicUsize>,
@@ -217,7 +221,7 @@ mod tests {
     /// `Error::TooLarge` before anything is built.
     #[test]
     fn too_many_equations_are_refused() {
-        let dofs = DofMap {
+        let dofs: DofMap = DofMap {
             node_offset: vec![0],
             eq: Vec::new(),
             n_eq: MAX_EQUATIONS + 1,
