@@ -309,10 +309,11 @@ pub struct Support {
     pub part: usize,
     /// Nodes of the part.
     pub nodes: Vec<usize>,
-    /// Which components are fixed (x, y).
-    pub fix: [bool; 2],
-    /// Prescribed values of the fixed components at full load.
-    pub value: [f64; 2],
+    /// Which components are fixed (x, y, z): a model of dimension `D` reads the
+    /// first `D::N` (a plane model x and y; z is then never fixed).
+    pub fix: [bool; 3],
+    /// Prescribed values of the fixed components at full load (x, y, z).
+    pub value: [f64; 3],
     /// The load step (index into the model's steps, 0: the first) in which the
     /// prescribed values ramp from 0 to `value`; the DOFs are held in every step.
     pub step: usize,

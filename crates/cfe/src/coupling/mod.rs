@@ -115,7 +115,7 @@ impl<D: Dim> Interface<D> {
 
 /// The DOFs of every coupling element of `interfaces`, sorted and without
 /// repeats: all the displacements the pairs' jumps, forces and gaps read.
-pub fn coupling_dofs(interfaces: &[Interface], dofs: &crate::dofs::DofMap) -> Vec<usize> {
+pub fn coupling_dofs<D: Dim>(interfaces: &[Interface<D>], dofs: &crate::dofs::DofMap<D>) -> Vec<usize> {
     let mut all: Vec<usize> = interfaces
         .iter()
         .flat_map(|iface| {

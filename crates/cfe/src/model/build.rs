@@ -1011,8 +1011,9 @@ impl<'a> Builder<'a> {
             fix: [
                 spec.fix.contains(&Component::X),
                 spec.fix.contains(&Component::Y),
+                false,
             ],
-            value: spec.value,
+            value: [spec.value[0], spec.value[1], 0.0],
             step: 0,
         })
     }

@@ -896,8 +896,8 @@ fn supports(
                 name,
                 part: p,
                 nodes,
-                fix,
-                value: [f64::from_bits(value[0]), f64::from_bits(value[1])],
+                fix: [fix[0], fix[1], false],
+                value: [f64::from_bits(value[0]), f64::from_bits(value[1]), 0.0],
                 step,
             }
         })

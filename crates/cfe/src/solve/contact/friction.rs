@@ -27,7 +27,7 @@ use super::increment::{IncrementResult, Iteration, count_changes};
 use super::solver::Solver;
 use crate::assembly::FIXED;
 use crate::coupling::{Enforcement, Law, PairState};
-use crate::dim::Tangent;
+use crate::dim::{D2, Tangent};
 use crate::error::Result;
 use crate::solve::backend::{Request, Solve as _};
 use faer::Mat;
@@ -303,7 +303,11 @@ struct Columns {
     ps: Vec<f64>,
 }
 
-impl Solver<'_> {
+/// The semi-smooth Newton's pair update is written for the plane tangent (one
+/// component, `u_s` and ξ scalars): these exact pattern solves are plane-only
+/// (they are not used by the run's search; a solid model's would take the
+/// two-component tangent's return-map derivative).
+impl Solver<'_, D2> {
     /// The slipping Coulomb pairs of `states` at the solution `u` (valid at the
     /// coupling DOFs), each sliding along its trial force there.
     fn slipping(&self, states: &[Vec<PairState>], u: &[f64]) -> Vec<Slipping> {
