@@ -699,7 +699,7 @@ fn refine_supports(
     supports: &mut [Support],
     k: usize,
 ) {
-    type Key = ([bool; 2], [u64; 2], usize);
+    type Key = ([bool; 3], [u64; 3], usize);
     let key = |s: &Support| (s.fix, s.value.map(f64::to_bits), s.step);
     for (p, d) in drafts.iter().enumerate() {
         let mesh = &coarse[&d.name];
