@@ -14,13 +14,14 @@ mod arrays;
 pub mod gmsh;
 pub mod input_file;
 mod refine;
+mod refine_solid;
 mod solid;
 
 pub use arrays::BoundarySelection;
 pub use refine::{CURVED_TURN, CurvedBoundary};
 pub use solid::{
     BoundaryFace, FaceNodes, HEX8_EDGES, HEX8_FACES, SolidElement, SolidKind, TET4_EDGES,
-    TET4_FACES,
+    TET4_FACES, distance3, tetrahedron_volume,
 };
 
 use crate::dim::{D2, Dim};
