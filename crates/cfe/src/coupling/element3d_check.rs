@@ -49,6 +49,14 @@ impl<const K: i32> Dim for Turned<K> {
     fn to_global(r: &[[f64; 3]; 3], v_n: f64, v_t: [f64; 2]) -> [f64; 3] {
         D3::to_global(r, v_n, v_t)
     }
+
+    fn across(v: [f64; 3], m: [f64; 3]) -> f64 {
+        D3::across(v, m)
+    }
+
+    fn rigid_mode(k: usize, x: [f64; 3]) -> [f64; 3] {
+        D3::rigid_mode(k, x)
+    }
 }
 
 /// A host of a 3D coupling element: its nodes' coordinates, the shape values at
