@@ -7,45 +7,13 @@
 //! on. Pure functions of coordinates: the pair search ([`super::search3d`]) puts
 //! the faces in an R-tree and chooses among them.
 //!
-//! A face lists its corners counter-clockwise seen from outside its element, so
-//! `(b − a) × (c − a)` (a triangle) and `x_ξ × x_η` (a quadrangle) point outward.
+//! A face is the mesh's [`BoundaryFace`]: its corners counter-clockwise seen from
+//! outside its element, so `(b − a) × (c − a)` (a triangle) and `x_ξ × x_η` (a
+//! quadrangle, corners at the natural coordinates (−1, −1), (1, −1), (1, 1),
+//! (−1, 1) of its bilinear map) point outward.
 
+pub use crate::mesh::{BoundaryFace, FaceNodes};
 use rstar::{AABB, PointDistance, RTreeObject};
-
-/// The corner nodes of a boundary face, counter-clockwise seen from outside the
-/// element it bounds: a triangle (a TET4's or a WEDGE6's face) or a quadrangle (a
-/// HEX8's or a WEDGE6's), whose corners are at the natural coordinates (−1, −1),
-/// (1, −1), (1, 1), (−1, 1) of its bilinear map.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum FaceNodes {
-    /// Three corners.
-    Tri([usize; 3]),
-    /// Four corners.
-    Quad([usize; 4]),
-}
-
-impl FaceNodes {
-    /// The corners, in order.
-    pub fn as_slice(&self) -> &[usize] {
-        match self {
-            FaceNodes::Tri(n) => n,
-            FaceNodes::Quad(n) => n,
-        }
-    }
-}
-
-/// A boundary face of a 3D part's mesh, as the pair search takes it: its corners
-/// (indices into the part's node coordinates), the element it bounds and its
-/// local face index in that element. The search needs nothing else of the mesh.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct BoundaryFace {
-    /// The corners, counter-clockwise seen from outside.
-    pub nodes: FaceNodes,
-    /// The element the face bounds (index in the part's mesh).
-    pub element: usize,
-    /// The face's local index in that element.
-    pub local: usize,
-}
 
 /// A point of a face closer than this fraction of the face's parameter range to
 /// an edge (a barycentric coordinate, or `(1 ∓ ξ)/2` on a quadrangle, at most

@@ -102,7 +102,7 @@ fn choose(candidates: &[Candidate], faces: &[BoundaryFace]) -> Option<Candidate>
     candidates
         .iter()
         .filter(|c| c.at.distance <= least + TIE_TOLERANCE * c.size)
-        .min_by_key(|c| (faces[c.face].element, faces[c.face].local, c.face))
+        .min_by_key(|c| (faces[c.face].element, faces[c.face].face, c.face))
         .copied()
 }
 
@@ -172,7 +172,7 @@ fn node_side(surface: &Surface, nodes: &[usize]) -> (HashMap<usize, [f64; 3]>, H
 /// use cfe::coupling::search3d::{Surface, find_pairs_3d};
 /// // A host's top face (a HEX8's face 5, z = 0) and a node 0.001 above it.
 /// let host_nodes = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
-/// let faces = [BoundaryFace { nodes: FaceNodes::Quad([0, 1, 2, 3]), element: 0, local: 5 }];
+/// let faces = [BoundaryFace { nodes: FaceNodes::Quad([0, 1, 2, 3]), element: 0, face: 5 }];
 /// let host = Surface { nodes: &host_nodes, faces: &faces };
 /// let probe = [[0.25, 0.5, 0.001]];
 /// let node_part = Surface { nodes: &probe, faces: &[] };
@@ -374,7 +374,7 @@ mod tests {
     /// A cylinder of radius r, axis z, from z = 0 to `height`, meshed with `m`
     /// sectors and `k` rows of quadrangles each split into two triangles (faces
     /// counter-clockwise seen from outside: outward normals radial); element = the
-    /// quadrangle's index, local = 0 or 1.
+    /// quadrangle's index, face = 0 or 1.
     fn cylinder(r: f64, height: f64, m: usize, k: usize) -> (Vec<[f64; 3]>, Vec<BoundaryFace>) {
         let step = std::f64::consts::TAU / m as f64;
         let mut nodes = Vec::new();
@@ -393,12 +393,12 @@ mod tests {
                 faces.push(BoundaryFace {
                     nodes: FaceNodes::Tri([a, b, c]),
                     element,
-                    local: 0,
+                    face: 0,
                 });
                 faces.push(BoundaryFace {
                     nodes: FaceNodes::Tri([a, c, d]),
                     element,
-                    local: 1,
+                    face: 1,
                 });
             }
         }
@@ -525,12 +525,12 @@ mod tests {
             faces.push(BoundaryFace {
                 nodes: FaceNodes::Tri([id(0, 0), id(1, 0), id(1, 1)]),
                 element,
-                local: 0,
+                face: 0,
             });
             faces.push(BoundaryFace {
                 nodes: FaceNodes::Tri([id(0, 0), id(1, 1), id(0, 1)]),
                 element,
-                local: 1,
+                face: 1,
             });
         }
         let probe = [[0.3, 0.3, 0.0], [1.0, 1.0, 1e-9], [1.5, 1.0, 0.0]];
@@ -575,17 +575,17 @@ mod tests {
             BoundaryFace {
                 nodes: FaceNodes::Quad([1, 3, 7, 5]),
                 element: 0,
-                local: 2,
+                face: 2,
             },
             BoundaryFace {
                 nodes: FaceNodes::Quad([2, 6, 7, 3]),
                 element: 0,
-                local: 3,
+                face: 3,
             },
             BoundaryFace {
                 nodes: FaceNodes::Quad([4, 5, 7, 6]),
                 element: 0,
-                local: 5,
+                face: 5,
             },
         ];
         let host = Surface {
@@ -626,10 +626,10 @@ mod tests {
         let mut push = |nodes4: [usize; 4], element: usize, local: usize, split: bool| {
             if split {
                 let [a, b, c, d] = nodes4;
-                faces.push(BoundaryFace { nodes: FaceNodes::Tri([a, b, c]), element, local });
-                faces.push(BoundaryFace { nodes: FaceNodes::Tri([a, c, d]), element, local: local + 10 });
+                faces.push(BoundaryFace { nodes: FaceNodes::Tri([a, b, c]), element, face: local });
+                faces.push(BoundaryFace { nodes: FaceNodes::Tri([a, c, d]), element, face: local + 10 });
             } else {
-                faces.push(BoundaryFace { nodes: FaceNodes::Quad(nodes4), element, local });
+                faces.push(BoundaryFace { nodes: FaceNodes::Quad(nodes4), element, face: local });
             }
         };
         for j in 0..n {
