@@ -201,6 +201,43 @@ impl Transform {
     }
 }
 
+/// Calls `f(x, y, [l₀, l₁, l₂])` for every pixel of `clip` = [x0, y0, x1, y1)
+/// whose centre (x + ½, y + ½) lies in the triangle `p` (pixel coordinates, to
+/// −1e-9 in the barycentric coordinates lᵢ of the centre); nothing for a
+/// triangle of (near) zero area. The one pixel-coverage rule of the plane
+/// pictures ([`rasterize`]) and the depth-buffered solid views (`view3d`).
+pub fn triangle_pixels(
+    p: [[f64; 2]; 3],
+    clip: [usize; 4],
+    mut f: impl FnMut(usize, usize, [f64; 3]),
+) {
+    let det = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+    if det.abs() <= 1e-12 {
+        return;
+    }
+    let lo = |k: usize| p.iter().map(|q| q[k]).fold(f64::INFINITY, f64::min);
+    let hi = |k: usize| p.iter().map(|q| q[k]).fold(f64::NEG_INFINITY, f64::max);
+    let ix0 = (lo(0).floor().max(clip[0] as f64)) as usize;
+    let iy0 = (lo(1).floor().max(clip[1] as f64)) as usize;
+    let ix1 = (hi(0).ceil().min(clip[2] as f64)).max(ix0 as f64) as usize;
+    let iy1 = (hi(1).ceil().min(clip[3] as f64)).max(iy0 as f64) as usize;
+    for y in iy0..iy1 {
+        let cy = y as f64 + 0.5;
+        for x in ix0..ix1 {
+            let cx = x as f64 + 0.5;
+            let l1 =
+                ((cx - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (cy - p[0][1])) / det;
+            let l2 =
+                ((p[1][0] - p[0][0]) * (cy - p[0][1]) - (cx - p[0][0]) * (p[1][1] - p[0][1])) / det;
+            let l0 = 1.0 - l1 - l2;
+            const E: f64 = -1e-9;
+            if l0 >= E && l1 >= E && l2 >= E {
+                f(x, y, [l0, l1, l2]);
+            }
+        }
+    }
+}
+
 /// Fills the triangles into an RGB buffer of `width` × `height` pixels, clipped to
 /// `clip` = [x0, y0, x1, y1) in pixels, colouring each covered pixel centre by the
 /// linear interpolation of the vertex values mapped through `colour`. A triangle
@@ -217,37 +254,11 @@ pub fn rasterize(
         buf[i..i + 3].copy_from_slice(&c);
     };
     for (p, v) in tris {
-        let xmin = p.iter().map(|q| q[0]).fold(f64::INFINITY, f64::min);
-        let xmax = p.iter().map(|q| q[0]).fold(f64::NEG_INFINITY, f64::max);
-        let ymin = p.iter().map(|q| q[1]).fold(f64::INFINITY, f64::min);
-        let ymax = p.iter().map(|q| q[1]).fold(f64::NEG_INFINITY, f64::max);
-        let det =
-            (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
-        let ix0 = (xmin.floor().max(clip[0] as f64)) as usize;
-        let iy0 = (ymin.floor().max(clip[1] as f64)) as usize;
-        let ix1 = (xmax.ceil().min(clip[2] as f64)).max(ix0 as f64) as usize;
-        let iy1 = (ymax.ceil().min(clip[3] as f64)).max(iy0 as f64) as usize;
         let mut painted = false;
-        if det.abs() > 1e-12 {
-            for y in iy0..iy1 {
-                let cy = y as f64 + 0.5;
-                for x in ix0..ix1 {
-                    let cx = x as f64 + 0.5;
-                    let l1 = ((cx - p[0][0]) * (p[2][1] - p[0][1])
-                        - (p[2][0] - p[0][0]) * (cy - p[0][1]))
-                        / det;
-                    let l2 = ((p[1][0] - p[0][0]) * (cy - p[0][1])
-                        - (cx - p[0][0]) * (p[1][1] - p[0][1]))
-                        / det;
-                    let l0 = 1.0 - l1 - l2;
-                    const E: f64 = -1e-9;
-                    if l0 >= E && l1 >= E && l2 >= E {
-                        put(x, y, colour(l0 * v[0] + l1 * v[1] + l2 * v[2]));
-                        painted = true;
-                    }
-                }
-            }
-        }
+        triangle_pixels(p, clip, |x, y, [l0, l1, l2]| {
+            put(x, y, colour(l0 * v[0] + l1 * v[1] + l2 * v[2]));
+            painted = true;
+        });
         if !painted {
             let c = [
                 (p[0][0] + p[1][0] + p[2][0]) / 3.0,

@@ -758,36 +758,17 @@ impl DepthBuffer {
                 None => false,
             }
         };
-        let det =
-            (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
         let mut covered = false;
-        if det.abs() > 1e-12 {
-            let lo = |k: usize| p.iter().map(|q| q[k]).fold(f64::INFINITY, f64::min);
-            let hi = |k: usize| p.iter().map(|q| q[k]).fold(f64::NEG_INFINITY, f64::max);
-            let ix0 = lo(0).floor().max(self.clip[0] as f64) as usize;
-            let iy0 = lo(1).floor().max(self.clip[1] as f64) as usize;
-            let ix1 = hi(0).ceil().min(self.clip[2] as f64).max(ix0 as f64) as usize;
-            let iy1 = hi(1).ceil().min(self.clip[3] as f64).max(iy0 as f64) as usize;
-            for y in iy0..iy1 {
-                let cy = y as f64 + 0.5;
-                for x in ix0..ix1 {
-                    let cx = x as f64 + 0.5;
-                    let l1 = ((cx - p[0][0]) * (p[2][1] - p[0][1])
-                        - (p[2][0] - p[0][0]) * (cy - p[0][1]))
-                        / det;
-                    let l2 = ((p[1][0] - p[0][0]) * (cy - p[0][1])
-                        - (cx - p[0][0]) * (p[1][1] - p[0][1]))
-                        / det;
-                    let l0 = 1.0 - l1 - l2;
-                    const E: f64 = -1e-9;
-                    if l0 >= E && l1 >= E && l2 >= E {
-                        let z = l0 * p[0][2] + l1 * p[1][2] + l2 * p[2][2];
-                        let value = l0 * v[0] + l1 * v[1] + l2 * v[2];
-                        covered |= put(self, cx, cy, z, value);
-                    }
-                }
-            }
-        }
+        let clip = self.clip;
+        png::triangle_pixels(
+            [0, 1, 2].map(|k| [p[k][0], p[k][1]]),
+            clip,
+            |x, y, [l0, l1, l2]| {
+                let z = l0 * p[0][2] + l1 * p[1][2] + l2 * p[2][2];
+                let value = l0 * v[0] + l1 * v[1] + l2 * v[2];
+                covered |= put(self, x as f64 + 0.5, y as f64 + 0.5, z, value);
+            },
+        );
         if !covered {
             let c = [0, 1, 2].map(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0);
             put(self, c[0], c[1], c[2], (v[0] + v[1] + v[2]) / 3.0);
