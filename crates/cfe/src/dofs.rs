@@ -4,7 +4,8 @@
 
 use crate::dim::{D2, Dim};
 use crate::domain::{Part, Support};
-use crate::fem::element::MAX_DOFS;
+use crate::fem::ElementFamily;
+use crate::mesh::{MeshCell, MeshDim};
 use std::marker::PhantomData;
 
 /// Marks a DOF that is prescribed (eliminated from the system).
@@ -97,22 +98,6 @@ impl<D: Dim> DofMap<D> {
         D::dof(g, c)
     }
 
-    /// The position of every global node of `parts` (numbered by this map), in
-    /// the dimension's vector: the components its part's mesh gives, in order
-    /// (a plane mesh gives x and y), the others 0.
-    pub fn positions(&self, parts: &[Part]) -> Vec<D::Vector> {
-        parts
-            .iter()
-            .flat_map(|p| p.mesh.nodes.iter())
-            .map(|x| {
-                let mut v = D::Vector::default();
-                let n = x.len().min(D::N);
-                v.as_mut()[..n].copy_from_slice(&x[..n]);
-                v
-            })
-            .collect()
-    }
-
     /// Number of global nodes.
     pub fn n_nodes(&self) -> usize {
         *self.node_offset.last().unwrap_or(&0)
@@ -150,21 +135,29 @@ impl<D: Dim> DofMap<D> {
         let p = self.node_offset.partition_point(|&o| o <= g) - 1;
         (p, g - self.node_offset[p])
     }
+}
 
+impl<D: MeshDim> DofMap<D> {
+    /// The position of every global node of `parts` (numbered by this map).
+    pub fn positions(&self, parts: &[Part<D>]) -> Vec<D::Vector> {
+        parts
+            .iter()
+            .flat_map(|p| p.mesh.nodes.iter().copied())
+            .collect()
+    }
+}
+
+impl<D: ElementFamily> DofMap<D> {
     /// The global DOFs of element `e` of `part` (the first N n entries, n its
     /// node count) and their number.
-    pub fn element_dofs(
-        &self,
-        parts: &[Part],
-        part: usize,
-        e: usize,
-    ) -> ([usize; MAX_DOFS], usize) {
+    pub fn element_dofs(&self, parts: &[Part<D>], part: usize, e: usize) -> (D::ElementDofs, usize) {
         let nodes = parts[part].mesh.elements[e].nodes();
-        let mut g = [0; MAX_DOFS];
+        let mut g = D::zero_dofs();
+        let gm = g.as_mut();
         for (a, &n) in nodes.iter().enumerate() {
             let gn = self.node(part, n);
             for c in 0..D::N {
-                g[D::N * a + c] = D::dof(gn, c);
+                gm[D::N * a + c] = D::dof(gn, c);
             }
         }
         (g, D::N * nodes.len())

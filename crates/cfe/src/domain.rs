@@ -4,8 +4,9 @@
 //! schema ([`crate::model`]) translates into these types; the element routines, the
 //! coupling, the assembly and the solver take only these, never the input types.
 
+use crate::dim::D2;
 use crate::fem::Material;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, MeshDim};
 use serde::Deserialize;
 
 /// The nonlinear scheme for contact interfaces.
@@ -170,14 +171,15 @@ impl Default for Settings {
     }
 }
 
-/// A part: its mesh and material.
+/// A part of dimension `D` (plane by default): its mesh and material.
 #[derive(Debug, Clone)]
-pub struct Part {
+pub struct Part<D: MeshDim = D2> {
     /// Name from the problem file.
     pub name: String,
     /// The part's mesh.
-    pub mesh: Mesh,
-    /// Material, 2D idealisation and thickness.
+    pub mesh: Mesh<D>,
+    /// Material: E and ν, with the 2D idealisation and thickness of a plane part
+    /// (a solid part reads E and ν only).
     pub material: Material,
 }
 

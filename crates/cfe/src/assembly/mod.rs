@@ -10,6 +10,7 @@ use crate::dim::Dim;
 pub use crate::dofs::{DofMap, FIXED};
 use crate::domain::{Load, Part};
 use crate::error::{Stopped, check_stop};
+use crate::fem::ElementFamily;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 pub use source::{
     CouplingElements, ElementSource, MatrixSink, PartElements, SomeElements, VectorSink,
@@ -35,7 +36,7 @@ pub struct NodeGraph {
 
 impl NodeGraph {
     /// The graph of all part elements and all coupling elements (whatever their state).
-    pub fn new<D: Dim>(parts: &[Part], interfaces: &[Interface<D>], dofs: &DofMap<D>) -> NodeGraph {
+    pub fn new<D: ElementFamily>(parts: &[Part<D>], interfaces: &[Interface<D>], dofs: &DofMap<D>) -> NodeGraph {
         NodeGraph::new_until(parts, interfaces, dofs, None)
             .unwrap_or_else(|_| unreachable!("no stop flag to read"))
     }
@@ -43,8 +44,8 @@ impl NodeGraph {
     /// [`NodeGraph::new`] reading the caller's stop flag `stop` (if any) every
     /// few thousand elements or rows: [`Stopped`] once it is nonzero. The graph
     /// is that of [`NodeGraph::new`] otherwise.
-    pub fn new_until<D: Dim>(
-        parts: &[Part],
+    pub fn new_until<D: ElementFamily>(
+        parts: &[Part<D>],
         interfaces: &[Interface<D>],
         dofs: &DofMap<D>,
         stop: Option<&AtomicUsize>,
@@ -204,7 +205,7 @@ pub struct Stiffness {
 impl Stiffness {
     /// Builds the pattern from the node graph of every part element and every
     /// coupling element, and assembles the parts' stiffness.
-    pub fn new<D: Dim>(parts: &[Part], dofs: &DofMap<D>, graph: &NodeGraph) -> Stiffness {
+    pub fn new<D: ElementFamily>(parts: &[Part<D>], dofs: &DofMap<D>, graph: &NodeGraph) -> Stiffness {
         Stiffness::from_sources(&[&PartElements::new(parts, dofs)], dofs, graph)
     }
 
@@ -622,9 +623,9 @@ impl Stiffness {
 
     /// Sets the values to parts + the coupling elements in their `states`
     /// (`states[i][k]` for pair k of interface i).
-    pub fn assemble<D: Dim>(
+    pub fn assemble<D: ElementFamily>(
         &mut self,
-        parts: &[Part],
+        parts: &[Part<D>],
         interfaces: &[Interface<D>],
         states: &[Vec<PairState>],
         dofs: &DofMap<D>,
@@ -669,8 +670,8 @@ impl Stiffness {
 
 /// The internal force vector over all DOFs, `F_int = Σ_parts K_e u_e + Σ_CFE B_eᵀ Rᵀ f`
 /// (seed eq. 1), for the full displacement vector `u` (free and prescribed DOFs).
-pub fn internal_force<D: Dim>(
-    parts: &[Part],
+pub fn internal_force<D: ElementFamily>(
+    parts: &[Part<D>],
     interfaces: &[Interface<D>],
     states: &[Vec<PairState>],
     dofs: &DofMap<D>,
@@ -681,8 +682,8 @@ pub fn internal_force<D: Dim>(
 
 /// As [`internal_force`], with the pairs' histories (slip, slip force,
 /// multipliers; `None`: all zero) in the coupling elements' forces.
-pub fn internal_force_with<D: Dim>(
-    parts: &[Part],
+pub fn internal_force_with<D: ElementFamily>(
+    parts: &[Part<D>],
     interfaces: &[Interface<D>],
     states: &[Vec<PairState>],
     history: Option<&[Vec<PairHistory<D>>]>,

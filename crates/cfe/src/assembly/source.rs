@@ -11,7 +11,11 @@ use crate::coupling::{Interface, PairHistory, PairState};
 use crate::dim::{D2, Dim};
 use crate::dofs::DofMap;
 use crate::domain::Part;
-use crate::fem::element;
+use crate::fem::ElementFamily;
+use crate::mesh::MeshCell;
+
+/// Most nodes a part element of any dimension has (HEX8).
+const MAX_PART_NODES: usize = 8;
 
 /// Receives one element matrix: its global DOFs `g` and its entries, row-major with
 /// row stride `stride` (entry `(a, b)` at `k[a * stride + b]`, a, b < g.len()).
@@ -93,21 +97,20 @@ pub trait ElementSource: Sync {
     }
 }
 
-/// The elements of every part (T3 and Q4), numbered part after part.
-pub struct PartElements<'a, D: Dim = D2> {
-    parts: &'a [Part],
+/// The elements of every part (T3 and Q4 in a plane model, TET4 and HEX8 in a
+/// solid one: the dimension's [`ElementFamily`]), numbered part after part.
+pub struct PartElements<'a, D: ElementFamily = D2> {
+    parts: &'a [Part<D>],
     dofs: &'a DofMap<D>,
     /// First element of each part in the source's numbering (length parts + 1).
     offset: Vec<usize>,
-    /// The constitutive matrix of each part.
-    d: Vec<[[f64; 3]; 3]>,
-    /// The 4×4 D of each axisymmetric part (`None` for a plane part).
-    axi: Vec<Option<[[f64; 4]; 4]>>,
+    /// The constitutive data of each part.
+    c: Vec<D::Constitutive>,
 }
 
-impl<'a, D: Dim> PartElements<'a, D> {
+impl<'a, D: ElementFamily> PartElements<'a, D> {
     /// The elements of `parts`, numbered with `dofs`.
-    pub fn new(parts: &'a [Part], dofs: &'a DofMap<D>) -> Self {
+    pub fn new(parts: &'a [Part<D>], dofs: &'a DofMap<D>) -> Self {
         let mut offset = Vec::with_capacity(parts.len() + 1);
         let mut n = 0;
         for p in parts {
@@ -115,48 +118,12 @@ impl<'a, D: Dim> PartElements<'a, D> {
             n += p.mesh.elements.len();
         }
         offset.push(n);
-        let d = parts.iter().map(|p| p.material.d_matrix()).collect();
-        let axi = parts
-            .iter()
-            .map(|p| p.material.is_axisymmetric().then(|| p.material.d_axisymmetric()))
-            .collect();
+        let c = parts.iter().map(|p| D::constitutive(&p.material)).collect();
         PartElements {
             parts,
             dofs,
             offset,
-            d,
-            axi,
-        }
-    }
-
-    /// The stiffness of element `el` (corners `x`) of part `p`: the plane
-    /// element's, or the axisymmetric one's ([`crate::fem::axisymmetric`]).
-    #[inline(always)]
-    fn stiffness_of(
-        &self,
-        p: usize,
-        el: &crate::mesh::Element,
-        x: &[[f64; 2]; element::MAX_NODES],
-    ) -> element::ElementMatrix {
-        match &self.axi[p] {
-            None => element::stiffness(el, x, &self.d[p], self.parts[p].material.thickness),
-            Some(d) => crate::fem::axisymmetric::stiffness(el, x, d),
-        }
-    }
-
-    /// The internal force `K_e u_e` of element `el` of part `p`, as
-    /// [`Self::stiffness_of`] chooses.
-    #[inline(always)]
-    fn force_of(
-        &self,
-        p: usize,
-        el: &crate::mesh::Element,
-        x: &[[f64; 2]; element::MAX_NODES],
-        ue: &[f64; element::MAX_DOFS],
-    ) -> [f64; element::MAX_DOFS] {
-        match &self.axi[p] {
-            None => element::internal_force(el, x, &self.d[p], self.parts[p].material.thickness, ue),
-            Some(d) => crate::fem::axisymmetric::internal_force(el, x, d, ue),
+            c,
         }
     }
 
@@ -186,7 +153,7 @@ impl<'a, D: Dim> PartElements<'a, D> {
     fn by_part(
         &self,
         range: std::ops::Range<usize>,
-    ) -> impl Iterator<Item = (usize, &'a Part, &'a [crate::mesh::Element])> + '_ {
+    ) -> impl Iterator<Item = (usize, &'a Part<D>, &'a [D::Cell])> + '_ {
         self.parts.iter().enumerate().filter_map(move |(p, part)| {
             let (first, last) = (
                 range.start.max(self.offset[p]),
@@ -200,12 +167,10 @@ impl<'a, D: Dim> PartElements<'a, D> {
 
     /// The element stiffness and global DOFs of source element `e`.
     #[inline(always)]
-    fn element(&self, e: usize) -> (element::ElementMatrix, [usize; element::MAX_DOFS], usize) {
+    fn element(&self, e: usize) -> (D::ElementMatrix, D::ElementDofs, usize) {
         let (p, e) = self.locate(e);
         let part = &self.parts[p];
-        let el = &part.mesh.elements[e];
-        let x = element::coordinates(&part.mesh, el);
-        let ke = self.stiffness_of(p, el, &x);
+        let ke = D::stiffness(&part.mesh, &part.mesh.elements[e], &self.c[p]);
         let (g, n) = self.dofs.element_dofs(self.parts, p, e);
         (ke, g, n)
     }
@@ -213,24 +178,20 @@ impl<'a, D: Dim> PartElements<'a, D> {
     /// The internal force `K_e u_e` and global DOFs of source element `e` for the
     /// displacements `u` of all DOFs (without forming `K_e`).
     #[inline(always)]
-    fn element_force(
-        &self,
-        e: usize,
-        u: &[f64],
-    ) -> ([f64; element::MAX_DOFS], [usize; element::MAX_DOFS], usize) {
+    fn element_force(&self, e: usize, u: &[f64]) -> (D::ElementVector, D::ElementDofs, usize) {
         let (p, e) = self.locate(e);
         let part = &self.parts[p];
-        let el = &part.mesh.elements[e];
-        let x = element::coordinates(&part.mesh, el);
         let (g, n) = self.dofs.element_dofs(self.parts, p, e);
-        let ue: [f64; element::MAX_DOFS] =
-            std::array::from_fn(|i| if i < n { u[g[i]] } else { 0.0 });
-        let fe = self.force_of(p, el, &x, &ue);
+        let mut ue = D::zero_vector();
+        for (v, &gi) in ue.as_mut().iter_mut().zip(&g.as_ref()[..n]) {
+            *v = u[gi];
+        }
+        let fe = D::internal_force(&part.mesh, &part.mesh.elements[e], &self.c[p], &ue);
         (fe, g, n)
     }
 }
 
-impl<D: Dim> ElementSource for PartElements<'_, D> {
+impl<D: ElementFamily> ElementSource for PartElements<'_, D> {
     fn len(&self) -> usize {
         *self.offset.last().unwrap_or(&0)
     }
@@ -238,7 +199,7 @@ impl<D: Dim> ElementSource for PartElements<'_, D> {
     fn nodes(&self, e: usize, f: &mut dyn FnMut(&[usize])) {
         let (p, e) = self.locate(e);
         let nodes = self.parts[p].mesh.elements[e].nodes();
-        let mut g = [0usize; element::MAX_NODES];
+        let mut g = [0usize; MAX_PART_NODES];
         for (gi, &n) in g.iter_mut().zip(nodes) {
             *gi = self.dofs.node(p, n);
         }
@@ -247,16 +208,16 @@ impl<D: Dim> ElementSource for PartElements<'_, D> {
 
     fn stiffness(&self, e: usize, sink: &mut MatrixSink<'_>) {
         let (ke, g, n) = self.element(e);
-        sink(&g[..n], ke.as_flattened(), element::MAX_DOFS);
+        sink(&g.as_ref()[..n], D::flat(&ke), D::STRIDE);
     }
 
     fn internal_force(&self, e: usize, u: &[f64], sink: &mut VectorSink<'_>) {
         let (fe, g, n) = self.element_force(e, u);
-        sink(&g[..n], &fe[..n]);
+        sink(&g.as_ref()[..n], &fe.as_ref()[..n]);
     }
 
     fn for_each_nodes(&self, f: &mut dyn FnMut(&[usize])) {
-        let mut g = [0usize; element::MAX_NODES];
+        let mut g = [0usize; MAX_PART_NODES];
         for (p, part) in self.parts.iter().enumerate() {
             for el in &part.mesh.elements {
                 let nodes = el.nodes();
@@ -271,10 +232,9 @@ impl<D: Dim> ElementSource for PartElements<'_, D> {
     fn for_each_stiffness(&self, sink: &mut MatrixSink<'_>) {
         for (p, part) in self.parts.iter().enumerate() {
             for (e, el) in part.mesh.elements.iter().enumerate() {
-                let x = element::coordinates(&part.mesh, el);
-                let ke = self.stiffness_of(p, el, &x);
+                let ke = D::stiffness(&part.mesh, el, &self.c[p]);
                 let (g, n) = self.dofs.element_dofs(self.parts, p, e);
-                sink(&g[..n], ke.as_flattened(), element::MAX_DOFS);
+                sink(&g.as_ref()[..n], D::flat(&ke), D::STRIDE);
             }
         }
     }
@@ -293,15 +253,16 @@ impl<D: Dim> ElementSource for PartElements<'_, D> {
             let shift = first_dof.saturating_sub(base);
             for el in elements {
                 let nodes = el.nodes();
-                let x = element::coordinates(&part.mesh, el);
-                let mut ue = [0.0; element::MAX_DOFS];
+                let mut ue = D::zero_vector();
                 let dof = |a: usize, c: usize| self.dofs.dof(a, c);
+                let uem = ue.as_mut();
                 for (a, &n) in nodes.iter().enumerate() {
                     for c in 0..self.dofs.per_node() {
-                        ue[dof(a, c)] = u[base + dof(n, c)];
+                        uem[dof(a, c)] = u[base + dof(n, c)];
                     }
                 }
-                let fe = self.force_of(p, el, &x, &ue);
+                let fe = D::internal_force(&part.mesh, el, &self.c[p], &ue);
+                let fe = fe.as_ref();
                 for (a, &n) in nodes.iter().enumerate() {
                     for c in 0..self.dofs.per_node() {
                         fp[dof(n, c) - shift] += fe[dof(a, c)];

@@ -5,11 +5,13 @@
 //! 3D solid elements' routines on corner coordinates — the linear tetrahedron
 //! [`tet4`], the trilinear hexahedron [`hex8`], what they share ([`solid`]: the
 //! Voigt order, B, the report of a non-positive Jacobian) and their faces' loads
-//! ([`face3`]) — which no mesh type reaches yet.
+//! ([`face3`]); and the [`family`] of each dimension ([`ElementFamily`]), through
+//! which assembly and recovery reach a part's elements without knowing their kinds.
 
 pub mod axisymmetric;
 pub mod element;
 pub mod face3;
+pub mod family;
 pub mod hex8;
 pub(crate) mod loads;
 pub mod material;
@@ -19,4 +21,5 @@ pub mod solid;
 pub mod t3;
 pub mod tet4;
 
+pub use family::ElementFamily;
 pub use material::{Material, PlaneKind};

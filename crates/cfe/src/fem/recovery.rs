@@ -1,24 +1,28 @@
-//! Stress recovery: element stresses (constant in a T3, the Gauss-point mean in a
-//! Q4) and nodal stresses averaged (area-weighted) over the elements around each
-//! node from each element's corner values (a Q4's extrapolated from its Gauss
-//! points), within one part only — never across parts, whose meshes are
-//! independent.
+//! Stress recovery: element stresses (constant in a T3 or TET4, the Gauss-point
+//! mean in a Q4 or HEX8) and nodal stresses averaged (area- or volume-weighted)
+//! over the elements around each node from each element's corner values (a Q4's
+//! and a HEX8's extrapolated from their Gauss points), within one part only —
+//! never across parts, whose meshes are independent.
 
 use super::Material;
 use super::element;
-use crate::mesh::Mesh;
+use super::{hex8, tet4};
+use crate::dim::D3;
+use crate::mesh::{Mesh, SolidElement};
 
 /// Elements per block of [`recover`]: large enough for the threads, small enough
 /// that the block's corner stresses stay in cache.
 const BLOCK: usize = 1 << 13;
 
-/// Stresses of one part: per element and averaged per node, (σxx, σyy, σxy).
+/// Stresses of one part: per element and averaged per node, each a stress `S` in
+/// its dimension's Voigt order ((σxx, σyy, σxy) in 2D; (xx, yy, zz, xy, yz, zx)
+/// in 3D).
 #[derive(Debug, Clone)]
-pub struct PartStress {
+pub struct PartStress<S = [f64; 3]> {
     /// Element stresses.
-    pub element: Vec<[f64; 3]>,
-    /// Area-weighted nodal averages.
-    pub nodal: Vec<[f64; 3]>,
+    pub element: Vec<S>,
+    /// Area- (2D) or volume-weighted (3D) nodal averages.
+    pub nodal: Vec<S>,
     /// The hoop stress σθθ of an axisymmetric part (`None` for a plane part).
     pub hoop: Option<Hoop>,
 }
@@ -42,23 +46,23 @@ pub fn scalar_scaled_in_turn(v: f64, factors: &[f64]) -> f64 {
 /// `v` scaled by each of `factors` in turn: bit for bit the value after as many
 /// successive [`PartStress::scaled`] calls with those factors (so a writer can
 /// scale shared stresses while it reads them instead of holding scaled copies).
-pub fn scaled_in_turn(v: [f64; 3], factors: &[f64]) -> [f64; 3] {
+pub fn scaled_in_turn<const N: usize>(v: [f64; N], factors: &[f64]) -> [f64; N] {
     v.map(|x| factors.iter().fold(x, |x, &f| f * x))
 }
 
-impl PartStress {
+impl<const N: usize> PartStress<[f64; N]> {
     /// The stresses of `factor` × the displacements these were recovered from:
     /// recovery is linear in the displacements (no initial strain), so scaling the
     /// values equals recovering from the scaled displacements to round-off.
-    pub fn scaled(&self, factor: f64) -> PartStress {
+    pub fn scaled(&self, factor: f64) -> Self {
         self.scaled_in_turn(&[factor])
     }
 
     /// These stresses scaled by each of `factors` in turn (`scaled_in_turn`
     /// on every value): bit for bit as many successive [`PartStress::scaled`]
     /// calls.
-    pub fn scaled_in_turn(&self, factors: &[f64]) -> PartStress {
-        let scale = |v: &[[f64; 3]]| -> Vec<[f64; 3]> {
+    pub fn scaled_in_turn(&self, factors: &[f64]) -> Self {
+        let scale = |v: &[[f64; N]]| -> Vec<[f64; N]> {
             v.iter().map(|&s| scaled_in_turn(s, factors)).collect()
         };
         let hoop = |v: &[f64]| -> Vec<f64> {
@@ -121,6 +125,65 @@ pub fn recover(mesh: &Mesh, material: &Material, u: &[f64]) -> PartStress {
     }
     PartStress {
         element,
+        nodal,
+        hoop: None,
+    }
+}
+
+/// Recovers the stresses of a solid part (`mesh`, the 6×6 `d` of its material)
+/// from its nodal displacements `u` (3 per node, the part's own numbering):
+/// the element values (constant in a TET4, the Gauss-point mean in a HEX8) and
+/// the volume-weighted average of the corner values at each node.
+pub fn recover_solid(mesh: &Mesh<D3>, d: &[[f64; 6]; 6], u: &[f64]) -> PartStress<[f64; 6]> {
+    use rayon::prelude::*;
+    let gather = |nodes: &[usize], out: &mut [f64]| {
+        for (a, &n) in nodes.iter().enumerate() {
+            out[3 * a..3 * a + 3].copy_from_slice(&u[3 * n..3 * n + 3]);
+        }
+    };
+    let all: Vec<([f64; 6], [[f64; 6]; 8], f64)> = mesh
+        .elements
+        .par_iter()
+        .enumerate()
+        .map(|(e, el)| {
+            let volume = mesh.element_volume(e);
+            match el {
+                SolidElement::Tet4(n) => {
+                    let mut ue = [0.0; 12];
+                    gather(n, &mut ue);
+                    let s = tet4::stresses(&n.map(|k| mesh.nodes[k]), d, &ue);
+                    let mut corners = [[0.0; 6]; 8];
+                    corners[..4].copy_from_slice(&s.corners);
+                    (s.element, corners, volume)
+                }
+                SolidElement::Hex8(n) => {
+                    let mut ue = [0.0; 24];
+                    gather(n, &mut ue);
+                    let s = hex8::stresses(&n.map(|k| mesh.nodes[k]), d, &ue);
+                    (s.element, s.corners, volume)
+                }
+            }
+        })
+        .collect();
+    let n = mesh.nodes.len();
+    let (mut nodal, mut weight) = (vec![[0.0; 6]; n], vec![0.0; n]);
+    for (el, (_, corners, v)) in mesh.elements.iter().zip(&all) {
+        for (&node, c) in el.nodes().iter().zip(corners) {
+            for (s, c) in nodal[node].iter_mut().zip(c) {
+                *s += v * c;
+            }
+            weight[node] += v;
+        }
+    }
+    for (s, w) in nodal.iter_mut().zip(&weight) {
+        if *w > 0.0 {
+            for v in s.iter_mut() {
+                *v /= w;
+            }
+        }
+    }
+    PartStress {
+        element: all.iter().map(|(s, _, _)| *s).collect(),
         nodal,
         hoop: None,
     }

@@ -9,35 +9,36 @@ use super::backend::{
 };
 use super::system::{ContactSystem, Method, Solve, UpdatePolicy};
 use crate::coupling::PairState;
-use crate::dim::{D2, Dim};
+use crate::dim::D2;
+use crate::fem::ElementFamily;
 use std::sync::atomic::AtomicUsize;
 
 /// The direct back end: today's supernodal Cholesky with its low-rank updates,
 /// restricted solves and refinement, for one problem.
-pub struct Cholesky<'a, D: Dim = D2> {
+pub struct Cholesky<'a, D: ElementFamily = D2> {
     problem: Problem<'a, D>,
-    system: ContactSystem<'a>,
+    system: ContactSystem<'a, D>,
 }
 
-impl<'a, D: Dim> Cholesky<'a, D> {
+impl<'a, D: ElementFamily> Cholesky<'a, D> {
     /// The back end of `problem` around an existing contact system (built for
     /// the same parts, interfaces and DOFs).
-    pub fn with_system(problem: Problem<'a, D>, system: ContactSystem<'a>) -> Self {
+    pub fn with_system(problem: Problem<'a, D>, system: ContactSystem<'a, D>) -> Self {
         Cholesky { problem, system }
     }
 
     /// The contact system (its counters and tuning).
-    pub fn system(&self) -> &ContactSystem<'a> {
+    pub fn system(&self) -> &ContactSystem<'a, D> {
         &self.system
     }
 
     /// The contact system, to tune it.
-    pub fn system_mut(&mut self) -> &mut ContactSystem<'a> {
+    pub fn system_mut(&mut self) -> &mut ContactSystem<'a, D> {
         &mut self.system
     }
 }
 
-impl<'a, D: Dim> Analyse<'a, D> for Cholesky<'a, D> {
+impl<'a, D: ElementFamily> Analyse<'a, D> for Cholesky<'a, D> {
     /// The node graph, the nested-dissection ordering, the pattern in the
     /// elimination order and the symbolic factorization
     /// (`super::setup::pattern_and_symbolic`).
@@ -51,7 +52,7 @@ impl<'a, D: Dim> Analyse<'a, D> for Cholesky<'a, D> {
     }
 }
 
-impl<'a, D: Dim> LinearSolver<'a> for Cholesky<'a, D> {
+impl<'a, D: ElementFamily> LinearSolver<'a> for Cholesky<'a, D> {
     fn prepare(&mut self, states: &[Vec<PairState>]) -> Result<Method, LinearFailure> {
         let Problem {
             interfaces, dofs, ..
@@ -129,7 +130,7 @@ impl<'a, D: Dim> LinearSolver<'a> for Cholesky<'a, D> {
     }
 }
 
-impl<D: Dim> RestrictedSolve for Cholesky<'_, D> {
+impl<D: ElementFamily> RestrictedSolve for Cholesky<'_, D> {
     fn solve_interface(
         &mut self,
         states: &[Vec<PairState>],
@@ -164,7 +165,7 @@ impl<D: Dim> RestrictedSolve for Cholesky<'_, D> {
     }
 }
 
-impl<D: Dim> RefinedSolve for Cholesky<'_, D> {
+impl<D: ElementFamily> RefinedSolve for Cholesky<'_, D> {
     /// [`ContactSystem::solve_unrefined`], and for a low-rank update the
     /// residual at the coupling equations and [`ContactSystem::refine`].
     fn solve_refined(
@@ -191,7 +192,7 @@ impl<D: Dim> RefinedSolve for Cholesky<'_, D> {
     }
 }
 
-impl<D: Dim> LowRankUpdate for Cholesky<'_, D> {
+impl<D: ElementFamily> LowRankUpdate for Cholesky<'_, D> {
     fn set_policy(&mut self, policy: UpdatePolicy) {
         self.system.policy = policy;
     }

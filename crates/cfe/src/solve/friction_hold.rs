@@ -10,9 +10,10 @@
 use super::support::{groups, has_support, unheld_groups};
 use crate::assembly::DofMap;
 use crate::coupling::{Interface, Law, PairHistory, PairState};
-use crate::dim::{D2, Dim};
+use crate::dim::D2;
 use crate::domain::Part;
 use crate::error::{Error, Result};
+use crate::fem::ElementFamily;
 use std::f64::consts::FRAC_PI_2;
 
 /// Can friction hold each part, or group of parts, whose only hold along its
@@ -45,7 +46,7 @@ use std::f64::consts::FRAC_PI_2;
 /// interfaces only (a block bonded to a plate that rests on a frictional face;
 /// a stack whose middle part is pressed from both sides). Each is a necessary
 /// condition: a body that passes may still find no state.
-pub struct FrictionHold<D: Dim = D2> {
+pub struct FrictionHold<D: ElementFamily = D2> {
     bodies: Vec<FrictionBody<D>>,
     /// The parts a support holds only across their faces, with the axis (0: x,
     /// 1: y, 2: z) of every DOF their supports fix ([`FrictionHold::check_settled`]).
@@ -56,7 +57,7 @@ pub struct FrictionHold<D: Dim = D2> {
 }
 
 /// A body held along its faces by friction alone (see [`FrictionHold`]).
-struct FrictionBody<D: Dim> {
+struct FrictionBody<D: ElementFamily> {
     /// Its parts' names.
     parts: Vec<String>,
     /// Its parts' global nodes (their DOFs are `D::dof(g, c)`).
@@ -76,14 +77,14 @@ struct FrictionBody<D: Dim> {
     spread: f64,
 }
 
-impl<D: Dim> FrictionHold<D> {
+impl<D: ElementFamily> FrictionHold<D> {
     /// The bodies of `parts` that friction alone holds along their faces,
     /// under the supports of `dofs` and the interfaces `interfaces`.
     ///
     /// An axisymmetric model has no such body to judge: a ring's pairs push it
     /// radially from all sides, their resultant is along the axis alone, and the
     /// cone of one direction does not bound it (the search decides).
-    pub fn new(parts: &[Part], interfaces: &[Interface<D>], dofs: &DofMap<D>) -> Self {
+    pub fn new(parts: &[Part<D>], interfaces: &[Interface<D>], dofs: &DofMap<D>) -> Self {
         if parts.iter().any(|p| p.material.is_axisymmetric()) {
             return FrictionHold {
                 bodies: Vec::new(),
@@ -289,7 +290,7 @@ impl<D: Dim> FrictionHold<D> {
 /// repeats). A part linked to no supported part at all is left out: nothing
 /// holds it by friction, the support check names it (no support), and
 /// friction is not blamed.
-fn candidate_bodies<D: Dim>(interfaces: &[Interface<D>], free: &[bool]) -> Vec<Vec<usize>> {
+fn candidate_bodies<D: ElementFamily>(interfaces: &[Interface<D>], free: &[bool]) -> Vec<Vec<usize>> {
     let n = free.len();
     let supported: Vec<bool> = free.iter().map(|f| !f).collect();
     let mut unheld = vec![false; n];
@@ -326,8 +327,8 @@ fn candidate_bodies<D: Dim>(interfaces: &[Interface<D>], free: &[bool]) -> Vec<V
 /// every interface between it and the rest is frictional (`coulomb`, or
 /// `frictionless` beside one), its faces push it one way and the friction
 /// cone does not reach 90° (see [`FrictionHold`]).
-fn friction_body<D: Dim>(
-    parts: &[Part],
+fn friction_body<D: ElementFamily>(
+    parts: &[Part<D>],
     interfaces: &[Interface<D>],
     dofs: &DofMap<D>,
     body: &[usize],
@@ -387,7 +388,7 @@ fn friction_body<D: Dim>(
 
 /// The one axis (0: x, 1: y, 2: z) along which the supports of part `p` fix
 /// its DOFs, if they fix some and all along the same axis.
-fn support_axis<D: Dim>(dofs: &DofMap<D>, p: usize) -> Option<usize> {
+fn support_axis<D: ElementFamily>(dofs: &DofMap<D>, p: usize) -> Option<usize> {
     let (a, b) = (D::dof(dofs.node_offset[p], 0), D::dof(dofs.node_offset[p + 1], 0));
     let first = dofs.fixed.partition_point(|&(d, _)| d < a);
     let last = dofs.fixed.partition_point(|&(d, _)| d < b);
@@ -399,7 +400,7 @@ fn support_axis<D: Dim>(dofs: &DofMap<D>, p: usize) -> Option<usize> {
 /// The unit mean m of `directions` and the largest angle ε between one of them
 /// and m; `None` when there are none or they cancel (a nonzero sum means at
 /// least one).
-fn face_direction<D: Dim>(
+fn face_direction<D: ElementFamily>(
     directions: impl Iterator<Item = D::Vector> + Clone,
 ) -> Option<(D::Vector, f64)> {
     let sum = directions.clone().fold(D::Vector::default(), |mut a, d| {
@@ -435,7 +436,7 @@ struct BeyondFriction {
 /// Whether the load `f` on a part whose faces push it along the unit direction
 /// `m` with the friction cone `cone` = tan(φ + ε) exceeds what they hold by more
 /// than `margin` (see [`FrictionHold`]).
-fn beyond_friction<D: Dim>(
+fn beyond_friction<D: ElementFamily>(
     f: D::Vector,
     m: D::Vector,
     cone: f64,
@@ -451,7 +452,7 @@ fn beyond_friction<D: Dim>(
     })
 }
 
-impl<D: Dim> FrictionBody<D> {
+impl<D: ElementFamily> FrictionBody<D> {
     /// The body's load at factor `lambda`: `λ f_ext` summed over its nodes.
     fn load(&self, f_ext: &[f64], lambda: f64) -> D::Vector {
         self.nodes
@@ -467,7 +468,7 @@ impl<D: Dim> FrictionBody<D> {
 }
 
 /// `a v`, component by component.
-fn scaled<D: Dim>(a: f64, v: D::Vector) -> D::Vector {
+fn scaled<D: ElementFamily>(a: f64, v: D::Vector) -> D::Vector {
     let mut w = v;
     for x in w.as_mut() {
         *x *= a;

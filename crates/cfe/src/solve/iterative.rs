@@ -20,7 +20,8 @@ use super::backend::{
 use super::system::Method;
 use crate::assembly::{NodeGraph, Stiffness};
 use crate::coupling::{PairState, PairStates};
-use crate::dim::{D2, Dim};
+use crate::dim::D2;
+use crate::fem::ElementFamily;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::matrix_free::InitialGuessStatus;
 use faer::matrix_free::LinOp;
@@ -41,7 +42,7 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-10;
 const MAX_RESTARTS: usize = 4;
 
 /// Jacobi-preconditioned conjugate gradients on the assembled `K(states)`.
-pub struct ConjugateGradients<'a, D: Dim = D2> {
+pub struct ConjugateGradients<'a, D: ElementFamily = D2> {
     problem: Problem<'a, D>,
     /// The lower triangle's pattern (equations' order); values only while a
     /// preparation scatters them.
@@ -70,7 +71,7 @@ pub struct ConjugateGradients<'a, D: Dim = D2> {
     stats: Statistics,
 }
 
-impl<'a, D: Dim> Analyse<'a, D> for ConjugateGradients<'a, D> {
+impl<'a, D: ElementFamily> Analyse<'a, D> for ConjugateGradients<'a, D> {
     /// The node graph, the lower pattern (the parts' stiffness assembled into
     /// it) and the whole matrix's pattern.
     fn analyse(problem: Problem<'a, D>) -> crate::error::Result<Self> {
@@ -143,7 +144,7 @@ impl<'a, D: Dim> Analyse<'a, D> for ConjugateGradients<'a, D> {
     }
 }
 
-impl<D: Dim> ConjugateGradients<'_, D> {
+impl<D: ElementFamily> ConjugateGradients<'_, D> {
     /// The prepared matrix (both triangles) as faer's sparse operator.
     fn matrix(&self) -> SparseColMatRef<'_, usize, f64> {
         SparseColMatRef::new(self.full.as_ref(), &self.values)
@@ -254,7 +255,7 @@ impl<D: Dim> ConjugateGradients<'_, D> {
     }
 }
 
-impl<'a, D: Dim> LinearSolver<'a> for ConjugateGradients<'a, D> {
+impl<'a, D: ElementFamily> LinearSolver<'a> for ConjugateGradients<'a, D> {
     /// Assembles `K(states)` into the whole matrix and inverts its diagonal;
     /// a diagonal entry that is not positive and finite is
     /// [`LinearFailure::NotPositiveDefinite`] at its equation.

@@ -10,7 +10,7 @@
 
 use super::symbolic::Stopped;
 use crate::assembly::{DofMap, FIXED, NodeGraph};
-use crate::dim::Dim;
+use crate::fem::ElementFamily;
 use std::sync::atomic::AtomicUsize;
 
 /// Subsets at or below this size are not split further.
@@ -34,7 +34,7 @@ const STOP_CHECK_NODES: usize = 4096;
 /// `stop`, if given, is read before every split of a subset of at least
 /// `STOP_CHECK_NODES` nodes: once it is nonzero the ordering is abandoned
 /// with [`Stopped`] (its value). Reading it changes nothing else.
-pub fn nested_dissection<D: Dim>(
+pub fn nested_dissection<D: ElementFamily>(
     coords: &[D::Vector],
     graph: &NodeGraph,
     dofs: &DofMap<D>,
@@ -45,7 +45,7 @@ pub fn nested_dissection<D: Dim>(
 
 /// [`nested_dissection`], the halves of subsets of at least `parallel` nodes
 /// ordered on two threads.
-fn dissection_with<D: Dim>(
+fn dissection_with<D: ElementFamily>(
     coords: &[D::Vector],
     graph: &NodeGraph,
     dofs: &DofMap<D>,
@@ -88,7 +88,7 @@ fn dissection_with<D: Dim>(
 /// What every step of the recursion reads: the coordinates, the graph and the
 /// marks of the upper halves (each step marks its own upper half's nodes with a
 /// mark of its own, so steps on disjoint subsets run side by side).
-struct Split<'a, D: Dim> {
+struct Split<'a, D: ElementFamily> {
     coords: &'a [D::Vector],
     graph: &'a NodeGraph,
     stamp: &'a [std::sync::atomic::AtomicU32],
@@ -102,7 +102,7 @@ struct Split<'a, D: Dim> {
     halted: &'a AtomicUsize,
 }
 
-impl<D: Dim> Split<'_, D> {
+impl<D: ElementFamily> Split<'_, D> {
     /// Orders `nodes` into `out` (of the same length): each half first, the
     /// separator last.
     fn dissect(&self, nodes: &mut [usize], out: &mut [usize]) {
@@ -183,7 +183,7 @@ impl<D: Dim> Split<'_, D> {
 
 /// The axis along which the points `coords[a]` of `nodes` extend farthest (the
 /// first of equal ones).
-fn longest_axis<D: Dim>(coords: &[D::Vector], nodes: &[usize]) -> usize {
+fn longest_axis<D: ElementFamily>(coords: &[D::Vector], nodes: &[usize]) -> usize {
     let (mut lo, mut hi) = (D::Vector::default(), D::Vector::default());
     lo.as_mut().fill(f64::INFINITY);
     hi.as_mut().fill(f64::NEG_INFINITY);

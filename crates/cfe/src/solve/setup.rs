@@ -25,9 +25,9 @@ use crate::assembly::{
     VectorSink,
 };
 use crate::coupling::Interface;
-use crate::dim::Dim;
 use crate::domain::Part;
 use crate::error::{Error, Result};
+use crate::fem::ElementFamily;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Elements whose stiffness is assembled between two reads of the stop flag.
@@ -74,8 +74,8 @@ fn compact_order(order: Vec<usize>) -> (Vec<u32>, Vec<u32>) {
 /// solver after the symbolic analysis in that order. `stop`, if given, is read
 /// between the steps and within the long ones (see the module's text): once it
 /// is nonzero the analysis is abandoned with [`Error::Interrupted`].
-pub fn pattern_and_symbolic<D: Dim>(
-    parts: &[Part],
+pub fn pattern_and_symbolic<D: ElementFamily>(
+    parts: &[Part<D>],
     interfaces: &[Interface<D>],
     dofs: &DofMap<D>,
     stop: Option<&AtomicUsize>,
@@ -205,8 +205,8 @@ impl ElementSource for Until<'_> {
 /// built again without values: what a factorization needs when the pattern was
 /// freed after the last one ([`super::system::ContactSystem::keep_pattern`]).
 /// `stop`, if given, is read within each step: [`Stopped`] once it is nonzero.
-pub fn pattern_in_order<D: Dim>(
-    parts: &[Part],
+pub fn pattern_in_order<D: ElementFamily>(
+    parts: &[Part<D>],
     interfaces: &[Interface<D>],
     dofs: &DofMap<D>,
     order: &[u32],

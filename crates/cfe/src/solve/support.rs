@@ -12,9 +12,10 @@
 
 use crate::assembly::{DofMap, FIXED};
 use crate::coupling::{Interface, Law, PairState};
-use crate::dim::{D2, Dim, Tangent};
+use crate::dim::{D2, Tangent};
 use crate::domain::Part;
 use crate::error::{Error, Result};
+use crate::fem::ElementFamily;
 use faer::{Mat, Side};
 
 /// Most rigid-body modes of a part in any dimension (6 in 3D).
@@ -25,7 +26,7 @@ const MAX_MODES: usize = 6;
 /// the constraint rows of the fixed DOFs, summed into the Gram matrix `Σ r rᵀ`
 /// (one pass over the nodes). [`SupportCheck::check`] then adds only the closed
 /// pairs, so a check costs O(pairs) however fine the meshes.
-pub struct SupportCheck<D: Dim = D2> {
+pub struct SupportCheck<D: ElementFamily = D2> {
     /// Per part: centre and size.
     frames: Vec<(D::Vector, f64)>,
     /// `Σ r rᵀ` over the fixed DOFs (`D::RIGID_MODES` rows and columns per part).
@@ -36,14 +37,14 @@ pub struct SupportCheck<D: Dim = D2> {
 
 /// The entries of part `p`'s rigid-body row `r` in the Gram matrix:
 /// `(M p + m, r[m])` for the part's M = `D::RIGID_MODES` modes m.
-fn entries<D: Dim>(p: usize, r: &[f64; MAX_MODES]) -> [(usize, f64); MAX_MODES] {
+fn entries<D: ElementFamily>(p: usize, r: &[f64; MAX_MODES]) -> [(usize, f64); MAX_MODES] {
     let m = D::RIGID_MODES;
     std::array::from_fn(|k| if k < m { (m * p + k, r[k]) } else { (0, 0.0) })
 }
 
-impl<D: Dim> SupportCheck<D> {
+impl<D: ElementFamily> SupportCheck<D> {
     /// The frames and the supports' rows of `parts` under the DOF map `dofs`.
-    pub fn new(parts: &[Part], dofs: &DofMap<D>) -> Self {
+    pub fn new(parts: &[Part<D>], dofs: &DofMap<D>) -> Self {
         let axisymmetric: Vec<bool> = parts.iter().map(|p| p.material.is_axisymmetric()).collect();
         SupportCheck::from_positions(&dofs.positions(parts), dofs, &axisymmetric)
     }
@@ -109,7 +110,7 @@ impl<D: Dim> SupportCheck<D> {
     /// stiffens). Returns an error naming every part that can.
     pub fn check(
         &self,
-        parts: &[Part],
+        parts: &[Part<D>],
         interfaces: &[Interface<D>],
         states: &[Vec<PairState>],
     ) -> Result<()> {
@@ -183,20 +184,20 @@ impl<D: Dim> SupportCheck<D> {
 }
 
 /// The unit vector along axis `c`.
-fn unit<D: Dim>(c: usize) -> D::Vector {
+fn unit<D: ElementFamily>(c: usize) -> D::Vector {
     let mut e = D::Vector::default();
     e.as_mut()[c] = 1.0;
     e
 }
 
 /// The global nodes of part `p`.
-pub(super) fn nodes_of<D: Dim>(dofs: &DofMap<D>, p: usize) -> std::ops::Range<usize> {
+pub(super) fn nodes_of<D: ElementFamily>(dofs: &DofMap<D>, p: usize) -> std::ops::Range<usize> {
     dofs.node_offset[p]..dofs.node_offset[p + 1]
 }
 
 /// The centre of the points `x` and their largest distance from it (at least
 /// 1e-300): a part's frame.
-fn frame<D: Dim>(x: &[D::Vector]) -> (D::Vector, f64) {
+fn frame<D: ElementFamily>(x: &[D::Vector]) -> (D::Vector, f64) {
     let n = x.len() as f64;
     let c = x.iter().fold(D::Vector::default(), |mut a, x| {
         for i in 0..D::N {
@@ -228,14 +229,14 @@ fn add(g: &mut Mat<f64>, entries: &[(usize, f64)]) {
 }
 
 /// Whether a support fixes any DOF of part `p`.
-pub(super) fn has_support<D: Dim>(dofs: &DofMap<D>, p: usize) -> bool {
+pub(super) fn has_support<D: ElementFamily>(dofs: &DofMap<D>, p: usize) -> bool {
     let nodes = nodes_of(dofs, p);
     dofs.eq[D::dof(nodes.start, 0)..D::dof(nodes.end, 0)].contains(&FIXED)
 }
 
 /// The groups of parts linked by any interface in which no part has a support
 /// (`supported` per part): whatever the pairs do, each moves as one rigid body.
-pub(super) fn unheld_groups<D: Dim>(
+pub(super) fn unheld_groups<D: ElementFamily>(
     n: usize,
     interfaces: &[Interface<D>],
     supported: &[bool],
@@ -251,8 +252,8 @@ pub(super) fn unheld_groups<D: Dim>(
 /// help: the whole assembly, or the parts named; then every other free part
 /// with how many of its coupling pairs are open in `states` (and, on a
 /// frictional or frictionless face, why its pairs do not hold it).
-fn unsupported<D: Dim>(
-    parts: &[Part],
+fn unsupported<D: ElementFamily>(
+    parts: &[Part<D>],
     interfaces: &[Interface<D>],
     states: &[Vec<PairState>],
     free: &[bool],
@@ -280,7 +281,7 @@ fn unsupported<D: Dim>(
 }
 
 /// The parts of `g` quoted and listed.
-fn quote(parts: &[Part], g: &[usize]) -> String {
+fn quote<D: ElementFamily>(parts: &[Part<D>], g: &[usize]) -> String {
     g.iter()
         .map(|&p| format!("'{}'", parts[p].name))
         .collect::<Vec<_>>()
@@ -289,7 +290,7 @@ fn quote(parts: &[Part], g: &[usize]) -> String {
 
 /// A clause per group of parts with no support at all (`unheld`): the whole
 /// assembly, a part alone, or parts linked only to each other.
-fn unheld_clauses<D: Dim>(parts: &[Part], interfaces: &[Interface<D>], unheld: &[Vec<usize>]) -> Vec<String> {
+fn unheld_clauses<D: ElementFamily>(parts: &[Part<D>], interfaces: &[Interface<D>], unheld: &[Vec<usize>]) -> Vec<String> {
     if unheld.len() == 1 && unheld[0].len() == parts.len() {
         return vec![format!(
             "the assembly has no support: no [[support]] fixes any part ({}), so it moves as a rigid body whatever its interfaces do. Add a [[support]] that holds it (x, y and a rotation)",
@@ -322,7 +323,7 @@ fn unheld_clauses<D: Dim>(parts: &[Part], interfaces: &[Interface<D>], unheld: &
 
 /// Free part `p` described by its coupling pairs in `states`: how many are
 /// open, and, on a frictionless or frictional face, why they do not hold it.
-fn free_part<D: Dim>(parts: &[Part], interfaces: &[Interface<D>], states: &[Vec<PairState>], p: usize) -> String {
+fn free_part<D: ElementFamily>(parts: &[Part<D>], interfaces: &[Interface<D>], states: &[Vec<PairState>], p: usize) -> String {
     // Its pairs, open ones, closed ones with no tangential stiffness
     // (frictionless: sliding freely), and its Coulomb interfaces' slipping pairs.
     let (mut pairs, mut open, mut sliding, mut slipping) = (0, 0, 0, 0);

@@ -20,8 +20,9 @@ use super::linear::CholeskySolver;
 use super::lower::LowerMatrix;
 use crate::assembly::{DofMap, FIXED, Stiffness};
 use crate::coupling::{Interface, PairState, PairStates};
-use crate::dim::Dim;
+use crate::dim::D2;
 use crate::domain::Part;
+use crate::fem::ElementFamily;
 use std::collections::HashMap;
 use std::sync::atomic::AtomicUsize;
 use std::time::Instant;
@@ -61,9 +62,9 @@ pub const UPDATE_FLOP_WEIGHT: f64 = 4.0;
 
 /// The stiffness, its factorization for the base states, and the cached
 /// low-rank correction columns.
-pub struct ContactSystem<'a> {
+pub struct ContactSystem<'a, D: ElementFamily = D2> {
     /// The parts, whose stiffness is assembled anew for each factorization.
-    parts: &'a [Part],
+    parts: &'a [Part<D>],
     /// The caller's stop flag, read before every supernode of a numeric
     /// factorization ([`ContactSystem::set_stop`]).
     stop: Option<&'a AtomicUsize>,
@@ -133,11 +134,11 @@ pub struct ContactSystem<'a> {
     pub flops: f64,
 }
 
-impl<'a> ContactSystem<'a> {
+impl<'a, D: ElementFamily> ContactSystem<'a, D> {
     /// Wraps the stiffness of `parts` (and of coupling elements) and its symbolic
     /// factorization; the stiffness is put in the factorization's elimination
     /// order if it is not already (its values permuted along).
-    pub fn new(parts: &'a [Part], k: Stiffness, chol: CholeskySolver) -> Self {
+    pub fn new(parts: &'a [Part<D>], k: Stiffness, chol: CholeskySolver) -> Self {
         let budget = (256usize << 20).max(8 * chol.factor_nnz() / 4);
         let (order, inverse) = chol.order();
         let k = if k.positions() != Some(inverse) {
@@ -232,7 +233,7 @@ impl<'a> ContactSystem<'a> {
 
     /// Solves `K(states) x = rhs` in place. A non-positive pivot returns the
     /// equation where it occurred.
-    pub fn solve<D: Dim>(
+    pub fn solve(
         &mut self,
         interfaces: &[Interface<D>],
         dofs: &DofMap<D>,
@@ -247,7 +248,7 @@ impl<'a> ContactSystem<'a> {
     /// `rhs` that is zero off the coupling equations (a change of the pairs'
     /// forces): its forward solve runs on the interface's tree paths only
     /// ([`CholeskySolver::forward_on`]), the backward solve in full.
-    pub fn solve_pair_forces<D: Dim>(
+    pub fn solve_pair_forces(
         &mut self,
         interfaces: &[Interface<D>],
         dofs: &DofMap<D>,
@@ -277,7 +278,7 @@ impl<'a> ContactSystem<'a> {
     /// The two solves then cost one backward solve in full and the tree paths
     /// of the interface (forward) and of `read` (backward), instead of three
     /// full passes over the factor.
-    pub fn solve_unrefined<D: Dim>(
+    pub fn solve_unrefined(
         &mut self,
         interfaces: &[Interface<D>],
         dofs: &DofMap<D>,
@@ -395,7 +396,7 @@ impl<'a> ContactSystem<'a> {
     /// factor on the plate on a base). This is what an active-set iteration needs
     /// to check the law on every pair, and a fixed-point step on the pairs' forces
     /// to update them.
-    pub fn solve_interface<D: Dim>(
+    pub fn solve_interface(
         &mut self,
         interfaces: &[Interface<D>],
         dofs: &DofMap<D>,
@@ -424,7 +425,7 @@ impl<'a> ContactSystem<'a> {
 
     /// Computes, once, the coupling elements' free equations and the supernodes
     /// of their elimination-tree paths.
-    fn interface_set<D: Dim>(&mut self, interfaces: &[Interface<D>], dofs: &DofMap<D>) {
+    fn interface_set(&mut self, interfaces: &[Interface<D>], dofs: &DofMap<D>) {
         if self.interface_set.is_none() {
             let eqs = interface_equations(interfaces, dofs);
             let set = self
@@ -488,7 +489,7 @@ impl<'a> ContactSystem<'a> {
         z
     }
 
-    fn refactor_and_solve<D: Dim>(
+    fn refactor_and_solve(
         &mut self,
         interfaces: &[Interface<D>],
         dofs: &DofMap<D>,
@@ -509,7 +510,7 @@ impl<'a> ContactSystem<'a> {
     /// states already) without solving: the next solve of these states reuses
     /// it, and one of states a few pairs away may update it. Returns what it
     /// did ([`Method::Factorization`] or [`Method::Reuse`]).
-    pub fn factorize<D: Dim>(
+    pub fn factorize(
         &mut self,
         interfaces: &[Interface<D>],
         dofs: &DofMap<D>,
@@ -525,7 +526,7 @@ impl<'a> ContactSystem<'a> {
 
     /// A new numeric factorization of `K(states)`, kept as the base of later
     /// updates (its flops are counted by the caller).
-    fn refactorize<D: Dim>(
+    fn refactorize(
         &mut self,
         interfaces: &[Interface<D>],
         dofs: &DofMap<D>,
@@ -658,7 +659,7 @@ enum Half {
 }
 
 /// The free equations of every coupling element's DOFs, sorted.
-fn interface_equations<D: Dim>(interfaces: &[Interface<D>], dofs: &DofMap<D>) -> Vec<usize> {
+fn interface_equations<D: ElementFamily>(interfaces: &[Interface<D>], dofs: &DofMap<D>) -> Vec<usize> {
     let mut eqs: Vec<usize> = crate::coupling::coupling_dofs(interfaces, dofs)
         .into_iter()
         .map(|d| dofs.eq[d])

@@ -9,19 +9,21 @@
 
 use super::contact::Solver;
 use crate::coupling::{Interface, PairState, PairStates};
+use crate::dim::D2;
 use crate::dofs::DofMap;
 use crate::domain::{Part, Settings};
+use crate::fem::ElementFamily;
 use std::sync::atomic::AtomicUsize;
 
 /// A prepared problem to solve for its final states: parts, interfaces with their
 /// coupling elements, DOF numbering, external force at full load, settings.
-pub struct Problem<'a> {
+pub struct Problem<'a, D: ElementFamily = D2> {
     /// The parts.
-    pub parts: &'a [Part],
+    pub parts: &'a [Part<D>],
     /// The interfaces with their coupling elements.
-    pub interfaces: &'a [Interface],
+    pub interfaces: &'a [Interface<D>],
     /// The DOF numbering.
-    pub dofs: &'a DofMap,
+    pub dofs: &'a DofMap<D>,
     /// External force of all DOFs at full load.
     pub f_ext: Vec<f64>,
     /// Analysis settings (the increments are ignored: one increment is solved).
@@ -32,12 +34,15 @@ pub struct Problem<'a> {
 /// starting from `coarse_start` when given), mapped onto the pairs of `fine`.
 /// `None` when the coarse problem does not solve, its interfaces do not match,
 /// or `stop` (read as [`Solver::new`] says) is set.
-pub fn states_from_coarse<'a>(
-    coarse: Problem<'a>,
+pub fn states_from_coarse<'a, D: ElementFamily>(
+    coarse: Problem<'a, D>,
     coarse_start: Option<PairStates>,
-    fine: &[Interface],
+    fine: &[Interface<D>],
     stop: Option<&'a AtomicUsize>,
-) -> Option<PairStates> {
+) -> Option<PairStates>
+where
+    D::Vector: rstar::Point<Scalar = f64>,
+{
     if coarse.interfaces.len() != fine.len() {
         return None;
     }
@@ -63,11 +68,14 @@ pub fn states_from_coarse<'a>(
 
 /// Each pair of `fine` takes the state of the nearest pair (by reference position)
 /// of the same interface of `coarse`, whose states are `coarse_states`.
-pub fn map_states(
-    coarse: &[Interface],
+pub fn map_states<D: ElementFamily>(
+    coarse: &[Interface<D>],
     coarse_states: &[Vec<PairState>],
-    fine: &[Interface],
-) -> PairStates {
+    fine: &[Interface<D>],
+) -> PairStates
+where
+    D::Vector: rstar::Point<Scalar = f64>,
+{
     fine.iter()
         .zip(coarse)
         .zip(coarse_states)

@@ -11,9 +11,9 @@ use super::fixed_point::FixedPointScale;
 use super::increment::{IncrementResult, Iteration, PairViolation, count_changes};
 use super::pairs::LawCheck;
 use super::solver::Solver;
-use crate::dim::Dim;
 use crate::coupling::{PairState, PairStates, ViolationKind};
 use crate::error::{Error, Result};
+use crate::fem::ElementFamily;
 use crate::solve::system::Method;
 use std::collections::HashSet;
 use std::time::Instant;
@@ -70,7 +70,7 @@ impl Search {
 /// the law's verdict.
 type Checked = (Vec<f64>, Option<Vec<f64>>, Option<Method>, LawCheck);
 
-impl<D: Dim> Solver<'_, D> {
+impl<D: ElementFamily> Solver<'_, D> {
     /// One active-set increment from the pattern `start`. With Coulomb
     /// interfaces (path-dependent, so every increment is searched), an increment
     /// whose search from `start` finds no state, only settles, or reaches a

@@ -6,13 +6,13 @@
 
 use super::increment::{IncrementResult, Iteration, PairViolation, count_changes};
 use super::solver::Solver;
-use crate::dim::Dim;
 use crate::coupling::{Interface, PairSet, PairStates, ViolationKind};
 use crate::domain::{Part, Scheme};
 use crate::error::{Error, Result};
+use crate::fem::ElementFamily;
 use std::time::Instant;
 
-impl<D: Dim> Solver<'_, D> {
+impl<D: ElementFamily> Solver<'_, D> {
     /// Runs all increments; `on_increment` receives each converged increment (to
     /// write it out) before the next starts. Returns the last increment. Stops with
     /// [`Error::LawViolation`] after handing over an increment whose largest
@@ -275,7 +275,7 @@ impl<D: Dim> Solver<'_, D> {
 }
 
 /// What to say about the penalties when the solve lost accuracy.
-fn penalty_advice<D: Dim>(parts: &[Part], interfaces: &[Interface<D>]) -> String {
+fn penalty_advice<D: ElementFamily>(parts: &[Part<D>], interfaces: &[Interface<D>]) -> String {
     let worst = interfaces
         .iter()
         .map(|i| {

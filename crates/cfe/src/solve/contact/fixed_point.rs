@@ -9,8 +9,9 @@ use super::scale::largest_off;
 use super::solver::Solver;
 use crate::assembly::{self, FIXED};
 use crate::coupling::{PairHistories, PairHistory, PairSet, PairState, history};
-use crate::dim::{Dim, Tangent};
+use crate::dim::Tangent;
 use crate::error::Result;
+use crate::fem::ElementFamily;
 use crate::solve::anderson::Anderson;
 use crate::solve::backend::{Request, Solve};
 use std::time::Instant;
@@ -85,7 +86,7 @@ pub(super) fn iterate(terms: &mut impl FixedPoint, max: usize) -> Result<bool> {
 /// The pairs' terms of one pattern `states`, iterated from the solution `u`
 /// (valid at the coupling elements' DOFs at least): what the steps of
 /// [`Solver::fixed_point`] read and keep.
-struct PairTerms<'s, 'a, D: Dim> {
+struct PairTerms<'s, 'a, D: ElementFamily> {
     solver: &'s mut Solver<'a, D>,
     states: &'s [Vec<PairState>],
     inc: usize,
@@ -106,7 +107,7 @@ struct PairTerms<'s, 'a, D: Dim> {
     before: PairHistories<D>,
 }
 
-impl<D: Dim> FixedPoint for PairTerms<'_, '_, D> {
+impl<D: ElementFamily> FixedPoint for PairTerms<'_, '_, D> {
     fn moved(&mut self) -> Result<f64> {
         self.solver.check_stop(self.inc)?;
         // The largest displacement of a coupling node.
@@ -185,7 +186,7 @@ impl<D: Dim> FixedPoint for PairTerms<'_, '_, D> {
     }
 }
 
-impl<'a, D: Dim> Solver<'a, D> {
+impl<'a, D: ElementFamily> Solver<'a, D> {
     /// Iterates the pairs' right-hand-side terms of `states` to their fixed point
     /// from the solution `u` (valid at the coupling elements' DOFs at least),
     /// Anderson-accelerated. K is the pattern's: only the pairs' constant terms
@@ -369,7 +370,7 @@ impl<'a, D: Dim> Solver<'a, D> {
         mut f: impl FnMut(usize, usize, Term, f64),
     ) {
         let pairs = self.pairs();
-        let components = <<D as Dim>::Tangent as Tangent>::COMPONENTS;
+        let components = <D::Tangent as Tangent>::COMPONENTS;
         for (i, st) in states.iter().enumerate().take(pairs.interface_count()) {
             let base = pairs.law(i);
             let augmented = pairs.augmented(i).is_some();

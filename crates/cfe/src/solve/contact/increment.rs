@@ -4,7 +4,8 @@
 //! [`SolveTimings`]) and the load path it follows ([`LoadSteps`], [`LoadPath`]).
 
 use crate::coupling::{PairHistories, PairState, PairStates, ViolationKind};
-use crate::dim::{D2, Dim};
+use crate::dim::D2;
+use crate::fem::ElementFamily;
 use crate::solve::system::Method;
 
 /// What an iterative linear back end did over a run (summary.json's
@@ -67,7 +68,7 @@ fn method_or_reuse<S: serde::Serializer>(
 /// The converged result of one increment (of a model of dimension `D`: its
 /// pairs' histories' tangent).
 #[derive(Debug, Clone)]
-pub struct IncrementResult<D: Dim = D2> {
+pub struct IncrementResult<D: ElementFamily = D2> {
     /// 1-based increment number (counted over all steps).
     pub index: usize,
     /// Load factor λ of the increment's step (1 at its last increment).
@@ -140,7 +141,7 @@ pub struct MultipleOf {
     pub factor: f64,
 }
 
-impl<D: Dim> IncrementResult<D> {
+impl<D: ElementFamily> IncrementResult<D> {
     /// The largest violation as a force (0 when the law holds everywhere).
     pub fn max_violation_force(&self) -> f64 {
         self.violations.iter().map(|v| v.force).fold(0.0, f64::max)

@@ -6,10 +6,10 @@
 
 use super::increment::{IncrementResult, PairViolation};
 use super::solver::Solver;
-use crate::dim::Dim;
 use crate::coupling::{
     self, CheckTolerance, LawParams, PairSet, PairState, PairStates, ViolationKind, history,
 };
+use crate::fem::ElementFamily;
 
 /// The law checked on one solution: the state the law gives each pair next and
 /// every pair that breaks it.
@@ -41,7 +41,7 @@ impl LawCheck {
     }
 }
 
-impl<D: Dim> Solver<'_, D> {
+impl<D: ElementFamily> Solver<'_, D> {
     /// The law parameters of interface `i` as the search reads them: its
     /// friction coefficient times [`Solver::friction_factor`].
     pub(super) fn law_params(&self, i: usize) -> LawParams {

@@ -15,6 +15,7 @@ use crate::coupling::{Interface, PairHistory, PairState, PairStates};
 use crate::dim::Dim;
 use crate::domain::Part;
 use crate::error::{Error, Result};
+use crate::fem::ElementFamily;
 use crate::solve::backend::{Request, Solve};
 use crate::solve::system::Method;
 use std::time::Instant;
@@ -26,7 +27,7 @@ const UPDATE_RESIDUAL_LIMIT: f64 = 1e-8;
 /// system was solved (`None`: a solved pattern scaled).
 type Solution = (Vec<f64>, Vec<f64>, Option<Method>);
 
-impl<D: Dim> Solver<'_, D> {
+impl<D: ElementFamily> Solver<'_, D> {
     /// Solves the pattern `states` once at load factor `lambda` and checks the law on
     /// every pair, without iterating: the increment a run would end on if this
     /// pattern were its answer (`settled` empty, `violations` whatever the law says).
@@ -589,9 +590,9 @@ impl<D: Dim> Solver<'_, D> {
 /// `history` (none for the seed's laws), from the coupling elements and the
 /// part elements around their nodes (the other DOFs hold partial sums): what a
 /// refinement on the coupling equations reads, for a few elements' work.
-fn ring_force<D: Dim>(
+fn ring_force<D: ElementFamily>(
     ring: &CouplingRing,
-    parts: &[Part],
+    parts: &[Part<D>],
     interfaces: &[Interface<D>],
     dofs: &DofMap<D>,
     history: Option<&[Vec<PairHistory<D>>]>,

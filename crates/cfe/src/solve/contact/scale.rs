@@ -4,7 +4,7 @@
 //! (how far a state of rest may move a coupling node); with the two norms of
 //! nodal vectors they read. Pure functions of the model's sizes ([`Scales`]).
 
-use crate::dim::Dim;
+use crate::fem::ElementFamily;
 
 /// Out-of-balance force (relative to the balance scale) above which a result is
 /// flagged as imprecise.
@@ -100,13 +100,13 @@ impl Scales {
 }
 
 /// Σ ‖f‖ over the nodes of the force vector `f` (`D::N` DOFs a node).
-pub(super) fn total_force<D: Dim>(f: &[f64]) -> f64 {
+pub(super) fn total_force<D: ElementFamily>(f: &[f64]) -> f64 {
     f.chunks_exact(D::N).map(D::length).sum()
 }
 
 /// The largest nodal displacement |u_n| of `u` (`D::N` DOFs a node) over the
 /// nodes not in `skip` (sorted).
-pub(super) fn largest_off<D: Dim>(u: &[f64], skip: &[usize]) -> f64 {
+pub(super) fn largest_off<D: ElementFamily>(u: &[f64], skip: &[usize]) -> f64 {
     u.chunks_exact(D::N)
         .enumerate()
         .filter(|(n, _)| skip.binary_search(n).is_err())

@@ -11,9 +11,10 @@ use crate::assembly::{DofMap, FIXED};
 use crate::coupling::{
     Interface, InterfacePairs, Law, PairHistories, PairHistory, PairSet, PairState, PairStates,
 };
-use crate::dim::{D2, Dim};
+use crate::dim::D2;
 use crate::domain::{CG_TOLERANCE, LinearBackend, Part, Scheme, Settings};
 use crate::error::{Error, Result};
+use crate::fem::ElementFamily;
 use crate::solve::backend::{Analyse, LinearFailure, LinearSolver, Outcome, Problem, Statistics};
 use crate::solve::direct::Cholesky;
 use crate::solve::iterative::ConjugateGradients;
@@ -75,8 +76,8 @@ pub(super) struct Kept {
 /// The incremental solver for one model of dimension `D` (its nodal vectors,
 /// DOFs per node, tangent and rigid modes: [`D2`] for the plane models built
 /// today). The scheme reads the dimension only through `D`.
-pub struct Solver<'a, D: Dim = D2> {
-    pub(super) parts: &'a [Part],
+pub struct Solver<'a, D: ElementFamily = D2> {
+    pub(super) parts: &'a [Part<D>],
     pub(super) interfaces: &'a [Interface<D>],
     pub(super) dofs: &'a DofMap<D>,
     pub(super) settings: &'a Settings,
@@ -165,7 +166,7 @@ pub(super) struct TrialRhs {
     pub(super) rhs: Vec<f64>,
 }
 
-impl<'a, D: Dim> Solver<'a, D> {
+impl<'a, D: ElementFamily> Solver<'a, D> {
     /// The pairs the scheme solves with, through the [`PairSet`] it reads them by.
     pub(super) fn pairs(&self) -> Pairs<'a, D> {
         InterfacePairs::new(self.interfaces, self.dofs)
@@ -176,7 +177,7 @@ impl<'a, D: Dim> Solver<'a, D> {
     /// that analysis too (a nonzero value abandons it with
     /// [`Error::Interrupted`]) and then as [`Solver::set_stop`] says.
     pub fn new(
-        parts: &'a [Part],
+        parts: &'a [Part<D>],
         interfaces: &'a [Interface<D>],
         dofs: &'a DofMap<D>,
         f_ext: Vec<f64>,
@@ -551,7 +552,7 @@ impl<'a, D: Dim> Solver<'a, D> {
 /// reading `stop` during that analysis), and, for an iterative one, the record
 /// of its solves.
 #[allow(clippy::type_complexity)]
-fn linear_back_end<'a, D: Dim>(
+fn linear_back_end<'a, D: ElementFamily>(
     kind: LinearBackend,
     problem: Problem<'a, D>,
     stop: Option<&'a AtomicUsize>,
@@ -583,8 +584,8 @@ fn linear_back_end<'a, D: Dim>(
 }
 
 /// The model's sizes the load and balance scales and the drift guard read.
-fn model_scales<D: Dim>(
-    parts: &[Part],
+fn model_scales<D: ElementFamily>(
+    parts: &[Part<D>],
     pairs: &impl PairSet<Dim = D>,
     dofs: &DofMap<D>,
     total_load: f64,

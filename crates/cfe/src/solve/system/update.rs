@@ -7,18 +7,19 @@
 use super::{ContactSystem, Half, Method, Read, UPDATE_FLOP_WEIGHT, UpdatePolicy};
 use crate::assembly::{DofMap, FIXED};
 use crate::coupling::{Interface, PairState};
-use crate::dim::{Dim, Tangent};
+use crate::dim::Tangent;
+use crate::fem::ElementFamily;
 use crate::solve::capacitance::{Capacitance, Entry};
 use crate::solve::columns::{Columns, SparseColumn};
 use crate::solve::factor::Halt;
 use std::time::Instant;
 
-impl ContactSystem<'_> {
+impl<D: ElementFamily> ContactSystem<'_, D> {
     /// The forward half of a solve with the kept factor: `y = z − V t` (in the
     /// elimination order) for the backward solve, on the rows `read` (the others
     /// meaningless), or, when a new factorization is needed or cheaper, the
     /// complete solution in `rhs`.
-    pub(super) fn forward_half<D: Dim>(
+    pub(super) fn forward_half(
         &mut self,
         interfaces: &[Interface<D>],
         dofs: &DofMap<D>,
@@ -170,7 +171,7 @@ impl ContactSystem<'_> {
 
     /// The correction columns of the pairs `new` (not cached yet), their rows
     /// in the elimination order.
-    fn new_columns<D: Dim>(
+    fn new_columns(
         &self,
         interfaces: &[Interface<D>],
         dofs: &DofMap<D>,
@@ -219,7 +220,7 @@ impl ContactSystem<'_> {
 /// The pairs whose state differs from the base states (interface, pair), and
 /// the change of each one's penalties (c_n, c_s) from its base state.
 #[allow(clippy::type_complexity)]
-fn flipped_pairs<D: Dim>(
+fn flipped_pairs<D: ElementFamily>(
     interfaces: &[Interface<D>],
     states: &[Vec<PairState>],
     base: &[Vec<PairState>],
@@ -255,7 +256,7 @@ struct Column {
 
 /// The correction columns of a pair of dimension `D`: one per local axis
 /// (the normal, then each tangent).
-fn columns_per_pair<D: Dim>() -> usize {
+fn columns_per_pair<D: ElementFamily>() -> usize {
     1 + <D::Tangent as Tangent>::COMPONENTS
 }
 
@@ -263,7 +264,7 @@ fn columns_per_pair<D: Dim>() -> usize {
 /// the element's rank-one terms `w_k` restricted to the free equations (their
 /// weights, the change of the penalty c_k between the base state and the
 /// current one, are taken at each solve).
-fn pair_columns<D: Dim>(iface: &Interface<D>, k: usize, dofs: &DofMap<D>) -> Vec<Column> {
+fn pair_columns<D: ElementFamily>(iface: &Interface<D>, k: usize, dofs: &DofMap<D>) -> Vec<Column> {
     let c = &iface.elements[k];
     let g = c.dofs(dofs, iface.host, iface.node_part);
     let g = g.as_slice();
