@@ -3,16 +3,75 @@
 //! nodes moved onto their host edges, the segment coupling's elements — and the
 //! overrides of a prepared interface's law and friction.
 
-use super::{Coupling, Interface, Law, SLIP_STIFFNESS, search, segment};
+use super::search3d::{self, Surface};
+use super::{Coupling, CouplingElement, Interface, Law, SLIP_STIFFNESS, search, segment};
+use crate::dim::{D2, D3};
 use crate::domain::{InterfaceDef, Part};
 use crate::error::{Error, Result};
+use crate::fem::ElementFamily;
+
+/// How the interfaces of a dimension are built: the pair search, the nodes
+/// moved onto the host's boundary, and the slip stiffness — node to edge (or
+/// segment) in 2D, node to face in 3D.
+pub trait InterfaceDim: ElementFamily {
+    /// The interfaces of `defs` over `parts` ([`interfaces`]).
+    fn build(defs: &[InterfaceDef], parts: &mut [Part<Self>], refine: usize) -> Result<Vec<Interface<Self>>>;
+
+    /// The stabilising tangential stiffness of a slipping pair of `elements`
+    /// between `host` and `node` under `law` (0 but for the Coulomb law).
+    fn slip_stiffness(law: Law, host: &Part<Self>, node: &Part<Self>, elements: &[CouplingElement<Self>]) -> f64;
+}
+
+/// Node to edge (or segment) coupling of plane parts.
+impl InterfaceDim for D2 {
+    fn build(defs: &[InterfaceDef], parts: &mut [Part], refine: usize) -> Result<Vec<Interface>> {
+        plane_interfaces(defs, parts, refine)
+    }
+
+    /// [`SLIP_STIFFNESS`] × the softer side's E·t.
+    fn slip_stiffness(law: Law, host: &Part, node: &Part, _: &[CouplingElement]) -> f64 {
+        let et = |p: &Part| p.material.young * p.material.thickness;
+        if law == Law::Coulomb {
+            SLIP_STIFFNESS * et(host).min(et(node))
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Node to face coupling of solid parts.
+impl InterfaceDim for D3 {
+    fn build(defs: &[InterfaceDef], parts: &mut [Part<D3>], refine: usize) -> Result<Vec<Interface<D3>>> {
+        solid_interfaces(defs, parts, refine)
+    }
+
+    /// [`SLIP_STIFFNESS`] × the softer side's E × the mean size of the
+    /// interface's host faces (a force per length, as E·t is in 2D).
+    fn slip_stiffness(law: Law, host: &Part<D3>, node: &Part<D3>, elements: &[CouplingElement<D3>]) -> f64 {
+        if law != Law::Coulomb || elements.is_empty() {
+            return 0.0;
+        }
+        let h = elements.iter().map(|c| c.edge_length).sum::<f64>() / elements.len() as f64;
+        SLIP_STIFFNESS * host.material.young.min(node.material.young) * h
+    }
+}
 
 /// The interfaces of `defs` over `parts` (meshed `refine` times finer than the
 /// problem file gives them), in order, each seeing the nodes the earlier ones
-/// moved: finds the coupling pairs of every interface and moves each coupling node
-/// onto its host edge (its projection there: a no-op for faces that already
-/// coincide, a small adjustment for a curved face meshed apart).
-pub fn interfaces(
+/// moved ([`InterfaceDim::build`] of the parts' dimension).
+pub fn interfaces<D: InterfaceDim>(
+    defs: &[InterfaceDef],
+    parts: &mut [Part<D>],
+    refine: usize,
+) -> Result<Vec<Interface<D>>> {
+    D::build(defs, parts, refine)
+}
+
+/// The interfaces of plane `defs` over `parts`: finds the coupling pairs of every
+/// interface and moves each coupling node onto its host edge (its projection
+/// there: a no-op for faces that already coincide, a small adjustment for a
+/// curved face meshed apart).
+fn plane_interfaces(
     defs: &[InterfaceDef],
     parts: &mut [Part],
     refine: usize,
@@ -97,8 +156,93 @@ pub fn interfaces(
                     .unwrap_or(2.0 * std::f64::consts::PI * c.position[0]);
             }
         }
-        let c_slip =
-            slip_stiffness(def.law, &parts[def.host], &parts[def.node_part]);
+        let c_slip = D2::slip_stiffness(def.law, &parts[def.host], &parts[def.node_part], &elements);
+        interfaces.push(Interface {
+            name: def.name.clone(),
+            host: def.host,
+            node_part: def.node_part,
+            law: def.law,
+            c_n: def.c_n,
+            c_s: def.c_s,
+            c_slip,
+            elements,
+            max_projection_distance,
+            friction: def.friction,
+            enforcement: def.enforcement,
+            penetration_tolerance: def.penetration_tolerance,
+            unpaired,
+            coupling: def.coupling,
+        });
+    }
+    Ok(interfaces)
+}
+
+/// The interfaces of solid `defs` over `parts`: node to face pairs
+/// ([`search3d::find_pairs_3d`] on the host's boundary faces), each coupling node
+/// moved onto its host face unless a search distance keeps the gaps.
+fn solid_interfaces(
+    defs: &[InterfaceDef],
+    parts: &mut [Part<D3>],
+    refine: usize,
+) -> Result<Vec<Interface<D3>>> {
+    let mut interfaces = Vec::with_capacity(defs.len());
+    for def in defs {
+        if def.coupling == Coupling::Segment {
+            return Err(Error::Coupling {
+                interface: def.name.clone(),
+                message: "coupling = \"segment\" is for plane parts only (in 3D it needs the polygon clipping of two face meshes): solid parts couple node to face, leave `coupling` out".into(),
+            });
+        }
+        let (host, node_part) = (&parts[def.host], &parts[def.node_part]);
+        let host_faces = host.mesh.boundary_faces();
+        let node_faces = match node_part.mesh.boundaries.get(&def.boundary) {
+            Some(faces) => faces.clone(),
+            None => node_part.mesh.boundary_faces(),
+        };
+        let (elements, unpaired) = search3d::find_pairs_3d(
+            &def.name,
+            Surface {
+                nodes: &host.mesh.nodes,
+                faces: &host_faces,
+            },
+            Surface {
+                nodes: &node_part.mesh.nodes,
+                faces: &node_faces,
+            },
+            &def.nodes,
+            def.tolerance * refine as f64,
+            def.search_distance,
+        )?;
+        if elements.is_empty() && !def.nodes.is_empty() && def.search_distance > 0.0 {
+            return Err(Error::NoPairs {
+                interface: def.name.clone(),
+                search_distance: def.search_distance,
+                nearest: None,
+                message: format!(
+                    "no pair within search_distance = {}: none of the {} coupling nodes of part '{}' (boundary '{}') lies within it of a boundary face of part '{}' facing it; the pairs are fixed in the initial configuration, so the interface would couple nothing: raise `search_distance` or place the faces closer",
+                    def.search_distance,
+                    def.nodes.len(),
+                    node_part.name,
+                    def.boundary,
+                    host.name,
+                ),
+            });
+        }
+        let max_projection_distance = if def.search_distance > 0.0 {
+            0.0
+        } else {
+            search3d::move_onto_faces(&mut parts[def.node_part].mesh.nodes, &elements)
+        };
+        if max_projection_distance > 0.0 {
+            let part = &parts[def.node_part];
+            part.mesh.validate(&part.name).map_err(|e| Error::Coupling {
+                interface: def.name.clone(),
+                message: format!(
+                    "moving the coupling nodes onto the host faces (by up to {max_projection_distance:e}) spoils the node part's mesh: {e}; lower `tolerance` or mesh the faces closer together"
+                ),
+            })?;
+        }
+        let c_slip = D3::slip_stiffness(def.law, &parts[def.host], &parts[def.node_part], &elements);
         interfaces.push(Interface {
             name: def.name.clone(),
             host: def.host,
@@ -120,10 +264,10 @@ pub fn interfaces(
 }
 
 /// Makes every interface (its definition and its prepared form) follow `law`.
-pub fn set_law(
+pub fn set_law<D: InterfaceDim>(
     defs: &mut [InterfaceDef],
-    interfaces: &mut [Interface],
-    parts: &[Part],
+    interfaces: &mut [Interface<D>],
+    parts: &[Part<D>],
     law: Law,
 ) {
     for def in defs.iter_mut() {
@@ -131,16 +275,16 @@ pub fn set_law(
     }
     for iface in interfaces.iter_mut() {
         iface.law = law;
-        iface.c_slip = slip_stiffness(law, &parts[iface.host], &parts[iface.node_part]);
+        iface.c_slip = D::slip_stiffness(law, &parts[iface.host], &parts[iface.node_part], &iface.elements);
     }
 }
 
 /// Makes every interface follow the Coulomb law with friction coefficient `mu`,
 /// which must be finite and ≥ 0 ([`Error::Model`] otherwise).
-pub fn set_friction(
+pub fn set_friction<D: InterfaceDim>(
     defs: &mut [InterfaceDef],
-    interfaces: &mut [Interface],
-    parts: &[Part],
+    interfaces: &mut [Interface<D>],
+    parts: &[Part<D>],
     mu: f64,
 ) -> Result<()> {
     if !(mu.is_finite() && mu >= 0.0) {
@@ -189,18 +333,6 @@ fn no_pairs(def: &InterfaceDef, host: &Part, node_part: &Part) -> Error {
             host.name,
             nearest.map_or(String::new(), |d| format!(" (the nearest is {d:e} away)")),
         ),
-    }
-}
-
-/// The stabilising tangential stiffness of a slipping pair between `host` and
-/// `node` under `law`: [`SLIP_STIFFNESS`] × the softer side's E·t
-/// for the Coulomb law, 0 for the others (they have no slip state).
-fn slip_stiffness(law: Law, host: &Part, node: &Part) -> f64 {
-    let et = |p: &Part| p.material.young * p.material.thickness;
-    if law == Law::Coulomb {
-        SLIP_STIFFNESS * et(host).min(et(node))
-    } else {
-        0.0
     }
 }
 
