@@ -26,35 +26,52 @@ fn lame(a: f64, b: f64, p: f64, r: f64) -> (f64, f64, f64) {
     (u, aa - bb / (r * r), aa + bb / (r * r))
 }
 
-/// The cylinder 10 ≤ r ≤ 20, 0 ≤ z ≤ 2, `cells` (radial, axial) of `elements`,
-/// p = 100 on the bore, top and bottom held in z.
-fn cylinder(cells: [usize; 2], elements: &str) -> String {
+/// The head of an axisymmetric problem text with the material `steel` (E, ν).
+fn steel_head() -> String {
     format!(
         r#"
 plane = "axisymmetric"
 [materials.steel]
 E = {E:?}
 nu = {NU:?}
-[[part]]
-name = "tube"
-material = "steel"
-rectangle = {{ x = [10.0, 20.0], y = [0.0, 2.0], cells = [{}, {}], elements = "{elements}" }}
-[[support]]
-part = "tube"
+"#
+    )
+}
+
+/// The `[[support]]`s holding the bottom and the top of part `part` in z.
+fn held_in_z(part: &str) -> String {
+    format!(
+        r#"[[support]]
+part = "{part}"
 boundary = "bottom"
 fix = ["y"]
 [[support]]
-part = "tube"
+part = "{part}"
 boundary = "top"
 fix = ["y"]
-[[load]]
+"#
+    )
+}
+
+/// The cylinder 10 ≤ r ≤ 20, 0 ≤ z ≤ 2, `cells` (radial, axial) of `elements`,
+/// p = 100 on the bore, top and bottom held in z.
+fn cylinder(cells: [usize; 2], elements: &str) -> String {
+    format!(
+        r#"{}[[part]]
+name = "tube"
+material = "steel"
+rectangle = {{ x = [10.0, 20.0], y = [0.0, 2.0], cells = [{}, {}], elements = "{elements}" }}
+{}[[load]]
 part = "tube"
 boundary = "left"
 pressure = 100.0
 [analysis]
 increments = 1
 "#,
-        cells[0], cells[1]
+        steel_head(),
+        cells[0],
+        cells[1],
+        held_in_z("tube")
     )
 }
 
@@ -142,12 +159,7 @@ fn press_fit_pressure(a: f64, b: f64, c: f64, delta: f64) -> f64 {
 /// overclosure g₀ = −δ, with `coupling`.
 fn press_fit(cells: [usize; 2], coupling: &str) -> String {
     format!(
-        r#"
-plane = "axisymmetric"
-[materials.steel]
-E = {E:?}
-nu = {NU:?}
-[[part]]
+        r#"{}[[part]]
 name = "shaft"
 material = "steel"
 rectangle = {{ x = [5.0, 20.01], y = [0.0, 4.0], cells = [{}, {}], elements = "q4" }}
@@ -155,23 +167,7 @@ rectangle = {{ x = [5.0, 20.01], y = [0.0, 4.0], cells = [{}, {}], elements = "q
 name = "hub"
 material = "steel"
 rectangle = {{ x = [20.0, 40.0], y = [0.0, 4.0], cells = [{}, {}], elements = "q4" }}
-[[support]]
-part = "shaft"
-boundary = "bottom"
-fix = ["y"]
-[[support]]
-part = "shaft"
-boundary = "top"
-fix = ["y"]
-[[support]]
-part = "hub"
-boundary = "bottom"
-fix = ["y"]
-[[support]]
-part = "hub"
-boundary = "top"
-fix = ["y"]
-[[interface]]
+{}{}[[interface]]
 host = "hub"
 nodes = "shaft"
 boundary = "right"
@@ -181,10 +177,13 @@ search_distance = 0.5
 [analysis]
 increments = 1
 "#,
+        steel_head(),
         cells[0],
         cells[1],
         cells[0],
-        (cells[1] * 3).div_ceil(4)
+        (cells[1] * 3).div_ceil(4),
+        held_in_z("shaft"),
+        held_in_z("hub")
     )
 }
 

@@ -31,6 +31,27 @@ fn pvd_names_existing(out: &Path) -> usize {
     common::pvd_files_exist(out, &pvd)
 }
 
+/// A run stopped by `signal` before any increment: `e` is
+/// `Error::Interrupted` at increment 0, the summary in `out` says `interrupted`
+/// with none converged, and no increment (series entry, VTU file, pairs.csv) is
+/// written.
+fn assert_nothing_written(e: &Error, signal: usize, out: &Path) {
+    assert!(
+        matches!(e, Error::Interrupted { increment: 0, signal: s } if *s == signal),
+        "{e:?}"
+    );
+    let s = common::summary_json(out);
+    assert_eq!(s["status"], "interrupted");
+    assert_eq!(s["converged_increments"], 0);
+    assert_eq!(pvd_names_existing(out), 0);
+    assert!(
+        common::vtu_files(out).is_empty(),
+        "{:?}",
+        common::vtu_files(out)
+    );
+    assert!(!out.join("pairs.csv").exists());
+}
+
 /// A stop already requested before the run: the first check ends it before
 /// any increment is written; the summary says `interrupted` with none converged.
 #[test]
@@ -39,26 +60,7 @@ fn a_stop_before_the_run_writes_no_increment() {
     let mut a = common::analysis(&coulomb_push(4));
     let stop = AtomicUsize::new(2);
     let e = a.run_until(&out, &mut |_| {}, &stop).unwrap_err();
-    assert!(
-        matches!(
-            e,
-            Error::Interrupted {
-                increment: 0,
-                signal: 2
-            }
-        ),
-        "{e:?}"
-    );
-    let s = common::summary_json(&out);
-    assert_eq!(s["status"], "interrupted");
-    assert_eq!(s["converged_increments"], 0);
-    assert_eq!(pvd_names_existing(&out), 0);
-    assert!(
-        common::vtu_files(&out).is_empty(),
-        "{:?}",
-        common::vtu_files(&out)
-    );
-    assert!(!out.join("pairs.csv").exists());
+    assert_nothing_written(&e, 2, &out);
     std::fs::remove_dir_all(&out).unwrap();
 }
 
@@ -236,26 +238,7 @@ fn a_coulomb_solve_ends_on_the_flag_with_an_interrupted_summary() {
         a.run_until(&out, &mut |_| {}, stop)
     })
     .unwrap_err();
-    assert!(
-        matches!(
-            e,
-            Error::Interrupted {
-                increment: 0,
-                signal: 15
-            }
-        ),
-        "{e:?}"
-    );
-    let s = common::summary_json(&out);
-    assert_eq!(s["status"], "interrupted");
-    assert_eq!(s["converged_increments"], 0);
-    assert_eq!(pvd_names_existing(&out), 0);
-    assert!(
-        common::vtu_files(&out).is_empty(),
-        "{:?}",
-        common::vtu_files(&out)
-    );
-    assert!(!out.join("pairs.csv").exists());
+    assert_nothing_written(&e, 15, &out);
     assert!(!out.join(".cfe-lock").exists());
     for dir in [out.clone(), out.join("vtu")] {
         for entry in std::fs::read_dir(&dir).unwrap() {

@@ -136,11 +136,11 @@ pub fn traction(force: f64, length: f64, thickness: f64) -> f64 {
 
 impl<D: Dim> CouplingElement<D> {
     /// The traction of `force` (a force of this pair on the node part, normal or
-    /// tangential) on the node part's face: [`traction`] over the pair's tributary
-    /// length and the node part's thickness `thickness`. The face belongs to both
-    /// parts, but the force crosses it where the node part meets it, over the node
-    /// part's thickness; when the host's thickness differs, this is the node part's
-    /// side of the interface.
+    /// tangential) on the node part's face: the free function `traction` over the
+    /// pair's tributary length and the node part's thickness `thickness`. The face
+    /// belongs to both parts, but the force crosses it where the node part meets
+    /// it, over the node part's thickness; when the host's thickness differs, this
+    /// is the node part's side of the interface.
     ///
     /// In an axisymmetric model the force is a total over the ring and crosses
     /// the ring's band of the face, tributary length × 2π r̄ ([`Self::ring`]; the
@@ -308,7 +308,7 @@ impl<D: Dim> CouplingElement<D> {
     /// The pair at element displacements `d` (gathered at `dofs`) under the law
     /// `law` (the interface's; scaled here by the element's weight ω,
     /// [`Self::params`]) in `state` with history `h`: its local jump, its normal gap
-    /// g₀ + \[\[u_n\]\] and its local force from [`LawParams::local_force`] (so the
+    /// g₀ + \[\[u_n\]\] and its local force from `LawParams::local_force` (so the
     /// force includes the initial-gap, slip-history, slip-force and multiplier
     /// terms). What `Interface::pair_at` gives for pair k of an interface.
     pub fn at(

@@ -23,7 +23,7 @@
 //! three point values through the linear field they define.
 
 use super::element::{ElementMatrix, ElementStress, MAX_DOFS, MAX_NODES};
-use super::q4;
+use super::{q4, sum_of};
 use crate::error::{Error, Result};
 use crate::mesh::Element;
 use std::f64::consts::PI;
@@ -71,7 +71,7 @@ pub fn points(element: &Element, x: &[[f64; 2]; MAX_NODES]) -> Vec<Point> {
                 .iter()
                 .map(|&[l2, l3]| {
                     let n = [1.0 - l2 - l3, l2, l3];
-                    let r = (0..3).map(|a| n[a] * x[a][0]).sum::<f64>();
+                    let r = sum_of(3, |a| n[a] * x[a][0]);
                     Point {
                         b: b_rows(&n, &dn, r),
                         r,
@@ -88,7 +88,7 @@ pub fn points(element: &Element, x: &[[f64; 2]; MAX_NODES]) -> Vec<Point> {
                     let n = q4::shape(g);
                     let (bp, det) = q4::b_matrix(&x4, g);
                     let dn: [[f64; 2]; 4] = std::array::from_fn(|a| [bp[0][2 * a], bp[1][2 * a + 1]]);
-                    let r = (0..4).map(|a| n[a] * x[a][0]).sum::<f64>();
+                    let r = sum_of(4, |a| n[a] * x[a][0]);
                     Point {
                         b: b_rows(&n, &dn, r),
                         r,
@@ -108,10 +108,10 @@ pub fn stiffness(element: &Element, x: &[[f64; 2]; MAX_NODES], d: &[[f64; 4]; 4]
     for p in points(element, x) {
         let w = 2.0 * PI * p.r * p.weight;
         let db: [[f64; MAX_DOFS]; 4] =
-            std::array::from_fn(|i| std::array::from_fn(|j| (0..4).map(|l| d[i][l] * p.b[l][j]).sum()));
+            std::array::from_fn(|i| std::array::from_fn(|j| sum_of(4, |l| d[i][l] * p.b[l][j])));
         for (i, row) in k.iter_mut().enumerate().take(m) {
             for (j, kij) in row.iter_mut().enumerate().take(m).skip(i) {
-                *kij += w * (0..4).map(|l| p.b[l][i] * db[l][j]).sum::<f64>();
+                *kij += w * sum_of(4, |l| p.b[l][i] * db[l][j]);
             }
         }
     }
@@ -124,8 +124,8 @@ fn point_stresses(element: &Element, x: &[[f64; 2]; MAX_NODES], d: &[[f64; 4]; 4
     points(element, x)
         .into_iter()
         .map(|p| {
-            let eps: [f64; 4] = std::array::from_fn(|i| (0..m).map(|j| p.b[i][j] * u[j]).sum());
-            let s = std::array::from_fn(|i| (0..4).map(|j| d[i][j] * eps[j]).sum());
+            let eps: [f64; 4] = std::array::from_fn(|i| sum_of(m, |j| p.b[i][j] * u[j]));
+            let s = std::array::from_fn(|i| sum_of(4, |j| d[i][j] * eps[j]));
             (p, s)
         })
         .collect()
@@ -139,7 +139,7 @@ pub fn internal_force(element: &Element, x: &[[f64; 2]; MAX_NODES], d: &[[f64; 4
     for (p, s) in point_stresses(element, x, d, u) {
         let w = 2.0 * PI * p.r * p.weight;
         for (j, fj) in f.iter_mut().enumerate().take(m) {
-            *fj += w * (0..4).map(|i| p.b[i][j] * s[i]).sum::<f64>();
+            *fj += w * sum_of(4, |i| p.b[i][j] * s[i]);
         }
     }
     f
@@ -165,7 +165,7 @@ pub struct AxiStress {
 pub fn stresses(element: &Element, x: &[[f64; 2]; MAX_NODES], d: &[[f64; 4]; 4], u: &[f64; MAX_DOFS]) -> AxiStress {
     let ps = point_stresses(element, x, d, u);
     let np = ps.len() as f64;
-    let mean: [f64; 4] = std::array::from_fn(|c| ps.iter().map(|(_, s)| s[c]).sum::<f64>() / np);
+    let mean: [f64; 4] = std::array::from_fn(|c| sum_of(ps.len(), |p| ps[p].1[c]) / np);
     let mut corners = [[0.0; 3]; MAX_NODES];
     let mut hoop_corners = [0.0; MAX_NODES];
     match element {
@@ -174,9 +174,7 @@ pub fn stresses(element: &Element, x: &[[f64; 2]; MAX_NODES], d: &[[f64; 4]; 4],
             // has L₁ = 2/3). A linear field through the three point values:
             // σ(corner a) = 5/3 σ_a − 1/3 (σ_b + σ_c).
             let at = |a: usize, c: usize| {
-                (0..3)
-                    .map(|p| if p == a { 5.0 / 3.0 } else { -1.0 / 3.0 } * ps[p].1[c])
-                    .sum::<f64>()
+                sum_of(3, |p| if p == a { 5.0 / 3.0 } else { -1.0 / 3.0 } * ps[p].1[c])
             };
             for a in 0..3 {
                 corners[a] = std::array::from_fn(|c| at(a, c));

@@ -4,7 +4,7 @@
 //! matrices live in fixed 8×8 arrays (the leading `2n × 2n` block is the element's,
 //! n its node count): no allocation per element.
 
-use super::{q4, t3};
+use super::{q4, sum_of, t3};
 use crate::mesh::{Element, Mesh};
 
 /// Most nodes a part element has (Q4).
@@ -80,7 +80,7 @@ pub fn internal_force(
 pub fn mul(k: &ElementMatrix, u: &[f64; MAX_DOFS], dofs: usize) -> [f64; MAX_DOFS] {
     let mut f = [0.0; MAX_DOFS];
     for (fi, row) in f.iter_mut().zip(k).take(dofs) {
-        *fi = row[..dofs].iter().zip(&u[..dofs]).map(|(k, u)| k * u).sum();
+        *fi = sum_of(dofs, |j| row[j] * u[j]);
     }
     f
 }
@@ -115,7 +115,7 @@ pub fn stresses(
         }
         Element::Q4(_) => {
             let g = q4::gauss_stresses(x, d, u);
-            let mean = std::array::from_fn(|c| 0.25 * g.iter().map(|s| s[c]).sum::<f64>());
+            let mean = std::array::from_fn(|c| 0.25 * sum_of(g.len(), |p| g[p][c]));
             ElementStress {
                 element: mean,
                 corners: q4::extrapolate_to_nodes(&g),

@@ -170,24 +170,13 @@ pub fn min_corner_jacobian_ratio(x: &[[f64; 3]; 8]) -> f64 {
 /// Element stiffness `K_e = Σ_g B_gᵀ D B_g det J_g` (2×2×2 Gauss, weights 1); the
 /// upper triangle is accumulated and mirrored, so K_e is exactly symmetric.
 pub fn stiffness(x: &[[f64; 3]; 8], d: &[[f64; 6]; 6]) -> [[f64; 24]; 24] {
-    let mut k = [[0.0; 24]; 24];
-    for xi in GAUSS {
-        let (b, det) = b_matrix(x, xi);
-        solid::add_btdb(&mut k, &b, d, det);
-    }
-    solid::mirror(&k)
+    solid::stiffness_over(GAUSS.iter().map(|&xi| b_matrix(x, xi)), d)
 }
 
 /// Element internal force `K_e u_e = Σ_g det J_g B_gᵀ (D (B_g u_e))`, without forming
 /// `K_e`.
 pub fn internal_force(x: &[[f64; 3]; 8], d: &[[f64; 6]; 6], u: &[f64; 24]) -> [f64; 24] {
-    let mut f = [0.0; 24];
-    for xi in GAUSS {
-        let (b, det) = b_matrix(x, xi);
-        let s = solid::mul6(d, &solid::strain(&b, u)).map(|c| det * c);
-        solid::add_bt_sigma(&mut f, &b, &s);
-    }
-    f
+    solid::internal_force_over(GAUSS.iter().map(|&xi| b_matrix(x, xi)), d, u)
 }
 
 /// Stress `σ = D B(ξ) u_e` (Voigt order `[xx, yy, zz, xy, yz, zx]`) at natural
@@ -568,27 +557,8 @@ mod tests {
     #[test]
     fn internal_force_is_the_energy_gradient() {
         let d = steel();
-        let energy = |u: &[f64; 24]| {
-            GAUSS
-                .iter()
-                .map(|&xi| {
-                    let (b, det) = b_matrix(&HEX, xi);
-                    let eps = solid::strain(&b, u);
-                    let s = solid::mul6(&d, &eps);
-                    0.5 * det * (0..6).map(|i| eps[i] * s[i]).sum::<f64>()
-                })
-                .sum::<f64>()
-        };
-        let u: [f64; 24] = std::array::from_fn(|i| 1e-3 * (1.3 + i as f64).sin());
-        let f = internal_force(&HEX, &d, &u);
-        let h = 1e-7;
-        for i in 0..24 {
-            let (mut p, mut m) = (u, u);
-            p[i] += h;
-            m[i] -= h;
-            let fd = (energy(&p) - energy(&m)) / (2.0 * h);
-            assert!((fd - f[i]).abs() < 1e-6 * max_abs(f), "{i}: {fd} vs {}", f[i]);
-        }
+        let points = GAUSS.map(|xi| b_matrix(&HEX, xi));
+        assert_force_is_energy_gradient(&points, &d, |u| internal_force(&HEX, &d, u));
     }
 
     /// Rotating the element by R rotates its stiffness: K(R x) = R̂ K(x) R̂ᵀ with R̂
@@ -596,20 +566,7 @@ mod tests {
     #[test]
     fn stiffness_is_rotation_invariant() {
         let d = steel();
-        let r = rotation([0.3, -0.5, 0.8], 0.9);
-        let k = stiffness(&HEX, &d);
-        let kr = stiffness(&HEX.map(|p| rotate(&r, p)), &d);
-        let kmax = max_abs(k.iter().flatten().copied());
-        for (i, row) in kr.iter().enumerate() {
-            for (j, kij) in row.iter().enumerate() {
-                let (a, p, b, q) = (i / 3, i % 3, j / 3, j % 3);
-                let want: f64 = (0..3)
-                    .flat_map(|s| (0..3).map(move |t| (s, t)))
-                    .map(|(s, t)| r[p][s] * k[3 * a + s][3 * b + t] * r[q][t])
-                    .sum();
-                assert!((kij - want).abs() < 1e-12 * kmax, "{i} {j}");
-            }
-        }
+        assert_stiffness_rotates(&HEX, |x| stiffness(x, &d));
     }
 
     /// The inverse map returns ξ to 1e-12 inside, on faces, edges and corners and

@@ -164,7 +164,7 @@ impl Material {
         }
     }
 
-    /// The 3D isotropic D of this material's E and ν ([`d_solid`]; the plane kind and
+    /// The 3D isotropic D of this material's E and ν (`d_solid`; the plane kind and
     /// thickness, which are 2D notions, play no part).
     pub fn d_solid(&self) -> [[f64; 6]; 6] {
         d_solid(self.young, self.poisson)

@@ -21,6 +21,8 @@
 //!   points are the corners (±1, ±1), so `σ_i = Σ_g N_g(√3 ξ_i, √3 η_i) σ_g`, i.e. weights
 //!   1 + √3/2 (own point), −½ (the two adjacent points), 1 − √3/2 (opposite point).
 
+use super::sum_of;
+
 /// 1/√3, the 2-point Gauss–Legendre abscissa.
 const G: f64 = 0.577_350_269_189_625_8;
 
@@ -55,7 +57,7 @@ pub fn shape_derivatives(xi: [f64; 2]) -> [[f64; 4]; 2] {
 /// map from natural coordinates to the element with corners `x`.
 pub fn jacobian(x: &[[f64; 2]; 4], xi: [f64; 2]) -> [[f64; 2]; 2] {
     let dn = shape_derivatives(xi);
-    std::array::from_fn(|a| std::array::from_fn(|b| (0..4).map(|i| dn[a][i] * x[i][b]).sum()))
+    std::array::from_fn(|a| std::array::from_fn(|b| sum_of(4, |i| dn[a][i] * x[i][b])))
 }
 
 /// Strain–displacement matrix B (3×8) at `xi = (ξ, η)` and det J:
@@ -101,11 +103,11 @@ pub fn stiffness(x: &[[f64; 2]; 4], d: &[[f64; 3]; 3], thickness: f64) -> [[f64;
         let w = thickness * det;
         // DB (3×8)
         let db: [[f64; 8]; 3] = std::array::from_fn(|i| {
-            std::array::from_fn(|j| (0..3).map(|m| d[i][m] * b[m][j]).sum())
+            std::array::from_fn(|j| sum_of(3, |m| d[i][m] * b[m][j]))
         });
         for (i, row) in k.iter_mut().enumerate() {
             for (j, kij) in row.iter_mut().enumerate().skip(i) {
-                *kij += w * (0..3).map(|m| b[m][i] * db[m][j]).sum::<f64>();
+                *kij += w * sum_of(3, |m| b[m][i] * db[m][j]);
             }
         }
     }
@@ -119,11 +121,11 @@ pub fn internal_force(x: &[[f64; 2]; 4], d: &[[f64; 3]; 3], thickness: f64, u: &
     for xi in GAUSS {
         let (b, det) = b_matrix(x, xi);
         let w = thickness * det;
-        let eps: [f64; 3] = std::array::from_fn(|i| (0..8).map(|j| b[i][j] * u[j]).sum());
+        let eps: [f64; 3] = std::array::from_fn(|i| sum_of(8, |j| b[i][j] * u[j]));
         let sigma: [f64; 3] =
-            std::array::from_fn(|i| w * (0..3).map(|j| d[i][j] * eps[j]).sum::<f64>());
+            std::array::from_fn(|i| w * sum_of(3, |j| d[i][j] * eps[j]));
         for (j, fj) in f.iter_mut().enumerate() {
-            *fj += (0..3).map(|i| b[i][j] * sigma[i]).sum::<f64>();
+            *fj += sum_of(3, |i| b[i][j] * sigma[i]);
         }
     }
     f
@@ -132,8 +134,8 @@ pub fn internal_force(x: &[[f64; 2]; 4], d: &[[f64; 3]; 3], thickness: f64, u: &
 /// Stress `σ = D B(ξ, η) u_e` (σxx, σyy, σxy) at natural coordinates `xi`.
 pub fn stress_at(x: &[[f64; 2]; 4], d: &[[f64; 3]; 3], u: &[f64; 8], xi: [f64; 2]) -> [f64; 3] {
     let (b, _) = b_matrix(x, xi);
-    let eps: [f64; 3] = std::array::from_fn(|i| (0..8).map(|j| b[i][j] * u[j]).sum());
-    std::array::from_fn(|i| (0..3).map(|j| d[i][j] * eps[j]).sum())
+    let eps: [f64; 3] = std::array::from_fn(|i| sum_of(8, |j| b[i][j] * u[j]));
+    std::array::from_fn(|i| sum_of(3, |j| d[i][j] * eps[j]))
 }
 
 /// Stresses `σ_g = D B_g u_e` at the Gauss points, in the order of [`GAUSS`].
@@ -146,13 +148,13 @@ pub fn gauss_stresses(x: &[[f64; 2]; 4], d: &[[f64; 3]; 3], u: &[f64; 8]) -> [[f
 pub fn extrapolate_to_nodes(gauss: &[[f64; 3]; 4]) -> [[f64; 3]; 4] {
     std::array::from_fn(|i| {
         let w = shape([SQRT_3 * CORNERS[i][0], SQRT_3 * CORNERS[i][1]]);
-        std::array::from_fn(|c| (0..4).map(|g| w[g] * gauss[g][c]).sum())
+        std::array::from_fn(|c| sum_of(4, |g| w[g] * gauss[g][c]))
     })
 }
 
 /// Product of an 8×8 element matrix with an 8-vector: the element internal force `K_e u_e`.
 pub fn mul(k: &[[f64; 8]; 8], u: &[f64; 8]) -> [f64; 8] {
-    std::array::from_fn(|i| (0..8).map(|j| k[i][j] * u[j]).sum())
+    std::array::from_fn(|i| sum_of(8, |j| k[i][j] * u[j]))
 }
 
 /// Natural coordinates of point p by Newton's method on x(ξ) = p (inverse bilinear
@@ -171,7 +173,7 @@ pub fn natural_coordinates(x: &[[f64; 2]; 4], p: [f64; 2]) -> Option<[f64; 2]> {
     for _ in 0..50 {
         let n = shape(xi);
         let r: [f64; 2] =
-            std::array::from_fn(|c| (0..4).map(|i| n[i] * x[i][c]).sum::<f64>() - p[c]);
+            std::array::from_fn(|c| sum_of(4, |i| n[i] * x[i][c]) - p[c]);
         if r[0].hypot(r[1]) <= 1e-13 * size {
             return Some(xi);
         }

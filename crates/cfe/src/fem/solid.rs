@@ -170,6 +170,36 @@ pub fn add_bt_sigma<const DOFS: usize>(f: &mut [f64; DOFS], b: &[[f64; DOFS]; 6]
     }
 }
 
+/// The stiffness `K_e = Σ_p w_p B_pᵀ D B_p` over an element's quadrature points
+/// `points` (each its B and weight: det J times the rule's weight, or a TET4's
+/// volume), the upper triangle accumulated point by point ([`add_btdb`]) and
+/// mirrored, so K_e is exactly symmetric.
+pub fn stiffness_over<const DOFS: usize>(
+    points: impl IntoIterator<Item = ([[f64; DOFS]; 6], f64)>,
+    d: &[[f64; 6]; 6],
+) -> [[f64; DOFS]; DOFS] {
+    let mut k = [[0.0; DOFS]; DOFS];
+    for (b, w) in points {
+        add_btdb(&mut k, &b, d, w);
+    }
+    mirror(&k)
+}
+
+/// The internal force `K_e u_e = Σ_p w_p B_pᵀ (D (B_p u_e))` over the quadrature
+/// points `points` (as in [`stiffness_over`]), without forming `K_e`.
+pub fn internal_force_over<const DOFS: usize>(
+    points: impl IntoIterator<Item = ([[f64; DOFS]; 6], f64)>,
+    d: &[[f64; 6]; 6],
+    u: &[f64; DOFS],
+) -> [f64; DOFS] {
+    let mut f = [0.0; DOFS];
+    for (b, w) in points {
+        let s = mul6(d, &strain(&b, u)).map(|c| w * c);
+        add_bt_sigma(&mut f, &b, &s);
+    }
+    f
+}
+
 /// `K u` of a square element matrix.
 pub fn mul<const DOFS: usize>(k: &[[f64; DOFS]; DOFS], u: &[f64; DOFS]) -> [f64; DOFS] {
     std::array::from_fn(|i| (0..DOFS).map(|j| k[i][j] * u[j]).sum())
@@ -338,5 +368,59 @@ pub(crate) mod testing {
     /// The largest absolute entry.
     pub fn max_abs(v: impl IntoIterator<Item = f64>) -> f64 {
         v.into_iter().fold(0.0, |m, x| m.max(x.abs()))
+    }
+
+    /// Asserts that `force(u)` is the gradient of the strain energy
+    /// ½ Σ_p w_p εᵀ D ε over the quadrature points `points` (B, w): central
+    /// differences of the energy match it at a smooth u (the energy is
+    /// quadratic, so to round-off).
+    pub fn assert_force_is_energy_gradient<const DOFS: usize>(
+        points: &[([[f64; DOFS]; 6], f64)],
+        d: &[[f64; 6]; 6],
+        force: impl Fn(&[f64; DOFS]) -> [f64; DOFS],
+    ) {
+        let energy = |u: &[f64; DOFS]| {
+            points
+                .iter()
+                .map(|(b, w)| {
+                    let eps = super::strain(b, u);
+                    let s = super::mul6(d, &eps);
+                    0.5 * w * (0..6).map(|i| eps[i] * s[i]).sum::<f64>()
+                })
+                .sum::<f64>()
+        };
+        let u: [f64; DOFS] = std::array::from_fn(|i| 1e-3 * (1.3 + i as f64).sin());
+        let f = force(&u);
+        let h = 1e-7;
+        for i in 0..DOFS {
+            let (mut p, mut m) = (u, u);
+            p[i] += h;
+            m[i] -= h;
+            let fd = (energy(&p) - energy(&m)) / (2.0 * h);
+            assert!((fd - f[i]).abs() < 1e-6 * max_abs(f), "{i}: {fd} vs {}", f[i]);
+        }
+    }
+
+    /// Asserts that rotating the element of corners `x` by R rotates its
+    /// stiffness: K(R x) = R̂ K(x) R̂ᵀ with R̂ the block diagonal of R (for an
+    /// isotropic D), to 1e-12 of K's largest entry.
+    pub fn assert_stiffness_rotates<const N: usize, const DOFS: usize>(
+        x: &[[f64; 3]; N],
+        stiffness: impl Fn(&[[f64; 3]; N]) -> [[f64; DOFS]; DOFS],
+    ) {
+        let r = rotation([0.3, -0.5, 0.8], 0.9);
+        let k = stiffness(x);
+        let kr = stiffness(&x.map(|p| rotate(&r, p)));
+        let kmax = max_abs(k.iter().flatten().copied());
+        for (i, row) in kr.iter().enumerate() {
+            for (j, kij) in row.iter().enumerate() {
+                let (a, p, b, q) = (i / 3, i % 3, j / 3, j % 3);
+                let want: f64 = (0..3)
+                    .flat_map(|s| (0..3).map(move |t| (s, t)))
+                    .map(|(s, t)| r[p][s] * k[3 * a + s][3 * b + t] * r[q][t])
+                    .sum();
+                assert!((kij - want).abs() < 1e-12 * kmax, "{i} {j}");
+            }
+        }
     }
 }

@@ -3,6 +3,8 @@
 //!
 //! Element DOFs are ordered `[u1, v1, u2, v2, u3, v3]`.
 
+use super::sum_of;
+
 /// Strain–displacement matrix B (3×6) and area A of the triangle with corners `x`
 /// (counter-clockwise):
 ///
@@ -32,13 +34,13 @@ pub fn stiffness(x: &[[f64; 2]; 3], d: &[[f64; 3]; 3], thickness: f64) -> [[f64;
     let mut db = [[0.0; 6]; 3];
     for i in 0..3 {
         for j in 0..6 {
-            db[i][j] = (0..3).map(|k| d[i][k] * b[k][j]).sum();
+            db[i][j] = sum_of(3, |k| d[i][k] * b[k][j]);
         }
     }
     let mut k = [[0.0; 6]; 6];
     for i in 0..6 {
         for j in i..6 {
-            let v = w * (0..3).map(|m| b[m][i] * db[m][j]).sum::<f64>();
+            let v = w * sum_of(3, |m| b[m][i] * db[m][j]);
             k[i][j] = v;
             k[j][i] = v;
         }
@@ -49,8 +51,8 @@ pub fn stiffness(x: &[[f64; 2]; 3], d: &[[f64; 3]; 3], thickness: f64) -> [[f64;
 /// Stress `σ = D B u_e` (σxx, σyy, σxy), constant over the element.
 pub fn stress(x: &[[f64; 2]; 3], d: &[[f64; 3]; 3], u: &[f64; 6]) -> [f64; 3] {
     let (b, _) = b_matrix(x);
-    let eps: [f64; 3] = std::array::from_fn(|i| (0..6).map(|j| b[i][j] * u[j]).sum());
-    std::array::from_fn(|i| (0..3).map(|j| d[i][j] * eps[j]).sum())
+    let eps: [f64; 3] = std::array::from_fn(|i| sum_of(6, |j| b[i][j] * u[j]));
+    std::array::from_fn(|i| sum_of(3, |j| d[i][j] * eps[j]))
 }
 
 /// Element internal force `K_e u_e = t A Bᵀ (D (B u_e))`, without forming `K_e`
@@ -58,14 +60,14 @@ pub fn stress(x: &[[f64; 2]; 3], d: &[[f64; 3]; 3], u: &[f64; 6]) -> [f64; 3] {
 pub fn internal_force(x: &[[f64; 2]; 3], d: &[[f64; 3]; 3], thickness: f64, u: &[f64; 6]) -> [f64; 6] {
     let (b, area) = b_matrix(x);
     let w = thickness * area;
-    let eps: [f64; 3] = std::array::from_fn(|i| (0..6).map(|j| b[i][j] * u[j]).sum());
-    let sigma: [f64; 3] = std::array::from_fn(|i| w * (0..3).map(|j| d[i][j] * eps[j]).sum::<f64>());
-    std::array::from_fn(|j| (0..3).map(|i| b[i][j] * sigma[i]).sum())
+    let eps: [f64; 3] = std::array::from_fn(|i| sum_of(6, |j| b[i][j] * u[j]));
+    let sigma: [f64; 3] = std::array::from_fn(|i| w * sum_of(3, |j| d[i][j] * eps[j]));
+    std::array::from_fn(|j| sum_of(3, |i| b[i][j] * sigma[i]))
 }
 
 /// Product of a 6×6 element matrix with a 6-vector: the element internal force `K_e u_e`.
 pub fn mul(k: &[[f64; 6]; 6], u: &[f64; 6]) -> [f64; 6] {
-    std::array::from_fn(|i| (0..6).map(|j| k[i][j] * u[j]).sum())
+    std::array::from_fn(|i| sum_of(6, |j| k[i][j] * u[j]))
 }
 
 #[cfg(test)]

@@ -116,19 +116,12 @@ pub fn b_matrix(x: &[[f64; 3]; 4]) -> ([[f64; 12]; 6], f64) {
 
 /// Element stiffness `K_e = V Bᵀ D B` (12×12, exactly symmetric).
 pub fn stiffness(x: &[[f64; 3]; 4], d: &[[f64; 6]; 6]) -> [[f64; 12]; 12] {
-    let (b, v) = b_matrix(x);
-    let mut k = [[0.0; 12]; 12];
-    solid::add_btdb(&mut k, &b, d, v);
-    solid::mirror(&k)
+    solid::stiffness_over([b_matrix(x)], d)
 }
 
 /// Element internal force `K_e u_e = V Bᵀ (D (B u_e))`, without forming `K_e`.
 pub fn internal_force(x: &[[f64; 3]; 4], d: &[[f64; 6]; 6], u: &[f64; 12]) -> [f64; 12] {
-    let (b, v) = b_matrix(x);
-    let s = solid::mul6(d, &solid::strain(&b, u)).map(|c| v * c);
-    let mut f = [0.0; 12];
-    solid::add_bt_sigma(&mut f, &b, &s);
-    f
+    solid::internal_force_over([b_matrix(x)], d, u)
 }
 
 /// Stress `σ = D B u_e` (Voigt order `[xx, yy, zz, xy, yz, zx]`), constant over the
@@ -324,22 +317,7 @@ mod tests {
     #[test]
     fn internal_force_is_the_energy_gradient() {
         let d = steel();
-        let energy = |u: &[f64; 12]| {
-            let (b, v) = b_matrix(&TET);
-            let eps = solid::strain(&b, u);
-            let s = solid::mul6(&d, &eps);
-            0.5 * v * (0..6).map(|i| eps[i] * s[i]).sum::<f64>()
-        };
-        let u: [f64; 12] = std::array::from_fn(|i| 1e-3 * (1.3 + i as f64).sin());
-        let f = internal_force(&TET, &d, &u);
-        let h = 1e-7;
-        for i in 0..12 {
-            let (mut p, mut m) = (u, u);
-            p[i] += h;
-            m[i] -= h;
-            let fd = (energy(&p) - energy(&m)) / (2.0 * h);
-            assert!((fd - f[i]).abs() < 1e-6 * max_abs(f), "{i}: {fd} vs {}", f[i]);
-        }
+        assert_force_is_energy_gradient(&[b_matrix(&TET)], &d, |u| internal_force(&TET, &d, u));
     }
 
     /// Rotating the element by R rotates its stiffness: K(R x) = R̂ K(x) R̂ᵀ with R̂
@@ -347,20 +325,7 @@ mod tests {
     #[test]
     fn stiffness_is_rotation_invariant() {
         let d = steel();
-        let r = rotation([0.3, -0.5, 0.8], 0.9);
-        let k = stiffness(&TET, &d);
-        let kr = stiffness(&TET.map(|p| rotate(&r, p)), &d);
-        let kmax = max_abs(k.iter().flatten().copied());
-        for (i, row) in kr.iter().enumerate() {
-            for (j, kij) in row.iter().enumerate() {
-                let (a, p, b, q) = (i / 3, i % 3, j / 3, j % 3);
-                let want: f64 = (0..3)
-                    .flat_map(|s| (0..3).map(move |t| (s, t)))
-                    .map(|(s, t)| r[p][s] * k[3 * a + s][3 * b + t] * r[q][t])
-                    .sum();
-                assert!((kij - want).abs() < 1e-12 * kmax, "{i} {j}");
-            }
-        }
+        assert_stiffness_rotates(&TET, |x| stiffness(x, &d));
     }
 
     /// The closed-form natural coordinates invert x(ξ) = Σ N_i(ξ) x_i inside, on a

@@ -271,88 +271,23 @@ impl GmshMesh {
     /// The physical groups of dimension `dim` (1 curves, 2 surfaces): every tag that
     /// has a name or is used by an element, with its name if it has one, ascending.
     pub fn physical_groups(&self, dim: u8) -> Vec<(i32, Option<&str>)> {
-        let mut tags: BTreeSet<i32> = self
-            .physical_names
-            .iter()
-            .filter(|p| p.dim == dim)
-            .map(|p| p.tag)
-            .collect();
-        match dim {
-            1 => tags.extend(self.lines.iter().flat_map(|e| e.physical.iter().copied())),
-            2 => {
-                tags.extend(
-                    self.triangles
-                        .iter()
-                        .flat_map(|e| e.physical.iter().copied()),
-                );
-                tags.extend(self.quads.iter().flat_map(|e| e.physical.iter().copied()));
-            }
-            _ => {}
-        }
-        tags.into_iter().map(|t| (t, self.name(dim, t))).collect()
+        let used: Vec<&[i32]> = match dim {
+            1 => self.lines.iter().map(|e| &e.physical[..]).collect(),
+            2 => (self.triangles.iter().map(|e| &e.physical[..]))
+                .chain(self.quads.iter().map(|e| &e.physical[..]))
+                .collect(),
+            _ => Vec::new(),
+        };
+        physical_groups_in(&self.physical_names, dim, used)
     }
 
     /// The name of physical group (`dim`, `tag`), if it has one.
     pub fn name(&self, dim: u8, tag: i32) -> Option<&str> {
-        self.physical_names
-            .iter()
-            .find(|p| p.dim == dim && p.tag == tag)
-            .map(|p| p.name.as_str())
+        physical_name(&self.physical_names, dim, tag)
     }
 
     fn file_name(&self) -> String {
         self.path.display().to_string()
-    }
-
-    /// The physical surface tags `groups` refer to. A name that matches no named
-    /// surface may be a number ("3" for surface 3).
-    fn resolve_surfaces(&self, groups: &[Group]) -> std::result::Result<BTreeSet<i32>, String> {
-        let available = self.physical_groups(2);
-        let mut out = BTreeSet::new();
-        for g in groups {
-            let found: Vec<i32> = match g {
-                Group::Tag(t) => available
-                    .iter()
-                    .filter(|(a, _)| a == t)
-                    .map(|(a, _)| *a)
-                    .collect(),
-                Group::Name(n) => {
-                    let named: Vec<i32> = available
-                        .iter()
-                        .filter(|(_, name)| *name == Some(n.as_str()))
-                        .map(|(a, _)| *a)
-                        .collect();
-                    match n.trim().parse::<i32>() {
-                        Ok(t) if named.is_empty() => available
-                            .iter()
-                            .filter(|(a, _)| *a == t)
-                            .map(|(a, _)| *a)
-                            .collect(),
-                        _ => named,
-                    }
-                }
-            };
-            if found.is_empty() {
-                let curve = match g {
-                    Group::Name(n)
-                        if self
-                            .physical_names
-                            .iter()
-                            .any(|p| p.dim != 2 && &p.name == n) =>
-                    {
-                        format!(" ('{n}' is not a surface)")
-                    }
-                    _ => String::new(),
-                };
-                return Err(format!(
-                    "file {} has no physical surface {g}{curve}; its physical surfaces are: {}",
-                    self.file_name(),
-                    describe(&available)
-                ));
-            }
-            out.extend(found);
-        }
-        Ok(out)
     }
 
     /// Builds the mesh of part `part` from the elements of the physical surfaces
@@ -397,56 +332,19 @@ impl GmshMesh {
 
     /// The elements of the physical surfaces `surfaces` (all when `None`) as
     /// (tag, file nodes), in file order within each type: triangles, then
-    /// quadrilaterals. An empty selection, an unknown surface or no element is an
-    /// error.
+    /// quadrilaterals ([`Selection::choose`]).
     fn chosen_elements(
         &self,
         surfaces: Option<&[Group]>,
     ) -> std::result::Result<Vec<(u64, &[usize])>, String> {
-        let selected = match surfaces {
-            Some([]) => {
-                return Err(format!(
-                    "no physical surface of file {} is selected: list some, or leave `surfaces` out to take them all",
-                    self.file_name()
-                ));
-            }
-            Some(groups) => Some(self.resolve_surfaces(groups)?),
-            None => None,
-        };
-        let picks = |physical: &[i32]| match &selected {
-            None => true,
-            Some(s) => physical.iter().any(|t| s.contains(t)),
-        };
-        let chosen: Vec<(u64, &[usize])> = self
-            .triangles
-            .iter()
-            .filter(|t| picks(&t.physical))
-            .map(|t| (t.tag, &t.nodes[..]))
-            .chain(
-                self.quads
-                    .iter()
-                    .filter(|q| picks(&q.physical))
-                    .map(|q| (q.tag, &q.nodes[..])),
-            )
-            .collect();
-        if chosen.is_empty() {
-            let scope = match surfaces {
-                Some(groups) => format!(
-                    " in physical surface(s) {}",
-                    groups
-                        .iter()
-                        .map(|g| g.to_string())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-                None => String::new(),
-            };
-            return Err(format!(
-                "file {} has no 3-node triangles or 4-node quadrilaterals{scope}",
-                self.file_name()
-            ));
-        }
-        Ok(chosen)
+        SURFACES.choose(
+            &self.file_name(),
+            surfaces,
+            || self.physical_groups(2),
+            &self.physical_names,
+            &self.triangles,
+            &self.quads,
+        )
     }
 
     /// The nodes used by the `chosen` elements, renumbered in file order.
@@ -680,6 +578,166 @@ struct PartNodes {
     local: Vec<usize>,
     nodes: Vec<[f64; 2]>,
     file_of: Vec<usize>,
+}
+
+/// The physical groups of dimension `dim` of a file whose physical-name table
+/// is `names` and whose elements of that dimension are in the groups `used`:
+/// every tag that has a name or is used by an element, with its name if it has
+/// one, ascending.
+fn physical_groups_in<'a>(
+    names: &'a [PhysicalName],
+    dim: u8,
+    used: Vec<&[i32]>,
+) -> Vec<(i32, Option<&'a str>)> {
+    let mut tags: BTreeSet<i32> = names
+        .iter()
+        .filter(|p| p.dim == dim)
+        .map(|p| p.tag)
+        .collect();
+    tags.extend(used.into_iter().flatten().copied());
+    tags.into_iter()
+        .map(|t| (t, physical_name(names, dim, t)))
+        .collect()
+}
+
+/// The name of physical group (`dim`, `tag`) in the table `names`, if it has one.
+fn physical_name(names: &[PhysicalName], dim: u8, tag: i32) -> Option<&str> {
+    names
+        .iter()
+        .find(|p| p.dim == dim && p.tag == tag)
+        .map(|p| p.name.as_str())
+}
+
+/// The physical groups a part's mesh is taken from — the surfaces of a plane
+/// part, the volumes of a solid one — and how messages name them.
+struct Selection {
+    /// Their dimension (2 surfaces, 3 volumes).
+    dim: u8,
+    /// The group as messages name it (`surface`, `volume`).
+    what: &'static str,
+    /// How the problem file leaves the selection out (to take every group).
+    leave_out: &'static str,
+    /// The element kinds such a group holds, as messages name them.
+    kinds: &'static str,
+}
+
+/// A plane part's selection: physical surfaces of triangles and quadrilaterals.
+const SURFACES: Selection = Selection {
+    dim: 2,
+    what: "surface",
+    leave_out: "leave `surfaces` out",
+    kinds: "3-node triangles or 4-node quadrilaterals",
+};
+
+impl Selection {
+    /// The group tags `groups` refer to among the file's groups of this dimension
+    /// `available` (`names` its physical-name table). A name that matches no named
+    /// group may be a number ("3" for group 3).
+    fn resolve(
+        &self,
+        file: &str,
+        groups: &[Group],
+        available: &[(i32, Option<&str>)],
+        names: &[PhysicalName],
+    ) -> std::result::Result<BTreeSet<i32>, String> {
+        let what = self.what;
+        let mut out = BTreeSet::new();
+        for g in groups {
+            let found: Vec<i32> = match g {
+                Group::Tag(t) => available
+                    .iter()
+                    .filter(|(a, _)| a == t)
+                    .map(|(a, _)| *a)
+                    .collect(),
+                Group::Name(n) => {
+                    let named: Vec<i32> = available
+                        .iter()
+                        .filter(|(_, name)| *name == Some(n.as_str()))
+                        .map(|(a, _)| *a)
+                        .collect();
+                    match n.trim().parse::<i32>() {
+                        Ok(t) if named.is_empty() => available
+                            .iter()
+                            .filter(|(a, _)| *a == t)
+                            .map(|(a, _)| *a)
+                            .collect(),
+                        _ => named,
+                    }
+                }
+            };
+            if found.is_empty() {
+                let other = match g {
+                    Group::Name(n) if names.iter().any(|p| p.dim != self.dim && &p.name == n) => {
+                        format!(" ('{n}' is not a {what})")
+                    }
+                    _ => String::new(),
+                };
+                return Err(format!(
+                    "file {file} has no physical {what} {g}{other}; its physical {what}s are: {}",
+                    describe(available)
+                ));
+            }
+            out.extend(found);
+        }
+        Ok(out)
+    }
+
+    /// The elements of the groups `groups` (all when `None`) of file `file` as
+    /// (tag, file nodes): those of `first` (the simplices), then those of
+    /// `second`, each in file order. `available` gives the file's groups of this
+    /// dimension, `names` is its physical-name table. An empty selection, an
+    /// unknown group or no element is an error.
+    fn choose<'a, 'n, const A: usize, const B: usize>(
+        &self,
+        file: &str,
+        groups: Option<&[Group]>,
+        available: impl FnOnce() -> Vec<(i32, Option<&'n str>)>,
+        names: &[PhysicalName],
+        first: &'a [Element<A>],
+        second: &'a [Element<B>],
+    ) -> std::result::Result<Vec<(u64, &'a [usize])>, String> {
+        let what = self.what;
+        let selected = match groups {
+            Some([]) => {
+                return Err(format!(
+                    "no physical {what} of file {file} is selected: list some, or {} to take them all",
+                    self.leave_out
+                ));
+            }
+            Some(groups) => Some(self.resolve(file, groups, &available(), names)?),
+            None => None,
+        };
+        let picks = |physical: &[i32]| match &selected {
+            None => true,
+            Some(s) => physical.iter().any(|t| s.contains(t)),
+        };
+        let chosen: Vec<(u64, &[usize])> = first
+            .iter()
+            .filter(|e| picks(&e.physical))
+            .map(|e| (e.tag, &e.nodes[..]))
+            .chain(
+                second
+                    .iter()
+                    .filter(|e| picks(&e.physical))
+                    .map(|e| (e.tag, &e.nodes[..])),
+            )
+            .collect();
+        if chosen.is_empty() {
+            let scope = match groups {
+                Some(groups) => format!(
+                    " in physical {what}(s) {}",
+                    groups
+                        .iter()
+                        .map(|g| g.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+                None => String::new(),
+            };
+            return Err(format!("file {file} has no {}{scope}", self.kinds));
+        }
+        Ok(chosen)
+    }
 }
 
 /// `"left" (1), "right" (2), 7` for a list of physical groups.

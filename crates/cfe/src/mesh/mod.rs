@@ -36,6 +36,11 @@ pub trait MeshCell: Copy + Debug + PartialEq + Send + Sync + 'static {
     fn nodes(&self) -> &[usize];
     /// The name of its kind as in messages (`T3`, `Q4`, `TET4`, `HEX8`).
     fn kind_name(&self) -> &'static str;
+    /// Whether it is the dimension's simplex (T3, TET4) rather than its
+    /// tensor-product cell (Q4, HEX8).
+    fn is_simplex(&self) -> bool;
+    /// Its edges as (start, end) node pairs.
+    fn edges(&self) -> impl Iterator<Item = [usize; 2]> + '_;
 }
 
 /// A boundary facet of a mesh (an edge in 2D, a face in 3D), oriented outward,
@@ -57,12 +62,16 @@ pub trait MeshDim: Dim {
     type Cell: MeshCell;
     /// A boundary facet ([`BoundaryEdge`] in 2D, [`BoundaryFace`] in 3D).
     type Face: MeshFace;
+    /// The names of its two cell kinds as in messages: the simplex's, then the
+    /// tensor-product cell's (`T3`, `Q4` in 2D; `TET4`, `HEX8` in 3D).
+    const KIND_NAMES: [&'static str; 2];
 }
 
 /// Plane meshes: T3/Q4 elements, boundaries of edges.
 impl MeshDim for D2 {
     type Cell = Element;
     type Face = BoundaryEdge;
+    const KIND_NAMES: [&'static str; 2] = ["T3", "Q4"];
 }
 
 /// The element types a part may be meshed with.
@@ -140,6 +149,14 @@ impl MeshCell for Element {
 
     fn kind_name(&self) -> &'static str {
         self.kind().as_str()
+    }
+
+    fn is_simplex(&self) -> bool {
+        self.kind() == ElementKind::T3
+    }
+
+    fn edges(&self) -> impl Iterator<Item = [usize; 2]> + '_ {
+        Element::edges(self)
     }
 }
 
@@ -273,6 +290,43 @@ impl<D: MeshDim> Mesh<D> {
         }
         (0..used.len()).filter(|&n| !used[n]).collect()
     }
+
+    /// How many elements of each kind the mesh has: (simplices, tensor-product
+    /// cells), i.e. (T3, Q4) in 2D and (TET4, HEX8) in 3D.
+    pub fn counts(&self) -> (usize, usize) {
+        let simplices = self.elements.iter().filter(|e| e.is_simplex()).count();
+        (simplices, self.elements.len() - simplices)
+    }
+
+    /// The element kinds as text, e.g. `480 T3`, `120 T3 + 36 Q4` or `48 HEX8`.
+    pub fn describe_elements(&self) -> String {
+        let [simplex, cell] = D::KIND_NAMES;
+        match self.counts() {
+            (s, 0) => format!("{s} {simplex}"),
+            (0, c) => format!("{c} {cell}"),
+            (s, c) => format!("{s} {simplex} + {c} {cell}"),
+        }
+    }
+
+    /// The length of the longest element edge: the mesh's largest element size.
+    pub fn max_edge_length(&self) -> f64 {
+        self.elements
+            .iter()
+            .flat_map(|el| el.edges())
+            .map(|[a, b]| distance::<D>(self.nodes[a], self.nodes[b]))
+            .fold(0.0, f64::max)
+    }
+}
+
+/// The Euclidean distance `|b − a|` between two points of dimension `D`
+/// ([`Dim::length`] of the difference: [`dist`] in 2D, [`distance3`] in 3D, to
+/// the bit).
+fn distance<D: Dim>(a: D::Vector, b: D::Vector) -> f64 {
+    let mut d = b;
+    for (d, a) in d.as_mut().iter_mut().zip(a.as_ref()) {
+        *d -= a;
+    }
+    D::length(d.as_ref())
 }
 
 impl Mesh {
@@ -467,34 +521,6 @@ impl Mesh {
                 0.5 * ((c[0] - a[0]) * (d[1] - b[1]) - (d[0] - b[0]) * (c[1] - a[1]))
             }
         }
-    }
-
-    /// How many elements of each kind the mesh has: (T3, Q4).
-    pub fn counts(&self) -> (usize, usize) {
-        let q4 = self
-            .elements
-            .iter()
-            .filter(|e| e.kind() == ElementKind::Q4)
-            .count();
-        (self.elements.len() - q4, q4)
-    }
-
-    /// The element types as text, e.g. `480 T3` or `120 T3 + 36 Q4`.
-    pub fn describe_elements(&self) -> String {
-        match self.counts() {
-            (t, 0) => format!("{t} T3"),
-            (0, q) => format!("{q} Q4"),
-            (t, q) => format!("{t} T3 + {q} Q4"),
-        }
-    }
-
-    /// The length of the longest element edge: the mesh's largest element size.
-    pub fn max_edge_length(&self) -> f64 {
-        self.elements
-            .iter()
-            .flat_map(|el| el.edges())
-            .map(|[a, b]| dist(self.nodes[a], self.nodes[b]))
-            .fold(0.0, f64::max)
     }
 
     /// Checks that node indices are in range, coordinates are finite and every

@@ -29,6 +29,7 @@ use std::collections::BTreeMap;
 impl MeshDim for D3 {
     type Cell = SolidElement;
     type Face = BoundaryFace;
+    const KIND_NAMES: [&'static str; 2] = ["TET4", "HEX8"];
 }
 
 /// The element types of a solid part.
@@ -162,6 +163,14 @@ impl MeshCell for SolidElement {
 
     fn kind_name(&self) -> &'static str {
         self.kind().as_str()
+    }
+
+    fn is_simplex(&self) -> bool {
+        self.kind() == SolidKind::Tet4
+    }
+
+    fn edges(&self) -> impl Iterator<Item = [usize; 2]> + '_ {
+        SolidElement::edges(self)
     }
 }
 
@@ -486,34 +495,6 @@ impl Mesh<D3> {
             SolidElement::Tet4([a, b, c, d]) => tetrahedron_volume(p(a), p(b), p(c), p(d)),
             SolidElement::Hex8(n) => hexahedron_volume(&n.map(p)),
         }
-    }
-
-    /// How many elements of each kind the mesh has: (TET4, HEX8).
-    pub fn counts(&self) -> (usize, usize) {
-        let hex = self
-            .elements
-            .iter()
-            .filter(|e| e.kind() == SolidKind::Hex8)
-            .count();
-        (self.elements.len() - hex, hex)
-    }
-
-    /// The element types as text, e.g. `480 TET4` or `120 TET4 + 36 HEX8`.
-    pub fn describe_elements(&self) -> String {
-        match self.counts() {
-            (t, 0) => format!("{t} TET4"),
-            (0, h) => format!("{h} HEX8"),
-            (t, h) => format!("{t} TET4 + {h} HEX8"),
-        }
-    }
-
-    /// The length of the longest element edge: the mesh's largest element size.
-    pub fn max_edge_length(&self) -> f64 {
-        self.elements
-            .iter()
-            .flat_map(|el| el.edges())
-            .map(|[a, b]| distance3(self.nodes[a], self.nodes[b]))
-            .fold(0.0, f64::max)
     }
 
     /// Checks the solid mesh: it has elements, node indices are in range,

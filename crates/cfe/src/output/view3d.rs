@@ -1,7 +1,7 @@
 //! output::view3d — pictures of solid (3D) parts a user can look at straight
 //! away, from plain data (points, faces, nodal values), drawn with the same
 //! colour map, font, colour bar and PNG writer as the plane pictures
-//! ([`super::png`]):
+//! (`super::png`):
 //!
 //! - [`render_view`]: the (deformed) boundary faces of the parts seen from a
 //!   stated viewpoint ([`View`]: orthographic, azimuth and elevation about an up
@@ -22,7 +22,7 @@
 //!
 //! Everything is computed sequentially in a fixed order: the same input gives
 //! the same bytes. A drawing asks its `proceed` check between stages and every
-//! [`CHUNK`] faces, edges or markers; its error ends the drawing and nothing is
+//! `CHUNK` faces, edges or markers; its error ends the drawing and nothing is
 //! written.
 
 use super::png::{
@@ -314,7 +314,7 @@ pub enum Magnification {
 }
 
 /// The texts of a [`render_view`] picture (each bounded by
-/// [`png::label_text`]).
+/// `png::label_text`).
 #[derive(Debug, Clone, Copy)]
 pub struct ViewLabels<'a> {
     /// What is shown, e.g. `plate on a base: von Mises`; the magnification
@@ -363,7 +363,7 @@ const EDGE_KEEP: f64 = 0.6;
 /// the eye; a colour bar over the values' full range at the faces' nodes, a
 /// line under the title stating the view, and a triad of the axes. Returns the
 /// magnification and the colour range drawn. `proceed` is asked between the
-/// stages and every [`CHUNK`] faces or edges; its error ends the drawing and
+/// stages and every `CHUNK` faces or edges; its error ends the drawing and
 /// nothing is written.
 ///
 /// Returns [`Error::Output`] without writing when there is no face, a face
@@ -940,7 +940,7 @@ pub struct PressureMap<'a> {
 }
 
 /// The texts of a [`render_pressure_map`] picture (each bounded by
-/// [`png::label_text`]).
+/// `png::label_text`).
 #[derive(Debug, Clone, Copy)]
 pub struct MapLabels<'a> {
     /// The title, e.g. `plate on a base: contact pressure on base/plate`.
@@ -960,11 +960,11 @@ const ZONE_LEVEL: f64 = 1e-6;
 /// ([`InterfacePlane::through`]), their Delaunay triangulation filled with the
 /// pressure interpolated linearly (the colour bar over its full range), the
 /// convex hull of the pairs outlined thin, the contact zone's outline (the
-/// pressure's isoline at [`ZONE_LEVEL`] of its largest value) thick, every pair
+/// pressure's isoline at `ZONE_LEVEL` of its largest value) thick, every pair
 /// marked (filled where its pressure is positive, hollow where it is not), axes
 /// in the plane in the model's length unit, and a line under the title giving
 /// the plane's normal and centroid. Returns the plane. `proceed` is asked
-/// between the stages and every [`CHUNK`] triangles or markers.
+/// between the stages and every `CHUNK` triangles or markers.
 ///
 /// Returns [`Error::Output`] without writing when the pressures are not one per
 /// position, a value is not finite, or the positions do not span a plane

@@ -157,7 +157,7 @@ pub fn permuted_triangles<R: Row, P: Row>(
 /// elimination tree and faer's supernodal analysis read, when the lower
 /// triangle in the elimination order is built elsewhere (the stiffness's own,
 /// [`crate::assembly::Stiffness::in_order_pattern`]). `stop`, if given, is
-/// read every [`STOP_CHECK_COLUMNS`] columns of each of its two passes over
+/// read every `STOP_CHECK_COLUMNS` (2¹⁶) columns of each of its two passes over
 /// the entries ([`Stopped`] once nonzero).
 pub fn permuted_upper<R: Row, P: Row>(
     col_ptr: &[usize],

@@ -9,7 +9,10 @@
 //! for the physical surfaces; points and lines are read and dropped. Second-order
 //! volume elements, prisms and pyramids are refused while the file is read.
 
-use super::{Element, Group, MshVersion, Parser, PhysicalName, UNUSED, describe};
+use super::{
+    Element, Group, MshVersion, Parser, PhysicalName, Selection, UNUSED, physical_groups_in,
+    physical_name,
+};
 use crate::dim::D3;
 use crate::error::{Error, Result};
 use crate::mesh::{BoundaryFace, FaceNodes, Mesh, SolidElement};
@@ -242,6 +245,14 @@ struct FaceUse {
     face: BoundaryFace,
 }
 
+/// A solid part's selection: physical volumes of tetrahedra and hexahedra.
+const VOLUMES: Selection = Selection {
+    dim: 3,
+    what: "volume",
+    leave_out: "leave the selection out",
+    kinds: "4-node tetrahedra or 8-node hexahedra",
+};
+
 impl GmshMesh3d {
     /// Reads and parses the 3D file at `path` (a regular file of at most
     /// [`MESH_FILE_CAP`](crate::mesh::input_file::MESH_FILE_CAP) bytes).
@@ -266,44 +277,21 @@ impl GmshMesh3d {
     /// that has a name or is used by an element, with its name if it has one,
     /// ascending.
     pub fn physical_groups(&self, dim: u8) -> Vec<(i32, Option<&str>)> {
-        let mut tags: BTreeSet<i32> = self
-            .physical_names
-            .iter()
-            .filter(|p| p.dim == dim)
-            .map(|p| p.tag)
-            .collect();
-        match dim {
-            2 => {
-                tags.extend(
-                    self.triangles
-                        .iter()
-                        .flat_map(|e| e.physical.iter().copied()),
-                );
-                tags.extend(self.quads.iter().flat_map(|e| e.physical.iter().copied()));
-            }
-            3 => {
-                tags.extend(
-                    self.tetrahedra
-                        .iter()
-                        .flat_map(|e| e.physical.iter().copied()),
-                );
-                tags.extend(
-                    self.hexahedra
-                        .iter()
-                        .flat_map(|e| e.physical.iter().copied()),
-                );
-            }
-            _ => {}
-        }
-        tags.into_iter().map(|t| (t, self.name(dim, t))).collect()
+        let used: Vec<&[i32]> = match dim {
+            2 => (self.triangles.iter().map(|e| &e.physical[..]))
+                .chain(self.quads.iter().map(|e| &e.physical[..]))
+                .collect(),
+            3 => (self.tetrahedra.iter().map(|e| &e.physical[..]))
+                .chain(self.hexahedra.iter().map(|e| &e.physical[..]))
+                .collect(),
+            _ => Vec::new(),
+        };
+        physical_groups_in(&self.physical_names, dim, used)
     }
 
     /// The name of physical group (`dim`, `tag`), if it has one.
     pub fn name(&self, dim: u8, tag: i32) -> Option<&str> {
-        self.physical_names
-            .iter()
-            .find(|p| p.dim == dim && p.tag == tag)
-            .map(|p| p.name.as_str())
+        physical_name(&self.physical_names, dim, tag)
     }
 
     fn file_name(&self) -> String {
@@ -316,57 +304,6 @@ impl GmshMesh3d {
             Some(n) => format!("'{n}' ({tag})"),
             None => tag.to_string(),
         }
-    }
-
-    /// The physical volume tags `groups` refer to. A name that matches no named
-    /// volume may be a number ("3" for volume 3).
-    fn resolve_volumes(&self, groups: &[Group]) -> std::result::Result<BTreeSet<i32>, String> {
-        let available = self.physical_groups(3);
-        let mut out = BTreeSet::new();
-        for g in groups {
-            let found: Vec<i32> = match g {
-                Group::Tag(t) => available
-                    .iter()
-                    .filter(|(a, _)| a == t)
-                    .map(|(a, _)| *a)
-                    .collect(),
-                Group::Name(n) => {
-                    let named: Vec<i32> = available
-                        .iter()
-                        .filter(|(_, name)| *name == Some(n.as_str()))
-                        .map(|(a, _)| *a)
-                        .collect();
-                    match n.trim().parse::<i32>() {
-                        Ok(t) if named.is_empty() => available
-                            .iter()
-                            .filter(|(a, _)| *a == t)
-                            .map(|(a, _)| *a)
-                            .collect(),
-                        _ => named,
-                    }
-                }
-            };
-            if found.is_empty() {
-                let other = match g {
-                    Group::Name(n)
-                        if self
-                            .physical_names
-                            .iter()
-                            .any(|p| p.dim != 3 && &p.name == n) =>
-                    {
-                        format!(" ('{n}' is not a volume)")
-                    }
-                    _ => String::new(),
-                };
-                return Err(format!(
-                    "file {} has no physical volume {g}{other}; its physical volumes are: {}",
-                    self.file_name(),
-                    describe(&available)
-                ));
-            }
-            out.extend(found);
-        }
-        Ok(out)
     }
 
     /// One solid part per physical volume, in the order of their tags, each
@@ -459,56 +396,20 @@ impl GmshMesh3d {
     }
 
     /// The elements of the physical volumes `volumes` (all when `None`) as (tag,
-    /// file nodes), tetrahedra then hexahedra, each in file order. An empty
-    /// selection, an unknown volume or no element is an error.
+    /// file nodes), tetrahedra then hexahedra, each in file order
+    /// ([`Selection::choose`]).
     fn chosen_elements(
         &self,
         volumes: Option<&[Group]>,
     ) -> std::result::Result<Vec<(u64, &[usize])>, String> {
-        let selected = match volumes {
-            Some([]) => {
-                return Err(format!(
-                    "no physical volume of file {} is selected: list some, or leave the selection out to take them all",
-                    self.file_name()
-                ));
-            }
-            Some(groups) => Some(self.resolve_volumes(groups)?),
-            None => None,
-        };
-        let picks = |physical: &[i32]| match &selected {
-            None => true,
-            Some(s) => physical.iter().any(|t| s.contains(t)),
-        };
-        let chosen: Vec<(u64, &[usize])> = self
-            .tetrahedra
-            .iter()
-            .filter(|e| picks(&e.physical))
-            .map(|e| (e.tag, &e.nodes[..]))
-            .chain(
-                self.hexahedra
-                    .iter()
-                    .filter(|e| picks(&e.physical))
-                    .map(|e| (e.tag, &e.nodes[..])),
-            )
-            .collect();
-        if chosen.is_empty() {
-            let scope = match volumes {
-                Some(groups) => format!(
-                    " in physical volume(s) {}",
-                    groups
-                        .iter()
-                        .map(|g| g.to_string())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-                None => String::new(),
-            };
-            return Err(format!(
-                "file {} has no 4-node tetrahedra or 8-node hexahedra{scope}",
-                self.file_name()
-            ));
-        }
-        Ok(chosen)
+        VOLUMES.choose(
+            &self.file_name(),
+            volumes,
+            || self.physical_groups(3),
+            &self.physical_names,
+            &self.tetrahedra,
+            &self.hexahedra,
+        )
     }
 
     /// "node 12 (0, 1, 0.5)" for file node `n`.

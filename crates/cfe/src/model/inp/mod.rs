@@ -88,6 +88,12 @@ fn remap(e: Error, deck: &lexer::Deck, lines: &[Option<lexer::Loc>]) -> Error {
     let to_deck =
         |line: Option<usize>| line.and_then(|l| lines.get(l.wrapping_sub(1)).copied().flatten());
     let file = |loc: lexer::Loc| deck.files[loc.file].clone();
+    // The deck file and line of a refusal told at `line` of the converted text
+    // (as it was when the line has no deck line).
+    let relocate = |path, line| {
+        let loc = to_deck(line);
+        (loc.map(file).unwrap_or(path), loc.map(|l| l.line).or(line))
+    };
     let note = "(in the model converted from the deck)";
     match e {
         Error::Parse {
@@ -136,10 +142,10 @@ fn remap(e: Error, deck: &lexer::Deck, lines: &[Option<lexer::Loc>]) -> Error {
             ratio,
             message,
         } => {
-            let loc = to_deck(line);
+            let (path, line) = relocate(path, line);
             Error::PenaltyPrecision {
-                path: loc.map(file).unwrap_or(path),
-                line: loc.map(|l| l.line).or(line),
+                path,
+                line,
                 key,
                 ratio,
                 message,
@@ -152,10 +158,10 @@ fn remap(e: Error, deck: &lexer::Deck, lines: &[Option<lexer::Loc>]) -> Error {
             ratio,
             message,
         } => {
-            let loc = to_deck(line);
+            let (path, line) = relocate(path, line);
             Error::WeakPenalty {
-                path: loc.map(file).unwrap_or(path),
-                line: loc.map(|l| l.line).or(line),
+                path,
+                line,
                 key,
                 ratio,
                 message,
@@ -168,10 +174,10 @@ fn remap(e: Error, deck: &lexer::Deck, lines: &[Option<lexer::Loc>]) -> Error {
             name,
             message,
         } => {
-            let loc = to_deck(line);
+            let (path, line) = relocate(path, line);
             Error::DuplicateName {
-                path: loc.map(file).unwrap_or(path),
-                line: loc.map(|l| l.line).or(line),
+                path,
+                line,
                 key,
                 name,
                 message,

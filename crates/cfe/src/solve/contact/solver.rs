@@ -251,7 +251,7 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
     /// Has the solver read `stop` at every increment, active-set iteration,
     /// fixed-point step and continuation stage, before every factorization or
     /// low-rank update, and before every supernode of a numeric factorization
-    /// ([`LinearSolver::set_stop`]): once it is nonzero (the caller sets it, e.g. to a
+    /// (`LinearSolver::set_stop`): once it is nonzero (the caller sets it, e.g. to a
     /// signal's number) the run ends there with [`Error::Interrupted`], the
     /// increment being solved abandoned. Reading it changes nothing else.
     pub fn set_stop(&mut self, stop: &'a AtomicUsize) {
