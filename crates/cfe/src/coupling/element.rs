@@ -66,6 +66,12 @@ pub struct CouplingElement<D: Dim = D2> {
     pub shape: Vec<f64>,
     /// Unit outward normal n of the host boundary at the coupling node.
     pub normal: D::Vector,
+    /// The pair's local frame R: n (= `normal`), then the tangent(s), by rows —
+    /// [`Dim::frame`] of the normal as the search builds it. The jump, force and
+    /// stiffness are read through it. In 3D any other right-handed orthonormal
+    /// pair (t₁, t₂) in the face plane may stand here: no result depends on the
+    /// choice (`tests/solid_interfaces.rs` turns every element's pair).
+    pub frame: D::Frame,
     /// Reference position X_C of the coupling node: its projection on the host
     /// edge, where the node part's node is placed.
     pub position: D::Vector,
@@ -222,7 +228,7 @@ impl<D: Dim> CouplingElement<D> {
     /// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_t]])` for element
     /// displacements `d`: normal and tangential.
     pub fn local_jump(&self, d: &[f64]) -> (f64, D::Tangent) {
-        local_jump::<D>(self.normal, self.jump(d))
+        local_jump::<D>(&self.frame, self.jump(d))
     }
 
     /// The normal gap `gap_n = g₀ + [[u_n]]` (positive: the faces are apart) for
@@ -248,7 +254,7 @@ impl<D: Dim> CouplingElement<D> {
         stiffness::<D>(
             &self.shape,
             self.node_shape(),
-            self.normal,
+            &self.frame,
             w * c_n,
             w * c_s,
             state,
@@ -267,7 +273,7 @@ impl<D: Dim> CouplingElement<D> {
         c_s: f64,
         mut f: impl FnMut(usize, f64, &[f64; MAX_DOFS]),
     ) {
-        let r = D::frame(self.normal);
+        let r = self.frame;
         let b = b_coefficients(&self.shape, self.node_shape());
         let wt = self.weight();
         for k in 0..=<D::Tangent as Tangent>::COMPONENTS {
@@ -295,7 +301,7 @@ impl<D: Dim> CouplingElement<D> {
         internal_force::<D>(
             &self.shape,
             self.node_shape(),
-            self.normal,
+            &self.frame,
             w * c_n,
             w * c_s,
             state,
@@ -334,7 +340,7 @@ impl<D: Dim> CouplingElement<D> {
     /// host side exerts on the pair, in (n, s); the first
     /// [`n_dofs`](Self::n_dofs) entries are the element's).
     pub fn nodal_force(&self, f: (f64, D::Tangent)) -> [f64; MAX_DOFS] {
-        nodal_force::<D>(&self.shape, self.node_shape(), self.normal, f)
+        nodal_force::<D>(&self.shape, self.node_shape(), &self.frame, f)
     }
 
     /// The interface's law with this element's penalties: `c_n`, `c_s` scaled by its
@@ -449,10 +455,10 @@ fn jump<D: Dim>(shape: &[f64], node_shape: &[f64], d: &[f64]) -> D::Vector {
     out
 }
 
-/// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_t]])` in the frame of the
-/// host normal `normal` ([`Dim::frame`]).
-fn local_jump<D: Dim>(normal: D::Vector, jump: D::Vector) -> (f64, D::Tangent) {
-    D::to_local(&D::frame(normal), jump)
+/// The local jump `[[u]] = R [[U]] = ([[u_n]], [[u_t]])` in the pair's frame
+/// `frame`.
+fn local_jump<D: Dim>(frame: &D::Frame, jump: D::Vector) -> (f64, D::Tangent) {
+    D::to_local(frame, jump)
 }
 
 /// The coefficients `b` of `B_e` per node, `B_e = [b₁I … b_{n+m}I]` with
@@ -506,17 +512,17 @@ impl<D: Dim> CfeStiffness<D> {
 fn stiffness<D: Dim>(
     shape: &[f64],
     node_shape: &[f64],
-    normal: D::Vector,
+    frame: &D::Frame,
     c_n: f64,
     c_s: f64,
     state: PairState,
 ) -> CfeStiffness<D> {
-    let r = D::frame(normal);
+    let r = frame;
     let k = 1.0 - state.d_hat();
-    let n = D::axis(&r, 0);
+    let n = D::axis(r, 0);
     let n = n.as_ref();
     let tangents: Vec<D::Vector> = (1..=<D::Tangent as Tangent>::COMPONENTS)
-        .map(|t| D::axis(&r, t))
+        .map(|t| D::axis(r, t))
         .collect();
     let mut c = [[0.0; MAX_N]; MAX_N];
     for (i, row) in c.iter_mut().enumerate().take(D::N) {
@@ -542,16 +548,16 @@ fn stiffness<D: Dim>(
 fn internal_force<D: Dim>(
     shape: &[f64],
     node_shape: &[f64],
-    normal: D::Vector,
+    frame: &D::Frame,
     c_n: f64,
     c_s: f64,
     state: PairState,
     d: &[f64],
 ) -> ([f64; MAX_DOFS], (f64, D::Tangent)) {
-    let (u_n, u_t) = local_jump::<D>(normal, jump::<D>(shape, node_shape, d));
+    let (u_n, u_t) = local_jump::<D>(frame, jump::<D>(shape, node_shape, d));
     let k = 1.0 - state.d_hat();
     let f = (k * c_n * u_n, u_t.scale(k * c_s));
-    (nodal_force::<D>(shape, node_shape, normal, f), f)
+    (nodal_force::<D>(shape, node_shape, frame, f), f)
 }
 
 /// `F_e = B_eᵀ Rᵀ f` for the local force `f` (the first N (n + m) entries are the
@@ -559,10 +565,10 @@ fn internal_force<D: Dim>(
 fn nodal_force<D: Dim>(
     shape: &[f64],
     node_shape: &[f64],
-    normal: D::Vector,
+    frame: &D::Frame,
     f: (f64, D::Tangent),
 ) -> [f64; MAX_DOFS] {
-    let g = D::to_global(&D::frame(normal), f.0, f.1);
+    let g = D::to_global(frame, f.0, f.1);
     let g = g.as_ref();
     let b = b_coefficients(shape, node_shape);
     let mut out = [0.0; MAX_DOFS];
@@ -626,7 +632,7 @@ mod tests {
     #[test]
     fn stiffness_symmetric_psd() {
         for (_, shape, _) in hosts() {
-            let ks = stiffness::<D2>(&shape, &[1.0], normal(), 1e9, 5e8, PairState::Bonded);
+            let ks = stiffness::<D2>(&shape, &[1.0], &D2::frame(normal()), 1e9, 5e8, PairState::Bonded);
             assert_eq!(ks.dofs, 2 * (shape.len() + 1));
             let k = dense(&ks);
             for (i, row) in k.iter().enumerate() {
@@ -649,7 +655,7 @@ mod tests {
                     .sum();
                 assert!(e >= -1e-6);
             }
-            let open = stiffness::<D2>(&shape, &[1.0], normal(), 1e9, 5e8, PairState::Open);
+            let open = stiffness::<D2>(&shape, &[1.0], &D2::frame(normal()), 1e9, 5e8, PairState::Open);
             assert!(dense(&open).iter().flatten().all(|&v| v == 0.0));
         }
     }
@@ -662,7 +668,7 @@ mod tests {
         for (x, shape, xc) in hosts() {
             let pts: Vec<[f64; 2]> = x.iter().copied().chain([xc]).collect();
             let m = 2 * pts.len();
-            let k = stiffness::<D2>(&shape, &[1.0], normal(), 1e9, 1e9, PairState::Bonded);
+            let k = stiffness::<D2>(&shape, &[1.0], &D2::frame(normal()), 1e9, 1e9, PairState::Bonded);
             let modes: [Vec<f64>; 3] = [
                 (0..m).map(|i| if i % 2 == 0 { 1.0 } else { 0.0 }).collect(),
                 (0..m).map(|i| if i % 2 == 1 { 1.0 } else { 0.0 }).collect(),
@@ -691,8 +697,8 @@ mod tests {
         for (_, shape, _) in hosts() {
             let m = 2 * (shape.len() + 1);
             let d: Vec<f64> = (0..m).map(|i| ((i * 7) % 5) as f64 * 0.1 - 0.2).collect();
-            let k = stiffness::<D2>(&shape, &[1.0], normal(), 2.0, 3.0, PairState::Bonded);
-            let (f, _) = internal_force::<D2>(&shape, &[1.0], normal(), 2.0, 3.0, PairState::Bonded, &d);
+            let k = stiffness::<D2>(&shape, &[1.0], &D2::frame(normal()), 2.0, 3.0, PairState::Bonded);
+            let (f, _) = internal_force::<D2>(&shape, &[1.0], &D2::frame(normal()), 2.0, 3.0, PairState::Bonded, &d);
             let kd = k.mul(&d);
             for i in 0..m {
                 assert!((kd[i] - f[i]).abs() < 1e-12);
@@ -710,9 +716,9 @@ mod tests {
     fn local_jump_components() {
         let n = normal();
         let s = [-n[1], n[0]];
-        let u = local_jump::<D2>(n, [-2.0 * n[0], -2.0 * n[1]]);
+        let u = local_jump::<D2>(&D2::frame(n), [-2.0 * n[0], -2.0 * n[1]]);
         assert!((u.0 + 2.0).abs() < 1e-15 && u.1.abs() < 1e-15);
-        let u = local_jump::<D2>(n, [0.5 * s[0], 0.5 * s[1]]);
+        let u = local_jump::<D2>(&D2::frame(n), [0.5 * s[0], 0.5 * s[1]]);
         assert!(u.0.abs() < 1e-15 && (u.1 - 0.5).abs() < 1e-15);
     }
 
@@ -726,6 +732,7 @@ mod tests {
                 host_nodes: (0..x.len()).collect(),
                 shape: shape.clone(),
                 normal: normal(),
+                frame: D2::frame(normal()),
                 position,
                 distance: 0.0,
                 gap0: 0.0,
@@ -771,6 +778,7 @@ mod tests {
                 host_nodes: (0..x.len()).collect(),
                 shape: shape.clone(),
                 normal: normal(),
+                frame: D2::frame(normal()),
                 position,
                 distance: 0.0,
                 gap0: 0.0,

@@ -143,6 +143,7 @@ fn element<D: Dim<Vector = [f64; 3]>>(h: &Host) -> CouplingElement<D> {
         host_nodes: (0..h.x.len()).collect(),
         shape: h.shape.clone(),
         normal: h.normal,
+        frame: D::frame(h.normal),
         position: h.position,
         distance: 0.0,
         gap0: 0.0,

@@ -8,6 +8,7 @@
 use super::element::CouplingElement;
 use super::law::{Enforcement, Law};
 use super::{Coupling, Interface};
+use crate::dim::{D2, Dim};
 use crate::dofs::DofMap;
 
 /// An interface of `law` with `n` node CFEs on the fixture's host edge (penalties
@@ -22,6 +23,7 @@ pub fn interface(law: Law, n: usize, friction: f64) -> Interface {
                 host_nodes: vec![0, 1, 2],
                 shape: vec![1.0 - x, x, 0.0],
                 normal: [0.0, -1.0],
+                frame: D2::frame([0.0, -1.0]),
                 position: [x, 0.0],
                 distance: 0.0,
                 gap0: 0.0,

@@ -6,6 +6,7 @@
 //! shape functions at the projection make the coupling element.
 
 use super::element::CouplingElement;
+use crate::dim::{D2, Dim};
 use crate::error::{Error, Result};
 use crate::fem::q4;
 use crate::mesh::{BoundaryEdge, Element, Mesh, dist};
@@ -252,6 +253,7 @@ pub fn find_pairs_within(
             host_nodes: host_element.nodes().to_vec(),
             shape,
             normal,
+            frame: D2::frame(normal),
             position,
             distance: d,
             gap0,

@@ -12,9 +12,18 @@
 //!   moved onto its closest point X_C ([`move_onto_faces`]), and the move is
 //!   reported (`distance`, the interface's largest). Nodes beyond every face are
 //!   an error listing them. With a search distance d > 0 a node pairs with the
-//!   nearest face within d among those that *face* the node part's face at the
-//!   node (`search::FACING_COSINE`), stays where it is and keeps its initial
-//!   normal gap g₀ = (X − X_C) · n; a node with none is left unpaired (counted).
+//!   nearest face within d, stays where it is and keeps its initial normal gap
+//!   g₀ = (X − X_C) · n; a node with none is left unpaired (counted).
+//! - **Facing.** With or without a search distance, only the host faces that
+//!   *face* the node part's face at the node (`search::FACING_COSINE`) are its
+//!   candidates, and only they enter its normal: a side of the host meeting
+//!   the interface at its rim is about 90° off and is not the interface's face
+//!   (without this, a node on the rim of two blocks of one footprint took the
+//!   mean of the top's and the side's normals, 45° off, and a frictionless
+//!   pair there pushed sideways). A node with no face of the node part (a
+//!   point set) is not filtered. The plane search does the same within a
+//!   search distance only; without one it keeps averaging every edge at a host
+//!   vertex (unchanged, its results bit-identical).
 //! - **Ties.** All candidate faces are measured first; the faces within 1e-12 × h
 //!   of the smallest distance are tied (a node on an edge or a vertex shared by
 //!   several faces), and the one of the lowest (host element, local face index)
@@ -22,9 +31,9 @@
 //! - **Normal.** n is the chosen face's outward unit normal at X_C; when X_C is on
 //!   an edge or at a vertex of it ([`super::face::FEATURE_TOLERANCE`]), the normalised mean of
 //!   the outward unit normals, at X_C, of every host boundary face sharing that
-//!   edge or vertex (with a search distance, those facing the node only), each
-//!   face counted once — the 2D rule at a host vertex, one dimension up. The
-//!   frame is [`D3::frame`] of n.
+//!   edge or vertex that faces the node, each face counted once — the 2D rule
+//!   at a host vertex, one dimension up. The element's frame
+//!   (`CouplingElement::frame`) is [`D3::frame`] of n.
 //! - **Shape values.** The chosen face's, at X_C: barycentric on a triangle, the
 //!   bilinear values at the natural coordinates of the projection on a
 //!   quadrangle ([`closest_point`]). The element is the coupling node and the
@@ -37,7 +46,7 @@ use super::face::{
     corner_areas, face_size, unit,
 };
 use super::search::FACING_COSINE;
-use crate::dim::D3;
+use crate::dim::{D3, Dim};
 use crate::error::{Error, Result};
 use rstar::RTree;
 use std::collections::{HashMap, HashSet};
@@ -156,7 +165,7 @@ fn node_side(surface: &Surface, nodes: &[usize]) -> (HashMap<usize, [f64; 3]>, H
 
 /// Finds one 3D coupling element per node in `nodes` (indices into
 /// `node_part.nodes`), on the boundary faces of `host` (see the module's rules):
-/// within `tolerance × face size` of a face, the node is paired to be moved onto
+/// within `tolerance × face size` of a facing face, the node is paired to be moved onto
 /// it (`search_distance` 0); within `search_distance` > 0 of a facing face, it is
 /// paired where it is with its initial gap, and the nodes with none are counted
 /// (second). Each element gets its tributary area on the node part's face (the
@@ -217,7 +226,10 @@ pub fn find_pairs_3d(
     let mut unpaired = 0;
     for &node in nodes {
         let p = node_part.nodes[node];
-        let faces_node = |n: [f64; 3]| !gaps || face_normal.get(&node).is_none_or(|&f| facing(n, f));
+        // Only the host faces that face the node part's face at the node are
+        // its face (a side of the host meeting the interface at its rim is not),
+        // with or without a search distance.
+        let faces_node = |n: [f64; 3]| face_normal.get(&node).is_none_or(|&f| facing(n, f));
         let candidates: Vec<Candidate> = tree
             .locate_within_distance(p, radius * radius)
             .filter_map(|o| {
@@ -261,6 +273,7 @@ pub fn find_pairs_3d(
             host_nodes: corners.to_vec(),
             shape: best.at.shape[..corners.len()].to_vec(),
             normal,
+            frame: D3::frame(normal),
             position,
             distance: best.at.distance,
             gap0,

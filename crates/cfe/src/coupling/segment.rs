@@ -31,6 +31,7 @@
 
 use super::element::{CouplingElement, MAX_NODES, SegmentSide};
 use super::search::{edge_normal, edge_tree, face_normals, facing, project, shape_at};
+use crate::dim::{D2, Dim};
 use crate::error::{Error, Result};
 use crate::mesh::{BoundaryEdge, Mesh, dist};
 use rstar::AABB;
@@ -313,6 +314,7 @@ pub fn segment_elements_within(
             host_nodes: host_coef.iter().map(|&(i, _)| i).collect(),
             shape: host_coef.iter().map(|&(_, v)| v / e.m).collect(),
             normal: [e.normal[0] / l, e.normal[1] / l],
+            frame: D2::frame([e.normal[0] / l, e.normal[1] / l]),
             position: x(a),
             distance: e.distance,
             // The N_a-weighted mean of the pointwise initial gap (0 without a

@@ -163,7 +163,7 @@ impl<D: ElementFamily> SupportCheck<D> {
         let law = iface.params();
         for (c, &s) in iface.elements.iter().zip(states) {
             let [k_n, k_s] = law.penalties(s);
-            let frame = D::frame(c.normal);
+            let frame = c.frame;
             let axes = match (k_n > 0.0, k_s > 0.0) {
                 (true, true) => 0..D::N,
                 (true, false) => 0..1,
