@@ -19,14 +19,18 @@
 //! tangent, the radial return and its consistent tangent
 //! `μ (−f_n)/|trial| (I − ξ⊗ξ)`, [`return_map_derivative`]) uses it unchanged.
 //!
-//! The run's search does not use it yet: it iterates the slip forces
-//! ([`super::fixed_point`]); docs/method.md gives what remains (the columns
-//! from the low-rank cache, then the search as this Newton loop) and why.
+//! In a run, `[analysis] friction_solve = "newton"` (off by default) starts
+//! every pattern's fixed point on the slip forces with their Newton step
+//! ([`Solver::newton_slip_terms`]); the fixed point confirms them and remains
+//! the fallback. The search over patterns is still the active set's, not
+//! [`newton_condensed`]; docs/method.md gives what remains (the columns from
+//! the low-rank cache, then the search as this Newton loop) and why.
 
 use super::increment::{IncrementResult, Iteration, count_changes};
 use super::solver::Solver;
 use crate::assembly::FIXED;
-use crate::coupling::{Enforcement, Law, PairState};
+use crate::coupling::{Enforcement, Law, PairHistories, PairState};
+use crate::domain::FrictionSolve;
 use crate::dim::Tangent;
 use crate::error::Result;
 use crate::solve::backend::{Request, Solve as _};
@@ -276,6 +280,22 @@ pub fn newton_condensed(
 /// other way, and the pattern is solved again (the columns do not change).
 pub const MAX_DIRECTION_UPDATES: usize = 8;
 
+/// Most slipping pairs a pattern's Newton step ([`Solver::newton_slip_terms`])
+/// takes: beyond it the fixed point alone (its Anderson steps, a Krylov method
+/// on the same affine map, are then fewer than the columns' solves).
+pub const MAX_NEWTON_SLIPPING: usize = 60;
+
+/// What the Newton steps of a run's patterns did: how many patterns' slip
+/// forces they solved, and how many fell back to the fixed point alone (a
+/// singular system or directions that did not settle).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NewtonCounts {
+    /// Patterns whose slip forces the Newton step solved.
+    pub solved: usize,
+    /// Patterns it left to the fixed point.
+    pub fallbacks: usize,
+}
+
 /// A slipping Coulomb pair as a pattern's exact solve reads it.
 struct Slipping {
     i: usize,
@@ -304,6 +324,67 @@ struct Columns {
 }
 
 impl Solver<'_> {
+    /// What the Newton steps of the patterns' slip forces did so far
+    /// (`friction_solve = "newton"`; zero otherwise).
+    pub fn newton_counts(&self) -> NewtonCounts {
+        self.newton
+    }
+
+    /// Sets the slip force and spring anchor of every slipping pair of `slips`
+    /// to their values at the pattern's solution: the first solution's moved
+    /// by the columns `cols` times the terms' changes `dz`.
+    fn set_slip_terms(&mut self, slips: &[Slipping], cols: &Columns, dz: &[f64]) {
+        let m = slips.len();
+        for (p, s) in slips.iter().enumerate() {
+            let dn: f64 = (0..m).map(|q| cols.pn[p * m + q] * dz[q]).sum();
+            let ds: f64 = (0..m).map(|q| cols.ps[p * m + q] * dz[q]).sum();
+            let h = &mut self.history[s.i][s.k];
+            h.slip_force = -s.mu * s.xi * (s.f_n + s.c_n * dn).min(0.0);
+            h.anchor = s.u_s + ds;
+        }
+    }
+
+    /// The Newton step of a pattern's slip forces (`friction_solve =
+    /// "newton"`), taken before its fixed point from the solution `u` (valid
+    /// at the coupling DOFs): the slipping Coulomb pairs' terms solved in one
+    /// shot ([`Solver::solve_pattern_exact`]'s system, directions updated
+    /// within the pattern) and written into the history, which is returned as
+    /// it was before them; the fixed point then moves the solution by their
+    /// change and confirms them (typically at its first check). `None` — the
+    /// history untouched, the fixed point alone as by default — when the
+    /// setting is off, an interface is augmented (its multipliers are
+    /// iterated), no pair slips or more than [`MAX_NEWTON_SLIPPING`] do (the
+    /// columns would cost more solves than the fixed point's steps), the
+    /// small system is singular (no state of rest in the pattern), or its
+    /// directions do not settle.
+    pub(super) fn newton_slip_terms(
+        &mut self,
+        states: &[Vec<PairState>],
+        inc: usize,
+        u: &[f64],
+    ) -> Result<Option<PairHistories>> {
+        let augmented = self
+            .interfaces
+            .iter()
+            .any(|i| i.enforcement == Enforcement::Augmented);
+        if self.settings.friction_solve != FrictionSolve::Newton || augmented {
+            return Ok(None);
+        }
+        let mut slips = self.slipping(states, u);
+        if slips.is_empty() || slips.len() > MAX_NEWTON_SLIPPING {
+            return Ok(None);
+        }
+        let cols = self.slip_columns(states, inc, &slips)?;
+        let Some((dz, true)) = Self::solve_slip_terms(&mut slips, &cols) else {
+            self.newton.fallbacks += 1;
+            return Ok(None);
+        };
+        self.newton.solved += 1;
+        let before = self.history.clone();
+        self.set_slip_terms(&slips, &cols, &dz);
+        Ok(Some(before))
+    }
+
     /// The slipping Coulomb pairs of `states` at the solution `u` (valid at the
     /// coupling DOFs), each sliding along its trial force there.
     fn slipping(&self, states: &[Vec<PairState>], u: &[f64]) -> Vec<Slipping> {
@@ -491,14 +572,7 @@ impl Solver<'_> {
             let Some((dz, _)) = Self::solve_slip_terms(&mut slips, &cols) else {
                 return Ok(None);
             };
-            let m = slips.len();
-            for (p, s) in slips.iter().enumerate() {
-                let dn: f64 = (0..m).map(|q| cols.pn[p * m + q] * dz[q]).sum();
-                let ds: f64 = (0..m).map(|q| cols.ps[p * m + q] * dz[q]).sum();
-                let h = &mut self.history[s.i][s.k];
-                h.slip_force = -s.mu * s.xi * (s.f_n + s.c_n * dn).min(0.0);
-                h.anchor = s.u_s + ds;
-            }
+            self.set_slip_terms(&slips, &cols, &dz);
         }
         // One complete solve with the solved terms.
         let (u, f_int, method) = self.solve_once(lambda, states, inc)?;

@@ -74,7 +74,8 @@ mod solver;
 pub use active_set::CONTINUATION;
 pub use fixed_point::{ANDERSON_DEPTH, FIXED_POINT_TOLERANCE, MAX_FIXED_POINT};
 pub use friction::{
-    Active, Condensed, CondensedPair, NewtonRun, Tolerance, newton_condensed, next_active,
+    Active, Condensed, CondensedPair, MAX_NEWTON_SLIPPING, NewtonCounts, NewtonRun, Tolerance,
+    newton_condensed, next_active,
     return_map_derivative, solve_pattern_linear,
 };
 pub use increment::{
