@@ -26,7 +26,7 @@
 //! [`newton_condensed`]; docs/method.md gives what remains (the columns from
 //! the low-rank cache, then the search as this Newton loop) and why.
 
-use super::increment::{IncrementResult, Iteration, count_changes};
+use super::increment::{IncrementResult, Iteration, NewtonCounts, count_changes};
 use super::solver::Solver;
 use crate::assembly::FIXED;
 use crate::coupling::{Enforcement, Law, PairHistories, PairState};
@@ -284,17 +284,6 @@ pub const MAX_DIRECTION_UPDATES: usize = 8;
 /// takes: beyond it the fixed point alone (its Anderson steps, a Krylov method
 /// on the same affine map, are then fewer than the columns' solves).
 pub const MAX_NEWTON_SLIPPING: usize = 60;
-
-/// What the Newton steps of a run's patterns did: how many patterns' slip
-/// forces they solved, and how many fell back to the fixed point alone (a
-/// singular system or directions that did not settle).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct NewtonCounts {
-    /// Patterns whose slip forces the Newton step solved.
-    pub solved: usize,
-    /// Patterns it left to the fixed point.
-    pub fallbacks: usize,
-}
 
 /// A slipping Coulomb pair as a pattern's exact solve reads it.
 struct Slipping {

@@ -127,7 +127,7 @@ pub struct Solver<'a> {
     pub(super) fixed_point_converged: bool,
     /// What the Newton steps of the patterns' slip forces did
     /// (`friction_solve = "newton"`).
-    pub(super) newton: super::friction::NewtonCounts,
+    pub(super) newton: super::increment::NewtonCounts,
     /// Per interface, whether it follows the Coulomb law.
     pub(super) coulomb: Vec<bool>,
     /// The factor on every interface's friction coefficient: 1 but while a
