@@ -70,7 +70,7 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
         /// Refine every part K times: structured parts' cell counts are multiplied
-        /// by K, Gmsh (and given) meshes are subdivided uniformly (each edge into K).
+        /// by K, Gmsh, given and .inp deck meshes are subdivided uniformly (each edge into K).
         #[arg(long, default_value_t = 1, value_name = "K")]
         refine: usize,
         /// Make every interface follow this law instead of the file's.
@@ -147,7 +147,7 @@ enum Command {
         /// The problem file (TOML).
         problem: PathBuf,
         /// Refine every part K times: structured parts' cell counts are multiplied
-        /// by K, Gmsh (and given) meshes are subdivided uniformly (each edge into K).
+        /// by K, Gmsh, given and .inp deck meshes are subdivided uniformly (each edge into K).
         #[arg(long, default_value_t = 1, value_name = "K")]
         refine: usize,
     },

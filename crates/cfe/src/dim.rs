@@ -174,6 +174,26 @@ pub trait Dim: Copy + Debug + PartialEq + Default + Send + Sync + 'static {
     /// `hypot`, to the bit).
     fn length(v: &[f64]) -> f64;
 
+    /// The dot product `a · b` of two vectors given by their `N` components
+    /// (summed in component order: in 2D `a₀b₀ + a₁b₁`, to the bit).
+    fn dot(a: &[f64], b: &[f64]) -> f64 {
+        let mut s = a[0] * b[0];
+        for c in 1..Self::N {
+            s += a[c] * b[c];
+        }
+        s
+    }
+
+    /// The length of the part of `v` across the unit vector `m`, `|v × m|` (in
+    /// 2D `|v₀m₁ − v₁m₀|`): how far `v` points off `m`, times `|v|`.
+    fn across(v: Self::Vector, m: Self::Vector) -> f64;
+
+    /// The `k`-th rigid-body velocity (0 ≤ k < `RIGID_MODES`) at the point `x`
+    /// (relative to the body's centre): the translations along the axes, then
+    /// the rotations about them (`e_j × x`; in 2D the one about the normal to
+    /// the plane, `(−x₁, x₀)`). Each is a motion without strain.
+    fn rigid_mode(k: usize, x: Self::Vector) -> Self::Vector;
+
     /// The local frame at a host boundary point of outward unit normal `normal`:
     /// n and the tangent(s) completing it to a right-handed orthonormal basis.
     fn frame(normal: Self::Vector) -> Self::Frame;
@@ -207,6 +227,18 @@ impl Dim for D2 {
 
     fn length(v: &[f64]) -> f64 {
         v[0].hypot(v[1])
+    }
+
+    fn across(v: [f64; 2], m: [f64; 2]) -> f64 {
+        (v[0] * m[1] - v[1] * m[0]).abs()
+    }
+
+    fn rigid_mode(k: usize, x: [f64; 2]) -> [f64; 2] {
+        match k {
+            0 => [1.0, 0.0],
+            1 => [0.0, 1.0],
+            _ => [-x[1], x[0]],
+        }
     }
 
     fn frame(n: [f64; 2]) -> [[f64; 2]; 2] {
@@ -252,6 +284,28 @@ impl Dim for D3 {
 
     fn length(v: &[f64]) -> f64 {
         v[0].hypot(v[1]).hypot(v[2])
+    }
+
+    fn across(v: [f64; 3], m: [f64; 3]) -> f64 {
+        D3::length(&[
+            v[1] * m[2] - v[2] * m[1],
+            v[2] * m[0] - v[0] * m[2],
+            v[0] * m[1] - v[1] * m[0],
+        ])
+    }
+
+    /// Translations along x, y, z, then rotations about x, y, z: `e_j × x`.
+    fn rigid_mode(k: usize, x: [f64; 3]) -> [f64; 3] {
+        match k {
+            0..3 => {
+                let mut e = [0.0; 3];
+                e[k] = 1.0;
+                e
+            }
+            3 => [0.0, -x[2], x[1]],
+            4 => [x[2], 0.0, -x[0]],
+            _ => [-x[1], x[0], 0.0],
+        }
     }
 
     fn frame(n: [f64; 3]) -> [[f64; 3]; 3] {
@@ -306,6 +360,14 @@ impl Dim for PlaneTangent {
 
     fn length(v: &[f64]) -> f64 {
         v[0].hypot(v[1]).hypot(v[2])
+    }
+
+    fn across(v: [f64; 3], m: [f64; 3]) -> f64 {
+        D3::across(v, m)
+    }
+
+    fn rigid_mode(k: usize, x: [f64; 3]) -> [f64; 3] {
+        D3::rigid_mode(k, x)
     }
 
     fn frame(_: [f64; 3]) {}
@@ -440,5 +502,65 @@ mod tests {
             assert!((0..3).all(|i| (back[i] - v[i]).abs() < 1e-15), "{back:?}");
         }
         assert_eq!(D3::dof(5, 2), 17);
+    }
+
+    /// The rigid modes of both dimensions are rigid motions — their velocity
+    /// gradient at any point is skew (zero strain: evaluated by central
+    /// differences, exact for these linear fields) — and independent: sampled
+    /// at the vertices of a tetrahedron (a triangle in 2D) their Gram matrix
+    /// has full rank (its smallest eigenvalue well above zero).
+    #[test]
+    fn rigid_modes_are_independent_motions_without_strain() {
+        fn check<D: Dim>(points: &[D::Vector]) {
+            let h = 0.5;
+            for k in 0..D::RIGID_MODES {
+                for x in points {
+                    // ∂v_i/∂x_j by a central difference; strain = sym part.
+                    let grad = |i: usize, j: usize| {
+                        let (mut a, mut b) = (*x, *x);
+                        a.as_mut()[j] += h;
+                        b.as_mut()[j] -= h;
+                        let (va, vb) = (D::rigid_mode(k, a), D::rigid_mode(k, b));
+                        (va.as_ref()[i] - vb.as_ref()[i]) / (2.0 * h)
+                    };
+                    for i in 0..D::N {
+                        for j in 0..D::N {
+                            assert_eq!(grad(i, j) + grad(j, i), 0.0, "mode {k}: strain {i}{j}");
+                        }
+                    }
+                }
+            }
+            // Gram matrix of the modes sampled at the points: full rank.
+            let m = D::RIGID_MODES;
+            let mut g = faer::Mat::<f64>::zeros(m, m);
+            for x in points {
+                for c in 0..D::N {
+                    let row: Vec<f64> = (0..m).map(|k| D::rigid_mode(k, *x).as_ref()[c]).collect();
+                    for a in 0..m {
+                        for b in 0..m {
+                            g[(a, b)] += row[a] * row[b];
+                        }
+                    }
+                }
+            }
+            let eig = g.self_adjoint_eigen(faer::Side::Lower).unwrap();
+            let smallest = (0..m).map(|i| eig.S()[i]).fold(f64::INFINITY, f64::min);
+            assert!(
+                smallest > 0.1,
+                "{} modes: smallest eigenvalue {smallest}",
+                m
+            );
+        }
+        check::<D2>(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]);
+        check::<D3>(&[
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ]);
+        // Across: |v × m|, the plane one the absolute 2D cross product.
+        assert_eq!(D2::across([3.0, 4.0], [0.0, 1.0]), 3.0);
+        assert_eq!(D3::across([3.0, 4.0, 12.0], [0.0, 0.0, 1.0]), 5.0);
+        assert_eq!(D3::dot(&[1.0, 2.0, 3.0], &[4.0, -5.0, 6.0]), 12.0);
     }
 }

@@ -32,25 +32,35 @@ pub struct DofMap<D: Dim = D2> {
 }
 
 impl DofMap {
-    /// Numbers the DOFs of `parts`, eliminating those fixed by `supports` (plane
-    /// supports: x and y).
+    /// Numbers the DOFs of the plane `parts`, eliminating those fixed by
+    /// `supports` (x and y) ([`DofMap::numbered`] in 2D).
     pub fn new(parts: &[Part], supports: &[Support]) -> DofMap {
-        let mut node_offset = Vec::with_capacity(parts.len() + 1);
+        let nodes: Vec<usize> = parts.iter().map(|p| p.mesh.nodes.len()).collect();
+        DofMap::numbered(&nodes, supports)
+    }
+}
+
+impl<D: Dim> DofMap<D> {
+    /// Numbers the DOFs of parts of `nodes[p]` nodes each (`D::N` a node),
+    /// eliminating the first `D::N` components of each support's `fix`
+    /// (the first support listed wins a DOF) with their prescribed values.
+    pub fn numbered(nodes: &[usize], supports: &[Support]) -> Self {
+        let mut node_offset = Vec::with_capacity(nodes.len() + 1);
         let mut n = 0;
-        for p in parts {
+        for &count in nodes {
             node_offset.push(n);
-            n += p.mesh.nodes.len();
+            n += count;
         }
         node_offset.push(n);
-        let mut prescribed = vec![0.0; D2::dof(n, 0)];
+        let mut prescribed = vec![0.0; D::dof(n, 0)];
         // `eq` marks the fixed DOFs first (free: 0), then numbers the free ones.
-        let mut eq = vec![0; D2::dof(n, 0)];
+        let mut eq = vec![0; D::dof(n, 0)];
         let mut fixed = Vec::new();
         for (s, sup) in supports.iter().enumerate() {
             for &node in &sup.nodes {
                 let g = node_offset[sup.part] + node;
-                for c in 0..D2::N {
-                    let d = D2::dof(g, c);
+                for c in 0..D::N {
+                    let d = D::dof(g, c);
                     if sup.fix[c] && eq[d] != FIXED {
                         eq[d] = FIXED;
                         fixed.push((d, s));
@@ -85,6 +95,22 @@ impl<D: Dim> DofMap<D> {
     /// The DOF of component `c` of global node `g` ([`Dim::dof`]).
     pub fn dof(&self, g: usize, c: usize) -> usize {
         D::dof(g, c)
+    }
+
+    /// The position of every global node of `parts` (numbered by this map), in
+    /// the dimension's vector: the components its part's mesh gives, in order
+    /// (a plane mesh gives x and y), the others 0.
+    pub fn positions(&self, parts: &[Part]) -> Vec<D::Vector> {
+        parts
+            .iter()
+            .flat_map(|p| p.mesh.nodes.iter())
+            .map(|x| {
+                let mut v = D::Vector::default();
+                let n = x.len().min(D::N);
+                v.as_mut()[..n].copy_from_slice(&x[..n]);
+                v
+            })
+            .collect()
     }
 
     /// Number of global nodes.
@@ -168,8 +194,8 @@ mod tests {
             name: "s".into(),
             part: 0,
             nodes: bottom.clone(),
-            fix: [false, true],
-            value: [0.0, -0.5],
+            fix: [false, true, false],
+            value: [0.0, -0.5, 0.0],
             step: 0,
         }];
         let dofs = DofMap::new(&parts, &supports);
@@ -192,5 +218,33 @@ mod tests {
         let (f_int, f_ext) = (vec![1.0; 2 * n], vec![2.0; 2 * n]);
         let r = dofs.reactions(1, &f_int, &f_ext, 0.25);
         assert_eq!(r, vec![[0.0, 0.5 * bottom.len() as f64]]);
+    }
+
+    /// A tiny solid numbering: node g's components are DOFs 3g, 3g + 1 and
+    /// 3g + 2, a support fixes its z (and only the components it names), every
+    /// other DOF gets an equation in order, and a reaction has three components.
+    #[test]
+    fn solid_numbering_through_the_dimension() {
+        use crate::dim::D3;
+        let supports = vec![Support {
+            name: "s".into(),
+            part: 1,
+            nodes: vec![0, 2],
+            fix: [false, false, true],
+            value: [0.0, 0.0, 0.25],
+            step: 0,
+        }];
+        // Two parts of 2 and 3 nodes: part 1's nodes 0 and 2 are global 2 and 4.
+        let dofs = DofMap::<D3>::numbered(&[2, 3], &supports);
+        assert_eq!((dofs.per_node(), dofs.n_nodes()), (3, 5));
+        assert_eq!(dofs.eq.len(), 15);
+        assert_eq!(dofs.fixed, vec![(8, 0), (14, 0)]);
+        assert_eq!((dofs.prescribed[8], dofs.prescribed[14]), (0.25, 0.25));
+        assert_eq!(dofs.n_eq, 13);
+        let free: Vec<usize> = dofs.eq.iter().copied().filter(|&e| e != FIXED).collect();
+        assert_eq!(free, (0..13).collect::<Vec<_>>());
+        assert_eq!(dofs.locate(4), (1, 2));
+        let r = dofs.reactions(1, &[1.0; 15], &[0.0; 15], 1.0);
+        assert_eq!(r, vec![[0.0, 0.0, 2.0]]);
     }
 }

@@ -338,10 +338,11 @@ pub struct Support {
     pub part: usize,
     /// Nodes of the part.
     pub nodes: Vec<usize>,
-    /// Which components are fixed (x, y).
-    pub fix: [bool; 2],
-    /// Prescribed values of the fixed components at full load.
-    pub value: [f64; 2],
+    /// Which components are fixed (x, y, z): a model of dimension `D` reads the
+    /// first `D::N` (a plane model x and y; z is then never fixed).
+    pub fix: [bool; 3],
+    /// Prescribed values of the fixed components at full load (x, y, z).
+    pub value: [f64; 3],
     /// The load step (index into the model's steps, 0: the first) in which the
     /// prescribed values ramp from 0 to `value`; the DOFs are held in every step.
     pub step: usize,
@@ -363,8 +364,9 @@ pub struct Load {
     pub step: usize,
 }
 
-/// A probe point (`[[probe]]`, as CalculiX's `*NODE PRINT`): a node of a part
-/// whose displacement the history records at every increment.
+/// A probe point (`[[probe]]`, as CalculiX's `*NODE PRINT`): a point of a part
+/// whose displacement the history records at every increment, interpolated
+/// inside the element that contains it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Probe {
     /// Name, as the history's columns (`probe:NAME.ux`) refer to it.
@@ -375,6 +377,33 @@ pub struct Probe {
     pub node: usize,
     /// The point asked for.
     pub at: [f64; 2],
+    /// The interpolation at the point: the nodes (of the part) of the element
+    /// containing it with their shape functions there; the node alone (weight
+    /// 1) when the point is a node or lies in no element.
+    pub weights: Vec<(usize, f64)>,
+    /// The element containing the point, if any (`None`: at its nearest node).
+    pub element: Option<usize>,
+}
+
+impl Probe {
+    /// The probe's displacement in `u` (2 per global node), its part's nodes
+    /// numbered from `offset`: Σ N_a u_a over [`Probe::weights`].
+    pub fn displacement(&self, u: &[f64], offset: usize) -> [f64; 2] {
+        if let [(n, w)] = self.weights[..]
+            && w == 1.0
+        {
+            // The node's own values, bit for bit (a -0.0 stays -0.0).
+            let g = offset + n;
+            return [u[2 * g], u[2 * g + 1]];
+        }
+        let mut d = [0.0; 2];
+        for &(n, w) in &self.weights {
+            let g = offset + n;
+            d[0] += w * u[2 * g];
+            d[1] += w * u[2 * g + 1];
+        }
+        d
+    }
 }
 
 /// A load step (`[[step]]`, as Abaqus's or CalculiX's *STEP). The loads and

@@ -323,10 +323,38 @@ fn unsupported_and_malformed_lines_are_typed_errors_with_their_line() {
         ),
         (
             with_line(13, "*ELEMENT, TYPE=CAX4, ELSET=BASE"),
-            Unsupported,
-            13,
+            Conflict,
+            16,
             "*ELEMENT",
-            "axisymmetric",
+            "axisymmetric (CAX)",
+        ),
+        (
+            with_line(28, "*TIE, NAME=GLUE, ADJUST=NO"),
+            Unsupported,
+            28,
+            "*TIE",
+            "ADJUST=NO",
+        ),
+        (
+            with_line(28, "*TIE, NAME=GLUE, POSITION TOLERANCE=0.1"),
+            Unsupported,
+            28,
+            "*TIE",
+            "POSITION TOLERANCE",
+        ),
+        (
+            with_line(1, "*ASSEMBLY, NAME=A1"),
+            Unsupported,
+            1,
+            "*ASSEMBLY",
+            "flattened",
+        ),
+        (
+            with_line(1, "*INSTANCE, NAME=I1, PART=P1\n1., 0., 0."),
+            Unsupported,
+            1,
+            "*INSTANCE",
+            "flattened",
         ),
         (
             with_line(13, "*ELEMENT, TYPE=CPS4R, ELSET=BASE"),
@@ -598,9 +626,9 @@ fn builder_errors_name_the_deck_line() {
 }
 
 /// *INCLUDE nesting is depth-limited (a file including itself), only regular
-/// files are read, and a deck refuses refinement.
+/// files are read, and a deck refuses the refinement factor 0.
 #[test]
-fn includes_are_bounded_and_refinement_refused() {
+fn includes_are_bounded_and_refinement_zero_refused() {
     let dir = scratch("include");
     let me = dir.join("self.inp");
     std::fs::write(&me, "*INCLUDE, INPUT=self.inp\n").unwrap();
@@ -620,6 +648,255 @@ fn includes_are_bounded_and_refinement_refused() {
     }
     let path = dir.join("base.inp");
     std::fs::write(&path, BASE).unwrap();
-    assert!(matches!(Model::from_file(&path, 2), Err(Error::Model(_))));
+    assert!(matches!(Model::from_file(&path, 0), Err(Error::Model(_))));
     assert!(Model::from_file(&path, 1).unwrap().with_refine(1).is_ok());
+}
+
+/// The axisymmetric twin of [`AXI_DECK`] as a problem file: the same meshes
+/// (built-in rectangles numbered as the deck numbers them), penalty, supports
+/// and loads.
+const AXI_TOML: &str = r#"
+plane = "axisymmetric"
+[materials.STEEL]
+E = 210000.0
+nu = 0.3
+[materials.SOFT]
+E = 70000.0
+nu = 0.33
+[[part]]
+name = "BASE"
+material = "SOFT"
+rectangle = { x = [0.0, 4.0], y = [-2.0, 0.0], cells = [4, 2], elements = "q4" }
+[[part]]
+name = "PUNCH"
+material = "STEEL"
+rectangle = { x = [0.0, 1.0], y = [0.0, 1.0], cells = [2, 2], elements = "t3" }
+[[interface]]
+host = "BASE"
+nodes = "PUNCH"
+boundary = "bottom"
+law = "frictionless"
+c_n = 1000000.0
+[[support]]
+part = "BASE"
+boundary = "bottom"
+fix = ["x", "y"]
+[[load]]
+part = "PUNCH"
+at = [0.0, 1.0]
+force = [0.0, -90.0]
+[[load]]
+part = "PUNCH"
+boundary = "top"
+pressure = 30.0
+[analysis]
+increments = 1
+"#;
+
+/// An axisymmetric deck as a CalculiX user writes it: a CAX3 punch (r ≤ 1) on
+/// a CAX4 base, node-to-surface contact with a LINEAR pressure-overclosure,
+/// a point force on the axis given for CalculiX's 2° segment and a pressure on
+/// the punch's top.
+const AXI_DECK: &str = "*HEADING
+axisymmetric punch on a base
+*NODE, NSET=NBASE
+1, 0., -2.
+2, 1., -2.
+3, 2., -2.
+4, 3., -2.
+5, 4., -2.
+6, 0., -1.
+7, 1., -1.
+8, 2., -1.
+9, 3., -1.
+10, 4., -1.
+11, 0., 0.
+12, 1., 0.
+13, 2., 0.
+14, 3., 0.
+15, 4., 0.
+*NODE
+101, 0., 0.
+102, 0.5, 0.
+103, 1., 0.
+104, 0., 0.5
+105, 0.5, 0.5
+106, 1., 0.5
+107, 0., 1.
+108, 0.5, 1.
+109, 1., 1.
+*ELEMENT, TYPE=CAX4, ELSET=BASE
+1, 1, 2, 7, 6
+2, 2, 3, 8, 7
+3, 3, 4, 9, 8
+4, 4, 5, 10, 9
+5, 6, 7, 12, 11
+6, 7, 8, 13, 12
+7, 8, 9, 14, 13
+8, 9, 10, 15, 14
+*ELEMENT, TYPE=CAX3, ELSET=PUNCH
+101, 101, 102, 105
+102, 101, 105, 104
+103, 102, 103, 106
+104, 102, 106, 105
+105, 104, 105, 108
+106, 104, 108, 107
+107, 105, 106, 109
+108, 105, 109, 108
+*ELSET, ELSET=PTOP
+106, 108
+*ELSET, ELSET=PBOTTOM
+101, 103
+*ELSET, ELSET=BTOP
+5, 6, 7, 8
+*MATERIAL, NAME=STEEL
+*ELASTIC
+210000., 0.3
+*MATERIAL, NAME=SOFT
+*ELASTIC
+70000., 0.33
+*SOLID SECTION, ELSET=BASE, MATERIAL=SOFT
+*SOLID SECTION, ELSET=PUNCH, MATERIAL=STEEL
+1.
+*SURFACE, NAME=BASE_TOP
+BTOP, S3
+*SURFACE, NAME=PUNCH_BOTTOM
+PBOTTOM, S1
+*SURFACE INTERACTION, NAME=HARDISH
+*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR
+2.E6
+*CONTACT PAIR, INTERACTION=HARDISH
+PUNCH_BOTTOM, BASE_TOP
+*BOUNDARY
+1, 1, 2
+2, 1, 2
+3, 1, 2
+4, 1, 2
+5, 1, 2
+*STEP
+*STATIC
+*CLOAD
+107, 2, -0.5
+*DLOAD
+PTOP, P2, 30.
+*END STEP
+";
+
+/// CAX3/CAX4 decks (issue 40): the axisymmetric deck gives its TOML twin's
+/// model — the same meshes, plane, penalty (the LINEAR slope × the mean slave
+/// edge, per unit circumference: 2e6 × 0.5 = 1e6), loads (a *CLOAD of CalculiX's
+/// 2° segment, 180 × 0.5 = 90, the ring's total; the *DLOAD pressure integrated
+/// with 2πr) — and the same displacements to round-off (1e-12 of the largest);
+/// the base's reaction balances the loads' z resultant (90 + 30 π 1²).
+#[test]
+fn axisymmetric_deck_matches_its_toml_twin() {
+    let toml = Analysis::new(Model::from_str(AXI_TOML, Path::new("axi.toml"), 1).unwrap()).unwrap();
+    let inp = Analysis::new(deck(AXI_DECK).unwrap()).unwrap();
+    assert_eq!(inp.model.parts.len(), 2);
+    for (a, b) in toml.model.parts.iter().zip(&inp.model.parts) {
+        assert_eq!(a.name, b.name);
+        assert_eq!(a.mesh.nodes, b.mesh.nodes, "{}", b.name);
+        assert_eq!(a.mesh.elements, b.mesh.elements, "{}", b.name);
+        assert_eq!(a.material.plane, cfe::fem::PlaneKind::Axisymmetric);
+        assert_eq!(a.material.plane, b.material.plane);
+        assert_eq!(a.material.thickness, b.material.thickness);
+    }
+    assert_eq!(toml.interfaces[0].c_n, inp.interfaces[0].c_n);
+    assert_eq!(inp.interfaces[0].law, cfe::Law::Frictionless);
+    assert!(inp.model.notes.iter().any(|n| n.contains("2° segment")));
+    let total = |a: &Analysis| -> f64 { a.model.loads.iter().map(|l| l.resultant[1]).sum() };
+    let want = -(90.0 + 30.0 * std::f64::consts::PI);
+    assert!((total(&toml) - want).abs() < 1e-12 * want.abs());
+    assert!((total(&inp) - want).abs() < 1e-12 * want.abs());
+    let (ra, rb) = (
+        common::solve_completed(&toml),
+        common::solve_completed(&inp),
+    );
+    let scale = ra.last.u.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    assert!(scale > 0.0);
+    let diff = ra
+        .last
+        .u
+        .iter()
+        .zip(&rb.last.u)
+        .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+    eprintln!("axisymmetric deck against TOML: largest difference {diff:e} of {scale:e}");
+    assert!(diff <= 1e-12 * scale, "{diff:e}");
+    let reaction: f64 = rb.summary.reactions.iter().map(|r| r.fy).sum();
+    assert!((reaction + want).abs() < 1e-9 * want.abs(), "{reaction}");
+}
+
+/// `--refine K` on a deck (issue 40): a plane-strain block (2 × 1, two CPE4,
+/// t = 0.5) clamped along its bottom by a node set, a *CLOAD at a corner and a
+/// *DLOAD on its top, refined 1, 2 and 3 times, gives at every node the
+/// displacement of the same block meshed by the built-in rectangle with K× the
+/// cells (its twin, the node matched by position) to round-off (1e-10 of the
+/// largest): the refined clamp holds the new nodes of its face, the pressure
+/// acts on the refined top, the point force stays on its node — also when the
+/// clamp is written node by node, one *BOUNDARY line each; and `with_refine`
+/// gives the same model as reading at that factor.
+#[test]
+fn deck_refined_matches_the_refined_rectangle() {
+    let text = "*NODE, NSET=ALL\n1, 0., 0.\n2, 1., 0.\n3, 2., 0.\n4, 0., 1.\n5, 1., 1.\n6, 2., 1.\n\
+        *NSET, NSET=CLAMP\n1, 2, 3\n\
+        *ELEMENT, TYPE=CPE4, ELSET=BLOCK\n1, 1, 2, 5, 4\n2, 2, 3, 6, 5\n\
+        *MATERIAL, NAME=M\n*ELASTIC\n1000., 0.25\n*SOLID SECTION, ELSET=BLOCK, MATERIAL=M\n0.5\n\
+        *BOUNDARY\nCLAMP, 1, 2\n\
+        *STEP\n*STATIC\n*CLOAD\n6, 2, -3.\n6, 1, 1.\n*DLOAD\nBLOCK, P3, 4.\n*END STEP\n";
+    let dir = scratch("refine");
+    for (file, text) in [
+        ("block.inp", text.to_string()),
+        (
+            "by_node.inp",
+            text.replace("CLAMP, 1, 2\n", "1, 1, 2\n2, 1, 2\n3, 1, 2\n"),
+        ),
+    ] {
+        let path = dir.join(file);
+        std::fs::write(&path, &text).unwrap();
+        for k in 1..=3usize {
+            let twin = format!(
+                "plane = \"strain\"\n[materials.M]\nE = 1000.0\nnu = 0.25\n[[part]]\nname = \"BLOCK\"\nmaterial = \"M\"\nthickness = 0.5\nrectangle = {{ x = [0.0, 2.0], y = [0.0, 1.0], cells = [{}, {}], elements = \"q4\" }}\n[[support]]\npart = \"BLOCK\"\nboundary = \"bottom\"\nfix = [\"x\", \"y\"]\n[[load]]\npart = \"BLOCK\"\nat = [2.0, 1.0]\nforce = [1.0, -3.0]\n[[load]]\npart = \"BLOCK\"\nboundary = \"top\"\npressure = 2.0\n[analysis]\nincrements = 1\n",
+                2 * k,
+                k
+            );
+            let a =
+                Analysis::new(Model::from_str(&twin, Path::new("twin.toml"), 1).unwrap()).unwrap();
+            let model = Model::from_file(&path, k).unwrap();
+            assert_eq!(model.refine, k);
+            let again = Model::from_file(&path, 1).unwrap().with_refine(k).unwrap();
+            assert_eq!(again.parts[0].mesh.nodes, model.parts[0].mesh.nodes);
+            assert!(
+                again
+                    .supports
+                    .iter()
+                    .map(|s| &s.nodes)
+                    .eq(model.supports.iter().map(|s| &s.nodes))
+            );
+            let b = Analysis::new(model).unwrap();
+            assert_eq!(b.model.parts[0].mesh.elements.len(), 2 * k * k);
+            let held: usize = b.model.supports.iter().map(|s| s.nodes.len()).sum();
+            assert_eq!(held, 2 * k + 1);
+            let (ua, ub) = (common::solve(&a), common::solve(&b));
+            let (ua, ub) = (&ua.last().unwrap().u, &ub.last().unwrap().u);
+            let scale = ua.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            let (ma, mb) = (&a.model.parts[0].mesh, &b.model.parts[0].mesh);
+            assert_eq!(ma.nodes.len(), mb.nodes.len());
+            let mut worst: f64 = 0.0;
+            for (n, x) in mb.nodes.iter().enumerate() {
+                let m = ma
+                    .nodes
+                    .iter()
+                    .position(|y| (y[0] - x[0]).abs() < 1e-12 && (y[1] - x[1]).abs() < 1e-12)
+                    .expect("the twin has a node here");
+                let (ga, gb) = (a.dofs.node(0, m), b.dofs.node(0, n));
+                for c in 0..2 {
+                    worst = worst.max((ua[2 * ga + c] - ub[2 * gb + c]).abs());
+                }
+            }
+            assert!(
+                worst <= 1e-10 * scale,
+                "{file}, refine {k}: {worst:e} of {scale:e}"
+            );
+        }
+    }
 }

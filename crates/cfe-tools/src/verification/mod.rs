@@ -5,6 +5,7 @@
 //! pictures; the tests assert every case of that list, quick and full.
 
 pub mod axisymmetric;
+pub mod axisymmetric_contact;
 pub mod cantilever;
 pub mod closed_forms;
 pub mod contact;
@@ -135,7 +136,7 @@ pub type CaseFn = fn(bool) -> Result<Case>;
 /// progress line shows. The one list: [`run_all`] runs it and the tests
 /// (`crates/cfe-tools/tests/verification.rs`) assert every case of it at both
 /// levels, so a case added here is asserted without a test of its own.
-pub const CASES: [(&str, CaseFn); 20] = [
+pub const CASES: [(&str, CaseFn); 22] = [
     ("patch tests", patch::constant_stress),
     ("contact patch test", patch::contact_patch),
     ("tied cantilever", cantilever::convergence),
@@ -156,6 +157,11 @@ pub const CASES: [(&str, CaseFn); 20] = [
     ("receding contact", fits::receding),
     ("axisymmetric cylinder", axisymmetric::thick_cylinder),
     ("axisymmetric press fit", axisymmetric::press_fit),
+    ("axisymmetric flat punch", axisymmetric_contact::flat_punch),
+    (
+        "axisymmetric Hertz sphere",
+        axisymmetric_contact::hertz_sphere,
+    ),
 ];
 
 /// Runs every case of [`CASES`] (`quick`: the reduced versions), calling

@@ -6,6 +6,7 @@
 mod source;
 
 use crate::coupling::{Interface, PairHistory, PairState};
+use crate::dim::Dim;
 pub use crate::dofs::{DofMap, FIXED};
 use crate::domain::{Load, Part};
 use crate::error::{Stopped, check_stop};
@@ -34,7 +35,7 @@ pub struct NodeGraph {
 
 impl NodeGraph {
     /// The graph of all part elements and all coupling elements (whatever their state).
-    pub fn new(parts: &[Part], interfaces: &[Interface], dofs: &DofMap) -> NodeGraph {
+    pub fn new<D: Dim>(parts: &[Part], interfaces: &[Interface<D>], dofs: &DofMap<D>) -> NodeGraph {
         NodeGraph::new_until(parts, interfaces, dofs, None)
             .unwrap_or_else(|_| unreachable!("no stop flag to read"))
     }
@@ -42,10 +43,10 @@ impl NodeGraph {
     /// [`NodeGraph::new`] reading the caller's stop flag `stop` (if any) every
     /// few thousand elements or rows: [`Stopped`] once it is nonzero. The graph
     /// is that of [`NodeGraph::new`] otherwise.
-    pub fn new_until(
+    pub fn new_until<D: Dim>(
         parts: &[Part],
-        interfaces: &[Interface],
-        dofs: &DofMap,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
         stop: Option<&AtomicUsize>,
     ) -> Result<NodeGraph, Stopped> {
         let part_elements = PartElements::new(parts, dofs);
@@ -203,15 +204,15 @@ pub struct Stiffness {
 impl Stiffness {
     /// Builds the pattern from the node graph of every part element and every
     /// coupling element, and assembles the parts' stiffness.
-    pub fn new(parts: &[Part], dofs: &DofMap, graph: &NodeGraph) -> Stiffness {
+    pub fn new<D: Dim>(parts: &[Part], dofs: &DofMap<D>, graph: &NodeGraph) -> Stiffness {
         Stiffness::from_sources(&[&PartElements::new(parts, dofs)], dofs, graph)
     }
 
     /// Builds the pattern from `graph` and assembles the constant part of the values
     /// from the elements of `sources`.
-    pub fn from_sources(
+    pub fn from_sources<D: Dim>(
         sources: &[&dyn ElementSource],
-        dofs: &DofMap,
+        dofs: &DofMap<D>,
         graph: &NodeGraph,
     ) -> Stiffness {
         let mut k = Stiffness::pattern(dofs, graph);
@@ -221,7 +222,7 @@ impl Stiffness {
 
     /// The pattern of `graph` over the equations of `dofs` (in the equations'
     /// order), every value zero: the symbolic analysis needs no more.
-    pub fn pattern(dofs: &DofMap, graph: &NodeGraph) -> Stiffness {
+    pub fn pattern<D: Dim>(dofs: &DofMap<D>, graph: &NodeGraph) -> Stiffness {
         Stiffness::pattern_until(dofs, graph, None)
             .unwrap_or_else(|_| unreachable!("no stop flag to read"))
     }
@@ -229,8 +230,8 @@ impl Stiffness {
     /// [`Stiffness::pattern`] reading the caller's stop flag `stop` (if any)
     /// every [`STOP_CHECK_ROWS`] nodes of each of its two passes: [`Stopped`]
     /// once it is nonzero.
-    pub fn pattern_until(
-        dofs: &DofMap,
+    pub fn pattern_until<D: Dim>(
+        dofs: &DofMap<D>,
         graph: &NodeGraph,
         stop: Option<&AtomicUsize>,
     ) -> Result<Stiffness, Stopped> {
@@ -252,28 +253,29 @@ impl Stiffness {
             }
         };
         let free = |a: usize, ca: usize| dofs.eq[dofs.dof(a, ca)] != FIXED;
-        // Row count of each node's columns (0, 1 or 2 columns).
-        let counts: Vec<[usize; 2]> = (0..n_nodes)
-            .into_par_iter()
+        // Row count of each node's columns (up to `D::N` columns a node: column
+        // c of node a at `counts[D::N a + c]`, 0 when its DOF is fixed).
+        let mut counts = vec![0usize; dofs.dof(n_nodes, 0)];
+        counts
+            .par_chunks_mut(D::N)
             .with_min_len(4096)
-            .map(|a| {
+            .enumerate()
+            .try_for_each(|(a, counts)| {
                 if a.is_multiple_of(STOP_CHECK_ROWS) {
                     check_stop(stop)?;
                 }
-                Ok(std::array::from_fn(|ca| {
-                    let mut n = 0;
+                for (ca, count) in counts.iter_mut().enumerate() {
                     if free(a, ca) {
-                        rows_of(a, ca, &mut |_| n += 1);
+                        rows_of(a, ca, &mut |_| *count += 1);
                     }
-                    n
-                }))
-            })
-            .collect::<Result<_, Stopped>>()?;
+                }
+                Ok::<(), Stopped>(())
+            })?;
         let mut col_ptr = Vec::with_capacity(dofs.n_eq + 1);
         col_ptr.push(0);
         let mut node_start = Vec::with_capacity(n_nodes + 1);
         let mut nnz = 0;
-        for (a, c) in counts.iter().enumerate() {
+        for (a, c) in counts.chunks(D::N).enumerate() {
             node_start.push(nnz);
             for (ca, &count) in c.iter().enumerate() {
                 if free(a, ca) {
@@ -292,7 +294,7 @@ impl Stiffness {
             check_stop(stop)?;
             let mut k = 0;
             for a in nodes {
-                for ca in 0..2 {
+                for ca in 0..D::N {
                     if free(a, ca) {
                         rows_of(a, ca, &mut |i| {
                             slice[k] = narrow(i);
@@ -345,7 +347,7 @@ impl Stiffness {
     /// The values of the elements of `sources` in this matrix's storage (those
     /// [`Stiffness::assemble_parts`] would set), leaving the matrix as it is: one
     /// thread assembles them while another reads the pattern.
-    pub fn values_of(&self, sources: &[&dyn ElementSource], dofs: &DofMap) -> Vec<f64> {
+    pub fn values_of<D: Dim>(&self, sources: &[&dyn ElementSource], dofs: &DofMap<D>) -> Vec<f64> {
         let mut values = vec![0.0; self.row_idx.len()];
         self.add_sources(&mut values, sources, dofs);
         values
@@ -473,7 +475,7 @@ impl Stiffness {
     /// Sets the values to those of the elements of `sources` (the constant part,
     /// usually the parts), to which the next [`Stiffness::assemble`] adds the
     /// coupling elements.
-    pub fn assemble_parts(&mut self, sources: &[&dyn ElementSource], dofs: &DofMap) {
+    pub fn assemble_parts<D: Dim>(&mut self, sources: &[&dyn ElementSource], dofs: &DofMap<D>) {
         let mut values = std::mem::take(&mut self.values);
         values.clear();
         values.resize(self.row_idx.len(), 0.0);
@@ -534,7 +536,7 @@ impl Stiffness {
     /// then walked once for all the element's rows at or below it (sorted too),
     /// instead of a binary search per entry. Each entry of `values` still gets
     /// one term per element, so the sums are those of any other visiting order.
-    fn scatter(&self, values: &mut [f64], dofs: &DofMap, g: &[usize], k: &[f64], stride: usize) {
+    fn scatter<D: Dim>(&self, values: &mut [f64], dofs: &DofMap<D>, g: &[usize], k: &[f64], stride: usize) {
         /// DOFs of the largest element walked column by column (larger ones are
         /// searched entry by entry).
         const MERGE_MAX: usize = 32;
@@ -585,10 +587,10 @@ impl Stiffness {
 
     /// [`Stiffness::scatter`] entry by entry, each found by a binary search in
     /// its column.
-    fn scatter_searched(
+    fn scatter_searched<D: Dim>(
         &self,
         values: &mut [f64],
-        dofs: &DofMap,
+        dofs: &DofMap<D>,
         g: &[usize],
         k: &[f64],
         stride: usize,
@@ -612,7 +614,7 @@ impl Stiffness {
     }
 
     /// Adds the stiffness of every element of `sources` into `values`.
-    fn add_sources(&self, values: &mut [f64], sources: &[&dyn ElementSource], dofs: &DofMap) {
+    fn add_sources<D: Dim>(&self, values: &mut [f64], sources: &[&dyn ElementSource], dofs: &DofMap<D>) {
         for source in sources {
             source.for_each_stiffness(&mut |g, k, stride| self.scatter(values, dofs, g, k, stride));
         }
@@ -620,12 +622,12 @@ impl Stiffness {
 
     /// Sets the values to parts + the coupling elements in their `states`
     /// (`states[i][k]` for pair k of interface i).
-    pub fn assemble(
+    pub fn assemble<D: Dim>(
         &mut self,
         parts: &[Part],
-        interfaces: &[Interface],
+        interfaces: &[Interface<D>],
         states: &[Vec<PairState>],
-        dofs: &DofMap,
+        dofs: &DofMap<D>,
     ) {
         self.assemble_sources(
             &[&PartElements::new(parts, dofs)],
@@ -637,11 +639,11 @@ impl Stiffness {
     /// Sets the values to the elements of `constant` (unless they are there
     /// already, from [`Stiffness::assemble_parts`]) plus those of `varying` (the
     /// elements whose stiffness changes between solves).
-    pub fn assemble_sources(
+    pub fn assemble_sources<D: Dim>(
         &mut self,
         constant: &[&dyn ElementSource],
         varying: &[&dyn ElementSource],
-        dofs: &DofMap,
+        dofs: &DofMap<D>,
     ) {
         if !self.parts_only || self.values.len() != self.row_idx.len() {
             self.assemble_parts(constant, dofs);
@@ -667,11 +669,11 @@ impl Stiffness {
 
 /// The internal force vector over all DOFs, `F_int = Σ_parts K_e u_e + Σ_CFE B_eᵀ Rᵀ f`
 /// (seed eq. 1), for the full displacement vector `u` (free and prescribed DOFs).
-pub fn internal_force(
+pub fn internal_force<D: Dim>(
     parts: &[Part],
-    interfaces: &[Interface],
+    interfaces: &[Interface<D>],
     states: &[Vec<PairState>],
-    dofs: &DofMap,
+    dofs: &DofMap<D>,
     u: &[f64],
 ) -> Vec<f64> {
     internal_force_with(parts, interfaces, states, None, dofs, u)
@@ -679,12 +681,12 @@ pub fn internal_force(
 
 /// As [`internal_force`], with the pairs' histories (slip, slip force,
 /// multipliers; `None`: all zero) in the coupling elements' forces.
-pub fn internal_force_with(
+pub fn internal_force_with<D: Dim>(
     parts: &[Part],
-    interfaces: &[Interface],
+    interfaces: &[Interface<D>],
     states: &[Vec<PairState>],
-    history: Option<&[Vec<PairHistory>]>,
-    dofs: &DofMap,
+    history: Option<&[Vec<PairHistory<D>>]>,
+    dofs: &DofMap<D>,
     u: &[f64],
 ) -> Vec<f64> {
     let part_elements = PartElements::new(parts, dofs);
@@ -770,7 +772,7 @@ pub fn internal_force_of(sources: &[&dyn ElementSource], u: &[f64]) -> Vec<f64> 
 }
 
 /// The external force vector over all DOFs at full load.
-pub fn external_force(loads: &[Load], dofs: &DofMap) -> Vec<f64> {
+pub fn external_force<D: Dim>(loads: &[Load], dofs: &DofMap<D>) -> Vec<f64> {
     let mut f = vec![0.0; dofs.dof(dofs.n_nodes(), 0)];
     for load in loads {
         for &(n, v) in &load.nodal {
@@ -951,8 +953,8 @@ mod tests {
                 name: "s".into(),
                 part: 0,
                 nodes: parts[0].mesh.boundary_nodes("bottom").unwrap(),
-                fix: [true, false],
-                value: [0.0, 0.0],
+                fix: [true, false, false],
+                value: [0.0; 3],
                 step: 0,
             }];
             let dofs = DofMap::new(&parts, &supports);

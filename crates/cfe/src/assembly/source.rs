@@ -8,6 +8,7 @@
 
 use crate::coupling::element::MAX_DOFS;
 use crate::coupling::{Interface, PairHistory, PairState};
+use crate::dim::{D2, Dim};
 use crate::dofs::DofMap;
 use crate::domain::Part;
 use crate::fem::element;
@@ -93,9 +94,9 @@ pub trait ElementSource: Sync {
 }
 
 /// The elements of every part (T3 and Q4), numbered part after part.
-pub struct PartElements<'a> {
+pub struct PartElements<'a, D: Dim = D2> {
     parts: &'a [Part],
-    dofs: &'a DofMap,
+    dofs: &'a DofMap<D>,
     /// First element of each part in the source's numbering (length parts + 1).
     offset: Vec<usize>,
     /// The constitutive matrix of each part.
@@ -104,9 +105,9 @@ pub struct PartElements<'a> {
     axi: Vec<Option<[[f64; 4]; 4]>>,
 }
 
-impl<'a> PartElements<'a> {
+impl<'a, D: Dim> PartElements<'a, D> {
     /// The elements of `parts`, numbered with `dofs`.
-    pub fn new(parts: &'a [Part], dofs: &'a DofMap) -> Self {
+    pub fn new(parts: &'a [Part], dofs: &'a DofMap<D>) -> Self {
         let mut offset = Vec::with_capacity(parts.len() + 1);
         let mut n = 0;
         for p in parts {
@@ -229,7 +230,7 @@ impl<'a> PartElements<'a> {
     }
 }
 
-impl ElementSource for PartElements<'_> {
+impl<D: Dim> ElementSource for PartElements<'_, D> {
     fn len(&self) -> usize {
         *self.offset.last().unwrap_or(&0)
     }
@@ -363,22 +364,22 @@ impl ElementSource for SomeElements<'_> {
 
 /// The coupling elements of every interface, numbered interface after interface,
 /// in given pair states (`None`: for the pattern only, every pair counted).
-pub struct CouplingElements<'a> {
-    interfaces: &'a [Interface],
+pub struct CouplingElements<'a, D: Dim = D2> {
+    interfaces: &'a [Interface<D>],
     states: Option<&'a [Vec<PairState>]>,
-    history: Option<&'a [Vec<PairHistory>]>,
-    dofs: &'a DofMap,
+    history: Option<&'a [Vec<PairHistory<D>>]>,
+    dofs: &'a DofMap<D>,
     /// First pair of each interface in the source's numbering (length interfaces + 1).
     offset: Vec<usize>,
 }
 
-impl<'a> CouplingElements<'a> {
+impl<'a, D: Dim> CouplingElements<'a, D> {
     /// The coupling elements of `interfaces` in `states` (`states[i][k]` for pair k
     /// of interface i; `None` when only the pattern is wanted).
     pub fn new(
-        interfaces: &'a [Interface],
+        interfaces: &'a [Interface<D>],
         states: Option<&'a [Vec<PairState>]>,
-        dofs: &'a DofMap,
+        dofs: &'a DofMap<D>,
     ) -> Self {
         let mut offset = Vec::with_capacity(interfaces.len() + 1);
         let mut n = 0;
@@ -399,13 +400,13 @@ impl<'a> CouplingElements<'a> {
     /// The same elements with the pairs' histories (slip, slip force, multipliers:
     /// `history[i][k]` for pair k of interface i), which enter their internal
     /// forces; without, every history is zero.
-    pub fn with_history(mut self, history: Option<&'a [Vec<PairHistory>]>) -> Self {
+    pub fn with_history(mut self, history: Option<&'a [Vec<PairHistory<D>>]>) -> Self {
         self.history = history;
         self
     }
 
     /// The interface, the pair and its state of source element `e`.
-    fn locate(&self, e: usize) -> (&Interface, usize, PairState) {
+    fn locate(&self, e: usize) -> (&Interface<D>, usize, PairState) {
         let i = self.offset.partition_point(|&o| o <= e) - 1;
         let k = e - self.offset[i];
         let state = self.states.map_or(PairState::Bonded, |s| s[i][k]);
@@ -413,7 +414,7 @@ impl<'a> CouplingElements<'a> {
     }
 }
 
-impl ElementSource for CouplingElements<'_> {
+impl<D: Dim> ElementSource for CouplingElements<'_, D> {
     fn len(&self) -> usize {
         *self.offset.last().unwrap_or(&0)
     }

@@ -32,8 +32,19 @@ use crate::dofs::DofMap;
 /// node; a segment-coupling element has up to 3 node-part nodes and the host nodes
 /// of the host elements under them (up to 9: three Q4 or T3 hosts).
 pub const MAX_NODES: usize = 12;
-/// Most DOFs a CFE has (in 2D; a 3D element on a HEX8 host needs 3 × 9).
-pub const MAX_DOFS: usize = 2 * MAX_NODES;
+/// Most nodes a 3D CFE has: a coupling node inside a HEX8 host (the volume form,
+/// overlapping meshes) — 9; on a host face it has 4 (TET4 face: 3 + 1, HEX8
+/// face: 4 + 1). The 3D segment coupling does not exist (it needs polygon
+/// clipping), so no 3D element has more.
+pub const MAX_NODES_3D: usize = 9;
+/// Most DOFs a CFE has: 2 × [`MAX_NODES`] = 24 in 2D, 3 × [`MAX_NODES_3D`] = 27
+/// in 3D; the larger. Arrays of this size hold any element's DOFs, of which the
+/// first [`CouplingElement::n_dofs`] are read.
+pub const MAX_DOFS: usize = if 2 * MAX_NODES > 3 * MAX_NODES_3D {
+    2 * MAX_NODES
+} else {
+    3 * MAX_NODES_3D
+};
 
 /// One coupling pair: a coupling node of the node part and the host element that
 /// contains it, with everything the CFE needs, computed once in the reference
@@ -72,10 +83,12 @@ pub struct CouplingElement<D: Dim = D2> {
     /// of the lengths of the node part's boundary edges at the node whose both ends
     /// couple in the same interface (for the segment coupling, m_a). Force /
     /// (tributary length × the node part's thickness) = traction
-    /// ([`CouplingElement::traction`]).
+    /// ([`CouplingElement::traction`]). In 3D an area: the node's share ∫ Nᵢ dA of
+    /// the node part's faces whose corners all couple (the thickness is then 1).
     pub tributary: f64,
     /// Length of the host edge the node was projected on (the scale of the
-    /// geometrically linear limit: slip small against it).
+    /// geometrically linear limit: slip small against it); in 3D the host face's
+    /// size, its longest edge.
     pub edge_length: f64,
     /// The ring the pair stands for in an axisymmetric model, 2π r̄ (r̄ the mean
     /// radius of the node's share of the face, `∫ N_a r ds / ∫ N_a ds`): the
@@ -170,7 +183,7 @@ impl<D: Dim> CouplingElement<D> {
     /// `n + m` entries are used (m = 1 node, or 2 for a segment point).
     pub fn global_nodes(
         &self,
-        dofs: &DofMap,
+        dofs: &DofMap<D>,
         host: usize,
         node_part: usize,
     ) -> ([usize; MAX_NODES], usize) {
@@ -189,7 +202,7 @@ impl<D: Dim> CouplingElement<D> {
     /// The global DOFs of the CFE, `[u₁ v₁ … uₙ vₙ u_c v_c]` in 2D, `D::N` per
     /// node (host nodes in part `host`, then the coupling node in part
     /// `node_part`).
-    pub fn dofs(&self, dofs: &DofMap, host: usize, node_part: usize) -> CfeDofs {
+    pub fn dofs(&self, dofs: &DofMap<D>, host: usize, node_part: usize) -> CfeDofs {
         let (g, n) = self.global_nodes(dofs, host, node_part);
         let mut ids = [0; MAX_DOFS];
         for (a, &gn) in g[..n].iter().enumerate() {

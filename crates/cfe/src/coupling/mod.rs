@@ -10,6 +10,9 @@ pub mod build;
 pub mod check;
 pub mod element;
 #[cfg(test)]
+mod element3d_check;
+pub mod face;
+#[cfg(test)]
 pub(crate) mod fixture;
 #[cfg(test)]
 mod stiffness_check;
@@ -19,6 +22,7 @@ pub mod history;
 pub mod law;
 pub mod pair_set;
 pub(crate) mod search;
+pub mod search3d;
 pub mod segment;
 
 pub use crate::domain::Coupling;
@@ -89,7 +93,7 @@ impl<D: Dim> Interface<D> {
     pub fn pair_at(
         &self,
         k: usize,
-        dofs: &crate::dofs::DofMap,
+        dofs: &crate::dofs::DofMap<D>,
         u: &[f64],
         state: PairState,
         h: &PairHistory<D>,
@@ -111,7 +115,7 @@ impl<D: Dim> Interface<D> {
 
 /// The DOFs of every coupling element of `interfaces`, sorted and without
 /// repeats: all the displacements the pairs' jumps, forces and gaps read.
-pub fn coupling_dofs(interfaces: &[Interface], dofs: &crate::dofs::DofMap) -> Vec<usize> {
+pub fn coupling_dofs<D: Dim>(interfaces: &[Interface<D>], dofs: &crate::dofs::DofMap<D>) -> Vec<usize> {
     let mut all: Vec<usize> = interfaces
         .iter()
         .flat_map(|iface| {

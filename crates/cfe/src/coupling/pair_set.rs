@@ -89,7 +89,7 @@ pub trait PairSet {
 #[derive(Debug)]
 pub struct InterfacePairs<'a, D: Dim = D2> {
     interfaces: &'a [Interface<D>],
-    dofs: &'a DofMap,
+    dofs: &'a DofMap<D>,
 }
 
 impl<D: Dim> Clone for InterfacePairs<'_, D> {
@@ -102,7 +102,7 @@ impl<D: Dim> Copy for InterfacePairs<'_, D> {}
 
 impl<'a, D: Dim> InterfacePairs<'a, D> {
     /// The pairs of `interfaces`, DOFs numbered by `dofs`.
-    pub fn new(interfaces: &'a [Interface<D>], dofs: &'a DofMap) -> Self {
+    pub fn new(interfaces: &'a [Interface<D>], dofs: &'a DofMap<D>) -> Self {
         Self { interfaces, dofs }
     }
 }

@@ -452,7 +452,7 @@ mod tests {
         let (r, n) = (20.0f64, 12usize);
         let at = |t: f64| [r * t.cos(), r * t.sin()];
         let step = std::f64::consts::TAU / n as f64;
-        let mut host = Mesh {
+        let mut host: Mesh = Mesh {
             nodes: (0..n).map(|k| at(k as f64 * step)).collect(),
             ..Default::default()
         };

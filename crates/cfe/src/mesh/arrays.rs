@@ -53,7 +53,7 @@ impl Mesh {
                 el => el,
             });
         }
-        let mut mesh = Mesh {
+        let mut mesh: Mesh = Mesh {
             nodes,
             elements: oriented,
             boundaries: BTreeMap::new(),

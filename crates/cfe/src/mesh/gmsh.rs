@@ -10,8 +10,14 @@
 //!
 //! Sections read: `$MeshFormat`, `$PhysicalNames`, `$Entities` (4.1: the physical
 //! tags of each entity), `$Nodes`, `$Elements`; any other section (`$Periodic`,
-//! `$NodeData`, ...) is skipped. Node and element tags may be sparse. The mesh must
-//! be planar (z = const); z is dropped.
+//! `$NodeData`, ...) is skipped. Node and element tags may be sparse. A plane mesh
+//! must be planar (z = const); z is dropped.
+//!
+//! A file with volume elements (4-node tetrahedra, 8-node hexahedra) is a 3D mesh:
+//! [`GmshMesh3d`] (module `solid`) reads it, its physical volumes becoming solid
+//! parts and its physical surfaces their named boundaries; [`GmshFile`] reads a file
+//! of either dimension. [`GmshMesh::parse`] refuses a 3D file, naming its first
+//! volume element.
 //!
 //! The reader is strict: a file that is not consistent (an element block outside
 //! `$Entities` or outside its entity's bounding box, a count or tag range that
@@ -20,11 +26,28 @@
 //! never read into a part with elements or boundary lines missing (see
 //! [`GmshMesh::parse`]).
 
+mod solid;
+
+pub use solid::{GmshFile, GmshMesh3d, read_gmsh_3d};
+
 use super::{BoundaryEdge, Mesh, Tiling, dist};
 use crate::error::{Error, Result};
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::fmt::Display;
 use std::path::{Path, PathBuf};
+
+/// The bytes of the Gmsh file at `path` (a regular file of at most
+/// [`MESH_FILE_CAP`](super::input_file::MESH_FILE_CAP) bytes:
+/// [`input_file::read`](super::input_file::read)).
+fn file_bytes(path: &Path) -> Result<Vec<u8>> {
+    super::input_file::read(path, "Gmsh file", super::input_file::MESH_FILE_CAP, |e| {
+        Error::Parse {
+            line: None,
+            path: path.to_path_buf(),
+            message: format!("cannot read the Gmsh file: {e}"),
+        }
+    })
+}
 
 /// The MSH format versions cfe reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -143,13 +166,16 @@ pub fn element_type_name(t: i32) -> &'static str {
     }
 }
 
-/// The element types the reader keeps (points are read and dropped).
+/// The element types the reader keeps (points are read and dropped; the volume
+/// kinds make the file a 3D one, read by [`GmshMesh3d`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Kind {
     Point,
     Line,
     Triangle,
     Quad,
+    Tetrahedron,
+    Hexahedron,
 }
 
 impl Kind {
@@ -159,7 +185,21 @@ impl Kind {
             1 => Some(Kind::Line),
             2 => Some(Kind::Triangle),
             3 => Some(Kind::Quad),
+            4 => Some(Kind::Tetrahedron),
+            5 => Some(Kind::Hexahedron),
             _ => None,
+        }
+    }
+
+    /// The Gmsh element type.
+    fn gmsh_type(self) -> i32 {
+        match self {
+            Kind::Point => 15,
+            Kind::Line => 1,
+            Kind::Triangle => 2,
+            Kind::Quad => 3,
+            Kind::Tetrahedron => 4,
+            Kind::Hexahedron => 5,
         }
     }
 
@@ -169,8 +209,30 @@ impl Kind {
             Kind::Line => 2,
             Kind::Triangle => 3,
             Kind::Quad => 4,
+            Kind::Tetrahedron => 4,
+            Kind::Hexahedron => 8,
         }
     }
+
+    /// The dimension of the element (0 point, 1 curve, 2 surface, 3 volume).
+    fn dim(self) -> i32 {
+        match self {
+            Kind::Point => 0,
+            Kind::Line => 1,
+            Kind::Triangle | Kind::Quad => 2,
+            Kind::Tetrahedron | Kind::Hexahedron => 3,
+        }
+    }
+}
+
+/// The most nodes an element kind the reader keeps has (the 8-node hexahedron).
+const MAX_NODES: usize = 8;
+
+/// Whether Gmsh element type `t` is a second- or higher-order volume element
+/// (10-node tetrahedron, 20- and 27-node hexahedra, 15- and 18-node prisms, 13-
+/// and 14-node pyramids, and the higher orders of tetrahedra and hexahedra).
+fn is_quadratic_volume(t: i32) -> bool {
+    matches!(t, 11 | 12 | 13 | 14 | 17 | 18 | 19 | 29 | 30 | 31 | 92 | 93)
 }
 
 impl GmshMesh {
@@ -178,15 +240,7 @@ impl GmshMesh {
     /// [`MESH_FILE_CAP`](super::input_file::MESH_FILE_CAP) bytes:
     /// [`input_file::read`](super::input_file::read)).
     pub fn read(path: &Path) -> Result<GmshMesh> {
-        let data =
-            super::input_file::read(path, "Gmsh file", super::input_file::MESH_FILE_CAP, |e| {
-                Error::Parse {
-                    line: None,
-                    path: path.to_path_buf(),
-                    message: format!("cannot read the Gmsh file: {e}"),
-                }
-            })?;
-        GmshMesh::parse(&data, path)
+        GmshMesh::parse(&file_bytes(path)?, path)
     }
 
     /// Parses the contents of an MSH file; `path` is used in messages. Errors name the
@@ -206,56 +260,12 @@ impl GmshMesh {
     /// (ASCII) or byte (binary), never a mesh with elements or boundary lines left
     /// out. A binary file whose data does not read as its header says, but does
     /// read with another byte order or size_t width, is reported as exactly that.
+    ///
+    /// A file with volume elements (4-node tetrahedra, 8-node hexahedra) is a 3D
+    /// mesh, read by [`GmshMesh3d::parse`]: here it is an error
+    /// naming its first volume element.
     pub fn parse(data: &[u8], path: &Path) -> Result<GmshMesh> {
-        let mut parser = Parser::new(data, path, None);
-        let error = match parser.run() {
-            Ok(mesh) => return Ok(mesh),
-            Err(e) => e,
-        };
-        if !parser.binary || parser.layout_pos == 0 {
-            return Err(error);
-        }
-        // A binary file that fails: does its data read in another layout than
-        // the one its header gives?
-        let header = (parser.little_endian, parser.size_t);
-        let sizes: &[usize] = match parser.version {
-            MshVersion::V41 => &[8, 4],
-            MshVersion::V22 => &[8],
-        };
-        for &size_t in sizes {
-            for little_endian in [true, false] {
-                let layout = (little_endian, size_t);
-                if layout == header {
-                    continue;
-                }
-                if Parser::new(data, path, Some(layout)).run().is_ok() {
-                    return Err(parser.err_at(
-                        parser.layout_pos,
-                        format!(
-                            "the binary header says {} but the data reads as {}: the header does not match the data (written by hand or by another program?); fix the header",
-                            layout_text(header),
-                            layout_text(layout)
-                        ),
-                    ));
-                }
-            }
-        }
-        Err(match error {
-            // Name the layout when it is not the usual one.
-            Error::Parse {
-                path,
-                line,
-                message,
-            } if header != (true, 8) => Error::Parse {
-                path,
-                line,
-                message: format!(
-                    "{message} (reading the binary data as {}, as the header says)",
-                    layout_text(header)
-                ),
-            },
-            e => e,
-        })
+        Parser::read(data, path)?.plane()
     }
 
     /// The physical groups of dimension `dim` (1 curves, 2 surfaces): every tag that
@@ -752,10 +762,14 @@ struct Parser<'a> {
     lines: Vec<Element<2>>,
     triangles: Vec<Element<3>>,
     quads: Vec<Element<4>>,
-    /// Where each line, triangle and quadrilateral is in the file, and its entity.
+    tetrahedra: Vec<Element<4>>,
+    hexahedra: Vec<Element<8>>,
+    /// Where each element is in the file, per kind.
     line_meta: Vec<Meta>,
     triangle_meta: Vec<Meta>,
     quad_meta: Vec<Meta>,
+    tetrahedron_meta: Vec<Meta>,
+    hexahedron_meta: Vec<Meta>,
     seen_nodes: bool,
     seen_elements: bool,
 }
@@ -789,12 +803,70 @@ impl<'a> Parser<'a> {
             lines: Vec::new(),
             triangles: Vec::new(),
             quads: Vec::new(),
+            tetrahedra: Vec::new(),
+            hexahedra: Vec::new(),
             line_meta: Vec::new(),
             triangle_meta: Vec::new(),
             quad_meta: Vec::new(),
+            tetrahedron_meta: Vec::new(),
+            hexahedron_meta: Vec::new(),
             seen_nodes: false,
             seen_elements: false,
         }
+    }
+
+    /// Reads a whole file (any dimension) and checks it (see [`GmshMesh::parse`]);
+    /// the mesh is then taken out as a 2D ([`Parser::plane`]) or a 3D one.
+    fn read(data: &'a [u8], path: &'a Path) -> Result<Parser<'a>> {
+        let mut parser = Parser::new(data, path, None);
+        let error = match parser.run() {
+            Ok(()) => return Ok(parser),
+            Err(e) => e,
+        };
+        if !parser.binary || parser.layout_pos == 0 {
+            return Err(error);
+        }
+        // A binary file that fails: does its data read in another layout than
+        // the one its header gives?
+        let header = (parser.little_endian, parser.size_t);
+        let sizes: &[usize] = match parser.version {
+            MshVersion::V41 => &[8, 4],
+            MshVersion::V22 => &[8],
+        };
+        for &size_t in sizes {
+            for little_endian in [true, false] {
+                let layout = (little_endian, size_t);
+                if layout == header {
+                    continue;
+                }
+                if Parser::new(data, path, Some(layout)).run().is_ok() {
+                    return Err(parser.err_at(
+                        parser.layout_pos,
+                        format!(
+                            "the binary header says {} but the data reads as {}: the header does not match the data (written by hand or by another program?); fix the header",
+                            layout_text(header),
+                            layout_text(layout)
+                        ),
+                    ));
+                }
+            }
+        }
+        Err(match error {
+            // Name the layout when it is not the usual one.
+            Error::Parse {
+                path,
+                line,
+                message,
+            } if header != (true, 8) => Error::Parse {
+                path,
+                line,
+                message: format!(
+                    "{message} (reading the binary data as {}, as the header says)",
+                    layout_text(header)
+                ),
+            },
+            e => e,
+        })
     }
 
     // ------------------------------------------------------------ messages
@@ -1008,7 +1080,7 @@ impl<'a> Parser<'a> {
 
     // ------------------------------------------------------------ sections
 
-    fn run(&mut self) -> Result<GmshMesh> {
+    fn run(&mut self) -> Result<()> {
         if self.data.starts_with(b"\xEF\xBB\xBF") {
             return Err(self.err_at(
                 0,
@@ -1100,7 +1172,12 @@ impl<'a> Parser<'a> {
                 });
             }
         }
-        self.check_planar()?;
+        // A file with volume elements is a 3D mesh: its nodes are anywhere in
+        // space, and its lines are not read into boundaries.
+        let solid = self.is_solid();
+        if !solid {
+            self.check_planar()?;
+        }
         if self.version == MshVersion::V41
             && !self.seen_entities
             && let Some(p) = self.physical_names.first()
@@ -1141,9 +1218,62 @@ impl<'a> Parser<'a> {
         (self.lines, self.line_meta) = (lines, line_meta);
         (self.triangles, self.triangle_meta) = (triangles, triangle_meta);
         (self.quads, self.quad_meta) = (quads, quad_meta);
+        if solid {
+            let tetrahedra = std::mem::take(&mut self.tetrahedra);
+            let meta = std::mem::take(&mut self.tetrahedron_meta);
+            (self.tetrahedra, self.tetrahedron_meta) = self.merge_copies(tetrahedra, meta, 4)?;
+            let hexahedra = std::mem::take(&mut self.hexahedra);
+            let meta = std::mem::take(&mut self.hexahedron_meta);
+            (self.hexahedra, self.hexahedron_meta) = self.merge_copies(hexahedra, meta, 5)?;
+        }
         self.check_element_tags()?;
         self.check_entity_groups()?;
-        self.check_curve_lines()?;
+        if solid {
+            self.check_volume_elements()?;
+            self.check_surface_faces()?;
+        } else {
+            self.check_curve_lines()?;
+        }
+        Ok(())
+    }
+
+    /// Whether the file holds volume elements (a 3D mesh).
+    fn is_solid(&self) -> bool {
+        !(self.tetrahedra.is_empty() && self.hexahedra.is_empty())
+    }
+
+    /// The 2D mesh read ([`run`](Parser::run) done): a file with volume elements
+    /// is an error pointing at the first one.
+    fn plane(&mut self) -> Result<GmshMesh> {
+        if self.is_solid() {
+            let (kind, tag, at) = [
+                (
+                    4,
+                    self.tetrahedra.first().map(|e| e.tag),
+                    self.tetrahedron_meta.first(),
+                ),
+                (
+                    5,
+                    self.hexahedra.first().map(|e| e.tag),
+                    self.hexahedron_meta.first(),
+                ),
+            ]
+            .into_iter()
+            .filter_map(|(k, t, m)| Some((k, t?, m?.at)))
+            .min_by_key(|&(_, _, at)| at)
+            .expect("a solid file has a volume element");
+            self.section = "$Elements";
+            return Err(self.err_at(
+                at,
+                format!(
+                    "{} is a volume element: file {} is a 3D mesh ({} tetrahedra, {} hexahedra), and a 2D part is meshed with triangles and quadrilaterals; 3D Gmsh files are read by the library (`cfe::mesh::gmsh::GmshMesh3d`), not yet from a problem file",
+                    self.element_text(tag, kind, at),
+                    self.file_name(),
+                    self.tetrahedra.len(),
+                    self.hexahedra.len(),
+                ),
+            ));
+        }
         Ok(GmshMesh {
             path: self.path.to_path_buf(),
             version: self.version,
@@ -1216,8 +1346,13 @@ impl<'a> Parser<'a> {
 
     /// Element tags are unique (after MSH 2.2's copies are merged).
     fn check_element_tags(&self) -> Result<()> {
-        let mut tags: Vec<(u64, usize, i32)> =
-            Vec::with_capacity(self.lines.len() + self.triangles.len() + self.quads.len());
+        let mut tags: Vec<(u64, usize, i32)> = Vec::with_capacity(
+            self.lines.len()
+                + self.triangles.len()
+                + self.quads.len()
+                + self.tetrahedra.len()
+                + self.hexahedra.len(),
+        );
         tags.extend(
             self.lines
                 .iter()
@@ -1235,6 +1370,18 @@ impl<'a> Parser<'a> {
                 .iter()
                 .zip(&self.quad_meta)
                 .map(|(e, m)| (e.tag, m.at, 3)),
+        );
+        tags.extend(
+            self.tetrahedra
+                .iter()
+                .zip(&self.tetrahedron_meta)
+                .map(|(e, m)| (e.tag, m.at, 4)),
+        );
+        tags.extend(
+            self.hexahedra
+                .iter()
+                .zip(&self.hexahedron_meta)
+                .map(|(e, m)| (e.tag, m.at, 5)),
         );
         tags.sort_unstable();
         if let Some(w) = tags.windows(2).find(|w| w[0].0 == w[1].0) {
@@ -1275,6 +1422,18 @@ impl<'a> Parser<'a> {
                     .iter()
                     .map(|e| (e.tag, &e.physical[..], e.entity))
                     .zip(self.quad_meta.iter().map(|m| (2u8, 3, *m))),
+            )
+            .chain(
+                self.tetrahedra
+                    .iter()
+                    .map(|e| (e.tag, &e.physical[..], e.entity))
+                    .zip(self.tetrahedron_meta.iter().map(|m| (3u8, 4, *m))),
+            )
+            .chain(
+                self.hexahedra
+                    .iter()
+                    .map(|e| (e.tag, &e.physical[..], e.entity))
+                    .zip(self.hexahedron_meta.iter().map(|m| (3u8, 5, *m))),
             );
         for ((tag, physical, entity), (dim, t, m)) in all {
             if entity == 0 {
@@ -1667,11 +1826,21 @@ impl<'a> Parser<'a> {
 
     /// The kind of Gmsh element type `t`, or the error for a type cfe does not read.
     fn kind(&self, t: i32, at: usize) -> Result<Kind> {
+        if is_quadratic_volume(t) {
+            return Err(self.err_at(
+                at,
+                format!(
+                    "element type {t} ({}) in file {} is a second-order (quadratic) element, which cfe does not read: a quadratic face's nodal weights are zero or negative at its corners, which breaks the sign test of the bonded-in-compression law; mesh with first-order elements (Gmsh: Mesh.ElementOrder = 1) into 4-node tetrahedra or 8-node hexahedra",
+                    element_type_name(t),
+                    self.file_name()
+                ),
+            ));
+        }
         Kind::from_type(t).ok_or_else(|| {
             self.err_at(
                 at,
                 format!(
-                    "element type {t} ({}) in file {} is not supported: cfe reads 3-node triangles and 4-node quadrilaterals (and 2-node lines and points for physical groups)",
+                    "element type {t} ({}) in file {} is not supported: cfe reads 3-node triangles and 4-node quadrilaterals (and 2-node lines and points for physical groups), and in 3D 4-node tetrahedra and 8-node hexahedra (a hex-dominant mesh's prisms and pyramids are not read: mesh the volume with tetrahedra, or with hexahedra alone)",
                     element_type_name(t),
                     self.file_name()
                 ),
@@ -1743,19 +1912,14 @@ impl<'a> Parser<'a> {
         at: usize,
     ) -> Result<()> {
         let meta = Meta { at };
-        let mut nodes = [0usize; 4];
+        let mut nodes = [0usize; MAX_NODES];
         for (slot, &t) in nodes.iter_mut().zip(node_tags) {
             *slot = *self.node_index.get(&t).ok_or_else(|| {
                 self.err_at(
                     at,
                     format!(
                         "element {tag} ({}) refers to node {t}, which is not defined in $Nodes",
-                        element_type_name(match kind {
-                            Kind::Point => 15,
-                            Kind::Line => 1,
-                            Kind::Triangle => 2,
-                            Kind::Quad => 3,
-                        })
+                        element_type_name(kind.gmsh_type())
                     ),
                 )
             })?;
@@ -1783,11 +1947,29 @@ impl<'a> Parser<'a> {
             Kind::Quad => {
                 self.quads.push(Element {
                     tag,
-                    nodes,
+                    nodes: [nodes[0], nodes[1], nodes[2], nodes[3]],
                     physical,
                     entity,
                 });
                 self.quad_meta.push(meta);
+            }
+            Kind::Tetrahedron => {
+                self.tetrahedra.push(Element {
+                    tag,
+                    nodes: [nodes[0], nodes[1], nodes[2], nodes[3]],
+                    physical,
+                    entity,
+                });
+                self.tetrahedron_meta.push(meta);
+            }
+            Kind::Hexahedron => {
+                self.hexahedra.push(Element {
+                    tag,
+                    nodes,
+                    physical,
+                    entity,
+                });
+                self.hexahedron_meta.push(meta);
             }
         }
         Ok(())
@@ -1804,7 +1986,7 @@ impl<'a> Parser<'a> {
         let min_tag = self.size("the smallest element tag")?;
         let max_tag = self.size("the largest element tag")?;
         self.line_end("the $Elements header")?;
-        let mut node_tags = [0u64; 4];
+        let mut node_tags = [0u64; MAX_NODES];
         let mut read = 0u64;
         let (mut lo, mut hi) = (u64::MAX, 0u64);
         let slack = self.box_slack();
@@ -1817,11 +1999,7 @@ impl<'a> Parser<'a> {
             let n = self.size("the number of elements in the block")?;
             let n = self.count(n, "number of elements in the block")?;
             self.line_end("an element block's header")?;
-            let fits = match kind {
-                Kind::Point => 0,
-                Kind::Line => 1,
-                Kind::Triangle | Kind::Quad => 2,
-            };
+            let fits = kind.dim();
             if dim != fits {
                 return Err(self.err_at(
                     block_start,
@@ -1896,7 +2074,7 @@ impl<'a> Parser<'a> {
         let n: u64 = self.ascii("the number of elements")?;
         let n = self.count(n, "number of elements")?;
         self.line_end("the number of elements")?;
-        let mut node_tags = [0u64; 4];
+        let mut node_tags = [0u64; MAX_NODES];
         if !self.binary {
             for _ in 0..n {
                 self.skip_whitespace();

@@ -3,17 +3,67 @@
 //! rectangle mesher, and the geometric checks (inverted, degenerate or non-convex
 //! elements) every mesh passes before it is used. [`gmsh`] reads Gmsh meshes;
 //! [`Mesh::refined`] (in `refine`) subdivides any mesh uniformly.
+//!
+//! A mesh is of one dimension: [`Mesh<D>`](Mesh), whose nodes are `D::Vector`, whose
+//! cells are [`MeshDim::Cell`] and whose named boundaries are lists of
+//! [`MeshDim::Face`]. The plane mesh `Mesh<D2>` (the default, plain `Mesh`) has
+//! [`Element`]s (T3, Q4) and [`BoundaryEdge`]s; the solid mesh `Mesh<D3>` has
+//! [`SolidElement`]s (TET4, HEX8) and [`BoundaryFace`]s (module `solid`).
 
 mod arrays;
 pub mod gmsh;
 pub mod input_file;
 mod refine;
+mod refine_solid;
+mod solid;
 
 pub use arrays::BoundarySelection;
 pub use refine::{CURVED_TURN, CurvedBoundary};
+pub use solid::{
+    BoundaryFace, FaceNodes, HEX8_EDGES, HEX8_FACES, SolidElement, SolidKind, TET4_EDGES,
+    TET4_FACES, distance3, tetrahedron_volume,
+};
 
+use crate::dim::{D2, Dim};
 use crate::error::{Error, Result};
 use std::collections::BTreeMap;
+use std::fmt::Debug;
+
+/// A cell of a mesh (an element, by its corner nodes): what the dimension-free
+/// parts of [`Mesh`] read of it.
+pub trait MeshCell: Copy + Debug + PartialEq + Send + Sync + 'static {
+    /// Its nodes (local numbering of the part), in the kind's order.
+    fn nodes(&self) -> &[usize];
+    /// The name of its kind as in messages (`T3`, `Q4`, `TET4`, `HEX8`).
+    fn kind_name(&self) -> &'static str;
+}
+
+/// A boundary facet of a mesh (an edge in 2D, a face in 3D), oriented outward,
+/// with the element that owns it.
+pub trait MeshFace: Copy + Debug + PartialEq + Send + Sync + 'static {
+    /// Its corner nodes, ordered so the outward normal follows (in 2D the part on
+    /// the left; in 3D the right-hand rule).
+    fn nodes(&self) -> &[usize];
+    /// The element it belongs to.
+    fn element(&self) -> usize;
+}
+
+/// A dimension a part can be meshed in: the [`Dim`] and the kinds of its cells
+/// and boundary facets. Declared here rather than in `dim` because the cell
+/// enums are the mesh's (`dim` imports nothing of the crate).
+pub trait MeshDim: Dim {
+    /// The element enum of the dimension ([`Element`] in 2D, [`SolidElement`]
+    /// in 3D).
+    type Cell: MeshCell;
+    /// A boundary facet ([`BoundaryEdge`] in 2D, [`BoundaryFace`] in 3D).
+    type Face: MeshFace;
+}
+
+/// Plane meshes: T3/Q4 elements, boundaries of edges.
+impl MeshDim for D2 {
+    type Cell = Element;
+    type Face = BoundaryEdge;
+}
 
 /// The element types a part may be meshed with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Deserialize, serde::Serialize)]
@@ -83,6 +133,16 @@ impl Element {
     }
 }
 
+impl MeshCell for Element {
+    fn nodes(&self) -> &[usize] {
+        Element::nodes(self)
+    }
+
+    fn kind_name(&self) -> &'static str {
+        self.kind().as_str()
+    }
+}
+
 /// A boundary edge of a part: its two nodes, ordered so that the part lies on the
 /// left (counter-clockwise traversal; the outward normal is the edge direction turned
 /// −90°), and the element that owns it.
@@ -92,6 +152,16 @@ pub struct BoundaryEdge {
     pub nodes: [usize; 2],
     /// The element the edge belongs to.
     pub element: usize,
+}
+
+impl MeshFace for BoundaryEdge {
+    fn nodes(&self) -> &[usize] {
+        &self.nodes
+    }
+
+    fn element(&self) -> usize {
+        self.element
+    }
 }
 
 /// The edges that occur exactly once among `edges()` (each a pair of nodes as
@@ -138,16 +208,71 @@ where
     once
 }
 
-/// The mesh of one part: node coordinates, elements (counter-clockwise), and named
-/// boundaries as lists of edges.
-#[derive(Debug, Clone, Default)]
-pub struct Mesh {
-    /// Node coordinates (x, y).
-    pub nodes: Vec<[f64; 2]>,
-    /// Elements (T3 and Q4 may be mixed), nodes counter-clockwise.
-    pub elements: Vec<Element>,
+/// The mesh of one part in dimension `D` (plane by default): node coordinates,
+/// elements, and named boundaries as lists of boundary facets. In 2D the elements
+/// are T3/Q4 counter-clockwise and the facets edges; in 3D TET4/HEX8 of positive
+/// volume and the facets faces.
+#[derive(Debug, Clone)]
+pub struct Mesh<D: MeshDim = D2> {
+    /// Node coordinates ((x, y) in 2D, (x, y, z) in 3D).
+    pub nodes: Vec<D::Vector>,
+    /// Elements (T3 and Q4, or TET4 and HEX8, may be mixed), nodes in their kind's
+    /// order (counter-clockwise in 2D).
+    pub elements: Vec<D::Cell>,
     /// Named boundaries (e.g. `left`, `right`, `bottom`, `top`).
-    pub boundaries: BTreeMap<String, Vec<BoundaryEdge>>,
+    pub boundaries: BTreeMap<String, Vec<D::Face>>,
+}
+
+/// The empty mesh: no node, no element, no boundary.
+impl<D: MeshDim> Default for Mesh<D> {
+    fn default() -> Self {
+        Mesh {
+            nodes: Vec::new(),
+            elements: Vec::new(),
+            boundaries: BTreeMap::new(),
+        }
+    }
+}
+
+/// What reads the same in every dimension.
+impl<D: MeshDim> Mesh<D> {
+    /// The nodes of a named boundary, each once, in traversal order.
+    pub fn boundary_nodes(&self, name: &str) -> Option<Vec<usize>> {
+        let faces = self.boundaries.get(name)?;
+        let mut seen = std::collections::HashSet::new();
+        let mut out = Vec::new();
+        for f in faces {
+            for &n in f.nodes() {
+                if seen.insert(n) {
+                    out.push(n);
+                }
+            }
+        }
+        Some(out)
+    }
+
+    /// The corner coordinates of element `e`, in its kind's node order
+    /// (counter-clockwise in 2D).
+    pub fn coordinates(&self, e: usize) -> Vec<D::Vector> {
+        self.elements[e]
+            .nodes()
+            .iter()
+            .map(|&n| self.nodes[n])
+            .collect()
+    }
+
+    /// The nodes no element uses, in increasing order.
+    pub fn unused_nodes(&self) -> Vec<usize> {
+        let mut used = vec![false; self.nodes.len()];
+        for el in &self.elements {
+            for &n in el.nodes() {
+                if let Some(u) = used.get_mut(n) {
+                    *u = true;
+                }
+            }
+        }
+        (0..used.len()).filter(|&n| !used[n]).collect()
+    }
 }
 
 impl Mesh {
@@ -324,30 +449,6 @@ impl Mesh {
         .collect();
         edges.sort_by_key(|e| (e.element, e.nodes));
         edges
-    }
-
-    /// The nodes of a named boundary, each once, in traversal order.
-    pub fn boundary_nodes(&self, name: &str) -> Option<Vec<usize>> {
-        let edges = self.boundaries.get(name)?;
-        let mut seen = std::collections::HashSet::new();
-        let mut out = Vec::new();
-        for e in edges {
-            for n in e.nodes {
-                if seen.insert(n) {
-                    out.push(n);
-                }
-            }
-        }
-        Some(out)
-    }
-
-    /// The corner coordinates of element `e`, counter-clockwise.
-    pub fn coordinates(&self, e: usize) -> Vec<[f64; 2]> {
-        self.elements[e]
-            .nodes()
-            .iter()
-            .map(|&n| self.nodes[n])
-            .collect()
     }
 
     /// Signed area of element `e` (positive when counter-clockwise; for a Q4, the
@@ -601,17 +702,21 @@ fn lerp(range: [f64; 2], i: usize, n: usize) -> f64 {
 }
 
 /// The diagonal of the bounding box of the nodes of `meshes` (0 when they have
-/// no node).
-pub fn bounding_diagonal(meshes: &[&Mesh]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+/// no node), in any dimension.
+pub fn bounding_diagonal<D: MeshDim>(meshes: &[&Mesh<D>]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
     for p in meshes.iter().flat_map(|m| &m.nodes) {
-        for c in 0..2 {
-            lo[c] = lo[c].min(p[c]);
-            hi[c] = hi[c].max(p[c]);
+        for (c, &x) in p.as_ref().iter().enumerate() {
+            lo[c] = lo[c].min(x);
+            hi[c] = hi[c].max(x);
         }
     }
     if lo[0] <= hi[0] {
-        (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+        let mut size = D::Vector::default();
+        for (c, s) in size.as_mut().iter_mut().enumerate() {
+            *s = hi[c] - lo[c];
+        }
+        D::length(size.as_ref())
     } else {
         0.0
     }

@@ -20,7 +20,7 @@ use crate::fem::{Material, PlaneKind, axisymmetric, loads};
 use crate::mesh::gmsh::{GmshMesh, Group};
 use crate::mesh::input_file::{self, MESH_FILE_CAP};
 use crate::mesh::{Mesh, bounding_diagonal};
-use crate::results::lines::{LineProbe, locate};
+use crate::results::lines::{LineProbe, locate, locate_point};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -384,8 +384,10 @@ impl<'a> Builder<'a> {
             .collect()
     }
 
-    /// The probes in file order, each at the node of its part nearest to its
-    /// point (the first of equally near ones).
+    /// The probes in file order, each interpolated in the element of its part
+    /// that contains its point (the first in element order), or at the node
+    /// nearest to it (the first of equally near ones) when the point is a node
+    /// or lies in no element.
     fn probes(&self, specs: &[ProbeSpec], parts: &[Part]) -> Result<Vec<Probe>> {
         specs
             .iter()
@@ -406,15 +408,36 @@ impl<'a> Builder<'a> {
                         ),
                     ));
                 };
+                let mesh = &parts[part].mesh;
                 let d = |x: &[f64; 2]| (x[0] - spec.at[0]).hypot(x[1] - spec.at[1]);
-                let node = (parts[part].mesh.nodes.iter().enumerate())
+                let node = (mesh.nodes.iter().enumerate())
                     .min_by(|a, b| d(a.1).total_cmp(&d(b.1)))
                     .map_or(0, |(n, _)| n);
+                // At a node (to 1e-12 of the part's size) the node itself, so a
+                // probe put on a node records that node's displacement exactly.
+                let at_node = mesh
+                    .nodes
+                    .get(node)
+                    .is_some_and(|x| d(x) <= 1e-12 * mesh.max_edge_length());
+                let located = if at_node {
+                    None
+                } else {
+                    locate_point(&parts[part], part, spec.at)
+                };
+                let weights = match located {
+                    Some(l) => {
+                        let nodes = mesh.elements[l.element].nodes();
+                        nodes.iter().zip(l.shape).map(|(&n, w)| (n, w)).collect()
+                    }
+                    None => vec![(node, 1.0)],
+                };
                 Ok(Probe {
                     name: spec.name.get_ref().clone(),
                     part,
                     node,
                     at: spec.at,
+                    weights,
+                    element: located.map(|l| l.element),
                 })
             })
             .collect()
@@ -988,8 +1011,9 @@ impl<'a> Builder<'a> {
             fix: [
                 spec.fix.contains(&Component::X),
                 spec.fix.contains(&Component::Y),
+                false,
             ],
-            value: spec.value,
+            value: [spec.value[0], spec.value[1], 0.0],
             step: 0,
         })
     }
@@ -1210,7 +1234,7 @@ fn names<'s>(
 /// triangulated mesh, whose edges are at most 3 and triangles at most 2 per
 /// node), `u64::MAX` when that overflows, so [`check_size`] refuses it before
 /// any memory is spent.
-fn refined_nodes(nodes: usize, refine: usize) -> u64 {
+pub(super) fn refined_nodes(nodes: usize, refine: usize) -> u64 {
     let k = refine as u64;
     (nodes as u64)
         .checked_mul(k)
@@ -1248,7 +1272,7 @@ fn unique_defaults(names: Vec<(String, bool)>) -> Vec<String> {
 
 /// ([`crate::results::memory::estimated_peak_bytes`]) exceeds what the machine has
 /// available, before it is meshed.
-fn check_size(nodes: u64, refine: usize) -> Result<()> {
+pub(super) fn check_size(nodes: u64, refine: usize) -> Result<()> {
     let unknowns = nodes.saturating_mul(2);
     let bytes = crate::results::memory::estimated_peak_bytes(unknowns);
     let Some(available) = crate::results::memory::available_memory_bytes() else {

@@ -8,6 +8,7 @@ pub mod chart;
 pub mod folder;
 pub(crate) mod png;
 pub mod report;
+pub mod view3d;
 pub mod vtu;
 
 // Results vocabulary, at its former paths (`output::summary::Summary`,

@@ -86,8 +86,10 @@ pub struct PairMarker {
     pub violates: bool,
 }
 
-const WIDTH: u32 = 1600;
-const FONT: &str = "sans-serif";
+/// The width of every picture in pixels.
+pub(crate) const WIDTH: u32 = 1600;
+/// The family name the bundled font is registered under.
+pub(crate) const FONT: &str = "sans-serif";
 static FONT_ONCE: Once = Once::new();
 
 /// Registers the bundled font with plotters (once).
@@ -180,20 +182,59 @@ pub fn turbo(t: f64) -> [u8; 3] {
 
 /// Maps model coordinates to pixels (equal scale in x and y, y up).
 #[derive(Clone, Copy, Debug)]
-struct Transform {
+pub(crate) struct Transform {
     x0: f64,
     y1: f64,
-    scale: f64,
+    /// Pixels per model unit.
+    pub(crate) scale: f64,
     left: f64,
     top: f64,
 }
 
 impl Transform {
-    fn px(&self, p: [f64; 2]) -> [f64; 2] {
+    /// The pixel position of model point `p`.
+    pub(crate) fn px(&self, p: [f64; 2]) -> [f64; 2] {
         [
             self.left + (p[0] - self.x0) * self.scale,
             self.top + (self.y1 - p[1]) * self.scale,
         ]
+    }
+}
+
+/// Calls `f(x, y, [l₀, l₁, l₂])` for every pixel of `clip` = [x0, y0, x1, y1)
+/// whose centre (x + ½, y + ½) lies in the triangle `p` (pixel coordinates, to
+/// −1e-9 in the barycentric coordinates lᵢ of the centre); nothing for a
+/// triangle of (near) zero area. The one pixel-coverage rule of the plane
+/// pictures ([`rasterize`]) and the depth-buffered solid views (`view3d`).
+pub fn triangle_pixels(
+    p: [[f64; 2]; 3],
+    clip: [usize; 4],
+    mut f: impl FnMut(usize, usize, [f64; 3]),
+) {
+    let det = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+    if det.abs() <= 1e-12 {
+        return;
+    }
+    let lo = |k: usize| p.iter().map(|q| q[k]).fold(f64::INFINITY, f64::min);
+    let hi = |k: usize| p.iter().map(|q| q[k]).fold(f64::NEG_INFINITY, f64::max);
+    let ix0 = (lo(0).floor().max(clip[0] as f64)) as usize;
+    let iy0 = (lo(1).floor().max(clip[1] as f64)) as usize;
+    let ix1 = (hi(0).ceil().min(clip[2] as f64)).max(ix0 as f64) as usize;
+    let iy1 = (hi(1).ceil().min(clip[3] as f64)).max(iy0 as f64) as usize;
+    for y in iy0..iy1 {
+        let cy = y as f64 + 0.5;
+        for x in ix0..ix1 {
+            let cx = x as f64 + 0.5;
+            let l1 =
+                ((cx - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (cy - p[0][1])) / det;
+            let l2 =
+                ((p[1][0] - p[0][0]) * (cy - p[0][1]) - (cx - p[0][0]) * (p[1][1] - p[0][1])) / det;
+            let l0 = 1.0 - l1 - l2;
+            const E: f64 = -1e-9;
+            if l0 >= E && l1 >= E && l2 >= E {
+                f(x, y, [l0, l1, l2]);
+            }
+        }
     }
 }
 
@@ -213,37 +254,11 @@ pub fn rasterize(
         buf[i..i + 3].copy_from_slice(&c);
     };
     for (p, v) in tris {
-        let xmin = p.iter().map(|q| q[0]).fold(f64::INFINITY, f64::min);
-        let xmax = p.iter().map(|q| q[0]).fold(f64::NEG_INFINITY, f64::max);
-        let ymin = p.iter().map(|q| q[1]).fold(f64::INFINITY, f64::min);
-        let ymax = p.iter().map(|q| q[1]).fold(f64::NEG_INFINITY, f64::max);
-        let det =
-            (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
-        let ix0 = (xmin.floor().max(clip[0] as f64)) as usize;
-        let iy0 = (ymin.floor().max(clip[1] as f64)) as usize;
-        let ix1 = (xmax.ceil().min(clip[2] as f64)).max(ix0 as f64) as usize;
-        let iy1 = (ymax.ceil().min(clip[3] as f64)).max(iy0 as f64) as usize;
         let mut painted = false;
-        if det.abs() > 1e-12 {
-            for y in iy0..iy1 {
-                let cy = y as f64 + 0.5;
-                for x in ix0..ix1 {
-                    let cx = x as f64 + 0.5;
-                    let l1 = ((cx - p[0][0]) * (p[2][1] - p[0][1])
-                        - (p[2][0] - p[0][0]) * (cy - p[0][1]))
-                        / det;
-                    let l2 = ((p[1][0] - p[0][0]) * (cy - p[0][1])
-                        - (cx - p[0][0]) * (p[1][1] - p[0][1]))
-                        / det;
-                    let l0 = 1.0 - l1 - l2;
-                    const E: f64 = -1e-9;
-                    if l0 >= E && l1 >= E && l2 >= E {
-                        put(x, y, colour(l0 * v[0] + l1 * v[1] + l2 * v[2]));
-                        painted = true;
-                    }
-                }
-            }
-        }
+        triangle_pixels(p, clip, |x, y, [l0, l1, l2]| {
+            put(x, y, colour(l0 * v[0] + l1 * v[1] + l2 * v[2]));
+            painted = true;
+        });
         if !painted {
             let c = [
                 (p[0][0] + p[1][0] + p[2][0]) / 3.0,
@@ -332,7 +347,7 @@ fn validate(path: &Path, mesh: &PlotMesh, nodal: &[f64]) -> Result<()> {
     Ok(())
 }
 
-fn nice_ticks_label(v: f64) -> String {
+pub(crate) fn nice_ticks_label(v: f64) -> String {
     if v == 0.0 {
         "0".into()
     } else if v.abs() >= 1e4 || v.abs() < 1e-2 {
@@ -344,7 +359,7 @@ fn nice_ticks_label(v: f64) -> String {
 }
 
 /// The drawing area over the picture's RGB buffer.
-type Area<'b> = DrawingArea<BitMapBackend<'b>, plotters::coord::Shift>;
+pub(crate) type Area<'b> = DrawingArea<BitMapBackend<'b>, plotters::coord::Shift>;
 
 /// Margins around the plot box in pixels (the colour bar lives in the right one).
 const LEFT: u32 = 110;
@@ -354,9 +369,9 @@ const BOTTOM: u32 = 80;
 
 /// The picture's geometry: the equal-scale transform from model to pixels, the
 /// visible model window and the size of the plot box.
-struct Layout {
+pub(crate) struct Layout {
     /// Model → pixel transform.
-    tf: Transform,
+    pub(crate) tf: Transform,
     /// Visible model window (after widening the shorter range for equal scaling).
     x0: f64,
     x1: f64,
@@ -366,13 +381,13 @@ struct Layout {
     plot_w: u32,
     plot_h: u32,
     /// Picture height in pixels (the width is [`WIDTH`]).
-    height: u32,
+    pub(crate) height: u32,
 }
 
 impl Layout {
     /// The layout for the model bounds of `points` with a small pad: plot area,
     /// colour bar strip on the right, equal scaling.
-    fn new(points: &[[f64; 2]]) -> Layout {
+    pub(crate) fn new(points: &[[f64; 2]]) -> Layout {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in points {
             for c in 0..2 {
@@ -413,7 +428,7 @@ impl Layout {
     }
 
     /// The plot box in pixels: (left, top, right, bottom).
-    fn plot_box(&self) -> (i32, i32, i32, i32) {
+    pub(crate) fn plot_box(&self) -> (i32, i32, i32, i32) {
         (
             LEFT as i32,
             TOP as i32,
@@ -423,7 +438,7 @@ impl Layout {
     }
 
     /// The plot box as a clip rectangle [x0, y0, x1, y1) in pixels.
-    fn clip(&self) -> [usize; 4] {
+    pub(crate) fn clip(&self) -> [usize; 4] {
         [
             LEFT as usize,
             TOP as usize,
@@ -433,7 +448,7 @@ impl Layout {
     }
 
     /// Whether pixel position `p` lies in the plot box (edges included).
-    fn inside(&self, p: [f64; 2]) -> bool {
+    pub(crate) fn inside(&self, p: [f64; 2]) -> bool {
         let clip = self.clip();
         p[0] >= clip[0] as f64
             && p[0] <= clip[2] as f64
@@ -443,11 +458,15 @@ impl Layout {
 }
 
 /// The colour range of a picture and the true extremes of the data.
-struct ColourRange {
-    vmin: f64,
-    vmax: f64,
-    data_min: f64,
-    data_max: f64,
+pub(crate) struct ColourRange {
+    /// The value coloured by the map's first colour.
+    pub(crate) vmin: f64,
+    /// The value coloured by the map's last colour.
+    pub(crate) vmax: f64,
+    /// The smallest value of the data.
+    pub(crate) data_min: f64,
+    /// The largest value of the data.
+    pub(crate) data_max: f64,
 }
 
 impl ColourRange {
@@ -473,8 +492,13 @@ impl ColourRange {
         }
     }
 
+    /// The full range of `values`: from their smallest to their largest.
+    pub(crate) fn full(values: &[f64]) -> ColourRange {
+        ColourRange::new(values, Style::Isolines(1))
+    }
+
     /// `v` as a fraction of the colour range (1 when the range is empty).
-    fn norm(&self, v: f64) -> f64 {
+    pub(crate) fn norm(&self, v: f64) -> f64 {
         let range = if self.vmax > self.vmin {
             self.vmax - self.vmin
         } else {
@@ -485,12 +509,12 @@ impl ColourRange {
 }
 
 /// The pixel nearest to `p`.
-fn ip(p: [f64; 2]) -> (i32, i32) {
+pub(crate) fn ip(p: [f64; 2]) -> (i32, i32) {
     (p[0].round() as i32, p[1].round() as i32)
 }
 
 /// A closure turning a plotters error into the crate's output error for `path`.
-fn draw_err(path: &Path) -> impl Fn(&dyn std::fmt::Display) -> Error + '_ {
+pub(crate) fn draw_err(path: &Path) -> impl Fn(&dyn std::fmt::Display) -> Error + '_ {
     move |e: &dyn std::fmt::Display| Error::output(path, e)
 }
 
@@ -525,8 +549,8 @@ fn render(
     {
         let root = BitMapBackend::with_buffer(&mut buf, (WIDTH, layout.height)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(&e))?;
-        draw_frame_and_axes(path, &root, &layout, labels)?;
-        draw_colour_bar(path, &root, &layout, &range, labels.colorbar)?;
+        draw_frame_and_axes(path, &root, &layout, labels, ["x", "y"])?;
+        draw_colour_bar(path, &root, layout.plot_box(), &range, labels.colorbar)?;
         root.present().map_err(|e| err(&e))?;
     }
 
@@ -571,7 +595,7 @@ fn render(
 /// `room` pixels; shortened with an ellipsis if it does not fit even at 16 (the
 /// longest prefix that fits, found by bisection: O(log n) measurements of at
 /// most n characters, n ≤ [`MAX_LABEL_CHARS`] after [`label_text`]).
-fn fit_title(root: &Area, title: &str, room: u32) -> (String, f64) {
+pub(crate) fn fit_title(root: &Area, title: &str, room: u32) -> (String, f64) {
     let width = |t: &str, size: f64| {
         root.estimate_text_size(t, &TextStyle::from((FONT, size).into_font()))
             .map_or(0, |(w, _)| w)
@@ -604,13 +628,15 @@ fn fit_title(root: &Area, title: &str, room: u32) -> (String, f64) {
 }
 
 /// The title, the frame of the plot box, the axis ticks (about 8 along x,
-/// matching spacing along y) and the axis labels. Axes are drawn in pixels
-/// around the plot box, with the equal-scale transform.
-fn draw_frame_and_axes(
+/// matching spacing along y) and the axis labels (`axes`' names, e.g. `x` and
+/// `y`, with the unit). Axes are drawn in pixels around the plot box, with the
+/// equal-scale transform.
+pub(crate) fn draw_frame_and_axes(
     path: &Path,
     root: &Area,
     layout: &Layout,
     labels: &PlotLabels,
+    axes: [&str; 2],
 ) -> Result<()> {
     let err = draw_err(path);
     let text = |size: f64| TextStyle::from((FONT, size).into_font()).color(&BLACK);
@@ -654,13 +680,13 @@ fn draw_frame_and_axes(
         t += step;
     }
     root.draw(&Text::new(
-        format!("x [{}]", labels.axis_unit),
+        format!("{} [{}]", axes[0], labels.axis_unit),
         (LEFT as i32 + layout.plot_w as i32 / 2 - 30, pb + 40),
         text(22.0),
     ))
     .map_err(|e| err(&e))?;
     root.draw(&Text::new(
-        format!("y [{}]", labels.axis_unit),
+        format!("{} [{}]", axes[1], labels.axis_unit),
         (12, pt + layout.plot_h as i32 / 2 + 30),
         text(22.0).transform(FontTransform::Rotate270),
     ))
@@ -668,12 +694,13 @@ fn draw_frame_and_axes(
     Ok(())
 }
 
-/// The colour bar right of the plot box with six ticks, its label above it and
-/// the true extremes when they fall outside the colour range.
-fn draw_colour_bar(
+/// The colour bar right of the plot box `plot_box` (left, top, right, bottom
+/// in pixels) with six ticks, its label above it and the true extremes when
+/// they fall outside the colour range.
+pub(crate) fn draw_colour_bar(
     path: &Path,
     root: &Area,
-    layout: &Layout,
+    plot_box: (i32, i32, i32, i32),
     range: &ColourRange,
     label: &str,
 ) -> Result<()> {
@@ -686,7 +713,7 @@ fn draw_colour_bar(
         data_min,
         data_max,
     } = *range;
-    let (_, pt, pr, pb) = layout.plot_box();
+    let (_, pt, pr, pb) = plot_box;
     let (bl, br) = (pr + 40, pr + 70);
     let n = (pb - pt).max(1);
     for k in 0..n {
@@ -790,7 +817,7 @@ fn draw_isolines(
 }
 
 /// The part outlines (the given ones, or computed from the triangles).
-fn draw_outline(
+pub(crate) fn draw_outline(
     path: &Path,
     root: &Area,
     layout: &Layout,
@@ -823,7 +850,7 @@ fn draw_outline(
 }
 
 /// The pair markers inside the plot box (see [`PairMarker`]).
-fn draw_markers(
+pub(crate) fn draw_markers(
     path: &Path,
     root: &Area,
     layout: &Layout,
@@ -906,7 +933,7 @@ fn robust_range(values: &[f64]) -> (f64, f64) {
 
 /// A value printed with about four significant digits relative to `span` (the
 /// colour range), in plain notation unless it is very large or very small.
-fn format_value(v: f64, span: f64) -> String {
+pub(crate) fn format_value(v: f64, span: f64) -> String {
     let mag = v.abs().max(span.abs());
     if mag == 0.0 {
         return "0".into();
@@ -916,6 +943,20 @@ fn format_value(v: f64, span: f64) -> String {
     }
     let decimals = (3 - mag.log10().floor() as i32).max(0) as usize;
     format!("{v:.decimals$}")
+}
+
+/// The largest 1, 2 or 5 × 10ⁿ not above `x` (a readable magnification factor
+/// of a deformed shape).
+pub fn nice_floor(x: f64) -> f64 {
+    let base = 10f64.powf(x.log10().floor());
+    let m = x / base;
+    base * if m >= 5.0 {
+        5.0
+    } else if m >= 2.0 {
+        2.0
+    } else {
+        1.0
+    }
 }
 
 /// A "nice" tick step (1, 2 or 5 × 10ⁿ) close to `raw`.

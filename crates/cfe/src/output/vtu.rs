@@ -13,7 +13,11 @@
 //! Everything is validated before a byte is written, and the file is written
 //! atomically (see [`super::write_atomic`]).
 //!
-//! Types written: point coordinates Float64 (3 components, z = 0), connectivity and
+//! Plane grids (points `[f64; 2]`, written with z = 0) and solid grids (points
+//! `[f64; 3]`, with tetrahedra, hexahedra and wedges) are written by the same
+//! functions: [`Grid`] and [`Geometry::new`] take any [`GridPoint`].
+//!
+//! Types written: point coordinates Float64 (3 components, z = 0 for plane points), connectivity and
 //! offsets Int32 when every index and offset fits (see `index_type`; half the bytes
 //! of Int64), Int64 otherwise, cell types UInt8, data arrays Float64 or Int32, field
 //! data Float64.
@@ -37,6 +41,19 @@ pub enum CellKind {
     Triangle = 5,
     /// A bilinear quadrilateral (VTK_QUAD = 9), 4 nodes in order around it.
     Quad = 9,
+    /// A linear tetrahedron (VTK_TETRA = 10), 4 nodes: a base triangle 0-1-2
+    /// whose normal by the right-hand rule points towards the apex 3.
+    Tetra = 10,
+    /// A trilinear hexahedron (VTK_HEXAHEDRON = 12), 8 nodes: the bottom face
+    /// 0-1-2-3 (its right-hand normal pointing into the cell), then the top face
+    /// 4-5-6-7 with node 4 above 0, 5 above 1 …
+    Hexahedron = 12,
+    /// A linear wedge (VTK_WEDGE = 13), 6 nodes: the triangle 0-1-2, then the
+    /// triangle 3-4-5 with node 3 opposite 0, 4 opposite 1, 5 opposite 2. VTK
+    /// orders the first triangle so that its right-hand normal points away from
+    /// the second (the reverse of a Gmsh prism's, whose first triangle 0-1-2 is
+    /// read as VTK's 0-2-1, and 3-4-5 as 3-5-4).
+    Wedge = 13,
 }
 
 impl CellKind {
@@ -52,7 +69,29 @@ impl CellKind {
             CellKind::Line => 2,
             CellKind::Triangle => 3,
             CellKind::Quad => 4,
+            CellKind::Tetra => 4,
+            CellKind::Hexahedron => 8,
+            CellKind::Wedge => 6,
         }
+    }
+}
+
+/// A point of a grid as the writer takes it: plane points `[f64; 2]` (written
+/// with z = 0) or points in space `[f64; 3]`.
+pub trait GridPoint: Copy {
+    /// The coordinates (x, y, z) written to the file.
+    fn xyz(self) -> [f64; 3];
+}
+
+impl GridPoint for [f64; 2] {
+    fn xyz(self) -> [f64; 3] {
+        [self[0], self[1], 0.0]
+    }
+}
+
+impl GridPoint for [f64; 3] {
+    fn xyz(self) -> [f64; 3] {
+        self
     }
 }
 
@@ -77,7 +116,10 @@ impl Values<'_> {
 
 /// One named data array with `components` values per point or cell (1, 2, 3, 6 ...).
 /// A 2-component array is written padded to 3 components (z = 0) so ParaView treats
-/// it as a vector (Warp By Vector works).
+/// it as a vector (Warp By Vector works); a 3-component array is a vector in space
+/// as it is. A 6-component array is what ParaView reads as a symmetric tensor,
+/// its components in the order XX, YY, ZZ, XY, YZ, XZ (the six stresses of a
+/// solid: σxx, σyy, σzz, τxy, τyz, τxz), written as given.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DataArray<'a> {
     /// Name shown in ParaView; must be non-empty, unique within its point or cell
@@ -109,11 +151,13 @@ impl<'a> DataArray<'a> {
     }
 }
 
-/// A mesh of mixed cells in the plane (z = 0 is written).
+/// A mesh of mixed cells: in the plane with points `[f64; 2]` (the default; z = 0
+/// is written), or in space with points `[f64; 3]` (tetrahedra, hexahedra and
+/// wedges, with vertices for pairs, beside the plane kinds).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Grid<'a> {
-    /// Point coordinates (x, y).
-    pub points: &'a [[f64; 2]],
+pub struct Grid<'a, P: GridPoint = [f64; 2]> {
+    /// Point coordinates: (x, y) or (x, y, z).
+    pub points: &'a [P],
     /// Point indices of all cells, one cell after the other.
     pub connectivity: &'a [usize],
     /// End offset of each cell in `connectivity`, VTK style: cell `i` is
@@ -136,7 +180,28 @@ pub struct Grid<'a> {
 /// count does not fit its kind, `kinds` and `offsets` of different lengths, a
 /// connectivity index that is not a point, an array whose length is not
 /// points × components (or cells × components), or a bad or repeated array name.
-pub fn write_vtu(path: &Path, grid: &Grid) -> Result<()> {
+///
+/// ```
+/// use cfe::output::vtu::{write_vtu, CellKind, DataArray, Grid};
+/// // One tetrahedron with its displacement and a von Mises value.
+/// let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// let u = [0.0; 12];
+/// let point_data = [DataArray::f64("displacement", 3, &u)];
+/// let cell_data = [DataArray::f64("von_mises", 1, &[2.5])];
+/// let grid = Grid {
+///     points: &points,
+///     connectivity: &[0, 1, 2, 3],
+///     offsets: &[4],
+///     kinds: &[CellKind::Tetra],
+///     point_data: &point_data,
+///     cell_data: &cell_data,
+///     field_data: &[("TIME", 1.0)],
+/// };
+/// let path = std::env::temp_dir().join(format!("cfe_doc_tet_{}.vtu", std::process::id()));
+/// write_vtu(&path, &grid).unwrap();
+/// std::fs::remove_file(&path).unwrap();
+/// ```
+pub fn write_vtu<P: GridPoint>(path: &Path, grid: &Grid<P>) -> Result<()> {
     let geometry = Geometry::new(grid.points, grid.connectivity, grid.offsets, grid.kinds);
     write_on(
         path,
@@ -150,7 +215,7 @@ pub fn write_vtu(path: &Path, grid: &Grid) -> Result<()> {
 }
 
 /// The points and cells of a grid, checked and encoded once as they are written
-/// (coordinates (x, y, 0) as Float64, connectivity and offsets as Int32 when
+/// (coordinates (x, y, z) as Float64, z = 0 for plane points, connectivity and offsets as Int32 when
 /// every value fits, else Int64, cell types as UInt8): the files of a series on
 /// one mesh, one per increment, are written from it ([`write_on`]) without
 /// checking or converting the mesh again. The encoded mesh is also smaller than
@@ -172,8 +237,8 @@ impl Geometry {
     /// Checks and encodes `points` and the cells given by `connectivity`,
     /// `offsets` and `kinds` (as in [`Grid`]). Inconsistent cells are not an
     /// error here but at each [`write_on`], which names the file.
-    pub fn new(
-        points: &[[f64; 2]],
+    pub fn new<P: GridPoint>(
+        points: &[P],
         connectivity: &[usize],
         offsets: &[usize],
         kinds: &[CellKind],
@@ -197,8 +262,9 @@ impl Geometry {
         g.index = index_type(largest.max(connectivity.len()));
         g.points = encode(points, |p| {
             let mut b = [0u8; 24];
-            b[..8].copy_from_slice(&p[0].to_le_bytes());
-            b[8..16].copy_from_slice(&p[1].to_le_bytes());
+            for (to, x) in b.chunks_exact_mut(8).zip(p.xyz()) {
+                to.copy_from_slice(&x.to_le_bytes());
+            }
             b
         });
         g.connectivity = encode_indices(connectivity, g.index);
@@ -339,7 +405,7 @@ pub fn write_pvd(path: &Path, entries: &[PvdEntry]) -> Result<()> {
 /// ending at the connectivity's length, each cell's node count its kind's, and
 /// every connectivity entry a point (of `n_points`). The message says what is
 /// wrong where.
-fn validate_cells(
+pub(super) fn validate_cells(
     n_points: usize,
     connectivity: &[usize],
     offsets: &[usize],
@@ -1202,6 +1268,118 @@ mod tests {
         );
         for tag in ["PointData", "CellData", "FieldData"] {
             assert!(!vtu.header.contains(tag), "{tag} written without arrays");
+        }
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// A solid grid of a hexahedron, a tetrahedron on its top face, a wedge
+    /// beside it and a vertex (a pair) reads back with VTK types 12, 10, 13, 1,
+    /// offsets 8, 12, 18, 19, its (x, y, z) points bit for bit, and its fields:
+    /// a 3-component displacement as given, the six stresses as one
+    /// 6-component array in ParaView's tensor order, von Mises and the part id
+    /// per cell; 2D points of the same cells write z = 0.
+    #[test]
+    fn a_solid_grid_reads_back() {
+        let dir = scratch("solid");
+        let path = dir.join("solid.vtu");
+        let points: [[f64; 3]; 11] = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [0.0, 1.0, 1.0],
+            [0.5, 0.5, 1.0 + 1.0 / 3.0],
+            [2.0, 0.0, 0.0],
+            [2.0, 0.0, 1.0],
+        ];
+        let connectivity = [
+            0, 1, 2, 3, 4, 5, 6, 7, // hexahedron
+            4, 5, 6, 8, // tetrahedron on the top face
+            1, 2, 9, 5, 6, 10, // wedge beside the hexahedron
+            8,  // a pair at the apex
+        ];
+        let offsets = [8, 12, 18, 19];
+        let kinds = [
+            CellKind::Hexahedron,
+            CellKind::Tetra,
+            CellKind::Wedge,
+            CellKind::Vertex,
+        ];
+        let u: Vec<f64> = (0..3 * points.len()).map(|i| i as f64 * -1e-3).collect();
+        // σxx, σyy, σzz, τxy, τyz, τxz per cell.
+        let stress: Vec<f64> = (0..6 * kinds.len()).map(|i| 10.0 + i as f64).collect();
+        let von_mises = [1.5, 2.5, 3.5, 0.0];
+        let part = [0, 1, 0, -1];
+        let point_data = [DataArray::f64("displacement", 3, &u)];
+        let cell_data = [
+            DataArray::f64("stress", 6, &stress),
+            DataArray::f64("von_mises", 1, &von_mises),
+            DataArray::i32("part", &part),
+        ];
+        write_vtu(
+            &path,
+            &Grid {
+                points: &points,
+                connectivity: &connectivity,
+                offsets: &offsets,
+                kinds: &kinds,
+                point_data: &point_data,
+                cell_data: &cell_data,
+                field_data: &[("TIME", 1.0)],
+            },
+        )
+        .unwrap();
+        let vtu = Vtu::read(&path);
+        vtu.check_tiling();
+        let piece = elements(&vtu.header, "Piece").pop().unwrap();
+        assert_eq!(piece["NumberOfPoints"], "11");
+        assert_eq!(piece["NumberOfCells"], "4");
+        assert_eq!(vtu.u8s("Cells", "types"), [12, 10, 13, 1]);
+        assert_eq!(vtu.i32s("Cells", "offsets"), [8, 12, 18, 19]);
+        let written: Vec<i32> = connectivity.iter().map(|&n| n as i32).collect();
+        assert_eq!(vtu.i32s("Cells", "connectivity"), written);
+        let xyz: Vec<f64> = points.iter().flatten().copied().collect();
+        assert_eq!(bits(&vtu.f64s("Points", "Points")), bits(&xyz));
+        assert_eq!(
+            vtu.array("PointData", "displacement")["NumberOfComponents"],
+            "3"
+        );
+        assert_eq!(bits(&vtu.f64s("PointData", "displacement")), bits(&u));
+        assert_eq!(vtu.array("CellData", "stress")["NumberOfComponents"], "6");
+        let back = vtu.f64s("CellData", "stress");
+        assert_eq!(bits(&back), bits(&stress));
+        // The second cell's τyz is its fifth component.
+        assert_eq!(back[6 + 4], 10.0 + 10.0);
+        assert_eq!(bits(&vtu.f64s("CellData", "von_mises")), bits(&von_mises));
+        assert_eq!(vtu.i32s("CellData", "part"), part);
+        // The same cells on plane points: z = 0 written.
+        let flat: Vec<[f64; 2]> = points.iter().map(|p| [p[0], p[1]]).collect();
+        let plane = dir.join("plane.vtu");
+        let geometry = Geometry::new(&flat, &connectivity, &offsets, &kinds);
+        let none = Fields {
+            point_data: &[],
+            cell_data: &[],
+            field_data: &[],
+        };
+        write_on(&plane, &geometry, &none).unwrap();
+        let expected: Vec<f64> = points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+        assert_eq!(
+            bits(&Vtu::read(&plane).f64s("Points", "Points")),
+            bits(&expected)
+        );
+        // A wedge given 5 nodes is refused, naming the cell.
+        let bad = Geometry::new(&points, &connectivity[..17], &[8, 12, 17], &kinds[..3]);
+        match write_on(&dir.join("bad.vtu"), &bad, &none) {
+            Err(Error::Output { message, .. }) => {
+                assert!(
+                    message.contains("cell 2 is a Wedge with 5 nodes"),
+                    "{message}"
+                )
+            }
+            other => panic!("expected an output error, got {other:?}"),
         }
         std::fs::remove_dir_all(dir).unwrap();
     }

@@ -31,9 +31,10 @@ pub struct InterfaceHistory {
 pub struct ProbeHistory {
     /// The probe's name.
     pub probe: String,
-    /// Displacement x of its node.
+    /// Displacement x at its point (the shape functions of the element that
+    /// contains it; its node's at a node or outside every element).
     pub ux: f64,
-    /// Displacement y of its node.
+    /// Displacement y, as `ux`.
     pub uy: f64,
 }
 

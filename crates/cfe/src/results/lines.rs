@@ -135,6 +135,12 @@ pub fn locate(
     }
 }
 
+/// The first element of `part` (index `p`, in element order) that contains
+/// `x`, and where (`None`: outside the part).
+pub fn locate_point(part: &Part, p: usize, x: [f64; 2]) -> Option<Located> {
+    (0..part.mesh.elements.len()).find_map(|e| inside(part, p, e, x))
+}
+
 /// Whether `x` lies in element `e` of `part` (index `p`), and where.
 fn inside(part: &Part, p: usize, e: usize, x: [f64; 2]) -> Option<Located> {
     let mesh = &part.mesh;

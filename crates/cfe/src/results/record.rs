@@ -10,6 +10,8 @@ use super::summary::{
     RunStatus, SettledPair, StepSummary, Summary, Timings, Tolerances, ViolationRecord, Warning,
 };
 use crate::coupling::{Law, PairState, ViolationKind};
+use crate::dim::Dim;
+use crate::dofs::DofMap;
 use crate::domain::{Scheme, Step};
 use crate::mesh::CurvedBoundary;
 use crate::solve::nonlinear::{IncrementResult, RESIDUAL_WARN};
@@ -108,6 +110,7 @@ impl Summary {
                         name: pr.name.clone(),
                         part: part.name.clone(),
                         node: pr.node,
+                        element: pr.element,
                         at: pr.at,
                         x: x[0],
                         y: x[1],
@@ -245,7 +248,7 @@ impl Summary {
             });
         }
         // Maximum displacement.
-        let best = largest_magnitude(&inc.u);
+        let best = largest_magnitude(p.dofs, &inc.u);
         let (part, n) = p.dofs.locate(best.1);
         let x = p.parts[part].mesh.nodes[n];
         s.max_displacement = MaxDisplacement {
@@ -266,9 +269,10 @@ impl Summary {
                 fy: r[1],
             })
             .collect();
+        // The summary states the plane components (x, y) of a model's forces.
         let mut applied = [0.0; 2];
         for (d, f) in inc.f_ext.iter().enumerate() {
-            applied[d % 2] += f;
+            applied[d % p.dofs.per_node()] += f;
         }
         s.applied = applied;
         let mut total: [f64; 2] =
@@ -323,11 +327,11 @@ impl Summary {
                 .collect(),
             probes: (p.probes.iter())
                 .map(|pr| {
-                    let g = p.dofs.node_offset[pr.part] + pr.node;
+                    let [ux, uy] = pr.displacement(&inc.u, p.dofs.node_offset[pr.part]);
                     ProbeHistory {
                         probe: pr.name.clone(),
-                        ux: inc.u[2 * g],
-                        uy: inc.u[2 * g + 1],
+                        ux,
+                        uy,
                     }
                 })
                 .collect(),
@@ -462,15 +466,15 @@ fn bonded_extent(rows: &[&PairRow]) -> Option<[[f64; 2]; 2]> {
     }
 }
 
-/// The largest magnitude `|(u[2g], u[2g+1])|` over the nodes g of `u` and the
-/// first node reaching it: found by the squared magnitudes (a product per node,
-/// no `hypot`: 0.03 s per increment at 4 M unknowns), then measured with `hypot`.
+/// The largest magnitude of a node's displacement (its `D::N` components as
+/// `dofs` numbers them) over the nodes g of `u` and the first node reaching it: found by the squared magnitudes (a product per node,
+/// no `hypot`: 0.03 s per increment at 4 M unknowns), then measured ([`Dim::length`]).
 /// Where the squares leave the normal range (magnitudes beyond 1e154 or below
 /// 1e-154, or no displacement at all) `hypot` is taken at every node.
-fn largest_magnitude(u: &[f64]) -> (f64, usize) {
-    fn first_largest(u: &[f64], magnitude: impl Fn(&[f64]) -> f64) -> (f64, usize) {
+fn largest_magnitude<D: Dim>(_dofs: &DofMap<D>, u: &[f64]) -> (f64, usize) {
+    fn first_largest<D: Dim>(u: &[f64], magnitude: impl Fn(&[f64]) -> f64) -> (f64, usize) {
         let mut best = (0.0, 0usize);
-        for (g, v) in u.chunks_exact(2).enumerate() {
+        for (g, v) in u.chunks_exact(D::N).enumerate() {
             let m = magnitude(v);
             if m > best.0 {
                 best = (m, g);
@@ -478,23 +482,27 @@ fn largest_magnitude(u: &[f64]) -> (f64, usize) {
         }
         best
     }
-    let (square, g) = first_largest(u, |v| v[0] * v[0] + v[1] * v[1]);
+    let (square, g) = first_largest::<D>(u, |v| D::dot(v, v));
     if square.is_finite() && square >= f64::MIN_POSITIVE {
-        (u[2 * g].hypot(u[2 * g + 1]), g)
+        (D::length(&u[D::dof(g, 0)..D::dof(g + 1, 0)]), g)
     } else {
-        first_largest(u, |v| v[0].hypot(v[1]))
+        first_largest::<D>(u, |v| D::length(v))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::largest_magnitude;
+    use crate::dim::{D2, D3};
+    use crate::dofs::DofMap;
 
     /// The largest nodal displacement and its node: the first of equal ones,
     /// (0, 0) for no displacement or none at all, and magnitudes whose squares
     /// overflow (5e200) or underflow (5e-200) still compared exactly.
     #[test]
     fn largest_magnitude_finds_the_first_largest_node() {
+        let plane = DofMap::<D2>::numbered(&[3], &[]);
+        let largest_magnitude = |u: &[f64]| largest_magnitude(&plane, u);
         assert_eq!(
             largest_magnitude(&[3.0, 4.0, 0.0, -5.0, 1.0, 1.0]),
             (5.0, 0)
@@ -505,5 +513,9 @@ mod tests {
         assert_eq!(largest_magnitude(&big), (3e200f64.hypot(4e200), 1));
         let tiny = [1e-200, 0.0, 3e-200, 4e-200, 0.0, 2e-200];
         assert_eq!(largest_magnitude(&tiny), (3e-200f64.hypot(4e-200), 1));
+        // In 3D a node's three components: |(2, 3, 6)| = 7 at node 1.
+        let solid = DofMap::<D3>::numbered(&[2], &[]);
+        let u = [1.0, 2.0, 2.0, -2.0, 3.0, 6.0];
+        assert_eq!(super::largest_magnitude(&solid, &u), (7.0, 1));
     }
 }

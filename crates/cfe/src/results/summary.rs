@@ -335,9 +335,14 @@ pub struct ProbeSummary {
     pub part: String,
     /// The part's node nearest to `at` (index in the part's mesh).
     pub node: usize,
+    /// The element containing `at` (index in the part's mesh), in which the
+    /// displacement is interpolated; `None`: `at` is a node or outside the
+    /// part, and the displacement is `node`'s.
+    #[serde(default)]
+    pub element: Option<usize>,
     /// The point asked for.
     pub at: [f64; 2],
-    /// The node's position.
+    /// The nearest node's position.
     pub x: f64,
     /// See `x`.
     pub y: f64,

@@ -43,7 +43,7 @@ fn deformed_shape(points: &[[f64; 2]], u: &[f64]) -> (Vec<f64>, f64, Vec<[f64; 2
     }
     let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
     let scale = if umax > 0.0 {
-        nice_floor(0.05 * size / umax)
+        png::nice_floor(0.05 * size / umax)
     } else {
         0.0
     };
@@ -53,19 +53,6 @@ fn deformed_shape(points: &[[f64; 2]], u: &[f64]) -> (Vec<f64>, f64, Vec<[f64; 2
         .map(|(g, p)| [p[0] + scale * u[2 * g], p[1] + scale * u[2 * g + 1]])
         .collect();
     (magnitude, scale, deformed)
-}
-
-/// The largest 1, 2 or 5 × 10ⁿ not above `x` (a readable magnification factor).
-fn nice_floor(x: f64) -> f64 {
-    let base = 10f64.powf(x.log10().floor());
-    let m = x / base;
-    base * if m >= 5.0 {
-        5.0
-    } else if m >= 2.0 {
-        2.0
-    } else {
-        1.0
-    }
 }
 
 impl Analysis {

@@ -46,21 +46,29 @@ use super::factor::Halt;
 use super::system::{Method, UpdatePolicy};
 use crate::assembly::DofMap;
 use crate::coupling::{Interface, PairState};
+use crate::dim::{D2, Dim};
 use crate::domain::Part;
 use std::sync::atomic::AtomicUsize;
 
 /// The problem a back end solves: `K(states)` of these parts (whose stiffness is
 /// constant) and interfaces (whose coupling elements' stiffness follows the pair
 /// states) over the free equations of `dofs`.
-#[derive(Clone, Copy)]
-pub struct Problem<'a> {
+pub struct Problem<'a, D: Dim = D2> {
     /// The parts.
     pub parts: &'a [Part],
-    /// The interfaces (their coupling elements).
-    pub interfaces: &'a [Interface],
-    /// The DOF map: the free equations.
-    pub dofs: &'a DofMap,
+    /// The interfaces (their coupling elements, of dimension `D`).
+    pub interfaces: &'a [Interface<D>],
+    /// The DOF map: the free equations (`D::N` DOFs a node).
+    pub dofs: &'a DofMap<D>,
 }
+
+impl<D: Dim> Clone for Problem<'_, D> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<D: Dim> Copy for Problem<'_, D> {}
 
 /// A linear solve that did not give a solution.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
@@ -163,9 +171,9 @@ pub struct Statistics {
 /// pattern (an elimination order and a symbolic factorization, or the layout of
 /// an iterative solver's matrix), done once. Apart from [`LinearSolver`] so
 /// that the latter can be used as a trait object.
-pub trait Analyse<'a>: Sized {
+pub trait Analyse<'a, D: Dim = D2>: Sized {
     /// The back end for `problem`'s pattern (an error when it cannot hold it).
-    fn analyse(problem: Problem<'a>) -> crate::error::Result<Self>;
+    fn analyse(problem: Problem<'a, D>) -> crate::error::Result<Self>;
 }
 
 /// The core of a linear back end: prepare the values of `K(states)`, solve with

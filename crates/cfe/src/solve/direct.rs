@@ -9,19 +9,20 @@ use super::backend::{
 };
 use super::system::{ContactSystem, Method, Solve, UpdatePolicy};
 use crate::coupling::PairState;
+use crate::dim::{D2, Dim};
 use std::sync::atomic::AtomicUsize;
 
 /// The direct back end: today's supernodal Cholesky with its low-rank updates,
 /// restricted solves and refinement, for one problem.
-pub struct Cholesky<'a> {
-    problem: Problem<'a>,
+pub struct Cholesky<'a, D: Dim = D2> {
+    problem: Problem<'a, D>,
     system: ContactSystem<'a>,
 }
 
-impl<'a> Cholesky<'a> {
+impl<'a, D: Dim> Cholesky<'a, D> {
     /// The back end of `problem` around an existing contact system (built for
     /// the same parts, interfaces and DOFs).
-    pub fn with_system(problem: Problem<'a>, system: ContactSystem<'a>) -> Self {
+    pub fn with_system(problem: Problem<'a, D>, system: ContactSystem<'a>) -> Self {
         Cholesky { problem, system }
     }
 
@@ -36,11 +37,11 @@ impl<'a> Cholesky<'a> {
     }
 }
 
-impl<'a> Analyse<'a> for Cholesky<'a> {
+impl<'a, D: Dim> Analyse<'a, D> for Cholesky<'a, D> {
     /// The node graph, the nested-dissection ordering, the pattern in the
     /// elimination order and the symbolic factorization
     /// (`super::setup::pattern_and_symbolic`).
-    fn analyse(problem: Problem<'a>) -> crate::error::Result<Self> {
+    fn analyse(problem: Problem<'a, D>) -> crate::error::Result<Self> {
         let (k, chol) =
             super::setup::pattern_and_symbolic(problem.parts, problem.interfaces, problem.dofs, None)?;
         Ok(Cholesky {
@@ -50,7 +51,7 @@ impl<'a> Analyse<'a> for Cholesky<'a> {
     }
 }
 
-impl<'a> LinearSolver<'a> for Cholesky<'a> {
+impl<'a, D: Dim> LinearSolver<'a> for Cholesky<'a, D> {
     fn prepare(&mut self, states: &[Vec<PairState>]) -> Result<Method, LinearFailure> {
         let Problem {
             interfaces, dofs, ..
@@ -128,7 +129,7 @@ impl<'a> LinearSolver<'a> for Cholesky<'a> {
     }
 }
 
-impl RestrictedSolve for Cholesky<'_> {
+impl<D: Dim> RestrictedSolve for Cholesky<'_, D> {
     fn solve_interface(
         &mut self,
         states: &[Vec<PairState>],
@@ -163,7 +164,7 @@ impl RestrictedSolve for Cholesky<'_> {
     }
 }
 
-impl RefinedSolve for Cholesky<'_> {
+impl<D: Dim> RefinedSolve for Cholesky<'_, D> {
     /// [`ContactSystem::solve_unrefined`], and for a low-rank update the
     /// residual at the coupling equations and [`ContactSystem::refine`].
     fn solve_refined(
@@ -190,7 +191,7 @@ impl RefinedSolve for Cholesky<'_> {
     }
 }
 
-impl LowRankUpdate for Cholesky<'_> {
+impl<D: Dim> LowRankUpdate for Cholesky<'_, D> {
     fn set_policy(&mut self, policy: UpdatePolicy) {
         self.system.policy = policy;
     }

@@ -18,8 +18,8 @@ pub fn clamped_rectangle(x: [f64; 2], y: [f64; 2], cells: [usize; 2]) -> (Vec<Pa
         name: "s".into(),
         part: 0,
         nodes: parts[0].mesh.boundary_nodes("bottom").unwrap(),
-        fix: [true, true],
-        value: [0.0, 0.0],
+        fix: [true, true, false],
+        value: [0.0; 3],
         step: 0,
     }];
     let dofs = DofMap::new(&parts, &supports);

@@ -20,6 +20,7 @@ use super::backend::{
 use super::system::Method;
 use crate::assembly::{NodeGraph, Stiffness};
 use crate::coupling::{PairState, PairStates};
+use crate::dim::{D2, Dim};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::matrix_free::InitialGuessStatus;
 use faer::matrix_free::LinOp;
@@ -40,8 +41,8 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-10;
 const MAX_RESTARTS: usize = 4;
 
 /// Jacobi-preconditioned conjugate gradients on the assembled `K(states)`.
-pub struct ConjugateGradients<'a> {
-    problem: Problem<'a>,
+pub struct ConjugateGradients<'a, D: Dim = D2> {
+    problem: Problem<'a, D>,
     /// The lower triangle's pattern (equations' order); values only while a
     /// preparation scatters them.
     lower: Stiffness,
@@ -69,10 +70,10 @@ pub struct ConjugateGradients<'a> {
     stats: Statistics,
 }
 
-impl<'a> Analyse<'a> for ConjugateGradients<'a> {
+impl<'a, D: Dim> Analyse<'a, D> for ConjugateGradients<'a, D> {
     /// The node graph, the lower pattern (the parts' stiffness assembled into
     /// it) and the whole matrix's pattern.
-    fn analyse(problem: Problem<'a>) -> crate::error::Result<Self> {
+    fn analyse(problem: Problem<'a, D>) -> crate::error::Result<Self> {
         let Problem {
             parts,
             interfaces,
@@ -142,7 +143,7 @@ impl<'a> Analyse<'a> for ConjugateGradients<'a> {
     }
 }
 
-impl ConjugateGradients<'_> {
+impl<D: Dim> ConjugateGradients<'_, D> {
     /// The prepared matrix (both triangles) as faer's sparse operator.
     fn matrix(&self) -> SparseColMatRef<'_, usize, f64> {
         SparseColMatRef::new(self.full.as_ref(), &self.values)
@@ -253,7 +254,7 @@ impl ConjugateGradients<'_> {
     }
 }
 
-impl<'a> LinearSolver<'a> for ConjugateGradients<'a> {
+impl<'a, D: Dim> LinearSolver<'a> for ConjugateGradients<'a, D> {
     /// Assembles `K(states)` into the whole matrix and inverts its diagonal;
     /// a diagonal entry that is not positive and finite is
     /// [`LinearFailure::NotPositiveDefinite`] at its equation.

@@ -26,6 +26,7 @@ pub mod nonlinear;
 pub(crate) mod ordering;
 pub(crate) mod setup;
 pub mod subtree;
+pub(crate) mod friction_hold;
 pub(crate) mod support;
 pub mod symbolic;
 pub mod system;

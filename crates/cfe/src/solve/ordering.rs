@@ -10,6 +10,7 @@
 
 use super::symbolic::Stopped;
 use crate::assembly::{DofMap, FIXED, NodeGraph};
+use crate::dim::Dim;
 use std::sync::atomic::AtomicUsize;
 
 /// Subsets at or below this size are not split further.
@@ -33,10 +34,10 @@ const STOP_CHECK_NODES: usize = 4096;
 /// `stop`, if given, is read before every split of a subset of at least
 /// `STOP_CHECK_NODES` nodes: once it is nonzero the ordering is abandoned
 /// with [`Stopped`] (its value). Reading it changes nothing else.
-pub fn nested_dissection(
-    coords: &[[f64; 2]],
+pub fn nested_dissection<D: Dim>(
+    coords: &[D::Vector],
     graph: &NodeGraph,
-    dofs: &DofMap,
+    dofs: &DofMap<D>,
     stop: Option<&AtomicUsize>,
 ) -> Result<Vec<usize>, Stopped> {
     dissection_with(coords, graph, dofs, PARALLEL, stop)
@@ -44,10 +45,10 @@ pub fn nested_dissection(
 
 /// [`nested_dissection`], the halves of subsets of at least `parallel` nodes
 /// ordered on two threads.
-fn dissection_with(
-    coords: &[[f64; 2]],
+fn dissection_with<D: Dim>(
+    coords: &[D::Vector],
     graph: &NodeGraph,
-    dofs: &DofMap,
+    dofs: &DofMap<D>,
     parallel: usize,
     stop: Option<&AtomicUsize>,
 ) -> Result<Vec<usize>, Stopped> {
@@ -58,7 +59,7 @@ fn dissection_with(
     let counter = AtomicU32::new(0);
     let mut node_order = vec![0usize; n];
     let halted = AtomicUsize::new(0);
-    let split = Split {
+    let split = Split::<D> {
         coords,
         graph,
         stamp: &stamp,
@@ -74,8 +75,8 @@ fn dissection_with(
     }
     let mut order = Vec::with_capacity(dofs.n_eq);
     for g in node_order {
-        for c in 0..2 {
-            let e = dofs.eq[2 * g + c];
+        for c in 0..D::N {
+            let e = dofs.eq[D::dof(g, c)];
             if e != FIXED {
                 order.push(e);
             }
@@ -87,8 +88,8 @@ fn dissection_with(
 /// What every step of the recursion reads: the coordinates, the graph and the
 /// marks of the upper halves (each step marks its own upper half's nodes with a
 /// mark of its own, so steps on disjoint subsets run side by side).
-struct Split<'a> {
-    coords: &'a [[f64; 2]],
+struct Split<'a, D: Dim> {
+    coords: &'a [D::Vector],
     graph: &'a NodeGraph,
     stamp: &'a [std::sync::atomic::AtomicU32],
     counter: &'a std::sync::atomic::AtomicU32,
@@ -101,7 +102,7 @@ struct Split<'a> {
     halted: &'a AtomicUsize,
 }
 
-impl Split<'_> {
+impl<D: Dim> Split<'_, D> {
     /// Orders `nodes` into `out` (of the same length): each half first, the
     /// separator last.
     fn dissect(&self, nodes: &mut [usize], out: &mut [usize]) {
@@ -121,22 +122,16 @@ impl Split<'_> {
                 return;
             }
         }
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for &a in nodes.iter() {
-            for c in 0..2 {
-                lo[c] = lo[c].min(coords[a][c]);
-                hi[c] = hi[c].max(coords[a][c]);
-            }
-        }
-        let axis = if hi[0] - lo[0] >= hi[1] - lo[1] { 0 } else { 1 };
+        let axis = longest_axis::<D>(coords, nodes);
+        let at = |a: usize| coords[a].as_ref()[axis];
         // Split at the median coordinate, keeping nodes with equal coordinates
         // together (a straight separator on structured meshes).
         let half = nodes.len() / 2;
-        nodes.select_nth_unstable_by(half, |&a, &b| coords[a][axis].total_cmp(&coords[b][axis]));
-        let m = coords[nodes[half]][axis];
-        let mut mid = partition(nodes, |a| coords[a][axis] < m);
+        nodes.select_nth_unstable_by(half, |&a, &b| at(a).total_cmp(&at(b)));
+        let m = at(nodes[half]);
+        let mut mid = partition(nodes, |a| at(a) < m);
         if mid == 0 {
-            mid = partition(nodes, |a| coords[a][axis] <= m);
+            mid = partition(nodes, |a| at(a) <= m);
         }
         if mid == 0 || mid == nodes.len() {
             out.copy_from_slice(nodes);
@@ -184,6 +179,22 @@ impl Split<'_> {
             self.dissect(upper, out_upper);
         }
     }
+}
+
+/// The axis along which the points `coords[a]` of `nodes` extend farthest (the
+/// first of equal ones).
+fn longest_axis<D: Dim>(coords: &[D::Vector], nodes: &[usize]) -> usize {
+    let (mut lo, mut hi) = (D::Vector::default(), D::Vector::default());
+    lo.as_mut().fill(f64::INFINITY);
+    hi.as_mut().fill(f64::NEG_INFINITY);
+    for &a in nodes {
+        for ((l, h), &x) in lo.as_mut().iter_mut().zip(hi.as_mut()).zip(coords[a].as_ref()) {
+            *l = l.min(x);
+            *h = h.max(x);
+        }
+    }
+    let extent = |c: usize| hi.as_ref()[c] - lo.as_ref()[c];
+    (1..D::N).fold(0, |best, c| if extent(c) > extent(best) { c } else { best })
 }
 
 /// Moves the items satisfying `pred` to the front; returns their count.
@@ -287,5 +298,63 @@ mod tests {
             let flagged = dissection_with(coords, &graph, &dofs, parallel, Some(&stop));
             assert_eq!(flagged, Err(Stopped(15)));
         }
+    }
+
+    /// The ordering in 3D, through the same code: on a 5 × 5 × 40 grid of
+    /// nodes (each adjacent to its 26 neighbours) with one face fixed in z
+    /// only, every equation is eliminated once, and the last ones — the top
+    /// separator, split across the longest axis z — are the free DOFs of one
+    /// layer z = const (25 nodes × 3).
+    #[test]
+    fn solid_grid_is_split_across_its_longest_axis() {
+        use crate::dim::D3;
+        let (nx, ny, nz) = (5usize, 5usize, 40usize);
+        let id = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
+        let mut coords = vec![[0.0; 3]; nx * ny * nz];
+        let (mut ptr, mut adj) = (vec![0], Vec::new());
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    coords[id(i, j, k)] = [i as f64, j as f64, k as f64];
+                    for c in k.saturating_sub(1)..(k + 2).min(nz) {
+                        for b in j.saturating_sub(1)..(j + 2).min(ny) {
+                            for a in i.saturating_sub(1)..(i + 2).min(nx) {
+                                adj.push(id(a, b, c));
+                            }
+                        }
+                    }
+                    ptr.push(adj.len());
+                }
+            }
+        }
+        let graph = NodeGraph { ptr, adj };
+        let bottom = crate::domain::Support {
+            name: "bottom".into(),
+            part: 0,
+            nodes: (0..nx * ny).collect(),
+            fix: [false, false, true],
+            value: [0.0; 3],
+            step: 0,
+        };
+        let dofs = DofMap::<D3>::numbered(&[nx * ny * nz], &[bottom]);
+        assert_eq!(dofs.n_eq, 3 * nx * ny * nz - nx * ny);
+        let order = nested_dissection(&coords, &graph, &dofs, None).unwrap();
+        let mut seen = vec![false; dofs.n_eq];
+        for &e in &order {
+            assert!(!seen[e]);
+            seen[e] = true;
+        }
+        assert!(seen.iter().all(|&s| s));
+        // Equation → node: the last 75 equations are one layer's nodes.
+        let mut node_of = vec![0; dofs.n_eq];
+        for (d, &e) in dofs.eq.iter().enumerate() {
+            if e != FIXED {
+                node_of[e] = d / 3;
+            }
+        }
+        let last: Vec<usize> = order[order.len() - 3 * nx * ny..].iter().map(|&e| node_of[e]).collect();
+        let z = coords[last[0]][2];
+        assert!(last.iter().all(|&a| coords[a][2] == z), "{last:?}");
+        assert!(z > 0.0 && z < (nz - 1) as f64);
     }
 }

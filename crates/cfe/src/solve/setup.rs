@@ -25,6 +25,7 @@ use crate::assembly::{
     VectorSink,
 };
 use crate::coupling::Interface;
+use crate::dim::Dim;
 use crate::domain::Part;
 use crate::error::{Error, Result};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -40,17 +41,16 @@ fn interrupted(Stopped(signal): Stopped) -> Error {
     }
 }
 
-/// Refuses with [`Error::TooLarge`] a system of more equations than a
-/// stiffness matrix can index (`MAX_EQUATIONS`), before anything is built.
-fn check_indexable(dofs: &DofMap) -> Result<()> {
-    if dofs.n_eq > MAX_EQUATIONS {
+/// `Ok` when a stiffness matrix can index `n_eq` equations (at most
+/// [`MAX_EQUATIONS`]), else [`Error::TooLarge`].
+fn indexable(n_eq: usize) -> Result<()> {
+    if n_eq > MAX_EQUATIONS {
         return Err(Error::TooLarge {
-            unknowns: dofs.n_eq as u64,
+            unknowns: n_eq as u64,
             bytes: 0,
             available: 0,
             message: format!(
-                "{} equations, more than the {MAX_EQUATIONS} a stiffness matrix can index; use a smaller refinement or fewer cells",
-                dofs.n_eq
+                "{n_eq} equations, more than the {MAX_EQUATIONS} a stiffness matrix can index; use a smaller refinement or fewer cells"
             ),
         });
     }
@@ -59,7 +59,7 @@ fn check_indexable(dofs: &DofMap) -> Result<()> {
 
 /// The elimination order (`order[new] = old`) and its inverse in 4 bytes an
 /// equation, as they are held beside the factor (the equations are at most
-/// `MAX_EQUATIONS`, checked by [`check_indexable`]).
+/// `MAX_EQUATIONS`, checked by [`indexable`]).
 fn compact_order(order: Vec<usize>) -> (Vec<u32>, Vec<u32>) {
     let order: Vec<u32> = order.into_iter().map(|e| e as u32).collect();
     let mut inverse = vec![0u32; order.len()];
@@ -74,19 +74,16 @@ fn compact_order(order: Vec<usize>) -> (Vec<u32>, Vec<u32>) {
 /// solver after the symbolic analysis in that order. `stop`, if given, is read
 /// between the steps and within the long ones (see the module's text): once it
 /// is nonzero the analysis is abandoned with [`Error::Interrupted`].
-pub fn pattern_and_symbolic(
+pub fn pattern_and_symbolic<D: Dim>(
     parts: &[Part],
-    interfaces: &[Interface],
-    dofs: &DofMap,
+    interfaces: &[Interface<D>],
+    dofs: &DofMap<D>,
     stop: Option<&AtomicUsize>,
 ) -> Result<(Stiffness, CholeskySolver)> {
-    check_indexable(dofs)?;
+    indexable(dofs.n_eq)?;
     check(stop).map_err(interrupted)?;
     let graph = NodeGraph::new_until(parts, interfaces, dofs, stop).map_err(interrupted)?;
-    let coords: Vec<[f64; 2]> = parts
-        .iter()
-        .flat_map(|p| p.mesh.nodes.iter().copied())
-        .collect();
+    let coords = dofs.positions(parts);
     let (order, k) = rayon::join(
         || ordering::nested_dissection(&coords, &graph, dofs, stop),
         || Stiffness::pattern_until(dofs, &graph, stop),
@@ -208,10 +205,10 @@ impl ElementSource for Until<'_> {
 /// built again without values: what a factorization needs when the pattern was
 /// freed after the last one ([`super::system::ContactSystem::keep_pattern`]).
 /// `stop`, if given, is read within each step: [`Stopped`] once it is nonzero.
-pub fn pattern_in_order(
+pub fn pattern_in_order<D: Dim>(
     parts: &[Part],
-    interfaces: &[Interface],
-    dofs: &DofMap,
+    interfaces: &[Interface<D>],
+    dofs: &DofMap<D>,
     order: &[u32],
     inverse: &[u32],
     stop: Option<&AtomicUsize>,
@@ -230,7 +227,7 @@ mod tests {
     /// `Error::TooLarge` before anything is built.
     #[test]
     fn too_many_equations_are_refused() {
-        let dofs = DofMap {
+        let dofs: DofMap = DofMap {
             node_offset: vec![0],
             eq: Vec::new(),
             n_eq: MAX_EQUATIONS + 1,

@@ -20,6 +20,7 @@ use super::linear::CholeskySolver;
 use super::lower::LowerMatrix;
 use crate::assembly::{DofMap, FIXED, Stiffness};
 use crate::coupling::{Interface, PairState, PairStates};
+use crate::dim::Dim;
 use crate::domain::Part;
 use std::collections::HashMap;
 use std::sync::atomic::AtomicUsize;
@@ -231,10 +232,10 @@ impl<'a> ContactSystem<'a> {
 
     /// Solves `K(states) x = rhs` in place. A non-positive pivot returns the
     /// equation where it occurred.
-    pub fn solve(
+    pub fn solve<D: Dim>(
         &mut self,
-        interfaces: &[Interface],
-        dofs: &DofMap,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
         states: &[Vec<PairState>],
         rhs: &mut [f64],
     ) -> Result<Method, Halt> {
@@ -246,10 +247,10 @@ impl<'a> ContactSystem<'a> {
     /// `rhs` that is zero off the coupling equations (a change of the pairs'
     /// forces): its forward solve runs on the interface's tree paths only
     /// ([`CholeskySolver::forward_on`]), the backward solve in full.
-    pub fn solve_pair_forces(
+    pub fn solve_pair_forces<D: Dim>(
         &mut self,
-        interfaces: &[Interface],
-        dofs: &DofMap,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
         states: &[Vec<PairState>],
         rhs: &mut [f64],
     ) -> Result<Method, Halt> {
@@ -276,10 +277,10 @@ impl<'a> ContactSystem<'a> {
     /// The two solves then cost one backward solve in full and the tree paths
     /// of the interface (forward) and of `read` (backward), instead of three
     /// full passes over the factor.
-    pub fn solve_unrefined(
+    pub fn solve_unrefined<D: Dim>(
         &mut self,
-        interfaces: &[Interface],
-        dofs: &DofMap,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
         states: &[Vec<PairState>],
         rhs: &mut [f64],
         read: &[usize],
@@ -394,10 +395,10 @@ impl<'a> ContactSystem<'a> {
     /// factor on the plate on a base). This is what an active-set iteration needs
     /// to check the law on every pair, and a fixed-point step on the pairs' forces
     /// to update them.
-    pub fn solve_interface(
+    pub fn solve_interface<D: Dim>(
         &mut self,
-        interfaces: &[Interface],
-        dofs: &DofMap,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
         states: &[Vec<PairState>],
         rhs: &mut [f64],
         rhs_on_interface: bool,
@@ -423,7 +424,7 @@ impl<'a> ContactSystem<'a> {
 
     /// Computes, once, the coupling elements' free equations and the supernodes
     /// of their elimination-tree paths.
-    fn interface_set(&mut self, interfaces: &[Interface], dofs: &DofMap) {
+    fn interface_set<D: Dim>(&mut self, interfaces: &[Interface<D>], dofs: &DofMap<D>) {
         if self.interface_set.is_none() {
             let eqs = interface_equations(interfaces, dofs);
             let set = self
@@ -487,10 +488,10 @@ impl<'a> ContactSystem<'a> {
         z
     }
 
-    fn refactor_and_solve(
+    fn refactor_and_solve<D: Dim>(
         &mut self,
-        interfaces: &[Interface],
-        dofs: &DofMap,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
         states: &[Vec<PairState>],
         rhs: &mut [f64],
     ) -> Result<Method, Halt> {
@@ -508,10 +509,10 @@ impl<'a> ContactSystem<'a> {
     /// states already) without solving: the next solve of these states reuses
     /// it, and one of states a few pairs away may update it. Returns what it
     /// did ([`Method::Factorization`] or [`Method::Reuse`]).
-    pub fn factorize(
+    pub fn factorize<D: Dim>(
         &mut self,
-        interfaces: &[Interface],
-        dofs: &DofMap,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
         states: &[Vec<PairState>],
     ) -> Result<Method, Halt> {
         if self.base.as_deref() == Some(states) {
@@ -524,10 +525,10 @@ impl<'a> ContactSystem<'a> {
 
     /// A new numeric factorization of `K(states)`, kept as the base of later
     /// updates (its flops are counted by the caller).
-    fn refactorize(
+    fn refactorize<D: Dim>(
         &mut self,
-        interfaces: &[Interface],
-        dofs: &DofMap,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
         states: &[Vec<PairState>],
     ) -> Result<(), Halt> {
         self.invalidate();
@@ -657,7 +658,7 @@ enum Half {
 }
 
 /// The free equations of every coupling element's DOFs, sorted.
-fn interface_equations(interfaces: &[Interface], dofs: &DofMap) -> Vec<usize> {
+fn interface_equations<D: Dim>(interfaces: &[Interface<D>], dofs: &DofMap<D>) -> Vec<usize> {
     let mut eqs: Vec<usize> = crate::coupling::coupling_dofs(interfaces, dofs)
         .into_iter()
         .map(|d| dofs.eq[d])

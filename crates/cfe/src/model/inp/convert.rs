@@ -10,7 +10,7 @@ use super::read::{Behavior, Read, SurfaceKind};
 use super::{DeckFault, InpModel};
 use crate::domain::{Law, Load, Support};
 use crate::error::{Error, Result};
-use crate::fem::{PlaneKind, loads};
+use crate::fem::{PlaneKind, axisymmetric, loads};
 use crate::mesh::{BoundarySelection, Element, ElementKind, Mesh};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
@@ -50,8 +50,8 @@ impl Toml {
     }
 }
 
-/// The model of the read deck.
-pub fn convert(read: &Read) -> Result<InpModel> {
+/// The model of the read deck, its meshes refined `refine` times.
+pub fn convert(read: &Read, refine: usize) -> Result<InpModel> {
     let deck = read.deck;
     let err = |loc: Loc, kw: &str, fault, msg: String| deck.error(loc, kw, fault, msg);
     if read.steps.is_empty() {
@@ -186,7 +186,8 @@ pub fn convert(read: &Read) -> Result<InpModel> {
             Some((p, first)) if p != el.plane => {
                 let name = |p: PlaneKind| match p {
                     PlaneKind::Strain => "plane strain (CPE)",
-                    _ => "plane stress (CPS)",
+                    PlaneKind::Axisymmetric => "axisymmetric (CAX)",
+                    PlaneKind::Stress => "plane stress (CPS)",
                 };
                 return Err(err(
                     el.loc,
@@ -203,6 +204,16 @@ pub fn convert(read: &Read) -> Result<InpModel> {
         }
     }
     let plane = plane.map(|p| p.0).unwrap_or(PlaneKind::Stress);
+    let axisymmetric = plane == PlaneKind::Axisymmetric;
+    // A section's thickness; an axisymmetric section has none (CalculiX: the
+    // value under *SOLID SECTION "has no effect" for CAX elements).
+    let thickness_of = |section: usize| {
+        if axisymmetric {
+            1.0
+        } else {
+            read.sections[section].thickness
+        }
+    };
     // Each node in one part: (part, local index).
     let mut node_part: HashMap<u64, (usize, usize)> = HashMap::new();
     for (p, d) in drafts.iter().enumerate() {
@@ -463,6 +474,19 @@ pub fn convert(read: &Read) -> Result<InpModel> {
             }
         }
     }
+    // Refinement: the slave node sets are checked on the deck's meshes above;
+    // everything below (penalties, pressures, supports) is on the refined ones.
+    let coarse = if refine > 1 {
+        let nodes = meshes.values().map(|m| m.nodes.len()).sum::<usize>();
+        crate::model::build::check_size(crate::model::build::refined_nodes(nodes, refine), refine)?;
+        let refined = meshes
+            .iter()
+            .map(|(k, m)| (k.clone(), m.refined(refine)))
+            .collect();
+        Some(std::mem::replace(&mut meshes, refined))
+    } else {
+        None
+    };
     // The schema as TOML text, each entry marked with its deck line.
     let mut t = Toml::default();
     if let Some(title) = &read.title {
@@ -472,10 +496,10 @@ pub fn convert(read: &Read) -> Result<InpModel> {
         None,
         format!(
             "plane = {}",
-            quote(if plane == PlaneKind::Strain {
-                "strain"
-            } else {
-                "stress"
+            quote(match plane {
+                PlaneKind::Strain => "strain",
+                PlaneKind::Stress => "stress",
+                PlaneKind::Axisymmetric => "axisymmetric",
             })
         ),
     );
@@ -489,6 +513,7 @@ pub fn convert(read: &Read) -> Result<InpModel> {
         t.line(Some(loc), format!("E = {}", float(e)));
         t.line(Some(loc), format!("nu = {}", float(nu)));
     }
+    let mut notes: Vec<String> = Vec::new();
     for d in &drafts {
         let sec = &read.sections[d.section];
         let loc = Some(sec.loc);
@@ -498,9 +523,17 @@ pub fn convert(read: &Read) -> Result<InpModel> {
             loc,
             format!("material = {}", quote(&read.materials[&sec.material].name)),
         );
-        t.line(loc, format!("thickness = {}", float(sec.thickness)));
+        if axisymmetric {
+            if sec.thickness != 1.0 {
+                notes.push(format!(
+                    "*SOLID SECTION at line {}: the thickness {} of an axisymmetric section has no effect (as in CalculiX)",
+                    sec.loc.line, sec.thickness
+                ));
+            }
+        } else {
+            t.line(loc, format!("thickness = {}", float(sec.thickness)));
+        }
     }
-    let mut notes: Vec<String> = Vec::new();
     let mut names: HashMap<String, usize> = HashMap::new();
     for (pair, pd) in read.pairs.iter().zip(&pair_drafts) {
         let loc = Some(pair.loc);
@@ -554,15 +587,23 @@ pub fn convert(read: &Read) -> Result<InpModel> {
             .map(|e| crate::mesh::dist(mesh.nodes[e.nodes[0]], mesh.nodes[e.nodes[1]]))
             .sum::<f64>()
             / edges.len() as f64;
-        let thickness = read.sections[drafts[pd.nodes].section].thickness;
+        // Axisymmetric: c_n is per unit circumference (cfe multiplies it by
+        // the pair's ring 2π r̄), so the slope times the edge length alone.
+        let thickness = thickness_of(drafts[pd.nodes].section);
         let per_pair = length * thickness;
         match behavior {
             Behavior::Linear(k) => {
                 let c_n = k * per_pair;
                 t.line(loc, format!("c_n = {}", float(c_n)));
-                notes.push(format!(
-                    "interface '{name}': PRESSURE-OVERCLOSURE=LINEAR slope {k} × mean slave edge {length} × thickness {thickness} = c_n {c_n} per pair"
-                ));
+                notes.push(if axisymmetric {
+                    format!(
+                        "interface '{name}': PRESSURE-OVERCLOSURE=LINEAR slope {k} × mean slave edge {length} = c_n {c_n} per unit circumference (each pair's penalty is c_n × its ring 2π r̄)"
+                    )
+                } else {
+                    format!(
+                        "interface '{name}': PRESSURE-OVERCLOSURE=LINEAR slope {k} × mean slave edge {length} × thickness {thickness} = c_n {c_n} per pair"
+                    )
+                });
             }
             Behavior::Hard => notes.push(format!(
                 "interface '{name}': PRESSURE-OVERCLOSURE=HARD is cfe's default penalty (c_n = 1e5 × the softer part's E·t)"
@@ -600,18 +641,38 @@ pub fn convert(read: &Read) -> Result<InpModel> {
             );
         }
     }
-    let supports = supports(read, &drafts, &node_part)?;
-    let loads_ = cloads(read, &drafts, &node_part)?;
+    let mut supports = supports(read, &drafts, &node_part)?;
+    if let Some(coarse) = &coarse {
+        refine_supports(coarse, &drafts, &mut supports, refine);
+    }
+    // CalculiX gives an axisymmetric model's point forces for a 2° segment
+    // (its manual, "Eight-node axisymmetric element (CAX8 and CAX8R)"); cfe's
+    // are totals over the ring: 360° / 2° = 180 times the deck's value.
+    let cload_scale = if axisymmetric {
+        if !read.cloads.is_empty() {
+            notes.push("*CLOAD on an axisymmetric (CAX) deck: CalculiX's forces are per 2° segment; cfe applies 180 × the value, the total over the ring".into());
+        }
+        180.0
+    } else {
+        1.0
+    };
+    let loads_ = cloads(read, &drafts, &node_part, cload_scale)?;
     let mut pressure_loads = Vec::with_capacity(dload_groups.len());
     for (p, step, bits, _, name) in &dload_groups {
         let mesh = &meshes[&drafts[*p].name];
-        let thickness = read.sections[drafts[*p].section].thickness;
         let edges: Vec<([usize; 2], [[f64; 2]; 2])> = mesh.boundaries[name]
             .iter()
             .map(|e| (e.nodes, [mesh.nodes[e.nodes[0]], mesh.nodes[e.nodes[1]]]))
             .collect();
-        // CalculiX's P is a pressure (force per area); cfe's per length of edge.
-        let nodal = loads::pressure_forces(&edges, f64::from_bits(*bits) * thickness);
+        // CalculiX's P is a pressure (force per area); cfe's per length of
+        // edge in a plane model, integrated with 2πr over the ring's surface in
+        // an axisymmetric one.
+        let nodal = if axisymmetric {
+            axisymmetric::pressure_forces(&edges, f64::from_bits(*bits))
+        } else {
+            let thickness = thickness_of(drafts[*p].section);
+            loads::pressure_forces(&edges, f64::from_bits(*bits) * thickness)
+        };
         pressure_loads.push(load(name.clone(), *p, nodal, *step));
     }
     Ok(InpModel {
@@ -622,6 +683,57 @@ pub fn convert(read: &Read) -> Result<InpModel> {
         loads: loads_.into_iter().chain(pressure_loads).collect(),
         notes,
     })
+}
+
+/// The supports of a deck refined `k` times: each holds, besides its nodes,
+/// the nodes [`Mesh::refined`] puts inside every edge of the deck's `coarse`
+/// meshes whose two ends are held alike (the same components, values and
+/// step, by this support or another: a face clamped node by node stays
+/// clamped), the first such support of the edge's first end taking them. The
+/// new nodes are numbered as `Mesh::refined` numbers them: the input nodes keep
+/// their indices, then the k − 1 new nodes of each edge, edges in the order the
+/// elements first use them.
+fn refine_supports(
+    coarse: &BTreeMap<String, Mesh>,
+    drafts: &[PartDraft],
+    supports: &mut [Support],
+    k: usize,
+) {
+    type Key = ([bool; 3], [u64; 3], usize);
+    let key = |s: &Support| (s.fix, s.value.map(f64::to_bits), s.step);
+    for (p, d) in drafts.iter().enumerate() {
+        let mesh = &coarse[&d.name];
+        let mut held: HashMap<usize, Vec<(usize, Key)>> = HashMap::new();
+        for (i, s) in supports.iter().enumerate().filter(|(_, s)| s.part == p) {
+            for &n in &s.nodes {
+                held.entry(n).or_default().push((i, key(s)));
+            }
+        }
+        let mut added: Vec<(usize, std::ops::Range<usize>)> = Vec::new();
+        let mut seen: std::collections::HashSet<(usize, usize)> = std::collections::HashSet::new();
+        let mut next = mesh.nodes.len();
+        for el in &mesh.elements {
+            for [a, b] in el.edges() {
+                if !seen.insert((a.min(b), a.max(b))) {
+                    continue;
+                }
+                let (lo, hi) = (a.min(b), a.max(b));
+                if let (Some(at_lo), Some(at_hi)) = (held.get(&lo), held.get(&hi)) {
+                    let mut keys: Vec<Key> = Vec::new();
+                    for &(i, kl) in at_lo {
+                        if !keys.contains(&kl) && at_hi.iter().any(|&(_, kh)| kh == kl) {
+                            keys.push(kl);
+                            added.push((i, next..next + k - 1));
+                        }
+                    }
+                }
+                next += k - 1;
+            }
+        }
+        for (i, range) in added {
+            supports[i].nodes.extend(range);
+        }
+    }
 }
 
 /// A load from its nodal forces.
@@ -784,8 +896,8 @@ fn supports(
                 name,
                 part: p,
                 nodes,
-                fix,
-                value: [f64::from_bits(value[0]), f64::from_bits(value[1])],
+                fix: [fix[0], fix[1], false],
+                value: [f64::from_bits(value[0]), f64::from_bits(value[1]), 0.0],
                 step,
             }
         })
@@ -795,11 +907,14 @@ fn supports(
 /// The `*CLOAD` lines as cfe's loads: per node and component, a later step's
 /// new value is the load of that step by its change (cfe's loads of earlier
 /// steps stay at full value: the sum ramps from the old value to the new, as
-/// CalculiX's OP=MOD does). One load per card and part.
+/// CalculiX's OP=MOD does). One load per card and part. Each force is the
+/// deck's value times `scale` (180 in an axisymmetric deck: CalculiX's 2°
+/// segment made the ring's total).
 fn cloads(
     read: &Read,
     drafts: &[PartDraft],
     node_part: &HashMap<u64, (usize, usize)>,
+    scale: f64,
 ) -> Result<Vec<Load>> {
     let mut state: HashMap<(u64, usize), (f64, usize, Loc)> = HashMap::new();
     // (card, part, step, nodal forces)
@@ -835,7 +950,7 @@ fn cloads(
                 groups.len() - 1
             });
             let mut f = [0.0; 2];
-            f[c] = delta;
+            f[c] = delta * scale;
             groups[g].3.push((i, f));
         }
     }

@@ -52,20 +52,23 @@ fn deck_error(path: &Path, line: usize, keyword: &str, fault: DeckFault, message
 }
 
 /// The model of the deck `text` read from `path` (its `*INCLUDE`s relative to
-/// its folder). The deck's mesh is used as written: `refine` must be 1.
+/// its folder), its meshes refined `refine` times ([`Mesh::refined`], as a
+/// Gmsh part's are): supports hold the new nodes of the edges joining two of
+/// their nodes, pressures and contact penalties are taken on the refined faces,
+/// and point forces stay on their nodes.
 pub(super) fn model(text: &str, path: &Path, refine: usize) -> Result<Model> {
-    if refine != 1 {
-        return Err(Error::Model(format!(
-            "{}: a CalculiX/Abaqus deck's mesh is used as written; refinement ({refine}) applies to TOML problem files only",
-            path.display()
-        )));
+    if refine == 0 {
+        return Err(Error::Model(
+            "the refinement factor must be at least 1".into(),
+        ));
     }
     let deck = lexer::Deck::lex(text, path)?;
     let read = read::Read::new(&deck)?;
-    let converted = convert::convert(&read)?;
+    let converted = convert::convert(&read, refine)?;
     let mut model = Model::from_str_with_meshes(&converted.toml, path, 1, converted.meshes)
         .map_err(|e| remap(e, &deck, &converted.lines))?;
     model.text = text.to_string();
+    model.refine = refine;
     model.supports = converted.supports;
     model.loads = converted.loads;
     model.notes = read

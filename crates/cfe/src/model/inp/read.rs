@@ -13,7 +13,7 @@ use crate::mesh::ElementKind;
 use std::collections::{BTreeMap, HashMap};
 
 /// An element: its type, its corner nodes (deck ids, in the deck's order) and
-/// its plane kind (CPS: stress, CPE: strain).
+/// its plane kind (CPS: stress, CPE: strain, CAX: axisymmetric).
 #[derive(Debug, Clone)]
 pub struct Elem {
     pub kind: ElementKind,
@@ -683,14 +683,8 @@ impl<'d> Read<'d> {
             "CPE3" => (ElementKind::T3, PlaneKind::Strain),
             "CPS4" => (ElementKind::Q4, PlaneKind::Stress),
             "CPE4" => (ElementKind::Q4, PlaneKind::Strain),
-            "CAX3" | "CAX4" => {
-                return Err(self.err(
-                    card.loc,
-                    "*ELEMENT",
-                    DeckFault::Unsupported,
-                    format!("has TYPE={t}, an axisymmetric element, which is not supported yet: cfe has plane stress (CPS3, CPS4) and plane strain (CPE3, CPE4) only"),
-                ));
-            }
+            "CAX3" => (ElementKind::T3, PlaneKind::Axisymmetric),
+            "CAX4" => (ElementKind::Q4, PlaneKind::Axisymmetric),
             "CPS4R" | "CPE4R" => {
                 return Err(self.err(
                     card.loc,
@@ -704,7 +698,7 @@ impl<'d> Read<'d> {
                     card.loc,
                     "*ELEMENT",
                     DeckFault::Unsupported,
-                    format!("has TYPE={t}, which is not supported: cfe reads CPS3, CPE3, CPS4 and CPE4 (linear plane triangles and quadrilaterals)"),
+                    format!("has TYPE={t}, which is not supported: cfe reads CPS3, CPE3, CPS4, CPE4 (linear plane triangles and quadrilaterals) and CAX3, CAX4 (axisymmetric)"),
                 ));
             }
         };

@@ -11,6 +11,7 @@ use super::fixed_point::FixedPointScale;
 use super::increment::{IncrementResult, Iteration, PairViolation, count_changes};
 use super::pairs::LawCheck;
 use super::solver::Solver;
+use crate::dim::Dim;
 use crate::coupling::{PairState, PairStates, ViolationKind};
 use crate::error::{Error, Result};
 use crate::solve::system::Method;
@@ -69,7 +70,7 @@ impl Search {
 /// the law's verdict.
 type Checked = (Vec<f64>, Option<Vec<f64>>, Option<Method>, LawCheck);
 
-impl Solver<'_> {
+impl<D: Dim> Solver<'_, D> {
     /// One active-set increment from the pattern `start`. With Coulomb
     /// interfaces (path-dependent, so every increment is searched), an increment
     /// whose search from `start` finds no state, only settles, or reaches a
@@ -84,7 +85,7 @@ impl Solver<'_> {
         inc: usize,
         lambda: f64,
         start: &PairStates,
-    ) -> Result<IncrementResult> {
+    ) -> Result<IncrementResult<D>> {
         let direct = self.active_set_increment(inc, lambda, start.clone());
         let coulomb = !self.proportional && self.coulomb.contains(&true);
         if !coulomb {
@@ -150,7 +151,7 @@ impl Solver<'_> {
         inc: usize,
         lambda: f64,
         start: &PairStates,
-    ) -> Result<Option<IncrementResult>> {
+    ) -> Result<Option<IncrementResult<D>>> {
         // `Ok(Err(()))`: the stage failed otherwise than by finding nothing.
         let stage = |this: &mut Self, factor: f64, start: &PairStates| {
             this.check_stop(inc)?;
@@ -196,7 +197,7 @@ impl Solver<'_> {
         inc: usize,
         lambda: f64,
         start: PairStates,
-    ) -> Result<IncrementResult> {
+    ) -> Result<IncrementResult<D>> {
         let mut history = Vec::new();
         let result = self.active_set_search(inc, lambda, start, &mut history);
         self.failed_search = if result.is_err() { history } else { Vec::new() };
@@ -211,7 +212,7 @@ impl Solver<'_> {
         lambda: f64,
         start: PairStates,
         history: &mut Vec<Iteration>,
-    ) -> Result<IncrementResult> {
+    ) -> Result<IncrementResult<D>> {
         // An iteration that started this increment before (a warm start that
         // settled) left its touch-downs and fixed-point iterates in the history.
         if !self.proportional {
@@ -286,7 +287,7 @@ impl Solver<'_> {
         lambda: f64,
         start: PairStates,
         history: &mut Vec<Iteration>,
-    ) -> Result<IncrementResult> {
+    ) -> Result<IncrementResult<D>> {
         let t = Instant::now();
         let (u, f_int, method) = self.solve_states(lambda, &start, inc)?;
         let check = self.check_law(&start, &u, &f_int, lambda);
@@ -396,7 +397,7 @@ impl Solver<'_> {
         lambda: f64,
         visits: &[Visit],
         history: &mut Vec<Iteration>,
-    ) -> Result<IncrementResult> {
+    ) -> Result<IncrementResult<D>> {
         let best = least_violating(visits);
         let Some(best) = best else {
             return Err(self.no_fixed_point(inc, lambda, visits));

@@ -6,20 +6,21 @@
 
 use super::increment::{IncrementResult, Iteration, PairViolation, count_changes};
 use super::solver::Solver;
+use crate::dim::Dim;
 use crate::coupling::{Interface, PairSet, PairStates, ViolationKind};
 use crate::domain::{Part, Scheme};
 use crate::error::{Error, Result};
 use std::time::Instant;
 
-impl Solver<'_> {
+impl<D: Dim> Solver<'_, D> {
     /// Runs all increments; `on_increment` receives each converged increment (to
     /// write it out) before the next starts. Returns the last increment. Stops with
     /// [`Error::LawViolation`] after handing over an increment whose largest
     /// violation exceeds `max_violation` × the load scale.
     pub fn run(
         &mut self,
-        mut on_increment: impl FnMut(&IncrementResult) -> Result<()>,
-    ) -> Result<IncrementResult> {
+        mut on_increment: impl FnMut(&IncrementResult<D>) -> Result<()>,
+    ) -> Result<IncrementResult<D>> {
         let factors = self.path.factors.clone().unwrap_or_else(|| {
             let n = self.settings.increments;
             (1..=n).map(|k| k as f64 / n as f64).collect()
@@ -97,7 +98,7 @@ impl Solver<'_> {
         states: &PairStates,
         warm: bool,
         all_bonded: &PairStates,
-    ) -> Result<IncrementResult> {
+    ) -> Result<IncrementResult<D>> {
         let mut r = self.active_set_or_continuation(inc, lambda, states)?;
         if warm && inc == 1 && !r.settled.is_empty() {
             // A settlement depends on where the iteration started: take the
@@ -118,7 +119,7 @@ impl Solver<'_> {
         inc: usize,
         lambda: f64,
         states: &mut PairStates,
-    ) -> Result<IncrementResult> {
+    ) -> Result<IncrementResult<D>> {
         let t = Instant::now();
         let (u, f_int, method) = self.solve_states(lambda, states, inc)?;
         if !self.proportional && !self.fixed_point_converged {
@@ -152,7 +153,7 @@ impl Solver<'_> {
         inc: usize,
         n_inc: usize,
         lambda: f64,
-        result: &mut IncrementResult,
+        result: &mut IncrementResult<D>,
     ) -> Result<()> {
         self.commit_history(result);
         if let Some((step, l)) = self.path.label(inc) {
@@ -177,7 +178,7 @@ impl Solver<'_> {
 
     /// Stops the run when the out-of-balance force has grown beyond what round-off
     /// explains: the solve lost its accuracy.
-    fn check_precision(&self, r: &IncrementResult) -> Result<()> {
+    fn check_precision(&self, r: &IncrementResult<D>) -> Result<()> {
         let worst = r.residual.max(r.balance);
         if worst <= self.settings.max_residual {
             return Ok(());
@@ -199,8 +200,8 @@ impl Solver<'_> {
     /// Stops the run when the increment, which found no state satisfying the
     /// law, leaves a part held by its supports only across its faces pushed
     /// along them beyond μ × the normal force they carry
-    /// ([`crate::solve::support::FrictionHold::check_settled`]).
-    fn check_no_rest(&self, inc: usize, lambda: f64, r: &IncrementResult) -> Result<()> {
+    /// ([`crate::solve::friction_hold::FrictionHold::check_settled`]).
+    fn check_no_rest(&self, inc: usize, lambda: f64, r: &IncrementResult<D>) -> Result<()> {
         self.friction_hold.check_settled(
             self.interfaces,
             self.dofs,
@@ -215,7 +216,7 @@ impl Solver<'_> {
     }
 
     /// Stops the run when a violation exceeds `max_violation` × the load scale.
-    fn check_violation_limit(&self, r: &IncrementResult) -> Result<()> {
+    fn check_violation_limit(&self, r: &IncrementResult<D>) -> Result<()> {
         let limit = self.settings.max_violation * r.load_scale;
         let over: Vec<&PairViolation> = r.violations.iter().filter(|v| v.force > limit).collect();
         if over.is_empty() {
@@ -274,7 +275,7 @@ impl Solver<'_> {
 }
 
 /// What to say about the penalties when the solve lost accuracy.
-fn penalty_advice(parts: &[Part], interfaces: &[Interface]) -> String {
+fn penalty_advice<D: Dim>(parts: &[Part], interfaces: &[Interface<D>]) -> String {
     let worst = interfaces
         .iter()
         .map(|i| {

@@ -6,7 +6,7 @@
 //! nodes drifted further than a state of rest moves them is not converged.
 
 use super::scale::largest_off;
-use super::solver::{SchemeDim, Solver};
+use super::solver::Solver;
 use crate::assembly::{self, FIXED};
 use crate::coupling::{PairHistories, PairHistory, PairSet, PairState, history};
 use crate::dim::{Dim, Tangent};
@@ -85,8 +85,8 @@ pub(super) fn iterate(terms: &mut impl FixedPoint, max: usize) -> Result<bool> {
 /// The pairs' terms of one pattern `states`, iterated from the solution `u`
 /// (valid at the coupling elements' DOFs at least): what the steps of
 /// [`Solver::fixed_point`] read and keep.
-struct PairTerms<'s, 'a> {
-    solver: &'s mut Solver<'a>,
+struct PairTerms<'s, 'a, D: Dim> {
+    solver: &'s mut Solver<'a, D>,
     states: &'s [Vec<PairState>],
     inc: usize,
     u: &'s mut [f64],
@@ -103,10 +103,10 @@ struct PairTerms<'s, 'a> {
     /// floor reads the largest of all): fixed until a step solves in full.
     u_rest: f64,
     /// The histories before the last update.
-    before: PairHistories,
+    before: PairHistories<D>,
 }
 
-impl FixedPoint for PairTerms<'_, '_> {
+impl<D: Dim> FixedPoint for PairTerms<'_, '_, D> {
     fn moved(&mut self) -> Result<f64> {
         self.solver.check_stop(self.inc)?;
         // The largest displacement of a coupling node.
@@ -114,7 +114,7 @@ impl FixedPoint for PairTerms<'_, '_> {
         Ok(self
             .coupling_nodes
             .iter()
-            .map(|&n| SchemeDim::length(&u[SchemeDim::dof(n, 0)..SchemeDim::dof(n + 1, 0)]))
+            .map(|&n| D::length(&u[D::dof(n, 0)..D::dof(n + 1, 0)]))
             .fold(0.0, f64::max))
     }
 
@@ -171,7 +171,7 @@ impl FixedPoint for PairTerms<'_, '_> {
             // Solved in full: zero off the coupling equations again.
             self.du.fill(0.0);
             if let FixedPointScale::Forces(..) = self.scale {
-                self.u_rest = largest_off::<SchemeDim>(self.u, &self.coupling_nodes);
+                self.u_rest = largest_off::<D>(self.u, &self.coupling_nodes);
             }
         } else {
             for &d in &s.coupling_dofs {
@@ -185,7 +185,7 @@ impl FixedPoint for PairTerms<'_, '_> {
     }
 }
 
-impl<'a> Solver<'a> {
+impl<'a, D: Dim> Solver<'a, D> {
     /// Iterates the pairs' right-hand-side terms of `states` to their fixed point
     /// from the solution `u` (valid at the coupling elements' DOFs at least),
     /// Anderson-accelerated. K is the pattern's: only the pairs' constant terms
@@ -209,12 +209,12 @@ impl<'a> Solver<'a> {
         // floor reads the largest of all): fixed until a step solves in full.
         let coupling_nodes: Vec<usize> = {
             let mut nodes: Vec<usize> =
-                self.coupling_dofs.iter().map(|&d| d / SchemeDim::N).collect();
+                self.coupling_dofs.iter().map(|&d| d / D::N).collect();
             nodes.dedup();
             nodes
         };
         let u_rest = match scale {
-            FixedPointScale::Forces(..) => largest_off::<SchemeDim>(u, &coupling_nodes),
+            FixedPointScale::Forces(..) => largest_off::<D>(u, &coupling_nodes),
             FixedPointScale::Given(_) => 0.0,
         };
         // With `friction_solve = "newton"`, the slip forces solved in one shot
@@ -264,10 +264,10 @@ impl<'a> Solver<'a> {
     pub(super) fn pair_term_change(
         &self,
         states: &[Vec<PairState>],
-        before: &PairHistories,
+        before: &PairHistories<D>,
         zero: &[f64],
     ) -> Vec<f64> {
-        let force = |h: &[Vec<PairHistory>]| {
+        let force = |h: &[Vec<PairHistory<D>>]| {
             let pairs = assembly::CouplingElements::new(self.interfaces, Some(states), self.dofs)
                 .with_history(Some(h));
             assembly::internal_force_at(&pairs, zero, &self.coupling_dofs)
@@ -309,7 +309,7 @@ impl<'a> Solver<'a> {
     fn take_step(
         &mut self,
         states: &[Vec<PairState>],
-        mut next: PairHistories,
+        mut next: PairHistories<D>,
         converged: bool,
         anderson: &mut Anderson,
     ) {
@@ -337,7 +337,7 @@ impl<'a> Solver<'a> {
     /// `states`, each as a force: a slipping Coulomb pair's slip force and
     /// `c_slip` × its anchor; an augmented closed pair's normal multiplier, and
     /// its tangential one when it sticks.
-    pub(super) fn active_terms(&self, states: &[Vec<PairState>], history: &PairHistories) -> Vec<f64> {
+    pub(super) fn active_terms(&self, states: &[Vec<PairState>], history: &PairHistories<D>) -> Vec<f64> {
         let mut x = Vec::new();
         self.visit_active_terms(states, |i, k, field, c_slip| {
             let h = &history[i][k];
@@ -352,7 +352,7 @@ impl<'a> Solver<'a> {
     }
 
     /// Writes `x` (as [`Self::active_terms`] orders it) into `history`.
-    pub(super) fn set_active_terms(&self, states: &[Vec<PairState>], history: &mut PairHistories, x: &[f64]) {
+    pub(super) fn set_active_terms(&self, states: &[Vec<PairState>], history: &mut PairHistories<D>, x: &[f64]) {
         let mut it = x.iter();
         self.visit_active_terms(states, |i, k, field, c_slip| {
             let v = *it.next().expect("as many terms as active_terms gives");
@@ -376,7 +376,7 @@ impl<'a> Solver<'a> {
         mut f: impl FnMut(usize, usize, Term, f64),
     ) {
         let pairs = self.pairs();
-        let components = <<SchemeDim as Dim>::Tangent as Tangent>::COMPONENTS;
+        let components = <<D as Dim>::Tangent as Tangent>::COMPONENTS;
         for (i, st) in states.iter().enumerate().take(pairs.interface_count()) {
             let base = pairs.law(i);
             let augmented = pairs.augmented(i).is_some();

@@ -30,8 +30,8 @@ use super::increment::{IncrementResult, Iteration, NewtonCounts, count_changes};
 use super::solver::Solver;
 use crate::assembly::FIXED;
 use crate::coupling::{Enforcement, Law, PairHistories, PairState};
+use crate::dim::{Dim, Tangent};
 use crate::domain::FrictionSolve;
-use crate::dim::Tangent;
 use crate::error::Result;
 use crate::solve::backend::{Request, Solve as _};
 use faer::Mat;
@@ -275,9 +275,11 @@ pub fn newton_condensed(
     None
 }
 
-/// Most direction updates within one pattern's exact solve: a slipping pair
-/// whose trial force turns against its direction beyond the cone slips the
-/// other way, and the pattern is solved again (the columns do not change).
+/// Most Newton steps within one pattern's solve of its slip forces after the
+/// first: each solves the small system again (same columns) at the slip
+/// directions of the last solution — a 2D pair whose trial force reversed
+/// beyond the cone slides the other way, a 3D pair's direction turns (the
+/// radial return's derivative).
 pub const MAX_DIRECTION_UPDATES: usize = 8;
 
 /// Most slipping pairs a pattern's Newton step ([`Solver::newton_slip_terms`])
@@ -285,8 +287,10 @@ pub const MAX_DIRECTION_UPDATES: usize = 8;
 /// on the same affine map, are then fewer than the columns' solves).
 pub const MAX_NEWTON_SLIPPING: usize = 60;
 
-/// A slipping Coulomb pair as a pattern's exact solve reads it.
-struct Slipping {
+/// A slipping Coulomb pair as a pattern's exact solve reads it (tangents `T`:
+/// one component in 2D, two in 3D).
+#[derive(Debug, Clone, Copy)]
+struct Slipping<T: Tangent> {
     i: usize,
     k: usize,
     mu: f64,
@@ -294,25 +298,42 @@ struct Slipping {
     c_s: f64,
     c_slip: f64,
     /// Its plastic slip.
-    slip: f64,
-    /// The direction it slides along in the pattern (±1).
-    xi: f64,
+    slip: T,
+    /// The unit direction it slides along (±1 in 2D).
+    xi: T,
     /// Its normal force and tangential jump at the pattern's first solution.
     f_n: f64,
-    u_s: f64,
+    u_s: T,
     /// Its constant term there: slip force less the spring's anchor term.
-    z: f64,
+    z: T,
 }
 
 /// The columns of a pattern's exact solve: the jumps a unit change of each
-/// slipping pair's term causes at every slipping pair (`pn` normal, `ps`
-/// tangential; m × m row-major: row the pair, column the term).
+/// component of each slipping pair's term causes at every slipping pair. With
+/// `C` tangent components and `m` pairs there are `n = m C` terms (pair q's
+/// component b at `q C + b`): `pn` is m × n (row the pair's normal jump), `ps`
+/// n × n (row `p C + c` pair p's tangential jump component c), row-major.
 struct Columns {
     pn: Vec<f64>,
     ps: Vec<f64>,
 }
 
-impl Solver<'_> {
+impl Columns {
+    /// Pair `p`'s normal jump and tangential jump under the terms' changes `dz`.
+    fn jumps<T: Tangent>(&self, p: usize, dz: &[f64]) -> (f64, T) {
+        let n = dz.len();
+        let c = T::COMPONENTS;
+        let dn: f64 = (0..n).map(|a| self.pn[p * n + a] * dz[a]).sum();
+        let mut ds = T::default();
+        for j in 0..c {
+            let row = (p * c + j) * n;
+            ds.set_component(j, (0..n).map(|a| self.ps[row + a] * dz[a]).sum());
+        }
+        (dn, ds)
+    }
+}
+
+impl<D: Dim> Solver<'_, D> {
     /// What the Newton steps of the patterns' slip forces did so far
     /// (`friction_solve = "newton"`; zero otherwise).
     pub fn newton_counts(&self) -> NewtonCounts {
@@ -321,15 +342,14 @@ impl Solver<'_> {
 
     /// Sets the slip force and spring anchor of every slipping pair of `slips`
     /// to their values at the pattern's solution: the first solution's moved
-    /// by the columns `cols` times the terms' changes `dz`.
-    fn set_slip_terms(&mut self, slips: &[Slipping], cols: &Columns, dz: &[f64]) {
-        let m = slips.len();
+    /// by the columns `cols` times the terms' changes `dz`, the slip force
+    /// `μ (−f_n) ξ` along the direction each pair was solved for.
+    fn set_slip_terms(&mut self, slips: &[Slipping<D::Tangent>], cols: &Columns, dz: &[f64]) {
         for (p, s) in slips.iter().enumerate() {
-            let dn: f64 = (0..m).map(|q| cols.pn[p * m + q] * dz[q]).sum();
-            let ds: f64 = (0..m).map(|q| cols.ps[p * m + q] * dz[q]).sum();
+            let (dn, ds) = cols.jumps::<D::Tangent>(p, dz);
             let h = &mut self.history[s.i][s.k];
-            h.slip_force = -s.mu * s.xi * (s.f_n + s.c_n * dn).min(0.0);
-            h.anchor = s.u_s + ds;
+            h.slip_force = s.xi.scale(s.mu * (-(s.f_n + s.c_n * dn)).max(0.0));
+            h.anchor = s.u_s.add(ds);
         }
     }
 
@@ -351,7 +371,7 @@ impl Solver<'_> {
         states: &[Vec<PairState>],
         inc: usize,
         u: &[f64],
-    ) -> Result<Option<PairHistories>> {
+    ) -> Result<Option<PairHistories<D>>> {
         let augmented = self
             .interfaces
             .iter()
@@ -364,7 +384,7 @@ impl Solver<'_> {
             return Ok(None);
         }
         let cols = self.slip_columns(states, inc, &slips)?;
-        let Some((dz, true)) = Self::solve_slip_terms(&mut slips, &cols) else {
+        let Some((dz, true)) = solve_slip_terms(&mut slips, &cols) else {
             self.newton.fallbacks += 1;
             return Ok(None);
         };
@@ -376,7 +396,7 @@ impl Solver<'_> {
 
     /// The slipping Coulomb pairs of `states` at the solution `u` (valid at the
     /// coupling DOFs), each sliding along its trial force there.
-    fn slipping(&self, states: &[Vec<PairState>], u: &[f64]) -> Vec<Slipping> {
+    fn slipping(&self, states: &[Vec<PairState>], u: &[f64]) -> Vec<Slipping<D::Tangent>> {
         let mut slips = Vec::new();
         for (i, iface) in self.interfaces.iter().enumerate() {
             if iface.law != Law::Coulomb {
@@ -390,7 +410,7 @@ impl Solver<'_> {
                 }
                 let h = &self.history[i][k];
                 let p = iface.pair_at(k, self.dofs, u, PairState::Slip, h);
-                let trial = law.trial_shear(p.jump.1, h);
+                let trial = law.trial_shear::<D>(p.jump.1, h);
                 slips.push(Slipping {
                     i,
                     k,
@@ -402,118 +422,71 @@ impl Solver<'_> {
                     xi: trial.direction(),
                     f_n: p.force.0,
                     u_s: p.jump.1,
-                    z: h.slip_force - law.c_slip * h.anchor,
+                    z: h.slip_force.sub(h.anchor.scale(law.c_slip)),
                 });
             }
         }
         slips
     }
 
-    /// The columns of the slipping pairs `slips` of `states`: each pair's term
-    /// raised by 1, its force change solved on the interface's paths.
-    fn slip_columns(&mut self, states: &[Vec<PairState>], inc: usize, slips: &[Slipping]) -> Result<Columns> {
+    /// The columns of the slipping pairs `slips` of `states`: each component
+    /// of each pair's term raised by 1, its force change solved on the
+    /// interface's paths.
+    fn slip_columns(
+        &mut self,
+        states: &[Vec<PairState>],
+        inc: usize,
+        slips: &[Slipping<D::Tangent>],
+    ) -> Result<Columns> {
+        let c = <D::Tangent as Tangent>::COMPONENTS;
         let m = slips.len();
-        let n = self.dofs.eq.len();
-        let zero = vec![0.0; n];
+        let n = m * c;
+        let len = self.dofs.eq.len();
+        let zero = vec![0.0; len];
         let mut cols = Columns {
-            pn: vec![0.0; m * m],
-            ps: vec![0.0; m * m],
+            pn: vec![0.0; m * n],
+            ps: vec![0.0; n * n],
         };
         let mut rhs = vec![0.0; self.dofs.n_eq];
-        let mut v = vec![0.0; n];
+        let mut v = vec![0.0; len];
         let before = self.history.clone();
         for (q, s) in slips.iter().enumerate() {
-            self.check_stop(inc)?;
-            self.history[s.i][s.k].slip_force += 1.0;
-            let change = self.pair_term_change(states, &before, &zero);
-            self.history[s.i][s.k] = before[s.i][s.k];
-            rhs.fill(0.0);
-            for (&d, c) in self.coupling_dofs.iter().zip(&change) {
-                let e = self.dofs.eq[d];
-                if e != FIXED {
-                    rhs[e] = -c;
+            for b in 0..c {
+                let a = q * c + b;
+                self.check_stop(inc)?;
+                let t = &mut self.history[s.i][s.k].slip_force;
+                t.set_component(b, t.component(b) + 1.0);
+                let change = self.pair_term_change(states, &before, &zero);
+                self.history[s.i][s.k] = before[s.i][s.k];
+                rhs.fill(0.0);
+                for (&d, ch) in self.coupling_dofs.iter().zip(&change) {
+                    let e = self.dofs.eq[d];
+                    if e != FIXED {
+                        rhs[e] = -ch;
+                    }
                 }
-            }
-            let request = Request::new(states).interface_only().rhs_on_interface();
-            let outcome = self
-                .linear
-                .solve_pattern(request, &mut rhs)
-                .map_err(|f| self.linear_error(f, inc))?;
-            self.record(&outcome);
-            self.fixed_point += 1;
-            for &d in &self.coupling_dofs {
-                let e = self.dofs.eq[d];
-                v[d] = if e == FIXED { 0.0 } else { rhs[e] };
-            }
-            for (p, sp) in slips.iter().enumerate() {
-                let iface = &self.interfaces[sp.i];
-                let at = iface.pair_at(sp.k, self.dofs, &v, PairState::Slip, &before[sp.i][sp.k]);
-                cols.pn[p * m + q] = at.jump.0;
-                cols.ps[p * m + q] = at.jump.1;
+                let request = Request::new(states).interface_only().rhs_on_interface();
+                let outcome = self
+                    .linear
+                    .solve_pattern(request, &mut rhs)
+                    .map_err(|f| self.linear_error(f, inc))?;
+                self.record(&outcome);
+                self.fixed_point += 1;
+                for &d in &self.coupling_dofs {
+                    let e = self.dofs.eq[d];
+                    v[d] = if e == FIXED { 0.0 } else { rhs[e] };
+                }
+                for (p, sp) in slips.iter().enumerate() {
+                    let iface = &self.interfaces[sp.i];
+                    let at = iface.pair_at(sp.k, self.dofs, &v, PairState::Slip, &before[sp.i][sp.k]);
+                    cols.pn[p * n + a] = at.jump.0;
+                    for j in 0..c {
+                        cols.ps[(p * c + j) * n + a] = at.jump.1.component(j);
+                    }
+                }
             }
         }
         Ok(cols)
-    }
-
-    /// Solves the slipping pairs' terms of a pattern exactly
-    /// ([`Solver::solve_pattern_exact`]'s system) and then updates the
-    /// directions: a pair whose trial force turned against its direction
-    /// beyond the cone slides the other way, and the system (same columns) is
-    /// solved again, at most [`MAX_DIRECTION_UPDATES`] times and never back to
-    /// directions already solved. Returns the changes of the terms (for the
-    /// directions `slips` ends with), and whether every direction is
-    /// consistent; `None` when the system is singular (no state of rest in the
-    /// pattern).
-    fn solve_slip_terms(slips: &mut [Slipping], cols: &Columns) -> Option<(Vec<f64>, bool)> {
-        let m = slips.len();
-        let directions = |slips: &[Slipping]| -> Vec<bool> { slips.iter().map(|s| s.xi > 0.0).collect() };
-        let mut seen: HashSet<Vec<bool>> = HashSet::new();
-        let mut updates = 0;
-        loop {
-            seen.insert(directions(slips));
-            let a = Mat::<f64>::from_fn(m, m, |p, q| {
-                let s = &slips[p];
-                let eye = if p == q { 1.0 } else { 0.0 };
-                eye + s.mu * s.xi * s.c_n * cols.pn[p * m + q] + s.c_slip * cols.ps[p * m + q]
-            });
-            let b = Mat::<f64>::from_fn(m, 1, |p, _| {
-                let s = &slips[p];
-                -s.mu * s.xi * s.f_n - s.c_slip * s.u_s - s.z
-            });
-            let dz = PartialPivLu::new(a.as_ref()).solve(b.as_ref());
-            let dz: Vec<f64> = (0..m).map(|p| dz[(p, 0)]).collect();
-            if dz.iter().any(|v| !v.is_finite()) {
-                return None;
-            }
-            // Directions: the trial force at the solution against the cone.
-            let turned: Vec<usize> = slips
-                .iter()
-                .enumerate()
-                .filter(|(p, s)| {
-                    let dn: f64 = (0..m).map(|q| cols.pn[p * m + q] * dz[q]).sum();
-                    let ds: f64 = (0..m).map(|q| cols.ps[p * m + q] * dz[q]).sum();
-                    let f_n = s.f_n + s.c_n * dn;
-                    let trial = s.c_s * (s.u_s + ds - s.slip);
-                    trial * s.xi < 0.0 && trial.abs() > s.mu * (-f_n).max(0.0)
-                })
-                .map(|(p, _)| p)
-                .collect();
-            if turned.is_empty() {
-                return Some((dz, true));
-            }
-            let mut next = directions(slips);
-            for &p in &turned {
-                next[p] = !next[p];
-            }
-            if updates == MAX_DIRECTION_UPDATES || seen.contains(&next) {
-                // The directions do not settle: the solution of the last ones.
-                return Some((dz, false));
-            }
-            for &p in &turned {
-                slips[p].xi = -slips[p].xi;
-            }
-            updates += 1;
-        }
     }
 
     /// Solves the pattern `states` at load factor `lambda` exactly, in one shot,
@@ -525,7 +498,7 @@ impl Solver<'_> {
     /// beyond the cone, then solved again; directions that do not settle are
     /// left to the law check to report). The slip forces' constant terms
     /// `z = t − c_slip a` (slip force less the stabilising spring's anchor term)
-    /// satisfy, with the pattern's K (springs included), the m × m system
+    /// satisfy, with the pattern's K (springs included), the system
     ///
     /// ```text
     ///     (I + diag(μ ξ c_n) P_n + diag(c_slip) P_s) δz = −μ ξ f_n⁰ − c_slip u_s⁰ − z⁰
@@ -533,18 +506,19 @@ impl Solver<'_> {
     ///
     /// `P_n`, `P_s` the normal and tangential jumps of the slipping pairs under a
     /// unit change of each pair's term (one solve on the interface's paths per
-    /// slipping pair: the columns of the interface's Schur complement), `f_n⁰`,
-    /// `u_s⁰`, `z⁰` those of the first solution. Its solution is the fixed point
-    /// the iteration of [`Solver::solve_pattern`] converges to, when it
-    /// converges; a singular system (a part free to slide under a load along its
-    /// faces) has none and gives `None`. A model with augmented-Lagrangian
-    /// interfaces is solved by [`Solver::solve_pattern`] (its multipliers are
-    /// iterated).
+    /// slipping pair and tangent component: the columns of the interface's
+    /// Schur complement), `f_n⁰`, `u_s⁰`, `z⁰` those of the first solution (in
+    /// 3D, the Newton steps add the radial return's turn,
+    /// [`return_map_derivative`]). Its solution is the fixed point the
+    /// iteration of [`Solver::solve_pattern`] converges to, when it converges;
+    /// a singular system (a part free to slide under a load along its faces)
+    /// has none and gives `None`. A model with augmented-Lagrangian interfaces
+    /// is solved by [`Solver::solve_pattern`] (its multipliers are iterated).
     pub fn solve_pattern_exact(
         &mut self,
         lambda: f64,
         states: &[Vec<PairState>],
-    ) -> Result<Option<IncrementResult>> {
+    ) -> Result<Option<IncrementResult<D>>> {
         let augmented = self
             .interfaces
             .iter()
@@ -558,7 +532,7 @@ impl Solver<'_> {
         let mut slips = self.slipping(states, &u0);
         if !slips.is_empty() {
             let cols = self.slip_columns(states, inc, &slips)?;
-            let Some((dz, _)) = Self::solve_slip_terms(&mut slips, &cols) else {
+            let Some((dz, _)) = solve_slip_terms(&mut slips, &cols) else {
                 return Ok(None);
             };
             self.set_slip_terms(&slips, &cols, &dz);
@@ -573,6 +547,111 @@ impl Solver<'_> {
         }];
         Ok(Some(self.finish(inc, lambda, history, u, f_int, states.to_vec(), check, false)))
     }
+}
+
+/// Solves the slipping pairs' terms of a pattern by Newton steps on the small
+/// system of their columns `cols`: the residual of each pair's term against
+/// the radial return, `R = z − (μ (−f_n) ξ − c_slip u_s)`, with ξ the
+/// direction of its trial force where that lies beyond the cone (kept
+/// otherwise: the law check then makes the pair stick), and its derivative
+/// ([`return_map_derivative`]: `μ (−δf_n) ξ` in 2D, which makes one step exact
+/// for fixed directions; the turn of ξ in 3D). A 2D pair whose trial force
+/// reversed beyond the cone slides the other way at the next step (the
+/// semi-smooth step), at most [`MAX_DIRECTION_UPDATES`] times and never back
+/// to directions already solved. Returns the changes of the terms, and whether
+/// the directions settled with the residual at round-off; `None` when the
+/// system is singular (no state of rest in the pattern).
+fn solve_slip_terms<T: Tangent>(slips: &mut [Slipping<T>], cols: &Columns) -> Option<(Vec<f64>, bool)> {
+    let c = T::COMPONENTS;
+    let m = slips.len();
+    let n = m * c;
+    let key = |slips: &[Slipping<T>]| -> Vec<u64> {
+        slips
+            .iter()
+            .flat_map(|s| (0..c).map(move |j| s.xi.component(j).to_bits()))
+            .collect()
+    };
+    let mut seen: HashSet<Vec<u64>> = HashSet::new();
+    let mut dz = vec![0.0; n];
+    for step in 0..=MAX_DIRECTION_UPDATES + 1 {
+        // The iterate: each pair's normal force, jump and trial force.
+        let at: Vec<(f64, T, T)> = (0..m)
+            .map(|p| {
+                let s = &slips[p];
+                let (dn, ds) = cols.jumps::<T>(p, &dz);
+                let u_s = s.u_s.add(ds);
+                (s.f_n + s.c_n * dn, u_s, u_s.sub(s.slip).scale(s.c_s))
+            })
+            .collect();
+        // The semi-smooth step's directions: the trial force's beyond the cone.
+        if step > 0 {
+            let mut turned = false;
+            for (s, &(f_n, _, trial)) in slips.iter_mut().zip(&at) {
+                if trial.norm() > s.mu * (-f_n).max(0.0) {
+                    let xi = trial.direction();
+                    turned |= xi != s.xi;
+                    s.xi = xi;
+                }
+            }
+            let settled = at.iter().zip(slips.iter()).enumerate().all(|(p, (&(f_n, u_s, _), s))| {
+                let r = residual(s, p, &dz, f_n, u_s);
+                let size = s.mu * f_n.abs() + s.c_slip * u_s.norm() + s.z.norm();
+                r.norm() <= 1e-10 * size.max(f64::MIN_POSITIVE)
+            });
+            if !turned && settled {
+                return Some((dz, true));
+            }
+            if step > MAX_DIRECTION_UPDATES || (turned && seen.contains(&key(slips))) {
+                return Some((dz, false));
+            }
+        }
+        seen.insert(key(slips));
+        // The Newton system J δ = −R.
+        let mut jac = Mat::<f64>::zeros(n, n);
+        for (p, (s, &(f_n, _, trial))) in slips.iter().zip(&at).enumerate() {
+            let beyond = trial.norm() > s.mu * (-f_n).max(0.0);
+            for a in 0..n {
+                let d_fn = s.c_n * cols.pn[p * n + a];
+                let mut d_us = T::default();
+                for j in 0..c {
+                    d_us.set_component(j, cols.ps[(p * c + j) * n + a]);
+                }
+                let dg = if beyond {
+                    return_map_derivative(trial, f_n, s.mu, d_fn, d_us.scale(s.c_s))
+                } else {
+                    s.xi.scale(-s.mu * d_fn)
+                };
+                for j in 0..c {
+                    let eye = if p * c + j == a { 1.0 } else { 0.0 };
+                    jac[(p * c + j, a)] = eye - dg.component(j) + s.c_slip * d_us.component(j);
+                }
+            }
+        }
+        let rhs = Mat::<f64>::from_fn(n, 1, |r, _| {
+            let (p, j) = (r / c, r % c);
+            let (f_n, u_s, _) = at[p];
+            -residual(&slips[p], p, &dz, f_n, u_s).component(j)
+        });
+        let delta = PartialPivLu::new(jac.as_ref()).solve(rhs.as_ref());
+        if (0..n).any(|r| !delta[(r, 0)].is_finite()) {
+            return None;
+        }
+        for (r, v) in dz.iter_mut().enumerate() {
+            *v += delta[(r, 0)];
+        }
+    }
+    Some((dz, false))
+}
+
+/// Pair `p`'s residual against the radial return at the terms' changes `dz`
+/// (its normal force `f_n` and jump `u_s` there): `z − (μ (−f_n) ξ − c_slip u_s)`.
+fn residual<T: Tangent>(s: &Slipping<T>, p: usize, dz: &[f64], f_n: f64, u_s: T) -> T {
+    let c = T::COMPONENTS;
+    let mut z = s.z;
+    for j in 0..c {
+        z.set_component(j, z.component(j) + dz[p * c + j]);
+    }
+    z.sub(s.xi.scale(-s.mu * f_n).sub(u_s.scale(s.c_slip)))
 }
 
 #[cfg(test)]

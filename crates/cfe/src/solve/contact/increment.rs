@@ -4,6 +4,7 @@
 //! [`SolveTimings`]) and the load path it follows ([`LoadSteps`], [`LoadPath`]).
 
 use crate::coupling::{PairHistories, PairState, PairStates, ViolationKind};
+use crate::dim::{D2, Dim};
 use crate::solve::system::Method;
 
 /// What an iterative linear back end did over a run (summary.json's
@@ -63,9 +64,10 @@ fn method_or_reuse<S: serde::Serializer>(
     serde::Serialize::serialize(&m.unwrap_or(Method::Reuse), s)
 }
 
-/// The converged result of one increment.
+/// The converged result of one increment (of a model of dimension `D`: its
+/// pairs' histories' tangent).
 #[derive(Debug, Clone)]
-pub struct IncrementResult {
+pub struct IncrementResult<D: Dim = D2> {
     /// 1-based increment number (counted over all steps).
     pub index: usize,
     /// Load factor λ of the increment's step (1 at its last increment).
@@ -108,7 +110,7 @@ pub struct IncrementResult {
     pub balance: f64,
     /// Each pair's history after this increment (plastic slip, slip force,
     /// multipliers), per interface; all zero for the seed's laws.
-    pub pair_history: PairHistories,
+    pub pair_history: PairHistories<D>,
     /// Fixed-point solves of this increment beyond the first per pattern: slip
     /// forces (Coulomb) and Uzawa steps (augmented Lagrangian), each one triangular
     /// solve with the factorization of the pattern.
@@ -138,7 +140,7 @@ pub struct MultipleOf {
     pub factor: f64,
 }
 
-impl IncrementResult {
+impl<D: Dim> IncrementResult<D> {
     /// The largest violation as a force (0 when the law holds everywhere).
     pub fn max_violation_force(&self) -> f64 {
         self.violations.iter().map(|v| v.force).fold(0.0, f64::max)

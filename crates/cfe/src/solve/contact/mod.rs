@@ -45,7 +45,8 @@
 //! The scheme reaches the coupling pairs only through [`crate::coupling::PairSet`]
 //! (the model's interfaces and DOF map as `InterfacePairs`, `Solver::pairs`):
 //! their count, law, DOFs, evaluation at u and labels; its nodal vectors, DOFs
-//! per node and tangent components are the pair set's dimension (`SchemeDim`).
+//! per node and tangent components are the dimension `D` of `Solver<'a, D>`
+//! (`D2` for the plane models built today), which every layer is generic over.
 //!
 //! The scheme is a stack of layers, each file using only those below it:
 //!

@@ -6,6 +6,7 @@
 
 use super::increment::{IncrementResult, PairViolation};
 use super::solver::Solver;
+use crate::dim::Dim;
 use crate::coupling::{
     self, CheckTolerance, LawParams, PairSet, PairState, PairStates, ViolationKind, history,
 };
@@ -40,7 +41,7 @@ impl LawCheck {
     }
 }
 
-impl Solver<'_> {
+impl<D: Dim> Solver<'_, D> {
     /// The law parameters of interface `i` as the search reads them: its
     /// friction coefficient times [`Solver::friction_factor`].
     pub(super) fn law_params(&self, i: usize) -> LawParams {
@@ -134,7 +135,7 @@ impl Solver<'_> {
     /// `s_p = [[u_s]] − f_s / c_s`, an open pair's slip follows its jump (it closes
     /// again unstressed tangentially) and loses its multipliers. Copies the history
     /// into `result`.
-    pub(super) fn commit_history(&mut self, result: &mut IncrementResult) {
+    pub(super) fn commit_history(&mut self, result: &mut IncrementResult<D>) {
         result.fixed_point_iterations = self.fixed_point;
         result.augmented_error = self.augmented_error;
         if self.proportional {

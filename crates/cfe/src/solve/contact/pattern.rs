@@ -9,7 +9,7 @@
 use super::fixed_point::FixedPointScale;
 use super::increment::{IncrementResult, Iteration, MultipleOf, count_changes};
 use super::pairs::LawCheck;
-use super::solver::{CouplingRing, SchemeDim, Solved, Solver, Spare, TrialRhs};
+use super::solver::{CouplingRing, Solved, Solver, Spare, TrialRhs};
 use crate::assembly::{self, DofMap, ElementSource, FIXED};
 use crate::coupling::{Interface, PairHistory, PairState, PairStates};
 use crate::dim::Dim;
@@ -26,7 +26,7 @@ const UPDATE_RESIDUAL_LIMIT: f64 = 1e-8;
 /// system was solved (`None`: a solved pattern scaled).
 type Solution = (Vec<f64>, Vec<f64>, Option<Method>);
 
-impl Solver<'_> {
+impl<D: Dim> Solver<'_, D> {
     /// Solves the pattern `states` once at load factor `lambda` and checks the law on
     /// every pair, without iterating: the increment a run would end on if this
     /// pattern were its answer (`settled` empty, `violations` whatever the law says).
@@ -36,7 +36,7 @@ impl Solver<'_> {
         &mut self,
         lambda: f64,
         states: &[Vec<PairState>],
-    ) -> Result<IncrementResult> {
+    ) -> Result<IncrementResult<D>> {
         let t = Instant::now();
         let (u, f_int, method) = self.solve_states(lambda, states, 1)?;
         let check = self.check_law(states, &u, &f_int, lambda);
@@ -459,14 +459,14 @@ impl Solver<'_> {
         let part_elements = assembly::PartElements::new(self.parts, self.dofs);
         let mut at_coupling = vec![false; self.dofs.n_nodes()];
         for &d in &self.coupling_dofs {
-            at_coupling[d / SchemeDim::N] = true;
+            at_coupling[d / D::N] = true;
         }
         let elements = part_elements.touching(|n| at_coupling[n]);
         let mut dofs = self.coupling_dofs.clone();
         for &e in &elements {
             part_elements.nodes(e, &mut |nodes| {
                 for &n in nodes {
-                    dofs.extend((0..SchemeDim::N).map(|c| SchemeDim::dof(n, c)));
+                    dofs.extend((0..D::N).map(|c| D::dof(n, c)));
                 }
             });
         }
@@ -500,23 +500,23 @@ impl Solver<'_> {
         states: PairStates,
         check: LawCheck,
         settled: bool,
-    ) -> IncrementResult {
+    ) -> IncrementResult<D> {
         // The increment is accepted: its right-hand side is not solved again.
         self.linear.forget_right_hand_side();
         let f_ext: Vec<f64> = self.f_ext.iter().map(|f| lambda * f).collect();
         let balance_scale = self.balance_scale(check.load_scale, check.pair_force, &u);
         let residual = self.residual(lambda, &f_int, balance_scale);
         // Σ reactions + Σ loads = Σ over fixed DOFs of (F_int − F_ext) + Σ F_ext.
-        let mut total = <SchemeDim as Dim>::Vector::default();
+        let mut total = <D as Dim>::Vector::default();
         for (d, &e) in self.dofs.eq.iter().enumerate() {
-            total.as_mut()[d % SchemeDim::N] += if e == FIXED { f_int[d] } else { f_ext[d] };
+            total.as_mut()[d % D::N] += if e == FIXED { f_int[d] } else { f_ext[d] };
         }
         // Axisymmetric forces are totals over the ring: their radial sums
         // balance through the hoop stresses, so statics checks z alone.
         if self.parts.iter().any(|p| p.material.is_axisymmetric()) {
             total.as_mut()[0] = 0.0;
         }
-        let balance = SchemeDim::length(total.as_ref()) / balance_scale.max(f64::MIN_POSITIVE);
+        let balance = D::length(total.as_ref()) / balance_scale.max(f64::MIN_POSITIVE);
         // With the proportional shortcuts the final solve either is the last
         // solution (a method) or scales it (no method); see `solve_once`.
         let multiple_of = match (&self.kept.last, history.last()) {
@@ -565,7 +565,7 @@ impl Solver<'_> {
     /// load factor `lambda`, is that solve's answer itself (its states, its load
     /// factor, a multiple 1 of it): copied once the increment is accepted, so
     /// the copies are not made beside the factor and the solve's vectors.
-    pub(super) fn keep_for_scaling(&mut self, result: &IncrementResult, lambda: f64) {
+    pub(super) fn keep_for_scaling(&mut self, result: &IncrementResult<D>, lambda: f64) {
         let Some(s) = &mut self.kept.last else {
             return;
         };
@@ -589,12 +589,12 @@ impl Solver<'_> {
 /// `history` (none for the seed's laws), from the coupling elements and the
 /// part elements around their nodes (the other DOFs hold partial sums): what a
 /// refinement on the coupling equations reads, for a few elements' work.
-fn ring_force(
+fn ring_force<D: Dim>(
     ring: &CouplingRing,
     parts: &[Part],
-    interfaces: &[Interface],
-    dofs: &DofMap,
-    history: Option<&[Vec<PairHistory>]>,
+    interfaces: &[Interface<D>],
+    dofs: &DofMap<D>,
+    history: Option<&[Vec<PairHistory<D>>]>,
     states: &[Vec<PairState>],
     u: &[f64],
 ) -> Vec<f64> {

@@ -11,24 +11,21 @@ use crate::assembly::{DofMap, FIXED};
 use crate::coupling::{
     Interface, InterfacePairs, Law, PairHistories, PairHistory, PairSet, PairState, PairStates,
 };
-use crate::dim::Dim;
+use crate::dim::{D2, Dim};
 use crate::domain::{CG_TOLERANCE, LinearBackend, Part, Scheme, Settings};
 use crate::error::{Error, Result};
 use crate::solve::backend::{Analyse, LinearFailure, LinearSolver, Outcome, Problem, Statistics};
 use crate::solve::direct::Cholesky;
 use crate::solve::iterative::ConjugateGradients;
+use crate::solve::friction_hold::FrictionHold;
 use crate::solve::support;
 use crate::solve::system::{ContactSystem, UpdatePolicy};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// The pair set the scheme reaches the pairs through ([`PairSet`]): the
-/// model's interfaces with its DOF numbering.
-pub(super) type Pairs<'a> = InterfacePairs<'a>;
-
-/// The dimension of the scheme's pairs (its nodal vectors, DOFs per node and
-/// tangent), read from its pair set.
-pub(super) type SchemeDim = <Pairs<'static> as PairSet>::Dim;
+/// model's interfaces of dimension `D` with its DOF numbering.
+pub(super) type Pairs<'a, D> = InterfacePairs<'a, D>;
 
 /// The solution of one state set, kept to answer the same states at another λ.
 pub(super) struct Solved {
@@ -75,11 +72,13 @@ pub(super) struct Kept {
     pub(super) spare: Spare,
 }
 
-/// The incremental solver for one model.
-pub struct Solver<'a> {
+/// The incremental solver for one model of dimension `D` (its nodal vectors,
+/// DOFs per node, tangent and rigid modes: [`D2`] for the plane models built
+/// today). The scheme reads the dimension only through `D`.
+pub struct Solver<'a, D: Dim = D2> {
     pub(super) parts: &'a [Part],
-    pub(super) interfaces: &'a [Interface],
-    pub(super) dofs: &'a DofMap,
+    pub(super) interfaces: &'a [Interface<D>],
+    pub(super) dofs: &'a DofMap<D>,
     pub(super) settings: &'a Settings,
     pub(super) f_ext: Vec<f64>,
     /// The linear back end every pattern is solved by, behind the seam
@@ -93,10 +92,10 @@ pub struct Solver<'a> {
     /// The iterations of every solve of an iterative back end (`None`: direct).
     pub(super) iterative: Option<IterativeSolves>,
     /// The support check's constant part (frames and fixed DOFs).
-    pub(super) supports: support::SupportCheck,
+    pub(super) supports: support::SupportCheck<D>,
     /// The parts friction alone holds along their faces, checked against each
     /// increment's load before it is solved.
-    pub(super) friction_hold: support::FrictionHold,
+    pub(super) friction_hold: FrictionHold<D>,
     /// What the solves of patterns keep from one to the next.
     pub(super) kept: Kept,
     pub(super) initial: Option<PairStates>,
@@ -109,11 +108,11 @@ pub struct Solver<'a> {
     /// solved again.
     pub(super) proportional: bool,
     /// Each pair's history (plastic slip, slip force, multipliers).
-    pub(super) history: PairHistories,
+    pub(super) history: PairHistories<D>,
     /// The history the increment starts from (the last one committed): every
     /// iteration of an increment starts from it, and a pair that was closed there
     /// closes again on its plastic slip.
-    pub(super) committed: PairHistories,
+    pub(super) committed: PairHistories<D>,
     /// The pairs closed where the increment starts: at the end of the last
     /// increment, or, before the first, the pairs touching (g₀ ≤ 0).
     pub(super) closed_at_start: Vec<Vec<bool>>,
@@ -169,9 +168,9 @@ pub(super) struct TrialRhs {
     pub(super) rhs: Vec<f64>,
 }
 
-impl<'a> Solver<'a> {
+impl<'a, D: Dim> Solver<'a, D> {
     /// The pairs the scheme solves with, through the [`PairSet`] it reads them by.
-    pub(super) fn pairs(&self) -> Pairs<'a> {
+    pub(super) fn pairs(&self) -> Pairs<'a, D> {
         InterfacePairs::new(self.interfaces, self.dofs)
     }
 
@@ -181,8 +180,8 @@ impl<'a> Solver<'a> {
     /// [`Error::Interrupted`]) and then as [`Solver::set_stop`] says.
     pub fn new(
         parts: &'a [Part],
-        interfaces: &'a [Interface],
-        dofs: &'a DofMap,
+        interfaces: &'a [Interface<D>],
+        dofs: &'a DofMap<D>,
         f_ext: Vec<f64>,
         settings: &'a Settings,
         stop: Option<&'a AtomicUsize>,
@@ -203,11 +202,11 @@ impl<'a> Solver<'a> {
             pattern_and_symbolic: t.elapsed().as_secs_f64(),
             ..Default::default()
         };
-        let total_load = total_force::<SchemeDim>(&f_ext);
+        let total_load = total_force::<D>(&f_ext);
         let proportional = !interfaces.iter().any(Interface::non_proportional);
         let pairs = InterfacePairs::new(interfaces, dofs);
         let each_pair = |i: usize| (0..pairs.pair_count(i)).map(move |k| (i, k));
-        let history: PairHistories = (0..pairs.interface_count())
+        let history: PairHistories<D> = (0..pairs.interface_count())
             .map(|i| vec![PairHistory::default(); pairs.pair_count(i)])
             .collect();
         let mut solver = Solver {
@@ -220,7 +219,7 @@ impl<'a> Solver<'a> {
             guess: Vec::new(),
             iterative,
             supports: support::SupportCheck::new(parts, dofs),
-            friction_hold: support::FrictionHold::new(parts, interfaces, dofs),
+            friction_hold: FrictionHold::new(parts, interfaces, dofs),
             initial: None,
             settled_pattern: None,
             scales: model_scales(parts, &pairs, dofs, total_load),
@@ -363,7 +362,7 @@ impl<'a> Solver<'a> {
         self.scales.largest_prescribed = steps
             .prescribed
             .iter()
-            .map(|p| largest_off::<SchemeDim>(p, &[]))
+            .map(|p| largest_off::<D>(p, &[]))
             .fold(self.scales.largest_prescribed, f64::max);
         let loaded = steps.loaded();
         // A reversed load breaks the contact states' homogeneity (a bonded
@@ -374,7 +373,7 @@ impl<'a> Solver<'a> {
             self.path.factors = Some(steps.increments.iter().map(|(_, f)| f[s]).collect());
             self.f_ext = std::mem::take(&mut steps.forces[s]);
             self.path.prescribed = Some(std::mem::take(&mut steps.prescribed[s]));
-            self.scales.total_load = total_force::<SchemeDim>(&self.f_ext);
+            self.scales.total_load = total_force::<D>(&self.f_ext);
         } else {
             self.proportional = false;
             self.path.factors = Some(vec![1.0; steps.increments.len()]);
@@ -393,7 +392,7 @@ impl<'a> Solver<'a> {
         let prescribed = path.prescribed.get_or_insert_with(Vec::new);
         prescribed.resize(self.f_ext.len(), 0.0);
         steps.combine(k, &mut self.f_ext, prescribed);
-        self.scales.total_load = total_force::<SchemeDim>(&self.f_ext);
+        self.scales.total_load = total_force::<D>(&self.f_ext);
     }
 
     /// Where increment `inc` (1-based, solved at factor `lambda`) is on the load
@@ -469,7 +468,7 @@ impl<'a> Solver<'a> {
         if self.proportional {
             return self.load_scale_of_forces(lambda, f_int);
         }
-        self.load_scale_with(lambda, f_int, largest_off::<SchemeDim>(u, &[]))
+        self.load_scale_with(lambda, f_int, largest_off::<D>(u, &[]))
     }
 
     /// [`Solver::load_scale`] without the proportional shortcuts, given the
@@ -486,7 +485,7 @@ impl<'a> Solver<'a> {
             .dofs
             .reactions(self.dofs.support_count(), f_int, &self.f_ext, lambda)
             .iter()
-            .map(|r| SchemeDim::length(r))
+            .map(|r| D::length(r.as_ref()))
             .fold(0.0, f64::max);
         self.scales.of_forces(lambda, largest)
     }
@@ -495,7 +494,7 @@ impl<'a> Solver<'a> {
     /// against ([`Scales::balance`]), from its load scale and largest pair force.
     pub(super) fn balance_scale(&self, load_scale: f64, pair_force: f64, u: &[f64]) -> f64 {
         self.scales
-            .balance(load_scale, pair_force, largest_off::<SchemeDim>(u, &[]))
+            .balance(load_scale, pair_force, largest_off::<D>(u, &[]))
     }
 
     /// Largest out-of-balance force at a free DOF relative to `scale`.
@@ -536,8 +535,8 @@ impl<'a> Solver<'a> {
             }
         };
         let d = self.dofs.eq.iter().position(|&e| e == eq).unwrap_or(0);
-        let (p, n) = self.dofs.locate(d / SchemeDim::N);
-        let c = d % SchemeDim::N;
+        let (p, n) = self.dofs.locate(d / D::N);
+        let c = d % D::N;
         Error::NotPositiveDefinite {
             increment: inc,
             part: self.parts[p].name.clone(),
@@ -556,9 +555,9 @@ impl<'a> Solver<'a> {
 /// reading `stop` during that analysis), and, for an iterative one, the record
 /// of its solves.
 #[allow(clippy::type_complexity)]
-fn linear_back_end<'a>(
+fn linear_back_end<'a, D: Dim>(
     kind: LinearBackend,
-    problem: Problem<'a>,
+    problem: Problem<'a, D>,
     stop: Option<&'a AtomicUsize>,
 ) -> Result<(Box<dyn LinearSolver<'a> + 'a>, Option<IterativeSolves>)> {
     let Problem {
@@ -588,10 +587,10 @@ fn linear_back_end<'a>(
 }
 
 /// The model's sizes the load and balance scales and the drift guard read.
-fn model_scales(
+fn model_scales<D: Dim>(
     parts: &[Part],
-    pairs: &impl PairSet<Dim = SchemeDim>,
-    dofs: &DofMap,
+    pairs: &impl PairSet<Dim = D>,
+    dofs: &DofMap<D>,
     total_load: f64,
 ) -> Scales {
     Scales {
@@ -602,7 +601,7 @@ fn model_scales(
             .fold(0.0, f64::max),
         largest_prescribed: (0..pairs.interface_count())
             .flat_map(|i| (0..pairs.pair_count(i)).map(move |k| pairs.initial_gap(i, k).abs()))
-            .fold(largest_off::<SchemeDim>(&dofs.prescribed, &[]), f64::max),
+            .fold(largest_off::<D>(&dofs.prescribed, &[]), f64::max),
         stiffest: parts
             .iter()
             .map(|p| p.material.young * p.material.thickness)

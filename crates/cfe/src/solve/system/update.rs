@@ -7,6 +7,7 @@
 use super::{ContactSystem, Half, Method, Read, UPDATE_FLOP_WEIGHT, UpdatePolicy};
 use crate::assembly::{DofMap, FIXED};
 use crate::coupling::{Interface, PairState};
+use crate::dim::{Dim, Tangent};
 use crate::solve::capacitance::{Capacitance, Entry};
 use crate::solve::columns::{Columns, SparseColumn};
 use crate::solve::factor::Halt;
@@ -17,10 +18,10 @@ impl ContactSystem<'_> {
     /// elimination order) for the backward solve, on the rows `read` (the others
     /// meaningless), or, when a new factorization is needed or cheaper, the
     /// complete solution in `rhs`.
-    pub(super) fn forward_half(
+    pub(super) fn forward_half<D: Dim>(
         &mut self,
-        interfaces: &[Interface],
-        dofs: &DofMap,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
         states: &[Vec<PairState>],
         rhs: &mut [f64],
         rhs_on_interface: bool,
@@ -32,6 +33,7 @@ impl ContactSystem<'_> {
                 .map(Half::Solved);
         };
         let (flips, changes) = flipped_pairs(interfaces, states, base);
+        let per_pair = columns_per_pair::<D>();
         if flips.is_empty() {
             let t = Instant::now();
             let z = self.forward_solve(rhs, rhs_on_interface, read);
@@ -44,14 +46,14 @@ impl ContactSystem<'_> {
             .filter(|p| !self.cached.contains_key(p))
             .collect();
         if new.is_empty() {
-            let entries = self.correction(&flips, &changes);
+            let entries = self.correction(&flips, &changes, per_pair);
             if let Some(cap) = self.capacitance.take_if(|c| c.entries() == entries.as_slice()) {
                 return Ok(self.same_correction(cap, rhs, rhs_on_interface, read));
             }
         }
         let cols = self.new_columns(interfaces, dofs, &new);
         let paths: Vec<Vec<u32>> = cols.iter().map(|c| Columns::path(&self.chol, c)).collect();
-        let r = (2 * flips.len()) as f64;
+        let r = (per_pair * flips.len()) as f64;
         // The dense system costed as one LU of it (an upper bound: a change of a
         // few entries is bordered, see `super::capacitance`).
         let dense = 2.0 / 3.0 * r * r * r;
@@ -59,7 +61,7 @@ impl ContactSystem<'_> {
         let cost_factor = self.chol.factor_flops() + self.chol.solve_flops();
         let memory = self.columns.bytes()
             + 8 * paths.iter().map(|p| self.path_width(p)).sum::<usize>()
-            + self.columns.gram_bytes_with(2 * self.cached.len() + cols.len());
+            + self.columns.gram_bytes_with(per_pair * self.cached.len() + cols.len());
         let cheaper = match self.policy {
             UpdatePolicy::Auto => UPDATE_FLOP_WEIGHT * cost_update < cost_factor,
             UpdatePolicy::Always => true,
@@ -75,10 +77,10 @@ impl ContactSystem<'_> {
         // when it is not kept, the backward one full or on the interface).
         self.flops += cost_update - self.chol.solve_flops() - dense;
         if !cols.is_empty() {
-            self.cache_columns(&new, &cols, paths);
+            self.cache_columns(&new, &cols, paths, per_pair);
         }
         let mut z = self.forward_solve(rhs, rhs_on_interface, read);
-        let entries = self.correction(&flips, &changes);
+        let entries = self.correction(&flips, &changes, per_pair);
         let r = entries.len();
         let columns = &self.columns;
         let gram = |a: usize, b: usize| columns.gram(a, b);
@@ -134,12 +136,19 @@ impl ContactSystem<'_> {
     /// The Woodbury correction of the flipped pairs: the cached columns whose
     /// penalty changed and the change (±c_k: a pair bonding or opening changes
     /// both, a stick pair slipping or a frictionless pair closing only the normal
-    /// one; a segment element's penalties include its weight).
-    fn correction(&self, flips: &[(usize, usize)], changes: &[[f64; 2]]) -> Vec<Entry> {
-        let mut entries = Vec::with_capacity(2 * flips.len());
+    /// one; a segment element's penalties include its weight). A pair has
+    /// `per_pair` columns: the normal one (c_n), then one per tangent (c_s).
+    fn correction(
+        &self,
+        flips: &[(usize, usize)],
+        changes: &[[f64; 2]],
+        per_pair: usize,
+    ) -> Vec<Entry> {
+        let mut entries = Vec::with_capacity(per_pair * flips.len());
         for (p, change) in flips.iter().zip(changes) {
             let c = self.cached[p];
-            for (t, &dc) in change.iter().enumerate() {
+            for t in 0..per_pair {
+                let dc = change[t.min(1)];
                 if dc != 0.0 {
                     entries.push(Entry {
                         column: c + t,
@@ -161,13 +170,13 @@ impl ContactSystem<'_> {
 
     /// The correction columns of the pairs `new` (not cached yet), their rows
     /// in the elimination order.
-    fn new_columns(
+    fn new_columns<D: Dim>(
         &self,
-        interfaces: &[Interface],
-        dofs: &DofMap,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
         new: &[(usize, usize)],
     ) -> Vec<SparseColumn> {
-        let mut cols = Vec::with_capacity(2 * new.len());
+        let mut cols = Vec::with_capacity(columns_per_pair::<D>() * new.len());
         for &(i, k) in new {
             for col in pair_columns(&interfaces[i], k, dofs) {
                 cols.push(SparseColumn {
@@ -184,11 +193,17 @@ impl ContactSystem<'_> {
     }
 
     /// Forward-solves the columns `cols` of the pairs `new` along their `paths`
-    /// and caches them.
-    fn cache_columns(&mut self, new: &[(usize, usize)], cols: &[SparseColumn], paths: Vec<Vec<u32>>) {
+    /// and caches them (`per_pair` consecutive columns a pair).
+    fn cache_columns(
+        &mut self,
+        new: &[(usize, usize)],
+        cols: &[SparseColumn],
+        paths: Vec<Vec<u32>>,
+        per_pair: usize,
+    ) {
         let first = self.columns.add(&self.chol, cols, paths);
         for (j, &(i, k)) in new.iter().enumerate() {
-            self.cached.insert((i, k), first + 2 * j);
+            self.cached.insert((i, k), first + per_pair * j);
         }
         // The columns' blocks grow by reallocation (each supernode's), and
         // their sparse solves' scratch is freed: pages that would stay
@@ -204,8 +219,8 @@ impl ContactSystem<'_> {
 /// The pairs whose state differs from the base states (interface, pair), and
 /// the change of each one's penalties (c_n, c_s) from its base state.
 #[allow(clippy::type_complexity)]
-fn flipped_pairs(
-    interfaces: &[Interface],
+fn flipped_pairs<D: Dim>(
+    interfaces: &[Interface<D>],
     states: &[Vec<PairState>],
     base: &[Vec<PairState>],
 ) -> (Vec<(usize, usize)>, Vec<[f64; 2]>) {
@@ -238,15 +253,22 @@ struct Column {
     w: Vec<f64>,
 }
 
-/// The two correction columns (normal, tangential) of pair `k` of `iface`: the
-/// element's rank-2 terms `w_k` restricted to the free equations (their weights,
-/// the change of the penalty c_k between the base state and the current one, are
-/// taken at each solve).
-fn pair_columns(iface: &Interface, k: usize, dofs: &DofMap) -> [Column; 2] {
+/// The correction columns of a pair of dimension `D`: one per local axis
+/// (the normal, then each tangent).
+fn columns_per_pair<D: Dim>() -> usize {
+    1 + <D::Tangent as Tangent>::COMPONENTS
+}
+
+/// The correction columns (normal, then each tangent) of pair `k` of `iface`:
+/// the element's rank-one terms `w_k` restricted to the free equations (their
+/// weights, the change of the penalty c_k between the base state and the
+/// current one, are taken at each solve).
+fn pair_columns<D: Dim>(iface: &Interface<D>, k: usize, dofs: &DofMap<D>) -> Vec<Column> {
     let c = &iface.elements[k];
     let g = c.dofs(dofs, iface.host, iface.node_part);
     let g = g.as_slice();
-    c.stiffness_terms(iface.c_n, iface.c_s).map(|(_, w)| {
+    let mut cols = Vec::with_capacity(columns_per_pair::<D>());
+    c.for_each_stiffness_term(iface.c_n, iface.c_s, |_, _, w| {
         let mut col = Column {
             eq: Vec::with_capacity(g.len()),
             w: Vec::with_capacity(g.len()),
@@ -258,6 +280,7 @@ fn pair_columns(iface: &Interface, k: usize, dofs: &DofMap) -> [Column; 2] {
                 col.w.push(w[p]);
             }
         }
-        col
-    })
+        cols.push(col);
+    });
+    cols
 }
