@@ -126,9 +126,9 @@ fn the_quarter_shrink_fit_with_friction_holds_the_law_on_every_pair() {
 }
 
 /// Every increment of `a` solved to its end with `how` solving the patterns'
-/// slip forces, and what the Newton steps did (patterns solved, left to the
-/// fixed point).
-fn run_with(a: &Analysis, how: FrictionSolve) -> (Vec<IncrementResult>, (usize, usize)) {
+/// slip forces, and what the Newton steps did: patterns solved, left to the
+/// fixed point, with their columns from the cached condensed operator.
+fn run_with(a: &Analysis, how: FrictionSolve) -> (Vec<IncrementResult>, (usize, usize, usize)) {
     let mut model = a.model.clone();
     model.settings.friction_solve = how;
     let b = Analysis::new(model).expect("pairs found");
@@ -139,8 +139,8 @@ fn run_with(a: &Analysis, how: FrictionSolve) -> (Vec<IncrementResult>, (usize, 
         Ok(())
     })
     .expect("converges");
-    let counts = s.newton_counts();
-    (incs, (counts.solved, counts.fallbacks))
+    let c = s.newton_counts();
+    (incs, (c.solved, c.fallbacks, c.cached))
 }
 
 /// The law on every pair of `inc` from its own forces (compression, |f_s| ≤ μ
@@ -181,23 +181,39 @@ fn assert_coulomb(a: &Analysis, inc: &IncrementResult, what: &str) {
     }
 }
 
-/// `friction_solve = "newton"` on the seed's plate (μ = 0.2) and on
-/// Cattaneo–Mindlin (μ = 0.3: a normal increment, then shear ones): the
-/// patterns' slip forces are solved by Newton steps (some taken), and every
-/// increment ends on the default fixed point's pattern, with its displacements
-/// to 1e-7 of the largest and Coulomb's law on every pair.
+/// `friction_solve = "newton"` on the seed's plate (μ = 0.2), on
+/// Cattaneo–Mindlin (μ = 0.3: a normal increment, then shear ones) and on the
+/// roller in its cradle (μ = 0.3): the patterns' slip forces are solved by
+/// Newton steps whose columns come from the interface's condensed operator
+/// (the cached low-rank columns, no solve), and every increment ends on the
+/// default fixed point's pattern, with its displacements to 1e-7 of the
+/// largest and Coulomb's law on every pair. The Newton step is the fixed
+/// point's limit: on the plate the fixed point confirms it at its first check
+/// (one solve moving the solution per pattern, none of its own steps).
 #[test]
 fn the_newton_solve_of_the_slip_forces_gives_the_fixed_points_answer() {
     let cattaneo = Model::from_file(&common::example_path("hertz/cattaneo.toml"), 1).unwrap();
+    let roller = Model::from_file(
+        &common::example_path("roller_in_cradle/roller_in_cradle.toml"),
+        1,
+    )
+    .unwrap();
+    let mut roller_coulomb = roller.clone();
+    for iface in &mut roller_coulomb.interfaces {
+        iface.law = cfe::coupling::Law::Coulomb;
+        iface.friction = 0.3;
+    }
     let cases = [
         ("plate", common::analysis(&plate_coulomb())),
         ("cattaneo", Analysis::new(cattaneo).unwrap()),
+        ("roller", Analysis::new(roller_coulomb).unwrap()),
     ];
     for (what, a) in &cases {
         let (fixed, none) = run_with(a, FrictionSolve::FixedPoint);
-        assert_eq!(none, (0, 0), "{what}: off by default");
+        assert_eq!(none, (0, 0, 0), "{what}: off by default");
         let (newton, counts) = run_with(a, FrictionSolve::Newton);
         assert!(counts.0 > 0, "{what}: {counts:?}");
+        assert_eq!(counts.2, counts.0 + counts.1, "{what}: {counts:?}");
         assert_eq!(fixed.len(), newton.len(), "{what}");
         for (f, n) in fixed.iter().zip(&newton) {
             let what = format!("{what}, increment {}", n.index);
@@ -209,6 +225,14 @@ fn the_newton_solve_of_the_slip_forces_gives_the_fixed_points_answer() {
                     .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
             assert!(diff <= 1e-7 * scale, "{what}: {diff} of {scale}");
             assert_coulomb(a, n, &what);
+            if what.starts_with("plate") {
+                assert!(
+                    n.fixed_point_iterations <= n.iterations,
+                    "{what}: {} solves for {} patterns",
+                    n.fixed_point_iterations,
+                    n.iterations
+                );
+            }
         }
     }
 }

@@ -283,8 +283,11 @@ pub fn newton_condensed(
 pub const MAX_DIRECTION_UPDATES: usize = 8;
 
 /// Most slipping pairs a pattern's Newton step ([`Solver::newton_slip_terms`])
-/// takes: beyond it the fixed point alone (its Anderson steps, a Krylov method
-/// on the same affine map, are then fewer than the columns' solves).
+/// takes when its columns must be solved for (a back end without the cached
+/// condensed operator, or no factorization kept for the pattern): beyond it the
+/// fixed point alone (its Anderson steps, a Krylov method on the same affine
+/// map, are then fewer than the columns' solves). Columns read from the cache
+/// have no such limit.
 pub const MAX_NEWTON_SLIPPING: usize = 60;
 
 /// A slipping Coulomb pair as a pattern's exact solve reads it (tangents `T`:
@@ -362,8 +365,9 @@ impl<D: Dim> Solver<'_, D> {
     /// change and confirms them (typically at its first check). `None` — the
     /// history untouched, the fixed point alone as by default — when the
     /// setting is off, an interface is augmented (its multipliers are
-    /// iterated), no pair slips or more than [`MAX_NEWTON_SLIPPING`] do (the
-    /// columns would cost more solves than the fixed point's steps), the
+    /// iterated), no pair slips, the columns cannot be read from the cached
+    /// condensed operator and more than [`MAX_NEWTON_SLIPPING`] pairs slip
+    /// (they would cost more solves than the fixed point's steps), the
     /// small system is singular (no state of rest in the pattern), or its
     /// directions do not settle.
     pub(super) fn newton_slip_terms(
@@ -380,10 +384,12 @@ impl<D: Dim> Solver<'_, D> {
             return Ok(None);
         }
         let mut slips = self.slipping(states, u);
-        if slips.is_empty() || slips.len() > MAX_NEWTON_SLIPPING {
+        if slips.is_empty() {
             return Ok(None);
         }
-        let cols = self.slip_columns(states, inc, &slips)?;
+        let Some(cols) = self.slip_columns(states, inc, &slips, MAX_NEWTON_SLIPPING)? else {
+            return Ok(None);
+        };
         let Some((dz, true)) = solve_slip_terms(&mut slips, &cols) else {
             self.newton.fallbacks += 1;
             return Ok(None);
@@ -429,10 +435,62 @@ impl<D: Dim> Solver<'_, D> {
         slips
     }
 
+    /// The columns of the slipping pairs `slips` of `states`: from the
+    /// interface's condensed operator when the back end keeps it
+    /// ([`Solver::cached_slip_columns`]), else by solves when at most
+    /// `most_solved` pairs slip (`None` beyond).
+    fn slip_columns(
+        &mut self,
+        states: &[Vec<PairState>],
+        inc: usize,
+        slips: &[Slipping<D::Tangent>],
+        most_solved: usize,
+    ) -> Result<Option<Columns>> {
+        if let Some(cols) = self.cached_slip_columns(states, slips) {
+            self.newton.cached += 1;
+            return Ok(Some(cols));
+        }
+        if slips.len() > most_solved {
+            return Ok(None);
+        }
+        self.solved_slip_columns(states, inc, slips).map(Some)
+    }
+
+    /// The columns of the slipping pairs `slips` of `states` from the pairs'
+    /// flexibility under the pattern's K ([`crate::solve::backend::PairFlexibility`]: Gram entries of
+    /// the cached correction columns and the kept capacitance, no solve with
+    /// the factor). A unit term along tangential axis b of pair q is a local
+    /// force on it, so the jumps it causes are minus its flexibility column.
+    /// `None` when the back end cannot give it.
+    fn cached_slip_columns(
+        &mut self,
+        states: &[Vec<PairState>],
+        slips: &[Slipping<D::Tangent>],
+    ) -> Option<Columns> {
+        let c = <D::Tangent as Tangent>::COMPONENTS;
+        let (m, per) = (slips.len(), c + 1);
+        let n = m * c;
+        let pairs: Vec<(usize, usize)> = slips.iter().map(|s| (s.i, s.k)).collect();
+        let f = self.linear.flexibility()?.pair_flexibility(states, &pairs)?;
+        let mut cols = Columns {
+            pn: vec![0.0; m * n],
+            ps: vec![0.0; n * n],
+        };
+        for p in 0..m {
+            for a in 0..n {
+                cols.pn[p * n + a] = -f[(p * per) * n + a];
+                for j in 0..c {
+                    cols.ps[(p * c + j) * n + a] = -f[(p * per + 1 + j) * n + a];
+                }
+            }
+        }
+        Some(cols)
+    }
+
     /// The columns of the slipping pairs `slips` of `states`: each component
     /// of each pair's term raised by 1, its force change solved on the
     /// interface's paths.
-    fn slip_columns(
+    fn solved_slip_columns(
         &mut self,
         states: &[Vec<PairState>],
         inc: usize,
@@ -531,7 +589,9 @@ impl<D: Dim> Solver<'_, D> {
         let (u0, _, _) = self.solve_once(lambda, states, inc)?;
         let mut slips = self.slipping(states, &u0);
         if !slips.is_empty() {
-            let cols = self.slip_columns(states, inc, &slips)?;
+            let cols = self
+                .slip_columns(states, inc, &slips, usize::MAX)?
+                .expect("columns by solves when not cached");
             let Some((dz, _)) = solve_slip_terms(&mut slips, &cols) else {
                 return Ok(None);
             };
@@ -616,7 +676,11 @@ fn solve_slip_terms<T: Tangent>(slips: &mut [Slipping<T>], cols: &Columns) -> Op
                 for j in 0..c {
                     d_us.set_component(j, cols.ps[(p * c + j) * n + a]);
                 }
-                let dg = if beyond {
+                // A pair pulled apart carries no slip force (the cone is
+                // closed): its derivative is zero, the semi-smooth branch.
+                let dg = if f_n > 0.0 {
+                    T::default()
+                } else if beyond {
                     return_map_derivative(trial, f_n, s.mu, d_fn, d_us.scale(s.c_s))
                 } else {
                     s.xi.scale(-s.mu * d_fn)
@@ -644,14 +708,15 @@ fn solve_slip_terms<T: Tangent>(slips: &mut [Slipping<T>], cols: &Columns) -> Op
 }
 
 /// Pair `p`'s residual against the radial return at the terms' changes `dz`
-/// (its normal force `f_n` and jump `u_s` there): `z − (μ (−f_n) ξ − c_slip u_s)`.
+/// (its normal force `f_n` and jump `u_s` there): `z − (μ max(−f_n, 0) ξ −
+/// c_slip u_s)`.
 fn residual<T: Tangent>(s: &Slipping<T>, p: usize, dz: &[f64], f_n: f64, u_s: T) -> T {
     let c = T::COMPONENTS;
     let mut z = s.z;
     for j in 0..c {
         z.set_component(j, z.component(j) + dz[p * c + j]);
     }
-    z.sub(s.xi.scale(-s.mu * f_n).sub(u_s.scale(s.c_slip)))
+    z.sub(s.xi.scale(s.mu * (-f_n).max(0.0)).sub(u_s.scale(s.c_slip)))
 }
 
 #[cfg(test)]

@@ -267,6 +267,9 @@ pub struct NewtonCounts {
     pub solved: usize,
     /// Patterns it left to the fixed point.
     pub fallbacks: usize,
+    /// Patterns whose columns came from the interface's condensed operator
+    /// (the cached correction columns), not from solves.
+    pub cached: usize,
 }
 
 #[cfg(test)]
