@@ -21,10 +21,11 @@
 //!
 //! In a run, `[analysis] friction_solve = "newton"` (off by default) starts
 //! every pattern's fixed point on the slip forces with their Newton step
-//! ([`Solver::newton_slip_terms`]); the fixed point confirms them and remains
-//! the fallback. The search over patterns is still the active set's, not
-//! [`newton_condensed`]; docs/method.md gives what remains (the columns from
-//! the low-rank cache, then the search as this Newton loop) and why.
+//! ([`Solver::newton_slip_terms`]), its columns read from the interface's
+//! condensed operator the low-rank machinery caches
+//! ([`crate::solve::backend::PairFlexibility`]); the fixed point confirms them
+//! and remains the fallback. The search over patterns is still the active
+//! set's, not [`newton_condensed`]; docs/method.md gives what remains and why.
 
 use super::increment::{IncrementResult, Iteration, NewtonCounts, count_changes};
 use super::solver::Solver;
