@@ -46,6 +46,30 @@ impl LinearBackend {
 /// back end must reach; a solve that does not ends the run with an error.
 pub const CG_TOLERANCE: f64 = 1e-10;
 
+/// How a pattern's slip forces of slipping Coulomb pairs are solved
+/// (`[analysis] friction_solve`; docs/method.md §2.1, "A Newton solve of
+/// Coulomb friction").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FrictionSolve {
+    /// The Anderson-accelerated fixed point on the slip forces (default).
+    #[default]
+    FixedPoint,
+    /// The pattern's slip forces solved in one shot (its Newton step: the
+    /// slipping pairs' Schur-complement columns and one small dense solve, the
+    /// slip directions updated within the pattern), the fixed point then
+    /// confirming them; where the small system is singular or its directions
+    /// do not settle, the fixed point alone, as by default.
+    Newton,
+}
+
+impl FrictionSolve {
+    /// Whether this is the default (then summary.json does not name it).
+    pub fn is_fixed_point(&self) -> bool {
+        *self == FrictionSolve::FixedPoint
+    }
+}
+
 /// Where the `active-set` iteration of the first increment starts (`[analysis] start`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -101,6 +125,10 @@ pub struct Settings {
     /// The linear solver: `direct` (default) or `cg`.
     #[serde(skip_serializing_if = "LinearBackend::is_direct")]
     pub solver: LinearBackend,
+    /// How the slip forces of a pattern's slipping Coulomb pairs are solved:
+    /// `fixed-point` (default) or `newton`.
+    #[serde(skip_serializing_if = "FrictionSolve::is_fixed_point")]
+    pub friction_solve: FrictionSolve,
 }
 
 /// [`Settings::output_every`] for "write only the last increment (of each step)":
@@ -167,6 +195,7 @@ impl Default for Settings {
             max_residual: 1e-4,
             output_every: 1,
             solver: LinearBackend::Direct,
+            friction_solve: FrictionSolve::FixedPoint,
         }
     }
 }

@@ -118,7 +118,9 @@ pub use coupling::{
     CouplingElement, Enforcement, Interface, Law, PairState, PairStates, ViolationKind,
 };
 pub use dofs::DofMap;
-pub use domain::{InterfaceDef, LinearBackend, Load, OUTPUT_LAST, Part, Scheme, Settings, Support};
+pub use domain::{
+    FrictionSolve, InterfaceDef, LinearBackend, Load, OUTPUT_LAST, Part, Scheme, Settings, Support,
+};
 pub use error::{DeckFault, Error, Result};
 pub use fem::material::{Material, PlaneKind};
 pub use fem::recovery::PartStress;

@@ -7,6 +7,7 @@
 mod common;
 
 use cfe::coupling::PairState;
+use cfe::{Analysis, FrictionSolve, IncrementResult, Model};
 use common::Problem;
 
 /// The seed's plate on its base with the Coulomb law (μ = 0.2): the plate is
@@ -119,6 +120,118 @@ fn the_quarter_shrink_fit_with_friction_holds_the_law_on_every_pair() {
                     }
                 }
                 assert!(last.residual <= 1e-8, "{what}: residual {}", last.residual);
+            }
+        }
+    }
+}
+
+/// Every increment of `a` solved to its end with `how` solving the patterns'
+/// slip forces, and what the Newton steps did: patterns solved, left to the
+/// fixed point, with their columns from the cached condensed operator.
+fn run_with(a: &Analysis, how: FrictionSolve) -> (Vec<IncrementResult>, (usize, usize, usize)) {
+    let mut model = a.model.clone();
+    model.settings.friction_solve = how;
+    let b = Analysis::new(model).expect("pairs found");
+    let mut s = b.solver().expect("a solver");
+    let mut incs = Vec::new();
+    s.run(|inc| {
+        incs.push(inc.clone());
+        Ok(())
+    })
+    .expect("converges");
+    let c = s.newton_counts();
+    (incs, (c.solved, c.fallbacks, c.cached))
+}
+
+/// The law on every pair of `inc` from its own forces (compression, |f_s| ≤ μ
+/// |f_n| sticking, = μ |f_n| slipping, open pairs force-free and not
+/// penetrating), to 1e-6 of the largest normal force.
+fn assert_coulomb(a: &Analysis, inc: &IncrementResult, what: &str) {
+    assert!(inc.violations.is_empty(), "{what}: {:?}", inc.violations);
+    assert!(inc.settled.is_empty(), "{what}");
+    for (i, iface) in a.interfaces.iter().enumerate() {
+        let law = iface.params();
+        let forces: Vec<_> = (0..iface.elements.len())
+            .map(|k| {
+                let (state, h) = (inc.states[i][k], &inc.pair_history[i][k]);
+                let p = iface.pair_at(k, &a.dofs, &inc.u, state, h);
+                (state, p.gap, p.force)
+            })
+            .collect();
+        let tol = 1e-6 * forces.iter().fold(0.0f64, |m, f| m.max(f.2.0.abs()));
+        for (k, (state, gap, f)) in forces.into_iter().enumerate() {
+            let cone = law.friction * (-f.0).max(0.0);
+            match state {
+                PairState::Open => {
+                    assert_eq!(f, (0.0, 0.0), "{what}: pair {k}");
+                    assert!(gap >= -1e-6, "{what}: pair {k} penetrates {gap}");
+                }
+                PairState::Bonded => {
+                    assert!(
+                        f.0 <= tol && f.1.abs() <= cone + tol,
+                        "{what}: pair {k} {f:?}"
+                    );
+                }
+                PairState::Slip => {
+                    assert!(f.0 <= tol, "{what}: pair {k} pulls {f:?}");
+                    assert!((f.1.abs() - cone).abs() <= tol, "{what}: pair {k} {f:?}");
+                }
+            }
+        }
+    }
+}
+
+/// `friction_solve = "newton"` on the seed's plate (μ = 0.2), on
+/// Cattaneo–Mindlin (μ = 0.3: a normal increment, then shear ones) and on the
+/// roller in its cradle (μ = 0.3): the patterns' slip forces are solved by
+/// Newton steps whose columns come from the interface's condensed operator
+/// (the cached low-rank columns, no solve), and every increment ends on the
+/// default fixed point's pattern, with its displacements to 1e-7 of the
+/// largest and Coulomb's law on every pair. The Newton step is the fixed
+/// point's limit: on the plate the fixed point confirms it at its first check
+/// (one solve moving the solution per pattern, none of its own steps).
+#[test]
+fn the_newton_solve_of_the_slip_forces_gives_the_fixed_points_answer() {
+    let cattaneo = Model::from_file(&common::example_path("hertz/cattaneo.toml"), 1).unwrap();
+    let roller = Model::from_file(
+        &common::example_path("roller_in_cradle/roller_in_cradle.toml"),
+        1,
+    )
+    .unwrap();
+    let mut roller_coulomb = roller.clone();
+    for iface in &mut roller_coulomb.interfaces {
+        iface.law = cfe::coupling::Law::Coulomb;
+        iface.friction = 0.3;
+    }
+    let cases = [
+        ("plate", common::analysis(&plate_coulomb())),
+        ("cattaneo", Analysis::new(cattaneo).unwrap()),
+        ("roller", Analysis::new(roller_coulomb).unwrap()),
+    ];
+    for (what, a) in &cases {
+        let (fixed, none) = run_with(a, FrictionSolve::FixedPoint);
+        assert_eq!(none, (0, 0, 0), "{what}: off by default");
+        let (newton, counts) = run_with(a, FrictionSolve::Newton);
+        assert!(counts.0 > 0, "{what}: {counts:?}");
+        assert_eq!(counts.2, counts.0 + counts.1, "{what}: {counts:?}");
+        assert_eq!(fixed.len(), newton.len(), "{what}");
+        for (f, n) in fixed.iter().zip(&newton) {
+            let what = format!("{what}, increment {}", n.index);
+            assert_eq!(f.states, n.states, "{what}");
+            let scale = f.u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let diff =
+                f.u.iter()
+                    .zip(&n.u)
+                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(diff <= 1e-7 * scale, "{what}: {diff} of {scale}");
+            assert_coulomb(a, n, &what);
+            if what.starts_with("plate") {
+                assert!(
+                    n.fixed_point_iterations <= n.iterations,
+                    "{what}: {} solves for {} patterns",
+                    n.fixed_point_iterations,
+                    n.iterations
+                );
             }
         }
     }

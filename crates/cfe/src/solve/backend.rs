@@ -23,7 +23,10 @@
 //!   step of iterative refinement at the coupling equations, with the residual
 //!   given by the caller (after a low-rank update);
 //! - [`LowRankUpdate`] ([`LinearSolver::low_rank`]): a kept factorization
-//!   corrected for the few pairs whose state changed, under a policy.
+//!   corrected for the few pairs whose state changed, under a policy;
+//! - [`PairFlexibility`] ([`LinearSolver::flexibility`]): the pairs'
+//!   flexibility (the condensed interface) from a kept factorization and its
+//!   cached correction columns, without a solve.
 //!
 //! The scheme asks through one call, [`Solve::solve_pattern`] (implemented for
 //! every back end), with a [`Request`] saying what it needs; a back end without
@@ -247,6 +250,11 @@ pub trait LinearSolver<'a> {
     fn low_rank(&mut self) -> Option<&mut dyn LowRankUpdate> {
         None
     }
+
+    /// The pairs' flexibility from what is kept, if the back end has it.
+    fn flexibility(&mut self) -> Option<&mut dyn PairFlexibility> {
+        None
+    }
 }
 
 /// Solves restricted to the coupling equations (optional capability).
@@ -302,6 +310,20 @@ pub trait RefinedSolve {
 pub trait LowRankUpdate {
     /// Chooses when to update rather than refactorize.
     fn set_policy(&mut self, policy: UpdatePolicy);
+}
+
+/// The pairs' flexibility under `K(states)` from a kept factorization and its
+/// cached low-rank columns, without a solve with the factor (optional
+/// capability): the interface's condensed operator, read by the Newton solve
+/// of Coulomb friction (docs/method.md §2.1).
+pub trait PairFlexibility {
+    /// `F = W_Pᵀ K(states)⁻¹ W_T` for the pairs `pairs` (interface, pair):
+    /// rows every local axis of each pair (normal, then each tangent; pair
+    /// after pair), columns each pair's tangential axes; entry `(r, s)` the
+    /// jump along axis r under a unit local force along axis s. Row-major.
+    /// `None` when it cannot be had cheaply (nothing kept for these states,
+    /// or no room for the columns): the caller solves instead.
+    fn pair_flexibility(&mut self, states: &[Vec<PairState>], pairs: &[(usize, usize)]) -> Option<Vec<f64>>;
 }
 
 /// What the scheme asks of one solve of a pattern: the states, and what it

@@ -4,7 +4,7 @@
 //! call of the seam forwards to the same call of the system, nothing copied.
 
 use super::backend::{
-    Analyse, LinearFailure, LinearSolver, LowRankUpdate, Outcome, Problem, RefinedSolve,
+    Analyse, LinearFailure, LinearSolver, LowRankUpdate, Outcome, PairFlexibility, Problem, RefinedSolve,
     Residual, RestrictedSolve, Statistics,
 };
 use super::system::{ContactSystem, Method, Solve, UpdatePolicy};
@@ -127,6 +127,20 @@ impl<'a, D: ElementFamily> LinearSolver<'a> for Cholesky<'a, D> {
 
     fn low_rank(&mut self) -> Option<&mut dyn LowRankUpdate> {
         Some(self)
+    }
+
+    fn flexibility(&mut self) -> Option<&mut dyn PairFlexibility> {
+        Some(self)
+    }
+}
+
+impl<D: Dim> PairFlexibility for Cholesky<'_, D> {
+    /// [`ContactSystem::pair_flexibility`].
+    fn pair_flexibility(&mut self, states: &[Vec<PairState>], pairs: &[(usize, usize)]) -> Option<Vec<f64>> {
+        let Problem {
+            interfaces, dofs, ..
+        } = self.problem;
+        self.system.pair_flexibility(interfaces, dofs, states, pairs)
     }
 }
 

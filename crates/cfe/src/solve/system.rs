@@ -101,6 +101,11 @@ pub struct ContactSystem<'a, D: ElementFamily = D2> {
     /// columns and weights it was built for: a solve with the same states and
     /// another right-hand side (a slip-force or Uzawa step) reuses it.
     capacitance: Option<Capacitance>,
+    /// The last pair flexibility given ([`ContactSystem::pair_flexibility`]),
+    /// with what it was computed for: asked again for the same pairs under
+    /// the same correction (the next increment's patterns), it is returned
+    /// as it is.
+    flexibility: Option<(update::FlexibilityKey, Vec<f64>)>,
     /// The coupling elements' free equations and the supernodes of their
     /// elimination-tree paths (for [`ContactSystem::solve_interface`]; the
     /// pattern, hence the tree, is fixed).
@@ -159,6 +164,7 @@ impl<'a, D: ElementFamily> ContactSystem<'a, D> {
             forward: None,
             spare: Vec::new(),
             capacitance: None,
+            flexibility: None,
             interface_set: None,
             read_set: None,
             budget,
@@ -206,6 +212,7 @@ impl<'a, D: ElementFamily> ContactSystem<'a, D> {
         self.trimmed_at = 0;
         self.forward = None;
         self.capacitance = None;
+        self.flexibility = None;
     }
 
     /// Forgets the kept forward solve of the right-hand side and frees the spare

@@ -218,6 +218,9 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
             FixedPointScale::Forces(..) => largest_off::<D>(u, &coupling_nodes),
             FixedPointScale::Given(_) => 0.0,
         };
+        // With `friction_solve = "newton"`, the slip forces solved in one shot
+        // first: the fixed point's first step moves `u` by their change.
+        let newton = self.newton_slip_terms(states, inc, u)?;
         let mut terms = PairTerms {
             zero: vec![0.0; u.len()],
             solver: self,
@@ -231,6 +234,10 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
             u_rest,
             before: Vec::new(),
         };
+        if let Some(before) = newton {
+            terms.before = before;
+            terms.solve()?;
+        }
         let converged = iterate(&mut terms, MAX_FIXED_POINT)?;
         let total = terms.total;
         self.fixed_point_converged = converged;

@@ -259,6 +259,20 @@ pub(super) fn count_changes(a: &[Vec<PairState>], b: &[Vec<PairState>]) -> usize
         .sum()
 }
 
+/// What the Newton steps of a run's patterns did: how many patterns' slip
+/// forces they solved, and how many fell back to the fixed point alone (a
+/// singular system or directions that did not settle).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NewtonCounts {
+    /// Patterns whose slip forces the Newton step solved.
+    pub solved: usize,
+    /// Patterns it left to the fixed point.
+    pub fallbacks: usize,
+    /// Patterns whose columns came from the interface's condensed operator
+    /// (the cached correction columns), not from solves.
+    pub cached: usize,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

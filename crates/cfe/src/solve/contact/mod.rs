@@ -75,12 +75,13 @@ mod solver;
 pub use active_set::CONTINUATION;
 pub use fixed_point::{ANDERSON_DEPTH, FIXED_POINT_TOLERANCE, MAX_FIXED_POINT};
 pub use friction::{
-    Active, Condensed, CondensedPair, NewtonRun, Tolerance, newton_condensed, next_active,
+    Active, Condensed, CondensedPair, MAX_NEWTON_SLIPPING, NewtonRun, Tolerance,
+    newton_condensed, next_active,
     return_map_derivative, solve_pattern_linear,
 };
 pub use increment::{
-    IncrementResult, IterativeSolves, Iteration, LoadSteps, MultipleOf, PairViolation,
-    SolveTimings,
+    IncrementResult, IterativeSolves, Iteration, LoadSteps, MultipleOf, NewtonCounts,
+    PairViolation, SolveTimings,
 };
 pub use scale::{BALANCE_FLOOR, FORCE_FLOOR, RESIDUAL_WARN};
 pub use solver::Solver;

@@ -125,6 +125,9 @@ pub struct Solver<'a, D: ElementFamily = D2> {
     pub(super) augmented_error: f64,
     /// Whether the last pattern's fixed point converged.
     pub(super) fixed_point_converged: bool,
+    /// What the Newton steps of the patterns' slip forces did
+    /// (`friction_solve = "newton"`).
+    pub(super) newton: super::increment::NewtonCounts,
     /// Per interface, whether it follows the Coulomb law.
     pub(super) coulomb: Vec<bool>,
     /// The factor on every interface's friction coefficient: 1 but while a
@@ -232,6 +235,7 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
             path: LoadPath::default(),
             augmented_error: 0.0,
             fixed_point_converged: true,
+            newton: Default::default(),
             coulomb: (0..pairs.interface_count())
                 .map(|i| pairs.law(i).law == Law::Coulomb)
                 .collect(),

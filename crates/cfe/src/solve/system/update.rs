@@ -12,6 +12,8 @@ use crate::fem::ElementFamily;
 use crate::solve::capacitance::{Capacitance, Entry};
 use crate::solve::columns::{Columns, SparseColumn};
 use crate::solve::factor::Halt;
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, Par};
 use std::time::Instant;
 
 impl<D: ElementFamily> ContactSystem<'_, D> {
@@ -161,6 +163,115 @@ impl<D: ElementFamily> ContactSystem<'_, D> {
         entries
     }
 
+    /// The flexibility of the pairs `pairs` under `K(states)`, from the kept
+    /// factorization and its cached correction columns: `F = W_Pᵀ K⁻¹ W_T`,
+    /// `W_P` every correction column of the pairs (normal, then each tangent:
+    /// `per_pair` a pair, pair-major), `W_T` their tangential ones only, so
+    /// entry `(r, s)` is the jump along axis r of the pairs a unit local force
+    /// along tangential axis s causes; row-major, `per_pair m × (per_pair − 1) m`.
+    /// With `K = K₀ + W_S Δ W_Sᵀ` (the update the last solve of `states` built)
+    /// and `V = L⁻¹ P W`, Woodbury gives `F = G_PT − G_PS M_S⁻¹ G_ST` from the
+    /// Gram matrix `G = VᵀV` of the cached columns and the factorized
+    /// capacitance `M_S` (no solve with the factor: the pairs' columns not yet
+    /// cached are forward-solved on their elimination-tree paths and cached,
+    /// as an update of their flips would). `None` when nothing is factorized,
+    /// the states are neither the factorized ones nor those of the kept
+    /// capacitance, or the columns would not fit the cache's memory.
+    pub fn pair_flexibility<D: Dim>(
+        &mut self,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
+        states: &[Vec<PairState>],
+        pairs: &[(usize, usize)],
+    ) -> Option<Vec<f64>> {
+        let base = self.base.as_ref()?;
+        let (flips, changes) = flipped_pairs(interfaces, states, base);
+        let per_pair = columns_per_pair::<D>();
+        if !flips.is_empty() {
+            if flips.iter().any(|p| !self.cached.contains_key(p)) {
+                return None;
+            }
+            let entries = self.correction(&flips, &changes, per_pair);
+            if self.capacitance.as_ref()?.entries() != entries.as_slice() {
+                return None;
+            }
+        }
+        // The same pairs under the same correction: the same flexibility.
+        let key = FlexibilityKey {
+            pairs: pairs.to_vec(),
+            correction: if flips.is_empty() {
+                Vec::new()
+            } else {
+                self.capacitance.as_ref().map_or(Vec::new(), |c| c.entries().to_vec())
+            },
+        };
+        if let Some((kept, f)) = &self.flexibility
+            && *kept == key
+        {
+            return Some(f.clone());
+        }
+        let t = Instant::now();
+        let mut new: Vec<(usize, usize)> = pairs
+            .iter()
+            .copied()
+            .filter(|p| !self.cached.contains_key(p))
+            .collect();
+        new.sort_unstable();
+        new.dedup();
+        if !new.is_empty() {
+            let cols = self.new_columns(interfaces, dofs, &new);
+            let paths: Vec<Vec<u32>> = cols.iter().map(|c| Columns::path(&self.chol, c)).collect();
+            let memory = self.columns.bytes()
+                + 8 * paths.iter().map(|p| self.path_width(p)).sum::<usize>()
+                + self.columns.gram_bytes_with(per_pair * self.cached.len() + cols.len());
+            if memory > self.budget {
+                return None;
+            }
+            self.flops += self.columns.add_flops(&self.chol, &paths);
+            self.cache_columns(&new, &cols, paths, per_pair);
+        }
+        let all: Vec<usize> = pairs
+            .iter()
+            .flat_map(|p| {
+                let c = self.cached[p];
+                c..c + per_pair
+            })
+            .collect();
+        let tangential: Vec<usize> = all
+            .iter()
+            .enumerate()
+            .filter(|(r, _)| r % per_pair != 0)
+            .map(|(_, &c)| c)
+            .collect();
+        let columns = &self.columns;
+        let (np, nt) = (all.len(), tangential.len());
+        let mut f = Mat::<f64>::from_fn(np, nt, |r, j| columns.gram(all[r], tangential[j]));
+        if let Some(cap) = self.capacitance.as_ref().filter(|_| !flips.is_empty()) {
+            // F −= G_PS (M_S⁻¹ G_ST): the r × nt solves, then one product.
+            let s: Vec<usize> = cap.entries().iter().map(|e| e.column).collect();
+            let r = s.len();
+            let g_ps = Mat::<f64>::from_fn(np, r, |a, e| columns.gram(all[a], s[e]));
+            let mut x = Mat::<f64>::zeros(r, nt);
+            let mut col = vec![0.0; r];
+            for (j, &b) in tangential.iter().enumerate() {
+                for (e, v) in col.iter_mut().enumerate() {
+                    *v = columns.gram(s[e], b);
+                }
+                cap.solve_in_place(&mut col);
+                for (e, v) in col.iter().enumerate() {
+                    x[(e, j)] = *v;
+                }
+            }
+            matmul(f.as_mut(), Accum::Add, g_ps.as_ref(), x.as_ref(), -1.0, Par::Seq);
+            let (r, p) = (r as f64, np as f64);
+            self.flops += nt as f64 * (2.0 * r * r + 2.0 * r * p);
+        }
+        let f: Vec<f64> = (0..np).flat_map(|r| (0..nt).map(move |j| (r, j))).map(|(r, j)| f[(r, j)]).collect();
+        self.flexibility = Some((key, f.clone()));
+        self.solve_seconds += t.elapsed().as_secs_f64();
+        Some(f)
+    }
+
     /// Rows of the factor on the supernodes of `path`.
     fn path_width(&self, path: &[u32]) -> usize {
         let sn = self.chol.supernodal();
@@ -215,6 +326,16 @@ impl<D: ElementFamily> ContactSystem<'_, D> {
             self.trimmed_at = self.columns.bytes();
         }
     }
+}
+
+/// What a pair flexibility was computed for: its pairs and the correction
+/// (entries of the capacitance; empty for the factorized states themselves).
+/// The factorization it was read from is the kept one: a new factorization
+/// forgets it ([`ContactSystem::invalidate`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct FlexibilityKey {
+    pairs: Vec<(usize, usize)>,
+    correction: Vec<Entry>,
 }
 
 /// The pairs whose state differs from the base states (interface, pair), and
