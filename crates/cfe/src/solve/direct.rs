@@ -134,7 +134,7 @@ impl<'a, D: ElementFamily> LinearSolver<'a> for Cholesky<'a, D> {
     }
 }
 
-impl<D: Dim> PairFlexibility for Cholesky<'_, D> {
+impl<D: ElementFamily> PairFlexibility for Cholesky<'_, D> {
     /// [`ContactSystem::pair_flexibility`].
     fn pair_flexibility(&mut self, states: &[Vec<PairState>], pairs: &[(usize, usize)]) -> Option<Vec<f64>> {
         let Problem {

@@ -33,6 +33,7 @@ use crate::assembly::FIXED;
 use crate::coupling::{Enforcement, Law, PairHistories, PairState};
 use crate::dim::{Dim, Tangent};
 use crate::domain::FrictionSolve;
+use crate::fem::ElementFamily;
 use crate::error::Result;
 use crate::solve::backend::{Request, Solve as _};
 use faer::Mat;
@@ -337,7 +338,7 @@ impl Columns {
     }
 }
 
-impl<D: Dim> Solver<'_, D> {
+impl<D: ElementFamily> Solver<'_, D> {
     /// What the Newton steps of the patterns' slip forces did so far
     /// (`friction_solve = "newton"`; zero otherwise).
     pub fn newton_counts(&self) -> NewtonCounts {

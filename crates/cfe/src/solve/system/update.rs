@@ -177,7 +177,7 @@ impl<D: ElementFamily> ContactSystem<'_, D> {
     /// as an update of their flips would). `None` when nothing is factorized,
     /// the states are neither the factorized ones nor those of the kept
     /// capacitance, or the columns would not fit the cache's memory.
-    pub fn pair_flexibility<D: Dim>(
+    pub fn pair_flexibility(
         &mut self,
         interfaces: &[Interface<D>],
         dofs: &DofMap<D>,
