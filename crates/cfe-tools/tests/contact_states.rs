@@ -327,9 +327,12 @@ fn bonded_extent_is_ordered_by_x() {
     let _ = std::fs::remove_dir_all(&out);
     assert_eq!(summary.status, RunStatus::Completed);
     for i in &summary.interfaces {
-        let [from, to] = i.bonded_extent.expect("some pairs bonded");
+        let [from, to] = i.bonded_extent.clone().expect("some pairs bonded");
         assert!(from[0] < to[0], "{}: {from:?} → {to:?}", i.name);
     }
     // The lower block is bonded at its left corner, x = 225.
-    assert_eq!(summary.interfaces[1].bonded_extent.unwrap()[0][0], 225.0);
+    assert_eq!(
+        summary.interfaces[1].bonded_extent.as_ref().unwrap()[0][0],
+        225.0
+    );
 }

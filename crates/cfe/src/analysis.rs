@@ -10,17 +10,20 @@
 //! (through `post`), and `describe` writes the `cfe check` text.
 
 use crate::assembly::{self, DofMap};
-use crate::coupling::{Interface, Law, PairStates, build};
+use crate::coupling::build::{self, InterfaceDim};
+use crate::coupling::{Interface, Law, PairStates};
+use crate::dim::{D2, D3};
 use crate::domain::StartPattern;
 use crate::error::{Error, Result};
+use crate::fem::ElementFamily;
 use crate::fem::recovery::PartStress;
-use crate::model::{Model, Scheme};
-use crate::results::PairRow;
+use crate::model::{LOCKING_NU, Model, Scheme};
 use crate::results::memory::peak_memory_bytes;
 pub use crate::results::summary::{
     IncrementStep, InterfaceSummary, MaxDisplacement, PartSummary, Reaction, RunClock, RunStatus,
     SettledPair, StepSummary, Summary, Timings, Tolerances, ViolationRecord, Warning,
 };
+use crate::results::{PairRow, ResultsDim};
 use crate::solve::nonlinear::{IncrementResult, LoadSteps, Solver};
 use crate::solve::warm_start;
 use std::path::Path;
@@ -42,22 +45,73 @@ pub enum Start {
     States(PairStates),
 }
 
-/// The results of a solved analysis at its last converged increment, in memory.
+/// The dimension of an analysis: what preparing, solving and reading a model
+/// needs of it — its interfaces built ([`InterfaceDim`]), its results read
+/// ([`ResultsDim`]), and the few things the analysis decides per dimension
+/// (the advice about a model, the warm start from a coarser model).
+/// [`D2`] (plane) and [`D3`] (solid).
+pub trait AnalysisDim: InterfaceDim + ResultsDim {
+    /// Advice about `model` that does not stop it from being solved
+    /// (volumetric locking), noted in the summary at increment 0.
+    fn notes(model: &Model<Self>) -> Vec<String>;
+
+    /// The final pair states of the same problem on 4× coarser meshes
+    /// ([`Analysis::coarse_states_until`]); `None` when there is none.
+    fn coarse_states(analysis: &Analysis<Self>, stop: Option<&AtomicUsize>) -> Option<PairStates>;
+}
+
+/// Plane models: [`Model::warnings`]; a refined problem file's coarser level.
+impl AnalysisDim for D2 {
+    fn notes(model: &Model) -> Vec<String> {
+        model.warnings()
+    }
+
+    fn coarse_states(analysis: &Analysis, stop: Option<&AtomicUsize>) -> Option<PairStates> {
+        analysis.plane_coarse_states(stop)
+    }
+}
+
+/// Solid models: built in code, so no coarser level (`None`).
+impl AnalysisDim for D3 {
+    /// A part with ν ≥ [`LOCKING_NU`]: its TET4 and fully integrated HEX8
+    /// elements lock (too stiff at nearly constant volume).
+    fn notes(model: &Model<D3>) -> Vec<String> {
+        (model.parts.iter())
+            .filter(|p| p.material.poisson >= LOCKING_NU)
+            .map(|p| {
+                let nu = p.material.poisson;
+                format!(
+                    "part '{}': ν = {nu} is nearly incompressible (bulk modulus {:.1e} × the shear modulus): its TET4 and HEX8 elements (full integration) lock (displacements come out too small, stresses oscillate); check the results against a finer mesh",
+                    p.name,
+                    1.0 / (1.0 - 2.0 * nu)
+                )
+            })
+            .collect()
+    }
+
+    fn coarse_states(_: &Analysis<D3>, _: Option<&AtomicUsize>) -> Option<PairStates> {
+        None
+    }
+}
+
+/// The results of a solved analysis at its last converged increment, in memory,
+/// of dimension `D` (plane by default).
 #[derive(Debug, Clone)]
-pub struct Results {
+pub struct Results<D: ElementFamily = D2> {
     /// The last converged increment: displacements `u` of all DOFs, pair states,
     /// internal and external forces, iterations.
-    pub last: IncrementResult,
-    /// Stresses of every part.
-    pub stresses: Vec<PartStress>,
+    pub last: IncrementResult<D>,
+    /// Stresses of every part (`D::Stress`: (xx, yy, xy) in 2D, the six in 3D).
+    pub stresses: Vec<PartStress<D::Stress>>,
     /// One row per coupling pair: state, jumps and forces on the node part.
     pub pairs: Vec<PairRow>,
     /// The summary (as written to `summary.json` by [`Analysis::run`]).
     pub summary: Summary,
 }
 
-impl Results {
-    /// Displacements of all DOFs (x and y of global node g at 2g and 2g + 1).
+impl<D: ElementFamily> Results<D> {
+    /// Displacements of all DOFs (component c of global node g at `D::N g + c`:
+    /// x and y at 2g and 2g + 1 in 2D).
     pub fn displacements(&self) -> &[f64] {
         &self.last.u
     }
@@ -69,13 +123,14 @@ impl Results {
 }
 
 /// A model with its coupling pairs found and its DOFs numbered: ready to solve.
-pub struct Analysis {
+/// Of dimension `D` (plane by default; `Analysis<D3>` for a solid model).
+pub struct Analysis<D: AnalysisDim = D2> {
     /// The model.
-    pub model: Model,
+    pub model: Model<D>,
     /// Interfaces with their coupling elements.
-    pub interfaces: Vec<Interface>,
+    pub interfaces: Vec<Interface<D>>,
     /// DOF numbering.
-    pub dofs: DofMap,
+    pub dofs: DofMap<D>,
     /// Phase timings so far.
     pub timings: Timings,
 }
@@ -92,17 +147,52 @@ impl Analysis {
         Ok(a)
     }
 
+    /// [`Analysis::coarse_states_until`] of a plane model: its problem file
+    /// solved at a 4× coarser refinement.
+    fn plane_coarse_states(&self, stop: Option<&AtomicUsize>) -> Option<PairStates> {
+        let m = &self.model;
+        let contact = self
+            .interfaces
+            .iter()
+            .any(|i| i.law == crate::coupling::Law::Contact);
+        // With loads in steps the first increment is not a fraction of the total
+        // load the coarse problem would be solved at: no warm start.
+        if m.refine < 4 || m.settings.scheme != Scheme::ActiveSet || !contact || m.steps.len() > 1 {
+            return None;
+        }
+        let mut coarse = Analysis::new(m.with_refine(m.refine / 4).ok()?).ok()?;
+        if coarse.interfaces.len() != self.interfaces.len() {
+            return None;
+        }
+        // Same laws as this model (they may have been overridden after reading).
+        for (c, i) in coarse.interfaces.iter_mut().zip(&self.interfaces) {
+            c.law = i.law;
+        }
+        let start = coarse.coarse_states_until(stop);
+        let problem = warm_start::Problem {
+            parts: &coarse.model.parts,
+            interfaces: &coarse.interfaces,
+            dofs: &coarse.dofs,
+            f_ext: assembly::external_force(&coarse.model.loads, &coarse.dofs),
+            settings: &m.settings,
+        };
+        warm_start::states_from_coarse(problem, start, &self.interfaces, stop)
+    }
+}
+
+impl<D: AnalysisDim> Analysis<D> {
     /// Finds the coupling pairs of every interface, moves each coupling node onto
     /// its host edge (its projection there: a no-op for faces that already
     /// coincide, a small adjustment for a curved face meshed apart), and numbers
     /// the DOFs. Interfaces are taken in file order, each seeing the nodes the
     /// earlier ones moved.
-    pub fn new(mut model: Model) -> Result<Analysis> {
+    pub fn new(mut model: Model<D>) -> Result<Analysis<D>> {
         let clock = RunClock::start();
         // A model built or changed in code was not checked as a file is.
         model.check_names()?;
         let interfaces = build::interfaces(&model.interfaces, &mut model.parts, model.refine)?;
-        let dofs = DofMap::new(&model.parts, &model.supports);
+        let nodes: Vec<usize> = model.parts.iter().map(|p| p.mesh.nodes.len()).collect();
+        let dofs = DofMap::numbered(&nodes, &model.supports);
         let timings = Timings {
             pair_search: clock.wall(),
             setup_cpu: clock.cpu(),
@@ -143,45 +233,19 @@ impl Analysis {
     /// [`Solver::new`] says: a stop ends them, with no start (`None`); the caller's
     /// own solver then sees the same flag.
     pub fn coarse_states_until(&self, stop: Option<&AtomicUsize>) -> Option<PairStates> {
-        let m = &self.model;
-        let contact = self
-            .interfaces
-            .iter()
-            .any(|i| i.law == crate::coupling::Law::Contact);
-        // With loads in steps the first increment is not a fraction of the total
-        // load the coarse problem would be solved at: no warm start.
-        if m.refine < 4 || m.settings.scheme != Scheme::ActiveSet || !contact || m.steps.len() > 1 {
-            return None;
-        }
-        let mut coarse = Analysis::new(m.with_refine(m.refine / 4).ok()?).ok()?;
-        if coarse.interfaces.len() != self.interfaces.len() {
-            return None;
-        }
-        // Same laws as this model (they may have been overridden after reading).
-        for (c, i) in coarse.interfaces.iter_mut().zip(&self.interfaces) {
-            c.law = i.law;
-        }
-        let start = coarse.coarse_states_until(stop);
-        let problem = warm_start::Problem {
-            parts: &coarse.model.parts,
-            interfaces: &coarse.interfaces,
-            dofs: &coarse.dofs,
-            f_ext: assembly::external_force(&coarse.model.loads, &coarse.dofs),
-            settings: &m.settings,
-        };
-        warm_start::states_from_coarse(problem, start, &self.interfaces, stop)
+        D::coarse_states(self, stop)
     }
 
     /// The incremental solver of this analysis: its parts, interfaces, DOFs, loads
     /// and settings (the pattern and the symbolic factorization are built here).
-    pub fn solver(&self) -> Result<Solver<'_>> {
+    pub fn solver(&self) -> Result<Solver<'_, D>> {
         self.solver_until(None)
     }
 
     /// [`Analysis::solver`] reading `stop` (if given) from the start of the
     /// symbolic analysis on ([`Solver::new`]): a nonzero value abandons it with
     /// [`Error::Interrupted`].
-    pub fn solver_until<'s>(&'s self, stop: Option<&'s AtomicUsize>) -> Result<Solver<'s>> {
+    pub fn solver_until<'s>(&'s self, stop: Option<&'s AtomicUsize>) -> Result<Solver<'s, D>> {
         let f = assembly::external_force(&self.model.loads, &self.dofs);
         let mut solver = Solver::new(
             &self.model.parts,
@@ -204,7 +268,7 @@ impl Analysis {
     /// (the machine's `MemAvailable`; `None`: unknown, no check). Called before
     /// the numeric factorization, so a run that cannot fit stops at once with
     /// [`Error::TooLarge`] instead of being killed midway.
-    pub fn check_memory(solver: &Solver<'_>, available: Option<u64>) -> Result<()> {
+    pub fn check_memory(solver: &Solver<'_, D>, available: Option<u64>) -> Result<()> {
         let Some(available) = available else {
             return Ok(());
         };
@@ -279,7 +343,7 @@ impl Analysis {
         let forces = order
             .iter()
             .map(|&g| {
-                let loads: Vec<crate::domain::Load> = (self.model.loads.iter().zip(&load_group))
+                let loads: Vec<crate::domain::Load<D>> = (self.model.loads.iter().zip(&load_group))
                     .filter(|(_, lg)| **lg == g)
                     .map(|(l, _)| l.clone())
                     .collect();
@@ -345,8 +409,8 @@ impl Analysis {
     /// increment. Returns the last one.
     pub fn solve_with(
         &self,
-        on_increment: impl FnMut(&IncrementResult) -> Result<()>,
-    ) -> Result<IncrementResult> {
+        on_increment: impl FnMut(&IncrementResult<D>) -> Result<()>,
+    ) -> Result<IncrementResult<D>> {
         self.solve_from(self.configured_start(), on_increment)
     }
 
@@ -364,8 +428,8 @@ impl Analysis {
     pub fn solve_from(
         &self,
         start: Start,
-        on_increment: impl FnMut(&IncrementResult) -> Result<()>,
-    ) -> Result<IncrementResult> {
+        on_increment: impl FnMut(&IncrementResult<D>) -> Result<()>,
+    ) -> Result<IncrementResult<D>> {
         let mut solver = self.solver()?;
         let initial = match start {
             Start::Coarse => self.coarse_states(),
@@ -380,7 +444,7 @@ impl Analysis {
 
     /// Solves the problem in memory, writing nothing: the displacements, stresses,
     /// pair states and forces, reactions and summary of the last increment.
-    pub fn solve(&self) -> Result<Results> {
+    pub fn solve(&self) -> Result<Results<D>> {
         self.solve_observed(|_| Ok(()))
     }
 
@@ -388,8 +452,8 @@ impl Analysis {
     /// (e.g. to show progress); an error it returns stops the solve and is returned.
     pub fn solve_observed(
         &self,
-        on_increment: impl FnMut(&IncrementResult) -> Result<()>,
-    ) -> Result<Results> {
+        on_increment: impl FnMut(&IncrementResult<D>) -> Result<()>,
+    ) -> Result<Results<D>> {
         self.solve_observed_until(on_increment, &AtomicUsize::new(0))
     }
 
@@ -398,9 +462,9 @@ impl Analysis {
     /// set by a signal handler; see [`Solver::set_stop`]).
     pub fn solve_observed_until(
         &self,
-        mut on_increment: impl FnMut(&IncrementResult) -> Result<()>,
+        mut on_increment: impl FnMut(&IncrementResult<D>) -> Result<()>,
         stop: &AtomicUsize,
-    ) -> Result<Results> {
+    ) -> Result<Results<D>> {
         let clock = RunClock::start();
         let mut summary = self.empty_summary();
         let t = Instant::now();

@@ -4,8 +4,11 @@
 //! schema ([`crate::model`]) translates into these types; the element routines, the
 //! coupling, the assembly and the solver take only these, never the input types.
 
-use crate::dim::D2;
+use crate::dim::{D2, D3, Dim};
+use crate::error::{Error, Result};
 use crate::fem::Material;
+use crate::fem::loads;
+pub use crate::fem::loads::FaceLoad;
 use crate::mesh::{Mesh, MeshDim};
 use serde::Deserialize;
 
@@ -350,27 +353,96 @@ pub struct Support {
     pub step: usize,
 }
 
-/// An external load resolved to nodal forces at full load.
+impl Support {
+    /// The support `part name/boundary` holding the components `fix` (x, y, z;
+    /// a model of dimension `D` reads the first `D::N`) of every node of the
+    /// named boundary `boundary` of `part` (index `index` in the model) at the
+    /// prescribed values `value`, applied in the first step. An unknown boundary
+    /// is an [`Error::Model`] naming the part and its boundaries.
+    pub fn on_boundary<D: MeshDim>(
+        index: usize,
+        part: &Part<D>,
+        boundary: &str,
+        fix: [bool; 3],
+        value: [f64; 3],
+    ) -> Result<Support> {
+        boundary_of(part, boundary)?;
+        Ok(Support {
+            name: format!("{}/{boundary}", part.name),
+            part: index,
+            nodes: part.mesh.boundary_nodes(boundary).unwrap_or_default(),
+            fix,
+            value,
+            step: 0,
+        })
+    }
+}
+
+/// An external load resolved to nodal forces at full load, in a model of
+/// dimension `D` (plane by default: forces (x, y); a solid model's (x, y, z)).
 #[derive(Debug, Clone)]
-pub struct Load {
+pub struct Load<D: Dim = D2> {
     /// Label, e.g. `plate/top`.
     pub name: String,
     /// Part index.
     pub part: usize,
     /// Nodal forces (node of the part, force).
-    pub nodal: Vec<(usize, [f64; 2])>,
+    pub nodal: Vec<(usize, D::Vector)>,
     /// The resultant the user asked for.
-    pub resultant: [f64; 2],
+    pub resultant: D::Vector,
     /// The load step (index into the model's steps, 0: the first) in which the
     /// load ramps from 0 to full; it stays at full value in the later steps.
     pub step: usize,
 }
 
+impl Load<D3> {
+    /// The load `name` of a uniform traction or pressure (`load`) on the named
+    /// boundary `boundary` of the solid `part` (index `index` in the model),
+    /// applied in step `step`: its consistent nodal forces, integrated face by
+    /// face ([`loads::face_forces`]); the resultant is their sum. An unknown
+    /// boundary is an [`Error::Model`] naming the part and its boundaries.
+    pub fn on_faces(
+        name: impl Into<String>,
+        index: usize,
+        part: &Part<D3>,
+        boundary: &str,
+        load: FaceLoad,
+        step: usize,
+    ) -> Result<Load<D3>> {
+        let faces = boundary_of(part, boundary)?;
+        let (nodal, resultant) = loads::face_forces(&part.mesh.nodes, faces, load);
+        Ok(Load {
+            name: name.into(),
+            part: index,
+            nodal,
+            resultant,
+            step,
+        })
+    }
+}
+
+/// The faces (or edges) of the named boundary `name` of `part`, or an
+/// [`Error::Model`] listing the boundaries it has.
+fn boundary_of<'a, D: MeshDim>(part: &'a Part<D>, name: &str) -> Result<&'a [D::Face]> {
+    part.mesh
+        .boundaries
+        .get(name)
+        .map(Vec::as_slice)
+        .ok_or_else(|| {
+            let known: Vec<&str> = part.mesh.boundaries.keys().map(String::as_str).collect();
+            Error::Model(format!(
+                "part '{}' has no boundary '{name}' (its boundaries: {})",
+                part.name,
+                known.join(", ")
+            ))
+        })
+}
+
 /// A probe point (`[[probe]]`, as CalculiX's `*NODE PRINT`): a point of a part
 /// whose displacement the history records at every increment, interpolated
-/// inside the element that contains it.
+/// inside the element that contains it. Of dimension `D` (plane by default).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Probe {
+pub struct Probe<D: Dim = D2> {
     /// Name, as the history's columns (`probe:NAME.ux`) refer to it.
     pub name: String,
     /// Part index.
@@ -378,7 +450,7 @@ pub struct Probe {
     /// The part's node nearest to the point asked for.
     pub node: usize,
     /// The point asked for.
-    pub at: [f64; 2],
+    pub at: D::Vector,
     /// The interpolation at the point: the nodes (of the part) of the element
     /// containing it with their shape functions there; the node alone (weight
     /// 1) when the point is a node or lies in no element.
@@ -387,22 +459,26 @@ pub struct Probe {
     pub element: Option<usize>,
 }
 
-impl Probe {
-    /// The probe's displacement in `u` (2 per global node), its part's nodes
-    /// numbered from `offset`: Σ N_a u_a over [`Probe::weights`].
-    pub fn displacement(&self, u: &[f64], offset: usize) -> [f64; 2] {
+impl<D: Dim> Probe<D> {
+    /// The probe's displacement in `u` (`D::N` per global node), its part's
+    /// nodes numbered from `offset`: Σ N_a u_a over [`Probe::weights`].
+    pub fn displacement(&self, u: &[f64], offset: usize) -> D::Vector {
+        let mut d = D::Vector::default();
         if let [(n, w)] = self.weights[..]
             && w == 1.0
         {
             // The node's own values, bit for bit (a -0.0 stays -0.0).
             let g = offset + n;
-            return [u[2 * g], u[2 * g + 1]];
+            for (c, v) in d.as_mut().iter_mut().enumerate() {
+                *v = u[D::dof(g, c)];
+            }
+            return d;
         }
-        let mut d = [0.0; 2];
         for &(n, w) in &self.weights {
             let g = offset + n;
-            d[0] += w * u[2 * g];
-            d[1] += w * u[2 * g + 1];
+            for (c, v) in d.as_mut().iter_mut().enumerate() {
+                *v += w * u[D::dof(g, c)];
+            }
         }
         d
     }

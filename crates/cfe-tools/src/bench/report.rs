@@ -347,8 +347,8 @@ fn convergence_table(s: &mut String, runs: &[Run]) {
             .interfaces
             .iter()
             .map(|i| {
-                let e = i.bonded_extent.unwrap_or_default();
-                format!("{:.3} – {:.3}", e[0][0], e[1][0])
+                let e = (i.bonded_extent.as_ref()).map_or([0.0; 2], |[a, b]| [a[0], b[0]]);
+                format!("{:.3} – {:.3}", e[0], e[1])
             })
             .collect();
         // Change from K/2, and the order log2(change(K/2) / change(K)) when K/4 exists.

@@ -2,13 +2,13 @@
 //! [`results::Problem`] — stresses, reactions, pair rows — and its summary started
 //! and brought up to date increment by increment.
 
-use super::Analysis;
+use super::{Analysis, AnalysisDim};
 use crate::fem::recovery::PartStress;
 use crate::results::lines::LineSample;
 use crate::results::{self, PairRow, Summary};
 use crate::solve::nonlinear::IncrementResult;
 
-impl Analysis {
+impl<D: AnalysisDim> Analysis<D> {
     /// The summary before the first increment.
     pub(crate) fn empty_summary(&self) -> Summary {
         let m = &self.model;
@@ -20,16 +20,17 @@ impl Analysis {
                 refine: m.refine,
                 steps: m.steps(),
                 warnings: results::kept_polygon_warnings(&m.kept_polygons, m.refine),
-                notes: m.warnings(),
+                notes: D::notes(m),
                 shortcut_off: self.shortcut_off_reason(),
                 setup: &self.timings,
             },
         )
     }
 
-    /// The reaction (x, y) of each support, in the order of `model.supports`: the
-    /// out-of-balance force F_int − F_ext summed over the DOFs it fixes.
-    pub fn reactions(&self, inc: &IncrementResult) -> Vec<[f64; 2]> {
+    /// The reaction (`D::N` components: x, y and in 3D z) of each support, in
+    /// the order of `model.supports`: the out-of-balance force F_int − F_ext
+    /// summed over the DOFs it fixes.
+    pub fn reactions(&self, inc: &IncrementResult<D>) -> Vec<D::Vector> {
         self.problem().reactions(inc)
     }
 
@@ -42,15 +43,36 @@ impl Analysis {
     }
 
     /// Stresses of every part for displacements `u` (all DOFs).
-    pub fn recover(&self, u: &[f64]) -> Vec<PartStress> {
+    pub fn recover(&self, u: &[f64]) -> Vec<PartStress<D::Stress>> {
         self.problem().recover(u)
     }
 
     /// One row per coupling pair: state, jumps and forces on the node part.
-    pub fn pair_rows(&self, inc: &IncrementResult) -> Vec<PairRow> {
+    pub fn pair_rows(&self, inc: &IncrementResult<D>) -> Vec<PairRow> {
         results::pair_rows(&self.problem(), inc, &self.step_name(inc.step))
     }
 
+    /// Records converged increment `inc` (with its pair rows `rows`) in the
+    /// summary `s`.
+    pub(crate) fn fill_summary(&self, s: &mut Summary, inc: &IncrementResult<D>, rows: &[PairRow]) {
+        s.record_increment(&self.problem(), inc, rows, self.step_name(inc.step));
+    }
+
+    /// The problem the results are read against.
+    pub(crate) fn problem(&self) -> results::Problem<'_, D> {
+        results::Problem {
+            parts: &self.model.parts,
+            supports: &self.model.supports,
+            interfaces: &self.interfaces,
+            dofs: &self.dofs,
+            settings: &self.model.settings,
+            probes: &self.model.probes,
+        }
+    }
+}
+
+/// What only a plane model has.
+impl Analysis {
     /// The samples of every line probe (`[[line]]`) at increment `inc`, by
     /// name, in file order: the points of each line that lie in a part.
     pub fn line_samples(&self, inc: &IncrementResult) -> Vec<(&str, Vec<LineSample>)> {
@@ -62,23 +84,5 @@ impl Analysis {
                 (l.name.as_str(), samples)
             })
             .collect()
-    }
-
-    /// Records converged increment `inc` (with its pair rows `rows`) in the
-    /// summary `s`.
-    pub(crate) fn fill_summary(&self, s: &mut Summary, inc: &IncrementResult, rows: &[PairRow]) {
-        s.record_increment(&self.problem(), inc, rows, self.step_name(inc.step));
-    }
-
-    /// The problem the results are read against.
-    pub(crate) fn problem(&self) -> results::Problem<'_> {
-        results::Problem {
-            parts: &self.model.parts,
-            supports: &self.model.supports,
-            interfaces: &self.interfaces,
-            dofs: &self.dofs,
-            settings: &self.model.settings,
-            probes: &self.model.probes,
-        }
     }
 }

@@ -773,12 +773,12 @@ pub fn internal_force_of(sources: &[&dyn ElementSource], u: &[f64]) -> Vec<f64> 
 }
 
 /// The external force vector over all DOFs at full load.
-pub fn external_force<D: Dim>(loads: &[Load], dofs: &DofMap<D>) -> Vec<f64> {
+pub fn external_force<D: Dim>(loads: &[Load<D>], dofs: &DofMap<D>) -> Vec<f64> {
     let mut f = vec![0.0; dofs.dof(dofs.n_nodes(), 0)];
     for load in loads {
         for &(n, v) in &load.nodal {
             let g = dofs.node(load.part, n);
-            for (c, v) in v.iter().enumerate() {
+            for (c, v) in v.as_ref().iter().enumerate() {
                 f[dofs.dof(g, c)] += v;
             }
         }

@@ -1,7 +1,9 @@
 //! Consistent nodal forces of external loads: a resultant force spread uniformly
 //! (constant traction) over a boundary segment, integrated exactly over whole and
 //! partial edges with the edges' linear shape functions, and a uniform pressure
-//! (normal traction) over a boundary.
+//! (normal traction) over a boundary; on a solid part, a uniform traction or
+//! pressure over boundary faces ([`face_forces`], the integrals of
+//! [`super::face3`]).
 
 /// Nodal forces of a uniform traction whose resultant is `force`, spread over the
 /// part of `edges` (node coordinate pairs with their node indices) that lies on the
@@ -86,6 +88,68 @@ pub fn pressure_forces(edges: &[([usize; 2], [[f64; 2]; 2])], p: f64) -> Vec<(us
         .collect()
 }
 
+/// What a uniform load on a solid part's boundary faces is: a traction (force
+/// per area, global components) or a pressure (positive pushing against each
+/// face's outward normal).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FaceLoad {
+    /// A uniform traction `t` (force per area).
+    Traction([f64; 3]),
+    /// A uniform pressure `p` against the outward normal.
+    Pressure(f64),
+}
+
+/// Consistent nodal forces of a uniform `load` over the boundary `faces` of a
+/// solid mesh of node coordinates `nodes` (each face's integral,
+/// [`super::face3`], summed per node): one entry per node touched, in the order
+/// the faces first reach it. Also returns the resultant (the sum of the forces).
+pub fn face_forces(
+    nodes: &[[f64; 3]],
+    faces: &[crate::mesh::BoundaryFace],
+    load: FaceLoad,
+) -> (Vec<(usize, [f64; 3])>, [f64; 3]) {
+    use super::face3;
+    use crate::mesh::FaceNodes;
+    let mut index = std::collections::HashMap::new();
+    let mut out: Vec<(usize, [f64; 3])> = Vec::new();
+    let mut add = |n: usize, f: [f64; 3]| {
+        let k = *index.entry(n).or_insert_with(|| {
+            out.push((n, [0.0; 3]));
+            out.len() - 1
+        });
+        for (o, f) in out[k].1.iter_mut().zip(f) {
+            *o += f;
+        }
+    };
+    for face in faces {
+        match &face.nodes {
+            FaceNodes::Tri(n) => {
+                let x = n.map(|k| nodes[k]);
+                let f = match load {
+                    FaceLoad::Traction(t) => face3::triangle_traction_forces(&x, t),
+                    FaceLoad::Pressure(p) => face3::triangle_pressure_forces(&x, p),
+                };
+                n.iter().zip(f).for_each(|(&k, f)| add(k, f));
+            }
+            FaceNodes::Quad(n) => {
+                let x = n.map(|k| nodes[k]);
+                let f = match load {
+                    FaceLoad::Traction(t) => face3::quad_traction_forces(&x, t),
+                    FaceLoad::Pressure(p) => face3::quad_pressure_forces(&x, p),
+                };
+                n.iter().zip(f).for_each(|(&k, f)| add(k, f));
+            }
+        }
+    }
+    let mut total = [0.0; 3];
+    for (_, f) in &out {
+        for (t, f) in total.iter_mut().zip(f) {
+            *t += f;
+        }
+    }
+    (out, total)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -140,5 +204,29 @@ mod tests {
         let (b, _) = segment_forces(&e2, [0.9, 0.0], [0.2, 0.0], [1.0, 0.0], 1e-9);
         let get = |v: &[(usize, [f64; 2])], n| v.iter().find(|p| p.0 == n).unwrap().1[0];
         assert!((get(&a, 0) - get(&b, 0)).abs() < 1e-15 && (get(&a, 1) - get(&b, 1)).abs() < 1e-15);
+    }
+
+    /// A pressure on the top of a box (TET4 triangles and HEX8 quadrangles)
+    /// gives nodal forces summing to −p × area along the outward normal +z, a
+    /// tangential traction t × area along t; each node appears once.
+    #[test]
+    fn face_forces_of_a_box_top_sum_to_load_times_area() {
+        use super::{FaceLoad, face_forces};
+        use crate::dim::D3;
+        use crate::mesh::{Mesh, SolidKind};
+        for kind in [SolidKind::Tet4, SolidKind::Hex8] {
+            let m = Mesh::<D3>::block([0.0, 2.0], [0.0, 3.0], [0.0, 1.0], [2, 3, 1], kind);
+            let top = &m.boundaries["top"];
+            let (f, total) = face_forces(&m.nodes, top, FaceLoad::Pressure(5.0));
+            assert!((total[2] + 5.0 * 6.0).abs() < 1e-12 * 30.0, "{kind:?} {total:?}");
+            assert!(total[0].abs() < 1e-12 && total[1].abs() < 1e-12);
+            let mut seen: Vec<usize> = f.iter().map(|(n, _)| *n).collect();
+            seen.sort_unstable();
+            seen.dedup();
+            assert_eq!(seen.len(), f.len());
+            assert_eq!(seen, m.boundary_nodes("top").unwrap().into_iter().collect::<std::collections::BTreeSet<_>>().into_iter().collect::<Vec<_>>());
+            let (_, t) = face_forces(&m.nodes, top, FaceLoad::Traction([1.5, -2.0, 0.0]));
+            assert!((t[0] - 9.0).abs() < 1e-12 && (t[1] + 12.0).abs() < 1e-12 && t[2] == 0.0);
+        }
     }
 }

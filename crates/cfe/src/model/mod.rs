@@ -10,11 +10,12 @@
 //!
 //! The problem-file reference is in README.md; `examples/` holds complete files.
 
+use crate::dim::D2;
 pub use crate::domain::{InterfaceDef, Load, Part, Probe, Scheme, Settings, Step, Support};
 use crate::error::{Error, Result};
 use crate::fem::PlaneKind;
-use crate::mesh::Mesh;
 use crate::mesh::input_file::{self, MESH_FILE_CAP, PROBLEM_FILE_CAP};
+use crate::mesh::{Mesh, MeshDim};
 pub use schema::Units;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -44,9 +45,11 @@ pub const DEFAULT_PENALTY_FACTOR: f64 = 1e5;
 /// The name of the one step of a problem without `[[step]]` tables.
 pub const DEFAULT_STEP: &str = "step-1";
 
-/// A checked, meshed model ready for analysis.
+/// A checked, meshed model ready for analysis, of dimension `D` (plane by
+/// default; a solid model, `Model<D3>`, is built in code with
+/// [`Model::from_parts`]: the problem file describes plane models).
 #[derive(Debug, Clone)]
-pub struct Model {
+pub struct Model<D: MeshDim = D2> {
     /// Title (default: the file stem).
     pub title: String,
     /// The problem file it came from.
@@ -54,13 +57,13 @@ pub struct Model {
     /// Unit labels.
     pub units: Units,
     /// Parts in file order.
-    pub parts: Vec<Part>,
+    pub parts: Vec<Part<D>>,
     /// Interfaces in file order.
     pub interfaces: Vec<InterfaceDef>,
     /// Dirichlet conditions.
     pub supports: Vec<Support>,
     /// External loads.
-    pub loads: Vec<Load>,
+    pub loads: Vec<Load<D>>,
     /// Analysis settings.
     pub settings: Settings,
     /// The load steps of `[[step]]` tables, in order; empty without them (one
@@ -78,10 +81,11 @@ pub struct Model {
     /// Abaqus deck, the keywords accepted and ignored (with their lines) and
     /// how its contact behaviour was mapped ([`Model::from_inp`]).
     pub notes: Vec<String>,
-    /// The line probes of `[[line]]` tables, located in the parts.
+    /// The line probes of `[[line]]` tables, located in the parts (plane
+    /// models; empty in a solid one).
     pub lines: Vec<crate::results::lines::LineProbe>,
     /// Probe points (`[[probe]]`): nodes whose displacement the history records.
-    pub probes: Vec<Probe>,
+    pub probes: Vec<Probe<D>>,
     /// `history.png`'s axes as two history columns (x, y) (`[output]
     /// history_plot`); `None`: the default (see README, Outputs).
     pub history_plot: Option<[String; 2]>,
@@ -115,62 +119,25 @@ impl std::str::FromStr for Model {
     }
 }
 
-impl Model {
+impl<D: MeshDim> Model<D> {
     /// The index of the part named `name`.
     pub fn part_index(&self, name: &str) -> Option<usize> {
         self.parts.iter().position(|p| p.name == name)
     }
 
-    /// Reads, checks and meshes the problem file at `path`; `refine` multiplies every
-    /// structured part's cell counts and splits every edge of a Gmsh part into that
-    /// many (1 = as written). A file named `*.inp` is read as a CalculiX/Abaqus
-    /// deck ([`Model::from_inp`]; its mesh as written, `refine` must be 1).
-    pub fn from_file(path: &Path, refine: usize) -> Result<Model> {
-        if is_deck(path) {
-            let text = read_text(path, MESH_FILE_CAP, "CalculiX/Abaqus deck")?;
-            return inp::model(&text, path, refine);
-        }
-        let text = read_text(path, PROBLEM_FILE_CAP, "problem file")?;
-        Model::from_str(&text, path, refine)
-    }
-
-    /// Reads a CalculiX/Abaqus input deck: the common subset (nodes, CPS3/CPE3/
-    /// CPS4/CPE4 elements, sets, surfaces, elastic materials, solid sections,
-    /// boundary conditions, concentrated and pressure loads, static steps, ties
-    /// and contact pairs) mapped onto cfe's parts, interfaces, supports, loads
-    /// and steps as README.md, "Running a CalculiX/Abaqus deck", states; anything
-    /// outside it is an [`Error::Deck`] naming the line and the keyword.
-    pub fn from_inp(path: &Path) -> Result<Model> {
-        let text = read_text(path, MESH_FILE_CAP, "CalculiX/Abaqus deck")?;
-        inp::model(&text, path, 1)
-    }
-
-    /// [`Model::from_inp`] of deck text; `path` is used in messages and to find
-    /// its `*INCLUDE`d files (relative to its folder).
-    pub fn from_inp_str(text: &str, path: &Path) -> Result<Model> {
-        inp::model(text, path, 1)
-    }
-
-    /// The same problem with the meshes refined `refine` times instead.
-    pub fn with_refine(&self, refine: usize) -> Result<Model> {
-        if is_deck(&self.source) {
-            return inp::model(&self.text, &self.source, refine);
-        }
-        Model::from_str(&self.text, &self.source, refine)
-    }
-
     /// A model built in code from its parts: no problem file behind it (so no
     /// coarser level for the warm start: [`Model::with_refine`] fails). Names
-    /// given twice within a kind are refused ([`Model::check_names`]).
+    /// given twice within a kind are refused ([`Model::check_names`]). Plane
+    /// or solid (`Part<D3>`, `Load<D3>`): the dimension is the parts'.
     #[allow(clippy::too_many_arguments)]
     pub fn from_parts(
         title: impl Into<String>,
-        parts: Vec<Part>,
+        parts: Vec<Part<D>>,
         interfaces: Vec<InterfaceDef>,
         supports: Vec<Support>,
-        loads: Vec<Load>,
+        loads: Vec<Load<D>>,
         settings: Settings,
-    ) -> Result<Model> {
+    ) -> Result<Model<D>> {
         let model = Model {
             title: title.into(),
             source: PathBuf::new(),
@@ -236,6 +203,75 @@ impl Model {
         Ok(())
     }
 
+    /// The load steps: those of the `[[step]]` tables, or without them one step
+    /// named [`DEFAULT_STEP`] of `settings.increments`.
+    pub fn steps(&self) -> Vec<Step> {
+        if self.steps.is_empty() {
+            vec![Step::new(DEFAULT_STEP, self.settings.increments)]
+        } else {
+            self.steps.clone()
+        }
+    }
+
+    /// The steps in which some load or prescribed value is applied (sorted).
+    pub fn loaded_steps(&self) -> Vec<usize> {
+        let mut s: Vec<usize> = self
+            .loads
+            .iter()
+            .filter(|l| (l.nodal.iter()).any(|(_, f)| f.as_ref().iter().any(|&c| c != 0.0)))
+            .map(|l| l.step)
+            .chain(
+                self.supports
+                    .iter()
+                    .filter(|s| (0..D::N).any(|c| s.fix[c] && s.value[c] != 0.0))
+                    .map(|s| s.step),
+            )
+            .collect();
+        s.sort_unstable();
+        s.dedup();
+        s
+    }
+}
+
+impl Model {
+    /// Reads, checks and meshes the problem file at `path`; `refine` multiplies every
+    /// structured part's cell counts and splits every edge of a Gmsh part into that
+    /// many (1 = as written). A file named `*.inp` is read as a CalculiX/Abaqus
+    /// deck ([`Model::from_inp`]; its mesh as written, `refine` must be 1).
+    pub fn from_file(path: &Path, refine: usize) -> Result<Model> {
+        if is_deck(path) {
+            let text = read_text(path, MESH_FILE_CAP, "CalculiX/Abaqus deck")?;
+            return inp::model(&text, path, refine);
+        }
+        let text = read_text(path, PROBLEM_FILE_CAP, "problem file")?;
+        Model::from_str(&text, path, refine)
+    }
+
+    /// Reads a CalculiX/Abaqus input deck: the common subset (nodes, CPS3/CPE3/
+    /// CPS4/CPE4 elements, sets, surfaces, elastic materials, solid sections,
+    /// boundary conditions, concentrated and pressure loads, static steps, ties
+    /// and contact pairs) mapped onto cfe's parts, interfaces, supports, loads
+    /// and steps as README.md, "Running a CalculiX/Abaqus deck", states; anything
+    /// outside it is an [`Error::Deck`] naming the line and the keyword.
+    pub fn from_inp(path: &Path) -> Result<Model> {
+        let text = read_text(path, MESH_FILE_CAP, "CalculiX/Abaqus deck")?;
+        inp::model(&text, path, 1)
+    }
+
+    /// [`Model::from_inp`] of deck text; `path` is used in messages and to find
+    /// its `*INCLUDE`d files (relative to its folder).
+    pub fn from_inp_str(text: &str, path: &Path) -> Result<Model> {
+        inp::model(text, path, 1)
+    }
+
+    /// The same problem with the meshes refined `refine` times instead.
+    pub fn with_refine(&self, refine: usize) -> Result<Model> {
+        if is_deck(&self.source) {
+            return inp::model(&self.text, &self.source, refine);
+        }
+        Model::from_str(&self.text, &self.source, refine)
+    }
+
     /// Advice about the model that does not stop it from being solved: parts in
     /// plane strain (or axisymmetric: as constrained out of plane) with ν ≥ [`LOCKING_NU`], whose displacement elements lock
     /// (volumetric locking: too stiff, with oscillating pressure), T3 most.
@@ -266,35 +302,6 @@ impl Model {
                 )
             })
             .collect()
-    }
-
-    /// The load steps: those of the `[[step]]` tables, or without them one step
-    /// named [`DEFAULT_STEP`] of `settings.increments`.
-    pub fn steps(&self) -> Vec<Step> {
-        if self.steps.is_empty() {
-            vec![Step::new(DEFAULT_STEP, self.settings.increments)]
-        } else {
-            self.steps.clone()
-        }
-    }
-
-    /// The steps in which some load or prescribed value is applied (sorted).
-    pub fn loaded_steps(&self) -> Vec<usize> {
-        let mut s: Vec<usize> = self
-            .loads
-            .iter()
-            .filter(|l| l.nodal.iter().any(|(_, f)| f[0] != 0.0 || f[1] != 0.0))
-            .map(|l| l.step)
-            .chain(
-                self.supports
-                    .iter()
-                    .filter(|s| (0..2).any(|c| s.fix[c] && s.value[c] != 0.0))
-                    .map(|s| s.step),
-            )
-            .collect();
-        s.sort_unstable();
-        s.dedup();
-        s
     }
 
     /// Reads, checks and meshes a problem given as text; `path` is used in messages

@@ -36,6 +36,9 @@ pub struct ProbeHistory {
     pub ux: f64,
     /// Displacement y, as `ux`.
     pub uy: f64,
+    /// Displacement z, as `ux` (a solid model only; absent in a plane one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uz: Option<f64>,
 }
 
 /// One support's reaction at one increment.
@@ -47,6 +50,9 @@ pub struct ReactionHistory {
     pub fx: f64,
     /// Reaction y.
     pub fy: f64,
+    /// Reaction z (a solid model only; absent in a plane one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fz: Option<f64>,
 }
 
 /// One converged increment of the history.
@@ -217,6 +223,7 @@ mod tests {
                 support: "base".into(),
                 fx: 0.1 * f,
                 fy: f,
+                fz: None,
             }],
             interfaces: vec![InterfaceHistory {
                 interface: "c".into(),
@@ -229,6 +236,7 @@ mod tests {
                 probe: "tip".into(),
                 ux: 0.0,
                 uy: -f / 100.0,
+                uz: None,
             }],
         }
     }

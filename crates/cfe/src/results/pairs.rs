@@ -1,8 +1,9 @@
 //! The rows of `pairs.csv`: one coupling pair at one increment — its state, jumps,
 //! gaps and forces on the node part — and their evaluation from an increment.
 
-use super::Problem;
+use super::{Problem, ResultsDim};
 use crate::coupling::{Law, PairState, ViolationKind};
+use crate::dim::Tangent;
 use crate::solve::nonlinear::IncrementResult;
 use serde::Serialize;
 
@@ -22,6 +23,10 @@ pub struct PairRow {
     /// Reference position y of the pair (as `x`).
     #[serde(serialize_with = "plain")]
     pub y: f64,
+    /// Reference position z of the pair (as `x`; a solid model only, absent
+    /// from a plane model's rows).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub z: Option<f64>,
     /// Host element (index in the host part).
     pub host_element: usize,
     /// `bonded` or `open`.
@@ -29,15 +34,31 @@ pub struct PairRow {
     /// Normal jump `[[u_n]]` (> 0: the faces separate).
     #[serde(serialize_with = "sci")]
     pub gap_n: f64,
-    /// Tangential jump `[[u_s]]`.
+    /// Tangential jump `[[u_s]]` (in 3D its component along the frame's t₁).
     #[serde(serialize_with = "sci")]
     pub slip_s: f64,
+    /// The tangential jump's component along t₂ (a solid model only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slip_t2: Option<f64>,
     /// Normal force on the node part (> 0: the faces press together).
     #[serde(serialize_with = "sci")]
     pub force_n: f64,
-    /// Tangential force on the node part along s.
+    /// Tangential force on the node part along s (in 3D along t₁).
     #[serde(serialize_with = "sci")]
     pub force_s: f64,
+    /// Tangential force on the node part along t₂ (a solid model only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_t2: Option<f64>,
+    /// The force on the node part in global components x, y, z (a solid model
+    /// only; a plane row states it by its normal and tangential parts).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_x: Option<f64>,
+    /// See `force_x`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_y: Option<f64>,
+    /// See `force_x`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_z: Option<f64>,
     /// State fixed against the law by the active-set scheme to settle a cycle.
     pub settled: bool,
     /// Every way the pair breaks its law, as the law check found them and
@@ -63,13 +84,20 @@ pub struct PairRow {
     /// frictionless pair.
     #[serde(serialize_with = "sci")]
     pub slip: f64,
+    /// That slip's component along t₂ (a solid model only; `slip` is along t₁).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slip_t2_plastic: Option<f64>,
     /// Contact pressure, a stress: `force_n` / (tributary length × the node part's
     /// thickness t) (> 0 in compression; `coupling::traction`).
     #[serde(serialize_with = "sci")]
     pub pressure: f64,
-    /// Shear traction, a stress: `force_s` / (tributary length × t).
+    /// Shear traction, a stress: `force_s` / (tributary length × t) (in 3D
+    /// along t₁, over the tributary area).
     #[serde(serialize_with = "sci")]
     pub shear: f64,
+    /// Shear traction along t₂ (a solid model only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shear_t2: Option<f64>,
     /// Tributary length of the coupling node on the node part's face (with segment
     /// coupling, its share of the face m_a = ∫ N_a ds).
     #[serde(serialize_with = "sci")]
@@ -139,6 +167,29 @@ fn amounts<S: serde::Serializer>(v: &[f64], s: S) -> std::result::Result<S::Ok, 
 }
 
 impl PairRow {
+    /// The pair's reference position: (x, y), or (x, y, z) in a solid model.
+    pub fn position(&self) -> Vec<f64> {
+        let mut p = vec![self.x, self.y];
+        p.extend(self.z);
+        p
+    }
+
+    /// The magnitude of the tangential jump (|`slip_s`| in a plane model).
+    pub fn tangential_jump(&self) -> f64 {
+        match self.slip_t2 {
+            None => self.slip_s.abs(),
+            Some(t2) => self.slip_s.hypot(t2),
+        }
+    }
+
+    /// The magnitude of the shear traction (|`shear`| in a plane model).
+    pub fn shear_magnitude(&self) -> f64 {
+        match self.shear_t2 {
+            None => self.shear.abs(),
+            Some(t2) => self.shear.hypot(t2),
+        }
+    }
+
     /// Whether the pair breaks its law.
     pub fn breaks_law(&self) -> bool {
         !self.violation.is_empty()
@@ -164,7 +215,11 @@ impl PairRow {
 
 /// One row per coupling pair of `p` at increment `inc` (of the load step named
 /// `step`): state, jumps and forces on the node part.
-pub(crate) fn pair_rows(p: &Problem<'_>, inc: &IncrementResult, step: &str) -> Vec<PairRow> {
+pub(crate) fn pair_rows<D: ResultsDim>(
+    p: &Problem<'_, D>,
+    inc: &IncrementResult<D>,
+    step: &str,
+) -> Vec<PairRow> {
     let mut rows = Vec::new();
     // Every violation of the law check (the list summary.json reports): a pair
     // takes all of its own, in the check's order (its normal violation before
@@ -190,36 +245,52 @@ pub(crate) fn pair_rows(p: &Problem<'_>, inc: &IncrementResult, step: &str) -> V
                 .copied()
                 .unwrap_or_default();
             let at = iface.pair_at(k, p.dofs, &inc.u, state, &h);
-            let (f, jump) = ([at.force.0, at.force.1], [at.jump.0, at.jump.1]);
+            let (f, jump) = (at.force, at.jump);
             // The slip not carried by the tangential spring: the plastic slip of
             // a closed pair with friction, the whole tangential jump when
             // nothing holds it (open, or frictionless).
             let slip = if state.is_closed() && iface.law != Law::Frictionless {
                 h.slip
             } else {
-                jump[1]
+                jump.1
             };
-            let thickness = p.parts[iface.node_part].material.thickness;
+            let thickness = D::traction_thickness(&p.parts[iface.node_part].material);
+            // A tangent's second component (t₂), in 3D only.
+            let second = |t: D::Tangent| (D::Tangent::COMPONENTS > 1).then(|| t.component(1));
+            // The force on the node part in global components, in 3D only.
+            let global = (D::N > 2).then(|| {
+                let g = D::to_global(&D::frame(c.normal), f.0, f.1);
+                g.as_ref().iter().map(|v| -v + 0.0).collect::<Vec<f64>>()
+            });
+            let position = c.position.as_ref();
             rows.push(PairRow {
                 interface: iface.name.clone(),
                 node: c.node,
-                x: c.position[0],
-                y: c.position[1],
+                x: position[0],
+                y: position[1],
+                z: position.get(2).copied(),
                 host_element: c.host_element,
                 state,
-                gap_n: jump[0],
-                slip_s: jump[1],
+                gap_n: jump.0,
+                slip_s: jump.1.component(0),
+                slip_t2: second(jump.1),
                 // Force on the node part is −f; `+ 0.0` turns −0 into 0 for open pairs.
-                force_n: -f[0] + 0.0,
-                force_s: -f[1] + 0.0,
+                force_n: -f.0 + 0.0,
+                force_s: -f.1.component(0) + 0.0,
+                force_t2: second(f.1).map(|v| -v + 0.0),
+                force_x: global.as_ref().map(|g| g[0]),
+                force_y: global.as_ref().map(|g| g[1]),
+                force_z: global.as_ref().map(|g| g[2]),
                 settled: inc.settled.binary_search(&(i, k)).is_ok(),
                 violation,
                 violation_amount,
                 gap0: c.gap0,
                 gap: at.gap,
-                slip,
-                pressure: c.traction(-f[0] + 0.0, thickness),
-                shear: c.traction(-f[1] + 0.0, thickness),
+                slip: slip.component(0),
+                slip_t2_plastic: second(slip),
+                pressure: c.traction(-f.0 + 0.0, thickness),
+                shear: c.traction(-f.1.component(0) + 0.0, thickness),
+                shear_t2: second(f.1).map(|v| c.traction(-v + 0.0, thickness)),
                 tributary: c.tributary,
                 segment: c.segment.as_ref().map(|s| {
                     s.nodes

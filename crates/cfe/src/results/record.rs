@@ -2,18 +2,18 @@
 //! brought up to date with each converged increment (law violations, warnings,
 //! interfaces, largest displacement, reactions, equilibrium).
 
-use super::Problem;
 use super::history::{HistoryRow, InterfaceHistory, ProbeHistory, ReactionHistory};
 use super::pairs::PairRow;
 use super::summary::{
     IncrementStep, InterfaceSummary, MaxDisplacement, PartSummary, ProbeSummary, Reaction,
     RunStatus, SettledPair, StepSummary, Summary, Timings, Tolerances, ViolationRecord, Warning,
 };
+use super::{Problem, ResultsDim};
 use crate::coupling::{Law, PairState, ViolationKind};
 use crate::dim::Dim;
 use crate::dofs::DofMap;
 use crate::domain::{Scheme, Step};
-use crate::mesh::CurvedBoundary;
+use crate::mesh::{CurvedBoundary, MeshCell};
 use crate::solve::nonlinear::{IncrementResult, RESIDUAL_WARN};
 use std::path::PathBuf;
 
@@ -41,7 +41,7 @@ pub(crate) struct Heading<'a> {
 impl Summary {
     /// The summary of `p` before its first increment: status `running`, the
     /// problem as `h` states it, the tolerances, parts and steps.
-    pub(crate) fn new(p: &Problem<'_>, h: Heading<'_>) -> Summary {
+    pub(crate) fn new<D: ResultsDim>(p: &Problem<'_, D>, h: Heading<'_>) -> Summary {
         Summary {
             status: RunStatus::Running,
             error: None,
@@ -66,13 +66,19 @@ impl Summary {
                 .parts
                 .iter()
                 .map(|p| {
-                    let (t3, q4) = p.mesh.counts();
+                    let count = |kind: &str| {
+                        (p.mesh.elements.iter())
+                            .filter(|e| e.kind_name() == kind)
+                            .count()
+                    };
                     PartSummary {
                         name: p.name.clone(),
                         nodes: p.mesh.nodes.len(),
-                        elements: t3 + q4,
-                        t3,
-                        q4,
+                        elements: p.mesh.elements.len(),
+                        t3: count("T3"),
+                        q4: count("Q4"),
+                        tet4: count("TET4"),
+                        hex8: count("HEX8"),
                     }
                 })
                 .collect(),
@@ -86,7 +92,7 @@ impl Summary {
             first_factorization_seconds: None,
             max_displacement: MaxDisplacement::default(),
             reactions: Vec::new(),
-            applied: [0.0; 2],
+            applied: vec![0.0; D::N],
             equilibrium_error: 0.0,
             residual: 0.0,
             proportional_shortcut: h.shortcut_off.is_none(),
@@ -106,14 +112,16 @@ impl Summary {
                 .map(|pr| {
                     let part = &p.parts[pr.part];
                     let x = part.mesh.nodes[pr.node];
+                    let x = x.as_ref();
                     ProbeSummary {
                         name: pr.name.clone(),
                         part: part.name.clone(),
                         node: pr.node,
                         element: pr.element,
-                        at: pr.at,
+                        at: pr.at.as_ref().to_vec(),
                         x: x[0],
                         y: x[1],
+                        z: x.get(2).copied(),
                     }
                 })
                 .collect(),
@@ -149,10 +157,10 @@ impl Summary {
     /// with its pair rows `rows`): its step, iterations, law violations and
     /// warnings, the interfaces' pair counts and extents, the largest
     /// displacement, the reactions, the applied load and the equilibrium error.
-    pub(crate) fn record_increment(
+    pub(crate) fn record_increment<D: ResultsDim>(
         &mut self,
-        p: &Problem<'_>,
-        inc: &IncrementResult,
+        p: &Problem<'_, D>,
+        inc: &IncrementResult<D>,
         rows: &[PairRow],
         step: String,
     ) {
@@ -193,6 +201,7 @@ impl Summary {
                             node: r.node,
                             x: r.x,
                             y: r.y,
+                            z: r.z,
                             state: r.state,
                             force_n: r.force_n,
                         })
@@ -207,16 +216,21 @@ impl Summary {
                     slip: mine.iter().filter(|r| r.state == PairState::Slip).count(),
                     unpaired: iface.unpaired,
                     max_pressure: mine.iter().map(|r| r.pressure).fold(0.0, f64::max),
-                    max_shear: mine.iter().map(|r| r.shear.abs()).fold(0.0, f64::max),
+                    max_shear: (mine.iter())
+                        .map(|r| r.shear_magnitude())
+                        .fold(0.0, f64::max),
                     contact_extent: contact_extent(&mine),
-                    contact_length: contact_extent(&mine)
-                        .map_or(0.0, |[a, b]| (b[0] - a[0]).hypot(b[1] - a[1])),
+                    contact_length: contact_extent(&mine).map_or(0.0, |[a, b]| {
+                        let d: Vec<f64> = b.iter().zip(&a).map(|(b, a)| b - a).collect();
+                        D::length(&d)
+                    }),
                     max_slip_ratio: iface
                         .elements
                         .iter()
                         .zip(rows.iter().filter(|r| r.interface == iface.name))
-                        .map(|(c, r)| r.slip_s.abs() / c.edge_length.max(f64::MIN_POSITIVE))
+                        .map(|(c, r)| r.tangential_jump() / c.edge_length.max(f64::MIN_POSITIVE))
                         .fold(0.0, f64::max),
+                    resultant: resultant(&mine),
                 }
             })
             .collect();
@@ -251,10 +265,12 @@ impl Summary {
         let best = largest_magnitude(p.dofs, &inc.u);
         let (part, n) = p.dofs.locate(best.1);
         let x = p.parts[part].mesh.nodes[n];
+        let x = x.as_ref();
         s.max_displacement = MaxDisplacement {
             value: best.0,
             x: x[0],
             y: x[1],
+            z: x.get(2).copied(),
             part: p.parts[part].name.clone(),
             node: n,
         };
@@ -263,39 +279,49 @@ impl Summary {
             .supports
             .iter()
             .zip(&r)
-            .map(|(sup, r)| Reaction {
-                support: sup.name.clone(),
-                fx: r[0],
-                fy: r[1],
+            .map(|(sup, r)| {
+                let r = r.as_ref();
+                Reaction {
+                    support: sup.name.clone(),
+                    fx: r[0],
+                    fy: r[1],
+                    fz: r.get(2).copied(),
+                }
             })
             .collect();
-        // The summary states the plane components (x, y) of a model's forces.
-        let mut applied = [0.0; 2];
+        // The summary states a model's forces by their `D::N` components.
+        let mut applied = vec![0.0; D::N];
         for (d, f) in inc.f_ext.iter().enumerate() {
             applied[d % p.dofs.per_node()] += f;
         }
-        s.applied = applied;
-        let mut total: [f64; 2] =
-            std::array::from_fn(|c| applied[c] + r.iter().map(|r| r[c]).sum::<f64>());
+        let mut total: Vec<f64> = (0..D::N)
+            .map(|c| applied[c] + r.iter().map(|r| r.as_ref()[c]).sum::<f64>())
+            .collect();
         // In an axisymmetric model the forces are totals over the ring: their
         // radial sums balance through the hoop stresses (a ring's radial
         // resultant is zero), so statics checks the axial direction only.
         if p.parts.iter().any(|p| p.material.is_axisymmetric()) {
             total[0] = 0.0;
         }
-        let scale = applied[0].hypot(applied[1]);
+        let scale = D::length(&applied);
         s.equilibrium_error = if scale > 0.0 {
-            total[0].hypot(total[1]) / scale
+            D::length(&total) / scale
         } else {
             0.0
         };
+        s.applied = applied;
         s.record_history(p, inc, rows);
     }
 
     /// Adds increment `inc`'s row to the history (after its step, reactions and
     /// interfaces are recorded): reactions, each interface's Σ f_n, Σ f_s,
     /// contact length and largest pressure, each probe's displacement.
-    fn record_history(&mut self, p: &Problem<'_>, inc: &IncrementResult, rows: &[PairRow]) {
+    fn record_history<D: ResultsDim>(
+        &mut self,
+        p: &Problem<'_, D>,
+        inc: &IncrementResult<D>,
+        rows: &[PairRow],
+    ) {
         let step = self
             .increment_steps
             .last()
@@ -311,6 +337,7 @@ impl Summary {
                     support: r.support.clone(),
                     fx: r.fx,
                     fy: r.fy,
+                    fz: r.fz,
                 })
                 .collect(),
             interfaces: (self.interfaces.iter())
@@ -327,11 +354,13 @@ impl Summary {
                 .collect(),
             probes: (p.probes.iter())
                 .map(|pr| {
-                    let [ux, uy] = pr.displacement(&inc.u, p.dofs.node_offset[pr.part]);
+                    let d = pr.displacement(&inc.u, p.dofs.node_offset[pr.part]);
+                    let d = d.as_ref();
                     ProbeHistory {
                         probe: pr.name.clone(),
-                        ux,
-                        uy,
+                        ux: d[0],
+                        uy: d[1],
+                        uz: d.get(2).copied(),
                     }
                 })
                 .collect(),
@@ -342,7 +371,7 @@ impl Summary {
     /// Adds the increment's law violations and precision warning to the summary
     /// (with `implex`, those of the final increment only: its early increments lag
     /// by design).
-    fn record_violations(&mut self, p: &Problem<'_>, inc: &IncrementResult) {
+    fn record_violations<D: ResultsDim>(&mut self, p: &Problem<'_, D>, inc: &IncrementResult<D>) {
         let s = self;
         let settings = p.settings;
         if settings.scheme == Scheme::Implex && inc.index < settings.increments {
@@ -361,8 +390,9 @@ impl Summary {
                 increment: inc.index,
                 interface: iface.name.clone(),
                 node: c.node,
-                x: c.position[0],
-                y: c.position[1],
+                x: c.position.as_ref()[0],
+                y: c.position.as_ref()[1],
+                z: c.position.as_ref().get(2).copied(),
                 kind: v.kind,
                 amount: v.amount,
                 force: v.force,
@@ -394,11 +424,13 @@ impl Summary {
             s.warnings.push(Warning {
                 increment: inc.index,
                 message: format!(
-                    "{} pair(s) break the contact law ({why}); the worst, node {} at ({}, {}) of interface '{}', {} {:.4e} ({:.2e} of the load scale)",
+                    "{} pair(s) break the contact law ({why}); the worst, node {} at ({}) of interface '{}', {} {:.4e} ({:.2e} of the load scale)",
                     pairs.len(),
                     c.node,
-                    c.position[0],
-                    c.position[1],
+                    (c.position.as_ref().iter())
+                        .map(|v| v.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", "),
                     iface.name,
                     match worst.kind {
                         ViolationKind::Tension => "pulls with",
@@ -444,26 +476,43 @@ pub(crate) fn kept_polygon_warnings(
         .collect()
 }
 
+/// Rows ordered by x, then y (then z).
+fn by_x(a: &&&PairRow, b: &&&PairRow) -> std::cmp::Ordering {
+    (a.x.total_cmp(&b.x))
+        .then(a.y.total_cmp(&b.y))
+        .then(a.z.unwrap_or(0.0).total_cmp(&b.z.unwrap_or(0.0)))
+}
+
 /// The positions of the closed (bonded or slipping) pairs with the smallest and
-/// the largest x (then y); `None` when no pair is closed.
-fn contact_extent(rows: &[&PairRow]) -> Option<[[f64; 2]; 2]> {
-    let by_x = |a: &&&PairRow, b: &&&PairRow| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y));
+/// the largest x (then y, z); `None` when no pair is closed.
+fn contact_extent(rows: &[&PairRow]) -> Option<[Vec<f64>; 2]> {
     let closed = || rows.iter().filter(|r| r.state.is_closed());
     match (closed().min_by(by_x), closed().max_by(by_x)) {
-        (Some(a), Some(b)) => Some([[a.x, a.y], [b.x, b.y]]),
+        (Some(a), Some(b)) => Some([a.position(), b.position()]),
         _ => None,
     }
 }
 
-/// The positions of the bonded pairs with the smallest and the largest x (then y):
-/// the ends of the contact zone; `None` when no pair is bonded.
-fn bonded_extent(rows: &[&PairRow]) -> Option<[[f64; 2]; 2]> {
-    let by_x = |a: &&&PairRow, b: &&&PairRow| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y));
+/// The positions of the bonded pairs with the smallest and the largest x (then
+/// y, z): the ends of the contact zone; `None` when no pair is bonded.
+fn bonded_extent(rows: &[&PairRow]) -> Option<[Vec<f64>; 2]> {
     let bonded = || rows.iter().filter(|r| r.state == PairState::Bonded);
     match (bonded().min_by(by_x), bonded().max_by(by_x)) {
-        (Some(a), Some(b)) => Some([[a.x, a.y], [b.x, b.y]]),
+        (Some(a), Some(b)) => Some([a.position(), b.position()]),
         _ => None,
     }
+}
+
+/// The resultant (x, y, z) of the pairs' forces on the node part, when the
+/// rows state them in global components (a solid model); `None` otherwise.
+fn resultant(rows: &[&PairRow]) -> Option<Vec<f64>> {
+    let mut sum = vec![0.0; 3];
+    for r in rows {
+        for (s, f) in sum.iter_mut().zip([r.force_x?, r.force_y?, r.force_z?]) {
+            *s += f;
+        }
+    }
+    (!rows.is_empty()).then_some(sum)
 }
 
 /// The largest magnitude of a node's displacement (its `D::N` components as

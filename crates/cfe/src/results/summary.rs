@@ -71,6 +71,9 @@ pub struct ViolationRecord {
     pub x: f64,
     /// Its position.
     pub y: f64,
+    /// Its z (a solid model only; absent in a plane one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<f64>,
     /// `tension` (a bonded pair pulls) or `penetration` (an open pair interpenetrates).
     pub kind: ViolationKind,
     /// The tensile force, or the penetration depth.
@@ -185,6 +188,12 @@ pub struct PartSummary {
     pub t3: usize,
     /// Of which bilinear quadrilaterals.
     pub q4: usize,
+    /// Its TET4 elements (a solid part; absent when 0).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub tet4: usize,
+    /// Its HEX8 elements (a solid part; absent when 0).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub hex8: usize,
 }
 
 /// A pair whose state was fixed against the law to settle an active-set cycle.
@@ -196,6 +205,9 @@ pub struct SettledPair {
     pub x: f64,
     /// Its position.
     pub y: f64,
+    /// Its z (a solid model only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<f64>,
     /// `bonded` or `open`.
     pub state: PairState,
     /// Normal force on the node part (negative: tension).
@@ -237,7 +249,7 @@ pub struct InterfaceSummary {
     pub max_projection_distance: f64,
     /// Positions of the bonded pairs with the smallest and the largest x (then y):
     /// the ends of the contact zone; `null` when no pair is bonded.
-    pub bonded_extent: Option<[[f64; 2]; 2]>,
+    pub bonded_extent: Option<[Vec<f64>; 2]>,
     /// Friction coefficient μ (`coulomb`; 0 otherwise).
     pub friction: f64,
     /// `penalty` or `augmented`.
@@ -253,13 +265,18 @@ pub struct InterfaceSummary {
     pub max_shear: f64,
     /// Positions of the closed (bonded or slipping) pairs with the smallest and the
     /// largest x (then y): the contact extent; `null` when no pair is closed.
-    pub contact_extent: Option<[[f64; 2]; 2]>,
+    pub contact_extent: Option<[Vec<f64>; 2]>,
     /// Distance between the two ends of `contact_extent` (0 when none).
     pub contact_length: f64,
     /// Largest tangential jump of a pair relative to its host edge's length (the
     /// geometrically linear formulation assumes it small; a warning is given above
     /// 0.5).
     pub max_slip_ratio: f64,
+    /// The resultant (x, y, z) of its pairs' forces on the node part, in
+    /// global components (a solid model only: a plane model states its normal
+    /// and tangential sums, `total_force_n` and the history's `force_s`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resultant: Option<Vec<f64>>,
 }
 
 /// The maximum displacement magnitude and where it occurs.
@@ -271,6 +288,9 @@ pub struct MaxDisplacement {
     pub x: f64,
     /// Reference position y.
     pub y: f64,
+    /// Its node's z (a solid model only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<f64>,
     /// Part name.
     pub part: String,
     /// Node of the part.
@@ -286,6 +306,9 @@ pub struct Reaction {
     pub fx: f64,
     /// Reaction force y.
     pub fy: f64,
+    /// Reaction z (a solid model only; absent in a plane one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fz: Option<f64>,
 }
 
 impl Summary {
@@ -341,11 +364,14 @@ pub struct ProbeSummary {
     #[serde(default)]
     pub element: Option<usize>,
     /// The point asked for.
-    pub at: [f64; 2],
+    pub at: Vec<f64>,
     /// The nearest node's position.
     pub x: f64,
     /// See `x`.
     pub y: f64,
+    /// Its node's z (a solid model only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<f64>,
 }
 
 /// The step of one converged increment in the summary.
@@ -420,7 +446,7 @@ pub struct Summary {
     /// Reactions per support at the last converged increment.
     pub reactions: Vec<Reaction>,
     /// Applied load (sum of nodal forces) at the last converged increment.
-    pub applied: [f64; 2],
+    pub applied: Vec<f64>,
     /// |Σ reactions + Σ loads| / |Σ loads| (0 when no load).
     pub equilibrium_error: f64,
     /// Largest out-of-balance force at a free DOF relative to the balance scale:
@@ -481,4 +507,9 @@ pub struct Summary {
     pub threads: usize,
     /// Seconds per phase.
     pub timings: Timings,
+}
+
+/// Whether a count is 0 (then summary.json leaves it out).
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
