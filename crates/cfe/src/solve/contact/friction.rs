@@ -31,7 +31,7 @@ use super::increment::{IncrementResult, Iteration, NewtonCounts, count_changes};
 use super::solver::Solver;
 use crate::assembly::FIXED;
 use crate::coupling::{Enforcement, Law, PairHistories, PairState};
-use crate::dim::{Dim, Tangent};
+use crate::dim::Tangent;
 use crate::domain::FrictionSolve;
 use crate::fem::ElementFamily;
 use crate::error::Result;
