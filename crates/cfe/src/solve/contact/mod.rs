@@ -53,7 +53,8 @@
 //! ```text
 //! driver       Solver::run: the increment loop, implex, the end of an increment
 //! active_set   the search: trials, flips, settling, stick point, continuation in μ
-//! friction     Coulomb as a semi-smooth Newton: the pair update, exact pattern solves
+//! slip_newton  a pattern's slip forces by Newton steps (columns, small system, exact solve)
+//! friction     Coulomb as a semi-smooth Newton: the pair update, the condensed model
 //! pattern      one pattern solved (complete or restricted), right-hand sides, finish
 //! fixed_point  the pairs' right-hand-side terms (slip forces, multipliers), Anderson
 //! pairs        the law sweep and the pair-history rules
@@ -70,15 +71,16 @@ mod increment;
 mod pairs;
 mod pattern;
 mod scale;
+mod slip_newton;
 mod solver;
 
 pub use active_set::CONTINUATION;
 pub use fixed_point::{ANDERSON_DEPTH, FIXED_POINT_TOLERANCE, MAX_FIXED_POINT};
 pub use friction::{
-    Active, Condensed, CondensedPair, MAX_NEWTON_SLIPPING, NewtonRun, Tolerance,
-    newton_condensed, next_active,
+    Active, Condensed, CondensedPair, NewtonRun, Tolerance, newton_condensed, next_active,
     return_map_derivative, solve_pattern_linear,
 };
+pub use slip_newton::MAX_NEWTON_SLIPPING;
 pub use increment::{
     IncrementResult, IterativeSolves, Iteration, LoadSteps, MultipleOf, NewtonCounts,
     PairViolation, SolveTimings,

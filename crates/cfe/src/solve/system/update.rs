@@ -211,25 +211,7 @@ impl<D: ElementFamily> ContactSystem<'_, D> {
             return Some(f.clone());
         }
         let t = Instant::now();
-        let mut new: Vec<(usize, usize)> = pairs
-            .iter()
-            .copied()
-            .filter(|p| !self.cached.contains_key(p))
-            .collect();
-        new.sort_unstable();
-        new.dedup();
-        if !new.is_empty() {
-            let cols = self.new_columns(interfaces, dofs, &new);
-            let paths: Vec<Vec<u32>> = cols.iter().map(|c| Columns::path(&self.chol, c)).collect();
-            let memory = self.columns.bytes()
-                + 8 * paths.iter().map(|p| self.path_width(p)).sum::<usize>()
-                + self.columns.gram_bytes_with(per_pair * self.cached.len() + cols.len());
-            if memory > self.budget {
-                return None;
-            }
-            self.flops += self.columns.add_flops(&self.chol, &paths);
-            self.cache_columns(&new, &cols, paths, per_pair);
-        }
+        self.cache_pair_columns(interfaces, dofs, pairs, per_pair)?;
         let all: Vec<usize> = pairs
             .iter()
             .flat_map(|p| {
@@ -246,30 +228,74 @@ impl<D: ElementFamily> ContactSystem<'_, D> {
         let columns = &self.columns;
         let (np, nt) = (all.len(), tangential.len());
         let mut f = Mat::<f64>::from_fn(np, nt, |r, j| columns.gram(all[r], tangential[j]));
-        if let Some(cap) = self.capacitance.as_ref().filter(|_| !flips.is_empty()) {
-            // F −= G_PS (M_S⁻¹ G_ST): the r × nt solves, then one product.
-            let s: Vec<usize> = cap.entries().iter().map(|e| e.column).collect();
-            let r = s.len();
-            let g_ps = Mat::<f64>::from_fn(np, r, |a, e| columns.gram(all[a], s[e]));
-            let mut x = Mat::<f64>::zeros(r, nt);
-            let mut col = vec![0.0; r];
-            for (j, &b) in tangential.iter().enumerate() {
-                for (e, v) in col.iter_mut().enumerate() {
-                    *v = columns.gram(s[e], b);
-                }
-                cap.solve_in_place(&mut col);
-                for (e, v) in col.iter().enumerate() {
-                    x[(e, j)] = *v;
-                }
-            }
-            matmul(f.as_mut(), Accum::Add, g_ps.as_ref(), x.as_ref(), -1.0, Par::Seq);
-            let (r, p) = (r as f64, np as f64);
-            self.flops += nt as f64 * (2.0 * r * r + 2.0 * r * p);
+        if !flips.is_empty() {
+            self.subtract_correction(&mut f, &all, &tangential);
         }
         let f: Vec<f64> = (0..np).flat_map(|r| (0..nt).map(move |j| (r, j))).map(|(r, j)| f[(r, j)]).collect();
         self.flexibility = Some((key, f.clone()));
         self.solve_seconds += t.elapsed().as_secs_f64();
         Some(f)
+    }
+
+    /// Caches the correction columns of those of `pairs` not cached yet
+    /// (forward-solved on their elimination-tree paths, as an update of their
+    /// flips would); `None` when they would not fit the cache's memory.
+    fn cache_pair_columns(
+        &mut self,
+        interfaces: &[Interface<D>],
+        dofs: &DofMap<D>,
+        pairs: &[(usize, usize)],
+        per_pair: usize,
+    ) -> Option<()> {
+        let mut new: Vec<(usize, usize)> = pairs
+        .iter()
+        .copied()
+        .filter(|p| !self.cached.contains_key(p))
+        .collect();
+    new.sort_unstable();
+    new.dedup();
+    if !new.is_empty() {
+        let cols = self.new_columns(interfaces, dofs, &new);
+        let paths: Vec<Vec<u32>> = cols.iter().map(|c| Columns::path(&self.chol, c)).collect();
+        let memory = self.columns.bytes()
+            + 8 * paths.iter().map(|p| self.path_width(p)).sum::<usize>()
+            + self.columns.gram_bytes_with(per_pair * self.cached.len() + cols.len());
+        if memory > self.budget {
+            return None;
+        }
+        self.flops += self.columns.add_flops(&self.chol, &paths);
+        self.cache_columns(&new, &cols, paths, per_pair);
+    }
+        Some(())
+    }
+
+    /// `F −= G_PS (M_S⁻¹ G_ST)` for the kept capacitance `M_S` of the last
+    /// update (the r × nt solves, then one product), `all` and `tangential` the
+    /// cached columns of F's rows and columns.
+    fn subtract_correction(&mut self, f: &mut Mat<f64>, all: &[usize], tangential: &[usize]) {
+        let Some(cap) = self.capacitance.as_ref() else {
+            return;
+        };
+        let columns = &self.columns;
+        let (np, nt) = (all.len(), tangential.len());
+        // F −= G_PS (M_S⁻¹ G_ST): the r × nt solves, then one product.
+        let s: Vec<usize> = cap.entries().iter().map(|e| e.column).collect();
+        let r = s.len();
+        let g_ps = Mat::<f64>::from_fn(np, r, |a, e| columns.gram(all[a], s[e]));
+        let mut x = Mat::<f64>::zeros(r, nt);
+        let mut col = vec![0.0; r];
+        for (j, &b) in tangential.iter().enumerate() {
+            for (e, v) in col.iter_mut().enumerate() {
+                *v = columns.gram(s[e], b);
+            }
+            cap.solve_in_place(&mut col);
+            for (e, v) in col.iter().enumerate() {
+                x[(e, j)] = *v;
+            }
+        }
+        matmul(f.as_mut(), Accum::Add, g_ps.as_ref(), x.as_ref(), -1.0, Par::Seq);
+        let (r, p) = (r as f64, np as f64);
+        self.flops += nt as f64 * (2.0 * r * r + 2.0 * r * p);
     }
 
     /// Rows of the factor on the supernodes of `path`.
