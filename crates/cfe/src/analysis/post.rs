@@ -4,6 +4,7 @@
 
 use super::Analysis;
 use crate::fem::recovery::PartStress;
+use crate::results::history::HistoryRow;
 use crate::results::lines::LineSample;
 use crate::results::{self, PairRow, Summary};
 use crate::solve::nonlinear::IncrementResult;
@@ -62,6 +63,18 @@ impl Analysis {
                 (l.name.as_str(), samples)
             })
             .collect()
+    }
+
+    /// The history row of converged increment `inc` — its step, load factor,
+    /// time, every support's reaction, every interface's contact resultants,
+    /// contact length and largest pressure, every probe's displacement — as the
+    /// summary's `history` records it (`history.csv`'s row).
+    pub fn history_row(&self, inc: &IncrementResult) -> HistoryRow {
+        let mut s = self.empty_summary();
+        self.fill_summary(&mut s, inc, &self.pair_rows(inc));
+        s.history
+            .pop()
+            .expect("fill_summary records the increment's history row")
     }
 
     /// Records converged increment `inc` (with its pair rows `rows`) in the
