@@ -11,6 +11,7 @@ mod results;
 
 use cfe::IncrementResult;
 use cfe::mesh::{BoundarySelection, Element, Mesh};
+use cfe::results::history::HistoryRow;
 use cfe::{Analysis, Law, Results};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -311,7 +312,9 @@ impl PyModel {
 
     /// Solves the model with the GIL released. `progress(info)` is called after
     /// each converged increment with a dict (increment, increments, load_factor,
-    /// iterations, step, time: the step's name, and step index − 1 + load factor); an exception it raises stops the solve; Ctrl-C (SIGINT, registered
+    /// iterations, step, time: the step's name, and step index − 1 + load factor;
+    /// history: the increment's row of the run's history, a dict of
+    /// `history.csv`'s columns to scalars); an exception it raises stops the solve; Ctrl-C (SIGINT, registered
     /// on the solver's stop flag for the solve's duration) stops it inside an
     /// increment with `KeyboardInterrupt`. With `out`,
     /// every converged increment is also written there as `cfe run` does (the
@@ -410,44 +413,54 @@ impl PyModel {
                 (Some(law), _) => analysis.override_law(law),
                 (None, _) => {}
             }
-            let mut on_increment = |inc: &IncrementResult| -> cfe::Result<()> {
-                Python::attach(|py| {
-                    let called = py.check_signals().and_then(|_| match &progress {
-                        Some(callback) => {
-                            let info = PyDict::new(py);
-                            info.set_item("increment", inc.index)?;
-                            info.set_item("increments", increments)?;
-                            info.set_item("load_factor", inc.lambda)?;
-                            info.set_item("iterations", inc.iterations)?;
-                            info.set_item(
-                                "step",
-                                step_names.get(inc.step).map_or("", String::as_str),
-                            )?;
-                            info.set_item("time", inc.time)?;
-                            callback.call1(py, (info,)).map(|_| ())
-                        }
-                        None => Ok(()),
-                    });
-                    called.map_err(|e| {
-                        stopped = Some(e);
-                        cfe::Error::Model("stopped from Python".into())
+            let mut on_increment =
+                |inc: &IncrementResult, row: Option<&HistoryRow>| -> cfe::Result<()> {
+                    Python::attach(|py| {
+                        let called = py.check_signals().and_then(|_| match &progress {
+                            Some(callback) => {
+                                let info = PyDict::new(py);
+                                info.set_item("increment", inc.index)?;
+                                info.set_item("increments", increments)?;
+                                info.set_item("load_factor", inc.lambda)?;
+                                info.set_item("iterations", inc.iterations)?;
+                                info.set_item(
+                                    "step",
+                                    step_names.get(inc.step).map_or("", String::as_str),
+                                )?;
+                                info.set_item("time", inc.time)?;
+                                if let Some(row) = row {
+                                    info.set_item("history", results::history_row(py, row)?)?;
+                                }
+                                callback.call1(py, (info,)).map(|_| ())
+                            }
+                            None => Ok(()),
+                        });
+                        called.map_err(|e| {
+                            stopped = Some(e);
+                            cfe::Error::Model("stopped from Python".into())
+                        })
                     })
-                })
-            };
+                };
             match &out {
                 None => {
-                    let results = analysis.solve_observed_until(&mut on_increment, &stop)?;
+                    // The history row only for a callback to receive it.
+                    let rows = progress.is_some();
+                    let a = &analysis;
+                    let results = analysis.solve_observed_until(
+                        |inc| on_increment(inc, rows.then(|| a.history_row(inc)).as_ref()),
+                        &stop,
+                    )?;
                     Ok((analysis, results))
                 }
                 Some(dir) => {
                     let mut last: Option<IncrementResult> = None;
                     let mut failed = false;
                     let folder = cfe::output::folder::OutputFolder::open(dir, force)?;
-                    let summary = analysis.run_in(
+                    let summary = analysis.run_recorded_in(
                         folder,
-                        &mut |inc| {
+                        &mut |inc, row| {
                             if !failed {
-                                failed = on_increment(inc).is_err();
+                                failed = on_increment(inc, Some(row)).is_err();
                             }
                             last = Some(inc.clone());
                         },

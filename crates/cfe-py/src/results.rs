@@ -127,6 +127,24 @@ fn history<'py>(
     Ok(d)
 }
 
+/// One increment's row of the history as a dict of `history.csv`'s columns in
+/// order to scalars: ints (increment, step_index), the step's name, floats.
+pub(crate) fn history_row<'py>(
+    py: Python<'py>,
+    row: &cfe::results::history::HistoryRow,
+) -> PyResult<Bound<'py, PyDict>> {
+    use cfe::results::history::{Values, columns};
+    let d = PyDict::new(py);
+    for (name, values) in columns(std::slice::from_ref(row)) {
+        match values {
+            Values::Count(c) => d.set_item(name, c[0])?,
+            Values::Number(x) => d.set_item(name, x[0])?,
+            Values::Name(n) => d.set_item(name, &n[0])?,
+        }
+    }
+    Ok(d)
+}
+
 /// The line probes (`[[line]]`) sampled at increment `inc`, by name: per line a
 /// dict of `s` `(n,)` (distance from its start), `x` `(n, 2)`, `part` `(n,)`
 /// (the part's name per sample), `u` `(n, 2)`, `stress` `(n, 3)` (σxx, σyy,

@@ -57,3 +57,28 @@ def test_history_columns_follow_the_load_path(tmp_path):
     np.testing.assert_array_equal([float(x["probe:tip.uy"]) for x in rows], uy)
     assert (tmp_path / "history.png").is_file()
     assert len(r.summary["history"]) == 5
+
+
+def test_progress_receives_each_increments_history_row(tmp_path):
+    """The progress callback gets every increment's history row as it converges,
+    in memory and with ``out``: the same columns, in order, and the same values
+    as ``result.history`` (and history.csv) at the end — the reaction following
+    the load path (2 × amplitude) while the run goes on."""
+    model = cfe.Model.from_toml(block_on_base('law = "rigid"', TAIL))
+    amplitude = [0.5, 1.0, 0.5, 0.0, -1.0]
+    for out in [None, tmp_path]:
+        seen = []
+        r = model.solve(lambda inc: seen.append(inc), out=out)
+        h = r.history
+        assert [inc.increment for inc in seen] == [1, 2, 3, 4, 5]
+        for k, inc in enumerate(seen):
+            row = inc.history
+            assert list(row) == list(h), out
+            for name, column in h.items():
+                assert row[name] == column[k], (out, name, k)
+            assert row["increment"] == inc.increment and row["step"] == inc.step
+            assert row["load_factor"] == inc.load_factor and row["time"] == inc.time
+            assert abs(row["reaction:base/bottom.fy"] - 2.0 * amplitude[k]) < 1e-9
+    with open(tmp_path / "history.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert [float(x["probe:tip.uy"]) for x in rows] == [inc.history["probe:tip.uy"] for inc in seen]

@@ -695,8 +695,8 @@ increments = 1
 
 /// An axisymmetric deck as a CalculiX user writes it: a CAX3 punch (r ≤ 1) on
 /// a CAX4 base, node-to-surface contact with a LINEAR pressure-overclosure,
-/// a point force on the axis given for CalculiX's 2° segment and a pressure on
-/// the punch's top.
+/// a point force on the axis (a total over the ring, as CalculiX reads it) and a
+/// pressure on the punch's top.
 const AXI_DECK: &str = "*HEADING
 axisymmetric punch on a base
 *NODE, NSET=NBASE
@@ -776,7 +776,7 @@ PUNCH_BOTTOM, BASE_TOP
 *STEP
 *STATIC
 *CLOAD
-107, 2, -0.5
+107, 2, -90.
 *DLOAD
 PTOP, P2, 30.
 *END STEP
@@ -784,9 +784,9 @@ PTOP, P2, 30.
 
 /// CAX3/CAX4 decks (issue 40): the axisymmetric deck gives its TOML twin's
 /// model — the same meshes, plane, penalty (the LINEAR slope × the mean slave
-/// edge, per unit circumference: 2e6 × 0.5 = 1e6), loads (a *CLOAD of CalculiX's
-/// 2° segment, 180 × 0.5 = 90, the ring's total; the *DLOAD pressure integrated
-/// with 2πr) — and the same displacements to round-off (1e-12 of the largest);
+/// edge, per unit circumference: 2e6 × 0.5 = 1e6), loads (the *CLOAD the ring's
+/// total, 90, as CalculiX reads it; the *DLOAD pressure integrated with 2πr),
+/// the note saying so — and the same displacements to round-off (1e-12 of the largest);
 /// the base's reaction balances the loads' z resultant (90 + 30 π 1²).
 #[test]
 fn axisymmetric_deck_matches_its_toml_twin() {
@@ -803,7 +803,12 @@ fn axisymmetric_deck_matches_its_toml_twin() {
     }
     assert_eq!(toml.interfaces[0].c_n, inp.interfaces[0].c_n);
     assert_eq!(inp.interfaces[0].law, cfe::Law::Frictionless);
-    assert!(inp.model.notes.iter().any(|n| n.contains("2° segment")));
+    assert!(
+        inp.model
+            .notes
+            .iter()
+            .any(|n| n.contains("*CLOAD") && n.contains("total over the ring's circumference"))
+    );
     let total = |a: &Analysis| -> f64 { a.model.loads.iter().map(|l| l.resultant[1]).sum() };
     let want = -(90.0 + 30.0 * std::f64::consts::PI);
     assert!((total(&toml) - want).abs() < 1e-12 * want.abs());
@@ -897,6 +902,164 @@ fn deck_refined_matches_the_refined_rectangle() {
                 worst <= 1e-10 * scale,
                 "{file}, refine {k}: {worst:e} of {scale:e}"
             );
+        }
+    }
+}
+
+/// A CAX4 ring (1 ≤ r ≤ 2, 0 ≤ z ≤ 1, 4 × 2 elements, E = 210000, ν = 0.3) on
+/// rollers at z = 0, pressed on its top by p = 100 given two ways: a *DLOAD
+/// pressure, and *CLOADs of the ring totals of that pressure's consistent
+/// nodal forces (f_a = p L 2π (2r_a + r_b)/6 per edge, summing to p π (2² − 1²)).
+/// The state is uniaxial, so both decks give the closed form at every node:
+/// u_z = −p z / E, u_r = ν p r / E (to 1e-9 of the largest). The rule this
+/// checks: CalculiX reads an axisymmetric *CLOAD as the total over the ring's
+/// circumference (not per 2° segment) and a *DLOAD as a pressure. CalculiX 2.20
+/// on these two decks (run by hand, `ccx`) gives u_z(top) = −4.761905e-4 with
+/// the *DLOAD and −4.762872e-4 with the *CLOADs, and with the *CLOADs divided
+/// by 180 a displacement 180 × smaller (−2.646e-6); the closed form is
+/// −4.761905e-4.
+#[test]
+fn axisymmetric_cload_is_the_ring_total_as_calculix_reads_it() {
+    use std::fmt::Write;
+    let (nr, nz, p, e, nu) = (4usize, 2usize, 100.0, 210_000.0, 0.3);
+    let id = |i: usize, j: usize| 1 + j * (nr + 1) + i;
+    let x = |i: usize, j: usize| [1.0 + i as f64 / nr as f64, j as f64 / nz as f64];
+    let mut head = String::from("*NODE, NSET=NALL\n");
+    for j in 0..=nz {
+        for i in 0..=nr {
+            let [r, z] = x(i, j);
+            writeln!(head, "{}, {r}, {z}", id(i, j)).unwrap();
+        }
+    }
+    head += "*ELEMENT, TYPE=CAX4, ELSET=EALL\n";
+    for j in 0..nz {
+        for i in 0..nr {
+            let n = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
+            writeln!(
+                head,
+                "{}, {}, {}, {}, {}",
+                j * nr + i + 1,
+                n[0],
+                n[1],
+                n[2],
+                n[3]
+            )
+            .unwrap();
+        }
+    }
+    let bottom: Vec<String> = (0..=nr).map(|i| id(i, 0).to_string()).collect();
+    write!(
+        head,
+        "*NSET, NSET=BOT\n{}\n*MATERIAL, NAME=STEEL\n*ELASTIC\n{e}, {nu}\n*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*BOUNDARY\nBOT, 2, 2\n*STEP\n*STATIC\n",
+        bottom.join(", ")
+    )
+    .unwrap();
+    let mut dload = head.clone() + "*DLOAD\n";
+    for i in 0..nr {
+        // S3 of a CAX4 is its face from corner 3 to corner 4: the top.
+        writeln!(dload, "{}, P3, {p}", (nz - 1) * nr + i + 1).unwrap();
+    }
+    let mut forces = vec![0.0; nr + 1];
+    for i in 0..nr {
+        let (ra, rb) = (x(i, nz)[0], x(i + 1, nz)[0]);
+        let l = rb - ra;
+        forces[i] += p * l * std::f64::consts::TAU * (2.0 * ra + rb) / 6.0;
+        forces[i + 1] += p * l * std::f64::consts::TAU * (ra + 2.0 * rb) / 6.0;
+    }
+    let total: f64 = forces.iter().sum();
+    assert!((total - p * std::f64::consts::PI * 3.0).abs() < 1e-12 * total);
+    let mut cload = head + "*CLOAD\n";
+    for (i, f) in forces.iter().enumerate() {
+        writeln!(cload, "{}, 2, {}", id(i, nz), -f).unwrap();
+    }
+    for text in [dload, cload] {
+        let a = Analysis::new(deck(&(text + "*END STEP\n")).unwrap()).unwrap();
+        let res = common::solve_completed(&a);
+        let mesh = &a.model.parts[0].mesh;
+        let largest = p / e * 2.0;
+        for (n, &[r, z]) in mesh.nodes.iter().enumerate() {
+            let g = a.dofs.node(0, n);
+            let (ur, uz) = (res.last.u[2 * g], res.last.u[2 * g + 1]);
+            assert!(
+                (uz + p * z / e).abs() < 1e-9 * largest,
+                "node at ({r}, {z}): u_z {uz}"
+            );
+            assert!(
+                (ur - nu * p * r / e).abs() < 1e-9 * largest,
+                "node at ({r}, {z}): u_r {ur}"
+            );
+        }
+    }
+}
+
+/// CalculiX's face numbers on axisymmetric elements (S1–S4 of a CAX4: corners
+/// 1–2, 2–3, 3–4, 4–1; S1–S3 of a CAX3: 1–2, 2–3, 3–1): a ring 1 ≤ r ≤ 2,
+/// 0 ≤ z ≤ 1 of 2 × 2 CAX4 (or each square split into two CAX3, (a, b, c) and
+/// (a, c, d)), held in z at one node, with p = 1 by *DLOAD on every outer face
+/// through each face number, is under hydrostatic pressure: u = −p (1 − 2ν)/E x
+/// at every node, to 1e-12 of the largest (the linear field both elements hold
+/// exactly). A face read as another would load an edge inside or leave one
+/// bare. CalculiX 2.20 on these decks (run by hand) loads the same faces: 1.5e-4
+/// of the closed form with CAX4, 6.9e-2 with CAX3 (its expansion into a 2°
+/// wedge of C3D6).
+#[test]
+fn axisymmetric_face_numbers_are_calculix_s() {
+    use std::fmt::Write;
+    let (n, e, nu) = (2usize, 1000.0, 0.3f64);
+    let id = |i: usize, j: usize| 1 + j * (n + 1) + i;
+    for kind in ["CAX4", "CAX3"] {
+        let mut text = String::from("*NODE, NSET=NALL\n");
+        for j in 0..=n {
+            for i in 0..=n {
+                let (r, z) = (1.0 + i as f64 / n as f64, j as f64 / n as f64);
+                writeln!(text, "{}, {r}, {z}", id(i, j)).unwrap();
+            }
+        }
+        let (mut elements, mut faces) = (String::new(), String::new());
+        let mut count = 0;
+        for j in 0..n {
+            for i in 0..n {
+                let [a, b, c, d] = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
+                // (element, its corners, [bottom, right, top, left] face numbers).
+                let cells: Vec<(Vec<usize>, [Option<u8>; 4])> = if kind == "CAX4" {
+                    vec![(vec![a, b, c, d], [Some(1), Some(2), Some(3), Some(4)])]
+                } else {
+                    vec![
+                        (vec![a, b, c], [Some(1), Some(2), None, None]),
+                        (vec![a, c, d], [None, None, Some(2), Some(3)]),
+                    ]
+                };
+                for (corners, s) in cells {
+                    count += 1;
+                    let list: Vec<String> = corners.iter().map(|c| c.to_string()).collect();
+                    writeln!(elements, "{count}, {}", list.join(", ")).unwrap();
+                    let outer = [j == 0, i == n - 1, j == n - 1, i == 0];
+                    for (side, face) in outer.iter().zip(s) {
+                        if let (true, Some(f)) = (side, face) {
+                            writeln!(faces, "{count}, P{f}, 1.").unwrap();
+                        }
+                    }
+                }
+            }
+        }
+        write!(
+            text,
+            "*ELEMENT, TYPE={kind}, ELSET=EALL\n{elements}*MATERIAL, NAME=M\n*ELASTIC\n{e}, {nu}\n*SOLID SECTION, ELSET=EALL, MATERIAL=M\n*BOUNDARY\n1, 2, 2\n*STEP\n*STATIC\n*DLOAD\n{faces}*END STEP\n"
+        )
+        .unwrap();
+        let a = Analysis::new(deck(&text).unwrap()).unwrap();
+        let res = common::solve_completed(&a);
+        let k = -(1.0 - 2.0 * nu) / e;
+        let largest = 2.0 * k.abs();
+        for (node, x) in a.model.parts[0].mesh.nodes.iter().enumerate() {
+            let g = a.dofs.node(0, node);
+            for c in 0..2 {
+                let u = res.last.u[2 * g + c];
+                assert!(
+                    (u - k * x[c]).abs() < 1e-12 * largest,
+                    "{kind} node at {x:?}: u[{c}] {u}"
+                );
+            }
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Line probes (`[[line]]`, issue 40): a line through the parts sampled for the
 //! displacement and the stresses, against closed forms — a uniformly stressed
-//! block and a cantilever's linear σxx — and the schema's typed errors.
+//! block and a cantilever's linear σxx — their tables at every written
+//! increment, and the schema's typed errors.
 
 mod common;
 
@@ -170,4 +171,60 @@ fn bad_lines_are_typed_errors() {
         Err(Error::Parse { message, .. }) => assert!(message.contains("'nope'"), "{message}"),
         other => panic!("{:?}", other.map(|_| ())),
     }
+}
+
+/// The line's table at every increment the run writes files for
+/// (`output_every = 2` of 3 increments: the 2nd and the last, as the VTU
+/// series): `lines/mid.0002.csv` and `lines/mid.0003.csv`, in the manifest,
+/// none for the 1st; the load is proportional, so the 2nd's displacements and
+/// stresses are 2/3 of the last's at every sample (to round-off), and the last's
+/// table is `lines/mid.csv`'s.
+#[test]
+fn a_line_is_written_at_every_written_increment() {
+    let text = block(
+        "q4",
+        "name = \"mid\"\nfrom = [0.5, 0.0]\nto = [0.5, 2.0]\npoints = 9",
+    ) + "[analysis]\nincrements = 3\noutput_every = 2\n";
+    let mut a = Analysis::new(model(&text).unwrap()).unwrap();
+    let out = std::env::temp_dir().join(format!("cfe-test-lines-inc-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    a.run(&out, &mut |_| {}).unwrap();
+    assert!(!out.join("lines/mid.0001.csv").exists());
+    assert!(out.join("vtu/parts_0002.vtu").is_file() && !out.join("vtu/parts_0001.vtu").exists());
+    let read = |f: &str| std::fs::read_to_string(out.join("lines").join(f)).unwrap();
+    let table = |f: &str| -> Vec<Vec<f64>> {
+        read(f)
+            .lines()
+            .skip(1)
+            .map(|row| {
+                row.split(',')
+                    .enumerate()
+                    .filter(|&(k, _)| k != 3)
+                    .map(|(_, v)| v.parse().unwrap())
+                    .collect()
+            })
+            .collect()
+    };
+    let (second, last) = (table("mid.0002.csv"), table("mid.0003.csv"));
+    assert_eq!(read("mid.0003.csv"), read("mid.csv"));
+    assert_eq!((second.len(), last.len()), (9, 9));
+    for (p, q) in second.iter().zip(&last) {
+        // s, x, y the same; ux … von Mises scaled by 2/3.
+        assert_eq!(p[..3], q[..3]);
+        for (u, v) in p[3..].iter().zip(&q[3..]) {
+            assert!(
+                (u - 2.0 / 3.0 * v).abs() <= 1e-12 * (1.0 + v.abs()),
+                "{u} vs {v}"
+            );
+        }
+    }
+    let manifest = std::fs::read_to_string(out.join(".cfe-manifest")).unwrap();
+    for f in [
+        "lines/mid.0002.csv\n",
+        "lines/mid.0003.csv\n",
+        "lines/mid.csv\n",
+    ] {
+        assert!(manifest.contains(f), "{f}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
 }

@@ -393,7 +393,8 @@ fn a_folder_in_use_is_refused_naming_its_process() {
 /// The line probes' folder is checked as `vtu/` is: a user's `lines/mid.csv`
 /// (a name a `[[line]]` run writes) in a folder holding an earlier run is
 /// refused untouched, and replaced only when forced while the user's
-/// `lines/notes.txt` stays; a `lines` link is never followed, even with force.
+/// `lines/notes.txt` stays; so is a user's `lines/mid.0001.csv` (a line's table
+/// at an increment); a `lines` link is never followed, even with force.
 #[test]
 fn lines_folder_is_checked_like_the_vtu_folder() {
     let out = scratch("lines");
@@ -414,6 +415,17 @@ fn lines_folder_is_checked_like_the_vtu_folder() {
         "forced: the colliding name is replaced"
     );
     assert_eq!(read(&out.join("lines/notes.txt")), "mine");
+    // A line's table at an increment (`lines/mid.0001.csv`) is a name a run
+    // writes too: a user's file there is refused untouched.
+    write(&out.join("lines/mid.0001.csv"), "mine");
+    let before = tree(&out);
+    let e = run(1, &out).unwrap_err();
+    assert!(
+        matches!(&e, Error::OutputFolderNotOurs { files, .. } if files == &[PathBuf::from("lines/mid.0001.csv")]),
+        "{e:?}"
+    );
+    assert_eq!(tree(&out), before);
+    assert_eq!(read(&out.join("lines/mid.0001.csv")), "mine");
 
     let other = scratch("lines-other");
     std::fs::remove_dir_all(out.join("lines")).unwrap();

@@ -87,6 +87,12 @@ class Increment(NamedTuple):
     step: str = "step-1"
     #: Total time: step index − 1 + load factor (monotonic over the steps).
     time: float = 0.0
+    #: The increment's row of the run's history: ``history.csv``'s columns
+    #: (``increment``, ``step``, ``step_index``, ``load_factor``, ``time``,
+    #: ``reaction:SUPPORT.fx``…, ``interface:NAME.force_n``…,
+    #: ``probe:NAME.ux``…) to scalars, the same values :attr:`Results.history`
+    #: holds for it at the end.
+    history: Optional[Dict[str, Any]] = None
 
 
 # ---------------------------------------------------------------- meshes
@@ -533,7 +539,8 @@ class Model:
         :class:`Results` of the last one.
 
         ``progress(increment)`` is called after each converged increment with an
-        :class:`Increment`; an exception it raises stops the solve and propagates.
+        :class:`Increment` (with its ``history`` row: reactions, contact
+        resultants, probe displacements); an exception it raises stops the solve and propagates.
         Ctrl-C (SIGINT) stops it inside the increment being solved, at its next
         iteration, fixed-point step or supernode of a factorization, and raises
         ``KeyboardInterrupt``. With ``out``, every converged increment is also
@@ -571,7 +578,7 @@ def _increments_to(progress: Callable[[Increment], Any]) -> Callable[[Dict[str, 
     :class:`Increment`."""
 
     def callback(info: Dict[str, Any]) -> None:
-        progress(Increment(**{k: info[k] for k in Increment._fields}))
+        progress(Increment(**{k: info[k] for k in Increment._fields if k in info}))
 
     return callback
 

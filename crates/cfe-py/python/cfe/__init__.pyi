@@ -36,6 +36,7 @@ class Increment(NamedTuple):
     iterations: int
     step: str = "step-1"
     time: float = 0.0
+    history: Optional[Dict[str, Any]] = None
 
 class Mesh:
     """A part's mesh given as arrays, checked by the library."""

@@ -4,6 +4,7 @@
 
 use super::{Analysis, AnalysisDim};
 use crate::fem::recovery::PartStress;
+use crate::results::history::HistoryRow;
 use crate::results::lines::LineSample;
 use crate::results::{self, PairRow, Summary};
 use crate::solve::nonlinear::IncrementResult;
@@ -50,6 +51,18 @@ impl<D: AnalysisDim> Analysis<D> {
     /// One row per coupling pair: state, jumps and forces on the node part.
     pub fn pair_rows(&self, inc: &IncrementResult<D>) -> Vec<PairRow> {
         results::pair_rows(&self.problem(), inc, &self.step_name(inc.step))
+    }
+
+    /// The history row of converged increment `inc` — its step, load factor,
+    /// time, every support's reaction, every interface's contact resultants,
+    /// contact length and largest pressure, every probe's displacement — as the
+    /// summary's `history` records it (`history.csv`'s row).
+    pub fn history_row(&self, inc: &IncrementResult<D>) -> HistoryRow {
+        let mut s = self.empty_summary();
+        self.fill_summary(&mut s, inc, &self.pair_rows(inc));
+        s.history
+            .pop()
+            .expect("fill_summary records the increment's history row")
     }
 
     /// Records converged increment `inc` (with its pair rows `rows`) in the

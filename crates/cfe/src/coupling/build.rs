@@ -132,6 +132,11 @@ fn plane_interfaces(
                 &def.nodes,
                 def.tolerance * refine as f64,
                 def.search_distance,
+                if parts[def.node_part].material.is_axisymmetric() {
+                    segment::FaceMeasure::Ring
+                } else {
+                    segment::FaceMeasure::Length
+                },
             )?;
             elements = segment_elements;
             if segment_gaps {
@@ -149,7 +154,8 @@ fn plane_interfaces(
             // Each pair stands for its ring: penalties and forces per unit
             // circumference times 2π r̄.
             let rings = crate::fem::axisymmetric::face_rings(&parts[def.node_part].mesh, &def.nodes);
-            for c in &mut elements {
+            // (A segment element has its own, integrated over its share.)
+            for c in elements.iter_mut().filter(|c| c.segment.is_none()) {
                 c.ring = rings
                     .get(&c.node)
                     .copied()

@@ -160,6 +160,8 @@ struct Point {
     n: [f64; 2],
     /// Gauss weight × sub-segment length.
     w: f64,
+    /// The point's x, its radius r in an axisymmetric model.
+    r: f64,
     element: usize,
     host_nodes: Vec<usize>,
     host_shape: Vec<f64>,
@@ -191,8 +193,32 @@ pub fn segment_elements(
     nodes: &[usize],
     tolerance: f64,
 ) -> Result<Vec<CouplingElement>> {
-    segment_elements_within(interface, host, node_mesh, boundary, nodes, tolerance, 0.0)
-        .map(|(elements, _)| elements)
+    segment_elements_within(
+        interface,
+        host,
+        node_mesh,
+        boundary,
+        nodes,
+        tolerance,
+        0.0,
+        FaceMeasure::Length,
+    )
+    .map(|(elements, _)| elements)
+}
+
+/// The measure of the interface face the segment coupling integrates over.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FaceMeasure {
+    /// A plane model: length along the face, ds (the thickness applies apart).
+    Length,
+    /// An axisymmetric model (x = r): the ring's area, 2πr ds. Each element's
+    /// averages are then r-weighted, `M̂_ab = ∫ N_a N_b r ds / ∫ N_a r ds` (and
+    /// so N̂_ai, the normal, g₀), and its ring is `2π ∫ N_a r ds / ∫ N_a ds`, so
+    /// that Σ_a ω_a M̂_ab is the ring integral ∫ N_b 2πr ds for every node b:
+    /// a node on the axis (r = 0) takes its consistent share of the face's
+    /// force, as away from it. A share of the face lying on the axis has no area
+    /// and gets no element.
+    Ring,
 }
 
 /// As [`segment_elements`] when `search_distance` is 0 (faces that touch, nodes
@@ -211,6 +237,8 @@ pub fn segment_elements(
 /// with a Gauss point on its face segments farther than d from every host edge is
 /// left unpaired, as the node coupling leaves a node beyond d; their number is
 /// returned second (0 when d = 0, where the node search has placed every node).
+/// `measure` is the face's ([`FaceMeasure`]): its ring in an axisymmetric model.
+#[allow(clippy::too_many_arguments)]
 pub fn segment_elements_within(
     interface: &str,
     host: &Mesh,
@@ -219,6 +247,7 @@ pub fn segment_elements_within(
     nodes: &[usize],
     tolerance: f64,
     search_distance: f64,
+    measure: FaceMeasure,
 ) -> Result<(Vec<CouplingElement>, usize)> {
     let segments = face_segments(node_mesh, boundary);
     if segments.is_empty() {
@@ -241,10 +270,13 @@ pub fn segment_elements_within(
     };
     let (points, unreached) = gauss_points(interface, host, node_mesh, boundary, &segments, reach)?;
 
-    // Accumulate, per coupling node a: m_a, ∫ N_a N_b, ∫ N_a N̄_i, ∫ N_a n.
+    // Accumulate, per coupling node a: m_a, ∫ N_a N_b, ∫ N_a N̄_i, ∫ N_a n, each
+    // r-weighted in an axisymmetric model (then also ∫ N_a r ds, `mr`; in a plane
+    // model every weight ρ is 1 and `mr` is m_a).
     #[derive(Default)]
     struct Acc {
         m: f64,
+        mr: f64,
         side: Vec<(usize, f64)>,
         host: Vec<(usize, f64)>,
         normal: [f64; 2],
@@ -259,26 +291,31 @@ pub fn segment_elements_within(
         }
     }
     let mut acc: HashMap<usize, Acc> = HashMap::with_capacity(nodes.len());
+    let ring = measure == FaceMeasure::Ring;
     for p in &points {
+        let rho = if ring { p.r } else { 1.0 };
         for (k, &a) in p.segment.iter().enumerate() {
             let wa = p.w * p.n[k];
+            // The weight of the averages: N_a ds, or N_a r ds on a ring.
+            let wr = wa * rho;
             let e = acc.entry(a).or_default();
             e.m += wa;
+            e.mr += wr;
             for (&b, &nb) in p.segment.iter().zip(&p.n) {
-                add(&mut e.side, b, wa * nb);
+                add(&mut e.side, b, wr * nb);
             }
             for (&i, &ni) in p.host_nodes.iter().zip(&p.host_shape) {
-                add(&mut e.host, i, wa * ni);
+                add(&mut e.host, i, wr * ni);
             }
             e.normal = [
-                e.normal[0] + wa * p.normal[0],
-                e.normal[1] + wa * p.normal[1],
+                e.normal[0] + wr * p.normal[0],
+                e.normal[1] + wr * p.normal[1],
             ];
-            if wa > e.element.0 {
-                e.element = (wa, p.element);
+            if wr > e.element.0 {
+                e.element = (wr, p.element);
             }
             e.distance = e.distance.max(p.distance);
-            e.gap0 += wa * p.gap0;
+            e.gap0 += wr * p.gap0;
         }
     }
     let mut elements = Vec::with_capacity(nodes.len());
@@ -290,10 +327,14 @@ pub fn segment_elements_within(
         if e.m <= 1e-12 * mean_length {
             continue;
         }
+        // A share of the face on the axis (r = 0 all along) sweeps no area.
+        if ring && e.mr <= 1e-12 * e.m * mean_length {
+            continue;
+        }
         let mut side = e.side;
         side.sort_unstable_by_key(|&(b, _)| b);
         let mut host_coef = e.host;
-        host_coef.retain(|&(_, v)| v.abs() > 1e-13 * e.m);
+        host_coef.retain(|&(_, v)| v.abs() > 1e-13 * e.mr);
         host_coef.sort_unstable_by_key(|&(i, _)| i);
         if side.len() + host_coef.len() > MAX_NODES {
             return Err(Error::Coupling {
@@ -312,21 +353,26 @@ pub fn segment_elements_within(
             node: a,
             host_element: e.element.1,
             host_nodes: host_coef.iter().map(|&(i, _)| i).collect(),
-            shape: host_coef.iter().map(|&(_, v)| v / e.m).collect(),
+            shape: host_coef.iter().map(|&(_, v)| v / e.mr).collect(),
             normal: [e.normal[0] / l, e.normal[1] / l],
             frame: D2::frame([e.normal[0] / l, e.normal[1] / l]),
             position: x(a),
             distance: e.distance,
             // The N_a-weighted mean of the pointwise initial gap (0 without a
             // search distance: the faces touch).
-            gap0: if gaps { e.gap0 / e.m } else { 0.0 },
+            gap0: if gaps { e.gap0 / e.mr } else { 0.0 },
             tributary: e.m,
             // The geometrically linear limit's scale: the face's mean segment.
             edge_length: mean_length,
-            ring: 1.0,
+            // 2π r̄ with r̄ = ∫ N_a r ds / m_a: ring × m_a is a's ring area.
+            ring: if ring {
+                std::f64::consts::TAU * e.mr / e.m
+            } else {
+                1.0
+            },
             segment: Some(SegmentSide {
                 nodes: side.iter().map(|&(b, _)| b).collect(),
-                shape: side.iter().map(|&(_, v)| v / e.m).collect(),
+                shape: side.iter().map(|&(_, v)| v / e.mr).collect(),
                 length: e.m,
                 weight: e.m / mean_length,
             }),
@@ -583,6 +629,7 @@ fn gauss_points(
                     segment: [na, nb],
                     n: [1.0 - t, t],
                     w: wg * (t1 - t0) * len,
+                    r: at[0],
                     element,
                     host_nodes: host.elements[element].nodes().to_vec(),
                     host_shape,
@@ -697,6 +744,66 @@ mod tests {
         }
     }
 
+    /// On a ring (`FaceMeasure::Ring`, x = r) the elements' forces are the ring
+    /// integrals of the Galerkin form: for every node b of either face, Σ_a of
+    /// ring_a m_a M̂_ab (and N̂_ai) is ∫ N_b 2πr ds — 2π r_b h inside, 2π h²/6 on
+    /// the axis, 2π h (R/2 − h/6) at the outer end R — on 3:7 non-matching faces
+    /// from the axis, T3 and Q4; so the node on the axis (r = 0) has its element
+    /// with ring 2π h/3 and coefficients (½, ½) on its segment (the r-weighted
+    /// means), and no linear field has a jump.
+    #[test]
+    fn ring_weights_integrate_2_pi_r() {
+        use std::f64::consts::TAU;
+        for kind in [ElementKind::T3, ElementKind::Q4] {
+            let host = Mesh::rectangle([0.0, 7.0], [0.0, 2.0], [7, 2], kind);
+            let top = Mesh::rectangle([0.0, 7.0], [2.0, 3.0], [3, 1], kind);
+            let nodes = top.boundary_nodes("bottom").unwrap();
+            let (els, _) = segment_elements_within(
+                "i", &host, &top, "bottom", &nodes, 1e-6, 0.0, FaceMeasure::Ring,
+            )
+            .unwrap();
+            assert_eq!(els.len(), 4, "{kind:?}");
+            let ring_integral = |r: f64, h: f64| {
+                if r < 1e-9 {
+                    TAU * h * h / 6.0
+                } else if r > 7.0 - 1e-9 {
+                    TAU * h * (r / 2.0 - h / 6.0)
+                } else {
+                    TAU * r * h
+                }
+            };
+            let mut side: HashMap<usize, f64> = HashMap::new();
+            let mut hosted: HashMap<usize, f64> = HashMap::new();
+            for c in &els {
+                let s = c.segment.as_ref().unwrap();
+                let area = c.ring * s.length;
+                for (&b, m) in s.nodes.iter().zip(&s.shape) {
+                    *side.entry(b).or_default() += area * m;
+                }
+                for (&i, n) in c.host_nodes.iter().zip(&c.shape) {
+                    *hosted.entry(i).or_default() += area * n;
+                }
+                let shift = face_shift(c, &top, &host);
+                assert!(shift.iter().all(|d| d.abs() < 1e-12), "{kind:?} {shift:?}");
+                if top.nodes[c.node][0] == 0.0 {
+                    let h = 7.0 / 3.0;
+                    assert!((c.ring - TAU * h / 3.0).abs() < 1e-12, "{}", c.ring);
+                    assert!(s.shape.iter().all(|m| (m - 0.5).abs() < 1e-12), "{:?}", s.shape);
+                }
+            }
+            for (b, v) in side {
+                let want = ring_integral(top.nodes[b][0], 7.0 / 3.0);
+                assert!((v - want).abs() < 1e-12 * want.max(1.0), "{kind:?} node {b}: {v} vs {want}");
+            }
+            hosted.retain(|_, v| v.abs() > 1e-13);
+            assert_eq!(hosted.len(), 8, "{kind:?}: the host's top row");
+            for (i, v) in hosted {
+                let want = ring_integral(host.nodes[i][0], 1.0);
+                assert!((v - want).abs() < 1e-12 * want.max(1.0), "{kind:?} host node {i}: {v} vs {want}");
+            }
+        }
+    }
+
     /// Flat faces apart by a uniform gap g₀ (and overlapping by it) on 3:9
     /// non-matching meshes, T3 and Q4 hosts: within a search distance every
     /// coupling node gets an element whose initial gap is g₀ to round-off, with
@@ -713,7 +820,7 @@ mod tests {
                 let top = Mesh::rectangle([0.0, 7.0], [2.0 + g0, 3.0], [3, 1], kind);
                 let nodes = top.boundary_nodes("bottom").unwrap();
                 let (els, unpaired) =
-                    segment_elements_within("i", &host, &top, "bottom", &nodes, 1e-6, 0.05)
+                    segment_elements_within("i", &host, &top, "bottom", &nodes, 1e-6, 0.05, FaceMeasure::Length)
                         .unwrap();
                 assert_eq!((els.len(), unpaired), (4, 0), "{kind:?}");
                 for c in &els {
@@ -732,7 +839,7 @@ mod tests {
                 }
                 // Beyond the search distance nothing pairs.
                 let (none, unpaired) =
-                    segment_elements_within("i", &host, &top, "bottom", &nodes, 1e-6, 0.005)
+                    segment_elements_within("i", &host, &top, "bottom", &nodes, 1e-6, 0.005, FaceMeasure::Length)
                         .unwrap();
                 assert_eq!((none.len(), unpaired), (0, 4));
             }
@@ -772,7 +879,7 @@ mod tests {
         );
         let nodes: Vec<usize> = (0..m).collect();
         let (els, unpaired) =
-            segment_elements_within("arc", &host, &arc, "arc", &nodes, 1e-6, d).unwrap();
+            segment_elements_within("arc", &host, &arc, "arc", &nodes, 1e-6, d, FaceMeasure::Length).unwrap();
         assert_eq!(els.len() + unpaired, m);
         let y = |k: usize| arc.nodes[k][1];
         let len = |i: usize, j: usize| dist(arc.nodes[i], arc.nodes[j]);
@@ -841,7 +948,7 @@ mod tests {
         );
         let nodes = shaft.boundary_nodes("outer").unwrap();
         let (els, unpaired) =
-            segment_elements_within("fit", &ring, &shaft, "outer", &nodes, 1e-6, 5.0 * delta)
+            segment_elements_within("fit", &ring, &shaft, "outer", &nodes, 1e-6, 5.0 * delta, FaceMeasure::Length)
                 .unwrap();
         assert_eq!((els.len(), unpaired), (2 * n, 0));
         for c in &els {

@@ -118,6 +118,40 @@ pub fn stiffness(element: &Element, x: &[[f64; 2]; MAX_NODES], d: &[[f64; 4]; 4]
     std::array::from_fn(|i| std::array::from_fn(|j| if i < m && j < i { k[j][i] } else { k[i][j] }))
 }
 
+/// The stresses (rr, zz, rz, θθ) at one point of `element` (corners `x`, its
+/// displacements `u`): the T3's at area coordinates given by its shape values
+/// `shape` (the first three), the Q4's at natural coordinates `xi`. σ = D B u
+/// with the hoop strain Σ N_a u_r,a / r; on the axis (r within 1e-12 of the
+/// element's largest radius of 0), where u_r / r → ∂u_r/∂r, εθθ = εrr.
+pub fn stress_at(
+    element: &Element,
+    x: &[[f64; 2]; MAX_NODES],
+    d: &[[f64; 4]; 4],
+    u: &[f64; MAX_DOFS],
+    shape: &[f64],
+    xi: [f64; 2],
+) -> [f64; 4] {
+    let (n, dn): (Vec<f64>, Vec<[f64; 2]>) = match element {
+        Element::T3(_) => {
+            let (bt, _) = super::t3::b_matrix(&[x[0], x[1], x[2]]);
+            (shape[..3].to_vec(), (0..3).map(|a| [bt[0][2 * a], bt[1][2 * a + 1]]).collect())
+        }
+        Element::Q4(_) => {
+            let (bp, _) = q4::b_matrix(&[x[0], x[1], x[2], x[3]], xi);
+            (q4::shape(xi).to_vec(), (0..4).map(|a| [bp[0][2 * a], bp[1][2 * a + 1]]).collect())
+        }
+    };
+    let r: f64 = n.iter().zip(x).map(|(na, xa)| na * xa[0]).sum();
+    let size = x[..n.len()].iter().map(|xa| xa[0]).fold(0.0, f64::max);
+    let m = 2 * n.len();
+    let b = b_rows(&n, &dn, r.max(f64::MIN_POSITIVE));
+    let mut eps: [f64; 4] = std::array::from_fn(|i| (0..m).map(|j| b[i][j] * u[j]).sum());
+    if r <= 1e-12 * size {
+        eps[3] = eps[0];
+    }
+    std::array::from_fn(|i| (0..4).map(|j| d[i][j] * eps[j]).sum())
+}
+
 /// The strains and stresses (rr, zz, rz, θθ) at each point.
 fn point_stresses(element: &Element, x: &[[f64; 2]; MAX_NODES], d: &[[f64; 4]; 4], u: &[f64; MAX_DOFS]) -> Vec<(Point, [f64; 4])> {
     let m = 2 * element.nodes().len();

@@ -94,7 +94,9 @@ fn is_series(name: &str) -> bool {
 
 /// Whether `rel` (relative to the output folder, `/`-separated) is a name a run
 /// writes: one of [`RUN_FILES`], a series file in `vtu/`, a line probe's
-/// `lines/<name>.csv` or `.png`, or the temporary name of one of them.
+/// `lines/<name>.csv` or `.png` or its table at an increment
+/// `lines/<name>.<NNNN>.csv` ([`line_increment_file`]), or the temporary name
+/// of one of them.
 pub fn is_run_name(rel: &str) -> bool {
     let (dir, name) = match rel.split_once('/') {
         Some((dir, name)) => (Some(dir), name),
@@ -107,15 +109,31 @@ pub fn is_run_name(rel: &str) -> bool {
     match dir {
         None => RUN_FILES.contains(&file),
         Some(VTU) => !file.contains('/') && is_series(file),
-        Some(LINES) => [".csv", ".png"].iter().any(|ext| {
-            file.strip_suffix(ext).is_some_and(|n| {
+        Some(LINES) => {
+            let line_name = |n: &str| {
                 !n.is_empty()
                     && n.chars()
                         .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
-            })
-        }),
+            };
+            let at_increment = |n: &str| {
+                n.rsplit_once('.').is_some_and(|(line, k)| {
+                    line_name(line) && !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit())
+                })
+            };
+            [".csv", ".png"]
+                .iter()
+                .any(|ext| file.strip_suffix(ext).is_some_and(line_name))
+                || file.strip_suffix(".csv").is_some_and(at_increment)
+        }
         Some(_) => false,
     }
+}
+
+/// The table of line probe `line` at increment `increment` in the folder
+/// [`LINES`]: `<line>.<NNNN>.csv` (the increment's number, at least 4 digits, as
+/// the VTU series'; a line's name has no `.`, so it never meets another line's).
+pub fn line_increment_file(line: &str, increment: usize) -> String {
+    format!("{line}.{increment:04}.csv")
 }
 
 /// What a folder's manifest says about it.
@@ -578,6 +596,7 @@ mod tests {
             .into_iter()
             .chain(["vtu/parts_0001.vtu", "vtu/pairs_12345.vtu"])
             .chain(["lines/mid.csv", "lines/a-b_1.png"])
+            .chain(["lines/mid.0001.csv", "lines/a-b_1.12345.csv"])
         {
             assert!(is_run_name(n), "{n}");
             assert!(is_run_name(&temporary(n)), "{}", temporary(n));
@@ -601,6 +620,11 @@ mod tests {
             "lines/../summary.csv",
             "lines/a b.png",
             "lines/sub/mid.csv",
+            "lines/mid.0001.png",
+            "lines/mid..csv",
+            "lines/.0001.csv",
+            "lines/mid.x1.csv",
+            "lines/a.b.0001.csv",
         ] {
             assert!(!is_run_name(n), "{n}");
         }

@@ -12,7 +12,7 @@
 //! B(ξ, η) u in a Q4 — never an average across elements or parts.
 
 use crate::domain::Part;
-use crate::fem::{element, q4};
+use crate::fem::{axisymmetric, element, q4};
 use crate::mesh::Element;
 
 /// A line probe as the model holds it: checked (a nonzero length, at least
@@ -59,7 +59,9 @@ pub struct LineSample {
     pub u: [f64; 2],
     /// Stress (σxx, σyy, σxy).
     pub stress: [f64; 3],
-    /// Von Mises stress (the part's plane condition).
+    /// Von Mises stress (the part's plane condition; with σθθ in an
+    /// axisymmetric part, whose (σxx, σyy, σxy) are (σrr, σzz, σrz) with the
+    /// hoop strain).
     pub von_mises: f64,
 }
 
@@ -205,6 +207,20 @@ pub fn sample(
                 (0..nodes.len()).map(|i| at.shape[i] * ue[2 * i + c]).sum()
             });
             let xe = element::coordinates(mesh, el);
+            if part.material.is_axisymmetric() {
+                // (σrr, σzz, σrz) with the hoop strain; von Mises with σθθ.
+                let d = part.material.d_axisymmetric();
+                let [rr, zz, rz, hoop] =
+                    axisymmetric::stress_at(el, &xe, &d, &ue, &at.shape, at.xi);
+                return Some(LineSample {
+                    s,
+                    x,
+                    part: at.part,
+                    u: disp,
+                    stress: [rr, zz, rz],
+                    von_mises: part.material.von_mises_with([rr, zz, rz], Some(hoop)),
+                });
+            }
             let d = part.material.d_matrix();
             let stress = match el {
                 Element::T3(_) => element::stresses(el, &xe, &d, &ue).element,

@@ -1,13 +1,14 @@
 //! The line probes' files of a run: `lines/<name>.csv` (s, x, y, part, ux, uy,
 //! σxx, σyy, σxy, von Mises at each sample point inside a part) and
 //! `lines/<name>.png` (displacement and stresses against s), at the last
-//! converged increment, each claimed in the folder's manifest before it is
-//! written.
+//! converged increment; and the same table at every increment the run writes
+//! its VTU series for, `lines/<name>.<NNNN>.csv`. Each file is claimed in the
+//! folder's manifest before it is written.
 
 use crate::analysis::Analysis;
 use crate::error::{Error, Result};
 use crate::output::chart::{Axes, Series, side_by_side};
-use crate::output::folder::{LINES, OutputFolder};
+use crate::output::folder::{LINES, OutputFolder, line_increment_file};
 use crate::output::write_atomic;
 use crate::results::lines::LineSample;
 use crate::solve::nonlinear::IncrementResult;
@@ -41,13 +42,7 @@ impl Analysis {
         if lines.is_empty() {
             return Ok(());
         }
-        let dir = out.join(LINES);
-        match std::fs::create_dir(&dir) {
-            Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => {
-                return Err(Error::output(&dir, e));
-            }
-            _ => {}
-        }
+        lines_folder(out)?;
         for (name, samples) in &lines {
             let csv = format!("{LINES}/{name}.csv");
             folder.claim(&csv)?;
@@ -57,6 +52,31 @@ impl Analysis {
             let png = format!("{LINES}/{name}.png");
             folder.claim(&png)?;
             self.write_line_chart(&out.join(&png), name, samples)?;
+        }
+        Ok(())
+    }
+
+    /// Writes every line probe's table of increment `inc` into
+    /// `out/lines/<name>.<NNNN>.csv` (NNNN the increment's number,
+    /// [`line_increment_file`]), each claimed in `folder`'s manifest first: the
+    /// lines' history, written at the increments whose VTU files are written.
+    pub(super) fn write_line_increment(
+        &self,
+        out: &Path,
+        inc: &IncrementResult,
+        folder: &mut OutputFolder,
+    ) -> Result<()> {
+        let lines = self.line_samples(inc);
+        if lines.is_empty() {
+            return Ok(());
+        }
+        lines_folder(out)?;
+        for (name, samples) in &lines {
+            let csv = format!("{LINES}/{}", line_increment_file(name, inc.index));
+            folder.claim(&csv)?;
+            write_line_csv(&out.join(&csv), samples, |p| {
+                self.model.parts[p].name.as_str()
+            })?;
         }
         Ok(())
     }
@@ -97,6 +117,16 @@ impl Analysis {
             path,
             [(&axes(&t1, &y1), &disp[..]), (&axes(&t2, &y2), &stress[..])],
         )
+    }
+}
+
+/// Creates `out/lines/` unless it exists (the folder check has refused a file or
+/// a link there).
+fn lines_folder(out: &Path) -> Result<()> {
+    let dir = out.join(LINES);
+    match std::fs::create_dir(&dir) {
+        Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => Err(Error::output(&dir, e)),
+        _ => Ok(()),
     }
 }
 

@@ -19,6 +19,7 @@ use crate::error::{Error, Result};
 use crate::output::folder::{OutputFolder, PICTURES, VTU};
 use crate::output::report;
 use crate::output::vtu;
+use crate::results::history::HistoryRow;
 use crate::results::memory::peak_memory_bytes;
 use crate::results::summary::{RunClock, RunStatus, Summary, Warning};
 use crate::solve::nonlinear::Solver;
@@ -327,8 +328,21 @@ impl Analysis {
     /// until the run has ended.
     pub fn run_in(
         &mut self,
-        mut folder: OutputFolder,
+        folder: OutputFolder,
         progress: &mut dyn FnMut(&IncrementResult),
+        stop: &AtomicUsize,
+    ) -> Result<Summary> {
+        self.run_recorded_in(folder, &mut |inc, _| progress(inc), stop)
+    }
+
+    /// [`Analysis::run_in`] handing `progress` each converged increment with its
+    /// row of the run's history (the row `history.csv` and the summary's
+    /// `history` get for it: reactions, contact resultants, probe
+    /// displacements), once the increment is written.
+    pub fn run_recorded_in(
+        &mut self,
+        mut folder: OutputFolder,
+        progress: &mut dyn FnMut(&IncrementResult, &HistoryRow),
         stop: &AtomicUsize,
     ) -> Result<Summary> {
         let clock = RunClock::start();
@@ -393,7 +407,7 @@ impl Analysis {
         grid: &'env OnceLock<PartsGrid>,
         out: &Path,
         log: &mut RunLog,
-        progress: &mut dyn FnMut(&IncrementResult),
+        progress: &mut dyn FnMut(&IncrementResult, &HistoryRow),
         stop: &'env AtomicUsize,
     ) -> Result<()> {
         let mut series = Series::new(out, stop);
@@ -410,7 +424,9 @@ impl Analysis {
         self.prepare_solver(&mut solver, &mut log.summary, stop);
         let r = solver.run(|inc| {
             self.write_increment(scope, grid, inc, &mut series, log, out)?;
-            progress(inc);
+            if let Some(row) = log.summary.history.last() {
+                progress(inc, row);
+            }
             match stop.load(Ordering::Relaxed) {
                 0 => Ok(()),
                 signal => Err(Error::Interrupted {
@@ -590,6 +606,7 @@ impl Analysis {
         series.push(handle, inc.index, inc.time, parts_file, pairs_file);
         log.folder.claim("pairs.csv")?;
         report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
+        self.write_line_increment(out, inc, &mut log.folder)?;
         self.fill_summary(&mut log.summary, inc, &rows);
         if rewrite_due(&mut log.summary_written, inc.index) {
             write_summary(out, &log.summary)?;

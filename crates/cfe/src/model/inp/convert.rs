@@ -645,18 +645,15 @@ pub fn convert(read: &Read, refine: usize) -> Result<InpModel> {
     if let Some(coarse) = &coarse {
         refine_supports(coarse, &drafts, &mut supports, refine);
     }
-    // CalculiX gives an axisymmetric model's point forces for a 2° segment
-    // (its manual, "Eight-node axisymmetric element (CAX8 and CAX8R)"); cfe's
-    // are totals over the ring: 360° / 2° = 180 times the deck's value.
-    let cload_scale = if axisymmetric {
-        if !read.cloads.is_empty() {
-            notes.push("*CLOAD on an axisymmetric (CAX) deck: CalculiX's forces are per 2° segment; cfe applies 180 × the value, the total over the ring".into());
-        }
-        180.0
-    } else {
-        1.0
-    };
-    let loads_ = cloads(read, &drafts, &node_part, cload_scale)?;
+    // CalculiX's point forces on axisymmetric elements are totals over the
+    // ring's circumference (its manual, "Eight-node axisymmetric element (CAX8
+    // and CAX8R)": forces "have to be defined for the complete circumference"),
+    // as Abaqus's and cfe's; only its printed reactions (*NODE PRINT RF) are per
+    // 2° segment.
+    if axisymmetric && !read.cloads.is_empty() {
+        notes.push("*CLOAD on an axisymmetric (CAX) deck: each force is the total over the ring's circumference, as CalculiX and Abaqus read it (not per 2° segment: only CalculiX's printed reactions are)".into());
+    }
+    let loads_ = cloads(read, &drafts, &node_part)?;
     let mut pressure_loads = Vec::with_capacity(dload_groups.len());
     for (p, step, bits, _, name) in &dload_groups {
         let mesh = &meshes[&drafts[*p].name];
@@ -907,14 +904,12 @@ fn supports(
 /// The `*CLOAD` lines as cfe's loads: per node and component, a later step's
 /// new value is the load of that step by its change (cfe's loads of earlier
 /// steps stay at full value: the sum ramps from the old value to the new, as
-/// CalculiX's OP=MOD does). One load per card and part. Each force is the
-/// deck's value times `scale` (180 in an axisymmetric deck: CalculiX's 2°
-/// segment made the ring's total).
+/// CalculiX's OP=MOD does). One load per card and part. In an axisymmetric
+/// deck each force is the total over its node's ring, as the deck gives it.
 fn cloads(
     read: &Read,
     drafts: &[PartDraft],
     node_part: &HashMap<u64, (usize, usize)>,
-    scale: f64,
 ) -> Result<Vec<Load>> {
     let mut state: HashMap<(u64, usize), (f64, usize, Loc)> = HashMap::new();
     // (card, part, step, nodal forces)
@@ -950,7 +945,7 @@ fn cloads(
                 groups.len() - 1
             });
             let mut f = [0.0; 2];
-            f[c] = delta * scale;
+            f[c] = delta;
             groups[g].3.push((i, f));
         }
     }

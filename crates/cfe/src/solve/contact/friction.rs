@@ -7,7 +7,7 @@
 //! is `μ ξ (−f_n)` with `f_n = c_n g_n` affine in the displacements, a rank-one,
 //! non-symmetric coupling of the pair's tangential row to its normal row. So a
 //! pattern has one solution, found in one shot ([`solve_pattern_linear`] on a
-//! condensed interface, [`Solver::solve_pattern_exact`] on a model: the
+//! condensed interface, `Solver::solve_pattern_exact` on a model: the
 //! symmetric factorization of the pattern's K plus a dense correction of rank
 //! the number of slipping pairs), with no fixed point. The outer loop over
 //! patterns is the Newton step of the complementarity function
@@ -21,25 +21,16 @@
 //!
 //! In a run, `[analysis] friction_solve = "newton"` (off by default) starts
 //! every pattern's fixed point on the slip forces with their Newton step
-//! ([`Solver::newton_slip_terms`]), its columns read from the interface's
+//! (`Solver::newton_slip_terms`, in `slip_newton`), its columns read from the interface's
 //! condensed operator the low-rank machinery caches
 //! ([`crate::solve::backend::PairFlexibility`]); the fixed point confirms them
 //! and remains the fallback. The search over patterns is still the active
 //! set's, not [`newton_condensed`]; docs/method.md gives what remains and why.
 
-use super::increment::{IncrementResult, Iteration, NewtonCounts, count_changes};
-use super::solver::Solver;
-use crate::assembly::FIXED;
-use crate::coupling::{Enforcement, Law, PairHistories, PairState};
 use crate::dim::Tangent;
-use crate::domain::FrictionSolve;
-use crate::fem::ElementFamily;
-use crate::error::Result;
-use crate::solve::backend::{Request, Solve as _};
 use faer::Mat;
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use std::collections::HashSet;
-use std::time::Instant;
 
 /// A pair's place in a Newton pattern: open, stick, or slipping along the unit
 /// direction ξ (fixed for the pattern).
