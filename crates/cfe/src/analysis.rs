@@ -46,7 +46,7 @@ pub enum Start {
 }
 
 /// The dimension of an analysis: what preparing, solving and reading a model
-/// needs of it — its interfaces built ([`InterfaceDim`]), its results read
+/// needs of it — its interfaces built (`InterfaceDim`), its results read
 /// ([`ResultsDim`]), and the few things the analysis decides per dimension
 /// (the advice about a model, the warm start from a coarser model).
 /// [`D2`] (plane) and [`D3`] (solid).

@@ -399,7 +399,7 @@ impl Load<D3> {
     /// The load `name` of a uniform traction or pressure (`load`) on the named
     /// boundary `boundary` of the solid `part` (index `index` in the model),
     /// applied in step `step`: its consistent nodal forces, integrated face by
-    /// face ([`loads::face_forces`]); the resultant is their sum. An unknown
+    /// face (`loads::face_forces`); the resultant is their sum. An unknown
     /// boundary is an [`Error::Model`] naming the part and its boundaries.
     pub fn on_faces(
         name: impl Into<String>,

@@ -314,7 +314,7 @@ impl<D: ElementFamily> Solver<'_, D> {
     /// slipping pair and tangent component: the columns of the interface's
     /// Schur complement), `f_n⁰`, `u_s⁰`, `z⁰` those of the first solution (in
     /// 3D, the Newton steps add the radial return's turn,
-    /// [`return_map_derivative`]). Its solution is the fixed point the
+    /// `return_map_derivative`). Its solution is the fixed point the
     /// iteration of [`Solver::solve_pattern`] converges to, when it converges;
     /// a singular system (a part free to slide under a load along its faces)
     /// has none and gives `None`. A model with augmented-Lagrangian interfaces
