@@ -298,6 +298,34 @@ impl Coupling {
     }
 }
 
+/// Where an interface's coupling nodes meet their host (`form` in the problem
+/// file): on the host's boundary (the face form) or inside its elements (the
+/// volume form, for overlapping meshes: `coupling::volume`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CouplingForm {
+    /// Each coupling node on a boundary edge (2D) or face (3D) of the host,
+    /// found within the tolerance or the search distance; its element is the
+    /// face's nodes (the off-face shape values vanish there). The default.
+    #[default]
+    Face,
+    /// Each coupling node inside a host element (overlapping meshes): its
+    /// element is the node and all the host element's nodes, N̄ᵢ at the node's
+    /// natural coordinates in it; only the `rigid` law (a bonded tie, c·I: no
+    /// face, so no normal), nodes outside the host not coupled (counted).
+    Volume,
+}
+
+impl CouplingForm {
+    /// Lower-case name as in the problem file (`face`, `volume`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            CouplingForm::Face => "face",
+            CouplingForm::Volume => "volume",
+        }
+    }
+}
+
 /// An interface as defined in the problem file, with its parts resolved.
 #[derive(Debug, Clone)]
 pub struct InterfaceDef {
@@ -332,6 +360,9 @@ pub struct InterfaceDef {
     /// `node` (the gap collocated at each coupling node) or `segment` (the gap
     /// averaged over each coupling node's face segments).
     pub coupling: Coupling,
+    /// `face` (the coupling nodes on the host's boundary) or `volume` (inside
+    /// its elements: overlapping meshes).
+    pub form: CouplingForm,
 }
 
 /// A Dirichlet condition on a set of nodes of one part.

@@ -78,6 +78,7 @@ fn punch_on_base(
         enforcement: Enforcement::Penalty,
         penetration_tolerance: 0.0,
         coupling: Coupling::Node,
+        form: cfe::coupling::CouplingForm::Face,
     };
     let model = Model::from_parts(
         "punch on base",

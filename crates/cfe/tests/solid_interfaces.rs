@@ -114,6 +114,7 @@ fn interface_def(parts: &[Part<D3>], law: Law, c: f64, friction: f64) -> Interfa
         enforcement: Enforcement::Penalty,
         penetration_tolerance: 0.0,
         coupling: Coupling::Node,
+        form: cfe::coupling::CouplingForm::Face,
     }
 }
 

@@ -4,7 +4,10 @@
 //! overrides of a prepared interface's law and friction.
 
 use super::search3d::{self, Surface};
-use super::{Coupling, CouplingElement, Interface, Law, SLIP_STIFFNESS, search, segment};
+use super::volume::{self, VolumeDim};
+use super::{
+    Coupling, CouplingElement, CouplingForm, Interface, Law, SLIP_STIFFNESS, search, segment,
+};
 use crate::dim::{D2, D3};
 use crate::domain::{InterfaceDef, Part};
 use crate::error::{Error, Result};
@@ -78,6 +81,17 @@ fn plane_interfaces(
 ) -> Result<Vec<Interface>> {
     let mut interfaces = Vec::with_capacity(defs.len());
     for def in defs {
+        if def.form == CouplingForm::Volume {
+            let mut iface = volume_interface(def, parts)?;
+            if parts[def.node_part].material.is_axisymmetric() {
+                // Each pair stands for the ring of its node's radius.
+                for c in &mut iface.elements {
+                    c.ring = 2.0 * std::f64::consts::PI * c.position[0];
+                }
+            }
+            interfaces.push(iface);
+            continue;
+        }
         let host = &parts[def.host];
         let node_part = &parts[def.node_part];
         // The tolerance is a fraction of the host's edges as meshed in the
@@ -178,6 +192,7 @@ fn plane_interfaces(
             penetration_tolerance: def.penetration_tolerance,
             unpaired,
             coupling: def.coupling,
+            form: def.form,
         });
     }
     Ok(interfaces)
@@ -193,6 +208,10 @@ fn solid_interfaces(
 ) -> Result<Vec<Interface<D3>>> {
     let mut interfaces = Vec::with_capacity(defs.len());
     for def in defs {
+        if def.form == CouplingForm::Volume {
+            interfaces.push(volume_interface(def, parts)?);
+            continue;
+        }
         if def.coupling == Coupling::Segment {
             return Err(Error::Coupling {
                 interface: def.name.clone(),
@@ -264,29 +283,96 @@ fn solid_interfaces(
             penetration_tolerance: def.penetration_tolerance,
             unpaired,
             coupling: def.coupling,
+            form: def.form,
         });
     }
     Ok(interfaces)
 }
 
-/// Makes every interface (its definition and its prepared form) follow `law`.
+/// The interface of `def` in volume form ([`volume`]): each of its coupling
+/// nodes inside an element of the host tied to it, the nodes outside counted
+/// (`unpaired`); nothing moves.
+///
+/// Errors ([`Error::Coupling`]): a law other than `rigid`, c_n ≠ c_s (a node
+/// inside a body has no face, so no normal: only the bonded tie c·I is the
+/// same in every frame), a search distance or the segment coupling (both read
+/// a face), and an interface none of whose nodes lies inside the host.
+fn volume_interface<D: InterfaceDim + VolumeDim>(
+    def: &InterfaceDef,
+    parts: &[Part<D>],
+) -> Result<Interface<D>> {
+    let refuse = |message: String| Error::Coupling {
+        interface: def.name.clone(),
+        message,
+    };
+    if def.law != Law::Rigid {
+        return Err(refuse(format!(
+            "form = \"volume\" ties nodes inside the host's elements, where there is no face and so no normal, and law = \"{}\" needs one (its gap, pressure and slip are measured along the host face's normal): use law = \"rigid\" (a bonded tie), or couple the node part's boundary on the host's boundary in face form (leave `form` out)",
+            def.law.as_str()
+        )));
+    }
+    if def.c_n != def.c_s {
+        return Err(refuse(format!(
+            "form = \"volume\" has no face, so no normal to tell c_n = {:e} from c_s = {:e}: the tie must be the same in every direction (c·I); give c_s = c_n (or leave c_s out)",
+            def.c_n, def.c_s
+        )));
+    }
+    if def.search_distance > 0.0 || def.coupling == Coupling::Segment {
+        return Err(refuse(
+            "form = \"volume\" couples nodes inside the host's elements: `search_distance` and coupling = \"segment\" measure gaps to the host's faces and do not apply; leave them out".into(),
+        ));
+    }
+    let (host, node_part) = (&parts[def.host], &parts[def.node_part]);
+    let (elements, outside) = volume::embedded_elements(&host.mesh, &node_part.mesh.nodes, &def.nodes);
+    if elements.is_empty() && !def.nodes.is_empty() {
+        return Err(refuse(format!(
+            "form = \"volume\": none of the {} coupling nodes of part '{}' (boundary '{}') lies inside an element of part '{}', so the interface would couple nothing: check that the parts overlap",
+            def.nodes.len(),
+            node_part.name,
+            def.boundary,
+            host.name
+        )));
+    }
+    Ok(Interface {
+        name: def.name.clone(),
+        host: def.host,
+        node_part: def.node_part,
+        law: def.law,
+        c_n: def.c_n,
+        c_s: def.c_s,
+        c_slip: D::slip_stiffness(def.law, host, node_part, &elements),
+        elements,
+        max_projection_distance: 0.0,
+        friction: def.friction,
+        enforcement: def.enforcement,
+        penetration_tolerance: def.penetration_tolerance,
+        unpaired: outside,
+        coupling: def.coupling,
+        form: def.form,
+    })
+}
+
+/// Makes every interface in face form (its definition and its prepared form)
+/// follow `law`; one in volume form stays the rigid tie it must be (it has no
+/// normal: [`volume`]).
 pub fn set_law<D: InterfaceDim>(
     defs: &mut [InterfaceDef],
     interfaces: &mut [Interface<D>],
     parts: &[Part<D>],
     law: Law,
 ) {
-    for def in defs.iter_mut() {
+    for def in defs.iter_mut().filter(|d| d.form == CouplingForm::Face) {
         def.law = law;
     }
-    for iface in interfaces.iter_mut() {
+    for iface in interfaces.iter_mut().filter(|i| i.form == CouplingForm::Face) {
         iface.law = law;
         iface.c_slip = D::slip_stiffness(law, &parts[iface.host], &parts[iface.node_part], &iface.elements);
     }
 }
 
-/// Makes every interface follow the Coulomb law with friction coefficient `mu`,
-/// which must be finite and ≥ 0 ([`Error::Model`] otherwise).
+/// Makes every interface in face form follow the Coulomb law with friction
+/// coefficient `mu`, which must be finite and ≥ 0 ([`Error::Model`]
+/// otherwise); one in volume form stays a rigid tie.
 pub fn set_friction<D: InterfaceDim>(
     defs: &mut [InterfaceDef],
     interfaces: &mut [Interface<D>],
@@ -299,10 +385,10 @@ pub fn set_friction<D: InterfaceDim>(
         )));
     }
     set_law(defs, interfaces, parts, Law::Coulomb);
-    for def in defs.iter_mut() {
+    for def in defs.iter_mut().filter(|d| d.form == CouplingForm::Face) {
         def.friction = mu;
     }
-    for iface in interfaces.iter_mut() {
+    for iface in interfaces.iter_mut().filter(|i| i.form == CouplingForm::Face) {
         iface.friction = mu;
     }
     Ok(())
@@ -386,6 +472,7 @@ mod tests {
             enforcement: Enforcement::Penalty,
             penetration_tolerance: 0.0,
             coupling: Coupling::Node,
+            form: CouplingForm::Face,
         };
         (parts, vec![def])
     }

@@ -49,6 +49,7 @@ pub fn interface(law: Law, n: usize, friction: f64) -> Interface {
         penetration_tolerance: 0.0,
         unpaired: 0,
         coupling: Coupling::Node,
+        form: super::CouplingForm::Face,
     }
 }
 

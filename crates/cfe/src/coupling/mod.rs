@@ -24,8 +24,9 @@ pub mod pair_set;
 pub(crate) mod search;
 pub mod search3d;
 pub mod segment;
+pub mod volume;
 
-pub use crate::domain::Coupling;
+pub use crate::domain::{Coupling, CouplingForm};
 use crate::dim::{D2, Dim};
 pub use check::{CheckTolerance, Verdicts, check_law};
 pub use element::{CouplingElement, PairAt, SegmentSide, traction};
@@ -67,11 +68,15 @@ pub struct Interface<D: Dim = D2> {
     /// (length).
     pub penetration_tolerance: f64,
     /// Coupling nodes of the boundary left unpaired because no host boundary edge
-    /// lies within the search distance (0 without a search distance).
+    /// lies within the search distance (0 without a search distance); in the
+    /// volume form, the nodes that lie in no host element (not coupled).
     pub unpaired: usize,
     /// How the coupling elements' jumps are taken: collocated at the coupling
     /// node, or averaged over its face segments.
     pub coupling: Coupling,
+    /// Where the coupling nodes meet the host: on its boundary (`face`) or
+    /// inside its elements (`volume`, [`volume`]).
+    pub form: CouplingForm,
 }
 
 impl<D: Dim> Interface<D> {

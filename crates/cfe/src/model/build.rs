@@ -752,6 +752,7 @@ impl<'a> Builder<'a> {
             enforcement: spec.enforcement,
             penetration_tolerance,
             coupling: spec.coupling,
+            form: spec.form,
         })
     }
 

@@ -276,6 +276,8 @@ pub(super) struct InterfaceSpec {
     pub(super) penetration_tolerance: Option<f64>,
     #[serde(default)]
     pub(super) coupling: Coupling,
+    #[serde(default)]
+    pub(super) form: crate::domain::CouplingForm,
 }
 
 fn default_law() -> Law {
