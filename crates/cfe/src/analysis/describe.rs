@@ -3,7 +3,7 @@
 //! loads and steps, and the warnings about the model.
 
 use super::Analysis;
-use crate::domain::{Coupling, Enforcement, Law};
+use crate::domain::{Coupling, CouplingForm, Enforcement, Law};
 use crate::results::fmt::{num, num_rel};
 
 impl Analysis {
@@ -56,12 +56,19 @@ impl Analysis {
             if i.coupling == Coupling::Segment {
                 s += "    segment coupling: each pair's gap is averaged over its node's face segments\n";
             }
+            if i.form == CouplingForm::Volume {
+                s += &format!(
+                    "    volume form: {} node(s) inside the host's elements tied, {} outside not coupled\n",
+                    i.elements.len(),
+                    i.unpaired
+                );
+            }
             // The contact extensions, only when used (the seed's lines unchanged).
             let gaps = i.elements.iter().any(|c| c.gap0 != 0.0);
             if i.law == Law::Coulomb
                 || i.enforcement == Enforcement::Augmented
                 || gaps
-                || i.unpaired > 0
+                || (i.unpaired > 0 && i.form == CouplingForm::Face)
             {
                 let (lo, hi) = i
                     .elements
