@@ -75,7 +75,7 @@ pub struct Interface<D: Dim = D2> {
     /// node, or averaged over its face segments.
     pub coupling: Coupling,
     /// Where the coupling nodes meet the host: on its boundary (`face`) or
-    /// inside its elements (`volume`, [`volume`]).
+    /// inside its elements (`volume`, [`CouplingForm::Volume`]).
     pub form: CouplingForm,
 }
 
