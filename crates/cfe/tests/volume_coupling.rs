@@ -599,13 +599,15 @@ fn a_contact_law_or_unequal_penalties_in_volume_form_are_refused() {
     }
 }
 
-/// Through a problem file (`[[interface]] form = "volume"`): a plate's
+/// Through a problem file (`[[interface]] form = "volume"`): a strip's
 /// boundary nodes tied inside a larger base, the nodes beyond the base not
-/// coupled and counted in the summary (`unpaired`), the run completed; a
-/// contact law there is the typed error.
+/// coupled and counted in the summary (`unpaired`), the run completed; without
+/// `boundary` every node of the strip couples (those inside the base); a
+/// contact law there is the typed error, and so is a face-form interface
+/// without `boundary`.
 #[test]
 fn a_problem_file_asks_for_the_volume_form() {
-    let text = |law: &str| {
+    let text = |law: &str, boundary: &str, form: &str| {
         format!(
             r#"
 title = "embedded"
@@ -624,8 +626,8 @@ rectangle = {{ x = [2.0, 12.0], y = [1.0, 2.0], cells = [10, 2] }}
 [[interface]]
 host = "base"
 nodes = "strip"
-boundary = "bottom"
-form = "volume"
+{boundary}
+{form}
 law = "{law}"
 [[support]]
 part = "base"
@@ -638,7 +640,8 @@ force = [100.0, -300.0]
 "#
         )
     };
-    let a = common::analysis(&text("rigid"));
+    let text_of = |law: &str| text(law, "boundary = \"bottom\"", "form = \"volume\"");
+    let a = common::analysis(&text_of("rigid"));
     let iface = &a.interfaces[0];
     // The strip's bottom nodes at x = 2, 3, …, 12: x ≤ 10 inside (9), 2 beyond.
     assert_eq!(
@@ -649,8 +652,22 @@ force = [100.0, -300.0]
     let s = &res.summary.interfaces[0];
     assert_eq!((s.pairs, s.unpaired), (9, 2));
     assert!(a.describe().contains("volume form"), "{}", a.describe());
-    let model =
-        cfe::model::Model::from_str(&text("contact"), std::path::Path::new("t.toml"), 1).unwrap();
+    let path = std::path::Path::new("t.toml");
+    let model = cfe::model::Model::from_str(&text_of("contact"), path, 1).unwrap();
     let e = cfe::analysis::Analysis::new(model).err().expect("refused");
     assert!(matches!(e, Error::Coupling { .. }), "{e}");
+    // No boundary: all 33 strip nodes are candidates, the 27 with x ≤ 10 inside.
+    let a = common::analysis(&text("rigid", "", "form = \"volume\""));
+    assert_eq!(
+        (a.interfaces[0].elements.len(), a.interfaces[0].unpaired),
+        (27, 6)
+    );
+    common::solve_completed(&a);
+    let Err(e) = cfe::model::Model::from_str(&text("rigid", "", ""), path, 1) else {
+        panic!("a face-form interface without `boundary` is refused");
+    };
+    assert!(
+        matches!(&e, Error::Parse { .. }) && e.to_string().contains("needs `boundary`"),
+        "{e}"
+    );
 }

@@ -326,10 +326,14 @@ fn volume_interface<D: InterfaceDim + VolumeDim>(
     let (elements, outside) = volume::embedded_elements(&host.mesh, &node_part.mesh.nodes, &def.nodes);
     if elements.is_empty() && !def.nodes.is_empty() {
         return Err(refuse(format!(
-            "form = \"volume\": none of the {} coupling nodes of part '{}' (boundary '{}') lies inside an element of part '{}', so the interface would couple nothing: check that the parts overlap",
+            "form = \"volume\": none of the {} coupling nodes of part '{}'{} lies inside an element of part '{}', so the interface would couple nothing: check that the parts overlap",
             def.nodes.len(),
             node_part.name,
-            def.boundary,
+            if def.boundary.is_empty() {
+                String::new()
+            } else {
+                format!(" (boundary '{}')", def.boundary)
+            },
             host.name
         )));
     }

@@ -742,7 +742,10 @@ impl<'a> Builder<'a> {
             host,
             node_part,
             nodes,
-            boundary: spec.boundary.get_ref().clone(),
+            boundary: spec
+                .boundary
+                .as_ref()
+                .map_or_else(String::new, |b| b.get_ref().clone()),
             law: spec.law,
             c_n,
             c_s,
@@ -757,7 +760,8 @@ impl<'a> Builder<'a> {
     }
 
     /// The coupling nodes of interface `name`: those of its boundary on the node
-    /// part (number `node_part`), each claimed in `claimed` (a node claimed by two
+    /// part (number `node_part`; in volume form without a boundary, all its
+    /// nodes), each claimed in `claimed` (a node claimed by two
     /// interfaces is refused).
     fn coupling_nodes(
         &self,
@@ -767,15 +771,26 @@ impl<'a> Builder<'a> {
         node_part: usize,
         claimed: &mut BTreeMap<(usize, usize), String>,
     ) -> Result<Vec<usize>> {
-        self.boundary(part, &spec.boundary)?;
-        let nodes = part
-            .mesh
-            .boundary_nodes(spec.boundary.get_ref())
-            .unwrap_or_default();
+        let nodes = match &spec.boundary {
+            Some(b) => {
+                self.boundary(part, b)?;
+                part.mesh.boundary_nodes(b.get_ref()).unwrap_or_default()
+            }
+            None if spec.form == crate::domain::CouplingForm::Volume => {
+                (0..part.mesh.nodes.len()).collect()
+            }
+            None => {
+                let msg = format!(
+                    "interface '{name}' needs `boundary`: the boundary of part '{}' whose nodes couple (only form = \"volume\" may leave it out: every node of the part then couples)",
+                    part.name
+                );
+                return Err(self.err(&spec.nodes, msg));
+            }
+        };
         for &n in &nodes {
             if let Some(other) = claimed.insert((node_part, n), name.to_string()) {
                 return Err(self.err(
-                    &spec.boundary,
+                    spec.boundary.as_ref().unwrap_or(&spec.nodes),
                     format!(
                         "node {n} of part '{}' is claimed by interfaces '{other}' and '{name}'",
                         part.name

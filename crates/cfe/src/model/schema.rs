@@ -263,7 +263,8 @@ pub(super) struct InterfaceSpec {
     pub(super) name: Option<Spanned<String>>,
     pub(super) host: Spanned<String>,
     pub(super) nodes: Spanned<String>,
-    pub(super) boundary: Spanned<String>,
+    /// Required but with `form = "volume"` (then every node of the node part).
+    pub(super) boundary: Option<Spanned<String>>,
     #[serde(default = "default_law")]
     pub(super) law: Law,
     pub(super) c_n: Option<f64>,
