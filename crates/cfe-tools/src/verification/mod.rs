@@ -17,6 +17,9 @@ pub mod punch;
 pub mod quads;
 pub mod seed;
 pub mod segment;
+pub mod solid;
+pub mod solid_mesh;
+pub mod solid_patch;
 
 use cfe::analysis::Analysis;
 use cfe::analysis::Start;
@@ -136,7 +139,7 @@ pub type CaseFn = fn(bool) -> Result<Case>;
 /// progress line shows. The one list: [`run_all`] runs it and the tests
 /// (`crates/cfe-tools/tests/verification.rs`) assert every case of it at both
 /// levels, so a case added here is asserted without a test of its own.
-pub const CASES: [(&str, CaseFn); 22] = [
+pub const CASES: [(&str, CaseFn); 25] = [
     ("patch tests", patch::constant_stress),
     ("contact patch test", patch::contact_patch),
     ("tied cantilever", cantilever::convergence),
@@ -162,6 +165,9 @@ pub const CASES: [(&str, CaseFn); 22] = [
         "axisymmetric Hertz sphere",
         axisymmetric_contact::hertz_sphere,
     ),
+    ("3D tied patch tests", solid_patch::tied_patch),
+    ("3D contact patch test", solid_patch::contact_patch),
+    ("3D Coulomb", solid_patch::coulomb),
 ];
 
 /// Runs every case of [`CASES`] (`quick`: the reduced versions), calling
