@@ -46,23 +46,33 @@ pub fn grid(xs: &[f64], ys: &[f64], zs: &[f64], kind: SolidKind) -> Mesh<D3> {
 }
 
 /// Coordinates from `start`: cells of size `h` up to `start + inner` (rounded
-/// to whole cells), then cells growing by `ratio` each to `start + outer`
-/// (the growing cells scaled to end there exactly).
+/// to whole cells), then the fewest cells growing by a constant ratio (at most
+/// `ratio`) that end at `start + outer` exactly.
 pub fn graded(start: f64, inner: f64, h: f64, outer: f64, ratio: f64) -> Vec<f64> {
     let n = (inner / h).round().max(1.0) as usize;
     let h = inner / n as f64;
     let mut xs: Vec<f64> = (0..=n).map(|i| start + h * i as f64).collect();
-    let mut sizes = Vec::new();
-    let (mut size, mut sum) = (h, 0.0);
-    while sum < outer - inner - 1e-12 * outer {
-        size *= ratio;
-        sizes.push(size);
-        sum += size;
+    let rest = outer - inner;
+    // Σ_{i=1..k} h r^i for k cells growing by r.
+    let sum = |r: f64, k: usize| (1..=k).map(|i| h * r.powi(i as i32)).sum::<f64>();
+    let mut k = 1;
+    while sum(ratio, k) < rest {
+        k += 1;
     }
-    let scale = (outer - inner) / sum;
+    // The ratio in [1/2, ratio] whose k cells end at `outer` (bisection).
+    let (mut lo, mut hi) = (0.5, ratio);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if sum(mid, k) < rest {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let r = 0.5 * (lo + hi);
     let mut x = start + inner;
-    for s in sizes {
-        x += s * scale;
+    for i in 1..=k {
+        x += h * r.powi(i as i32);
         xs.push(x);
     }
     if let Some(last) = xs.last_mut() {
