@@ -18,6 +18,7 @@ pub mod quads;
 pub mod seed;
 pub mod segment;
 pub mod solid;
+pub mod solid_contact;
 pub mod solid_mesh;
 pub mod solid_patch;
 
@@ -139,7 +140,7 @@ pub type CaseFn = fn(bool) -> Result<Case>;
 /// progress line shows. The one list: [`run_all`] runs it and the tests
 /// (`crates/cfe-tools/tests/verification.rs`) assert every case of it at both
 /// levels, so a case added here is asserted without a test of its own.
-pub const CASES: [(&str, CaseFn); 25] = [
+pub const CASES: [(&str, CaseFn); 28] = [
     ("patch tests", patch::constant_stress),
     ("contact patch test", patch::contact_patch),
     ("tied cantilever", cantilever::convergence),
@@ -168,6 +169,9 @@ pub const CASES: [(&str, CaseFn); 25] = [
     ("3D tied patch tests", solid_patch::tied_patch),
     ("3D contact patch test", solid_patch::contact_patch),
     ("3D Coulomb", solid_patch::coulomb),
+    ("3D flat punch", solid_contact::flat_punch),
+    ("3D Hertz", solid_contact::hertz),
+    ("3D shrink fit", solid_contact::shrink_fit),
 ];
 
 /// Runs every case of [`CASES`] (`quick`: the reduced versions), calling
