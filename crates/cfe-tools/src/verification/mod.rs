@@ -18,6 +18,7 @@ pub mod quads;
 pub mod seed;
 pub mod segment;
 pub mod solid;
+pub mod solid_beam;
 pub mod solid_contact;
 pub mod solid_mesh;
 pub mod solid_patch;
@@ -140,7 +141,7 @@ pub type CaseFn = fn(bool) -> Result<Case>;
 /// progress line shows. The one list: [`run_all`] runs it and the tests
 /// (`crates/cfe-tools/tests/verification.rs`) assert every case of it at both
 /// levels, so a case added here is asserted without a test of its own.
-pub const CASES: [(&str, CaseFn); 28] = [
+pub const CASES: [(&str, CaseFn); 30] = [
     ("patch tests", patch::constant_stress),
     ("contact patch test", patch::contact_patch),
     ("tied cantilever", cantilever::convergence),
@@ -172,6 +173,8 @@ pub const CASES: [(&str, CaseFn); 28] = [
     ("3D flat punch", solid_contact::flat_punch),
     ("3D Hertz", solid_contact::hertz),
     ("3D shrink fit", solid_contact::shrink_fit),
+    ("3D tied cantilever", solid_beam::cantilever),
+    ("3D extrusion", solid_beam::extrusion),
 ];
 
 /// Runs every case of [`CASES`] (`quick`: the reduced versions), calling
