@@ -17,6 +17,11 @@ pub mod punch;
 pub mod quads;
 pub mod seed;
 pub mod segment;
+pub mod solid;
+pub mod solid_beam;
+pub mod solid_contact;
+pub mod solid_mesh;
+pub mod solid_patch;
 
 use cfe::analysis::Analysis;
 use cfe::analysis::Start;
@@ -136,7 +141,7 @@ pub type CaseFn = fn(bool) -> Result<Case>;
 /// progress line shows. The one list: [`run_all`] runs it and the tests
 /// (`crates/cfe-tools/tests/verification.rs`) assert every case of it at both
 /// levels, so a case added here is asserted without a test of its own.
-pub const CASES: [(&str, CaseFn); 22] = [
+pub const CASES: [(&str, CaseFn); 30] = [
     ("patch tests", patch::constant_stress),
     ("contact patch test", patch::contact_patch),
     ("tied cantilever", cantilever::convergence),
@@ -162,6 +167,14 @@ pub const CASES: [(&str, CaseFn); 22] = [
         "axisymmetric Hertz sphere",
         axisymmetric_contact::hertz_sphere,
     ),
+    ("3D tied patch tests", solid_patch::tied_patch),
+    ("3D contact patch test", solid_patch::contact_patch),
+    ("3D Coulomb", solid_patch::coulomb),
+    ("3D flat punch", solid_contact::flat_punch),
+    ("3D Hertz", solid_contact::hertz),
+    ("3D shrink fit", solid_contact::shrink_fit),
+    ("3D tied cantilever", solid_beam::cantilever),
+    ("3D extrusion", solid_beam::extrusion),
 ];
 
 /// Runs every case of [`CASES`] (`quick`: the reduced versions), calling
