@@ -75,10 +75,16 @@ fn main() {
         .skip(1)
         .map(|a| a.parse().expect("a number of cells"))
         .collect();
-    println!("| cells | unknowns | solver | status | wall s | preparations | iterations per solve | max |u_z| |");
+    println!(
+        "| cells | unknowns | solver | status | wall s | preparations | iterations per solve | max |u_z| |"
+    );
     println!("|---|---|---|---|---|---|---|---|");
     for n in sizes {
-        for solver in [LinearBackend::Direct, LinearBackend::PetscMumps, LinearBackend::Petsc] {
+        for solver in [
+            LinearBackend::Direct,
+            LinearBackend::PetscMumps,
+            LinearBackend::Petsc,
+        ] {
             let mut a = model(n);
             a.model.settings.solver = solver;
             a.set_back_end(Arc::new(Petsc::default()));
@@ -87,8 +93,19 @@ fn main() {
             let wall = t.elapsed().as_secs_f64();
             match r {
                 Ok(r) => {
-                    let its = r.summary.linear_solver.as_ref().map(|l| l.iterations.clone()).unwrap_or_default();
-                    let uz = r.last.u.iter().skip(2).step_by(3).fold(0.0f64, |m, v| m.max(v.abs()));
+                    let its = r
+                        .summary
+                        .linear_solver
+                        .as_ref()
+                        .map(|l| l.iterations.clone())
+                        .unwrap_or_default();
+                    let uz = r
+                        .last
+                        .u
+                        .iter()
+                        .skip(2)
+                        .step_by(3)
+                        .fold(0.0f64, |m, v| m.max(v.abs()));
                     println!(
                         "| {n} | {} | {} | {:?} | {wall:.2} | {} | {its:?} | {uz:.9e} |",
                         a.dofs.n_eq,
@@ -97,7 +114,11 @@ fn main() {
                         r.summary.factorizations,
                     );
                 }
-                Err(e) => println!("| {n} | {} | {} | error: {e} | {wall:.2} | | | |", a.dofs.n_eq, solver.name()),
+                Err(e) => println!(
+                    "| {n} | {} | {} | error: {e} | {wall:.2} | | | |",
+                    a.dofs.n_eq,
+                    solver.name()
+                ),
             }
         }
     }
