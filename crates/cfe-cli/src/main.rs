@@ -38,6 +38,11 @@ enum SolverArg {
     /// Jacobi-preconditioned conjugate gradients (slow; a moderate penalty or
     /// augmented enforcement).
     Cg,
+    /// PETSc: conjugate gradients with algebraic multigrid (GAMG); needs cfe
+    /// built with `--features petsc`.
+    Petsc,
+    /// MUMPS through PETSc; needs cfe built with `--features petsc`.
+    PetscMumps,
 }
 
 impl From<SolverArg> for cfe::LinearBackend {
@@ -45,6 +50,8 @@ impl From<SolverArg> for cfe::LinearBackend {
         match s {
             SolverArg::Direct => cfe::LinearBackend::Direct,
             SolverArg::Cg => cfe::LinearBackend::Cg,
+            SolverArg::Petsc => cfe::LinearBackend::Petsc,
+            SolverArg::PetscMumps => cfe::LinearBackend::PetscMumps,
         }
     }
 }
@@ -92,6 +99,15 @@ enum Command {
         /// The linear solver; overrides the file's `[analysis] solver`.
         #[arg(long, value_enum)]
         solver: Option<SolverArg>,
+        /// PETSc options for `--solver petsc` or `petsc-mumps`, as on a PETSc
+        /// program's command line (e.g. "-ksp_rtol 1e-8 -pc_gamg_threshold
+        /// 0.02"); read after the file's `[analysis] petsc_options`.
+        #[arg(long, value_name = "OPTIONS", allow_hyphen_values = true)]
+        petsc_options: Option<String>,
+        /// A PETSc options file for `--solver petsc` or `petsc-mumps`, read
+        /// after the options.
+        #[arg(long, value_name = "FILE")]
+        petsc_options_file: Option<PathBuf>,
         /// Write into the output folder even if it is not empty and holds no cfe
         /// run, or holds files at the names cfe writes (summary.json, pairs.csv,
         /// results.pvd, the PNGs, vtu/parts_N.vtu, vtu/pairs_N.vtu) that no cfe run
@@ -154,7 +170,11 @@ enum Command {
 }
 
 fn main() {
-    if let Err(e) = run(Cli::parse()) {
+    let result = run(Cli::parse());
+    // PETSc (and MPI) end once, after every solver is dropped.
+    #[cfg(feature = "petsc")]
+    let result = result.and_then(|()| Ok(cfe_petsc::finalize()?));
+    if let Err(e) = result {
         // The chain of causes, each once: a library error's message already
         // holds its I/O cause.
         let mut message = String::new();
@@ -269,6 +289,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             friction,
             write_every,
             solver,
+            petsc_options,
+            petsc_options_file,
             force,
         } => run_problem(
             &problem,
@@ -276,7 +298,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             refine,
             (law, friction),
             write_every,
-            solver,
+            (solver, petsc_options, petsc_options_file),
             force,
         ),
     }
@@ -326,7 +348,11 @@ fn run_problem(
     refine: usize,
     (law, friction): (Option<LawArg>, Option<f64>),
     write_every: Option<usize>,
-    solver: Option<SolverArg>,
+    (solver, petsc_options, petsc_options_file): (
+        Option<SolverArg>,
+        Option<String>,
+        Option<PathBuf>,
+    ),
     force: bool,
 ) -> anyhow::Result<()> {
     let out = out.unwrap_or_else(|| {
@@ -349,6 +375,14 @@ fn run_problem(
     if let Some(s) = solver {
         a.model.settings.solver = s.into();
     }
+    if let Some(o) = petsc_options {
+        let settings = &mut a.model.settings;
+        settings.petsc_options = Some(match settings.petsc_options.take() {
+            Some(file) => format!("{file} {o}"),
+            None => o,
+        });
+    }
+    use_petsc(&mut a, petsc_options_file);
     let folder = cfe::output::folder::OutputFolder::open(&out, force)?;
     eprint!("{}", a.describe());
     let bar = ProgressBar::new(a.model.settings.increments as u64);
@@ -411,6 +445,22 @@ fn run_problem(
     print_summary(&out, &summary);
     Ok(())
 }
+
+/// Hands the analysis the PETSc back ends when its solver is one of them
+/// (`petsc`, `petsc-mumps`), with its options and `options_file`.
+#[cfg(feature = "petsc")]
+fn use_petsc(a: &mut Analysis, options_file: Option<PathBuf>) {
+    let settings = &a.model.settings;
+    if settings.solver.is_external() {
+        let options = settings.petsc_options.clone().unwrap_or_default();
+        a.set_back_end(Arc::new(cfe_petsc::Petsc::new(options, options_file)));
+    }
+}
+
+/// Without the `petsc` feature there is no PETSc back end: a run that asks for
+/// one fails with the library's typed error saying how to build it in.
+#[cfg(not(feature = "petsc"))]
+fn use_petsc(_: &mut Analysis, _: Option<PathBuf>) {}
 
 /// Prints the main figures of a finished run.
 fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {

@@ -174,6 +174,10 @@ pub fn to_py(py: Python<'_>, e: cfe::Error) -> PyErr {
         ),
         E::Singular(_) => (SingularError::new_err(message), vec![]),
         E::NoConvergence(_) => (ConvergenceError::new_err(message), vec![]),
+        E::LinearBackEnd { back_end, .. } => (
+            ModelError::new_err(message),
+            vec![("back_end", obj(py, back_end))],
+        ),
         E::LawViolation {
             increment, pairs, ..
         } => (

@@ -265,13 +265,7 @@ impl PyModel {
         )?;
         d.set_item("max_iterations", s.max_iterations)?;
         d.set_item("gap_tolerance", s.gap_tolerance)?;
-        d.set_item(
-            "solver",
-            match s.solver {
-                cfe::LinearBackend::Direct => "direct",
-                cfe::LinearBackend::Cg => "cg",
-            },
-        )?;
+        d.set_item("solver", s.solver.name())?;
         Ok(d.into_any())
     }
 

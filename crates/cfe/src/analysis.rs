@@ -13,7 +13,7 @@ use crate::assembly::{self, DofMap};
 use crate::coupling::build::{self, InterfaceDim};
 use crate::coupling::{Interface, Law, PairStates};
 use crate::dim::{D2, D3};
-use crate::domain::StartPattern;
+use crate::domain::{LinearBackend, StartPattern};
 use crate::error::{Error, Result};
 use crate::fem::ElementFamily;
 use crate::fem::recovery::PartStress;
@@ -24,9 +24,12 @@ pub use crate::results::summary::{
     SettledPair, StepSummary, Summary, Timings, Tolerances, ViolationRecord, Warning,
 };
 use crate::results::{PairRow, ResultsDim};
-use crate::solve::nonlinear::{IncrementResult, LoadSteps, Solver};
+use crate::solve::backend::{LinearSolver, Problem};
+use crate::solve::contact::ExternalBackEnd;
+use crate::solve::nonlinear::{IncrementResult, IterativeSolves, LoadSteps, Solver};
 use crate::solve::warm_start;
 use std::path::Path;
+use std::sync::Arc;
 use std::sync::atomic::AtomicUsize;
 use std::time::Instant;
 
@@ -58,6 +61,16 @@ pub trait AnalysisDim: InterfaceDim + ResultsDim {
     /// The final pair states of the same problem on 4× coarser meshes
     /// ([`Analysis::coarse_states_until`]); `None` when there is none.
     fn coarse_states(analysis: &Analysis<Self>, stop: Option<&AtomicUsize>) -> Option<PairStates>;
+
+    /// The back end `kind` of an [`ExternalBackEnd`] for `problem`: its method
+    /// of this dimension.
+    #[doc(hidden)]
+    #[allow(clippy::type_complexity)]
+    fn external<'a>(
+        back_end: &dyn ExternalBackEnd,
+        kind: LinearBackend,
+        problem: Problem<'a, Self>,
+    ) -> Result<(Box<dyn LinearSolver<'a> + 'a>, Option<IterativeSolves>)>;
 }
 
 /// Plane models: [`Model::warnings`]; a refined problem file's coarser level.
@@ -68,6 +81,14 @@ impl AnalysisDim for D2 {
 
     fn coarse_states(analysis: &Analysis, stop: Option<&AtomicUsize>) -> Option<PairStates> {
         analysis.plane_coarse_states(stop)
+    }
+
+    fn external<'a>(
+        back_end: &dyn ExternalBackEnd,
+        kind: LinearBackend,
+        problem: Problem<'a, D2>,
+    ) -> Result<(Box<dyn LinearSolver<'a> + 'a>, Option<IterativeSolves>)> {
+        back_end.plane(kind, problem)
     }
 }
 
@@ -91,6 +112,14 @@ impl AnalysisDim for D3 {
 
     fn coarse_states(_: &Analysis<D3>, _: Option<&AtomicUsize>) -> Option<PairStates> {
         None
+    }
+
+    fn external<'a>(
+        back_end: &dyn ExternalBackEnd,
+        kind: LinearBackend,
+        problem: Problem<'a, D3>,
+    ) -> Result<(Box<dyn LinearSolver<'a> + 'a>, Option<IterativeSolves>)> {
+        back_end.solid(kind, problem)
     }
 }
 
@@ -133,6 +162,9 @@ pub struct Analysis<D: AnalysisDim = D2> {
     pub dofs: DofMap<D>,
     /// Phase timings so far.
     pub timings: Timings,
+    /// The linear back end built outside this library that solves a run whose
+    /// `[analysis] solver` names it ([`Analysis::set_back_end`]).
+    external: Option<Arc<dyn ExternalBackEnd>>,
 }
 
 impl Analysis {
@@ -203,7 +235,17 @@ impl<D: AnalysisDim> Analysis<D> {
             interfaces,
             dofs,
             timings,
+            external: None,
         })
+    }
+
+    /// Has every solve whose `[analysis] solver` is a back end outside this
+    /// library ([`crate::domain::LinearBackend::is_external`]: `petsc`,
+    /// `petsc-mumps`) use `back_end` (e.g. `cfe_petsc::Petsc`). Without one
+    /// such a solve is [`Error::LinearBackEnd`] saying how to build it in.
+    #[cfg(feature = "internals")]
+    pub fn set_back_end(&mut self, back_end: Arc<dyn ExternalBackEnd>) {
+        self.external = Some(back_end);
     }
 
     /// Makes every interface follow `law` (e.g. to compare tied and contact runs of
@@ -247,14 +289,29 @@ impl<D: AnalysisDim> Analysis<D> {
     /// [`Error::Interrupted`].
     pub fn solver_until<'s>(&'s self, stop: Option<&'s AtomicUsize>) -> Result<Solver<'s, D>> {
         let f = assembly::external_force(&self.model.loads, &self.dofs);
-        let mut solver = Solver::new(
-            &self.model.parts,
-            &self.interfaces,
-            &self.dofs,
-            f,
-            &self.model.settings,
-            stop,
-        )?;
+        let settings = &self.model.settings;
+        let mut solver = match &self.external {
+            // (No equation: `Solver::new` says so.)
+            Some(back_end) if settings.solver.is_external() && self.dofs.n_eq > 0 => {
+                let t = Instant::now();
+                let problem = Problem {
+                    parts: &self.model.parts,
+                    interfaces: &self.interfaces,
+                    dofs: &self.dofs,
+                };
+                let linear = D::external(back_end.as_ref(), settings.solver, problem)?;
+                let seconds = t.elapsed().as_secs_f64();
+                Solver::with_back_end(problem, f, settings, stop, linear, seconds)
+            }
+            _ => Solver::new(
+                &self.model.parts,
+                &self.interfaces,
+                &self.dofs,
+                f,
+                settings,
+                stop,
+            )?,
+        };
         if let Some(steps) = self.load_steps() {
             solver.set_steps(steps);
         }

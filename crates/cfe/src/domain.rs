@@ -36,12 +36,36 @@ pub enum LinearBackend {
     /// [`crate::domain::CG_TOLERANCE`]: slow, and only for a well-conditioned
     /// coupling (a moderate penalty, or augmented-Lagrangian enforcement).
     Cg,
+    /// PETSc's conjugate gradients preconditioned by smoothed-aggregation
+    /// algebraic multigrid (GAMG) with the rigid-body modes as its near-null
+    /// space: the `cfe-petsc` crate (the command line built with
+    /// `--features petsc`); without it, a typed error saying how to build it.
+    Petsc,
+    /// MUMPS's sparse Cholesky through PETSc (the `cfe-petsc` crate, as
+    /// [`LinearBackend::Petsc`]).
+    PetscMumps,
 }
 
 impl LinearBackend {
     /// Whether this is the default back end (then summary.json does not name it).
     pub fn is_direct(&self) -> bool {
         *self == LinearBackend::Direct
+    }
+
+    /// Whether the back end lives outside this library (PETSc): a run needs one
+    /// handed to it ([`crate::solve::backend::ExternalBackEnd`]).
+    pub fn is_external(&self) -> bool {
+        matches!(self, LinearBackend::Petsc | LinearBackend::PetscMumps)
+    }
+
+    /// The name in the problem file (`[analysis] solver`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            LinearBackend::Direct => "direct",
+            LinearBackend::Cg => "cg",
+            LinearBackend::Petsc => "petsc",
+            LinearBackend::PetscMumps => "petsc-mumps",
+        }
     }
 }
 
@@ -125,9 +149,14 @@ pub struct Settings {
     /// `output_every = "last"`) writes only those.
     #[serde(with = "output_every")]
     pub output_every: usize,
-    /// The linear solver: `direct` (default) or `cg`.
+    /// The linear solver: `direct` (default), `cg`, `petsc` or `petsc-mumps`.
     #[serde(skip_serializing_if = "LinearBackend::is_direct")]
     pub solver: LinearBackend,
+    /// PETSc options for the `petsc` and `petsc-mumps` solvers, as on a PETSc
+    /// program's command line (`-ksp_rtol 1e-12 -pc_gamg_threshold 0.02`,
+    /// `-options_file tuning.opts`); ignored by the other solvers.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub petsc_options: Option<String>,
     /// How the slip forces of a pattern's slipping Coulomb pairs are solved:
     /// `fixed-point` (default) or `newton`.
     #[serde(skip_serializing_if = "FrictionSolve::is_fixed_point")]
@@ -198,6 +227,7 @@ impl Default for Settings {
             max_residual: 1e-4,
             output_every: 1,
             solver: LinearBackend::Direct,
+            petsc_options: None,
             friction_solve: FrictionSolve::FixedPoint,
         }
     }

@@ -174,6 +174,15 @@ pub enum Error {
     /// The nonlinear iteration did not converge.
     #[error("no convergence: {0}")]
     NoConvergence(String),
+    /// A linear back end outside this library (`[analysis] solver = "petsc"`)
+    /// is not built in, or failed: which back end, and what to do.
+    #[error("linear solver '{back_end}': {message}")]
+    LinearBackEnd {
+        /// The back end (`petsc`, `petsc-mumps`).
+        back_end: String,
+        /// What went wrong (the failing call and its error code, or how to build it in).
+        message: String,
+    },
     /// The contact law is broken beyond `[analysis] max_violation` at some pairs:
     /// no consistent state exists and the least-violating one is still too far off.
     #[error("contact law violated: {message}")]

@@ -197,3 +197,34 @@ fn load_steps_agree() {
     assert_eq!(d.len(), 4);
     assert_same(&d, &c);
 }
+
+/// `solver = "petsc"` (and `petsc-mumps`) read from the problem file, in a
+/// build whose analysis has no PETSc back end handed to it (`cfe` alone), is a
+/// typed error naming the solver and saying how to build it in, not a panic.
+#[test]
+fn petsc_without_its_back_end_is_a_typed_error() {
+    for (name, kind) in [
+        ("petsc", LinearBackend::Petsc),
+        ("petsc-mumps", LinearBackend::PetscMumps),
+    ] {
+        let text = Problem::block_on_base()
+            .law("rigid")
+            .pressure("block", "top", 1.0)
+            .support_at("block", [0.0, 1.0], ["x"])
+            .increments(1)
+            .text()
+            .replace("[analysis]", &format!("[analysis]\nsolver = \"{name}\""));
+        let a: Analysis = common::analysis(&text);
+        assert_eq!(a.model.settings.solver, kind, "{text}");
+        match a.solve() {
+            Err(cfe::Error::LinearBackEnd { back_end, message }) => {
+                assert_eq!(back_end, name);
+                assert!(message.contains("--features petsc"), "{message}");
+            }
+            other => panic!(
+                "{name}: expected a typed error, got {:?}",
+                other.map(|r| r.summary.status)
+            ),
+        }
+    }
+}

@@ -1,7 +1,8 @@
 //! The seam between the contact scheme and the linear algebra: what the scheme
 //! asks of a linear solver, so that any back end — today's supernodal Cholesky
 //! ([`super::direct::Cholesky`]), preconditioned conjugate gradients
-//! ([`super::iterative::ConjugateGradients`]), later PETSc — can answer it.
+//! ([`super::iterative::ConjugateGradients`]), PETSc (the `cfe-petsc` crate,
+//! through [`super::contact::ExternalBackEnd`]) — can answer it.
 //!
 //! Every matrix the scheme solves with is `K(states)`: the parts' stiffness plus
 //! the coupling elements' in the given pair states, over the free equations of a
@@ -88,6 +89,15 @@ pub enum LinearFailure {
     NotPositiveDefinite {
         /// The equation where it was found, when known.
         equation: Option<usize>,
+    },
+    /// A back end outside this library failed in one of its calls (e.g. a PETSc
+    /// function returning an error code).
+    #[error("{function} failed with error code {code}")]
+    BackEnd {
+        /// The call that failed.
+        function: &'static str,
+        /// Its error code.
+        code: i32,
     },
     /// An iterative solve reached its iteration cap before its tolerance.
     #[error("the iterative solve did not converge: relative residual {relative_residual:e} after {iterations} iterations (tolerance {tolerance:e})")]

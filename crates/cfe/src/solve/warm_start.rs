@@ -46,8 +46,15 @@ where
     if coarse.interfaces.len() != fine.len() {
         return None;
     }
+    // The coarse model is small: a back end outside the library (PETSc) is
+    // not needed for it, and the direct one is there in every build.
+    let solver = match coarse.settings.solver {
+        s if s.is_external() => crate::domain::LinearBackend::Direct,
+        s => s,
+    };
     let settings = Settings {
         increments: 1,
+        solver,
         ..coarse.settings.clone()
     };
     let mut solver = Solver::new(

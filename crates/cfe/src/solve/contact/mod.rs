@@ -86,4 +86,4 @@ pub use increment::{
     PairViolation, SolveTimings,
 };
 pub use scale::{BALANCE_FLOOR, FORCE_FLOOR, RESIDUAL_WARN};
-pub use solver::Solver;
+pub use solver::{ExternalBackEnd, Solver};

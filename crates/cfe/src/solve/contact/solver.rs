@@ -11,7 +11,7 @@ use crate::assembly::{DofMap, FIXED};
 use crate::coupling::{
     Interface, InterfacePairs, Law, PairHistories, PairHistory, PairSet, PairState, PairStates,
 };
-use crate::dim::D2;
+use crate::dim::{D2, D3};
 use crate::domain::{CG_TOLERANCE, LinearBackend, Part, Scheme, Settings};
 use crate::error::{Error, Result};
 use crate::fem::ElementFamily;
@@ -199,8 +199,38 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
             dofs,
         };
         let (linear, iterative) = linear_back_end(settings.solver, problem, stop)?;
+        Ok(Self::with_back_end(
+            problem,
+            f_ext,
+            settings,
+            stop,
+            (linear, iterative),
+            t.elapsed().as_secs_f64(),
+        ))
+    }
+
+    /// The solver of `problem` on a linear back end already analysed for its
+    /// pattern (`back_end`: the solver and, for an iterative one, the record of
+    /// its solves; `analysis_seconds`: the time that analysis took), e.g. one
+    /// built outside this library ([`crate::solve::backend::ExternalBackEnd`]).
+    /// `stop` as [`Solver::new`] says.
+    #[allow(clippy::type_complexity)]
+    pub fn with_back_end(
+        problem: Problem<'a, D>,
+        f_ext: Vec<f64>,
+        settings: &'a Settings,
+        stop: Option<&'a AtomicUsize>,
+        back_end: (Box<dyn LinearSolver<'a> + 'a>, Option<IterativeSolves>),
+        analysis_seconds: f64,
+    ) -> Self {
+        let Problem {
+            parts,
+            interfaces,
+            dofs,
+        } = problem;
+        let (linear, iterative) = back_end;
         let timings = SolveTimings {
-            pattern_and_symbolic: t.elapsed().as_secs_f64(),
+            pattern_and_symbolic: analysis_seconds,
             ..Default::default()
         };
         let total_load = total_force::<D>(&f_ext);
@@ -249,7 +279,7 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
         if let Some(stop) = stop {
             solver.set_stop(stop);
         }
-        Ok(solver)
+        solver
     }
 
     /// Has the solver read `stop` at every increment, active-set iteration,
@@ -529,6 +559,12 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
                     "increment {inc}: {failure}; check for a mechanism or an unsupported part"
                 ));
             }
+            LinearFailure::BackEnd { .. } => {
+                return Error::LinearBackEnd {
+                    back_end: self.settings.solver.name().into(),
+                    message: format!("increment {inc}: {failure}"),
+                };
+            }
             LinearFailure::NotConverged { .. } => {
                 return Error::NoConvergence(format!(
                     "increment {inc}: {failure}; the penalty's conditioning is too poor for the iterative solver (lower the interface's penalty, use enforcement = \"augmented\", or solver = \"direct\")"
@@ -552,6 +588,31 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
     }
 }
 
+/// A back end built outside this library (the `cfe-petsc` crate): it depends
+/// on `cfe`, `cfe` does not know it. Handed to an analysis
+/// (`Analysis::set_back_end`), it is asked for the solver of each pattern of a
+/// run whose `[analysis] solver` it offers ([`LinearBackend::is_external`]).
+/// The dimension picks the method (a trait object cannot be generic over it).
+pub trait ExternalBackEnd: Send + Sync {
+    /// The back end `kind` analysed for a plane problem's pattern, and the
+    /// record of its solves for summary.json (`None`: a direct solve, or not
+    /// recorded).
+    #[allow(clippy::type_complexity)]
+    fn plane<'a>(
+        &self,
+        kind: LinearBackend,
+        problem: Problem<'a, D2>,
+    ) -> Result<(Box<dyn LinearSolver<'a> + 'a>, Option<IterativeSolves>)>;
+
+    /// [`ExternalBackEnd::plane`] for a solid problem.
+    #[allow(clippy::type_complexity)]
+    fn solid<'a>(
+        &self,
+        kind: LinearBackend,
+        problem: Problem<'a, D3>,
+    ) -> Result<(Box<dyn LinearSolver<'a> + 'a>, Option<IterativeSolves>)>;
+}
+
 /// The linear back end `kind` analysed for `problem`'s pattern (the direct one
 /// reading `stop` during that analysis), and, for an iterative one, the record
 /// of its solves.
@@ -572,6 +633,12 @@ fn linear_back_end<'a, D: ElementFamily>(
                 crate::solve::setup::pattern_and_symbolic(parts, interfaces, dofs, stop)?;
             let system = ContactSystem::new(parts, k, chol);
             (Box::new(Cholesky::with_system(problem, system)), None)
+        }
+        kind @ (LinearBackend::Petsc | LinearBackend::PetscMumps) => {
+            return Err(Error::LinearBackEnd {
+                back_end: kind.name().into(),
+                message: "this build of cfe has no PETSc back end: install PETSc (Debian: `apt-get install libpetsc-real-dev openmpi-bin libopenmpi-dev pkg-config`) and build the command line with `cargo build --release --features petsc`, or choose solver = \"direct\"".into(),
+            });
         }
         LinearBackend::Cg => {
             let mut cg = ConjugateGradients::analyse(problem)?;

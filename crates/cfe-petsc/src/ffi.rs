@@ -1,0 +1,180 @@
+//! The PETSc calls this crate makes, declared by hand from the headers of
+//! PETSc 3.18 (Debian's `libpetsc-real-dev`): `PetscInt` is 32 bits,
+//! `PetscScalar` and `PetscReal` are `f64`, `PetscErrorCode` and the enums are
+//! C `int`s, and `MPI_Comm` is Open MPI's pointer. `build.rs` checks the
+//! installed `petscconf.h` for exactly that; the `types_match_petscconf`
+//! test checks the sizes here.
+
+#![allow(non_camel_case_types, non_snake_case, dead_code)]
+
+use std::ffi::{c_char, c_int, c_void};
+
+/// `PetscInt` (no `PETSC_USE_64BIT_INDICES`).
+pub type PetscInt = i32;
+/// `PetscScalar` (real double).
+pub type PetscScalar = f64;
+/// `PetscReal`.
+pub type PetscReal = f64;
+/// `PetscErrorCode` (0: success).
+pub type PetscErrorCode = c_int;
+/// `PetscBool` (an enum: `PETSC_FALSE`, `PETSC_TRUE`).
+pub type PetscBool = c_int;
+pub const PETSC_FALSE: PetscBool = 0;
+pub const PETSC_TRUE: PetscBool = 1;
+/// `PETSC_DEFAULT` for a tolerance or an iteration count.
+pub const PETSC_DEFAULT: PetscInt = -2;
+/// `MPI_Comm` in Open MPI: a pointer to its communicator structure.
+pub type MPI_Comm = *mut c_void;
+
+/// Opaque PETSc objects (pointers to their private structures).
+pub type Mat = *mut c_void;
+pub type Vec = *mut c_void;
+pub type KSP = *mut c_void;
+pub type PC = *mut c_void;
+pub type MatNullSpace = *mut c_void;
+pub type PetscOptions = *mut c_void;
+
+/// `InsertMode`.
+pub const INSERT_VALUES: c_int = 1;
+/// `MatAssemblyType`.
+pub const MAT_FINAL_ASSEMBLY: c_int = 0;
+/// `KSPNormType`.
+pub const KSP_NORM_UNPRECONDITIONED: c_int = 2;
+/// `KSPConvergedReason` values this crate tells apart.
+pub const KSP_DIVERGED_ITS: c_int = -3;
+pub const KSP_DIVERGED_INDEFINITE_PC: c_int = -8;
+pub const KSP_DIVERGED_INDEFINITE_MAT: c_int = -10;
+pub const KSP_DIVERGED_PC_FAILED: c_int = -11;
+
+/// `PetscErrorHandler`: (comm, line, function, file, error, how, message, context).
+pub type PetscErrorHandler = unsafe extern "C" fn(
+    MPI_Comm,
+    c_int,
+    *const c_char,
+    *const c_char,
+    PetscErrorCode,
+    c_int,
+    *const c_char,
+    *mut c_void,
+) -> PetscErrorCode;
+
+unsafe extern "C" {
+    /// The communicator of all ranks PETSc runs on (one in a serial run).
+    pub static PETSC_COMM_WORLD: MPI_Comm;
+
+    pub fn PetscInitialize(
+        argc: *mut c_int,
+        args: *mut *mut *mut c_char,
+        file: *const c_char,
+        help: *const c_char,
+    ) -> PetscErrorCode;
+    pub fn PetscInitialized(isInitialized: *mut PetscBool) -> PetscErrorCode;
+    pub fn PetscFinalize() -> PetscErrorCode;
+    pub fn PetscPushErrorHandler(handler: PetscErrorHandler, ctx: *mut c_void) -> PetscErrorCode;
+    pub fn PetscReturnErrorHandler(
+        comm: MPI_Comm,
+        line: c_int,
+        fun: *const c_char,
+        file: *const c_char,
+        n: PetscErrorCode,
+        p: c_int,
+        mess: *const c_char,
+        ctx: *mut c_void,
+    ) -> PetscErrorCode;
+    pub fn PetscErrorMessage(
+        errnum: PetscErrorCode,
+        text: *mut *const c_char,
+        specific: *mut *mut c_char,
+    ) -> PetscErrorCode;
+
+    pub fn PetscOptionsCreate(options: *mut PetscOptions) -> PetscErrorCode;
+    pub fn PetscOptionsDestroy(options: *mut PetscOptions) -> PetscErrorCode;
+    pub fn PetscOptionsInsertString(options: PetscOptions, s: *const c_char) -> PetscErrorCode;
+    pub fn PetscOptionsInsertFile(
+        comm: MPI_Comm,
+        options: PetscOptions,
+        file: *const c_char,
+        require: PetscBool,
+    ) -> PetscErrorCode;
+    pub fn PetscOptionsPush(options: PetscOptions) -> PetscErrorCode;
+    pub fn PetscOptionsPop() -> PetscErrorCode;
+
+    pub fn MatCreate(comm: MPI_Comm, a: *mut Mat) -> PetscErrorCode;
+    pub fn MatSetSizes(
+        a: Mat,
+        m: PetscInt,
+        n: PetscInt,
+        big_m: PetscInt,
+        big_n: PetscInt,
+    ) -> PetscErrorCode;
+    pub fn MatSetType(a: Mat, kind: *const c_char) -> PetscErrorCode;
+    pub fn MatSetBlockSize(a: Mat, bs: PetscInt) -> PetscErrorCode;
+    pub fn MatSeqAIJSetPreallocation(a: Mat, nz: PetscInt, nnz: *const PetscInt) -> PetscErrorCode;
+    pub fn MatSetValues(
+        a: Mat,
+        m: PetscInt,
+        idxm: *const PetscInt,
+        n: PetscInt,
+        idxn: *const PetscInt,
+        v: *const PetscScalar,
+        mode: c_int,
+    ) -> PetscErrorCode;
+    pub fn MatAssemblyBegin(a: Mat, kind: c_int) -> PetscErrorCode;
+    pub fn MatAssemblyEnd(a: Mat, kind: c_int) -> PetscErrorCode;
+    pub fn MatMult(a: Mat, x: Vec, y: Vec) -> PetscErrorCode;
+    pub fn MatSetNearNullSpace(a: Mat, nullsp: MatNullSpace) -> PetscErrorCode;
+    pub fn MatDestroy(a: *mut Mat) -> PetscErrorCode;
+
+    pub fn MatNullSpaceCreateRigidBody(coords: Vec, sp: *mut MatNullSpace) -> PetscErrorCode;
+    pub fn MatNullSpaceGetVecs(
+        sp: MatNullSpace,
+        has_const: *mut PetscBool,
+        n: *mut PetscInt,
+        vecs: *mut *const Vec,
+    ) -> PetscErrorCode;
+    pub fn MatNullSpaceDestroy(sp: *mut MatNullSpace) -> PetscErrorCode;
+
+    pub fn VecCreateSeq(comm: MPI_Comm, n: PetscInt, v: *mut Vec) -> PetscErrorCode;
+    pub fn VecSetBlockSize(v: Vec, bs: PetscInt) -> PetscErrorCode;
+    pub fn VecGetArray(v: Vec, a: *mut *mut PetscScalar) -> PetscErrorCode;
+    pub fn VecRestoreArray(v: Vec, a: *mut *mut PetscScalar) -> PetscErrorCode;
+    pub fn VecGetArrayRead(v: Vec, a: *mut *const PetscScalar) -> PetscErrorCode;
+    pub fn VecRestoreArrayRead(v: Vec, a: *mut *const PetscScalar) -> PetscErrorCode;
+    pub fn VecDestroy(v: *mut Vec) -> PetscErrorCode;
+
+    pub fn KSPCreate(comm: MPI_Comm, ksp: *mut KSP) -> PetscErrorCode;
+    pub fn KSPSetOperators(ksp: KSP, amat: Mat, pmat: Mat) -> PetscErrorCode;
+    pub fn KSPSetType(ksp: KSP, kind: *const c_char) -> PetscErrorCode;
+    pub fn KSPGetPC(ksp: KSP, pc: *mut PC) -> PetscErrorCode;
+    pub fn KSPSetTolerances(
+        ksp: KSP,
+        rtol: PetscReal,
+        abstol: PetscReal,
+        dtol: PetscReal,
+        maxits: PetscInt,
+    ) -> PetscErrorCode;
+    pub fn KSPGetTolerances(
+        ksp: KSP,
+        rtol: *mut PetscReal,
+        abstol: *mut PetscReal,
+        dtol: *mut PetscReal,
+        maxits: *mut PetscInt,
+    ) -> PetscErrorCode;
+    pub fn KSPSetNormType(ksp: KSP, normtype: c_int) -> PetscErrorCode;
+    pub fn KSPSetInitialGuessNonzero(ksp: KSP, flg: PetscBool) -> PetscErrorCode;
+    pub fn KSPSetReusePreconditioner(ksp: KSP, flg: PetscBool) -> PetscErrorCode;
+    pub fn KSPSetFromOptions(ksp: KSP) -> PetscErrorCode;
+    pub fn KSPSetUp(ksp: KSP) -> PetscErrorCode;
+    pub fn KSPSolve(ksp: KSP, b: Vec, x: Vec) -> PetscErrorCode;
+    pub fn KSPGetIterationNumber(ksp: KSP, its: *mut PetscInt) -> PetscErrorCode;
+    pub fn KSPGetConvergedReason(ksp: KSP, reason: *mut c_int) -> PetscErrorCode;
+    pub fn KSPDestroy(ksp: *mut KSP) -> PetscErrorCode;
+
+    pub fn PCSetType(pc: PC, kind: *const c_char) -> PetscErrorCode;
+    pub fn PCFactorSetMatSolverType(pc: PC, kind: *const c_char) -> PetscErrorCode;
+}
+
+unsafe extern "C" {
+    pub fn PCGetType(pc: PC, kind: *mut *const c_char) -> PetscErrorCode;
+    pub fn KSPGetType(ksp: KSP, kind: *mut *const c_char) -> PetscErrorCode;
+}
