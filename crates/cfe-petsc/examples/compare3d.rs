@@ -53,6 +53,7 @@ fn model(n: usize) -> Analysis<D3> {
         enforcement: Enforcement::Penalty,
         penetration_tolerance: 0.0,
         coupling: Coupling::Node,
+        form: cfe::domain::CouplingForm::Face,
     };
     let settings = Settings {
         increments: 2,

@@ -64,6 +64,7 @@ fn punch_on_base() -> Analysis<D3> {
         enforcement: Enforcement::Penalty,
         penetration_tolerance: 0.0,
         coupling: Coupling::Node,
+        form: cfe::domain::CouplingForm::Face,
     };
     let settings = Settings {
         increments: 2,

@@ -6,7 +6,8 @@
 use cfe::analysis::{Analysis, Results, RunStatus};
 use cfe::dim::D3;
 use cfe::domain::{
-    Coupling, Enforcement, FaceLoad, InterfaceDef, Law, Load, Part, Settings, Step, Support,
+    Coupling, CouplingForm, Enforcement, FaceLoad, InterfaceDef, Law, Load, Part, Settings, Step,
+    Support,
 };
 use cfe::error::Result;
 use cfe::fem::{Material, PlaneKind};
@@ -73,6 +74,7 @@ pub fn interface(
         enforcement: Enforcement::Penalty,
         penetration_tolerance: 0.0,
         coupling: Coupling::Node,
+        form: CouplingForm::Face,
     })
 }
 
