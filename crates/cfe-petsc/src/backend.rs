@@ -44,9 +44,13 @@ use std::ffi::{CStr, CString, c_char};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-/// The relative residual `‖b − K x‖ / ‖b‖` CG stops at unless told otherwise:
-/// that of cfe's own `cg` back end (`cfe::domain::CG_TOLERANCE`).
-pub const DEFAULT_TOLERANCE: f64 = 1e-10;
+/// The relative residual `‖b − K x‖ / ‖b‖` CG stops at unless told otherwise.
+/// Measured on the seed example (c_n = 1e9 against E = 2.1e5) refined 1 to 8
+/// times: at 1e-8 every run ends on the direct solver's pair states, with pair
+/// forces within 1.4e-8 of its and an equilibrium error below 1e-10; 1e-10 (the
+/// `cg` back end's) is below the true residual the penalty lets CG reach
+/// (1.0e-10 to 2.5e-10 once refined), so those runs fail.
+pub const DEFAULT_TOLERANCE: f64 = 1e-8;
 
 /// Restarts from the iterate allowed when the true residual is above the
 /// tolerance the recursively updated one met.

@@ -161,7 +161,7 @@ fn mumps_matches_direct_on_the_seed_example() {
 
 /// CG + GAMG (rigid-body near-null space) solves the seed example, penalty
 /// 1e9 against E = 2.1e5, on the direct solver's pair states with displacements
-/// and pair forces within 1e-6, every solve at its tolerance (1e-10 on the
+/// and pair forces within 1e-6, every solve at its tolerance (1e-8 on the
 /// true residual), warm-started and reusing its preconditioner.
 #[test]
 fn cg_gamg_matches_direct_on_the_seed_example() {
@@ -175,7 +175,7 @@ fn cg_gamg_matches_direct_on_the_seed_example() {
     );
     assert!(!record.iterations.is_empty());
     assert!(
-        record.largest_relative_residual <= record.tolerance && record.tolerance == 1e-10,
+        record.largest_relative_residual <= record.tolerance && record.tolerance == 1e-8,
         "{record:?}"
     );
     // Fewer preconditioners built than solves: it was kept across patterns.
@@ -197,17 +197,17 @@ fn petsc_matches_direct_in_3d() {
 }
 
 /// `-ksp_rtol` passed through as a PETSc option overrides the default
-/// tolerance: every solve meets the looser 1e-8, the first in fewer
-/// iterations than at the default 1e-10.
+/// tolerance: every solve meets the looser 1e-6, the first in fewer
+/// iterations than at the default 1e-8.
 #[test]
 fn options_pass_through() {
     let run = |options: &str| {
         let r = solve_with(plate(1), LinearBackend::Petsc, Petsc::new(options, None)).unwrap();
         r.summary.linear_solver.unwrap()
     };
-    let (loose, default) = (run("-ksp_rtol 1e-8"), run(""));
-    assert_eq!((loose.tolerance, default.tolerance), (1e-8, 1e-10));
-    assert!(loose.largest_relative_residual <= 1e-8, "{loose:?}");
+    let (loose, default) = (run("-ksp_rtol 1e-6"), run(""));
+    assert_eq!((loose.tolerance, default.tolerance), (1e-6, 1e-8));
+    assert!(loose.largest_relative_residual <= 1e-6, "{loose:?}");
     assert!(
         loose.iterations[0] < default.iterations[0],
         "{loose:?} {default:?}"

@@ -637,7 +637,7 @@ fn linear_back_end<'a, D: ElementFamily>(
         kind @ (LinearBackend::Petsc | LinearBackend::PetscMumps) => {
             return Err(Error::LinearBackEnd {
                 back_end: kind.name().into(),
-                message: "this build of cfe has no PETSc back end: install PETSc (Debian: `apt-get install libpetsc-real-dev openmpi-bin libopenmpi-dev pkg-config`) and build the command line with `cargo build --release --features petsc`, or choose solver = \"direct\"".into(),
+                message: "this build of cfe has no PETSc back end: install PETSc (Debian: `apt-get install libpetsc-real-dev openmpi-bin libopenmpi-dev pkg-config`) and build the command line with `cargo build --release -p cfe-cli --features petsc`, or choose solver = \"direct\"".into(),
             });
         }
         LinearBackend::Cg => {
