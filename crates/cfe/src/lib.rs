@@ -127,5 +127,6 @@ pub use fem::recovery::PartStress;
 pub use mesh::{BoundarySelection, Element, ElementKind, Mesh};
 pub use model::Model;
 pub use output::report::PairRow;
+pub use run::RunDim;
 pub use solve::nonlinear::{IncrementResult, Iteration, MultipleOf, PairViolation, Solver};
 pub use solve::system::{Method, UpdatePolicy};

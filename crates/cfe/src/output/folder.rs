@@ -25,7 +25,8 @@
 //!     not override: cfe never writes or deletes through a link inside its output
 //!     folder, and never removes a folder).
 //!
-//! The names a run writes are [`RUN_FILES`] in the folder and
+//! The names a run writes are [`RUN_FILES`] and `pressure_N.png` (a solid run's
+//! contact pressure maps, N digits) in the folder and
 //! `vtu/parts_N.vtu`, `vtu/pairs_N.vtu` (N: digits), `lines/NAME.csv` and
 //! `lines/NAME.png` (a line probe's; NAME of letters, digits, `-` and `_`), each
 //! with its temporary name — the files inside `vtu/` and `lines/` are checked as
@@ -51,15 +52,20 @@ pub const VTU: &str = "vtu";
 /// The folder of the line probes' tables and charts (`lines/<name>.csv`,
 /// `lines/<name>.png`).
 pub const LINES: &str = "lines";
-/// The pictures a successful run draws into its output folder.
+/// The pictures a successful plane run draws into its output folder.
 pub const PICTURES: [&str; 4] = [
     "sigma_yy.png",
     "displacement.png",
     "pressure.png",
     "history.png",
 ];
-/// The files a run writes into its output folder (besides `vtu/`).
-pub const RUN_FILES: [&str; 8] = [
+/// The pictures of the parts a successful solid run draws into its output
+/// folder (besides `history.png` and a contact pressure map per contact
+/// interface, [`pressure_map_file`]).
+pub const SOLID_PICTURES: [&str; 1] = ["deformed.png"];
+/// The files a run writes into its output folder (besides `vtu/`, `lines/` and
+/// a solid run's pressure maps, [`pressure_map_file`]).
+pub const RUN_FILES: [&str; 9] = [
     "summary.json",
     "pairs.csv",
     "results.pvd",
@@ -68,6 +74,7 @@ pub const RUN_FILES: [&str; 8] = [
     PICTURES[1],
     PICTURES[2],
     PICTURES[3],
+    SOLID_PICTURES[0],
 ];
 /// The largest manifest read (a run of a million written increments lists about
 /// 60 MB).
@@ -83,6 +90,19 @@ fn temporary(rel: &str) -> String {
     }
 }
 
+/// The contact pressure map of a solid run's interface `k` (1-based, in the
+/// model's order of interfaces): `pressure_<k>.png`.
+pub fn pressure_map_file(k: usize) -> String {
+    format!("pressure_{k}.png")
+}
+
+/// Whether `name` is a pressure map: `pressure_N.png`, N digits.
+fn is_pressure_map(name: &str) -> bool {
+    name.strip_prefix("pressure_")
+        .and_then(|r| r.strip_suffix(".png"))
+        .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+}
+
 /// Whether `name` is a series file: `parts_N.vtu` or `pairs_N.vtu`, N digits.
 fn is_series(name: &str) -> bool {
     ["parts_", "pairs_"].iter().any(|p| {
@@ -93,7 +113,8 @@ fn is_series(name: &str) -> bool {
 }
 
 /// Whether `rel` (relative to the output folder, `/`-separated) is a name a run
-/// writes: one of [`RUN_FILES`], a series file in `vtu/`, a line probe's
+/// writes: one of [`RUN_FILES`], a solid run's pressure map
+/// ([`pressure_map_file`]), a series file in `vtu/`, a line probe's
 /// `lines/<name>.csv` or `.png` or its table at an increment
 /// `lines/<name>.<NNNN>.csv` ([`line_increment_file`]), or the temporary name
 /// of one of them.
@@ -107,7 +128,7 @@ pub fn is_run_name(rel: &str) -> bool {
         .and_then(|n| n.strip_suffix(".tmp"))
         .unwrap_or(name);
     match dir {
-        None => RUN_FILES.contains(&file),
+        None => RUN_FILES.contains(&file) || is_pressure_map(file),
         Some(VTU) => !file.contains('/') && is_series(file),
         Some(LINES) => {
             let line_name = |n: &str| {
@@ -597,6 +618,7 @@ mod tests {
             .chain(["vtu/parts_0001.vtu", "vtu/pairs_12345.vtu"])
             .chain(["lines/mid.csv", "lines/a-b_1.png"])
             .chain(["lines/mid.0001.csv", "lines/a-b_1.12345.csv"])
+            .chain(["pressure_1.png", "pressure_12.png"])
         {
             assert!(is_run_name(n), "{n}");
             assert!(is_run_name(&temporary(n)), "{}", temporary(n));
@@ -625,6 +647,10 @@ mod tests {
             "lines/.0001.csv",
             "lines/mid.x1.csv",
             "lines/a.b.0001.csv",
+            "pressure_.png",
+            "pressure_a.png",
+            "pressure_1.png.png",
+            "vtu/pressure_1.png",
         ] {
             assert!(!is_run_name(n), "{n}");
         }

@@ -8,13 +8,21 @@ pub use crate::results::pairs::{PAIR_COLUMNS, PairRow};
 use serde::Serialize;
 use std::path::Path;
 
-/// Writes the pairs table (one row per coupling pair; the header is the field
-/// names of [`PairRow`]).
+/// Writes the pairs table of a plane model (one row per coupling pair; the
+/// header is the field names of [`PairRow`], [`PAIR_COLUMNS`]).
 pub fn write_pairs_csv(path: &Path, rows: &[PairRow]) -> Result<()> {
+    write_pairs_table(path, rows, &PAIR_COLUMNS)
+}
+
+/// Writes the pairs table (one row per coupling pair; the header is the field
+/// names each row serializes: [`PAIR_COLUMNS`] in a plane model,
+/// [`crate::results::SOLID_PAIR_COLUMNS`] in a solid one), or `empty_header`
+/// alone when there is no row.
+pub fn write_pairs_table(path: &Path, rows: &[PairRow], empty_header: &[&str]) -> Result<()> {
     write_atomic(path, |w| {
         let mut csv = csv::Writer::from_writer(w);
         if rows.is_empty() {
-            csv.write_record(PAIR_COLUMNS)?;
+            csv.write_record(empty_header)?;
         }
         for r in rows {
             csv.serialize(r).map_err(std::io::Error::other)?;

@@ -955,6 +955,63 @@ pub struct MapLabels<'a> {
 /// pressure: where the linearly interpolated pressure falls to (nearly) zero.
 const ZONE_LEVEL: f64 = 1e-6;
 
+/// The mean plane of the pair positions `points`, their projections on it and
+/// their Delaunay triangulation; why not when a position is not finite or they
+/// do not span a plane (fewer than three, or all on one line once projected).
+fn triangulate(
+    points: &[[f64; 3]],
+) -> std::result::Result<(InterfacePlane, Vec<[f64; 2]>, delaunator::Triangulation), String> {
+    let n = points.len();
+    let collinear = || {
+        format!(
+            "the {n} pair positions do not span a plane (fewer than 3, or all on one line): no map to draw"
+        )
+    };
+    if n < 3 {
+        return Err(collinear());
+    }
+    let plane = InterfacePlane::through(points)
+        .ok_or_else(|| "a pair position is not finite".to_string())?;
+    let projected: Vec<[f64; 2]> = points.iter().map(|&p| plane.project(p)).collect();
+    // Triangulated about the centroid's projection (the better conditioned).
+    let c = plane.project(plane.origin);
+    let relative: Vec<delaunator::Point> = projected
+        .iter()
+        .map(|p| delaunator::Point {
+            x: p[0] - c[0],
+            y: p[1] - c[1],
+        })
+        .collect();
+    let delaunay = delaunator::triangulate(&relative);
+    // Positions on one line up to round-off may still give slivers: the
+    // triangles must cover some of the positions' extent.
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &relative {
+        lo = [lo[0].min(p.x), lo[1].min(p.y)];
+        hi = [hi[0].max(p.x), hi[1].max(p.y)];
+    }
+    let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    let area: f64 = delaunay
+        .triangles
+        .chunks_exact(3)
+        .map(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|k| &relative[k]);
+            0.5 * ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)).abs()
+        })
+        .sum();
+    if delaunay.triangles.is_empty() || area <= 1e-9 * extent * extent {
+        return Err(collinear());
+    }
+    Ok((plane, projected, delaunay))
+}
+
+/// Whether [`render_pressure_map`] can draw the pair positions `points`: they
+/// are finite and span a plane (at least three, not all on one line once
+/// projected on their mean plane).
+pub fn spans_plane(points: &[[f64; 3]]) -> bool {
+    triangulate(points).is_ok()
+}
+
 /// Draws the contact pressure over one interface as a PNG at `path`: the
 /// pairs' positions projected onto the interface's mean plane
 /// ([`InterfacePlane::through`]), their Delaunay triangulation filled with the
@@ -1005,48 +1062,9 @@ pub fn render_pressure_map(
     if map.pressure.iter().any(|p| !p.is_finite()) {
         return Err(bad("a pressure is not finite".into()));
     }
-    let collinear = || {
-        bad(format!(
-            "the {n} pair positions do not span a plane (fewer than 3, or all on one line): no map to draw"
-        ))
-    };
-    if n < 3 {
-        return Err(collinear());
-    }
-    let plane = InterfacePlane::through(map.points)
-        .ok_or_else(|| bad("a pair position is not finite".into()))?;
+    let (plane, projected, delaunay) = triangulate(map.points).map_err(bad)?;
     proceed()?;
     png::register_font();
-    let projected: Vec<[f64; 2]> = map.points.iter().map(|&p| plane.project(p)).collect();
-    // Triangulated about the centroid's projection (the better conditioned).
-    let c = plane.project(plane.origin);
-    let relative: Vec<delaunator::Point> = projected
-        .iter()
-        .map(|p| delaunator::Point {
-            x: p[0] - c[0],
-            y: p[1] - c[1],
-        })
-        .collect();
-    let delaunay = delaunator::triangulate(&relative);
-    // Positions on one line up to round-off may still give slivers: the
-    // triangles must cover some of the positions' extent.
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in &relative {
-        lo = [lo[0].min(p.x), lo[1].min(p.y)];
-        hi = [hi[0].max(p.x), hi[1].max(p.y)];
-    }
-    let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
-    let area: f64 = delaunay
-        .triangles
-        .chunks_exact(3)
-        .map(|t| {
-            let [a, b, c] = [t[0], t[1], t[2]].map(|k| &relative[k]);
-            0.5 * ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)).abs()
-        })
-        .sum();
-    if delaunay.triangles.is_empty() || area <= 1e-9 * extent * extent {
-        return Err(collinear());
-    }
     let triangles: Vec<[usize; 3]> = delaunay
         .triangles
         .chunks_exact(3)

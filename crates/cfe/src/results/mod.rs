@@ -14,7 +14,7 @@ mod record;
 pub mod summary;
 
 pub(crate) use pairs::pair_rows;
-pub use pairs::{PAIR_COLUMNS, PairRow};
+pub use pairs::{PAIR_COLUMNS, PairRow, SOLID_PAIR_COLUMNS};
 pub(crate) use record::{Heading, kept_polygon_warnings};
 pub use summary::{
     IncrementStep, InterfaceSummary, MaxDisplacement, PartSummary, Reaction, RunClock, RunStatus,

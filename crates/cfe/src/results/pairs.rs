@@ -114,7 +114,8 @@ pub struct PairRow {
     pub load_factor: f64,
 }
 
-/// The columns of `pairs.csv` (the serialized fields of [`PairRow`]).
+/// The columns of a plane model's `pairs.csv` (the serialized fields of
+/// [`PairRow`]; a solid model's are [`SOLID_PAIR_COLUMNS`]).
 pub const PAIR_COLUMNS: [&str; 23] = [
     "interface",
     "node",
@@ -134,6 +135,45 @@ pub const PAIR_COLUMNS: [&str; 23] = [
     "slip",
     "pressure",
     "shear",
+    "tributary",
+    "segment",
+    "increment",
+    "step",
+    "load_factor",
+];
+
+/// The columns of a solid model's `pairs.csv` (the serialized fields of
+/// [`PairRow`] with its solid-only ones: the position's `z`, the tangential
+/// jump, force, slip and shear along t₂ beside those along t₁ (`slip_s`,
+/// `force_s`, `slip`, `shear`), and the force on the node part in global
+/// components).
+pub const SOLID_PAIR_COLUMNS: [&str; 31] = [
+    "interface",
+    "node",
+    "x",
+    "y",
+    "z",
+    "host_element",
+    "state",
+    "gap_n",
+    "slip_s",
+    "slip_t2",
+    "force_n",
+    "force_s",
+    "force_t2",
+    "force_x",
+    "force_y",
+    "force_z",
+    "settled",
+    "violation",
+    "violation_amount",
+    "gap0",
+    "gap",
+    "slip",
+    "slip_t2_plastic",
+    "pressure",
+    "shear",
+    "shear_t2",
     "tributary",
     "segment",
     "increment",
@@ -257,9 +297,10 @@ pub(crate) fn pair_rows<D: ResultsDim>(
             let thickness = D::traction_thickness(&p.parts[iface.node_part].material);
             // A tangent's second component (t₂), in 3D only.
             let second = |t: D::Tangent| (D::Tangent::COMPONENTS > 1).then(|| t.component(1));
-            // The force on the node part in global components, in 3D only.
+            // The force on the node part in global components, in 3D only (the
+            // pair's force is in its own frame).
             let global = (D::N > 2).then(|| {
-                let g = D::to_global(&D::frame(c.normal), f.0, f.1);
+                let g = D::to_global(&c.frame, f.0, f.1);
                 g.as_ref().iter().map(|v| -v + 0.0).collect::<Vec<f64>>()
             });
             let position = c.position.as_ref();

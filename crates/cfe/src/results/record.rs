@@ -9,8 +9,8 @@ use super::summary::{
     RunStatus, SettledPair, StepSummary, Summary, Timings, Tolerances, ViolationRecord, Warning,
 };
 use super::{Problem, ResultsDim};
-use crate::coupling::{Law, PairState, ViolationKind};
-use crate::dim::Dim;
+use crate::coupling::{Interface, Law, PairState, ViolationKind};
+use crate::dim::{Dim, Tangent};
 use crate::dofs::DofMap;
 use crate::domain::{Scheme, Step};
 use crate::mesh::{CurvedBoundary, MeshCell};
@@ -340,16 +340,19 @@ impl Summary {
                     fz: r.fz,
                 })
                 .collect(),
-            interfaces: (self.interfaces.iter())
-                .map(|i| InterfaceHistory {
-                    interface: i.name.clone(),
-                    force_n: i.total_force_n,
-                    force_s: (rows.iter())
-                        .filter(|r| r.interface == i.name)
-                        .map(|r| r.force_s)
-                        .sum(),
-                    contact_length: i.contact_length,
-                    max_pressure: i.max_pressure,
+            interfaces: (self.interfaces.iter().zip(p.interfaces))
+                .map(|(i, iface)| {
+                    let resultant = |k: usize| i.resultant.as_ref().map(|r| r[k]);
+                    InterfaceHistory {
+                        interface: i.name.clone(),
+                        force_n: i.total_force_n,
+                        force_s: tangential_sum(iface, rows),
+                        fx: resultant(0),
+                        fy: resultant(1),
+                        fz: resultant(2),
+                        contact_length: i.contact_length,
+                        max_pressure: i.max_pressure,
+                    }
                 })
                 .collect(),
             probes: (p.probes.iter())
@@ -474,6 +477,29 @@ pub(crate) fn kept_polygon_warnings(
             ),
         })
         .collect()
+}
+
+/// The tangential sum of the history of interface `iface` over its pair
+/// `rows` (the rows of every interface, in order): in a plane model Σ f_s
+/// along each pair's s; in a solid model the magnitude of the sum of the
+/// pairs' tangential force vectors in global components (each
+/// `force_s t₁ + force_t2 t₂` of its own frame), whatever the tangents.
+fn tangential_sum<D: ResultsDim>(iface: &Interface<D>, rows: &[PairRow]) -> f64 {
+    let mine = || rows.iter().filter(|r| r.interface == iface.name);
+    if D::Tangent::COMPONENTS == 1 {
+        return mine().map(|r| r.force_s).sum();
+    }
+    let mut sum = vec![0.0; D::N];
+    for (c, r) in iface.elements.iter().zip(mine()) {
+        let mut t = D::Tangent::default();
+        t.set_component(0, r.force_s);
+        t.set_component(1, r.force_t2.unwrap_or(0.0));
+        let v = D::to_global(&c.frame, 0.0, t);
+        for (s, v) in sum.iter_mut().zip(v.as_ref()) {
+            *s += v;
+        }
+    }
+    D::length(&sum)
 }
 
 /// Rows ordered by x, then y (then z).

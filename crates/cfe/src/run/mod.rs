@@ -1,22 +1,28 @@
 //! The run loop, above the analysis and the writers: drives an [`Analysis`]
-//! through its increments and hands each converged one to the writers as it
+//! (plane or solid: one loop over [`RunDim`], whose instances state what each
+//! dimension writes differently) through its increments and hands each converged one to the writers as it
 //! converges (VTU + PVD series, pairs CSV, JSON summary), so results survive a
 //! later failure; the pictures of the last increment are drawn while its parts
 //! VTU is still being written. The large parts VTU of each increment is written
 //! by a background thread ([`Series`]). The output folder's safety (manifest,
 //! lock, atomic writes) is [`crate::output::folder`]'s; what the files hold is
-//! laid out in `layout` (VTU grids and fields) and `pictures`, from the
-//! analysis, and written by [`crate::output`] from plain data.
+//! laid out in `layout` (VTU grids and fields) and `pictures` (plane) or
+//! `solid` (solid pictures and fields), from the analysis, and written by
+//! [`crate::output`] from plain data.
 
+mod dim;
 mod layout;
 mod lines;
 mod pictures;
+mod plane;
+mod solid;
 mod stresses;
 
+pub use dim::RunDim;
+
 use crate::analysis::Analysis;
-use crate::coupling::Law;
 use crate::error::{Error, Result};
-use crate::output::folder::{OutputFolder, PICTURES, VTU};
+use crate::output::folder::{OutputFolder, VTU};
 use crate::output::report;
 use crate::output::vtu;
 use crate::results::history::HistoryRow;
@@ -27,8 +33,8 @@ use crate::solve::nonlinear::{IncrementResult, MultipleOf};
 use layout::{PartsGrid, time_fields};
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, OnceLock};
 use std::thread::{Scope, ScopedJoinHandle};
 use std::time::Instant;
 use stresses::Stresses;
@@ -36,8 +42,8 @@ use stresses::Stresses;
 /// Removes the pictures of a run that failed after drawing them, those it
 /// listed in the folder's manifest (best effort: the run's error is what gets
 /// reported).
-fn remove_pictures(out: &Path, folder: &OutputFolder) {
-    for f in PICTURES.into_iter().filter(|f| folder.lists(f)) {
+fn remove_pictures(out: &Path, folder: &OutputFolder, pictures: &[String]) {
+    for f in pictures.iter().filter(|f| folder.lists(f)) {
         let _ = std::fs::remove_file(out.join(f));
     }
 }
@@ -61,8 +67,9 @@ fn rewrite_due(last: &mut Option<Instant>, count: usize) -> bool {
     due
 }
 
-/// What a run accumulates while its increments are solved and written.
-struct RunLog {
+/// What a run accumulates while its increments are solved and written (`S`:
+/// the dimension's stress).
+struct RunLog<S> {
     /// The locked output folder, whose manifest lists each file before it is
     /// written.
     folder: OutputFolder,
@@ -75,11 +82,14 @@ struct RunLog {
     /// Time spent writing the per-increment files [s].
     output_time: f64,
     /// The stresses of the last written increment, kept for the pictures.
-    last_stresses: Option<Stresses>,
+    last_stresses: Option<Stresses<S>>,
     /// The linear solution `last_stresses` were recovered from a multiple of
     /// (proportional shortcuts): an increment that is another multiple of it
     /// scales them instead of recovering again.
     last_multiple: Option<MultipleOf>,
+    /// The pictures claimed in the folder's manifest (removed again if the run
+    /// fails after drawing them).
+    pictures: Vec<String>,
 }
 
 /// A parts-VTU writer thread with the series entries of its increment and the
@@ -236,10 +246,14 @@ fn note_abandoned(summary: &mut Summary, abandoned: &[usize]) {
     }
 }
 
-impl Analysis {
+impl<D: RunDim> Analysis<D> {
     /// Solves all increments and writes the results into `out`. `progress` is called
     /// after each converged increment. On failure the converged increments stay on
-    /// disk and `summary.json` records the error.
+    /// disk and `summary.json` records the error. A plane analysis and a solid one
+    /// (`Analysis<D3>`) write the same files, the solid one with 3D cells and
+    /// columns, and `deformed.png` and a `pressure_<k>.png` per contact
+    /// interface instead of the plane pictures (README, *Outputs of a solid
+    /// model*); line probes are plane only.
     ///
     /// ```
     /// let text = r#"
@@ -288,7 +302,7 @@ impl Analysis {
     pub fn run(
         &mut self,
         out: &Path,
-        progress: &mut dyn FnMut(&IncrementResult),
+        progress: &mut dyn FnMut(&IncrementResult<D>),
     ) -> Result<Summary> {
         self.run_until(out, progress, &AtomicUsize::new(0))
     }
@@ -313,7 +327,7 @@ impl Analysis {
     pub fn run_until(
         &mut self,
         out: &Path,
-        progress: &mut dyn FnMut(&IncrementResult),
+        progress: &mut dyn FnMut(&IncrementResult<D>),
         stop: &AtomicUsize,
     ) -> Result<Summary> {
         self.run_in(OutputFolder::open(out, false)?, progress, stop)
@@ -329,7 +343,7 @@ impl Analysis {
     pub fn run_in(
         &mut self,
         folder: OutputFolder,
-        progress: &mut dyn FnMut(&IncrementResult),
+        progress: &mut dyn FnMut(&IncrementResult<D>),
         stop: &AtomicUsize,
     ) -> Result<Summary> {
         self.run_recorded_in(folder, &mut |inc, _| progress(inc), stop)
@@ -342,7 +356,7 @@ impl Analysis {
     pub fn run_recorded_in(
         &mut self,
         mut folder: OutputFolder,
-        progress: &mut dyn FnMut(&IncrementResult, &HistoryRow),
+        progress: &mut dyn FnMut(&IncrementResult<D>, &HistoryRow),
         stop: &AtomicUsize,
     ) -> Result<Summary> {
         let clock = RunClock::start();
@@ -360,6 +374,7 @@ impl Analysis {
             output_time: 0.0,
             last_stresses: None,
             last_multiple: None,
+            pictures: Vec::new(),
         };
         // The parts' geometry, built when the first increment is written: after
         // the solver has freed the factor if it is not needed again (proportional
@@ -406,8 +421,8 @@ impl Analysis {
         scope: &'scope Scope<'scope, 'env>,
         grid: &'env OnceLock<PartsGrid>,
         out: &Path,
-        log: &mut RunLog,
-        progress: &mut dyn FnMut(&IncrementResult, &HistoryRow),
+        log: &mut RunLog<D::Stress>,
+        progress: &mut dyn FnMut(&IncrementResult<D>, &HistoryRow),
         stop: &'env AtomicUsize,
     ) -> Result<()> {
         let mut series = Series::new(out, stop);
@@ -455,7 +470,7 @@ impl Analysis {
             let t = Instant::now();
             let drawn = self
                 .draw_pictures(out, inc, log, stop)
-                .and_then(|_| self.write_lines(out, inc, &mut log.folder));
+                .and_then(|_| D::write_lines(self, out, inc, &mut log.folder));
             log.summary.timings.pictures = t.elapsed().as_secs_f64();
             drawn
         });
@@ -469,7 +484,7 @@ impl Analysis {
         if written.is_err() || drawn.is_err() {
             // Pictures belong to a successful run only (after a writer's failure
             // they would show an increment whose parts VTU is missing).
-            remove_pictures(out, &log.folder);
+            remove_pictures(out, &log.folder, &log.pictures);
         }
         written.and(drawn)
     }
@@ -481,8 +496,8 @@ impl Analysis {
     fn draw_pictures(
         &self,
         out: &Path,
-        inc: &IncrementResult,
-        log: &mut RunLog,
+        inc: &IncrementResult<D>,
+        log: &mut RunLog<D::Stress>,
         stop: &AtomicUsize,
     ) -> Result<()> {
         let proceed = || match stop.load(Ordering::Relaxed) {
@@ -493,29 +508,27 @@ impl Analysis {
             }),
         };
         proceed()?;
-        // `pressure.png` is drawn only with a contact law (see
-        // `write_pressure_chart`).
-        let pressure = self.interfaces.iter().any(|i| i.law != Law::Rigid);
-        for f in PICTURES {
-            if f != PICTURES[2] || pressure {
-                log.folder.claim(f)?;
-            }
+        for f in D::pictures(self) {
+            log.folder.claim(&f)?;
+            log.pictures.push(f);
         }
         self.write_history_chart(out, &log.summary.history)?;
         proceed()?;
         let stresses = match log.last_stresses.take() {
             Some(s) => s,
-            None => Stresses {
-                base: Arc::new(self.recover(&inc.u)),
-                factors: Vec::new(),
-            },
+            None => Stresses::recovered(self.recover(&inc.u)),
         };
-        self.write_pictures(out, inc, &stresses, &proceed)
+        D::write_pictures(self, out, inc, &stresses, &proceed)
     }
 
     /// The coarse start (if the settings ask for it; its coarse solves read
     /// `stop`) and the matrix sizes.
-    fn prepare_solver(&self, solver: &mut Solver<'_>, summary: &mut Summary, stop: &AtomicUsize) {
+    fn prepare_solver(
+        &self,
+        solver: &mut Solver<'_, D>,
+        summary: &mut Summary,
+        stop: &AtomicUsize,
+    ) {
         let t = Instant::now();
         if self.model.settings.start == crate::domain::StartPattern::Coarse
             && let Some(states) = self.coarse_states_until(Some(stop))
@@ -536,9 +549,9 @@ impl Analysis {
         &'env self,
         scope: &'scope Scope<'scope, 'env>,
         grid: &'env OnceLock<PartsGrid>,
-        inc: &IncrementResult,
+        inc: &IncrementResult<D>,
         series: &mut Series<'scope>,
-        log: &mut RunLog,
+        log: &mut RunLog<D::Stress>,
         out: &Path,
     ) -> Result<()> {
         let settings = &self.model.settings;
@@ -561,10 +574,7 @@ impl Analysis {
             (Some(s), Some(a), Some(b)) if a.solution == b.solution && a.factor != 0.0 => {
                 s.times(b.factor / a.factor)
             }
-            _ => Stresses {
-                base: Arc::new(self.recover(&inc.u)),
-                factors: Vec::new(),
-            },
+            _ => Stresses::recovered(self.recover(&inc.u)),
         };
         log.last_multiple = inc.multiple_of;
         log.recovery_time += t.elapsed().as_secs_f64();
@@ -605,8 +615,8 @@ impl Analysis {
         self.write_pairs_vtu(&series.vtu_dir.join(&pairs_file), inc, &rows)?;
         series.push(handle, inc.index, inc.time, parts_file, pairs_file);
         log.folder.claim("pairs.csv")?;
-        report::write_pairs_csv(&out.join("pairs.csv"), &rows)?;
-        self.write_line_increment(out, inc, &mut log.folder)?;
+        report::write_pairs_table(&out.join("pairs.csv"), &rows, D::PAIR_COLUMNS)?;
+        D::write_line_increment(self, out, inc, &mut log.folder)?;
         self.fill_summary(&mut log.summary, inc, &rows);
         if rewrite_due(&mut log.summary_written, inc.index) {
             write_summary(out, &log.summary)?;
@@ -640,7 +650,12 @@ impl Analysis {
 
     /// Finishes a run whose increments all converged and whose files (pictures
     /// included) are all written: the final status and timings in `summary.json`.
-    fn finish_run(&mut self, out: &Path, log: &mut RunLog, clock: &RunClock) -> Result<Summary> {
+    fn finish_run(
+        &mut self,
+        out: &Path,
+        log: &mut RunLog<D::Stress>,
+        clock: &RunClock,
+    ) -> Result<Summary> {
         let summary = &mut log.summary;
         summary.status = summary.final_status();
         summary.timings.meshing = self.timings.meshing;

@@ -1,11 +1,13 @@
-//! The pictures of a run's last increment, laid out from the analysis and handed
-//! to the drawing routines ([`crate::output::png`], [`crate::output::chart`]) as
-//! plain data: `sigma_yy.png` (σyy over the parts, pairs marked),
+//! The pictures of a plane run's last increment, laid out from the analysis and
+//! handed to the drawing routines ([`crate::output::png`], [`crate::output::chart`])
+//! as plain data: `sigma_yy.png` (σyy over the parts, pairs marked),
 //! `displacement.png` (|u| isolines on the deformed shape) and, with a contact
-//! law, `pressure.png` (the contact pressure along each interface).
+//! law, `pressure.png` (the contact pressure along each interface); and
+//! `history.png`, drawn alike in both dimensions (a solid run's other pictures
+//! are `super::solid`'s).
 
 use super::stresses::Stresses;
-use crate::analysis::Analysis;
+use crate::analysis::{Analysis, AnalysisDim};
 use crate::coupling::{Law, PairState};
 use crate::error::Result;
 use crate::mesh::Element;
@@ -251,7 +253,10 @@ impl Analysis {
         )?;
         Ok(true)
     }
+}
 
+/// `history.png`, drawn the same way for both dimensions.
+impl<D: AnalysisDim> Analysis<D> {
     /// Draws `history.png`: the two history columns `[output] history_plot`
     /// names (x, y), or [`history::default_plot`]'s (the largest reaction
     /// against the first probe's displacement in its direction, or the time),
@@ -285,8 +290,8 @@ impl Analysis {
         let units = &self.model.units;
         let label = |c: &str| {
             let unit = match c.rsplit('.').next().unwrap_or("") {
-                "fx" | "fy" | "force_n" | "force_s" => Some(&units.force),
-                "ux" | "uy" | "contact_length" => Some(&units.length),
+                "fx" | "fy" | "fz" | "force_n" | "force_s" => Some(&units.force),
+                "ux" | "uy" | "uz" | "contact_length" => Some(&units.length),
                 "max_pressure" => Some(&units.stress),
                 _ => None,
             };

@@ -2,7 +2,7 @@
 //! solution and shared, scaled, by the increments that are multiples of it, so
 //! a run of proportional increments holds one copy whatever their number.
 
-use crate::fem::recovery::{PartStress, scaled_in_turn};
+use crate::fem::recovery::{Hoop, PartStress, scalar_scaled_in_turn};
 use std::sync::Arc;
 
 /// Scaling factors a [`Stresses`] applies in turn before it materializes the
@@ -14,29 +14,47 @@ const MAX_FACTORS: usize = 8;
 /// scaled by each of `factors` in turn. An increment that is a multiple of the
 /// same linear solution shares `base` with the increments before it (the
 /// writers scale while they read) instead of holding a scaled copy; the values
-/// are bit for bit those of successive [`PartStress::scaled`] calls.
+/// are bit for bit those of successive [`PartStress::scaled`] calls. `S` is the
+/// dimension's stress (`[f64; 3]` in 2D, `[f64; 6]` in 3D).
 #[derive(Clone)]
-pub(super) struct Stresses {
+pub struct Stresses<S = [f64; 3]> {
     /// The stresses recovered from a solution, shared by its multiples.
-    pub(super) base: Arc<Vec<PartStress>>,
+    pub(super) base: Arc<Vec<PartStress<S>>>,
     /// The factors `base` is scaled by, in turn.
     pub(super) factors: Vec<f64>,
 }
 
-impl Stresses {
+/// A stress `v` scaled by each of `factors` in turn, component by component:
+/// bit for bit [`crate::fem::recovery::scaled_in_turn`] in any dimension.
+fn stress_scaled_in_turn<S: Copy + AsMut<[f64]>>(mut v: S, factors: &[f64]) -> S {
+    for x in v.as_mut() {
+        *x = scalar_scaled_in_turn(*x, factors);
+    }
+    v
+}
+
+impl<S: Copy + AsMut<[f64]>> Stresses<S> {
+    /// The stresses recovered from one solution, unscaled.
+    pub(super) fn recovered(base: Vec<PartStress<S>>) -> Self {
+        Stresses {
+            base: Arc::new(base),
+            factors: Vec::new(),
+        }
+    }
+
     /// The stress `v` of `base` as this increment's.
-    pub(super) fn value(&self, v: [f64; 3]) -> [f64; 3] {
-        scaled_in_turn(v, &self.factors)
+    pub(super) fn value(&self, v: S) -> S {
+        stress_scaled_in_turn(v, &self.factors)
     }
 
     /// A hoop stress of `base` at these stresses' scale.
     pub(super) fn hoop_value(&self, v: f64) -> f64 {
-        crate::fem::recovery::scalar_scaled_in_turn(v, &self.factors)
+        scalar_scaled_in_turn(v, &self.factors)
     }
 
     /// These stresses times `factor`: shares `base`, or, once [`MAX_FACTORS`]
     /// factors are pending, a new base holding the scaled values.
-    pub(super) fn times(&self, factor: f64) -> Stresses {
+    pub(super) fn times(&self, factor: f64) -> Self {
         if self.factors.len() < MAX_FACTORS {
             let mut factors = self.factors.clone();
             factors.push(factor);
@@ -45,10 +63,18 @@ impl Stresses {
                 factors,
             };
         }
+        let scale = |v: &[S]| -> Vec<S> { v.iter().map(|&s| self.value(s)).collect() };
         let base = self
             .base
             .iter()
-            .map(|p| p.scaled_in_turn(&self.factors))
+            .map(|p| PartStress {
+                element: scale(&p.element),
+                nodal: scale(&p.nodal),
+                hoop: p.hoop.as_ref().map(|h| Hoop {
+                    element: h.element.iter().map(|&v| self.hoop_value(v)).collect(),
+                    nodal: h.nodal.iter().map(|&v| self.hoop_value(v)).collect(),
+                }),
+            })
             .collect();
         Stresses {
             base: Arc::new(base),
