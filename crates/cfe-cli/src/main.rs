@@ -221,8 +221,18 @@ fn verify_outcome(cases: &[cfe_tools::verification::Case]) -> anyhow::Result<()>
 fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Check { problem, refine } => {
-            let a = Analysis::from_file(&problem, refine)?;
-            print!("{}", a.describe());
+            // A solid problem (box or 3D Gmsh parts) is described as one.
+            match cfe::model::problem_dimension(&problem)? {
+                cfe::model::ProblemDimension::Plane => {
+                    let a = Analysis::from_file(&problem, refine)?;
+                    print!("{}", a.describe());
+                }
+                cfe::model::ProblemDimension::Solid => {
+                    use cfe::model::FromProblemFile;
+                    let a = Analysis::<cfe::dim::D3>::from_file(&problem, refine)?;
+                    print!("{}", a.describe());
+                }
+            }
             Ok(())
         }
         Command::Verify { out, quick } => {

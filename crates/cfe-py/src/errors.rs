@@ -89,6 +89,17 @@ pub fn to_py(py: Python<'_>, e: cfe::Error) -> PyErr {
             vec![("path", obj(py, path)), ("line", obj(py, line))],
         ),
         E::Model(_) => (ModelError::new_err(message), vec![]),
+        // A key of the other dimension (a plane key in a solid problem, …).
+        E::Dimension {
+            path, line, key, ..
+        } => (
+            ModelError::new_err(message),
+            vec![
+                ("path", obj(py, path)),
+                ("line", obj(py, line)),
+                ("key", obj(py, key)),
+            ],
+        ),
         E::Invalid {
             path, line, key, ..
         } => (

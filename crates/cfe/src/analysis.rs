@@ -17,7 +17,7 @@ use crate::domain::{LinearBackend, StartPattern};
 use crate::error::{Error, Result};
 use crate::fem::ElementFamily;
 use crate::fem::recovery::PartStress;
-use crate::model::{LOCKING_NU, Model, Scheme};
+use crate::model::{FromProblemFile, Model, Scheme};
 use crate::results::memory::peak_memory_bytes;
 pub use crate::results::summary::{
     IncrementStep, InterfaceSummary, MaxDisplacement, PartSummary, Reaction, RunClock, RunStatus,
@@ -92,22 +92,12 @@ impl AnalysisDim for D2 {
     }
 }
 
-/// Solid models: built in code, so no coarser level (`None`).
+/// Solid models: no coarser level for the warm start (`None`).
 impl AnalysisDim for D3 {
-    /// A part with ν ≥ [`LOCKING_NU`]: its TET4 and fully integrated HEX8
-    /// elements lock (too stiff at nearly constant volume).
+    /// [`Model::<D3>::warnings`](Model::warnings): a part with ν ≥
+    /// [`LOCKING_NU`](crate::model::LOCKING_NU), whose TET4 and fully integrated HEX8 elements lock.
     fn notes(model: &Model<D3>) -> Vec<String> {
-        (model.parts.iter())
-            .filter(|p| p.material.poisson >= LOCKING_NU)
-            .map(|p| {
-                let nu = p.material.poisson;
-                format!(
-                    "part '{}': ν = {nu} is nearly incompressible (bulk modulus {:.1e} × the shear modulus): its TET4 and HEX8 elements (full integration) lock (displacements come out too small, stresses oscillate); check the results against a finer mesh",
-                    p.name,
-                    1.0 / (1.0 - 2.0 * nu)
-                )
-            })
-            .collect()
+        model.warnings()
     }
 
     fn coarse_states(_: &Analysis<D3>, _: Option<&AtomicUsize>) -> Option<PairStates> {
@@ -209,6 +199,27 @@ impl Analysis {
             settings: &m.settings,
         };
         warm_start::states_from_coarse(problem, start, &self.interfaces, stop)
+    }
+}
+
+/// [`Analysis::from_file`].
+impl FromProblemFile for Analysis {
+    fn from_file(path: &Path, refine: usize) -> Result<Analysis> {
+        Analysis::from_file(path, refine)
+    }
+}
+
+/// Reads and meshes a solid problem file (`Model::<D3>::from_file`), then
+/// prepares the analysis.
+impl FromProblemFile for Analysis<D3> {
+    fn from_file(path: &Path, refine: usize) -> Result<Analysis<D3>> {
+        let clock = RunClock::start();
+        let model = Model::<D3>::from_file(path, refine)?;
+        let (meshing, meshing_cpu) = (clock.wall(), clock.cpu());
+        let mut a = Analysis::new(model)?;
+        a.timings.meshing = meshing;
+        a.timings.setup_cpu = (|| Some(a.timings.setup_cpu? + meshing_cpu?))();
+        Ok(a)
     }
 }
 

@@ -287,6 +287,23 @@ pub enum Error {
         /// Why.
         message: String,
     },
+    /// A key of the other dimension: a plane model's key (`plane`, `thickness`,
+    /// `rectangle`, `annulus`, `[[line]]`, a Gmsh part's `surfaces`) in a solid
+    /// model, a solid model's (`box`, a Gmsh part's `volumes`, `traction`) in a
+    /// plane one, a solid-only choice (`coupling = "segment"` in 3D), or plane
+    /// and solid parts in one problem. `key` is its dotted path, e.g.
+    /// `part.base.thickness`, `line` its line.
+    #[error("{}: `{key}` {message}", place(path, *line))]
+    Dimension {
+        /// The problem file.
+        path: PathBuf,
+        /// The line of the key (1-based), when known.
+        line: Option<usize>,
+        /// The key's dotted path.
+        key: String,
+        /// Why it does not belong to this model, and what to do.
+        message: String,
+    },
     /// Two parts, interfaces, supports, loads or steps share a name: results,
     /// reactions and references are keyed by name, so names are unique within
     /// each kind. `key` is the duplicate's name key (e.g. `interface#2.name`,

@@ -125,7 +125,7 @@ pub use error::{DeckFault, Error, Result};
 pub use fem::material::{Material, PlaneKind};
 pub use fem::recovery::PartStress;
 pub use mesh::{BoundarySelection, Element, ElementKind, Mesh};
-pub use model::Model;
+pub use model::{FromProblemFile, FromProblemText, Model};
 pub use output::report::PairRow;
 pub use run::RunDim;
 pub use solve::nonlinear::{IncrementResult, Iteration, MultipleOf, PairViolation, Solver};

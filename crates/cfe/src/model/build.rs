@@ -11,7 +11,7 @@ use super::schema::{
 };
 use super::{
     DEFAULT_PAIR_TOLERANCE, DEFAULT_PENALTY_FACTOR, DEFAULT_PENETRATION_TOLERANCE, InterfaceDef,
-    Load, Model, Part, Probe, Step, Support, check,
+    Load, Model, Part, Probe, ProblemDim, Step, Support, check,
 };
 use crate::coupling::{Enforcement, Law};
 use crate::domain::Loading;
@@ -19,7 +19,7 @@ use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, axisymmetric, loads};
 use crate::mesh::gmsh::{GmshMesh, Group};
 use crate::mesh::input_file::{self, MESH_FILE_CAP};
-use crate::mesh::{Mesh, bounding_diagonal};
+use crate::mesh::{Mesh, MeshDim, bounding_diagonal};
 use crate::results::lines::{LineProbe, locate, locate_point};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -29,12 +29,12 @@ use toml::Spanned;
 /// A problem text's builder: resolves its parsed tables against each other
 /// (names, boundaries, nodes) into a [`Model`].
 pub(super) struct Builder<'a> {
-    text: &'a str,
-    path: &'a Path,
+    pub(super) text: &'a str,
+    pub(super) path: &'a Path,
     /// Meshes given in memory, by part name, taken by their parts.
     meshes: std::cell::RefCell<BTreeMap<String, Mesh>>,
     /// The text's values with their lines, for the checks.
-    values: check::Values<'a>,
+    pub(super) values: check::Values<'a>,
 }
 
 impl<'a> Builder<'a> {
@@ -47,7 +47,7 @@ impl<'a> Builder<'a> {
         format!("{}:{line}", self.path.display())
     }
 
-    fn err<T>(&self, s: &Spanned<T>, msg: impl std::fmt::Display) -> Error {
+    pub(super) fn err<T>(&self, s: &Spanned<T>, msg: impl std::fmt::Display) -> Error {
         Error::Parse {
             path: self.path.to_path_buf(),
             line: Some(line_of(self.text, s.span().start)),
@@ -58,7 +58,12 @@ impl<'a> Builder<'a> {
         }
     }
 
-    fn part_index(&self, parts: &[Part], name: &Spanned<String>, key: &str) -> Result<usize> {
+    pub(super) fn part_index<D: MeshDim>(
+        &self,
+        parts: &[Part<D>],
+        name: &Spanned<String>,
+        key: &str,
+    ) -> Result<usize> {
         parts
             .iter()
             .position(|p| &p.name == name.get_ref())
@@ -75,11 +80,11 @@ impl<'a> Builder<'a> {
             })
     }
 
-    fn boundary<'m>(
+    pub(super) fn boundary<'m, D: MeshDim>(
         &self,
-        part: &'m Part,
+        part: &'m Part<D>,
         name: &Spanned<String>,
-    ) -> Result<&'m Vec<crate::mesh::BoundaryEdge>> {
+    ) -> Result<&'m Vec<D::Face>> {
         part.mesh.boundaries.get(name.get_ref()).ok_or_else(|| {
             let known: Vec<&str> = part.mesh.boundaries.keys().map(|s| s.as_str()).collect();
             self.err(
@@ -216,6 +221,35 @@ impl<'a> Builder<'a> {
         let lines = self.lines(&line_specs, &parts)?;
         let steps = self.step_factors(&step_specs, steps, &loads, &supports)?;
         let probes = self.probes(&probe_specs, &parts)?;
+        let history_plot = self.history_plot(output, &supports, &interfaces, &probes)?;
+        Ok(Model {
+            title: self.title(title),
+            source: self.path.to_path_buf(),
+            units,
+            parts,
+            interfaces,
+            supports,
+            loads,
+            settings: analysis,
+            steps,
+            refine,
+            text: self.text.to_string(),
+            kept_polygons,
+            notes: Vec::new(),
+            lines,
+            probes,
+            history_plot,
+        })
+    }
+
+    /// `[output] history_plot`'s two columns, each a column of history.csv.
+    pub(super) fn history_plot<D: crate::dim::Dim>(
+        &self,
+        output: super::schema::OutputSpec,
+        supports: &[Support],
+        interfaces: &[InterfaceDef],
+        probes: &[Probe<D>],
+    ) -> Result<Option<[String; 2]>> {
         let history_plot = output.history_plot.map(|p| [p.x, p.y]);
         if let Some(plot) = &history_plot {
             let columns = crate::results::history::column_names(
@@ -239,29 +273,16 @@ impl<'a> Builder<'a> {
                 }
             }
         }
-        let title = title.unwrap_or_else(|| {
+        Ok(history_plot)
+    }
+
+    /// The title: as given, else the problem file's stem.
+    pub(super) fn title(&self, title: Option<String>) -> String {
+        title.unwrap_or_else(|| {
             self.path
                 .file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| "problem".into())
-        });
-        Ok(Model {
-            title,
-            source: self.path.to_path_buf(),
-            units,
-            parts,
-            interfaces,
-            supports,
-            loads,
-            settings: analysis,
-            steps,
-            refine,
-            text: self.text.to_string(),
-            kept_polygons,
-            notes: Vec::new(),
-            lines,
-            probes,
-            history_plot,
         })
     }
 
@@ -361,10 +382,10 @@ impl<'a> Builder<'a> {
 
     /// The interfaces in file order; an unnamed interface is named `host/nodes`
     /// (made unique). A coupling node is claimed by one interface only.
-    fn interfaces(
+    pub(super) fn interfaces<D: ProblemDim>(
         &self,
         iface_specs: &[InterfaceSpec],
-        parts: &[Part],
+        parts: &[Part<D>],
     ) -> Result<Vec<InterfaceDef>> {
         let mut claimed: BTreeMap<(usize, usize), String> = BTreeMap::new();
         let iface_names = unique_defaults(
@@ -388,7 +409,7 @@ impl<'a> Builder<'a> {
     /// that contains its point (the first in element order), or at the node
     /// nearest to it (the first of equally near ones) when the point is a node
     /// or lies in no element.
-    fn probes(&self, specs: &[ProbeSpec], parts: &[Part]) -> Result<Vec<Probe>> {
+    fn probes(&self, specs: &[ProbeSpec<2>], parts: &[Part]) -> Result<Vec<Probe>> {
         specs
             .iter()
             .enumerate()
@@ -445,11 +466,11 @@ impl<'a> Builder<'a> {
 
     /// The steps with their `factors` resolved: each key names a load or a
     /// support (not both) applied in this step or an earlier one.
-    fn step_factors(
+    pub(super) fn step_factors<D: MeshDim>(
         &self,
         specs: &[StepSpec],
         mut steps: Vec<Step>,
-        loads: &[Load],
+        loads: &[Load<D>],
         supports: &[Support],
     ) -> Result<Vec<Step>> {
         for (i, (spec, step)) in specs.iter().zip(&mut steps).enumerate() {
@@ -505,7 +526,7 @@ impl<'a> Builder<'a> {
     /// The supports in file order, each in its step, named (see [`names`]).
     fn supports(
         &self,
-        specs: &[SupportSpec],
+        specs: &[SupportSpec<2>],
         parts: &[Part],
         steps: &[Step],
     ) -> Result<Vec<Support>> {
@@ -527,7 +548,7 @@ impl<'a> Builder<'a> {
     }
 
     /// The loads in file order, each in its step, named (see [`names`]).
-    fn loads(&self, specs: &[LoadSpec], parts: &[Part], steps: &[Step]) -> Result<Vec<Load>> {
+    fn loads(&self, specs: &[LoadSpec<2>], parts: &[Part], steps: &[Step]) -> Result<Vec<Load>> {
         let mut loads = specs
             .iter()
             .map(|spec| {
@@ -716,12 +737,12 @@ impl<'a> Builder<'a> {
 
     /// An interface: its parts, its coupling nodes (each claimed by one interface
     /// only, recorded in `claimed`), its penalties and tolerance.
-    fn interface(
+    fn interface<D: ProblemDim>(
         &self,
         index: usize,
         spec: &InterfaceSpec,
         name: String,
-        parts: &[Part],
+        parts: &[Part<D>],
         claimed: &mut BTreeMap<(usize, usize), String>,
     ) -> Result<InterfaceDef> {
         let host = self.part_index(parts, &spec.host, "host")?;
@@ -733,10 +754,16 @@ impl<'a> Builder<'a> {
             ));
         }
         let nodes = self.coupling_nodes(spec, &name, &parts[node_part], node_part, claimed)?;
-        let (c_n, c_s, tolerance) = self.penalties(spec, &name, &parts[host], &parts[node_part])?;
+        let scales = D::stiffness_scales(&parts[host], &parts[node_part], spec.boundary.get_ref());
+        let (c_n, c_s, tolerance) = self.penalties(spec, &name, scales)?;
         let (friction, search_distance, penetration_tolerance) =
             self.contact_keys(spec, &name, parts, host, node_part)?;
-        self.check_penalty_ratios(index, spec, c_n, c_s, &parts[host], &parts[node_part])?;
+        let softer = if scales[0] <= scales[1] {
+            (&parts[host].name, scales[0])
+        } else {
+            (&parts[node_part].name, scales[1])
+        };
+        self.check_penalty_ratios(index, spec, c_n, c_s, softer)?;
         Ok(InterfaceDef {
             name,
             host,
@@ -763,11 +790,11 @@ impl<'a> Builder<'a> {
     /// part (number `node_part`; in volume form without a boundary, all its
     /// nodes), each claimed in `claimed` (a node claimed by two
     /// interfaces is refused).
-    fn coupling_nodes(
+    fn coupling_nodes<D: MeshDim>(
         &self,
         spec: &InterfaceSpec,
         name: &str,
-        part: &Part,
+        part: &Part<D>,
         node_part: usize,
         claimed: &mut BTreeMap<(usize, usize), String>,
     ) -> Result<Vec<usize>> {
@@ -808,18 +835,13 @@ impl<'a> Builder<'a> {
         &self,
         spec: &InterfaceSpec,
         name: &str,
-        host: &Part,
-        nodes: &Part,
+        [host, nodes]: [f64; 2],
     ) -> Result<(f64, f64, f64)> {
         // The tie's compliance 1/c acts in series with the softer part's local
         // compliance ~ 1/(E·t): its relative error is E·t/c of the softer part.
         // Scaling by the stiffer part would make c needlessly large (round-off)
         // when the materials differ by orders of magnitude.
-        let default_c = DEFAULT_PENALTY_FACTOR
-            * host
-                .material
-                .stiffness_scale()
-                .min(nodes.material.stiffness_scale());
+        let default_c = DEFAULT_PENALTY_FACTOR * host.min(nodes);
         let c_n = spec.c_n.unwrap_or(default_c);
         let frictionless = spec.law == Law::Frictionless;
         // The frictionless law ignores c_s: absent, it is 0.
@@ -843,36 +865,29 @@ impl<'a> Builder<'a> {
     }
 
     /// Refuses a penalty `c_n` or `c_s` of interface number `index` beyond 1/ε ×
-    /// E·t of the softer of parts `host` and `nodes`, or far below it.
+    /// the stiffness scale `et` of the softer part (named), or far below it.
     fn check_penalty_ratios(
         &self,
         index: usize,
         spec: &InterfaceSpec,
         c_n: f64,
         c_s: f64,
-        host: &Part,
-        nodes: &Part,
+        (softer, et): (&String, f64),
     ) -> Result<()> {
         let frictionless = spec.law == Law::Frictionless;
         // A penalty beyond 1/ε × E·t of the softer part hides that part's stiffness
         // in round-off: refused here with its name rather than as a failed pivot.
-        let softer = if host.material.stiffness_scale() <= nodes.material.stiffness_scale() {
-            host
-        } else {
-            nodes
-        };
-        let et = softer.material.stiffness_scale();
         for (key, c) in [("c_n", c_n), ("c_s", c_s)] {
             let at = [
                 check::Seg::K("interface"),
                 check::Seg::I(index),
                 check::Seg::K(key),
             ];
-            self.values.penalty(&at, c, et, &softer.name)?;
+            self.values.penalty(&at, c, et, softer)?;
             // A penalty far below E·t holds nothing: refused by name rather than
             // met as a mechanism. The frictionless law ignores c_s.
             if !(key == "c_s" && frictionless) {
-                self.values.weak_penalty(&at, c, et, &softer.name)?;
+                self.values.weak_penalty(&at, c, et, softer)?;
             }
         }
         Ok(())
@@ -881,11 +896,11 @@ impl<'a> Builder<'a> {
     /// The keys of the contact laws of interface `name`: `friction` (only with, and
     /// required by, `coulomb`), `search_distance` (a length ≥ 0; not on a rigid tie) and `penetration_tolerance` (augmented
     /// enforcement only; by default 1e-6 × the two parts' bounding diagonal).
-    fn contact_keys(
+    fn contact_keys<D: MeshDim>(
         &self,
         spec: &InterfaceSpec,
         name: &str,
-        parts: &[Part],
+        parts: &[Part<D>],
         host: usize,
         node_part: usize,
     ) -> Result<(f64, f64, f64)> {
@@ -969,7 +984,7 @@ impl<'a> Builder<'a> {
     }
 
     /// A Dirichlet condition on a boundary or at a node.
-    fn support(&self, spec: &SupportSpec, parts: &[Part]) -> Result<Support> {
+    fn support(&self, spec: &SupportSpec<2>, parts: &[Part]) -> Result<Support> {
         let p = self.part_index(parts, &spec.part, "part")?;
         let part = &parts[p];
         let (name, nodes) = match (&spec.boundary, spec.at) {
@@ -997,6 +1012,12 @@ impl<'a> Builder<'a> {
                 format!(
                     "support '{name}': `fix` is empty; give [\"x\"], [\"y\"] or [\"x\", \"y\"]"
                 ),
+            ));
+        }
+        if spec.fix.contains(&Component::Z) {
+            return Err(self.err(
+                &spec.part,
+                format!("support '{name}': `fix` names \"z\", which a plane model does not have: give [\"x\"], [\"y\"] or [\"x\", \"y\"] (z belongs to a solid model, of `box` or 3D Gmsh parts)"),
             ));
         }
         if spec.fix.len() == 2 && spec.fix[0] == spec.fix[1] {
@@ -1036,7 +1057,7 @@ impl<'a> Builder<'a> {
 
     /// A load resolved to nodal forces: a pressure over a boundary, or a resultant
     /// at a node, over a boundary or over a segment of the boundary.
-    fn load(&self, spec: &LoadSpec, parts: &[Part]) -> Result<Load> {
+    fn load(&self, spec: &LoadSpec<2>, parts: &[Part]) -> Result<Load> {
         let p = self.part_index(parts, &spec.part, "part")?;
         let part = &parts[p];
         if !spec
@@ -1096,7 +1117,13 @@ impl<'a> Builder<'a> {
 
     /// A normal traction `pressure` over a whole boundary of part `part` (number
     /// `p`), resolved to nodal forces.
-    fn pressure_load(&self, spec: &LoadSpec, p: usize, part: &Part, pressure: f64) -> Result<Load> {
+    fn pressure_load(
+        &self,
+        spec: &LoadSpec<2>,
+        p: usize,
+        part: &Part,
+        pressure: f64,
+    ) -> Result<Load> {
         let b = match (&spec.boundary, spec.force, spec.from, spec.to, spec.at) {
             (Some(b), None, None, None, None) => b,
             _ => {
@@ -1131,7 +1158,7 @@ impl<'a> Builder<'a> {
     /// on that boundary over its whole length.
     fn segment_load(
         &self,
-        spec: &LoadSpec,
+        spec: &LoadSpec<2>,
         p: usize,
         part: &Part,
         b: Option<&Spanned<String>>,
@@ -1209,7 +1236,7 @@ fn kept_polygons(
 
 /// The load steps of the `[[step]]` tables, in order (their factors resolved
 /// once the loads and supports are named: [`Builder::step_factors`]).
-fn steps(step_specs: &[StepSpec]) -> Vec<Step> {
+pub(super) fn steps(step_specs: &[StepSpec]) -> Vec<Step> {
     step_specs
         .iter()
         .map(|s| Step {
@@ -1220,7 +1247,7 @@ fn steps(step_specs: &[StepSpec]) -> Vec<Step> {
 }
 
 /// The index of the step a support or load names (the first without one).
-fn step_of(steps: &[Step], s: &Option<Spanned<String>>) -> usize {
+pub(super) fn step_of(steps: &[Step], s: &Option<Spanned<String>>) -> usize {
     // Checked by `check::steps`: a named step exists.
     s.as_ref()
         .and_then(|s| steps.iter().position(|t| &t.name == s.get_ref()))
@@ -1230,7 +1257,7 @@ fn step_of(steps: &[Step], s: &Option<Spanned<String>>) -> usize {
 /// The names of one kind of table: the `given` names replace the `defaults`,
 /// which are made unique (a second support on one boundary gets ` (2)`, see
 /// [`unique_defaults`]).
-fn names<'s>(
+pub(super) fn names<'s>(
     given: impl Iterator<Item = &'s Option<Spanned<String>>>,
     defaults: impl Iterator<Item = &'s str>,
 ) -> Vec<String> {
@@ -1289,7 +1316,12 @@ fn unique_defaults(names: Vec<(String, bool)>) -> Vec<String> {
 /// ([`crate::results::memory::estimated_peak_bytes`]) exceeds what the machine has
 /// available, before it is meshed.
 pub(super) fn check_size(nodes: u64, refine: usize) -> Result<()> {
-    let unknowns = nodes.saturating_mul(2);
+    check_size_of(nodes, 2, refine)
+}
+
+/// [`check_size`] of a model of `per_node` unknowns per node.
+pub(super) fn check_size_of(nodes: u64, per_node: u64, refine: usize) -> Result<()> {
+    let unknowns = nodes.saturating_mul(per_node);
     let bytes = crate::results::memory::estimated_peak_bytes(unknowns);
     let Some(available) = crate::results::memory::available_memory_bytes() else {
         return Ok(());

@@ -181,12 +181,12 @@ impl<'a> Values<'a> {
         Ok(())
     }
 
-    /// [`Values::check`] of each entry of a two-value array (its key is `at`,
-    /// each entry named by its index).
-    pub fn check_pair(
+    /// [`Values::check`] of each entry of an array of `N` values (its key is
+    /// `at`, each entry named by its index).
+    pub fn check_pair<const N: usize>(
         &self,
         at: &[Seg],
-        v: [f64; 2],
+        v: [f64; N],
         ok: impl Fn(f64) -> bool,
         rule: &str,
     ) -> Result<()> {
@@ -279,10 +279,12 @@ use Seg::{I, K};
 
 /// Checks every number of the problem file, and that names are unique, before
 /// anything is meshed.
-pub(super) fn problem(v: &Values, f: &ProblemFile) -> Result<()> {
+pub(super) fn problem<const N: usize>(v: &Values, f: &ProblemFile<N>) -> Result<()> {
     names(v, f)?;
+    // A solid is constrained in every direction, as plane strain is out of plane.
+    let plane = if N == 3 { PlaneKind::Strain } else { f.plane };
     for (name, m) in &f.materials {
-        material(v, name, m, f.plane)?;
+        material(v, name, m, plane)?;
     }
     for (i, p) in f.parts.iter().enumerate() {
         part(v, i, p, f.materials.get(p.material.get_ref()))?;
@@ -306,7 +308,7 @@ pub(super) fn problem(v: &Values, f: &ProblemFile) -> Result<()> {
 /// The names of the parts, interfaces, supports, loads and steps: each unique
 /// within its kind ([`unique`]). Unnamed interfaces, supports and loads get
 /// default names when built (made unique there).
-fn names(v: &Values, f: &ProblemFile) -> Result<()> {
+fn names<const N: usize>(v: &Values, f: &ProblemFile<N>) -> Result<()> {
     let parts: Vec<_> = f.parts.iter().map(|p| Some(&p.name)).collect();
     unique(v, "part", &parts)?;
     let interfaces: Vec<_> = f.interfaces.iter().map(|i| i.name.as_ref()).collect();
@@ -322,7 +324,7 @@ fn names(v: &Values, f: &ProblemFile) -> Result<()> {
 }
 
 /// `[[probe]]`: a finite point.
-fn probe(v: &Values, i: usize, p: &super::schema::ProbeSpec) -> Result<()> {
+fn probe<const N: usize>(v: &Values, i: usize, p: &super::schema::ProbeSpec<N>) -> Result<()> {
     let at = [K("probe"), I(i), K("at")];
     v.check_pair(&at, p.at, f64::is_finite, "")?;
     v.magnitude(&at, &p.at, false)
@@ -359,7 +361,7 @@ pub(super) fn unique(v: &Values, table: &str, names: &[Option<&Spanned<String>>]
 /// `[[step]]`: unique (see [`names`]), non-empty names, at least one increment each (at most
 /// [`MAX_INCREMENTS`] in all), no `[analysis] increments` beside them (each step
 /// gives its own), and every `step` key of a load or support naming one of them.
-fn steps(v: &Values, f: &ProblemFile) -> Result<()> {
+fn steps<const N: usize>(v: &Values, f: &ProblemFile<N>) -> Result<()> {
     let names: Vec<&str> = f.steps.iter().map(|s| s.name.get_ref().as_str()).collect();
     let mut total: usize = 0;
     for (i, s) in f.steps.iter().enumerate() {
@@ -531,6 +533,13 @@ fn part(v: &Values, i: usize, p: &PartSpec, m: Option<&MaterialSpec>) -> Result<
             v.magnitude(&at, &xs, false)?;
         }
     }
+    if let Some(b) = &p.block {
+        for (k, xs) in [("x", b.x), ("y", b.y), ("z", b.z)] {
+            let at = [K("part"), I(i), K("box"), K(k)];
+            v.check_pair(&at, xs, any, "")?;
+            v.magnitude(&at, &xs, false)?;
+        }
+    }
     Ok(())
 }
 
@@ -600,7 +609,7 @@ fn interface(v: &Values, i: usize, s: &InterfaceSpec) -> Result<()> {
 }
 
 /// `[[support]]`: a finite position and finite prescribed values.
-fn support(v: &Values, i: usize, s: &SupportSpec) -> Result<()> {
+fn support<const N: usize>(v: &Values, i: usize, s: &SupportSpec<N>) -> Result<()> {
     let any = |x: f64| x.is_finite();
     for (k, xs) in [("at", s.at), ("value", Some(s.value))] {
         if let Some(xs) = xs {
@@ -613,13 +622,14 @@ fn support(v: &Values, i: usize, s: &SupportSpec) -> Result<()> {
 }
 
 /// `[[load]]`: finite positions, forces and pressures.
-fn load(v: &Values, i: usize, l: &LoadSpec) -> Result<()> {
+fn load<const N: usize>(v: &Values, i: usize, l: &LoadSpec<N>) -> Result<()> {
     let any = |x: f64| x.is_finite();
     for (k, xs) in [
         ("from", l.from),
         ("to", l.to),
         ("at", l.at),
         ("force", l.force),
+        ("traction", l.traction),
     ] {
         if let Some(xs) = xs {
             let at = [K("load"), I(i), K(k)];

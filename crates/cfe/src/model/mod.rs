@@ -2,15 +2,17 @@
 //! selection (supports, loads, interface boundaries) into nodes and nodal values.
 //! Errors name the file, the line and the key at fault.
 //!
-//! Three rooms: `schema` (private: the serde types of the problem file and
+//! Rooms: `schema` (private: the serde types of the problem file and
 //! the messages of a file that does not parse), `check` (every value checked where
-//! it is read, with its line and key) and `build` (the builder: schema → domain
-//! parts, interfaces, supports and loads, meshing each part); this module is the
-//! [`Model`] API on top of them.
+//! it is read, with its line and key), `build` (the builder: schema → domain
+//! parts, interfaces, supports and loads, meshing each part), `solid` (the
+//! builder's solid parts, supports and loads: `Model<D3>`) and `dimension`
+//! (plane or solid, [`problem_dimension`], and the keys of the other dimension
+//! refused); this module is the [`Model`] API on top of them.
 //!
 //! The problem-file reference is in README.md; `examples/` holds complete files.
 
-use crate::dim::D2;
+use crate::dim::{D2, D3};
 pub use crate::domain::{InterfaceDef, Load, Part, Probe, Scheme, Settings, Step, Support};
 use crate::error::{Error, Result};
 use crate::fem::PlaneKind;
@@ -22,8 +24,42 @@ use std::path::{Path, PathBuf};
 
 mod build;
 mod check;
+mod dimension;
 mod inp;
 mod schema;
+mod solid;
+
+pub use dimension::{ProblemDimension, problem_dimension};
+
+/// What reading a problem file needs of its dimension beyond the mesh: the
+/// stiffness scale of a part an interface's default penalty is a multiple of
+/// ([`DEFAULT_PENALTY_FACTOR`]) and its penalties are checked against.
+trait ProblemDim: MeshDim {
+    /// The stiffness scales (host, node part) of the interface of the node
+    /// part's boundary `boundary` on `host`.
+    fn stiffness_scales(host: &Part<Self>, nodes: &Part<Self>, boundary: &str) -> [f64; 2];
+}
+
+/// A plane part's E·t (a force per length, the stiffness of a unit square).
+impl ProblemDim for D2 {
+    fn stiffness_scales(host: &Part, nodes: &Part, _: &str) -> [f64; 2] {
+        [
+            host.material.stiffness_scale(),
+            nodes.material.stiffness_scale(),
+        ]
+    }
+}
+
+/// A solid part's E·h, h the mean edge length of the interface's faces on
+/// the node part (the stiffness of a node of a cube of side h, a force per
+/// length as E·t is in 2D): the default penalty is 1e5 × E·h of the softer
+/// part, so it follows the mesh under `--refine`.
+impl ProblemDim for D3 {
+    fn stiffness_scales(host: &Part<D3>, nodes: &Part<D3>, boundary: &str) -> [f64; 2] {
+        let h = solid::mean_face_edge(&nodes.mesh, boundary);
+        [host.material.young * h, nodes.material.young * h]
+    }
+}
 
 /// Default relative geometric tolerance of the pair search: a coupling node may lie
 /// up to this fraction of the host edge's length off that edge (it is then moved
@@ -46,8 +82,9 @@ pub const DEFAULT_PENALTY_FACTOR: f64 = 1e5;
 pub const DEFAULT_STEP: &str = "step-1";
 
 /// A checked, meshed model ready for analysis, of dimension `D` (plane by
-/// default; a solid model, `Model<D3>`, is built in code with
-/// [`Model::from_parts`]: the problem file describes plane models).
+/// default; a solid model is a `Model<D3>`, read from a problem file of `box`
+/// or 3D Gmsh parts by [`Model::<D3>::from_file`](Model::from_file), or built
+/// in code with [`Model::from_parts`]).
 #[derive(Debug, Clone)]
 pub struct Model<D: MeshDim = D2> {
     /// Title (default: the file stem).
@@ -321,6 +358,7 @@ impl Model {
         refine: usize,
         meshes: BTreeMap<String, Mesh>,
     ) -> Result<Model> {
+        dimension::refuse_other_keys(text, path, false)?;
         let file = schema::parse(text, path)?;
         if refine == 0 {
             return Err(Error::Model(
@@ -336,5 +374,105 @@ impl Model {
             )));
         }
         build::Builder::new(text, path, meshes).build(file, refine)
+    }
+}
+
+/// A model read from a problem file, of either dimension: `Model::<D3>::from_file`
+/// reads a solid problem as `Model::from_file` reads a plane one (the plane
+/// model's inherent methods are these; the trait lets a solid model, and code
+/// generic over the dimension, name them the same). Bring it into scope with
+/// `use cfe::model::FromProblemFile`.
+pub trait FromProblemFile: Sized {
+    /// Reads, checks and meshes the problem file at `path`; `refine` multiplies
+    /// the structured meshes' cell counts and splits every edge of a Gmsh mesh
+    /// into that many.
+    fn from_file(path: &Path, refine: usize) -> Result<Self>;
+}
+
+/// A model read from problem text, of either dimension (see
+/// [`FromProblemFile`]; `use cfe::model::FromProblemText`).
+pub trait FromProblemText: Sized {
+    /// Reads, checks and meshes a problem given as text; `path` is used in
+    /// messages, for the default title and to find the mesh files.
+    fn from_str(text: &str, path: &Path, refine: usize) -> Result<Self>;
+
+    /// The same problem with the meshes refined `refine` times instead.
+    fn with_refine(&self, refine: usize) -> Result<Self>;
+}
+
+/// [`Model::from_file`].
+impl FromProblemFile for Model {
+    fn from_file(path: &Path, refine: usize) -> Result<Model> {
+        Model::from_file(path, refine)
+    }
+}
+
+/// [`Model::from_str`] and [`Model::with_refine`].
+impl FromProblemText for Model {
+    fn from_str(text: &str, path: &Path, refine: usize) -> Result<Model> {
+        Model::from_str(text, path, refine)
+    }
+
+    fn with_refine(&self, refine: usize) -> Result<Model> {
+        Model::with_refine(self, refine)
+    }
+}
+
+/// A solid problem file: parts of `box` or of 3D Gmsh meshes
+/// ([`problem_dimension`] tells a file's dimension). `refine` multiplies
+/// every box's cell counts and splits every edge of a Gmsh part into that
+/// many ([`Mesh::<D3>::refined`](Mesh::refined)). A deck (`.inp`) is plane:
+/// refused.
+impl FromProblemFile for Model<D3> {
+    fn from_file(path: &Path, refine: usize) -> Result<Model<D3>> {
+        if is_deck(path) {
+            return Err(Error::Model(format!(
+                "{} is a CalculiX/Abaqus deck, which cfe reads as a plane model (CPS/CPE elements): read it with Model::from_file (plane)",
+                path.display()
+            )));
+        }
+        let text = read_text(path, PROBLEM_FILE_CAP, "problem file")?;
+        <Model<D3> as FromProblemText>::from_str(&text, path, refine)
+    }
+}
+
+/// Solid problem text. The keys of a plane model (`plane`, `thickness`,
+/// `rectangle`, `annulus`, `[[line]]`, a Gmsh part's `surfaces`) and
+/// `coupling = "segment"` are refused with [`Error::Dimension`] naming the
+/// key and its line; points and vectors (`at`, `from`, `to`, `force`,
+/// `traction`, `value`) have three components.
+impl FromProblemText for Model<D3> {
+    fn from_str(text: &str, path: &Path, refine: usize) -> Result<Model<D3>> {
+        dimension::refuse_other_keys(text, path, true)?;
+        let file = schema::parse::<3>(text, path)?;
+        if refine == 0 {
+            return Err(Error::Model(
+                "the refinement factor must be at least 1".into(),
+            ));
+        }
+        build::Builder::new(text, path, BTreeMap::new()).build_solid(file, refine)
+    }
+
+    fn with_refine(&self, refine: usize) -> Result<Model<D3>> {
+        <Model<D3> as FromProblemText>::from_str(&self.text, &self.source, refine)
+    }
+}
+
+impl Model<D3> {
+    /// Advice about the model that does not stop it from being solved: parts
+    /// with ν ≥ [`LOCKING_NU`], whose TET4 and fully integrated HEX8 elements
+    /// lock (too stiff at nearly constant volume).
+    pub fn warnings(&self) -> Vec<String> {
+        (self.parts.iter())
+            .filter(|p| p.material.poisson >= LOCKING_NU)
+            .map(|p| {
+                let nu = p.material.poisson;
+                format!(
+                    "part '{}': ν = {nu} is nearly incompressible (bulk modulus {:.1e} × the shear modulus): its TET4 and HEX8 elements (full integration) lock (displacements come out too small, stresses oscillate); check the results against a finer mesh",
+                    p.name,
+                    1.0 / (1.0 - 2.0 * nu)
+                )
+            })
+            .collect()
     }
 }

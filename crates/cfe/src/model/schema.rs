@@ -14,10 +14,14 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use toml::Spanned;
 
-/// A whole problem file.
+/// A whole problem file of a model whose points and vectors have `N`
+/// components (2: a plane model, the default; 3: a solid model). The keys of
+/// the other dimension (`plane`, `thickness`, `rectangle`, … in a solid model;
+/// `box`, `volumes`, `traction` in a plane one) are refused before this is
+/// read ([`super::dimension`]).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct ProblemFile {
+pub(super) struct ProblemFile<const N: usize = 2> {
     pub(super) title: Option<String>,
     #[serde(default)]
     pub(super) units: Units,
@@ -29,9 +33,9 @@ pub(super) struct ProblemFile {
     #[serde(rename = "interface", default)]
     pub(super) interfaces: Vec<InterfaceSpec>,
     #[serde(rename = "support", default)]
-    pub(super) supports: Vec<SupportSpec>,
+    pub(super) supports: Vec<SupportSpec<N>>,
     #[serde(rename = "load", default)]
-    pub(super) loads: Vec<LoadSpec>,
+    pub(super) loads: Vec<LoadSpec<N>>,
     #[serde(default)]
     pub(super) analysis: Settings,
     #[serde(rename = "step", default)]
@@ -39,7 +43,7 @@ pub(super) struct ProblemFile {
     #[serde(rename = "line", default)]
     pub(super) lines: Vec<LineSpec>,
     #[serde(rename = "probe", default)]
-    pub(super) probes: Vec<ProbeSpec>,
+    pub(super) probes: Vec<ProbeSpec<N>>,
     #[serde(default)]
     pub(super) output: OutputSpec,
 }
@@ -63,11 +67,11 @@ pub(super) struct LineSpec {
 /// node nearest to `at`).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct ProbeSpec {
+pub(super) struct ProbeSpec<const N: usize> {
     pub(super) name: Spanned<String>,
     pub(super) part: Spanned<String>,
-    #[serde(deserialize_with = "pair")]
-    pub(super) at: [f64; 2],
+    #[serde(deserialize_with = "array")]
+    pub(super) at: [f64; N],
 }
 
 /// `[output]`: what the run draws besides its fixed pictures.
@@ -145,6 +149,34 @@ pub(super) struct PartSpec {
     pub(super) rectangle: Option<RectangleSpec>,
     pub(super) annulus: Option<AnnulusSpec>,
     pub(super) gmsh: Option<Spanned<GmshSpec>>,
+    /// A solid part's structured box mesh.
+    #[serde(rename = "box")]
+    pub(super) block: Option<BoxSpec>,
+}
+
+/// `box = { x = [x0, x1], y = [y0, y1], z = [z0, z1], cells = [nx, ny, nz],
+/// elements = "hex8" }`: a structured box of a solid part
+/// ([`Mesh::<D3>::block`](crate::mesh::Mesh::block)), its sides named `left`,
+/// `right`, `front`, `back`, `bottom` and `top`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct BoxSpec {
+    #[serde(deserialize_with = "pair")]
+    pub(super) x: [f64; 2],
+    #[serde(deserialize_with = "pair")]
+    pub(super) y: [f64; 2],
+    #[serde(deserialize_with = "pair")]
+    pub(super) z: [f64; 2],
+    #[serde(deserialize_with = "array")]
+    pub(super) cells: [usize; 3],
+    /// `hex8` (one hexahedron per cell, the default) or `tet4` (six tetrahedra
+    /// per cell); `element` is read as well.
+    #[serde(default = "default_solid", alias = "element")]
+    pub(super) elements: crate::mesh::SolidKind,
+}
+
+fn default_solid() -> crate::mesh::SolidKind {
+    crate::mesh::SolidKind::Hex8
 }
 
 fn one() -> f64 {
@@ -182,8 +214,22 @@ where
     })
 }
 
-/// [`pair`] for an optional key.
-fn opt_pair<'de, D, T>(d: D) -> std::result::Result<Option<[T; 2]>, D::Error>
+/// An `N`-entry array (a point or a vector of a model of `N` dimensions, a
+/// box's three cell counts) with exactly `N` entries, as [`pair`].
+fn array<'de, D, T, const N: usize>(d: D) -> std::result::Result<[T; N], D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    let v: Vec<T> = Vec::deserialize(d)?;
+    let n = v.len();
+    <[T; N]>::try_from(v).map_err(|_| {
+        serde::de::Error::custom(format!("expected an array of exactly {N} values, got {n}"))
+    })
+}
+
+/// [`array`] for an optional key.
+fn opt_array<'de, D, T, const N: usize>(d: D) -> std::result::Result<Option<[T; N]>, D::Error>
 where
     D: serde::Deserializer<'de>,
     T: Deserialize<'de>,
@@ -192,9 +238,14 @@ where
         return Ok(None);
     };
     let n = v.len();
-    <[T; 2]>::try_from(v).map(Some).map_err(|_| {
-        serde::de::Error::custom(format!("expected an array of exactly 2 values, got {n}"))
+    <[T; N]>::try_from(v).map(Some).map_err(|_| {
+        serde::de::Error::custom(format!("expected an array of exactly {N} values, got {n}"))
     })
+}
+
+/// `N` zeros: the default prescribed values of a support.
+fn zeros<const N: usize>() -> [f64; N] {
+    [0.0; N]
 }
 
 fn default_elements() -> ElementKind {
@@ -230,6 +281,8 @@ pub(super) struct GmshSpec {
     pub(super) file: String,
     /// Physical surfaces (names or numbers) whose elements make the part; default all.
     pub(super) surfaces: Option<Vec<GroupSpec>>,
+    /// A solid part's physical volumes (names or numbers); default all.
+    pub(super) volumes: Option<Vec<GroupSpec>>,
 }
 
 /// A physical group given by name (string) or number (integer).
@@ -290,45 +343,50 @@ fn default_law() -> Law {
 pub(super) enum Component {
     X,
     Y,
+    /// A solid model's third component (refused in a plane model).
+    Z,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct SupportSpec {
+pub(super) struct SupportSpec<const N: usize> {
     /// Default: `part/boundary` or `part@(x, y)`.
     pub(super) name: Option<Spanned<String>>,
     pub(super) part: Spanned<String>,
     pub(super) boundary: Option<Spanned<String>>,
-    #[serde(default, deserialize_with = "opt_pair")]
-    pub(super) at: Option<[f64; 2]>,
+    #[serde(default, deserialize_with = "opt_array")]
+    pub(super) at: Option<[f64; N]>,
     pub(super) fix: Vec<Component>,
-    #[serde(default, deserialize_with = "pair")]
-    pub(super) value: [f64; 2],
+    #[serde(default = "zeros", deserialize_with = "array")]
+    pub(super) value: [f64; N],
     pub(super) step: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct LoadSpec {
+pub(super) struct LoadSpec<const N: usize> {
     /// Default: from the part and where the load acts (see [`Builder::load`]).
     pub(super) name: Option<Spanned<String>>,
     pub(super) part: Spanned<String>,
     pub(super) boundary: Option<Spanned<String>>,
-    #[serde(default, deserialize_with = "opt_pair")]
-    pub(super) from: Option<[f64; 2]>,
-    #[serde(default, deserialize_with = "opt_pair")]
-    pub(super) to: Option<[f64; 2]>,
-    #[serde(default, deserialize_with = "opt_pair")]
-    pub(super) at: Option<[f64; 2]>,
-    #[serde(default, deserialize_with = "opt_pair")]
-    pub(super) force: Option<[f64; 2]>,
+    #[serde(default, deserialize_with = "opt_array")]
+    pub(super) from: Option<[f64; N]>,
+    #[serde(default, deserialize_with = "opt_array")]
+    pub(super) to: Option<[f64; N]>,
+    #[serde(default, deserialize_with = "opt_array")]
+    pub(super) at: Option<[f64; N]>,
+    #[serde(default, deserialize_with = "opt_array")]
+    pub(super) force: Option<[f64; N]>,
     pub(super) pressure: Option<f64>,
+    /// A solid model's uniform traction (force per area) on a boundary.
+    #[serde(default, deserialize_with = "opt_array")]
+    pub(super) traction: Option<[f64; N]>,
     pub(super) step: Option<Spanned<String>>,
 }
 
 /// Parses problem text into its schema; a TOML error or a key the schema does
 /// not know is an [`Error::Parse`] with its line ([`parse_error`]).
-pub(super) fn parse(text: &str, path: &Path) -> Result<ProblemFile> {
+pub(super) fn parse<const N: usize>(text: &str, path: &Path) -> Result<ProblemFile<N>> {
     toml::from_str(text).map_err(|e| parse_error(text, path, &e))
 }
 
