@@ -348,21 +348,32 @@ fn default_bench_problem(exe: &Path) -> anyhow::Result<PathBuf> {
         })
 }
 
-/// `cfe run`: solves the problem with a progress bar, writes the results into
-/// `out` (default `results/<problem stem>`) and prints the main figures. The
-/// folder is locked and checked (`force`: see `--force`) once the problem is
-/// read, before anything in it is removed.
+/// `cfe run`'s options beyond the problem file and its refinement.
+struct RunOptions {
+    /// The output folder (default `results/<problem stem>`).
+    out: PathBuf,
+    /// `--law`, `--friction`.
+    law: (Option<LawArg>, Option<f64>),
+    /// `--write-every`.
+    write_every: Option<usize>,
+    /// `--solver`, `--petsc-options`, `--petsc-options-file`.
+    solver: (Option<SolverArg>, Option<String>, Option<PathBuf>),
+    /// `--force`.
+    force: bool,
+}
+
+/// `cfe run`: reads the problem as a plane or a solid model (whichever its
+/// parts are, [`cfe::model::problem_dimension`]), solves it with a progress
+/// bar, writes the results into `out` (default `results/<problem stem>`) and
+/// prints the main figures. The folder is locked and checked (`force`: see
+/// `--force`) once the problem is read, before anything in it is removed.
 fn run_problem(
     problem: &Path,
     out: Option<PathBuf>,
     refine: usize,
-    (law, friction): (Option<LawArg>, Option<f64>),
+    law: (Option<LawArg>, Option<f64>),
     write_every: Option<usize>,
-    (solver, petsc_options, petsc_options_file): (
-        Option<SolverArg>,
-        Option<String>,
-        Option<PathBuf>,
-    ),
+    solver: (Option<SolverArg>, Option<String>, Option<PathBuf>),
     force: bool,
 ) -> anyhow::Result<()> {
     let out = out.unwrap_or_else(|| {
@@ -372,7 +383,42 @@ fn run_problem(
             .unwrap_or_else(|| "problem".into());
         PathBuf::from("results").join(stem)
     });
-    let mut a = Analysis::from_file(problem, refine)?;
+    let options = RunOptions {
+        out,
+        law,
+        write_every,
+        solver,
+        force,
+    };
+    match cfe::model::problem_dimension(problem)? {
+        cfe::model::ProblemDimension::Plane => {
+            let a = Analysis::from_file(problem, refine)?;
+            let description = a.describe();
+            run_analysis(a, &description, options)
+        }
+        cfe::model::ProblemDimension::Solid => {
+            use cfe::model::FromProblemFile;
+            let a = Analysis::<cfe::dim::D3>::from_file(problem, refine)?;
+            let description = a.describe();
+            run_analysis(a, &description, options)
+        }
+    }
+}
+
+/// Runs a read analysis of either dimension as [`run_problem`] says;
+/// `description` is its `cfe check` text, printed before the run.
+fn run_analysis<D: cfe::RunDim>(
+    mut a: Analysis<D>,
+    description: &str,
+    options: RunOptions,
+) -> anyhow::Result<()> {
+    let RunOptions {
+        out,
+        law: (law, friction),
+        write_every,
+        solver: (solver, petsc_options, petsc_options_file),
+        force,
+    } = options;
     match (law, friction) {
         (Some(LawArg::Coulomb), Some(mu)) => a.override_friction(mu)?,
         (_, Some(_)) => anyhow::bail!("--friction applies to --law coulomb only"),
@@ -394,7 +440,7 @@ fn run_problem(
     }
     use_petsc(&mut a, petsc_options_file);
     let folder = cfe::output::folder::OutputFolder::open(&out, force)?;
-    eprint!("{}", a.describe());
+    eprint!("{description}");
     let bar = ProgressBar::new(a.model.settings.increments as u64);
     let steps = a.model.steps();
     bar.set_style(
@@ -459,7 +505,7 @@ fn run_problem(
 /// Hands the analysis the PETSc back ends when its solver is one of them
 /// (`petsc`, `petsc-mumps`), with its options and `options_file`.
 #[cfg(feature = "petsc")]
-fn use_petsc(a: &mut Analysis, options_file: Option<PathBuf>) {
+fn use_petsc<D: cfe::RunDim>(a: &mut Analysis<D>, options_file: Option<PathBuf>) {
     let settings = &a.model.settings;
     if settings.solver.is_external() {
         let options = settings.petsc_options.clone().unwrap_or_default();
@@ -470,7 +516,7 @@ fn use_petsc(a: &mut Analysis, options_file: Option<PathBuf>) {
 /// Without the `petsc` feature there is no PETSc back end: a run that asks for
 /// one fails with the library's typed error saying how to build it in.
 #[cfg(not(feature = "petsc"))]
-fn use_petsc(_: &mut Analysis, _: Option<PathBuf>) {}
+fn use_petsc<D: cfe::RunDim>(_: &mut Analysis<D>, _: Option<PathBuf>) {}
 
 /// Prints the main figures of a finished run.
 fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
@@ -506,10 +552,11 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
             }
         );
     }
+    let solid = summary.max_displacement.z.is_some();
     for i in &summary.interfaces {
         if i.law == cfe::Law::Frictionless || i.law == cfe::Law::Coulomb || i.unpaired > 0 {
             println!(
-                "  interface '{}' ({}{}): {} slipping, {} unpaired, max pressure {}, contact length {}",
+                "  interface '{}' ({}{}): {} slipping, {} unpaired, max pressure {}, {} {}",
                 i.name,
                 i.law.as_str(),
                 if i.law == cfe::Law::Coulomb {
@@ -520,6 +567,13 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
                 i.slip,
                 i.unpaired,
                 num(i.max_pressure),
+                // In a solid model the length is between the two extreme
+                // closed pairs (by x, then y), not a contact zone's size.
+                if solid {
+                    "span of the closed pairs"
+                } else {
+                    "contact length"
+                },
                 num(i.contact_length)
             );
         }
@@ -558,21 +612,27 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
         }
     }
     let m = &summary.max_displacement;
+    // A solid model's positions and reactions carry z.
+    let z = |v: Option<f64>, show: &dyn Fn(f64) -> String| {
+        v.map_or(String::new(), |v| format!(", {}", show(v)))
+    };
     println!(
-        "  max |u| = {} at ({}, {}) in part '{}'",
+        "  max |u| = {} at ({}, {}{}) in part '{}'",
         num(m.value),
         short(m.x),
         short(m.y),
+        z(m.z, &|v| short(v).to_string()),
         m.part
     );
     for r in &summary.reactions {
         // A component below 1e-10 of the reaction is round-off: shown as 0.
-        let size = r.fx.hypot(r.fy);
+        let size = r.fx.hypot(r.fy).hypot(r.fz.unwrap_or(0.0));
         println!(
-            "  reaction '{}': ({}, {})",
+            "  reaction '{}': ({}, {}{})",
             r.support,
             num_rel(r.fx, size),
-            num_rel(r.fy, size)
+            num_rel(r.fy, size),
+            z(r.fz, &|v| num_rel(v, size).to_string())
         );
     }
     println!(

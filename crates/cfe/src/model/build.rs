@@ -754,7 +754,9 @@ impl<'a> Builder<'a> {
             ));
         }
         let nodes = self.coupling_nodes(spec, &name, &parts[node_part], node_part, claimed)?;
-        let scales = D::stiffness_scales(&parts[host], &parts[node_part], spec.boundary.get_ref());
+        // In volume form the boundary may be left out: h over the whole part.
+        let boundary = spec.boundary.as_ref().map_or("", |b| b.get_ref().as_str());
+        let scales = D::stiffness_scales(&parts[host], &parts[node_part], boundary);
         let (c_n, c_s, tolerance) = self.penalties(spec, &name, scales)?;
         let (friction, search_distance, penetration_tolerance) =
             self.contact_keys(spec, &name, parts, host, node_part)?;
