@@ -206,6 +206,7 @@ fn a_toml_model_equals_the_model_built_in_code() {
         enforcement: Enforcement::Penalty,
         penetration_tolerance: from_file.interfaces[0].penetration_tolerance,
         coupling: Coupling::Node,
+        form: cfe::domain::CouplingForm::Face,
     };
     let settings = Settings {
         increments: 1,

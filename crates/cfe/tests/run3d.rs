@@ -84,6 +84,7 @@ fn punch_on_base(increments: usize) -> Analysis<D3> {
         enforcement: Enforcement::Penalty,
         penetration_tolerance: 0.0,
         coupling: Coupling::Node,
+        form: cfe::domain::CouplingForm::Face,
     };
     let mut model = Model::from_parts(
         "punch on base",
