@@ -53,7 +53,7 @@ impl LinearBackend {
     }
 
     /// Whether the back end lives outside this library (PETSc): a run needs one
-    /// handed to it ([`crate::solve::backend::ExternalBackEnd`]).
+    /// handed to it (`solve::contact::ExternalBackEnd`, with the `internals` feature).
     pub fn is_external(&self) -> bool {
         matches!(self, LinearBackend::Petsc | LinearBackend::PetscMumps)
     }

@@ -212,7 +212,7 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
     /// The solver of `problem` on a linear back end already analysed for its
     /// pattern (`back_end`: the solver and, for an iterative one, the record of
     /// its solves; `analysis_seconds`: the time that analysis took), e.g. one
-    /// built outside this library ([`crate::solve::backend::ExternalBackEnd`]).
+    /// built outside this library (`solve::contact::ExternalBackEnd`, with the `internals` feature).
     /// `stop` as [`Solver::new`] says.
     #[allow(clippy::type_complexity)]
     pub fn with_back_end(
