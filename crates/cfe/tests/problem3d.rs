@@ -372,6 +372,25 @@ fn the_3d_plate_on_a_base_example_solves() {
     }
 }
 
+/// A solid problem file read by the plane reader (`Model::from_file`, as the
+/// Python package does) is an `Error::Dimension` at its first `box` that says
+/// the model is solid and how to run it — not that a plane model has a stray
+/// key.
+#[test]
+fn a_solid_file_read_as_a_plane_model_says_it_is_solid() {
+    match Model::from_file(&example(), 1) {
+        Err(Error::Dimension {
+            key, line, message, ..
+        }) => {
+            assert_eq!(key, "part.base.box");
+            assert_eq!(line, Some(29));
+            assert!(message.contains("solid (3D) model"), "{message}");
+            assert!(message.contains("cfe run"), "{message}");
+        }
+        other => panic!("expected Error::Dimension, got {other:?}"),
+    }
+}
+
 /// The dimension probe: a file of boxes is solid, one of rectangles (the seed's
 /// plate on a base) plane, a deck plane, a 3D Gmsh part solid, and plane and
 /// solid parts together an `Error::Dimension` naming both.

@@ -357,7 +357,8 @@ fn volume_interface<D: InterfaceDim + VolumeDim>(
 }
 
 /// Makes every interface in face form (its definition and its prepared form)
-/// follow `law`; one in volume form stays the rigid tie it must be (it has no
+/// follow `law` (an interface without tangential stiffness, c_s = 0, as the
+/// frictionless law allows, gets c_s = c_n under any other law); one in volume form stays the rigid tie it must be (it has no
 /// normal: [`volume`]).
 pub fn set_law<D: InterfaceDim>(
     defs: &mut [InterfaceDef],
@@ -365,11 +366,23 @@ pub fn set_law<D: InterfaceDim>(
     parts: &[Part<D>],
     law: Law,
 ) {
+    // c_s = 0 is allowed (and the default) only with the frictionless law: a
+    // law that needs a tangential stiffness gets the default any other law
+    // has, c_s = c_n — or a Coulomb interface would have no friction at all.
+    let c_s = |law: Law, c_n: f64, c_s: f64| {
+        if law != Law::Frictionless && c_s == 0.0 {
+            c_n
+        } else {
+            c_s
+        }
+    };
     for def in defs.iter_mut().filter(|d| d.form == CouplingForm::Face) {
         def.law = law;
+        def.c_s = c_s(law, def.c_n, def.c_s);
     }
     for iface in interfaces.iter_mut().filter(|i| i.form == CouplingForm::Face) {
         iface.law = law;
+        iface.c_s = c_s(law, iface.c_n, iface.c_s);
         iface.c_slip = D::slip_stiffness(law, &parts[iface.host], &parts[iface.node_part], &iface.elements);
     }
 }
@@ -500,6 +513,23 @@ mod tests {
         }
         assert_eq!((iface.law, iface.c_n, iface.c_s), (Law::Contact, 1e6, 1e6));
         assert_eq!(iface.c_slip, 0.0);
+    }
+
+    /// A frictionless interface without tangential stiffness (c_s = 0, its
+    /// default) made Coulomb or contact by the law override gets c_s = c_n
+    /// (any other law's default), so friction is not silently absent; made
+    /// frictionless again, it keeps that c_s (the law ignores it).
+    #[test]
+    fn a_law_override_gives_a_frictionless_interface_its_tangential_stiffness() {
+        let (mut parts, mut defs) = base_and_block();
+        defs[0].law = Law::Frictionless;
+        defs[0].c_s = 0.0;
+        let mut ifaces = interfaces(&defs, &mut parts, 1).unwrap();
+        assert_eq!(ifaces[0].c_s, 0.0);
+        set_friction(&mut defs, &mut ifaces, &parts, 0.3).unwrap();
+        assert_eq!((defs[0].c_s, ifaces[0].c_s), (1e6, 1e6));
+        set_law(&mut defs, &mut ifaces, &parts, Law::Frictionless);
+        assert_eq!((defs[0].law, ifaces[0].c_s), (Law::Frictionless, 1e6));
     }
 
     /// The friction override refuses a negative or NaN μ and changes nothing then;

@@ -223,6 +223,15 @@ pub(super) fn refuse_other_keys(text: &str, path: &Path, solid: bool) -> Result<
     } else {
         for (key, t) in items("part") {
             if let Some(v) = t.get("box") {
+                // A solid model read as a plane one: say how to read it (parts
+                // of both dimensions: this part is the stray one).
+                if matches!(of_text(text, path), Ok(ProblemDimension::Solid)) {
+                    return Err(refuse(
+                        format!("{key}.box"),
+                        v.span(),
+                        "makes this a solid (3D) model, read here as a plane one: run it with `cfe run` or read it with `Model::<D3>::from_file` (`use cfe::model::FromProblemFile`); the Python package reads plane models only so far",
+                    ));
+                }
                 return Err(refuse(
                     format!("{key}.box"),
                     v.span(),
