@@ -176,24 +176,7 @@ fn plane_interfaces(
                     .unwrap_or(2.0 * std::f64::consts::PI * c.position[0]);
             }
         }
-        let c_slip = D2::slip_stiffness(def.law, &parts[def.host], &parts[def.node_part], &elements);
-        interfaces.push(Interface {
-            name: def.name.clone(),
-            host: def.host,
-            node_part: def.node_part,
-            law: def.law,
-            c_n: def.c_n,
-            c_s: def.c_s,
-            c_slip,
-            elements,
-            max_projection_distance,
-            friction: def.friction,
-            enforcement: def.enforcement,
-            penetration_tolerance: def.penetration_tolerance,
-            unpaired,
-            coupling: def.coupling,
-            form: def.form,
-        });
+        interfaces.push(prepared(def, parts, elements, max_projection_distance, unpaired));
     }
     Ok(interfaces)
 }
@@ -267,26 +250,40 @@ fn solid_interfaces(
                 ),
             })?;
         }
-        let c_slip = D3::slip_stiffness(def.law, &parts[def.host], &parts[def.node_part], &elements);
-        interfaces.push(Interface {
-            name: def.name.clone(),
-            host: def.host,
-            node_part: def.node_part,
-            law: def.law,
-            c_n: def.c_n,
-            c_s: def.c_s,
-            c_slip,
-            elements,
-            max_projection_distance,
-            friction: def.friction,
-            enforcement: def.enforcement,
-            penetration_tolerance: def.penetration_tolerance,
-            unpaired,
-            coupling: def.coupling,
-            form: def.form,
-        });
+        interfaces.push(prepared(def, parts, elements, max_projection_distance, unpaired));
     }
     Ok(interfaces)
+}
+
+/// The prepared interface of `def` with its coupling `elements`: the
+/// definition's law, penalties and contact settings, the slip stiffness of its
+/// law and parts, how far its nodes were moved onto the host and how many of
+/// them found no host (`unpaired`). One constructor for every dimension and
+/// form.
+fn prepared<D: InterfaceDim>(
+    def: &InterfaceDef,
+    parts: &[Part<D>],
+    elements: Vec<CouplingElement<D>>,
+    max_projection_distance: f64,
+    unpaired: usize,
+) -> Interface<D> {
+    Interface {
+        name: def.name.clone(),
+        host: def.host,
+        node_part: def.node_part,
+        law: def.law,
+        c_n: def.c_n,
+        c_s: def.c_s,
+        c_slip: D::slip_stiffness(def.law, &parts[def.host], &parts[def.node_part], &elements),
+        elements,
+        max_projection_distance,
+        friction: def.friction,
+        enforcement: def.enforcement,
+        penetration_tolerance: def.penetration_tolerance,
+        unpaired,
+        coupling: def.coupling,
+        form: def.form,
+    }
 }
 
 /// The interface of `def` in volume form ([`volume`]): each of its coupling
@@ -337,23 +334,7 @@ fn volume_interface<D: InterfaceDim + VolumeDim>(
             host.name
         )));
     }
-    Ok(Interface {
-        name: def.name.clone(),
-        host: def.host,
-        node_part: def.node_part,
-        law: def.law,
-        c_n: def.c_n,
-        c_s: def.c_s,
-        c_slip: D::slip_stiffness(def.law, host, node_part, &elements),
-        elements,
-        max_projection_distance: 0.0,
-        friction: def.friction,
-        enforcement: def.enforcement,
-        penetration_tolerance: def.penetration_tolerance,
-        unpaired: outside,
-        coupling: def.coupling,
-        form: def.form,
-    })
+    Ok(prepared(def, parts, elements, 0.0, outside))
 }
 
 /// Makes every interface in face form (its definition and its prepared form)
