@@ -126,6 +126,40 @@ impl<'a> Builder<'a> {
         Ok(best)
     }
 
+    /// The Gmsh file of part `name` (`spec.file`, relative to the problem
+    /// file's folder) parsed by `parse`, read once per file however many parts
+    /// take their elements from it (`files`, keyed by the canonical path).
+    pub(super) fn gmsh_file<M>(
+        &self,
+        name: &str,
+        spec: &Spanned<GmshSpec>,
+        files: &mut HashMap<PathBuf, Rc<M>>,
+        parse: fn(&[u8], &Path) -> Result<M>,
+    ) -> Result<Rc<M>> {
+        let path = self
+            .path
+            .parent()
+            .unwrap_or(Path::new(""))
+            .join(&spec.get_ref().file);
+        let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
+        if let Some(m) = files.get(&key) {
+            return Ok(Rc::clone(m));
+        }
+        let what = format!("Gmsh file of part '{name}'");
+        let data = input_file::read(&path, &what, MESH_FILE_CAP, |e| {
+            self.err(
+                spec,
+                format!(
+                    "part '{name}': cannot read Gmsh file {}: {e}",
+                    path.display()
+                ),
+            )
+        })?;
+        let m = Rc::new(parse(&data, &path)?);
+        files.insert(key, Rc::clone(&m));
+        Ok(m)
+    }
+
     /// The mesh of part `name` from a Gmsh file, subdivided uniformly by `refine`
     /// ([`Mesh::refined`]: every edge split into `refine` equal segments, so curved
     /// boundaries stay the file's polygons); `files` caches the files already read,
@@ -138,26 +172,7 @@ impl<'a> Builder<'a> {
         files: &mut HashMap<PathBuf, Rc<GmshMesh>>,
     ) -> Result<Mesh> {
         let g = spec.get_ref();
-        let path = self.path.parent().unwrap_or(Path::new("")).join(&g.file);
-        let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
-        let mesh = match files.get(&key) {
-            Some(m) => Rc::clone(m),
-            None => {
-                let what = format!("Gmsh file of part '{name}'");
-                let data = input_file::read(&path, &what, MESH_FILE_CAP, |e| {
-                    self.err(
-                        spec,
-                        format!(
-                            "part '{name}': cannot read Gmsh file {}: {e}",
-                            path.display()
-                        ),
-                    )
-                })?;
-                let m = Rc::new(GmshMesh::parse(&data, &path)?);
-                files.insert(key, Rc::clone(&m));
-                m
-            }
-        };
+        let mesh = self.gmsh_file(name, spec, files, GmshMesh::parse)?;
         let surfaces: Option<Vec<Group>> = g
             .surfaces
             .as_ref()

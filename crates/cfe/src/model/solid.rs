@@ -16,10 +16,9 @@ use crate::domain::FaceLoad;
 use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, loads};
 use crate::mesh::gmsh::{GmshMesh3d, Group};
-use crate::mesh::input_file::{self, MESH_FILE_CAP};
 use crate::mesh::{BoundaryFace, Mesh, distance3};
 use std::collections::{BTreeMap, HashMap};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::rc::Rc;
 use toml::Spanned;
 
@@ -274,26 +273,7 @@ impl Builder<'_> {
         files: &mut HashMap<PathBuf, Rc<GmshMesh3d>>,
     ) -> Result<Mesh<D3>> {
         let g = spec.get_ref();
-        let path = self.path.parent().unwrap_or(Path::new("")).join(&g.file);
-        let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
-        let mesh = match files.get(&key) {
-            Some(m) => Rc::clone(m),
-            None => {
-                let what = format!("Gmsh file of part '{name}'");
-                let data = input_file::read(&path, &what, MESH_FILE_CAP, |e| {
-                    self.err(
-                        spec,
-                        format!(
-                            "part '{name}': cannot read Gmsh file {}: {e}",
-                            path.display()
-                        ),
-                    )
-                })?;
-                let m = Rc::new(GmshMesh3d::parse(&data, &path)?);
-                files.insert(key, Rc::clone(&m));
-                m
-            }
-        };
+        let mesh = self.gmsh_file(name, spec, files, GmshMesh3d::parse)?;
         let volumes: Option<Vec<Group>> = g
             .volumes
             .as_ref()
