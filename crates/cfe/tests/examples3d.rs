@@ -2,8 +2,10 @@
 //! against independent truth: the sphere on a block (examples/sphere_on_block,
 //! Gmsh TET4) against Hertz's contact radius and peak pressure, and the bolted
 //! joint (examples/bolted_joint: a head tied to a plate, the plate on a base
-//! with Coulomb friction) against statics and the slip resistance μ F_p; in
-//! both, every pair row is checked against its law and the loads balance.
+//! with Coulomb friction) against statics and the slip resistance μ F_p (held
+//! below it, no state of rest beyond it); in both, every pair row is checked
+//! against its law and the loads balance. And the 3D plate on a base under the
+//! seed's stick law: no consistent state in the window of its settled rim pairs.
 
 use cfe::analysis::{Analysis, Results, RunStatus};
 use cfe::coupling::PairState;
@@ -270,4 +272,26 @@ fn the_3d_plate_under_the_stick_law_has_no_consistent_state_at_its_rim() {
         least.1 >= settled.1 * (1.0 - 1e-9),
         "{least:?} < {settled:?}"
     );
+}
+
+/// The bolted joint's slip resistance is μ F_p: pulled with T = 6.5 kN > μ F_p =
+/// 6 kN (the example with only its pull changed) the plate and its head have
+/// no state of rest, and the run stops with the typed error naming them.
+#[test]
+fn the_bolted_joint_slips_beyond_mu_times_the_preload() {
+    use cfe::error::Error;
+    use cfe::model::{FromProblemText, Model};
+    let path = example("bolted_joint/bolted_joint.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let pull = "force = [-4000.0, 0.0, 0.0]";
+    assert!(text.contains(pull));
+    let text = text.replace(pull, "force = [-6500.0, 0.0, 0.0]");
+    let model = Model::<D3>::from_str(&text, &path, 1).unwrap();
+    match Analysis::new(model).unwrap().solve() {
+        Err(Error::Unsupported { parts, message }) => {
+            assert!(parts.iter().any(|p| p == "plate"), "{parts:?}: {message}");
+        }
+        Err(e) => panic!("expected a part without a state of rest, got {e}"),
+        Ok(r) => panic!("completed beyond μ F_p: {:?}", r.summary.status),
+    }
 }
