@@ -391,3 +391,51 @@ def test_check_and_faces_by_node_set():
         assert n[2] > 0
     text = cfe.Model.from_toml(blocks_toml()).check()
     assert "solid model" in text
+
+
+def test_progress_out_and_law_override_in_3d(tmp_path):
+    """A solid solve reports each increment with its history row (fz included), writes
+    `cfe run`'s files with `out` (parts VTU of tetrahedra, pairs.csv with the 3D
+    columns), and `law="coulomb"` overrides the interface law as in 2D."""
+    model = cfe.Model.from_toml(blocks_toml(law="contact", top_cells=(4, 4, 3)).replace(
+        'pressure = 40.0', 'pressure = 40.0\n\n[analysis]\nincrements = 2'))
+    seen = []
+    r = model.solve(progress=seen.append, out=tmp_path / "run", law="coulomb", friction=0.3)
+    assert [i.increment for i in seen] == [1, 2]
+    assert seen[-1].history["reaction:base/bottom.fz"] == pytest.approx(r.reactions["base/bottom"][2])
+    assert r.interfaces["tie"].law == "coulomb" and r.interfaces["tie"].friction == 0.3
+    header = (tmp_path / "run" / "pairs.csv").read_text().splitlines()[0].split(",")
+    assert {"z", "force_t2", "force_x", "force_y", "force_z"} <= set(header)
+    import meshio
+
+    parts = meshio.read(sorted((tmp_path / "run" / "vtu").glob("parts_*.vtu"))[-1])
+    assert {c.type for c in parts.cells} == {"hexahedron", "tetra"}
+    u = np.concatenate([r.parts["base"].displacement, r.parts["top"].displacement])
+    np.testing.assert_array_equal(parts.point_data["displacement"], u)
+    summary = r.write(tmp_path / "again")
+    assert summary["status"] == r.status == "completed"
+    assert (tmp_path / "again" / "deformed.png").exists()
+
+
+def test_dict_with_box_keys_reads_as_the_file():
+    """A problem dict with the file's 3D keys (`box`, `fix = ["x", "y", "z"]`, a
+    three-component force at a point box) is the solid model the TOML text makes."""
+    problem = {
+        "materials": {"al": {"E": E, "nu": NU}},
+        "part": [{"name": "base", "material": "al",
+                  "box": {"x": [0.0, 1.0], "y": [0.0, 2.0], "z": [0.0, 1.0], "cells": [2, 2, 2],
+                          "elements": "hex8"}},
+                 {"name": "top", "material": "al",
+                  "box": {"x": [0.0, 1.0], "y": [0.0, 2.0], "z": [1.0, 2.5], "cells": [4, 4, 3],
+                          "elements": "tet4"}}],
+        "interface": [{"name": "tie", "host": "base", "nodes": "top", "boundary": "bottom", "law": "rigid"}],
+        "support": [{"part": "base", "boundary": "bottom", "fix": ["x", "y", "z"]}],
+        "load": [{"part": "top", "boundary": "top", "force": [10.0, 0.0, -80.0]}],
+    }
+    from_dict = cfe.Model(problem)
+    assert from_dict.dimension == 3
+    r = from_dict.solve()
+    r_toml = cfe.Model.from_toml(from_dict.text).solve()
+    np.testing.assert_array_equal(r.displacements, r_toml.displacements)
+    # The supports carry the applied force back.
+    np.testing.assert_allclose(r.reactions["base/bottom"], [-10.0, 0.0, 80.0], atol=1e-8 * 80)
