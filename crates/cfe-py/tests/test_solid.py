@@ -152,7 +152,7 @@ def test_plate_on_base_matches_the_command_line(cli, tmp_path):
     np.testing.assert_allclose(h["interface:plate-base.fz"][-1], pairs.force[:, 2].sum(), rtol=1e-12)
 
 
-def model_from_meshes(meshes, law="rigid"):
+def model_from_meshes(meshes, law="rigid", refine=1):
     """The two blocks as a dict whose parts give `meshes[name]` as arrays or a mesh."""
     problem = {
         "materials": {"al": {"E": E, "nu": NU}},
@@ -165,7 +165,7 @@ def model_from_meshes(meshes, law="rigid"):
                                     ("top", "front", "y")]],
         "load": [{"part": "top", "boundary": "top", "pressure": P}],
     }
-    return cfe.Model(problem)
+    return cfe.Model(problem, refine=refine)
 
 
 def hex_block(x, y, z, cells):
@@ -227,6 +227,13 @@ def test_arrays_and_meshio_give_the_results_of_the_file():
             np.testing.assert_allclose(r.parts[n].stress, r0.parts[n].stress, rtol=0, atol=1e-9 * P)
         np.testing.assert_allclose(r.interfaces["tie"].force, r0.interfaces["tie"].force,
                                    rtol=0, atol=1e-10 * P)
+    # `refine` subdivides meshes given as arrays as it does the file's boxes.
+    for n in ("base", "top"):
+        refined = model_from_meshes(arrays, refine=2).mesh(n)
+        boxed = cfe.Model.from_toml(blocks_toml(), refine=2).mesh(n)
+        assert refined.points.shape == boxed.points.shape
+        assert refined.tetrahedra.shape == boxed.tetrahedra.shape
+        assert refined.hexahedra.shape == boxed.hexahedra.shape
 
 
 def test_meshio_physical_groups_name_parts_and_boundaries():
