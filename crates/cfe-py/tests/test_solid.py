@@ -379,6 +379,12 @@ def test_bad_arrays_raise_actionable_mesh_errors():
     plane = {"points": np.array([[0.0, 0], [1, 0], [0, 1]]), "triangles": np.array([[0, 1, 2]])}
     with pytest.raises(cfe.ModelError, match="mix plane and solid"):
         model_from_meshes({"base": block, "top": plane})
+    both = {"base": dict(block, box={"x": [0.0, 1.0], "y": [0.0, 1.0], "z": [0.0, 1.0], "cells": [1, 1, 1]}),
+            "top": block}
+    with pytest.raises(cfe.ParseError, match="mesh given in memory and a `box` or `gmsh` key"):
+        model_from_meshes(both)
+    with pytest.raises(cfe.ModelError, match="part 'nowhere', which the problem does not define"):
+        cfe.Model.from_toml(blocks_toml(), meshes={"nowhere": cfe.Mesh(pts, hexahedra=hexa)})
     with pytest.raises(cfe.ModelError, match="thickness"):
         cfe.Model.from_toml(blocks_toml().replace('material = "al"\nbox', 'material = "al"\nthickness = 2.0\nbox', 1))
 
