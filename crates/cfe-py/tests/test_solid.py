@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import cfe
-from conftest import EXAMPLES
+from conftest import EXAMPLES, REPO
 
 E, NU, P = 70e3, 0.3, 40.0
 
@@ -452,3 +452,28 @@ def test_dict_with_box_keys_reads_as_the_file():
     np.testing.assert_array_equal(r.displacements, r_toml.displacements)
     # The supports carry the applied force back.
     np.testing.assert_allclose(r.reactions["base/bottom"], [-10.0, 0.0, 80.0], atol=1e-8 * 80)
+
+
+@pytest.mark.parametrize("msh", ["cubes_41.msh", "cubes_22.msh"])
+def test_meshio_reads_a_gmsh_file_as_the_library_does(msh):
+    """A 3D Gmsh file read by meshio and `Mesh.from_meshio(volumes=[...])` gives each
+    physical volume's mesh exactly as the library's reader (`gmsh = { file, volumes }`):
+    the same nodes, elements, and physical surfaces as named boundaries."""
+    import meshio
+
+    folder = REPO / "tests" / "data" / "gmsh"
+    text = "[materials.s]\nE = 1.0\nnu = 0.3\n" + "".join(
+        f'[[part]]\nname = "{n}"\nmaterial = "s"\ngmsh = {{ file = "{msh}", volumes = ["{n}"] }}\n'
+        for n in ("hexa", "tetra")
+    )
+    model = cfe.Model.from_toml(text, path=folder / "cubes.toml")
+    assert model.dimension == 3
+    read = meshio.read(folder / msh)
+    for n in ("hexa", "tetra"):
+        ours, theirs = cfe.Mesh.from_meshio(read, volumes=[n], part=n), model.mesh(n)
+        np.testing.assert_array_equal(ours.points, theirs.points)
+        np.testing.assert_array_equal(ours.tetrahedra, theirs.tetrahedra)
+        np.testing.assert_array_equal(ours.hexahedra, theirs.hexahedra)
+        assert ours.boundaries.keys() == theirs.boundaries.keys() and len(ours.boundaries) >= 3
+        for b in theirs.boundaries:
+            np.testing.assert_array_equal(ours.boundaries[b], theirs.boundaries[b])
