@@ -176,18 +176,18 @@ impl PyMesh {
             ));
         }
         if solid {
-            let nodes: Vec<[f64; 3]> = rows(part, "points", points, 3)
-                .map_err(|e| {
-                    mesh_error(
-                        part,
-                        format!(
-                            "tetrahedra and hexahedra need points (n, 3) (x, y, z): {}",
-                            e.value(py)
-                                .to_string()
-                                .trim_start_matches(&format!("mesh of part '{part}': "))
-                        ),
-                    )
-                })?
+            if let Ok(a) = points.extract::<PyReadonlyArrayDyn<'_, f64>>()
+                && !matches!(a.shape(), [_, 3])
+            {
+                return Err(mesh_error(
+                    part,
+                    format!(
+                        "tetrahedra and hexahedra need points (n, 3) (x, y, z), got shape {:?}",
+                        a.shape()
+                    ),
+                ));
+            }
+            let nodes: Vec<[f64; 3]> = rows(part, "points", points, 3)?
                 .into_iter()
                 .map(|r: Vec<f64>| [r[0], r[1], r[2]])
                 .collect();

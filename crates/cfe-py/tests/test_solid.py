@@ -358,6 +358,8 @@ def test_bad_arrays_raise_actionable_mesh_errors():
         cfe.Mesh(pts, triangles=tets)
     with pytest.raises(cfe.MeshError, match=r"tetrahedra and hexahedra need points \(n, 3\)"):
         cfe.Mesh(pts[:, :2], tetrahedra=tets)
+    with pytest.raises(cfe.MeshError, match=r"need points \(n, 3\) \(x, y, z\), got shape \[8, 2\]"):
+        cfe._cfe.Mesh(np.ascontiguousarray(pts[:, :2]), tetrahedra=tets)  # the native check
     with pytest.raises(cfe.MeshError, match=r"`tetrahedra` must have shape \(n, 4\).*`hexahedra=`"):
         cfe.Mesh(pts, tetrahedra=hexa)
     with pytest.raises(cfe.MeshError, match="plane .* or solid .* not both"):
