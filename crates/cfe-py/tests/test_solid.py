@@ -387,6 +387,10 @@ def test_bad_arrays_raise_actionable_mesh_errors():
         model_from_meshes(both)
     with pytest.raises(cfe.ModelError, match="part 'nowhere', which the problem does not define"):
         cfe.Model.from_toml(blocks_toml(), meshes={"nowhere": cfe.Mesh(pts, hexahedra=hexa)})
+    # A solid interface's coupling error keeps its typed class and interface.
+    with pytest.raises(cfe.CouplingError, match="lie on no host boundary face") as e:
+        cfe.Model.from_toml(blocks_toml().replace("z = [1.0, 2.5]", "z = [1.5, 2.5]")).check()
+    assert e.value.interface == "tie"
     with pytest.raises(cfe.ModelError, match="thickness"):
         cfe.Model.from_toml(blocks_toml().replace('material = "al"\nbox', 'material = "al"\nthickness = 2.0\nbox', 1))
 
