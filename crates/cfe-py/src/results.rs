@@ -1,15 +1,18 @@
 //! The results of a solve as a dict of NumPy arrays for the Python layer
 //! (`cfe.Results`). The large arrays (displacements, stresses) are the solver's
 //! buffers moved into NumPy, not copied: the displacement vector of all DOFs
-//! becomes one array, each part's `(n, 2)` displacement a view of it (in Python),
-//! and each part's stresses an `(n, 3)` array whose columns are views.
+//! becomes one array, each part's `(n, 2)` (plane) or `(n, 3)` (solid)
+//! displacement a view of it (in Python), and each part's stresses an `(n, 3)`
+//! (σxx, σyy, σxy) or `(n, 6)` (σxx, σyy, σzz, σxy, σyz, σxz) array whose
+//! columns are views. What differs between the dimensions is [`PyDim`]'s.
 
 use cfe::Interface;
 use cfe::PartStress;
 use cfe::analysis::Analysis;
-use cfe::mesh::{Element, Mesh};
+use cfe::dim::{D2, D3};
+use cfe::mesh::{Element, Mesh, MeshCell, MeshDim, MeshFace, SolidElement};
 use cfe::output::report::PairRow;
-use cfe::{PairState, Part, Results};
+use cfe::{PairState, Part, Results, RunDim};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -28,33 +31,194 @@ fn matrix<T: numpy::Element>(
 /// A connectivity `(k, corners)` and the element indices of its rows.
 pub type Cells<'py> = (Bound<'py, PyArrayDyn<i64>>, Bound<'py, PyArray1<i64>>);
 
-/// The elements of `mesh` with `corners` nodes (3: triangles, 4: quadrilaterals):
-/// their connectivity `(k, corners)` and their indices among all the mesh's
-/// elements (the order of element stresses).
-pub fn connectivity<'py>(py: Python<'py>, mesh: &Mesh, corners: usize) -> PyResult<Cells<'py>> {
+/// What the Python layer reads differently in a plane and a solid model: the
+/// names of the element kinds in the part dicts, the stresses' width and von
+/// Mises, the line probes (plane only) and the 3D pairs' second tangent.
+pub trait PyDim: RunDim {
+    /// The two element kinds as (connectivity key, element-index key, corners):
+    /// `triangles`/`triangle_ids` (3) and `quads`/`quad_ids` (4) in 2D,
+    /// `tetrahedra`/`tetrahedron_ids` (4) and `hexahedra`/`hexahedron_ids` (8) in 3D.
+    const CELLS: [(&'static str, &'static str, usize); 2];
+
+    /// Whether `cell` is of kind `k` (0 or 1) of [`PyDim::CELLS`].
+    fn is_kind(cell: &Self::Cell, k: usize) -> bool;
+
+    /// The part's stresses (`nodal_stress`, `element_stress`, their von Mises,
+    /// and in an axisymmetric part the hoop stress) into `d`.
+    fn stresses<'py>(
+        py: Python<'py>,
+        d: &Bound<'py, PyDict>,
+        part: &Part<Self>,
+        stress: PartStress<Self::Stress>,
+    ) -> PyResult<()>;
+
+    /// The line probes at increment `inc` (`lines`): none in a solid model.
+    fn lines<'py>(
+        py: Python<'py>,
+        analysis: &Analysis<Self>,
+        inc: &cfe::IncrementResult<Self>,
+    ) -> PyResult<Bound<'py, PyDict>>;
+}
+
+impl PyDim for D2 {
+    const CELLS: [(&'static str, &'static str, usize); 2] =
+        [("triangles", "triangle_ids", 3), ("quads", "quad_ids", 4)];
+
+    fn is_kind(cell: &Element, k: usize) -> bool {
+        matches!((cell, k), (Element::T3(_), 0) | (Element::Q4(_), 1))
+    }
+
+    fn stresses<'py>(
+        py: Python<'py>,
+        d: &Bound<'py, PyDict>,
+        part: &Part,
+        stress: PartStress,
+    ) -> PyResult<()> {
+        let m = &part.material;
+        // An axisymmetric part's von Mises includes its hoop stress σθθ, which
+        // comes as its own arrays (`nodal_sigma_theta`, `element_sigma_theta`).
+        let von_mises = |s: &[[f64; 3]], hoop: Option<&Vec<f64>>| -> Vec<f64> {
+            s.iter()
+                .enumerate()
+                .map(|(i, v)| m.von_mises_with(*v, hoop.map(|h| h[i])))
+                .collect()
+        };
+        let hoop = stress.hoop.as_ref();
+        d.set_item(
+            "nodal_von_mises",
+            PyArray1::from_vec(py, von_mises(&stress.nodal, hoop.map(|h| &h.nodal))),
+        )?;
+        d.set_item(
+            "element_von_mises",
+            PyArray1::from_vec(py, von_mises(&stress.element, hoop.map(|h| &h.element))),
+        )?;
+        if let Some(h) = hoop {
+            d.set_item("nodal_sigma_theta", PyArray1::from_vec(py, h.nodal.clone()))?;
+            d.set_item(
+                "element_sigma_theta",
+                PyArray1::from_vec(py, h.element.clone()),
+            )?;
+        }
+        d.set_item(
+            "nodal_stress",
+            matrix(py, stress.nodal.into_flattened(), 3)?,
+        )?;
+        d.set_item(
+            "element_stress",
+            matrix(py, stress.element.into_flattened(), 3)?,
+        )?;
+        Ok(())
+    }
+
+    fn lines<'py>(
+        py: Python<'py>,
+        analysis: &Analysis,
+        inc: &cfe::IncrementResult,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        lines(py, analysis, inc)
+    }
+}
+
+impl PyDim for D3 {
+    const CELLS: [(&'static str, &'static str, usize); 2] = [
+        ("tetrahedra", "tetrahedron_ids", 4),
+        ("hexahedra", "hexahedron_ids", 8),
+    ];
+
+    fn is_kind(cell: &SolidElement, k: usize) -> bool {
+        matches!(
+            (cell, k),
+            (SolidElement::Tet4(_), 0) | (SolidElement::Hex8(_), 1)
+        )
+    }
+
+    /// The six stresses in the Voigt order (xx, yy, zz, xy, yz, xz) and von
+    /// Mises ([`cfe::von_mises_3d`]), as the VTU files hold them.
+    fn stresses<'py>(
+        py: Python<'py>,
+        d: &Bound<'py, PyDict>,
+        _: &Part<D3>,
+        stress: PartStress<[f64; 6]>,
+    ) -> PyResult<()> {
+        let von_mises = |s: &[[f64; 6]]| -> Vec<f64> { s.iter().map(cfe::von_mises_3d).collect() };
+        d.set_item(
+            "nodal_von_mises",
+            PyArray1::from_vec(py, von_mises(&stress.nodal)),
+        )?;
+        d.set_item(
+            "element_von_mises",
+            PyArray1::from_vec(py, von_mises(&stress.element)),
+        )?;
+        d.set_item(
+            "nodal_stress",
+            matrix(py, stress.nodal.into_flattened(), 6)?,
+        )?;
+        d.set_item(
+            "element_stress",
+            matrix(py, stress.element.into_flattened(), 6)?,
+        )?;
+        Ok(())
+    }
+
+    fn lines<'py>(
+        py: Python<'py>,
+        _: &Analysis<D3>,
+        _: &cfe::IncrementResult<D3>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        Ok(PyDict::new(py))
+    }
+}
+
+/// The node coordinates of `mesh` as an `(n, N)` array.
+pub fn points<'py, D: MeshDim>(
+    py: Python<'py>,
+    mesh: &Mesh<D>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let flat: Vec<f64> = (mesh.nodes.iter())
+        .flat_map(|p| p.as_ref().iter().copied())
+        .collect();
+    matrix(py, flat, D::N)
+}
+
+/// The elements of `mesh` of kind `k` of [`PyDim::CELLS`] (triangles or
+/// quadrilaterals, tetrahedra or hexahedra): their connectivity `(k, corners)`
+/// and their indices among all the mesh's elements (the order of element
+/// stresses).
+pub fn connectivity<'py, D: PyDim>(
+    py: Python<'py>,
+    mesh: &Mesh<D>,
+    k: usize,
+) -> PyResult<Cells<'py>> {
     let mut cells = Vec::new();
     let mut ids = Vec::new();
     for (e, el) in mesh.elements.iter().enumerate() {
-        let nodes = match el {
-            Element::T3(n) if corners == 3 => &n[..],
-            Element::Q4(n) if corners == 4 => &n[..],
-            _ => continue,
-        };
-        cells.extend(nodes.iter().map(|&n| n as i64));
-        ids.push(e as i64);
+        if D::is_kind(el, k) {
+            cells.extend(el.nodes().iter().map(|&n| n as i64));
+            ids.push(e as i64);
+        }
     }
-    Ok((matrix(py, cells, corners)?, PyArray1::from_vec(py, ids)))
+    Ok((
+        matrix(py, cells, D::CELLS[k].2)?,
+        PyArray1::from_vec(py, ids),
+    ))
 }
 
-/// Named boundaries: name → edges `(j, 2)`.
-pub fn boundaries<'py>(py: Python<'py>, mesh: &Mesh) -> PyResult<Bound<'py, PyDict>> {
+/// Named boundaries: name → edges `(j, 2)` (plane) or faces `(j, 3)` or
+/// `(j, 4)` (solid: triangles or quadrangles; a boundary of both is `(j, 4)`
+/// with `-1` as the fourth corner of its triangles), outward.
+pub fn boundaries<'py, D: MeshDim>(
+    py: Python<'py>,
+    mesh: &Mesh<D>,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    for (name, edges) in &mesh.boundaries {
-        let flat: Vec<i64> = edges
-            .iter()
-            .flat_map(|e| e.nodes.map(|n| n as i64))
-            .collect();
-        d.set_item(name, matrix(py, flat, 2)?)?;
+    for (name, faces) in &mesh.boundaries {
+        let width = faces.iter().map(|f| f.nodes().len()).max().unwrap_or(D::N);
+        let mut flat: Vec<i64> = Vec::with_capacity(width * faces.len());
+        for f in faces {
+            flat.extend(f.nodes().iter().map(|&n| n as i64));
+            flat.extend(std::iter::repeat_n(-1, width - f.nodes().len()));
+        }
+        d.set_item(name, matrix(py, flat, width)?)?;
     }
     Ok(d)
 }
@@ -64,10 +228,10 @@ pub fn boundaries<'py>(py: Python<'py>, mesh: &Mesh) -> PyResult<Bound<'py, PyDi
 /// von Mises), `interfaces` (per interface: its pairs' arrays), `summary`
 /// (`summary.json`'s content as Python objects), `load_factor`, `step` and `time`
 /// of the last increment.
-pub fn to_dict<'py>(
+pub fn to_dict<'py, D: PyDim>(
     py: Python<'py>,
-    analysis: &Analysis,
-    results: Results,
+    analysis: &Analysis<D>,
+    results: Results<D>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let Results {
         last,
@@ -85,7 +249,8 @@ pub fn to_dict<'py>(
     out.set_item("load_factor", last.lambda)?;
     out.set_item("step", analysis.step_name(last.step))?;
     out.set_item("time", last.time)?;
-    out.set_item("lines", lines(py, analysis, &last)?)?;
+    out.set_item("lines", D::lines(py, analysis, &last)?)?;
+    out.set_item("dimension", D::N)?;
     out.set_item("u", PyArray1::from_vec(py, last.u))?;
     out.set_item("history", history(py, &summary.history)?)?;
 
@@ -189,72 +354,41 @@ fn lines<'py>(
 
 /// Part `p` (`part`) as a dict: name, node offset, points, connectivity, boundaries,
 /// material, and its `stress` (nodal and element, with von Mises).
-fn part_dict<'py>(
+fn part_dict<'py, D: PyDim>(
     py: Python<'py>,
-    analysis: &Analysis,
+    analysis: &Analysis<D>,
     p: usize,
-    part: &Part,
-    stress: PartStress,
+    part: &Part<D>,
+    stress: PartStress<D::Stress>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("name", &part.name)?;
     d.set_item("node_offset", analysis.dofs.node_offset[p])?;
-    let points: Vec<f64> = part.mesh.nodes.iter().flatten().copied().collect();
-    d.set_item("points", matrix(py, points, 2)?)?;
-    let (cells, ids) = connectivity(py, &part.mesh, 3)?;
-    d.set_item("triangles", cells)?;
-    d.set_item("triangle_ids", ids)?;
-    let (cells, ids) = connectivity(py, &part.mesh, 4)?;
-    d.set_item("quads", cells)?;
-    d.set_item("quad_ids", ids)?;
+    d.set_item("points", points(py, &part.mesh)?)?;
+    for (k, (cells_key, ids_key, _)) in D::CELLS.iter().enumerate() {
+        let (cells, ids) = connectivity(py, &part.mesh, k)?;
+        d.set_item(cells_key, cells)?;
+        d.set_item(ids_key, ids)?;
+    }
     d.set_item("boundaries", boundaries(py, &part.mesh)?)?;
     let m = &part.material;
     let material = PyDict::new(py);
     material.set_item("E", m.young)?;
     material.set_item("nu", m.poisson)?;
-    material.set_item("thickness", m.thickness)?;
-    d.set_item("material", material)?;
-    // An axisymmetric part's von Mises includes its hoop stress σθθ, which
-    // comes as its own arrays (`nodal_sigma_theta`, `element_sigma_theta`).
-    let von_mises = |s: &[[f64; 3]], hoop: Option<&Vec<f64>>| -> Vec<f64> {
-        s.iter()
-            .enumerate()
-            .map(|(i, v)| m.von_mises_with(*v, hoop.map(|h| h[i])))
-            .collect()
-    };
-    let hoop = stress.hoop.as_ref();
-    d.set_item(
-        "nodal_von_mises",
-        PyArray1::from_vec(py, von_mises(&stress.nodal, hoop.map(|h| &h.nodal))),
-    )?;
-    d.set_item(
-        "element_von_mises",
-        PyArray1::from_vec(py, von_mises(&stress.element, hoop.map(|h| &h.element))),
-    )?;
-    if let Some(h) = hoop {
-        d.set_item("nodal_sigma_theta", PyArray1::from_vec(py, h.nodal.clone()))?;
-        d.set_item(
-            "element_sigma_theta",
-            PyArray1::from_vec(py, h.element.clone()),
-        )?;
+    if D::N == 2 {
+        material.set_item("thickness", m.thickness)?;
     }
-    d.set_item(
-        "nodal_stress",
-        matrix(py, stress.nodal.into_flattened(), 3)?,
-    )?;
-    d.set_item(
-        "element_stress",
-        matrix(py, stress.element.into_flattened(), 3)?,
-    )?;
+    d.set_item("material", material)?;
+    D::stresses(py, &d, part, stress)?;
     Ok(d)
 }
 
 /// Interface `iface` as a dict: its definition and its pairs' arrays, taken from
 /// the front of `rows` (the pair rows of all interfaces, in order).
-fn interface_dict<'py>(
+fn interface_dict<'py, D: PyDim>(
     py: Python<'py>,
-    analysis: &Analysis,
-    iface: &Interface,
+    analysis: &Analysis<D>,
+    iface: &Interface<D>,
     rows: &mut Peekable<std::vec::IntoIter<PairRow>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -269,7 +403,9 @@ fn interface_dict<'py>(
     let k = iface.elements.len();
     let mut node = Vec::with_capacity(k);
     let mut host_element = Vec::with_capacity(k);
-    let mut position = Vec::with_capacity(2 * k);
+    let mut position = Vec::with_capacity(D::N * k);
+    // The solid pairs' second tangent (t₂) and global force.
+    let mut solid: [Vec<f64>; 7] = std::array::from_fn(|_| Vec::with_capacity(k));
     let mut bonded = Vec::with_capacity(k);
     let mut settled = Vec::with_capacity(k);
     let mut violation = Vec::with_capacity(k);
@@ -279,6 +415,22 @@ fn interface_dict<'py>(
         node.push(r.node as i64);
         host_element.push(r.host_element as i64);
         position.extend([r.x, r.y]);
+        if let Some(z) = r.z {
+            position.push(z);
+        }
+        for (c, v) in solid.iter_mut().zip([
+            r.slip_t2,
+            r.force_t2,
+            r.slip_t2_plastic,
+            r.shear_t2,
+            r.force_x,
+            r.force_y,
+            r.force_z,
+        ]) {
+            if let Some(v) = v {
+                c.push(v);
+            }
+        }
         bonded.push(r.state == PairState::Bonded);
         state.push(r.state.as_str());
         settled.push(r.settled);
@@ -302,11 +454,30 @@ fn interface_dict<'py>(
             c.push(v);
         }
     }
-    let normal: Vec<f64> = iface.elements.iter().flat_map(|c| c.normal).collect();
+    let normal: Vec<f64> = (iface.elements.iter())
+        .flat_map(|c| c.normal.as_ref().to_vec())
+        .collect();
     d.set_item("node", PyArray1::from_vec(py, node))?;
     d.set_item("host_element", PyArray1::from_vec(py, host_element))?;
-    d.set_item("position", matrix(py, position, 2)?)?;
-    d.set_item("normal", matrix(py, normal, 2)?)?;
+    d.set_item("position", matrix(py, position, D::N)?)?;
+    d.set_item("normal", matrix(py, normal, D::N)?)?;
+    if D::N == 3 {
+        let [slip_t2, force_t2, slip_t2_plastic, shear_t2, fx, fy, fz] = solid;
+        d.set_item("slip_t2", PyArray1::from_vec(py, slip_t2))?;
+        d.set_item("force_t2", PyArray1::from_vec(py, force_t2))?;
+        d.set_item("slip_t2_plastic", PyArray1::from_vec(py, slip_t2_plastic))?;
+        d.set_item("shear_t2", PyArray1::from_vec(py, shear_t2))?;
+        let force: Vec<f64> = (0..fx.len()).flat_map(|i| [fx[i], fy[i], fz[i]]).collect();
+        d.set_item("force", matrix(py, force, 3)?)?;
+        // The pairs' tangents t₁, t₂ (global unit vectors): the frame of the
+        // `_s` (t₁) and `_t2` components.
+        for (key, axis) in [("t1", 1), ("t2", 2)] {
+            let t: Vec<f64> = (iface.elements.iter())
+                .flat_map(|c| D::axis(&c.frame, axis).as_ref().to_vec())
+                .collect();
+            d.set_item(key, matrix(py, t, 3)?)?;
+        }
+    }
     d.set_item("bonded", PyArray1::from_vec(py, bonded))?;
     d.set_item("settled", PyArray1::from_vec(py, settled))?;
     let [

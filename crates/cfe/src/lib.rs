@@ -122,7 +122,7 @@ pub use domain::{
     FrictionSolve, InterfaceDef, LinearBackend, Load, OUTPUT_LAST, Part, Scheme, Settings, Support,
 };
 pub use error::{DeckFault, Error, Result};
-pub use fem::material::{Material, PlaneKind};
+pub use fem::material::{Material, PlaneKind, von_mises_3d};
 pub use fem::recovery::PartStress;
 pub use mesh::{BoundarySelection, Element, ElementKind, Mesh};
 pub use model::{FromProblemFile, FromProblemText, Model};

@@ -1,4 +1,4 @@
-"""cfe: contact between independently meshed parts by coupling finite elements (2D).
+"""cfe: contact between independently meshed parts by coupling finite elements (2D and 3D).
 
 Each part of an assembly is meshed on its own; the parts interact across their
 shared faces through coupling finite elements (CFEs), bonded where the faces press
@@ -8,7 +8,10 @@ Python:
 * a :class:`Model` from a problem file (:meth:`Model.from_file`), TOML text
   (:meth:`Model.from_toml`), or dicts mirroring the TOML schema (``Model(dict)``)
   whose parts may be given as arrays (``points``, ``triangles``, ``quads``,
-  ``boundaries``) or as a :class:`Mesh` / ``meshio.Mesh``;
+  ``boundaries``; in 3D ``tetrahedra``, ``hexahedra``) or as a :class:`Mesh` /
+  ``meshio.Mesh``. One class for both dimensions: a model is plane (``rectangle``,
+  ``annulus``, 2D Gmsh, triangles/quads) or solid (``box``, 3D Gmsh,
+  tetrahedra/hexahedra), told from its parts (:attr:`Model.dimension`);
 * :meth:`Model.solve` (the GIL is released; an optional progress callback) returns
   :class:`Results`: per part displacements and stresses, per interface the pairs'
   positions, states, gaps, slips and forces, reactions, the summary, all NumPy arrays
@@ -69,7 +72,7 @@ __all__ = [
 PathLike = Union[str, "os.PathLike[str]"]
 
 #: The keys of a part dict that give its mesh as arrays.
-_ARRAY_KEYS = ("points", "triangles", "quads", "boundaries")
+_ARRAY_KEYS = ("points", "triangles", "quads", "boundaries", "tetrahedra", "hexahedra")
 
 
 class Increment(NamedTuple):
@@ -99,15 +102,27 @@ class Increment(NamedTuple):
 
 
 class Mesh:
-    """A part's mesh given as arrays, checked by the library.
+    """A part's mesh given as arrays, checked by the library: plane or solid.
 
-    ``points`` (n, 2) node coordinates; ``triangles`` (m, 3) and/or ``quads``
-    (k, 4) 0-based node indices, either way round (clockwise elements are
-    reversed); ``boundaries`` maps a name to edges (j, 2) (node pairs, each an
+    Plane: ``points`` (n, 2) node coordinates; ``triangles`` (m, 3) and/or
+    ``quads`` (k, 4) 0-based node indices, either way round (clockwise elements
+    are reversed); ``boundaries`` maps a name to edges (j, 2) (node pairs, each an
     element edge on the part's boundary) or to nodes (j,) (every boundary edge
     joining two of them). Element ``e`` of the part is ``triangles[e]`` for
-    ``e < m`` and ``quads[e - m]`` after. Bad shapes, indices out of range,
-    degenerate elements and edges off the boundary raise :class:`MeshError`.
+    ``e < m`` and ``quads[e - m]`` after.
+
+    Solid: ``points`` (n, 3); ``tetrahedra`` (m, 4) and/or ``hexahedra`` (k, 8)
+    in the Gmsh/VTK node order (elements of negative volume are mirrored);
+    ``boundaries`` maps a name to faces (j, 3) or (j, 4) (each a face of an
+    element on the part's boundary, either way round; a list of both arrays for
+    a boundary of triangles and quadrangles, or one (j, 4) array whose
+    triangles have -1 as fourth corner) or to nodes (j,) (every boundary face
+    whose corners are all among them). Element ``e`` is ``tetrahedra[e]`` for
+    ``e < m`` and ``hexahedra[e - m]`` after.
+
+    Bad shapes (e.g. (n, 4) cells given as ``triangles``, (n, 2) points with
+    tetrahedra), indices out of range, degenerate or inverted elements and
+    edges or faces off the boundary raise :class:`MeshError`.
     """
 
     def __init__(
@@ -117,14 +132,44 @@ class Mesh:
         quads: Any = None,
         boundaries: Optional[Mapping[str, Any]] = None,
         *,
+        tetrahedra: Any = None,
+        hexahedra: Any = None,
         part: str = "mesh",
     ) -> None:
         pts = _float_array(points, "points", part)
+        solid = tetrahedra is not None or hexahedra is not None
+        if solid and (triangles is not None or quads is not None):
+            raise MeshError(
+                f"mesh of part '{part}': a mesh is plane (`triangles`, `quads`) or solid "
+                "(`tetrahedra`, `hexahedra`), not both: give the part's elements of one dimension"
+            )
+        if solid:
+            if pts.ndim != 2 or pts.shape[1] != 3:
+                raise MeshError(
+                    f"mesh of part '{part}': tetrahedra and hexahedra need points (n, 3) (x, y, z), "
+                    f"got shape {pts.shape}"
+                )
+            tet = None if tetrahedra is None else _int_array(tetrahedra, "tetrahedra", part)
+            hexa = None if hexahedra is None else _int_array(hexahedra, "hexahedra", part)
+            bnd = None
+            if boundaries is not None:
+                bnd = {}
+                for k, v in boundaries.items():
+                    what = f"boundaries['{k}']"
+                    if isinstance(v, (list, tuple)) and v and not np.isscalar(v[0]) and np.ndim(v[0]) == 2:
+                        bnd[str(k)] = [_int_array(a, what, part) for a in v]
+                    else:
+                        bnd[str(k)] = _int_array(v, what, part)
+            self._native = _cfe.Mesh(pts, None, None, bnd, tetrahedra=tet, hexahedra=hexa, part=part)
+            return
         if pts.ndim == 2 and pts.shape[1] == 3:
             # meshio and Gmsh give 3D points; a planar mesh has z = const.
             z = pts[:, 2]
             if z.size and np.ptp(z) > 1e-12 * max(1.0, float(np.abs(pts[:, :2]).max())):
-                raise MeshError(f"mesh of part '{part}': the points are not in a plane z = const")
+                raise MeshError(
+                    f"mesh of part '{part}': the points are not in a plane z = const "
+                    "(a solid mesh takes `tetrahedra=` and/or `hexahedra=`)"
+                )
             pts = np.ascontiguousarray(pts[:, :2])
         tri = None if triangles is None else _int_array(triangles, "triangles", part)
         quad = None if quads is None else _int_array(quads, "quads", part)
@@ -140,8 +185,13 @@ class Mesh:
         return m
 
     @property
+    def dimension(self) -> int:
+        """2 for a plane mesh (triangles, quads), 3 for a solid one (tetrahedra, hexahedra)."""
+        return self._native.dimension
+
+    @property
     def points(self) -> np.ndarray:
-        """Node coordinates (n, 2)."""
+        """Node coordinates (n, 2), or (n, 3) in a solid mesh."""
         return self._native.points
 
     @property
@@ -155,12 +205,26 @@ class Mesh:
         return self._native.quads
 
     @property
+    def tetrahedra(self) -> np.ndarray:
+        """Tetrahedra (m, 4), of positive volume (empty in a plane mesh)."""
+        return self._native.tetrahedra
+
+    @property
+    def hexahedra(self) -> np.ndarray:
+        """Hexahedra (k, 8), of positive volume (empty in a plane mesh)."""
+        return self._native.hexahedra
+
+    @property
     def boundaries(self) -> Dict[str, np.ndarray]:
-        """Named boundaries: name -> edges (j, 2), the part on each edge's left."""
+        """Named boundaries: name -> edges (j, 2), the part on each edge's left
+        (plane); name -> faces (j, 3) or (j, 4), outward by the right-hand rule
+        (solid; a boundary of triangles and quadrangles is (j, 4) with -1 as its
+        triangles' fourth corner)."""
         return dict(self._native.boundaries)
 
     def boundary_nodes(self, name: str) -> np.ndarray:
-        """The nodes of boundary ``name``, each once, in order along it."""
+        """The nodes of boundary ``name``, each once, in order along it (plane)
+        or in the order of its faces (solid)."""
         return _chain_nodes(self.boundaries[name])
 
     def __repr__(self) -> str:
@@ -172,6 +236,7 @@ class Mesh:
         mesh: Any,
         *,
         surfaces: Optional[Sequence[Union[str, int]]] = None,
+        volumes: Optional[Sequence[Union[str, int]]] = None,
         part: str = "mesh",
     ) -> "Mesh":
         """A mesh from a ``meshio.Mesh``: its ``triangle`` and ``quad`` cells (of the
@@ -179,7 +244,26 @@ class Mesh:
         use are renumbered in order), its boundaries from the cell sets and the
         Gmsh physical curves (``gmsh:physical`` cell data named by ``field_data``)
         of its ``line`` cells. Lines that lie wholly inside the part are left out.
+
+        A mesh with ``tetra`` or ``hexahedron`` cells is solid, read the same way
+        one dimension up: its volume cells (of the physical ``volumes`` only,
+        when given), its boundaries from the cell sets and the Gmsh physical
+        surfaces of its ``triangle`` and ``quad`` cells (faces wholly inside the
+        part left out); ``line`` and ``vertex`` cells are ignored.
         """
+        kinds = {block.type for block in mesh.cells}
+        if kinds & {"tetra", "hexahedron"}:
+            if surfaces is not None:
+                raise MeshError(
+                    f"mesh of part '{part}': the meshio mesh is solid (tetra, hexahedron): "
+                    "select its physical volumes with `volumes`, not `surfaces`"
+                )
+            return cls._from_meshio_solid(mesh, volumes, part)
+        if volumes is not None:
+            raise MeshError(
+                f"mesh of part '{part}': `volumes` selects a solid mesh's cells, and this meshio mesh "
+                "has no tetra or hexahedron cells (select its physical surfaces with `surfaces`)"
+            )
         points = np.asarray(mesh.points, dtype=np.float64)
         tags = _physical_tags(mesh)
         selected: Optional[set] = None
@@ -259,11 +343,94 @@ class Mesh:
             part=part,
         )
 
+    @classmethod
+    def _from_meshio_solid(
+        cls, mesh: Any, volumes: Optional[Sequence[Union[str, int]]], part: str
+    ) -> "Mesh":
+        """:meth:`from_meshio` of a mesh with ``tetra``/``hexahedron`` cells."""
+        points = np.asarray(mesh.points, dtype=np.float64)
+        tags = _physical_tags(mesh)
+        selected = _selected_groups(mesh, volumes, 3, "volume", part)
+        tet: List[np.ndarray] = []
+        hexa: List[np.ndarray] = []
+        faces: List[tuple] = []  # (block index, cells)
+        for b, block in enumerate(mesh.cells):
+            kind, data = block.type, np.asarray(block.data)
+            if kind in ("tetra", "hexahedron"):
+                if selected is not None:
+                    if tags is None or tags[b] is None:
+                        raise MeshError(
+                            f"mesh of part '{part}': `volumes` needs Gmsh physical tags (cell data 'gmsh:physical')"
+                        )
+                    data = data[np.isin(tags[b], list(selected))]
+                (tet if kind == "tetra" else hexa).append(data)
+            elif kind in ("triangle", "quad"):
+                faces.append((b, data))
+            elif kind not in ("vertex", "line"):
+                raise MeshError(
+                    f"mesh of part '{part}': cell type '{kind}' is not supported in a solid mesh "
+                    "(tetra, hexahedron; triangle and quad for boundaries)"
+                )
+        tet_a = np.concatenate(tet) if tet else np.zeros((0, 4), dtype=np.int64)
+        hex_a = np.concatenate(hexa) if hexa else np.zeros((0, 8), dtype=np.int64)
+        used = np.unique(np.concatenate([tet_a.ravel(), hex_a.ravel()])).astype(np.int64)
+        local = np.full(len(points), -1, dtype=np.int64)
+        local[used] = np.arange(len(used))
+        # Boundaries: cell sets first, then named (or numbered) physical surfaces.
+        found: Dict[str, List[np.ndarray]] = {}
+        for name, per_block in getattr(mesh, "cell_sets", {}).items():
+            if name.startswith("gmsh:"):
+                continue
+            for (b, data) in faces:
+                if b < len(per_block) and per_block[b] is not None and len(per_block[b]):
+                    found.setdefault(name, []).append(data[np.asarray(per_block[b], dtype=np.int64)])
+        if tags is not None:
+            surface_names = {int(v[0]): n for n, v in getattr(mesh, "field_data", {}).items() if int(v[1]) == 2}
+            from_tags: Dict[str, List[np.ndarray]] = {}
+            for (b, data) in faces:
+                if tags[b] is None:
+                    continue
+                for t in np.unique(tags[b]):
+                    if t == 0:
+                        continue  # no physical group
+                    name = surface_names.get(int(t), str(int(t)))
+                    from_tags.setdefault(name, []).append(data[tags[b] == t])
+            for name, f in from_tags.items():
+                found.setdefault(name, f)
+        free = _free_faces(tet_a, hex_a)
+        boundaries: Dict[str, Any] = {}
+        for name, blocks in found.items():
+            kept = []
+            for f in blocks:
+                f = np.asarray(f, dtype=np.int64)
+                f = f[(local[f] >= 0).all(axis=1)]
+                on = np.array([tuple(sorted(x)) in free for x in f.tolist()], dtype=bool)
+                if on.any():
+                    kept.append(local[f[on]])
+            if kept:
+                # A surface inside the part (or of another part) names no boundary.
+                boundaries[name] = kept if len(kept) > 1 else kept[0]
+        return cls(
+            points[used],
+            None,
+            None,
+            boundaries,
+            tetrahedra=local[tet_a] if len(tet_a) else None,
+            hexahedra=local[hex_a] if len(hex_a) else None,
+            part=part,
+        )
+
     def to_meshio(self) -> Any:
         """The mesh as a ``meshio.Mesh`` (points with z = 0, ``triangle`` and ``quad``
         cells, each boundary a ``line`` block with a cell set of its name); its
-        :meth:`from_meshio` gives this mesh back."""
+        :meth:`from_meshio` gives this mesh back. A solid mesh: its points,
+        ``tetra`` and ``hexahedron`` cells, each boundary a ``triangle`` and/or
+        ``quad`` block with a cell set of its name (and Gmsh physical tags: the
+        elements physical volume 1, boundary i physical surface i + 1)."""
         import meshio
+
+        if self.dimension == 3:
+            return _mesh_to_meshio_solid(self)
 
         points = np.column_stack([self.points, np.zeros(len(self.points))])
         cells = []
@@ -292,6 +459,92 @@ class Mesh:
             cell_data={"gmsh:physical": physical, "gmsh:geometrical": physical},
             field_data=field_data,
         )
+
+
+def _mesh_to_meshio_solid(mesh: "Mesh") -> Any:
+    """:meth:`Mesh.to_meshio` of a solid mesh."""
+    import meshio
+
+    cells = []
+    if len(mesh.tetrahedra):
+        cells.append(("tetra", mesh.tetrahedra))
+    if len(mesh.hexahedra):
+        cells.append(("hexahedron", mesh.hexahedra))
+    n_elem_blocks = len(cells)
+    tags = [1] * n_elem_blocks
+    sets: Dict[str, List[int]] = {}
+    names = list(mesh.boundaries)
+    for i, name in enumerate(names):
+        for block in _face_blocks(mesh.boundaries[name]):
+            sets.setdefault(name, []).append(len(cells))
+            cells.append(("triangle" if block.shape[1] == 3 else "quad", block))
+            tags.append(i + 2)
+    cell_sets = {}
+    for name, blocks in sets.items():
+        per_block = [np.zeros(0, dtype=np.int64) for _ in cells]
+        for b in blocks:
+            per_block[b] = np.arange(len(cells[b][1]))
+        cell_sets[name] = per_block
+    physical = [np.full(len(c[1]), t, dtype=np.int64) for c, t in zip(cells, tags)]
+    field_data = {name: np.array([i + 2, 2]) for i, name in enumerate(names)}
+    return meshio.Mesh(
+        mesh.points,
+        cells,
+        cell_sets=cell_sets,
+        cell_data={"gmsh:physical": physical, "gmsh:geometrical": physical},
+        field_data=field_data,
+    )
+
+
+def _face_blocks(faces: np.ndarray) -> List[np.ndarray]:
+    """A boundary's faces as blocks of one kind: (j, 3) triangles and/or (j, 4)
+    quadrangles (a (j, 4) array's rows with -1 as fourth corner are triangles)."""
+    faces = np.asarray(faces)
+    if faces.shape[1] == 3:
+        return [faces]
+    tri = faces[:, 3] < 0
+    blocks = []
+    if tri.any():
+        blocks.append(np.ascontiguousarray(faces[tri, :3]))
+    if (~tri).any():
+        blocks.append(np.ascontiguousarray(faces[~tri]))
+    return blocks
+
+
+def _selected_groups(
+    mesh: Any, groups: Optional[Sequence[Union[str, int]]], dim: int, what: str, part: str
+) -> Optional[set]:
+    """The Gmsh tags of the physical groups ``groups`` (names or tags) of dimension ``dim``."""
+    if groups is None:
+        return None
+    names = {n: int(v[0]) for n, v in getattr(mesh, "field_data", {}).items() if int(v[1]) == dim}
+    selected = set()
+    for s in groups:
+        if isinstance(s, str):
+            if s not in names:
+                raise MeshError(
+                    f"mesh of part '{part}': the meshio mesh has no physical {what} '{s}' "
+                    f"(it has: {', '.join(sorted(names)) or 'none'})"
+                )
+            selected.add(names[s])
+        else:
+            selected.add(int(s))
+    return selected
+
+
+def _free_faces(tet: np.ndarray, hexa: np.ndarray) -> set:
+    """The faces (sorted corners) used by one element only."""
+    faces = []
+    tet_faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [3, 1, 2]]
+    hex_faces = [[0, 3, 2, 1], [0, 1, 5, 4], [0, 4, 7, 3], [1, 2, 6, 5], [2, 3, 7, 6], [4, 5, 6, 7]]
+    for cells, local in ((tet, tet_faces), (hexa, hex_faces)):
+        if len(cells):
+            for f in local:
+                faces.extend(map(tuple, np.sort(cells[:, f], axis=1).tolist()))
+    counts: Dict[tuple, int] = {}
+    for f in faces:
+        counts[f] = counts.get(f, 0) + 1
+    return {f for f, c in counts.items() if c == 1}
 
 
 def _float_array(a: Any, what: str, part: str) -> np.ndarray:
@@ -339,9 +592,10 @@ def _free_edges(tri: np.ndarray, quad: np.ndarray) -> set:
 
 def _chain_nodes(edges: np.ndarray) -> np.ndarray:
     seen: Dict[int, None] = {}
-    for a, b in np.asarray(edges).tolist():
-        seen.setdefault(a)
-        seen.setdefault(b)
+    for row in np.asarray(edges).tolist():
+        for n in row:
+            if n >= 0:  # -1 pads a triangle in a solid boundary of both kinds
+                seen.setdefault(n)
     return np.fromiter(seen.keys(), dtype=np.int64, count=len(seen))
 
 
@@ -354,9 +608,13 @@ class Model:
     ``Model(problem)`` builds one from a dict mirroring the TOML schema of a problem
     file (``{"materials": {...}, "part": [...], "interface": [...], "support":
     [...], "load": [...], "analysis": {...}}``); a part may give its mesh as
-    arrays (``points``, ``triangles``, ``quads``, ``boundaries``, see :class:`Mesh`)
-    or as ``mesh`` (a :class:`Mesh` or a ``meshio.Mesh``) instead of
-    ``rectangle``/``annulus``/``gmsh``. ``None`` values are left out. Errors name
+    arrays (``points``, ``triangles``, ``quads``, ``boundaries``; a solid part
+    ``points`` (n, 3), ``tetrahedra``, ``hexahedra``, ``boundaries``; see
+    :class:`Mesh`) or as ``mesh`` (a :class:`Mesh` or a ``meshio.Mesh``) instead
+    of ``rectangle``/``annulus``/``box``/``gmsh``. The model is plane or solid
+    from its parts (``box`` and 3D meshes make it solid, with ``fix = ["x", "y",
+    "z"]``, three-component ``force``, ``at``, ``from``, ``to``: the problem
+    file's schema). ``None`` values are left out. Errors name
     the dict entry (e.g. ``part[1].host``) and the key; a dict nested deeper than
     64 levels or containing itself raises ``ValueError``. ``refine`` subdivides every
     mesh (as ``cfe run --refine``; refused with :class:`TooLargeError` when the
@@ -387,12 +645,16 @@ class Model:
                     raise ModelError(f"part '{name}': give `mesh` or arrays ({', '.join(given)}), not both")
                 if given:
                     if "points" not in given:
-                        raise MeshError(f"mesh of part '{name}': arrays need `points` (n, 2)")
+                        raise MeshError(
+                            f"mesh of part '{name}': arrays need `points` (n, 2), or (n, 3) with tetrahedra/hexahedra"
+                        )
                     mesh = Mesh(
                         given["points"],
                         given.get("triangles"),
                         given.get("quads"),
                         given.get("boundaries"),
+                        tetrahedra=given.get("tetrahedra"),
+                        hexahedra=given.get("hexahedra"),
                         part=str(name),
                     )
                 if mesh is not None:
@@ -441,7 +703,8 @@ class Model:
 
     @classmethod
     def from_file(cls, path: PathLike, *, refine: int = 1) -> "Model":
-        """Reads, checks and meshes the problem file at ``path`` (as ``cfe run``)."""
+        """Reads, checks and meshes the problem file at ``path`` (as ``cfe run``),
+        plane or solid (told from its parts: ``box`` or a 3D Gmsh mesh is solid)."""
         return cls._wrap(_cfe.Model.from_file(Path(path), refine))
 
     @classmethod
@@ -479,6 +742,11 @@ class Model:
         model = cls._wrap(native)
         model._meshes = given
         return model
+
+    @property
+    def dimension(self) -> int:
+        """2 for a plane model, 3 for a solid one."""
+        return self._native.dimension
 
     @property
     def title(self) -> str:
@@ -660,6 +928,14 @@ class PartResult:
     ``quad_ids``). In an axisymmetric model (``plane = "axisymmetric"``: x = r,
     y = z) ``sigma_theta`` (n,) and ``element_sigma_theta`` (m,) hold the hoop
     stress σθθ (``None`` otherwise), and von Mises includes it.
+
+    A solid part (:attr:`dimension` 3): ``points`` (n, 3), ``displacement``
+    (n, 3), ``stress`` (n, 6) and ``element_stress`` (m, 6) in the order σxx,
+    σyy, σzz, σxy, σyz, σxz (the VTU files' ``sigma_*`` arrays), von Mises of
+    the six; its elements are ``tetrahedra`` and ``hexahedra`` (element order:
+    ``tetrahedron_ids``, ``hexahedron_ids``; ``triangles`` and ``quads`` are
+    empty), its ``boundaries`` faces (see :attr:`Mesh.boundaries`), its
+    ``material`` E and ν only (no thickness).
     """
 
     name: str
@@ -677,21 +953,59 @@ class PartResult:
     element_von_mises: np.ndarray
     sigma_theta: Optional[np.ndarray] = None
     element_sigma_theta: Optional[np.ndarray] = None
+    #: A solid part's tetrahedra (m, 4) and hexahedra (k, 8) with their element
+    #: indices (``None`` in a plane part).
+    tetrahedra: Optional[np.ndarray] = None
+    tetrahedron_ids: Optional[np.ndarray] = None
+    hexahedra: Optional[np.ndarray] = None
+    hexahedron_ids: Optional[np.ndarray] = None
+
+    @property
+    def dimension(self) -> int:
+        """2 for a plane part, 3 for a solid one."""
+        return int(self.points.shape[1])
+
+    #: The stress components (names of the columns of ``stress``) by dimension.
+    _COMPONENTS = {
+        2: ("sigma_xx", "sigma_yy", "sigma_xy"),
+        3: ("sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy", "sigma_yz", "sigma_xz"),
+    }
+
+    def _column(self, name: str) -> np.ndarray:
+        names = self._COMPONENTS[self.dimension]
+        if name not in names:
+            raise AttributeError(f"{name} is a solid part's stress: a plane part has {', '.join(names)}")
+        return self.stress[:, names.index(name)]
 
     @property
     def sigma_xx(self) -> np.ndarray:
         """Nodal σxx (a view of ``stress``)."""
-        return self.stress[:, 0]
+        return self._column("sigma_xx")
 
     @property
     def sigma_yy(self) -> np.ndarray:
         """Nodal σyy (a view of ``stress``)."""
-        return self.stress[:, 1]
+        return self._column("sigma_yy")
 
     @property
     def sigma_xy(self) -> np.ndarray:
         """Nodal σxy (a view of ``stress``)."""
-        return self.stress[:, 2]
+        return self._column("sigma_xy")
+
+    @property
+    def sigma_zz(self) -> np.ndarray:
+        """Nodal σzz of a solid part (a view of ``stress``)."""
+        return self._column("sigma_zz")
+
+    @property
+    def sigma_yz(self) -> np.ndarray:
+        """Nodal σyz of a solid part (a view of ``stress``)."""
+        return self._column("sigma_yz")
+
+    @property
+    def sigma_xz(self) -> np.ndarray:
+        """Nodal σxz of a solid part (a view of ``stress``)."""
+        return self._column("sigma_xz")
 
     @property
     def ux(self) -> np.ndarray:
@@ -703,15 +1017,43 @@ class PartResult:
         """Nodal y displacement (a view)."""
         return self.displacement[:, 1]
 
+    @property
+    def uz(self) -> np.ndarray:
+        """Nodal z displacement of a solid part (a view)."""
+        if self.dimension != 3:
+            raise AttributeError("uz is a solid part's displacement: a plane part has ux, uy")
+        return self.displacement[:, 2]
+
     def boundary_nodes(self, name: str) -> np.ndarray:
-        """The nodes of boundary ``name``, each once, in order along it."""
+        """The nodes of boundary ``name``, each once, in order along it (plane)
+        or in the order of its faces (solid)."""
         return _chain_nodes(self.boundaries[name])
 
     def to_meshio(self) -> Any:
         """The part as a ``meshio.Mesh``: points (z = 0), ``triangle`` and ``quad``
         cells, point data ``displacement`` (3 components, z = 0, as in the VTU
-        files) and the nodal stresses and von Mises, cell data the element ones."""
+        files) and the nodal stresses and von Mises, cell data the element ones.
+        A solid part: its points, ``tetra`` and ``hexahedron`` cells, point data
+        ``displacement`` (n, 3), the six ``sigma_*`` and ``von_mises``, cell data
+        the element ones (the arrays of the VTU files)."""
         import meshio
+
+        if self.dimension == 3:
+            cells, blocks = [], []
+            if len(self.tetrahedra):
+                cells.append(("tetra", self.tetrahedra))
+                blocks.append(self.tetrahedron_ids)
+            if len(self.hexahedra):
+                cells.append(("hexahedron", self.hexahedra))
+                blocks.append(self.hexahedron_ids)
+            names = self._COMPONENTS[3]
+            point_data = {"displacement": np.ascontiguousarray(self.displacement)}
+            point_data.update({k: self.stress[:, i] for i, k in enumerate(names)})
+            point_data["von_mises"] = self.von_mises
+            values = {k: self.element_stress[:, i] for i, k in enumerate(names)}
+            values["von_mises"] = self.element_von_mises
+            cell_data = {k: [v[ids] for ids in blocks] for k, v in values.items()}
+            return meshio.Mesh(self.points, cells, point_data=point_data, cell_data=cell_data)
 
         n = len(self.points)
         points = np.column_stack([self.points, np.zeros(n)])
@@ -760,7 +1102,17 @@ class InterfaceResult:
     gap), ``gap`` (g0 + [[u_n]]), ``slip`` (the slip not carried elastically),
     ``pressure`` and ``shear`` (stresses: the forces / (``tributary`` length ×
     the node part's thickness)), and ``state``
-    (``"bonded"``, ``"open"`` or ``"slip"``)."""
+    (``"bonded"``, ``"open"`` or ``"slip"``).
+
+    In a solid model ``position`` and ``normal`` are (k, 3), the tangential
+    quantities have a second component along the pair's second tangent:
+    ``slip_s``, ``force_s``, ``slip`` and ``shear`` are along ``t1`` and
+    ``slip_t2``, ``force_t2``, ``slip_t2_plastic`` and ``shear_t2`` along
+    ``t2`` (``t1``, ``t2``: (k, 3) unit vectors in the face plane, with
+    ``normal`` a right-handed frame); ``force`` (k, 3) is the force on the
+    node part in global components (``pairs.csv``'s ``force_x``/``_y``/``_z``),
+    ``tributary`` an area (the traction's thickness is 1). These are ``None``
+    in a plane model."""
 
     name: str
     host: str
@@ -788,6 +1140,13 @@ class InterfaceResult:
     pressure: np.ndarray
     shear: np.ndarray
     tributary: np.ndarray
+    slip_t2: Optional[np.ndarray] = None
+    force_t2: Optional[np.ndarray] = None
+    slip_t2_plastic: Optional[np.ndarray] = None
+    shear_t2: Optional[np.ndarray] = None
+    force: Optional[np.ndarray] = None
+    t1: Optional[np.ndarray] = None
+    t2: Optional[np.ndarray] = None
     extra: Dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
@@ -799,6 +1158,13 @@ class InterfaceResult:
     def y(self) -> np.ndarray:
         """The pairs' y positions (a view of ``position``)."""
         return self.position[:, 1]
+
+    @property
+    def z(self) -> np.ndarray:
+        """The pairs' z positions in a solid model (a view of ``position``)."""
+        if self.position.shape[1] != 3:
+            raise AttributeError("z is a solid model's pair position: a plane pair has x, y")
+        return self.position[:, 2]
 
     @property
     def state(self) -> np.ndarray:
@@ -820,6 +1186,11 @@ class Results:
     maps each column of ``history.csv`` to its values over the increments;
     ``displacements`` the displacements of all DOFs (x, y of each node, parts in
     order), of which every part's ``displacement`` is a view.
+
+    A solid model's (:attr:`dimension` 3) reactions are ``[fx, fy, fz]``, its
+    displacements x, y, z of each node, its history has the z columns
+    (``reaction:SUPPORT.fz``, ``interface:NAME.fx``/``fy``/``fz``,
+    ``probe:NAME.uz``); ``lines`` is empty (line probes are plane only).
     """
 
     def __init__(
@@ -838,10 +1209,22 @@ class Results:
         self.step: str = raw["step"]
         self.time: float = raw["time"]
         self.displacements: np.ndarray = raw["u"]
+        #: 2 for a plane model, 3 for a solid one.
+        self.dimension: int = int(raw.get("dimension", 2))
+        dim = self.dimension
         self.parts: Dict[str, PartResult] = {}
         for p in raw["parts"]:
             n = len(p["points"])
-            start = 2 * p["node_offset"]
+            start = dim * p["node_offset"]
+            if dim == 3:
+                empty = np.zeros(0, dtype=np.int64)
+                p = dict(
+                    p,
+                    triangles=np.zeros((0, 3), dtype=np.int64),
+                    triangle_ids=empty,
+                    quads=np.zeros((0, 4), dtype=np.int64),
+                    quad_ids=empty,
+                )
             self.parts[p["name"]] = PartResult(
                 name=p["name"],
                 points=p["points"],
@@ -851,22 +1234,27 @@ class Results:
                 quad_ids=p["quad_ids"],
                 boundaries=dict(p["boundaries"]),
                 material=dict(p["material"]),
-                displacement=self.displacements[start : start + 2 * n].reshape(n, 2),
+                displacement=self.displacements[start : start + dim * n].reshape(n, dim),
                 stress=p["nodal_stress"],
                 element_stress=p["element_stress"],
                 von_mises=p["nodal_von_mises"],
                 element_von_mises=p["element_von_mises"],
                 sigma_theta=p.get("nodal_sigma_theta"),
                 element_sigma_theta=p.get("element_sigma_theta"),
+                tetrahedra=p.get("tetrahedra"),
+                tetrahedron_ids=p.get("tetrahedron_ids"),
+                hexahedra=p.get("hexahedra"),
+                hexahedron_ids=p.get("hexahedron_ids"),
             )
         known = {f for f in InterfaceResult.__dataclass_fields__ if f != "extra"}
         self.interfaces: Dict[str, InterfaceResult] = {}
         for i in raw["interfaces"]:
             # Fields the library adds later pass through in `extra`.
             extra = {k: v for k, v in i.items() if k not in known}
-            self.interfaces[i["name"]] = InterfaceResult(**{k: i[k] for k in known}, extra=extra)
+            self.interfaces[i["name"]] = InterfaceResult(**{k: i[k] for k in known if k in i}, extra=extra)
         self.reactions: Dict[str, np.ndarray] = {
-            r["support"]: np.array([r["fx"], r["fy"]]) for r in self.summary["reactions"]
+            r["support"]: np.array([r["fx"], r["fy"]] + ([r["fz"]] if r.get("fz") is not None else []))
+            for r in self.summary["reactions"]
         }
         #: Every converged increment, as the columns of ``history.csv``:
         #: ``increment``, ``step`` (a list of names), ``step_index``,

@@ -46,10 +46,14 @@ class Mesh:
         points: npt.ArrayLike,
         triangles: Optional[npt.ArrayLike] = None,
         quads: Optional[npt.ArrayLike] = None,
-        boundaries: Optional[Mapping[str, npt.ArrayLike]] = None,
+        boundaries: Optional[Mapping[str, Union[npt.ArrayLike, Sequence[npt.ArrayLike]]]] = None,
         *,
+        tetrahedra: Optional[npt.ArrayLike] = None,
+        hexahedra: Optional[npt.ArrayLike] = None,
         part: str = "mesh",
     ) -> None: ...
+    @property
+    def dimension(self) -> int: ...
     @property
     def points(self) -> _Floats: ...
     @property
@@ -57,11 +61,20 @@ class Mesh:
     @property
     def quads(self) -> _Ints: ...
     @property
+    def tetrahedra(self) -> _Ints: ...
+    @property
+    def hexahedra(self) -> _Ints: ...
+    @property
     def boundaries(self) -> Dict[str, _Ints]: ...
     def boundary_nodes(self, name: str) -> _Ints: ...
     @classmethod
     def from_meshio(
-        cls, mesh: Any, *, surfaces: Optional[Sequence[Union[str, int]]] = None, part: str = "mesh"
+        cls,
+        mesh: Any,
+        *,
+        surfaces: Optional[Sequence[Union[str, int]]] = None,
+        volumes: Optional[Sequence[Union[str, int]]] = None,
+        part: str = "mesh",
     ) -> Mesh: ...
     def to_meshio(self) -> Any: ...
 
@@ -77,6 +90,8 @@ class Model:
     def from_inp(cls, path: _Path) -> Model: ...
     @property
     def notes(self) -> List[str]: ...
+    @property
+    def dimension(self) -> int: ...
     @classmethod
     def from_toml(
         cls,
@@ -140,6 +155,14 @@ class PartResult:
     element_stress: _Floats
     von_mises: _Floats
     element_von_mises: _Floats
+    sigma_theta: Optional[_Floats] = None
+    element_sigma_theta: Optional[_Floats] = None
+    tetrahedra: Optional[_Ints] = None
+    tetrahedron_ids: Optional[_Ints] = None
+    hexahedra: Optional[_Ints] = None
+    hexahedron_ids: Optional[_Ints] = None
+    @property
+    def dimension(self) -> int: ...
     @property
     def sigma_xx(self) -> _Floats: ...
     @property
@@ -147,9 +170,17 @@ class PartResult:
     @property
     def sigma_xy(self) -> _Floats: ...
     @property
+    def sigma_zz(self) -> _Floats: ...
+    @property
+    def sigma_yz(self) -> _Floats: ...
+    @property
+    def sigma_xz(self) -> _Floats: ...
+    @property
     def ux(self) -> _Floats: ...
     @property
     def uy(self) -> _Floats: ...
+    @property
+    def uz(self) -> _Floats: ...
     def boundary_nodes(self, name: str) -> _Ints: ...
     def to_meshio(self) -> Any: ...
 
@@ -181,11 +212,20 @@ class InterfaceResult:
     pressure: _Floats
     shear: _Floats
     tributary: _Floats
-    extra: Dict[str, npt.NDArray[Any]]
+    slip_t2: Optional[_Floats] = None
+    force_t2: Optional[_Floats] = None
+    slip_t2_plastic: Optional[_Floats] = None
+    shear_t2: Optional[_Floats] = None
+    force: Optional[_Floats] = None
+    t1: Optional[_Floats] = None
+    t2: Optional[_Floats] = None
+    extra: Dict[str, npt.NDArray[Any]] = ...
     @property
     def x(self) -> _Floats: ...
     @property
     def y(self) -> _Floats: ...
+    @property
+    def z(self) -> _Floats: ...
     @property
     def state(self) -> npt.NDArray[np.str_]: ...
     def __len__(self) -> int: ...
@@ -196,6 +236,7 @@ class Results:
     step: str
     time: float
     displacements: _Floats
+    dimension: int
     parts: Dict[str, PartResult]
     interfaces: Dict[str, InterfaceResult]
     reactions: Dict[str, _Floats]

@@ -85,16 +85,24 @@ class Mesh:
         points: npt.NDArray[np.float64],
         triangles: Optional[npt.NDArray[np.int64]] = None,
         quads: Optional[npt.NDArray[np.int64]] = None,
-        boundaries: Optional[Dict[str, npt.NDArray[np.int64]]] = None,
+        boundaries: Optional[Dict[str, Union[npt.NDArray[np.int64], List[npt.NDArray[np.int64]]]]] = None,
         *,
+        tetrahedra: Optional[npt.NDArray[np.int64]] = None,
+        hexahedra: Optional[npt.NDArray[np.int64]] = None,
         part: str = "mesh",
     ) -> None: ...
+    @property
+    def dimension(self) -> int: ...
     @property
     def points(self) -> npt.NDArray[np.float64]: ...
     @property
     def triangles(self) -> npt.NDArray[np.int64]: ...
     @property
     def quads(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def tetrahedra(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def hexahedra(self) -> npt.NDArray[np.int64]: ...
     @property
     def boundaries(self) -> Dict[str, npt.NDArray[np.int64]]: ...
 
@@ -105,6 +113,8 @@ class Model:
     def from_file(path: Union[str, PathLike[str]], refine: int = 1) -> Model: ...
     @staticmethod
     def from_inp(path: Union[str, PathLike[str]]) -> Model: ...
+    @property
+    def dimension(self) -> int: ...
     @property
     def notes(self) -> List[str]: ...
     @staticmethod
@@ -140,7 +150,7 @@ class Model:
         force: bool = False,
     ) -> Dict[str, Any]:
         """Solves with the GIL released; the raw results: `u`, `parts`, `interfaces`,
-        `summary`, `load_factor`, `step`, `time`."""
+        `summary`, `load_factor`, `step`, `time`, `dimension`."""
 
 def dict_to_toml(problem: Mapping[str, Any]) -> str:
     """The TOML text of a problem given as dicts and lists (None leaves a key out)."""

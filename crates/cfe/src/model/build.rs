@@ -33,6 +33,9 @@ pub(super) struct Builder<'a> {
     pub(super) path: &'a Path,
     /// Meshes given in memory, by part name, taken by their parts.
     meshes: std::cell::RefCell<BTreeMap<String, Mesh>>,
+    /// Solid meshes given in memory, by part name, taken by their parts
+    /// ([`Builder::with_solid_meshes`]).
+    pub(super) solid_meshes: std::cell::RefCell<BTreeMap<String, Mesh<crate::dim::D3>>>,
     /// The text's values with their lines, for the checks.
     pub(super) values: check::Values<'a>,
 }
@@ -193,8 +196,16 @@ impl<'a> Builder<'a> {
             text,
             path,
             meshes: std::cell::RefCell::new(meshes),
+            solid_meshes: std::cell::RefCell::new(BTreeMap::new()),
             values: check::Values::new(text, path),
         }
+    }
+
+    /// The same builder with the solid meshes of some parts given in memory
+    /// by name (a solid model's parts without `box` or `gmsh`).
+    pub(super) fn with_solid_meshes(self, meshes: BTreeMap<String, Mesh<crate::dim::D3>>) -> Self {
+        self.solid_meshes.replace(meshes);
+        self
     }
 
     /// The model of the parsed `file` at refinement `refine`: its values checked,

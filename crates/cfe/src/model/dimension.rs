@@ -229,7 +229,7 @@ pub(super) fn refuse_other_keys(text: &str, path: &Path, solid: bool) -> Result<
                     return Err(refuse(
                         format!("{key}.box"),
                         v.span(),
-                        "makes this a solid (3D) model, read here as a plane one: run it with `cfe run` or read it with `Model::<D3>::from_file` (`use cfe::model::FromProblemFile`); the Python package reads plane models only so far",
+                        "makes this a solid (3D) model, read here as a plane one: run it with `cfe run` or read it with `Model::<D3>::from_file` (`use cfe::model::FromProblemFile`; Python's `cfe.Model.from_file` reads either dimension)",
                     ));
                 }
                 return Err(refuse(

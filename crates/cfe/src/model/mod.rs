@@ -31,6 +31,12 @@ mod solid;
 
 pub use dimension::{ProblemDimension, problem_dimension};
 
+/// [`problem_dimension`] of problem text read from `path` (the folder of its
+/// Gmsh files, and messages): plane or solid from its parts, as a file's.
+pub fn problem_text_dimension(text: &str, path: &Path) -> Result<ProblemDimension> {
+    dimension::of_text(text, path)
+}
+
 /// What reading a problem file needs of its dimension beyond the mesh: the
 /// stiffness scale of a part an interface's default penalty is a multiple of
 /// ([`DEFAULT_PENALTY_FACTOR`]) and its penalties are checked against.
@@ -443,14 +449,7 @@ impl FromProblemFile for Model<D3> {
 /// `traction`, `value`) have three components.
 impl FromProblemText for Model<D3> {
     fn from_str(text: &str, path: &Path, refine: usize) -> Result<Model<D3>> {
-        dimension::refuse_other_keys(text, path, true)?;
-        let file = schema::parse::<3>(text, path)?;
-        if refine == 0 {
-            return Err(Error::Model(
-                "the refinement factor must be at least 1".into(),
-            ));
-        }
-        build::Builder::new(text, path, BTreeMap::new()).build_solid(file, refine)
+        Model::<D3>::from_str_with_solid_meshes(text, path, refine, BTreeMap::new())
     }
 
     fn with_refine(&self, refine: usize) -> Result<Model<D3>> {
@@ -459,6 +458,39 @@ impl FromProblemText for Model<D3> {
 }
 
 impl Model<D3> {
+    /// As [`FromProblemText::from_str`] of a solid problem, with the meshes of
+    /// some parts given (by part name) instead of by a `box` or `gmsh` key in
+    /// the text (e.g. a mesh built from arrays by the Python package): such a
+    /// part has neither key; its boundaries are the mesh's. Each given mesh
+    /// must belong to a part of the text, and is checked
+    /// ([`Mesh::<D3>::validate`](Mesh::validate)). `refine` subdivides the
+    /// given meshes as it does Gmsh meshes ([`Mesh::<D3>::refined`](Mesh::refined)).
+    pub fn from_str_with_solid_meshes(
+        text: &str,
+        path: &Path,
+        refine: usize,
+        meshes: BTreeMap<String, Mesh<D3>>,
+    ) -> Result<Model<D3>> {
+        dimension::refuse_other_keys(text, path, true)?;
+        let file = schema::parse::<3>(text, path)?;
+        if refine == 0 {
+            return Err(Error::Model(
+                "the refinement factor must be at least 1".into(),
+            ));
+        }
+        if let Some(name) = meshes
+            .keys()
+            .find(|m| !file.parts.iter().any(|p| p.name.get_ref() == *m))
+        {
+            return Err(Error::Model(format!(
+                "a mesh is given for part '{name}', which the problem does not define"
+            )));
+        }
+        build::Builder::new(text, path, BTreeMap::new())
+            .with_solid_meshes(meshes)
+            .build_solid(file, refine)
+    }
+
     /// Advice about the model that does not stop it from being solved: parts
     /// with ν ≥ [`LOCKING_NU`], whose TET4 and fully integrated HEX8 elements
     /// lock (too stiff at nearly constant volume).

@@ -188,6 +188,11 @@ impl Builder<'_> {
                 })?;
             nodes = nodes.saturating_add(count);
         }
+        // Meshes given in memory are subdivided as a Gmsh mesh is (k³ × the nodes).
+        let k3 = k.saturating_mul(k).saturating_mul(k);
+        for mesh in self.solid_meshes.borrow().values() {
+            nodes = nodes.saturating_add((mesh.nodes.len() as u64).saturating_mul(k3));
+        }
         check_size_of(nodes, 3, refine)
     }
 
@@ -217,7 +222,22 @@ impl Builder<'_> {
         })?;
         // A solid reads E and ν (the plane idealisation and thickness are unused).
         let material = Material::new(m.young, m.nu, PlaneKind::Strain, 1.0, &name)?;
+        let in_memory = self.solid_meshes.borrow().contains_key(&name);
+        if in_memory && (spec.block.is_some() || spec.gmsh.is_some()) {
+            return Err(self.err(
+                &spec.name,
+                format!("part '{name}' has a mesh given in memory and a `box` or `gmsh` key: give one of them"),
+            ));
+        }
         let mesh = match (&spec.block, &spec.gmsh) {
+            (None, None) if in_memory => {
+                let mesh = (self.solid_meshes.borrow_mut().remove(&name)).unwrap_or_default();
+                if refine > 1 {
+                    mesh.refined(refine)
+                } else {
+                    mesh
+                }
+            }
             (Some(b), None) => self.box_mesh(spec, b, &name, refine)?,
             (None, Some(g)) => self.gmsh_solid(&name, g, refine, files)?,
             (Some(_), Some(_)) => {
