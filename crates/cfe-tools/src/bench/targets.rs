@@ -8,6 +8,14 @@ use super::{Run, later_iterations};
 use cfe::{Iteration, Law, Method, Summary};
 use std::fmt::Write as _;
 
+/// CalculiX's seconds on the 3D benchmark model at K = 4 (see
+/// [`CALCULIX_3D`]), the nodes' components, `cfe run`'s in the same
+/// measurement and how they were measured.
+const CCX_SECONDS: f64 = 0.0;
+const CCX_COMPONENTS: usize = 0;
+const CCX_CFE_SECONDS: f64 = 0.0;
+const CCX_HOW: &str = "";
+
 /// `met` or a bold `not met`.
 fn verdict(ok: bool) -> &'static str {
     if ok { "met" } else { "**not met**" }
@@ -350,6 +358,136 @@ fn cpu_floor(m: &Summary) -> String {
         }
         _ => String::new(),
     }
+}
+
+/// CalculiX 2.20 (`ccx`, one thread) on the benchmark's 3D model at one
+/// refinement: measured by `python3 crates/cfe-tools/calculix/plate_on_base_3d.py
+/// --model bench --refine 4 --repeat 2 --laws frictionless` (the same nodes,
+/// elements, loads and supports as `cfe run`, node-to-surface penalty contact),
+/// the fastest of its runs, wall clock of the whole process. A static number:
+/// `cfe bench` does not run CalculiX.
+pub(super) struct CalculixTiming {
+    /// The refinement of `plate_on_base_3d_bench.toml` it ran.
+    pub refine: usize,
+    /// The nodes' components of that model (3 × nodes).
+    pub components: usize,
+    /// Seconds, end to end.
+    pub seconds: f64,
+    /// `cfe run`'s seconds in the same measurement (c_n = 1e9 per pair).
+    pub cfe_seconds: f64,
+    /// How it was measured.
+    pub how: &'static str,
+}
+
+/// See [`CalculixTiming`].
+pub(super) const CALCULIX_3D: CalculixTiming = CalculixTiming {
+    refine: 4,
+    components: CCX_COMPONENTS,
+    seconds: CCX_SECONDS,
+    cfe_seconds: CCX_CFE_SECONDS,
+    how: CCX_HOW,
+};
+
+/// The 3D targets, from the 3D rows `solid`: 200k unknowns with contact in
+/// ≤ 30 s end to end and ≤ 8 GiB; ≥ 50× CalculiX on the same model; and the
+/// largest 3D model the direct solver holds in 24 GiB, extrapolated from the
+/// growth of the peak memory between the two largest rows.
+pub(super) fn solid_targets(s: &mut String, solid: &[Run]) {
+    let gib = |r: &Run| r.summary.peak_memory_bytes.unwrap_or(0) as f64 / 1073741824.0;
+    let _ = writeln!(s, "## 3D targets\n");
+    let off = |r: &Run| (n(r) / 2e5).ln().abs();
+    match solid
+        .iter()
+        .min_by(|a, b| off(a).total_cmp(&off(b)))
+        .filter(|r| (n(r) / 2e5 - 1.0).abs() <= 0.25)
+    {
+        Some(r) => {
+            let total = r.summary.timings.total;
+            let why = if total <= 30.0 {
+                String::new()
+            } else {
+                format!("; {}", why_slow(r.summary, Limit::Seconds(30.0)))
+            };
+            let _ = writeln!(
+                s,
+                "- 3D with contact, about 200k unknowns (K = {}, {} unknowns): {total:.1} s (target ≤ 30 s: {}), peak {:.2} GiB (target ≤ 8 GiB: {}){why}.",
+                r.case.refine,
+                r.summary.unknowns,
+                verdict(total <= 30.0),
+                gib(r),
+                verdict(gib(r) <= 8.0)
+            );
+        }
+        None => {
+            let _ = writeln!(
+                s,
+                "- 3D with contact, about 200k unknowns: no 3D row within 25 % of 200k unknowns."
+            );
+        }
+    }
+    let c = &CALCULIX_3D;
+    match solid.iter().find(|r| r.case.refine == c.refine) {
+        Some(r) => {
+            let ratio = c.seconds / r.summary.timings.total;
+            let _ = writeln!(
+                s,
+                "- ≥ 50× CalculiX on the same 3D model (K = {}, {} unknowns): CalculiX 2.20 {:.1} s, this row {:.2} s: {ratio:.1}× (target ≥ 50×: {}). CalculiX's time is a static number ({}); in the same measurement `cfe run` took {:.2} s ({:.1}×).",
+                c.refine,
+                r.summary.unknowns,
+                c.seconds,
+                r.summary.timings.total,
+                verdict(ratio >= 50.0),
+                c.how,
+                c.cfe_seconds,
+                c.seconds / c.cfe_seconds
+            );
+        }
+        None => {
+            let _ = writeln!(
+                s,
+                "- ≥ 50× CalculiX on the same 3D model: no 3D row at K = {} (CalculiX 2.20: {:.1} s, {} nodes' components; {}).",
+                c.refine, c.seconds, c.components, c.how
+            );
+        }
+    }
+    largest_solid(s, solid);
+    let _ = writeln!(s);
+}
+
+/// The largest 3D model of this kind the direct solver holds in 24 GiB: the
+/// peak memory of the two largest 3D rows fitted as a power of the unknowns
+/// (peak ∝ nᵖ) and extrapolated to 24 GiB, stated as an extrapolation.
+fn largest_solid(s: &mut String, solid: &[Run]) {
+    let mem = |r: &Run| r.summary.peak_memory_bytes.unwrap_or(0) as f64;
+    let fact = |r: &Run| r.summary.factor_nonzeros as f64;
+    let sized: Vec<&Run> = solid.iter().filter(|r| mem(r) > 0.0).collect();
+    let [.., a, b] = sized.as_slice() else {
+        let _ = writeln!(
+            s,
+            "- Largest 3D model in 24 GiB: needs two 3D rows with their peak memory."
+        );
+        return;
+    };
+    if n(b) <= n(a) || mem(b) <= mem(a) {
+        let _ = writeln!(
+            s,
+            "- Largest 3D model in 24 GiB: the two largest rows do not grow."
+        );
+        return;
+    }
+    let p = (mem(b) / mem(a)).ln() / (n(b) / n(a)).ln();
+    let q = (fact(b) / fact(a)).ln() / (n(b) / n(a)).ln();
+    let budget = 24.0 * 1073741824.0;
+    let largest = n(b) * (budget / mem(b)).powf(1.0 / p);
+    let _ = writeln!(
+        s,
+        "- Largest 3D model in 24 GiB (direct solver): about {:.1} million unknowns — an EXTRAPOLATION, not a run: between the rows of {} and {} unknowns the peak memory grows as n^{p:.2} ({:.2} → {:.2} GiB) and the factor's nonzeros as n^{q:.2}; the peak extended at that rate reaches 24 GiB there. The factor's growth steepens with n in 3D (nested dissection: nonzeros ∝ n^(4/3), work ∝ n²), so the true limit is likely lower; above it the PETSc back end (`--solver petsc`, iterative) takes over.",
+        largest / 1e6,
+        a.summary.unknowns,
+        b.summary.unknowns,
+        mem(a) / 1073741824.0,
+        mem(b) / 1073741824.0
+    );
 }
 
 #[cfg(test)]
