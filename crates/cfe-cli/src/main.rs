@@ -147,6 +147,12 @@ enum Command {
         /// print the table.
         #[arg(long, value_name = "K")]
         coupling_cost: Option<usize>,
+        /// Run only these rows: `3d`, the 3D plate on a base at about 50k, 100k,
+        /// 200k and 400k unknowns (examples/plate_on_base_3d_bench.toml, or the
+        /// solid problem given with --problem); the report has those rows and
+        /// the 3D targets alone.
+        #[arg(long, value_name = "ROWS", value_parser = ["3d"])]
+        only: Option<String>,
     },
     /// Verification: run the cases against closed-form and conforming references and
     /// write verification.md with its pictures.
@@ -253,6 +259,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             report_only,
             speed,
             coupling_cost,
+            only,
         } => {
             if speed {
                 let speed = cfe_tools::speed::MachineSpeed::measure();
@@ -286,6 +293,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 max_unknowns,
                 repeat as usize,
                 &out,
+                only.is_some(),
                 &mut |line| println!("{line}"),
             )?;
             println!("wrote {}", out.join("benchmarks.md").display());

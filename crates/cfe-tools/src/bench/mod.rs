@@ -19,7 +19,9 @@ mod run;
 mod targets;
 
 pub use coupling_cost::{CouplingCost, coupling_cost, coupling_cost_table};
-pub use plan::{FRICTION, refinements, unknowns_model};
+pub use plan::{
+    FRICTION, SOLID_SIZES, refinements, solid_refinements, solid_unknowns_model, unknowns_model,
+};
 pub use report::write_report;
 pub use run::run;
 
@@ -42,6 +44,9 @@ pub enum Group {
     /// The problem with the `frictionless` and the `coulomb` law at the
     /// headline sizes (beside the plate's `contact` rows of the same K).
     Laws,
+    /// The 3D plate on a base (`plate_on_base_3d_bench.toml`) refined to about
+    /// 50k, 100k, 200k and 400k unknowns.
+    Solid,
 }
 
 /// One benchmark run (a record of `benchmarks.json`): its row group, law,

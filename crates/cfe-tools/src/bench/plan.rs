@@ -1,7 +1,8 @@
 //! Which cases the benchmark runs: the refined problem with the `rigid` and the
 //! `contact` law at refinements doubling up to the largest size, the
 //! `frictionless` and `coulomb` laws at its headline sizes, and beside them a
-//! Gmsh problem and a frictional run at about a quarter of that size.
+//! Gmsh problem and a frictional run at about a quarter of that size; and the
+//! 3D plate on a base at about 50k, 100k, 200k and 400k unknowns.
 
 use super::Group;
 use cfe::Law;
@@ -75,6 +76,71 @@ pub fn unknowns_model(n1: usize, n2: usize) -> impl Fn(usize) -> f64 {
     move |k: usize| a * (k * k) as f64 + b * k as f64
 }
 
+/// The 3D rows' sizes (unknowns): the refinement of the 3D problem nearest each
+/// (in ratio) is run.
+pub const SOLID_SIZES: [f64; 4] = [5e4, 1e5, 2e5, 4e5];
+
+/// The unknowns of a 3D structured model at refinement K, `a K³ + b K² + c K`
+/// (nodes of boxes of K-times the cells, less the held components), through
+/// the counts at K = 1, 2 and 3.
+pub fn solid_unknowns_model(n: [usize; 3]) -> impl Fn(usize) -> f64 {
+    let [n1, n2, n3] = n.map(|v| v as f64);
+    // a + b + c = n1, 8a + 4b + 2c = n2, 27a + 9b + 3c = n3.
+    let (p, q) = (n2 - 2.0 * n1, n3 - 3.0 * n1); // 6a + 2b, 24a + 6b
+    let a = (q - 3.0 * p) / 6.0;
+    let b = (p - 6.0 * a) / 2.0;
+    let c = n1 - a - b;
+    move |k: usize| {
+        let k = k as f64;
+        ((a * k + b) * k + c) * k
+    }
+}
+
+/// For each size of `sizes`, the refinement whose unknowns (`unknowns(K)`) are
+/// nearest it in ratio, ascending without repeats.
+pub fn solid_refinements(unknowns: impl Fn(usize) -> f64, sizes: &[f64]) -> Vec<usize> {
+    let mut ks: Vec<usize> = sizes
+        .iter()
+        .map(|&size| {
+            let off = |k: usize| (unknowns(k).max(1.0) / size).ln().abs();
+            let mut k = 1;
+            while off(k + 1) < off(k) {
+                k += 1;
+            }
+            k
+        })
+        .collect();
+    ks.sort_unstable();
+    ks.dedup();
+    ks
+}
+
+/// The benchmark's 3D problem: `plate_on_base_3d_bench.toml` next to the
+/// problem file, as in the repository's examples, when it is there.
+pub(super) fn solid_problem(problem: &Path) -> Option<PathBuf> {
+    let solid = problem
+        .parent()
+        .unwrap_or(Path::new("."))
+        .join("plate_on_base_3d_bench.toml");
+    solid.exists().then_some(solid)
+}
+
+/// The 3D rows: `problem` (a solid model) with the `frictionless` law (its
+/// file's: consistent states on every mesh) at the refinements of
+/// [`solid_refinements`] for [`SOLID_SIZES`], from its unknowns `n` at K = 1,
+/// 2 and 3.
+pub(super) fn solid_plan(problem: &Path, n: [usize; 3]) -> Vec<Planned> {
+    solid_refinements(solid_unknowns_model(n), &SOLID_SIZES)
+        .into_iter()
+        .map(|refine| Planned {
+            path: problem.to_path_buf(),
+            group: Group::Solid,
+            law: Law::Frictionless,
+            refine,
+        })
+        .collect()
+}
+
 /// A case the benchmark runs: the problem file, its row group and law, and the
 /// refinement.
 #[derive(Debug, Clone, PartialEq)]
@@ -98,6 +164,8 @@ pub(super) struct Probe {
     pub n2: usize,
     /// The Gmsh problem, when there, with its unknowns at K = 1.
     pub gmsh: Option<(PathBuf, usize)>,
+    /// The 3D problem, when there, with its unknowns at K = 1, 2 and 3.
+    pub solid: Option<(PathBuf, [usize; 3])>,
 }
 
 /// The Gmsh problem of the benchmark: the roller in its cradle, next to the
@@ -116,7 +184,8 @@ pub(super) fn gmsh_problem(problem: &Path) -> Option<PathBuf> {
 /// rows beside laws that have consistent states); then the Gmsh problem
 /// (when there) and a frictional run of `problem` (every increment of which is
 /// solved: no proportional shortcut), each at about a quarter of the largest size
-/// (at most a million unknowns).
+/// (at most a million unknowns); last the 3D rows ([`solid_plan`]) when the
+/// 3D problem is there.
 pub(super) fn plan(problem: &Path, max_unknowns: usize, probe: &Probe) -> Vec<Planned> {
     let unknowns = unknowns_model(probe.n1, probe.n2);
     let ks = refinements(&unknowns, max_unknowns);
@@ -147,6 +216,9 @@ pub(super) fn plan(problem: &Path, max_unknowns: usize, probe: &Probe) -> Vec<Pl
         Law::Coulomb,
         refine_for(probe.n1),
     ));
+    if let Some((solid, n)) = &probe.solid {
+        cases.extend(solid_plan(solid, *n));
+    }
     cases
 }
 
@@ -214,6 +286,7 @@ mod tests {
             n1: 910,
             n2: 3450,
             gmsh: Some((roller.clone(), 2000)),
+            solid: None,
         };
         let cases = plan(problem, 4_000_000, &probe);
         let levels = [1, 2, 4, 8, 16, 32, 35, 70];
@@ -276,6 +349,51 @@ mod tests {
                 .filter(|c| !matches!(c.group, Group::Plate | Group::Laws))
                 .count(),
             1
+        );
+    }
+
+    /// The 3D unknowns model goes through its three counts and reproduces the
+    /// benchmark's 3D problem at K = 4 (counted: 3 × (113·17·9 + 41·5·13)
+    /// nodes' components less 3 × 41·5 held at the base's bottom and 3 at the
+    /// plate's two supports = 59 244); the 3D rows are the K = 4, 5, 6, 8 of
+    /// about 50k, 100k, 200k and 400k unknowns, with the frictionless law.
+    #[test]
+    fn the_3d_rows_are_the_refinements_nearest_the_3d_sizes() {
+        // The structured count of examples/plate_on_base_3d_bench.toml.
+        let exact = |k: usize| {
+            let nodes =
+                (28 * k + 1) * (4 * k + 1) * (2 * k + 1) + (10 * k + 1) * (k + 1) * (3 * k + 1);
+            3 * nodes - 3 * (10 * k + 1) * (k + 1) - 3
+        };
+        let n = solid_unknowns_model([exact(1), exact(2), exact(3)]);
+        for k in 1..=3 {
+            assert!((n(k) - exact(k) as f64).abs() < 1e-6 * exact(k) as f64);
+        }
+        assert!((n(4) - 59_244.0).abs() < 1e-6 * 59_244.0, "{}", n(4));
+        // Exact up to the constant term the fit leaves out.
+        for k in 4..=10 {
+            assert!(
+                (n(k) - exact(k) as f64).abs() <= 10.0,
+                "{k}: {} {}",
+                n(k),
+                exact(k)
+            );
+        }
+        assert_eq!(solid_refinements(&n, &SOLID_SIZES), vec![4, 5, 6, 8]);
+        let cases = solid_plan(Path::new("p3d.toml"), [exact(1), exact(2), exact(3)]);
+        assert_eq!(
+            cases.iter().map(|c| c.refine).collect::<Vec<_>>(),
+            [4, 5, 6, 8]
+        );
+        assert!(
+            cases
+                .iter()
+                .all(|c| c.group == Group::Solid && c.law == Law::Frictionless)
+        );
+        // Two sizes nearest the same K give it once.
+        assert_eq!(
+            solid_refinements(|k| 1e5 * k as f64, &[1e5, 1.2e5, 4e5]),
+            vec![1, 4]
         );
     }
 }

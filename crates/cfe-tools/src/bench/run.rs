@@ -3,7 +3,7 @@
 //! kept, the machine's speed measured before and after; the results go to
 //! `benchmarks.json` and the report.
 
-use super::plan::{FRICTION, Planned, Probe, gmsh_problem, plan};
+use super::plan::{FRICTION, Planned, Probe, gmsh_problem, plan, solid_plan, solid_problem};
 use super::{Benchmarks, Case, Group, Outcome, Speeds, report};
 use crate::speed::MachineSpeed;
 use cfe::error::{Error, Result};
@@ -15,13 +15,15 @@ use std::process::Command;
 /// `out` (`benchmarks.json`, `benchmarks.md`, `benchmarks.png`). Every case is run
 /// in each of `repeat` passes (at least one) over all the cases and its fastest
 /// run end to end is kept, all its phases from that run. `progress` receives one
-/// line per run.
+/// line per run. `only_3d` runs the 3D rows alone: of `problem` when it is a
+/// solid model, else of the 3D problem beside it (`plate_on_base_3d_bench.toml`).
 pub fn run(
     exe: &Path,
     problem: &Path,
     max_unknowns: usize,
     repeat: usize,
     out: &Path,
+    only_3d: bool,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Vec<Case>> {
     let repeat = repeat.max(1);
@@ -30,7 +32,25 @@ pub fn run(
         exe,
         scratch: std::env::temp_dir().join(format!("cfe-bench-{}", std::process::id())),
     };
-    let planned = plan(problem, max_unknowns, &runner.probe(problem)?);
+    let (problem, planned) = if only_3d {
+        let solid = match cfe::model::problem_dimension(problem)? {
+            cfe::model::ProblemDimension::Solid => problem.to_path_buf(),
+            _ => solid_problem(problem).ok_or_else(|| {
+                Error::Model(format!(
+                    "no 3D benchmark problem: {} is not a solid model and plate_on_base_3d_bench.toml is not beside it; give one with --problem FILE",
+                    problem.display()
+                ))
+            })?,
+        };
+        let n = runner.solid_sizes(&solid)?;
+        (solid.clone(), solid_plan(&solid, n))
+    } else {
+        (
+            problem.to_path_buf(),
+            plan(problem, max_unknowns, &runner.probe(problem)?),
+        )
+    };
+    let problem = problem.as_path();
     // The machine's speed, once the problem is known to run.
     let before = MachineSpeed::measure();
     progress(&format!("machine speed before: {}", before.describe()));
@@ -73,8 +93,9 @@ struct Runner<'a> {
 }
 
 impl Runner<'_> {
-    /// The sizes the plan is made from: `problem` at K = 1 and 2, and the Gmsh
-    /// problem (when there) at K = 1, one `contact` run each.
+    /// The sizes the plan is made from: `problem` at K = 1 and 2, the Gmsh
+    /// problem (when there) at K = 1, one `contact` run each, and the 3D
+    /// problem (when there) as [`Runner::solid_sizes`].
     fn probe(&self, problem: &Path) -> Result<Probe> {
         let unknowns = |path: &Path, k| Ok(self.summary(path, Law::Contact, k)?.unknowns);
         let (n1, n2) = (unknowns(problem, 1)?, unknowns(problem, 2)?);
@@ -82,7 +103,26 @@ impl Runner<'_> {
             Some(roller) => Some((roller.clone(), unknowns(&roller, 1)?)),
             None => None,
         };
-        Ok(Probe { n1, n2, gmsh })
+        let solid = match solid_problem(problem) {
+            Some(solid) => Some((solid.clone(), self.solid_sizes(&solid)?)),
+            None => None,
+        };
+        Ok(Probe {
+            n1,
+            n2,
+            gmsh,
+            solid,
+        })
+    }
+
+    /// The unknowns of the 3D problem `solid` at K = 1, 2 and 3, one
+    /// `frictionless` run each.
+    fn solid_sizes(&self, solid: &Path) -> Result<[usize; 3]> {
+        let mut n = [0; 3];
+        for (k, v) in n.iter_mut().enumerate() {
+            *v = self.summary(solid, Law::Frictionless, k + 1)?.unknowns;
+        }
+        Ok(n)
     }
 
     /// Runs `problem` with `law` refined `refine` times and reads its summary.
@@ -142,6 +182,7 @@ impl Runner<'_> {
                 // The Gmsh problem is named by its row group, the others by law.
                 let name = match case.group {
                     Group::Gmsh => "gmsh",
+                    Group::Solid => "3d",
                     _ => case.law.as_str(),
                 };
                 progress(&format!(
@@ -153,6 +194,8 @@ impl Runner<'_> {
                 Ok(Outcome::Ran(Box::new(s)))
             }
             Err(e) if matches!(case.law, Law::Coulomb | Law::Frictionless) => {
+                // A 3D row that fails (e.g. beyond the memory) is reported
+                // as failed: the rows before it stand.
                 progress(&format!(
                     "{:>7} K = {k:>3}: failed: {e}{of}",
                     case.law.as_str()

@@ -22,6 +22,7 @@ pub mod solid_beam;
 pub mod solid_contact;
 pub mod solid_mesh;
 pub mod solid_patch;
+pub mod solid_peer;
 
 use cfe::analysis::Analysis;
 use cfe::analysis::Start;
@@ -141,7 +142,7 @@ pub type CaseFn = fn(bool) -> Result<Case>;
 /// progress line shows. The one list: [`run_all`] runs it and the tests
 /// (`crates/cfe-tools/tests/verification.rs`) assert every case of it at both
 /// levels, so a case added here is asserted without a test of its own.
-pub const CASES: [(&str, CaseFn); 30] = [
+pub const CASES: [(&str, CaseFn); 31] = [
     ("patch tests", patch::constant_stress),
     ("contact patch test", patch::contact_patch),
     ("tied cantilever", cantilever::convergence),
@@ -175,6 +176,7 @@ pub const CASES: [(&str, CaseFn); 30] = [
     ("3D shrink fit", solid_contact::shrink_fit),
     ("3D tied cantilever", solid_beam::cantilever),
     ("3D extrusion", solid_beam::extrusion),
+    ("3D plate on a base vs CalculiX", solid_peer::calculix),
 ];
 
 /// Runs every case of [`CASES`] (`quick`: the reduced versions), calling
