@@ -28,7 +28,8 @@
 //! residual (so the tolerance is `‖b − K x‖ ≤ rtol ‖b‖`, checked again on the
 //! true residual after each solve), GAMG with the rigid-body modes of the node
 //! coordinates as near-null space (`MatNullSpaceCreateRigidBody`). A solve
-//! starts from the caller's guess (the last pattern's solution). The
+//! starts from the caller's guess (the last pattern's solution) unless its
+//! residual is larger than the right-hand side's norm (then from zero). The
 //! preconditioner is built with the first states and kept across the active-set
 //! and Coulomb iterations while it works: **it is rebuilt at the next
 //! preparation once a solve with the kept preconditioner took more than twice
@@ -586,8 +587,23 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
         s.push(self.objects.options)?;
         let o = &self.objects;
         self.set_local(o.b, Some(rhs))?;
-        let warm = guess.is_some() && self.kind == Kind::CgGamg;
+        let mut warm = guess.is_some() && self.kind == Kind::CgGamg;
         self.set_local(o.x, guess.filter(|_| warm))?;
+        if warm {
+            // A guess farther from the solution than zero (a pair closed
+            // across a gap: the penalty times the gap) starts from zero
+            // instead: CG would have to undo it, and PETSc's divergence test
+            // (‖r‖ > 1e5 ‖b‖) can stop it before its first iteration.
+            call!(MatMult(o.mat, o.x, o.work))?;
+            call!(VecAYPX(o.work, -1.0, o.b))?;
+            let (mut r0, mut b) = (0.0, 0.0);
+            call!(VecNorm(o.work, ffi::NORM_2, &mut r0))?;
+            call!(VecNorm(o.b, ffi::NORM_2, &mut b))?;
+            if r0 > b {
+                warm = false;
+                self.set_local(o.x, None)?;
+            }
+        }
         let nonzero = if warm {
             ffi::PETSC_TRUE
         } else {
