@@ -449,8 +449,15 @@ fn run_analysis<D: cfe::RunDim>(
         for signal in [SIGINT, SIGTERM] {
             signal_hook::flag::register_usize(signal, Arc::clone(&stop), signal as usize)?;
         }
-        a.solve_observed_until(|_| Ok(()), &stop)
-            .with_context(|| format!("MPI rank {rank}"))?;
+        let solved = a.solve_observed_until(|_| Ok(()), &stop);
+        if solved.is_err() {
+            // A failure of the run is every rank's (the scheme is
+            // replicated): wait in MPI's finalization for rank 0, which
+            // records it in the folder, rather than exit first and have
+            // `mpirun` end rank 0 before it has.
+            finalize_mpi();
+        }
+        solved.with_context(|| format!("MPI rank {rank}"))?;
         return Ok(());
     }
     let folder = cfe::output::folder::OutputFolder::open(&out, force)?;
@@ -542,6 +549,17 @@ fn mpi_rank<D: cfe::RunDim>(a: &Analysis<D>) -> anyhow::Result<usize> {
         Ok(0)
     }
 }
+
+/// Finalizes PETSc and MPI (best effort: the run's error is what gets
+/// reported).
+#[cfg(feature = "petsc")]
+fn finalize_mpi() {
+    let _ = cfe_petsc::finalize();
+}
+
+/// Without the `petsc` feature there is no MPI to finalize.
+#[cfg(not(feature = "petsc"))]
+fn finalize_mpi() {}
 
 /// Without the `petsc` feature every run is one process: rank 0.
 #[cfg(not(feature = "petsc"))]
