@@ -186,8 +186,8 @@ fn c(name: &str) -> CString {
     CString::new(name).expect("no NUL in a PETSc type name")
 }
 
-/// The failure of a PETSc call during a solve, for the seam (the message is in
-/// [`PetscSolver::last_error`]).
+/// The failure of a PETSc call during a solve, for the seam (the function and
+/// its error code; the seam's failure carries no message).
 fn failure(e: &Error) -> LinearFailure {
     match e {
         Error::Call { function, code, .. } => LinearFailure::BackEnd {

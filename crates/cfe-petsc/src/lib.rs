@@ -3,7 +3,7 @@
 //!
 //! The library `cfe` solves every pattern of pair states through its seam
 //! (`cfe::solve::backend`: [`Analyse`](cfe::solve::backend::Analyse) and
-//! [`LinearSolver`](cfe::solve::backend::LinearSolver)); this crate answers it
+//! [`LinearSolver`]); this crate answers it
 //! with the system PETSc, found by pkg-config at build time and called through
 //! declarations of its own ([`ffi`]):
 //!
