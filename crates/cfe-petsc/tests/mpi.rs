@@ -34,7 +34,13 @@ fn run(problem: &Path, solver: &str, ranks: usize) -> Report {
     let exe = env!("CARGO_BIN_EXE_petsc_solve");
     let mut command = if ranks > 1 {
         let mut c = Command::new("mpirun");
-        c.args(["-n", &ranks.to_string(), "--oversubscribe", exe]);
+        // More ranks than free cores here: ranks that wait yield the core.
+        c.args(["-n", &ranks.to_string(), "--oversubscribe"]).args([
+            "--mca",
+            "mpi_yield_when_idle",
+            "1",
+            exe,
+        ]);
         c
     } else {
         Command::new(exe)
@@ -45,6 +51,9 @@ fn run(problem: &Path, solver: &str, ranks: usize) -> Report {
         // Open MPI refuses to run as root (as in CI's containers) without both.
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        // One thread a rank (every rank the same: the replicated scheme's
+        // sums are split by the thread count).
+        .env("RAYON_NUM_THREADS", "1")
         .output()
         .expect("mpirun (Open MPI's openmpi-bin) runs");
     let text = String::from_utf8_lossy(&out.stdout);
