@@ -201,6 +201,20 @@ fn failure(e: &Error) -> LinearFailure {
     }
 }
 
+/// The `n` entries PETSc's `VecGetArray` gave at `a`, as a slice (empty for a
+/// rank that owns no rows, whatever the pointer).
+///
+/// # Safety
+/// `a` must point to `n` entries of a vector held by `VecGetArray` until the
+/// slice is dropped.
+unsafe fn local_array<'x>(a: *mut f64, n: usize) -> &'x mut [f64] {
+    if n == 0 || a.is_null() {
+        return &mut [];
+    }
+    // SAFETY: as the caller promises, n > 0 entries at a non-null `a`.
+    unsafe { std::slice::from_raw_parts_mut(a, n) }
+}
+
 /// Adds the stiffness of the elements of `source` into `mat` at the rows of
 /// `dof_row` (free DOFs only: a prescribed DOF's row and column take none),
 /// each element matrix made exactly symmetric from its entries `(a, b)` with
@@ -427,7 +441,7 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
             let mut a: *mut f64 = std::ptr::null_mut();
             call!(VecGetArray(o.work, &mut a))?;
             // SAFETY: PETSc's array of the vector's n_local entries.
-            let local = unsafe { std::slice::from_raw_parts_mut(a, n_local as usize) };
+            let local = unsafe { local_array(a, n_local as usize) };
             for (l, &g) in my_nodes.iter().enumerate() {
                 local[l * D::N..(l + 1) * D::N]
                     .copy_from_slice(&coords[D::dof(g, 0)..D::dof(g, 0) + D::N]);
@@ -541,7 +555,7 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
         let mut a: *mut f64 = std::ptr::null_mut();
         call!(VecGetArray(o.work, &mut a))?;
         // SAFETY: PETSc's array of the vector's local entries.
-        let local = unsafe { std::slice::from_raw_parts_mut(a, self.local_eq.len()) };
+        let local = unsafe { local_array(a, self.local_eq.len()) };
         for (v, &e) in local.iter_mut().zip(&self.local_eq) {
             *v = if e == FIXED { mean } else { 0.0 };
         }
@@ -570,7 +584,7 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
         let mut a: *mut f64 = std::ptr::null_mut();
         call!(VecGetArray(v, &mut a))?;
         // SAFETY: PETSc's array of the vector's local entries.
-        let local = unsafe { std::slice::from_raw_parts_mut(a, self.local_eq.len()) };
+        let local = unsafe { local_array(a, self.local_eq.len()) };
         for (v, &e) in local.iter_mut().zip(&self.local_eq) {
             *v = match from {
                 Some(from) if e != FIXED => from[e],
