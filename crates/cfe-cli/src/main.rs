@@ -447,6 +447,27 @@ fn run_analysis<D: cfe::RunDim>(
         });
     }
     use_petsc(&mut a, petsc_options_file);
+    let rank = mpi_rank(&a)?;
+    if rank > 0 {
+        // A rank after the first of `mpirun -n N cfe run … --solver petsc`:
+        // it takes part in every distributed solve (the same contact scheme
+        // on the replicated model) and writes nothing; rank 0 writes the
+        // output folder and the console.
+        let stop = Arc::new(AtomicUsize::new(0));
+        for signal in [SIGINT, SIGTERM] {
+            signal_hook::flag::register_usize(signal, Arc::clone(&stop), signal as usize)?;
+        }
+        let solved = a.solve_observed_until(|_| Ok(()), &stop);
+        if solved.is_err() {
+            // A failure of the run is every rank's (the scheme is
+            // replicated): wait in MPI's finalization for rank 0, which
+            // records it in the folder, rather than exit first and have
+            // `mpirun` end rank 0 before it has.
+            finalize_mpi();
+        }
+        solved.with_context(|| format!("MPI rank {rank}"))?;
+        return Ok(());
+    }
     let folder = cfe::output::folder::OutputFolder::open(&out, force)?;
     eprint!("{description}");
     let bar = ProgressBar::new(a.model.settings.increments as u64);
@@ -525,6 +546,34 @@ fn use_petsc<D: cfe::RunDim>(a: &mut Analysis<D>, options_file: Option<PathBuf>)
 /// one fails with the library's typed error saying how to build it in.
 #[cfg(not(feature = "petsc"))]
 fn use_petsc<D: cfe::RunDim>(_: &mut Analysis<D>, _: Option<PathBuf>) {}
+
+/// This process's rank among those `mpirun` started, for a run on a PETSc
+/// back end (initializing PETSc and MPI); 0 for every other run.
+#[cfg(feature = "petsc")]
+fn mpi_rank<D: cfe::RunDim>(a: &Analysis<D>) -> anyhow::Result<usize> {
+    if a.model.settings.solver.is_external() {
+        Ok(cfe_petsc::world()?.0)
+    } else {
+        Ok(0)
+    }
+}
+
+/// Finalizes PETSc and MPI (best effort: the run's error is what gets
+/// reported).
+#[cfg(feature = "petsc")]
+fn finalize_mpi() {
+    let _ = cfe_petsc::finalize();
+}
+
+/// Without the `petsc` feature there is no MPI to finalize.
+#[cfg(not(feature = "petsc"))]
+fn finalize_mpi() {}
+
+/// Without the `petsc` feature every run is one process: rank 0.
+#[cfg(not(feature = "petsc"))]
+fn mpi_rank<D: cfe::RunDim>(_: &Analysis<D>) -> anyhow::Result<usize> {
+    Ok(0)
+}
 
 /// Prints the main figures of a finished run.
 fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {

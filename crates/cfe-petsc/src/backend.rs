@@ -1,21 +1,35 @@
 //! [`PetscSolver`]: one PETSc linear solver for a problem's fixed pattern,
 //! behind cfe's seam ([`Analyse`], [`LinearSolver`]).
 //!
-//! **The matrix.** PETSc's matrix holds every DOF of the model, node after node
-//! (`D::N` a node: block size 2 or 3, so that GAMG aggregates nodes and the
-//! rigid-body modes line up with its blocks); a prescribed DOF's row and column
-//! are empty but for a diagonal entry (the mean of the free diagonal, so it
-//! does not spoil the scaling), its right-hand side and solution zero. The free
-//! equations' entries are cfe's own assembly of `K(states)` (the parts and the
-//! coupling elements in their states: [`Stiffness::assemble`], as the other
-//! back ends), scattered into a fixed compressed-row layout built once from
-//! the lower pattern, which PETSc is given exactly as its preallocation.
+//! **The matrix.** PETSc's matrix (AIJ: sequential on one rank, MPIAIJ on
+//! several) holds every DOF of the model, node after node (`D::N` a node:
+//! block size 2 or 3, so that GAMG aggregates nodes and the rigid-body modes
+//! line up with its blocks), in the node order of a [`Partition`]: each rank
+//! owns the rows of a contiguous range of nodes. A prescribed DOF's row and
+//! column hold zeros but for a diagonal entry (the mean of the free diagonal,
+//! so it does not spoil the scaling), its right-hand side and solution zero.
+//! Each rank adds the stiffness of its own part elements and coupling
+//! elements (cfe's element routines, [`ElementSource::stiffness`]) with
+//! `MatSetValues(ADD_VALUES)`; entries of rows another rank owns travel in
+//! PETSc's assembly. The pattern — every node pair an element or a coupling
+//! element in any state joins, from cfe's [`NodeGraph`] — is preallocated
+//! exactly and inserted (as zeros) once, so it never changes. The parts'
+//! stiffness is assembled once into a second matrix of that pattern; each new
+//! set of pair states copies it (`MatCopy`) and adds the coupling elements.
+//!
+//! **The solution on every rank.** Every rank runs the same contact scheme on
+//! the whole model (replicated), so each needs the whole solution: the
+//! right-hand side's owned entries are set from the caller's (replicated)
+//! vector, and after the solve the distributed solution is gathered on every
+//! rank (`VecScatterCreateToAll`: the whole vector, 8 bytes per DOF, to every
+//! rank, once per solve).
 //!
 //! **CG + GAMG** (`petsc`). Conjugate gradients on the unpreconditioned
 //! residual (so the tolerance is `‖b − K x‖ ≤ rtol ‖b‖`, checked again on the
 //! true residual after each solve), GAMG with the rigid-body modes of the node
 //! coordinates as near-null space (`MatNullSpaceCreateRigidBody`). A solve
-//! starts from the caller's guess (the last pattern's solution). The
+//! starts from the caller's guess (the last pattern's solution) unless its
+//! residual is larger than the right-hand side's norm (then from zero). The
 //! preconditioner is built with the first states and kept across the active-set
 //! and Coulomb iterations while it works: **it is rebuilt at the next
 //! preparation once a solve with the kept preconditioner took more than twice
@@ -31,10 +45,14 @@
 //! database, so they override them.
 
 use crate::ffi::{self, PetscInt};
+use crate::partition::{Partition, node_coordinates};
 use crate::{Error, Petsc, Result, comm, session};
-use cfe::assembly::{FIXED, NodeGraph, Stiffness};
+use cfe::assembly::{
+    CouplingElements, ElementSource, FIXED, NodeGraph, PartElements, SomeElements,
+};
 use cfe::coupling::{PairState, PairStates};
 use cfe::dim::D2;
+use cfe::dofs::DofMap;
 use cfe::fem::ElementFamily;
 use cfe::solve::backend::{
     Analyse, Iterations, LinearFailure, LinearSolver, Outcome, Problem, Statistics,
@@ -67,11 +85,17 @@ pub enum Kind {
 
 /// The PETSc objects of a solver, destroyed together under the lock.
 struct Objects {
+    /// `K(states)`, what KSP solves.
     mat: ffi::Mat,
+    /// The parts' stiffness alone, in the same pattern.
+    parts: ffi::Mat,
     ksp: ffi::KSP,
     b: ffi::Vec,
     x: ffi::Vec,
     work: ffi::Vec,
+    /// The whole solution on this rank (sequential) and the scatter filling it.
+    all: ffi::Vec,
+    to_all: ffi::VecScatter,
     near_null: ffi::MatNullSpace,
     options: ffi::PetscOptions,
 }
@@ -81,10 +105,13 @@ impl Objects {
         let null = std::ptr::null_mut();
         Objects {
             mat: null,
+            parts: null,
             ksp: null,
             b: null,
             x: null,
             work: null,
+            all: null,
+            to_all: null,
             near_null: null,
             options: null,
         }
@@ -100,6 +127,9 @@ impl Drop for Objects {
             ffi::KSPDestroy(&mut self.ksp);
             ffi::MatNullSpaceDestroy(&mut self.near_null);
             ffi::MatDestroy(&mut self.mat);
+            ffi::MatDestroy(&mut self.parts);
+            ffi::VecScatterDestroy(&mut self.to_all);
+            ffi::VecDestroy(&mut self.all);
             ffi::VecDestroy(&mut self.b);
             ffi::VecDestroy(&mut self.x);
             ffi::VecDestroy(&mut self.work);
@@ -110,24 +140,23 @@ impl Drop for Objects {
     }
 }
 
-/// A PETSc solver of `K(states)` for one problem's pattern.
+/// A PETSc solver of `K(states)` for one problem's pattern, on every rank of
+/// `PETSC_COMM_WORLD` (one without `mpirun`).
 pub struct PetscSolver<'a, D: ElementFamily = D2> {
     problem: Problem<'a, D>,
     kind: Kind,
-    /// The lower pattern over the free equations (cfe's assembly fills it).
-    lower: Stiffness,
-    /// The whole matrix over every DOF, compressed rows (sorted columns).
-    row_ptr: Vec<usize>,
-    cols: Vec<PetscInt>,
-    values: Vec<f64>,
-    /// Position in `values` of each stored lower entry, and of its mirror
-    /// (`usize::MAX` on the diagonal).
-    at: Vec<usize>,
-    mirror: Vec<usize>,
-    /// Position in `values` of each prescribed DOF's diagonal entry.
-    fixed_diagonal: Vec<usize>,
-    /// The DOF of each free equation.
-    eq_dof: Vec<usize>,
+    /// This rank and the number of ranks.
+    rank: usize,
+    ranks: usize,
+    /// The PETSc row of each DOF (`D::N` per node, in the partition's node
+    /// order).
+    dof_row: Vec<PetscInt>,
+    /// The PETSc row of each free equation.
+    eq_row: Vec<PetscInt>,
+    /// The free equation (or [`FIXED`]) of each row this rank owns, in order.
+    local_eq: Vec<usize>,
+    /// The coupling elements this rank assembles.
+    my_couplings: Vec<usize>,
     objects: Objects,
     /// The states the matrix holds.
     prepared: Option<PairStates>,
@@ -157,8 +186,8 @@ fn c(name: &str) -> CString {
     CString::new(name).expect("no NUL in a PETSc type name")
 }
 
-/// The failure of a PETSc call during a solve, for the seam (the message is in
-/// [`PetscSolver::last_error`]).
+/// The failure of a PETSc call during a solve, for the seam (the function and
+/// its error code; the seam's failure carries no message).
 fn failure(e: &Error) -> LinearFailure {
     match e {
         Error::Call { function, code, .. } => LinearFailure::BackEnd {
@@ -172,93 +201,127 @@ fn failure(e: &Error) -> LinearFailure {
     }
 }
 
+/// The `n` entries PETSc's `VecGetArray` gave at `a`, as a slice (empty for a
+/// rank that owns no rows, whatever the pointer).
+///
+/// # Safety
+/// `a` must point to `n` entries of a vector held by `VecGetArray` until the
+/// slice is dropped.
+unsafe fn local_array<'x>(a: *mut f64, n: usize) -> &'x mut [f64] {
+    if n == 0 || a.is_null() {
+        return &mut [];
+    }
+    // SAFETY: as the caller promises, n > 0 entries at a non-null `a`.
+    unsafe { std::slice::from_raw_parts_mut(a, n) }
+}
+
+/// Adds the stiffness of the elements of `source` into `mat` at the rows of
+/// `dof_row` (free DOFs only: a prescribed DOF's row and column take none),
+/// each element matrix made exactly symmetric from its entries `(a, b)` with
+/// `eq(a) ≥ eq(b)` (the triangle cfe's own assembly reads).
+fn add_elements<D: ElementFamily>(
+    mat: ffi::Mat,
+    source: &dyn ElementSource,
+    dofs: &DofMap<D>,
+    dof_row: &[PetscInt],
+) -> Result<()> {
+    let mut result = Ok(());
+    let (mut free, mut rows, mut values) = (Vec::new(), Vec::new(), Vec::new());
+    source.for_each_stiffness(&mut |g, k, stride| {
+        if result.is_err() {
+            return;
+        }
+        free.clear();
+        free.extend((0..g.len()).filter(|&a| dofs.eq[g[a]] != FIXED));
+        let m = free.len();
+        rows.clear();
+        rows.extend(free.iter().map(|&a| dof_row[g[a]]));
+        values.clear();
+        for &a in &free {
+            for &b in &free {
+                let v = if dofs.eq[g[a]] >= dofs.eq[g[b]] {
+                    k[a * stride + b]
+                } else {
+                    k[b * stride + a]
+                };
+                values.push(v);
+            }
+        }
+        result = call!(MatSetValues(
+            mat,
+            m as PetscInt,
+            rows.as_ptr(),
+            m as PetscInt,
+            rows.as_ptr(),
+            values.as_ptr(),
+            ffi::ADD_VALUES
+        ));
+    });
+    result
+}
+
+/// The stored entries of the lower triangle of K over the free equations
+/// (what cfe's own assembly stores), from the node graph.
+fn lower_entries<D: ElementFamily>(graph: &NodeGraph, dofs: &DofMap<D>) -> usize {
+    let mut count = 0;
+    for g in 0..dofs.n_nodes() {
+        for &h in graph.neighbours(g) {
+            for a in 0..D::N {
+                let ea = dofs.eq[D::dof(g, a)];
+                if ea == FIXED {
+                    continue;
+                }
+                for b in 0..D::N {
+                    let eb = dofs.eq[D::dof(h, b)];
+                    count += usize::from(eb != FIXED && eb <= ea);
+                }
+            }
+        }
+    }
+    count
+}
+
 impl<'a, D: ElementFamily> PetscSolver<'a, D> {
-    /// The solver `kind` for `problem`'s pattern with `config`'s options: the
-    /// layout of the whole matrix, the matrix preallocated exactly, the
-    /// near-null space (CG + GAMG) and the KSP set up from the defaults and then
-    /// the options.
+    /// The solver `kind` for `problem`'s pattern with `config`'s options, on
+    /// every rank: the partition, the matrix preallocated exactly with the
+    /// parts' stiffness assembled, the near-null space (CG + GAMG) and the KSP
+    /// set up from the defaults and then the options. Collective: every rank
+    /// makes it for the same problem.
     pub fn new(problem: Problem<'a, D>, kind: Kind, config: &Petsc) -> Result<Self> {
         let Problem {
             parts,
             interfaces,
             dofs,
         } = problem;
-        let graph = NodeGraph::new(parts, interfaces, dofs);
-        let lower = Stiffness::new(parts, dofs, &graph);
-        drop(graph);
+        let (rank, ranks) = crate::world()?;
         let n_dofs = dofs.eq.len();
-        let n = petsc_int(n_dofs, "DOFs")?;
-        let mut eq_dof = vec![0usize; dofs.n_eq];
+        petsc_int(n_dofs, "DOFs")?;
+        let partition = Partition::new(parts, interfaces, dofs, ranks);
+        let dof_row: Vec<PetscInt> = (0..n_dofs)
+            .map(|d| (D::N * partition.node_index[d / D::N] + d % D::N) as PetscInt)
+            .collect();
+        let mut eq_row = vec![0 as PetscInt; dofs.n_eq];
         for (d, &e) in dofs.eq.iter().enumerate() {
             if e != FIXED {
-                eq_dof[e] = d;
+                eq_row[e] = dof_row[d];
             }
         }
-        // Row counts: each lower entry in its row and its mirror's; a
-        // prescribed DOF its diagonal.
-        let nnz = lower.row_idx.len();
-        let mut count = vec![0usize; n_dofs + 1];
-        for j in 0..dofs.n_eq {
-            for &i in &lower.row_idx[lower.col_ptr[j]..lower.col_ptr[j + 1]] {
-                count[eq_dof[j] + 1] += 1;
-                if i as usize != j {
-                    count[eq_dof[i as usize] + 1] += 1;
-                }
-            }
-        }
-        for (d, &e) in dofs.eq.iter().enumerate() {
-            if e == FIXED {
-                count[d + 1] += 1;
-            }
-        }
-        let per_row: Vec<PetscInt> = count[1..]
+        let my_nodes = partition.nodes_of(rank);
+        let local_eq: Vec<usize> = my_nodes
             .iter()
-            .map(|&c| petsc_int(c, "entries in a row"))
-            .collect::<Result<_>>()?;
-        for d in 0..n_dofs {
-            count[d + 1] += count[d];
-        }
-        petsc_int(count[n_dofs], "matrix entries")?;
-        let row_ptr = count;
-        let mut next = row_ptr[..n_dofs].to_vec();
-        let mut cols = vec![0 as PetscInt; row_ptr[n_dofs]];
-        let (mut at, mut mirror) = (vec![0usize; nnz], vec![usize::MAX; nnz]);
-        let mut fixed_diagonal = Vec::with_capacity(dofs.fixed.len());
-        // Equations follow the DOFs' order: row r of the whole matrix gets the
-        // columns of the rows before it (ascending) before its own lower ones
-        // (ascending), its diagonal first among those: sorted.
-        for (d, &e) in dofs.eq.iter().enumerate() {
-            if e == FIXED {
-                fixed_diagonal.push(next[d]);
-                cols[next[d]] = d as PetscInt;
-                next[d] += 1;
-                continue;
-            }
-            let j = e;
-            for p in lower.col_ptr[j]..lower.col_ptr[j + 1] {
-                let i = lower.row_idx[p] as usize;
-                let di = eq_dof[i];
-                at[p] = next[d];
-                cols[next[d]] = di as PetscInt;
-                next[d] += 1;
-                if i != j {
-                    mirror[p] = next[di];
-                    cols[next[di]] = d as PetscInt;
-                    next[di] += 1;
-                }
-            }
-        }
+            .flat_map(|&g| (0..D::N).map(move |c| D::dof(g, c)))
+            .map(|d| dofs.eq[d])
+            .collect();
+        let my_couplings = Partition::elements_of(&partition.coupling_owner, rank);
         let mut solver = PetscSolver {
             problem,
             kind,
-            lower,
-            values: vec![0.0; row_ptr[n_dofs]],
-            row_ptr,
-            cols,
-            at,
-            mirror,
-            fixed_diagonal,
-            eq_dof,
+            rank,
+            ranks,
+            dof_row,
+            eq_row,
+            local_eq,
+            my_couplings,
             objects: Objects::null(),
             prepared: None,
             built: false,
@@ -266,44 +329,122 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
             rebuild: false,
             tolerance: config.tolerance,
             stop: None,
-            stats: Statistics {
-                matrix_nnz: nnz,
-                ..Statistics::default()
-            },
+            stats: Statistics::default(),
         };
-        solver.create(n, &per_row, config)?;
+        solver.create(&partition, &my_nodes, config)?;
         Ok(solver)
     }
 
-    /// The PETSc objects: matrix, vectors, near-null space, KSP.
-    fn create(&mut self, n: PetscInt, per_row: &[PetscInt], config: &Petsc) -> Result<()> {
+    /// This rank and the number of ranks the solver runs on.
+    pub fn ranks(&self) -> (usize, usize) {
+        (self.rank, self.ranks)
+    }
+
+    /// The PETSc objects: the matrices (pattern, then the parts' stiffness),
+    /// vectors, near-null space, KSP.
+    fn create(&mut self, partition: &Partition, my_nodes: &[usize], config: &Petsc) -> Result<()> {
+        let Problem {
+            parts,
+            interfaces,
+            dofs,
+        } = self.problem;
+        let n = petsc_int(dofs.eq.len(), "DOFs")?;
+        let n_local = petsc_int(my_nodes.len() * D::N, "DOFs of a rank")?;
+        let (first, end) = (
+            partition.node_start[self.rank],
+            partition.node_start[self.rank + 1],
+        );
+        // The pattern: each owned node's row block against its neighbours'.
+        let graph = NodeGraph::new(parts, interfaces, dofs);
+        self.stats.matrix_nnz = lower_entries(&graph, dofs);
+        let (mut d_nnz, mut o_nnz) = (Vec::new(), Vec::new());
+        for &g in my_nodes {
+            let nb = graph.neighbours(g);
+            let inside = nb
+                .iter()
+                .filter(|&&h| (first..end).contains(&partition.node_index[h]))
+                .count();
+            for _ in 0..D::N {
+                d_nnz.push(petsc_int(D::N * inside, "entries in a row")?);
+                o_nnz.push(petsc_int(D::N * (nb.len() - inside), "entries in a row")?);
+            }
+        }
         let mut s = session()?;
         let o = &mut self.objects;
         o.options = crate::options_database(&s, &config.options, config.options_file.as_ref())?;
         s.push(o.options)?;
         let bs = D::N as PetscInt;
-        call!(MatCreate(comm(), &mut o.mat))?;
-        call!(MatSetSizes(o.mat, n, n, n, n))?;
-        call!(MatSetType(o.mat, c("seqaij").as_ptr()))?;
-        call!(MatSetBlockSize(o.mat, bs))?;
-        call!(MatSeqAIJSetPreallocation(o.mat, 0, per_row.as_ptr()))?;
+        call!(MatCreate(comm(), &mut o.parts))?;
+        call!(MatSetSizes(o.parts, n_local, n_local, n, n))?;
+        call!(MatSetType(o.parts, c("aij").as_ptr()))?;
+        call!(MatSetBlockSize(o.parts, bs))?;
+        call!(MatSeqAIJSetPreallocation(o.parts, 0, d_nnz.as_ptr()))?;
+        call!(MatMPIAIJSetPreallocation(
+            o.parts,
+            0,
+            d_nnz.as_ptr(),
+            0,
+            o_nnz.as_ptr()
+        ))?;
+        drop((d_nnz, o_nnz));
+        let (mut cols, mut zeros) = (Vec::new(), Vec::new());
+        for &g in my_nodes {
+            cols.clear();
+            for &h in graph.neighbours(g) {
+                cols.extend((0..D::N).map(|c| self.dof_row[D::dof(h, c)]));
+            }
+            zeros.clear();
+            zeros.resize(D::N * cols.len(), 0.0);
+            let rows: Vec<PetscInt> = (0..D::N).map(|c| self.dof_row[D::dof(g, c)]).collect();
+            call!(MatSetValues(
+                o.parts,
+                bs,
+                rows.as_ptr(),
+                cols.len() as PetscInt,
+                cols.as_ptr(),
+                zeros.as_ptr(),
+                ffi::ADD_VALUES
+            ))?;
+        }
+        drop(graph);
+        let mine = Partition::elements_of(&partition.part_owner, self.rank);
+        let elements = PartElements::new(parts, dofs);
+        add_elements(
+            o.parts,
+            &SomeElements::new(&elements, &mine),
+            dofs,
+            &self.dof_row,
+        )?;
+        drop(mine);
+        call!(MatAssemblyBegin(o.parts, ffi::MAT_FINAL_ASSEMBLY))?;
+        call!(MatAssemblyEnd(o.parts, ffi::MAT_FINAL_ASSEMBLY))?;
+        call!(MatSetOption(
+            o.parts,
+            ffi::MAT_NEW_NONZERO_LOCATION_ERR,
+            ffi::PETSC_TRUE
+        ))?;
+        call!(MatDuplicate(o.parts, ffi::MAT_COPY_VALUES, &mut o.mat))?;
+        call!(MatSetOption(
+            o.mat,
+            ffi::MAT_NEW_NONZERO_LOCATION_ERR,
+            ffi::PETSC_TRUE
+        ))?;
         for v in [&mut o.b, &mut o.x, &mut o.work] {
-            call!(VecCreateSeq(comm(), n, v))?;
+            call!(VecCreateMPI(comm(), n_local, n, v))?;
             call!(VecSetBlockSize(*v, bs))?;
         }
+        call!(VecScatterCreateToAll(o.x, &mut o.to_all, &mut o.all))?;
         // The rigid-body modes of the node coordinates (in `work`, then zeroed
         // by its next use).
         {
-            let Problem { parts, dofs, .. } = self.problem;
+            let coords = node_coordinates(parts, dofs);
             let mut a: *mut f64 = std::ptr::null_mut();
             call!(VecGetArray(o.work, &mut a))?;
-            // SAFETY: PETSc's array of the vector's n entries.
-            let coords = unsafe { std::slice::from_raw_parts_mut(a, n as usize) };
-            for (p, part) in parts.iter().enumerate() {
-                for (i, x) in part.mesh.nodes.iter().enumerate() {
-                    let g = dofs.node_offset[p] + i;
-                    coords[D::dof(g, 0)..D::dof(g, 0) + D::N].copy_from_slice(x.as_ref());
-                }
+            // SAFETY: PETSc's array of the vector's n_local entries.
+            let local = unsafe { local_array(a, n_local as usize) };
+            for (l, &g) in my_nodes.iter().enumerate() {
+                local[l * D::N..(l + 1) * D::N]
+                    .copy_from_slice(&coords[D::dof(g, 0)..D::dof(g, 0) + D::N]);
             }
             call!(VecRestoreArray(o.work, &mut a))?;
             call!(MatNullSpaceCreateRigidBody(o.work, &mut o.near_null))?;
@@ -383,52 +524,43 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
         }
     }
 
-    /// Assembles `K(states)` into PETSc's matrix (cfe's assembly, scattered
-    /// into the whole matrix's layout, handed over row by row).
+    /// Assembles `K(states)` into PETSc's matrix: the parts' stiffness copied,
+    /// this rank's coupling elements in their states added, then the
+    /// prescribed DOFs' diagonal set to the mean of the free one (collective).
     fn assemble(&mut self, states: &[Vec<PairState>]) -> Result<()> {
         let Problem {
-            parts,
-            interfaces,
-            dofs,
+            interfaces, dofs, ..
         } = self.problem;
-        self.lower.assemble(parts, interfaces, states, dofs);
-        let lower = self.lower.take_values();
-        for (p, &v) in lower.iter().enumerate() {
-            self.values[self.at[p]] = v;
-            if self.mirror[p] != usize::MAX {
-                self.values[self.mirror[p]] = v;
-            }
-        }
-        // The prescribed DOFs' diagonal: the mean of the free one.
-        let free: f64 = (0..dofs.n_eq)
-            .map(|e| lower[self.lower.col_ptr[e]])
-            .sum::<f64>();
+        let _s = session()?;
+        let o = &self.objects;
+        call!(MatCopy(o.parts, o.mat, ffi::SAME_NONZERO_PATTERN))?;
+        let couplings = CouplingElements::new(interfaces, Some(states), dofs);
+        add_elements(
+            o.mat,
+            &SomeElements::new(&couplings, &self.my_couplings),
+            dofs,
+            &self.dof_row,
+        )?;
+        call!(MatAssemblyBegin(o.mat, ffi::MAT_FINAL_ASSEMBLY))?;
+        call!(MatAssemblyEnd(o.mat, ffi::MAT_FINAL_ASSEMBLY))?;
+        // The prescribed rows' diagonal (zero until now): the mean of the free.
+        call!(MatGetDiagonal(o.mat, o.work))?;
+        let mut free = 0.0;
+        call!(VecSum(o.work, &mut free))?;
         let mean = if dofs.n_eq > 0 {
             free / dofs.n_eq as f64
         } else {
             1.0
         };
-        drop(lower);
-        for &p in &self.fixed_diagonal {
-            self.values[p] = mean;
+        let mut a: *mut f64 = std::ptr::null_mut();
+        call!(VecGetArray(o.work, &mut a))?;
+        // SAFETY: PETSc's array of the vector's local entries.
+        let local = unsafe { local_array(a, self.local_eq.len()) };
+        for (v, &e) in local.iter_mut().zip(&self.local_eq) {
+            *v = if e == FIXED { mean } else { 0.0 };
         }
-        let _s = session()?;
-        let mat = self.objects.mat;
-        for r in 0..self.row_ptr.len() - 1 {
-            let (start, end) = (self.row_ptr[r], self.row_ptr[r + 1]);
-            let row = r as PetscInt;
-            call!(MatSetValues(
-                mat,
-                1,
-                &row,
-                (end - start) as PetscInt,
-                self.cols[start..end].as_ptr(),
-                self.values[start..end].as_ptr(),
-                ffi::INSERT_VALUES
-            ))?;
-        }
-        call!(MatAssemblyBegin(mat, ffi::MAT_FINAL_ASSEMBLY))?;
-        call!(MatAssemblyEnd(mat, ffi::MAT_FINAL_ASSEMBLY))?;
+        call!(VecRestoreArray(o.work, &mut a))?;
+        call!(MatDiagonalSet(o.mat, o.work, ffi::ADD_VALUES))?;
         Ok(())
     }
 
@@ -446,30 +578,46 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
         call!(KSPSetUp(self.objects.ksp))
     }
 
-    /// One KSP solve of `rhs` (free equations) from `guess`, into `rhs`'s
-    /// place in `x`: the iterations, PETSc's converged reason and the true
-    /// relative residual.
+    /// Sets this rank's entries of `v` from `from` (free equations; zero at
+    /// the prescribed DOFs, everywhere without `from`).
+    fn set_local(&self, v: ffi::Vec, from: Option<&[f64]>) -> Result<()> {
+        let mut a: *mut f64 = std::ptr::null_mut();
+        call!(VecGetArray(v, &mut a))?;
+        // SAFETY: PETSc's array of the vector's local entries.
+        let local = unsafe { local_array(a, self.local_eq.len()) };
+        for (v, &e) in local.iter_mut().zip(&self.local_eq) {
+            *v = match from {
+                Some(from) if e != FIXED => from[e],
+                _ => 0.0,
+            };
+        }
+        call!(VecRestoreArray(v, &mut a))
+    }
+
+    /// One KSP solve of `rhs` (free equations) from `guess`: the iterations,
+    /// PETSc's converged reason and the true relative residual (collective).
     fn ksp_solve(&mut self, rhs: &[f64], guess: Option<&[f64]>) -> Result<(usize, i32, f64)> {
         let mut s = session()?;
         s.push(self.objects.options)?;
         let o = &self.objects;
-        let n = self.row_ptr.len() - 1;
-        let scatter = |v: ffi::Vec, from: Option<&[f64]>| -> Result<()> {
-            let mut a: *mut f64 = std::ptr::null_mut();
-            call!(VecGetArray(v, &mut a))?;
-            // SAFETY: PETSc's array of the vector's n entries.
-            let all = unsafe { std::slice::from_raw_parts_mut(a, n) };
-            all.fill(0.0);
-            if let Some(from) = from {
-                for (e, &d) in self.eq_dof.iter().enumerate() {
-                    all[d] = from[e];
-                }
+        self.set_local(o.b, Some(rhs))?;
+        let mut warm = guess.is_some() && self.kind == Kind::CgGamg;
+        self.set_local(o.x, guess.filter(|_| warm))?;
+        if warm {
+            // A guess farther from the solution than zero (a pair closed
+            // across a gap: the penalty times the gap) starts from zero
+            // instead: CG would have to undo it, and PETSc's divergence test
+            // (‖r‖ > 1e5 ‖b‖) can stop it before its first iteration.
+            call!(MatMult(o.mat, o.x, o.work))?;
+            call!(VecAYPX(o.work, -1.0, o.b))?;
+            let (mut r0, mut b) = (0.0, 0.0);
+            call!(VecNorm(o.work, ffi::NORM_2, &mut r0))?;
+            call!(VecNorm(o.b, ffi::NORM_2, &mut b))?;
+            if r0 > b {
+                warm = false;
+                self.set_local(o.x, None)?;
             }
-            call!(VecRestoreArray(v, &mut a))
-        };
-        scatter(o.b, Some(rhs))?;
-        let warm = guess.is_some() && self.kind == Kind::CgGamg;
-        scatter(o.x, guess.filter(|_| warm))?;
+        }
         let nonzero = if warm {
             ffi::PETSC_TRUE
         } else {
@@ -482,56 +630,54 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
         call!(KSPGetConvergedReason(o.ksp, &mut reason))?;
         // The true residual b − K x.
         call!(MatMult(o.mat, o.x, o.work))?;
-        let (mut kx, mut b): (*const f64, *const f64) = (std::ptr::null(), std::ptr::null());
-        call!(VecGetArrayRead(o.work, &mut kx))?;
-        call!(VecGetArrayRead(o.b, &mut b))?;
-        // SAFETY: PETSc's arrays of the vectors' n entries, read only.
-        let (kx_s, b_s) = unsafe {
-            (
-                std::slice::from_raw_parts(kx, n),
-                std::slice::from_raw_parts(b, n),
-            )
-        };
-        let (mut r2, mut b2) = (0.0, 0.0);
-        for (k, b) in kx_s.iter().zip(b_s) {
-            r2 += (b - k) * (b - k);
-            b2 += b * b;
-        }
-        call!(VecRestoreArrayRead(o.work, &mut kx))?;
-        call!(VecRestoreArrayRead(o.b, &mut b))?;
-        let relative = if b2 > 0.0 {
-            (r2 / b2).sqrt()
-        } else {
-            r2.sqrt()
-        };
+        call!(VecAYPX(o.work, -1.0, o.b))?;
+        let (mut r, mut b) = (0.0, 0.0);
+        call!(VecNorm(o.work, ffi::NORM_2, &mut r))?;
+        call!(VecNorm(o.b, ffi::NORM_2, &mut b))?;
+        let relative = if b > 0.0 { r / b } else { r };
         Ok((its.max(0) as usize, reason, relative))
     }
 
-    /// The solution in `x` at the free equations, into `out`.
+    /// The solution in `x` at the free equations, into `out`, on every rank
+    /// (collective: the whole vector gathered on each).
     fn gather(&self, out: &mut [f64]) -> Result<()> {
         let _s = session()?;
-        let n = self.row_ptr.len() - 1;
+        let o = &self.objects;
+        call!(VecScatterBegin(
+            o.to_all,
+            o.x,
+            o.all,
+            ffi::INSERT_VALUES,
+            ffi::SCATTER_FORWARD
+        ))?;
+        call!(VecScatterEnd(
+            o.to_all,
+            o.x,
+            o.all,
+            ffi::INSERT_VALUES,
+            ffi::SCATTER_FORWARD
+        ))?;
         let mut a: *const f64 = std::ptr::null();
-        call!(VecGetArrayRead(self.objects.x, &mut a))?;
-        // SAFETY: PETSc's array of the vector's n entries, read only.
-        let all = unsafe { std::slice::from_raw_parts(a, n) };
-        for (e, &d) in self.eq_dof.iter().enumerate() {
-            out[e] = all[d];
+        call!(VecGetArrayRead(o.all, &mut a))?;
+        // SAFETY: PETSc's array of the sequential vector's n entries, read only.
+        let all = unsafe { std::slice::from_raw_parts(a, self.dof_row.len()) };
+        for (e, &r) in self.eq_row.iter().enumerate() {
+            out[e] = all[r as usize];
         }
-        call!(VecRestoreArrayRead(self.objects.x, &mut a))
+        call!(VecRestoreArrayRead(o.all, &mut a))
     }
 
     /// For each vector of the near-null space GAMG is given (the rigid-body
     /// modes: 3 in 2D, 6 in 3D), `‖K r‖ / (‖K‖_F ‖r‖)` with `K = K(states)`
     /// assembled: zero to round-off when the modes are exact rigid motions of
-    /// the model (no DOF prescribed).
+    /// the model (no DOF prescribed). Collective.
     pub fn rigid_mode_residuals(&mut self, states: &[Vec<PairState>]) -> Result<Vec<f64>> {
         self.assemble(states)?;
         self.prepared = None;
-        let norm_k = self.values.iter().map(|v| v * v).sum::<f64>().sqrt();
         let _s = session()?;
         let o = &self.objects;
-        let n = self.row_ptr.len() - 1;
+        let mut norm_k = 0.0;
+        call!(MatNorm(o.mat, ffi::NORM_FROBENIUS, &mut norm_k))?;
         let (mut has_const, mut count, mut vecs) = (0, 0, std::ptr::null());
         call!(MatNullSpaceGetVecs(
             o.near_null,
@@ -544,16 +690,10 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
         let mut out = Vec::with_capacity(vecs.len());
         for &r in vecs {
             call!(MatMult(o.mat, r, o.work))?;
-            let norm = |v: ffi::Vec| -> Result<f64> {
-                let mut a: *const f64 = std::ptr::null();
-                call!(VecGetArrayRead(v, &mut a))?;
-                // SAFETY: as above, n entries, read only.
-                let s = unsafe { std::slice::from_raw_parts(a, n) };
-                let norm = s.iter().map(|x| x * x).sum::<f64>().sqrt();
-                call!(VecRestoreArrayRead(v, &mut a))?;
-                Ok(norm)
-            };
-            out.push(norm(o.work)? / (norm_k * norm(r)?));
+            let (mut kr, mut nr) = (0.0, 0.0);
+            call!(VecNorm(o.work, ffi::NORM_2, &mut kr))?;
+            call!(VecNorm(r, ffi::NORM_2, &mut nr))?;
+            out.push(kr / (norm_k * nr));
         }
         Ok(out)
     }
@@ -617,7 +757,7 @@ impl<'a, D: ElementFamily> LinearSolver<'a> for PetscSolver<'a, D> {
     ) -> std::result::Result<Outcome, LinearFailure> {
         assert_eq!(
             rhs.len(),
-            self.eq_dof.len(),
+            self.eq_row.len(),
             "right-hand side of another size"
         );
         let mut method = self.prepare(states)?;

@@ -33,11 +33,26 @@ pub type KSP = *mut c_void;
 pub type PC = *mut c_void;
 pub type MatNullSpace = *mut c_void;
 pub type PetscOptions = *mut c_void;
+pub type VecScatter = *mut c_void;
+/// `PetscMPIInt`.
+pub type PetscMPIInt = c_int;
 
 /// `InsertMode`.
 pub const INSERT_VALUES: c_int = 1;
+pub const ADD_VALUES: c_int = 2;
 /// `MatAssemblyType`.
 pub const MAT_FINAL_ASSEMBLY: c_int = 0;
+/// `MatOption`: a new nonzero location is an error.
+pub const MAT_NEW_NONZERO_LOCATION_ERR: c_int = 11;
+/// `MatStructure`.
+pub const SAME_NONZERO_PATTERN: c_int = 2;
+/// `MatDuplicateOption`.
+pub const MAT_COPY_VALUES: c_int = 1;
+/// `NormType`.
+pub const NORM_2: c_int = 1;
+pub const NORM_FROBENIUS: c_int = 2;
+/// `ScatterMode`.
+pub const SCATTER_FORWARD: c_int = 0;
 /// `KSPNormType`.
 pub const KSP_NORM_UNPRECONDITIONED: c_int = 2;
 /// `KSPConvergedReason` values this crate tells apart.
@@ -61,6 +76,10 @@ pub type PetscErrorHandler = unsafe extern "C" fn(
 unsafe extern "C" {
     /// The communicator of all ranks PETSc runs on (one in a serial run).
     pub static PETSC_COMM_WORLD: MPI_Comm;
+    /// This process's rank in `MPI_COMM_WORLD`, set by `PetscInitialize`.
+    pub static PetscGlobalRank: PetscMPIInt;
+    /// The number of ranks of `MPI_COMM_WORLD`, set by `PetscInitialize`.
+    pub static PetscGlobalSize: PetscMPIInt;
 
     pub fn PetscInitialize(
         argc: *mut c_int,
@@ -110,6 +129,20 @@ unsafe extern "C" {
     pub fn MatSetType(a: Mat, kind: *const c_char) -> PetscErrorCode;
     pub fn MatSetBlockSize(a: Mat, bs: PetscInt) -> PetscErrorCode;
     pub fn MatSeqAIJSetPreallocation(a: Mat, nz: PetscInt, nnz: *const PetscInt) -> PetscErrorCode;
+    pub fn MatMPIAIJSetPreallocation(
+        a: Mat,
+        d_nz: PetscInt,
+        d_nnz: *const PetscInt,
+        o_nz: PetscInt,
+        o_nnz: *const PetscInt,
+    ) -> PetscErrorCode;
+    pub fn MatSetOption(a: Mat, op: c_int, flg: PetscBool) -> PetscErrorCode;
+    pub fn MatDuplicate(a: Mat, op: c_int, m: *mut Mat) -> PetscErrorCode;
+    pub fn MatCopy(a: Mat, b: Mat, s: c_int) -> PetscErrorCode;
+    pub fn MatGetDiagonal(a: Mat, v: Vec) -> PetscErrorCode;
+    pub fn MatDiagonalSet(a: Mat, d: Vec, mode: c_int) -> PetscErrorCode;
+    pub fn MatNorm(a: Mat, kind: c_int, nrm: *mut PetscReal) -> PetscErrorCode;
+    pub fn MatGetOwnershipRange(a: Mat, m: *mut PetscInt, n: *mut PetscInt) -> PetscErrorCode;
     pub fn MatSetValues(
         a: Mat,
         m: PetscInt,
@@ -135,6 +168,33 @@ unsafe extern "C" {
     pub fn MatNullSpaceDestroy(sp: *mut MatNullSpace) -> PetscErrorCode;
 
     pub fn VecCreateSeq(comm: MPI_Comm, n: PetscInt, v: *mut Vec) -> PetscErrorCode;
+    pub fn VecCreateMPI(
+        comm: MPI_Comm,
+        n: PetscInt,
+        big_n: PetscInt,
+        v: *mut Vec,
+    ) -> PetscErrorCode;
+    pub fn VecGetLocalSize(v: Vec, n: *mut PetscInt) -> PetscErrorCode;
+    pub fn VecSum(v: Vec, sum: *mut PetscScalar) -> PetscErrorCode;
+    pub fn VecNorm(v: Vec, kind: c_int, val: *mut PetscReal) -> PetscErrorCode;
+    /// `y = x + beta y`.
+    pub fn VecAYPX(y: Vec, beta: PetscScalar, x: Vec) -> PetscErrorCode;
+    pub fn VecScatterCreateToAll(v: Vec, ctx: *mut VecScatter, all: *mut Vec) -> PetscErrorCode;
+    pub fn VecScatterBegin(
+        ctx: VecScatter,
+        x: Vec,
+        y: Vec,
+        addv: c_int,
+        mode: c_int,
+    ) -> PetscErrorCode;
+    pub fn VecScatterEnd(
+        ctx: VecScatter,
+        x: Vec,
+        y: Vec,
+        addv: c_int,
+        mode: c_int,
+    ) -> PetscErrorCode;
+    pub fn VecScatterDestroy(ctx: *mut VecScatter) -> PetscErrorCode;
     pub fn VecSetBlockSize(v: Vec, bs: PetscInt) -> PetscErrorCode;
     pub fn VecGetArray(v: Vec, a: *mut *mut PetscScalar) -> PetscErrorCode;
     pub fn VecRestoreArray(v: Vec, a: *mut *mut PetscScalar) -> PetscErrorCode;

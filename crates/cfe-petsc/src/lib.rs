@@ -1,8 +1,9 @@
-//! PETSc as a linear-solver back end of cfe (issue 42, the serial step).
+//! PETSc as a linear-solver back end of cfe (issue 42), on one rank or
+//! distributed over the ranks of `mpirun`.
 //!
 //! The library `cfe` solves every pattern of pair states through its seam
 //! (`cfe::solve::backend`: [`Analyse`](cfe::solve::backend::Analyse) and
-//! [`LinearSolver`](cfe::solve::backend::LinearSolver)); this crate answers it
+//! [`LinearSolver`]); this crate answers it
 //! with the system PETSc, found by pkg-config at build time and called through
 //! declarations of its own ([`ffi`]):
 //!
@@ -12,6 +13,12 @@
 //!   (`MatNullSpaceCreateRigidBody`, 3 modes in 2D, 6 in 3D);
 //! - `petsc-mumps`: MUMPS's sparse Cholesky through PETSc (KSPPREONLY +
 //!   PCCHOLESKY).
+//!
+//! Under `mpirun -n N` every rank builds the same analysis and runs the same
+//! contact scheme (the model, its mesh and the pair states are replicated);
+//! the matrix, the preconditioner and the solve are distributed (see
+//! [`backend`] and [`partition`]). The caller writes output on rank 0 only
+//! ([`world`]).
 //!
 //! `cfe` does not know this crate: [`Petsc`] is handed to an analysis
 //! (`Analysis::set_back_end`) by the command line built with `--features
@@ -37,6 +44,7 @@ macro_rules! call {
 
 pub mod backend;
 pub mod ffi;
+pub mod partition;
 
 pub use backend::{DEFAULT_TOLERANCE, Kind, PetscSolver};
 
@@ -215,7 +223,17 @@ pub fn finalize() -> Result<()> {
     Ok(())
 }
 
-/// The communicator serial objects are made on (`PETSC_COMM_WORLD`: one rank).
+/// This process's rank and the number of ranks (`MPI_COMM_WORLD`: 1 without
+/// `mpirun`), initializing PETSc (and MPI) if not done yet.
+pub fn world() -> Result<(usize, usize)> {
+    let _s = session()?;
+    // SAFETY: globals PETSc sets at initialization, read under the lock.
+    let (rank, size) = unsafe { (ffi::PetscGlobalRank, ffi::PetscGlobalSize) };
+    Ok((rank.max(0) as usize, size.max(1) as usize))
+}
+
+/// The communicator PETSc's objects are made on (`PETSC_COMM_WORLD`: every
+/// rank `mpirun` started, one without it).
 fn comm() -> ffi::MPI_Comm {
     // SAFETY: a global PETSc sets at initialization, read under the lock.
     unsafe { ffi::PETSC_COMM_WORLD }
