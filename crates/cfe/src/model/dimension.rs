@@ -135,8 +135,8 @@ fn item_name(t: &DeTable) -> Option<String> {
 /// that belong to the other dimension: in a solid model (`solid`) `plane`,
 /// `[[line]]`, a part's `thickness`, `rectangle` and `annulus`, a Gmsh part's
 /// `surfaces` (its physical volumes are `volumes`) and `coupling = "segment"`;
-/// in a plane model a part's `box`, a Gmsh part's `volumes` and a load's
-/// `traction`. Text that does not parse is left to the schema's reader.
+/// in a plane model a part's `box`, a Gmsh part's `volumes`, a load's
+/// `traction` and `[output] view` and `component`. Text that does not parse is left to the schema's reader.
 pub(super) fn refuse_other_keys(text: &str, path: &Path, solid: bool) -> Result<()> {
     let Ok(root) = DeTable::parse(text) else {
         return Ok(());
@@ -246,6 +246,17 @@ pub(super) fn refuse_other_keys(text: &str, path: &Path, solid: bool) -> Result<
                     v.span(),
                     "selects a solid part's physical volumes, and this model is plane: a plane part is made of physical surfaces, `surfaces = [..]`",
                 ));
+            }
+        }
+        if let Some(DeValue::Table(o)) = root.get("output").map(|o| o.get_ref()) {
+            for k in ["view", "component"] {
+                if let Some(v) = o.get(k) {
+                    return Err(refuse(
+                        format!("output.{k}"),
+                        v.span(),
+                        "sets what a solid model's deformed.png shows; a plane model's pictures are fixed (deformed.png coloured by von Mises in the x–y plane): remove it",
+                    ));
+                }
             }
         }
         for (key, t) in items("load") {
