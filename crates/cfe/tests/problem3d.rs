@@ -943,3 +943,19 @@ fn load_steps_in_a_solid_model() {
     let fz = s.reactions[3].fz.unwrap();
     assert!((fz - 2.0 * f).abs() < 1e-9 * f, "{fz}");
 }
+
+/// A penalty beyond 1e16 × the softer part's stiffness scale in a solid model
+/// is `Error::PenaltyPrecision` whose message names that scale E·h (h the
+/// face size), not a plane model's E·t.
+#[test]
+fn solid_penalty_messages_name_e_times_h() {
+    match solid(&punch_toml("hex8", Some(1e30))) {
+        Err(Error::PenaltyPrecision { message, .. }) => {
+            assert!(
+                message.contains("× E·h of part") && !message.contains("E·t"),
+                "{message}"
+            )
+        }
+        other => panic!("{other:?}"),
+    }
+}

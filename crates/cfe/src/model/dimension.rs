@@ -7,7 +7,7 @@
 
 use super::schema::line_of;
 use crate::error::{Error, Result};
-use crate::mesh::gmsh::GmshFile;
+use crate::mesh::gmsh::{GmshFile, peek_dimension};
 use crate::mesh::input_file::{self, MESH_FILE_CAP};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -110,14 +110,21 @@ pub fn of_text(text: &str, path: &Path) -> Result<ProblemDimension> {
 }
 
 /// The dimension of the Gmsh file at `path` (`None` when it cannot be read or
-/// parsed: the reader of the model reports why).
+/// parsed: the reader of the model reports why). An ASCII file's is peeked
+/// from its element types ([`peek_dimension`]: its nodes are not read, so
+/// the model's reader parses the file once); a binary file, or one the peek
+/// does not follow, is parsed.
 fn gmsh_dimension(path: &Path) -> Option<ProblemDimension> {
     let data = input_file::read(path, "Gmsh file", MESH_FILE_CAP, |e| Error::ReadInput {
         path: path.to_path_buf(),
         source: e,
     })
     .ok()?;
-    Some(match GmshFile::parse(&data, path).ok()?.dimension() {
+    let dimension = match peek_dimension(&data) {
+        Some(d) => d,
+        None => GmshFile::parse(&data, path).ok()?.dimension(),
+    };
+    Some(match dimension {
         3 => ProblemDimension::Solid,
         _ => ProblemDimension::Plane,
     })
