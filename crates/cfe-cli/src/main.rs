@@ -634,6 +634,18 @@ fn print_summary(out: &Path, summary: &cfe::analysis::Summary) {
                 num(i.contact_length)
             );
         }
+        // A solid model's contact area: the closed pairs' tributary areas.
+        if let Some(area) = i.contact_area
+            && i.law != cfe::Law::Rigid
+        {
+            println!(
+                "  interface '{}': contact area {} ({} of {} pairs closed)",
+                i.name,
+                num(area),
+                i.pairs - i.open,
+                i.pairs
+            );
+        }
         if i.enforcement == cfe::Enforcement::Augmented {
             println!(
                 "  interface '{}': augmented Lagrangian, {} Uzawa/fixed-point solves, final penetration {}",

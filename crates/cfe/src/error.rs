@@ -136,13 +136,15 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
-    /// Coupling nodes that lie on no host boundary edge within the tolerance.
+    /// Coupling nodes that lie on no host boundary edge (plane) or face (solid)
+    /// within the tolerance.
     #[error("interface '{interface}': {message}")]
     OrphanNodes {
         /// The interface.
         interface: String,
-        /// The coupling nodes (index in the node part) and their positions.
-        nodes: Vec<(usize, [f64; 2])>,
+        /// The coupling nodes (index in the node part) and their positions:
+        /// (x, y) in a plane model, (x, y, z) in a solid one.
+        nodes: Vec<(usize, Vec<f64>)>,
         /// The message listing them with their nearest host edges.
         message: String,
     },

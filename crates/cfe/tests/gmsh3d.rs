@@ -578,3 +578,41 @@ gmsh = { file = "cubes_41.msh" }
         other => panic!("{:?}", other.err()),
     }
 }
+
+/// The dimension peeked from an ASCII file's element types
+/// (`peek_dimension`, nodes not read) is the parsed file's, on every Gmsh
+/// file of the tests and examples (2D and 3D, MSH 2.2 and 4.1); a binary file
+/// is not peeked (`None`: it is parsed).
+#[test]
+fn the_peeked_dimension_is_the_parsed_one() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root.join("tests/data/gmsh"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "msh"))
+        .collect();
+    for f in [
+        "examples/hertz/hertz.msh",
+        "examples/roller_in_cradle/cradle.msh",
+    ] {
+        files.push(root.join(f));
+    }
+    let (mut peeked, mut solid) = (0, 0);
+    for path in &files {
+        let data = std::fs::read(path).unwrap();
+        let Ok(parsed) = GmshFile::parse(&data, path) else {
+            continue;
+        };
+        let binary = path.to_string_lossy().contains("_bin");
+        match cfe::mesh::gmsh::peek_dimension(&data) {
+            Some(d) => {
+                assert!(!binary, "{}", path.display());
+                assert_eq!(d, parsed.dimension(), "{}", path.display());
+                peeked += 1;
+                solid += usize::from(d == 3);
+            }
+            None => assert!(binary, "{} not peeked", path.display()),
+        }
+    }
+    assert!(peeked >= 8 && solid >= 2, "{peeked} peeked, {solid} solid");
+}

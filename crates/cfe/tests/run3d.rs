@@ -465,3 +465,38 @@ fn a_solid_run_leaves_the_users_files_alone() {
     assert!(!theirs.join("summary.json").exists());
     std::fs::remove_dir_all(&theirs).unwrap();
 }
+
+/// A solid run's summary gives each interface's contact area, the sum of its
+/// closed pairs' tributary areas: with every pair of the punch's bottom
+/// closed it is that face's area, 1 × 2, to round-off (summary.json too).
+#[test]
+fn a_solid_run_reports_its_contact_area() {
+    let out = scratch("area");
+    let summary = punch_on_base(1).run(&out, &mut |_| {}).unwrap();
+    let i = &summary.interfaces[0];
+    assert_eq!(i.open, 0);
+    let area = i.contact_area.expect("a solid interface's contact area");
+    assert!((area - 2.0).abs() < 1e-13, "{area}");
+    let json = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(json.contains("\"contact_area\""), "{json}");
+}
+
+/// `deformed.png` follows the model's picture (`[output] view` and
+/// `component`): seen from +z and coloured by u_z it is a picture of the
+/// usual size whose pixels differ from the default's (isometric, von Mises).
+#[test]
+fn a_solid_run_draws_the_chosen_view_and_component() {
+    use cfe::model::{Picture, PictureField, ViewPoint};
+    let default = scratch("view_default");
+    punch_on_base(1).run(&default, &mut |_| {}).unwrap();
+    let chosen = scratch("view_chosen");
+    let mut a = punch_on_base(1);
+    a.model.picture = Picture {
+        view: ViewPoint::Axis(2, true),
+        field: PictureField::Displacement(2),
+    };
+    a.run(&chosen, &mut |_| {}).unwrap();
+    let (d, c) = (default.join("deformed.png"), chosen.join("deformed.png"));
+    assert_eq!(png_size(&c).0, PICTURE_WIDTH);
+    assert_ne!(std::fs::read(&d).unwrap(), std::fs::read(&c).unwrap());
+}

@@ -222,17 +222,30 @@ fn solid_interfaces(
             def.search_distance,
         )?;
         if elements.is_empty() && !def.nodes.is_empty() && def.search_distance > 0.0 {
+            // Measured on this failure only: the nearest node–face distance.
+            let nearest = search3d::nearest_face_distance(
+                Surface {
+                    nodes: &host.mesh.nodes,
+                    faces: &host_faces,
+                },
+                Surface {
+                    nodes: &node_part.mesh.nodes,
+                    faces: &node_faces,
+                },
+                &def.nodes,
+            );
             return Err(Error::NoPairs {
                 interface: def.name.clone(),
                 search_distance: def.search_distance,
-                nearest: None,
+                nearest,
                 message: format!(
-                    "no pair within search_distance = {}: none of the {} coupling nodes of part '{}' (boundary '{}') lies within it of a boundary face of part '{}' facing it; the pairs are fixed in the initial configuration, so the interface would couple nothing: raise `search_distance` or place the faces closer",
+                    "no pair within search_distance = {}: none of the {} coupling nodes of part '{}' (boundary '{}') lies within it of a boundary face of part '{}' facing it{}; the pairs are fixed in the initial configuration, so the interface would couple nothing: raise `search_distance` or place the faces closer",
                     def.search_distance,
                     def.nodes.len(),
                     node_part.name,
                     def.boundary,
                     host.name,
+                    nearest.map_or(String::new(), |d| format!(" (the nearest is {d:e} away)")),
                 ),
             });
         }

@@ -306,7 +306,7 @@ fn orphan_error(interface: &str, orphans: &[Orphan], tolerance: f64) -> Error {
         }));
     Error::OrphanNodes {
         interface: interface.to_string(),
-        nodes: orphans.iter().map(|(n, p, _)| (*n, *p)).collect(),
+        nodes: orphans.iter().map(|(n, p, _)| (*n, p.to_vec())).collect(),
         message: format!(
             "{} coupling node(s) lie on no host boundary edge within the tolerance {} × edge length: {} — check that the interface's boundary faces the host, or raise `tolerance` if the faces are meshed apart (curved faces: about (edge length)² / (8 × radius))",
             orphans.len(),

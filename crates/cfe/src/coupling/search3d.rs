@@ -172,9 +172,9 @@ fn node_side(surface: &Surface, nodes: &[usize]) -> (HashMap<usize, [f64; 3]>, H
 /// share of the faces of `node_part` whose corners all couple) and its host
 /// face's size (`edge_length`).
 ///
-/// Errors ([`Error::Coupling`]): without a search distance, the nodes farther than
-/// the tolerance from every host face, listed with their coordinates and nearest
-/// face.
+/// Errors ([`Error::OrphanNodes`]): without a search distance, the nodes farther
+/// than the tolerance from every host face, listed with their (x, y, z) and
+/// nearest face.
 ///
 /// ```
 /// use cfe::coupling::face::{BoundaryFace, FaceNodes};
@@ -289,6 +289,25 @@ pub fn find_pairs_3d(
     Ok((pairs, unpaired))
 }
 
+/// The distance from the nearest of the coupling nodes `nodes` of `node_part`
+/// to the nearest boundary face of `host` (an R-tree nearest-neighbour query
+/// per node: O(n log m)), for the message of an interface that found no pair;
+/// `None` without nodes or faces.
+pub fn nearest_face_distance(host: Surface, node_part: Surface, nodes: &[usize]) -> Option<f64> {
+    if host.faces.is_empty() {
+        return None;
+    }
+    let (tree, _) = face_tree(&host);
+    nodes
+        .iter()
+        .filter_map(|&n| {
+            let p = node_part.nodes[n];
+            tree.nearest_neighbor(p)
+                .map(|o| closest_point(o.corners(), p).distance)
+        })
+        .reduce(f64::min)
+}
+
 /// The normal of a pair on face `best.face` at its closest point: the face's own
 /// inside it; on an edge or at a vertex, the normalised mean over the host faces
 /// sharing that edge or vertex (those that `faces_node` accepts) of their normals
@@ -351,8 +370,9 @@ fn orphan_error(interface: &str, orphans: &[Orphan], tolerance: f64) -> Error {
         ),
         None => format!("node {n} at ({}, {}, {})", p[0], p[1], p[2]),
     }));
-    Error::Coupling {
+    Error::OrphanNodes {
         interface: interface.to_string(),
+        nodes: orphans.iter().map(|(n, p, _)| (*n, p.to_vec())).collect(),
         message: format!(
             "{} coupling node(s) lie on no host boundary face within the tolerance {} × face size: {} — check that the interface's boundary faces the host, or raise `tolerance` if the faces are meshed apart (curved faces: about (face size)² / (8 × radius))",
             orphans.len(),
@@ -475,7 +495,20 @@ mod tests {
         // A tolerance below the sagitta's share of the face loses the nodes
         // farthest from the chords: the typed error lists them.
         let e = find_pairs_3d("cyl", host, node_part, &all, 0.001, 0.0).unwrap_err();
-        assert!(matches!(&e, Error::Coupling { interface, .. } if interface == "cyl"), "{e}");
+        let Error::OrphanNodes {
+            interface,
+            nodes: orphans,
+            ..
+        } = &e
+        else {
+            panic!("unexpected error {e:?}");
+        };
+        assert_eq!(interface, "cyl");
+        // Each orphan is named with its three coordinates, as given.
+        assert!(!orphans.is_empty());
+        for (n, x) in orphans {
+            assert_eq!(x.as_slice(), &node_part.nodes[*n][..]);
+        }
         assert!(e.to_string().contains("nearest host face"), "{e}");
     }
 
@@ -515,7 +548,7 @@ mod tests {
                     assert_eq!(t.at.distance, c.distance);
                     found += 1;
                 }
-                (None, Err(Error::Coupling { .. })) => {}
+                (None, Err(Error::OrphanNodes { .. })) => {}
                 (t, g) => panic!("node {n}: brute force {t:?}, tree {g:?}"),
             }
         }

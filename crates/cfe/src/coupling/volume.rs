@@ -98,8 +98,8 @@ fn size<D: MeshDim>(mesh: &Mesh<D>, cell: &D::Cell) -> f64 {
 }
 
 /// The R-tree of the host's elements: each one's bounding box, padded by
-/// [`INSIDE_TOLERANCE`] × its size, carrying its index.
-fn element_tree<D: MeshDim>(host: &Mesh<D>) -> RTree<GeomWithData<Rectangle<[f64; 3]>, usize>> {
+/// [`INSIDE_TOLERANCE`] × its size, carrying its index ([`locate`]'s tree).
+pub fn element_tree<D: MeshDim>(host: &Mesh<D>) -> RTree<GeomWithData<Rectangle<[f64; 3]>, usize>> {
     let boxes = host.elements.iter().enumerate().map(|(e, cell)| {
         let pad = INSIDE_TOLERANCE * size(host, cell);
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);

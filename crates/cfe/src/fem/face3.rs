@@ -155,6 +155,122 @@ pub fn quad_pressure_forces(x: &[[f64; 3]; 4], p: f64) -> [[f64; 3]; 4] {
     f
 }
 
+/// The part of the plane convex polygon `poly` inside the box `[lo, hi]`
+/// along the axes `clip` says (Sutherland–Hodgman: the polygon cut by each
+/// plane `x_a = lo_a` and `x_a = hi_a` in turn, its vertices where the edges
+/// cross the planes found by linear interpolation). Empty when nothing is
+/// inside; the vertices keep the polygon's orientation.
+pub fn clip_to_box(
+    poly: &[[f64; 3]],
+    lo: [f64; 3],
+    hi: [f64; 3],
+    clip: [bool; 3],
+) -> Vec<[f64; 3]> {
+    let mut out: Vec<[f64; 3]> = poly.to_vec();
+    for a in (0..3).filter(|&a| clip[a]) {
+        // Keep s·x_a ≥ s·bound: the side of the box.
+        for (bound, s) in [(lo[a], 1.0), (hi[a], -1.0)] {
+            if out.is_empty() {
+                return out;
+            }
+            let input = std::mem::take(&mut out);
+            let d = |p: &[f64; 3]| s * (p[a] - bound);
+            for (k, p) in input.iter().enumerate() {
+                let q = input[(k + 1) % input.len()];
+                let (dp, dq) = (d(p), d(&q));
+                if dp >= 0.0 {
+                    out.push(*p);
+                }
+                if (dp >= 0.0) != (dq >= 0.0) {
+                    let t = dp / (dp - dq);
+                    let mut x: [f64; 3] = std::array::from_fn(|c| p[c] + t * (q[c] - p[c]));
+                    // On the plane exactly, not to round-off.
+                    x[a] = bound;
+                    out.push(x);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The shape values of the plane face `x` (3 corners: linear, barycentric; 4:
+/// bilinear, at the natural coordinates of the inverse map in the face's
+/// plane, [`q4::natural_coordinates`]) at its point `p`; `None` for a
+/// degenerate face or an inverse map that fails.
+pub fn face_shape_at(x: &[[f64; 3]], p: [f64; 3]) -> Option<Vec<f64>> {
+    match x {
+        [a, b, c] => {
+            let n = cross(sub(*b, *a), sub(*c, *a));
+            let nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+            if nn.is_nan() || nn <= 0.0 {
+                return None;
+            }
+            let dot = |u: [f64; 3]| (u[0] * n[0] + u[1] * n[1] + u[2] * n[2]) / nn;
+            let l0 = dot(cross(sub(*b, p), sub(*c, p)));
+            let l1 = dot(cross(sub(*c, p), sub(*a, p)));
+            Some(vec![l0, l1, 1.0 - l0 - l1])
+        }
+        [_, _, _, _] => {
+            // The face's plane: its mean normal and two axes in it.
+            let n = unit(cross(sub(x[2], x[0]), sub(x[3], x[1])))?;
+            let e1 = unit(sub(x[1], x[0]))?;
+            let e2 = cross(n, e1);
+            let local = |q: [f64; 3]| {
+                let d = sub(q, x[0]);
+                let dot = |e: [f64; 3]| d[0] * e[0] + d[1] * e[1] + d[2] * e[2];
+                [dot(e1), dot(e2)]
+            };
+            let x2 = [local(x[0]), local(x[1]), local(x[2]), local(x[3])];
+            q4::natural_coordinates(&x2, local(p)).map(|xi| q4::shape(xi).to_vec())
+        }
+        _ => None,
+    }
+}
+
+/// The 3-point rule of a triangle exact for quadratics: barycentric points
+/// (2/3, 1/6, 1/6) and their permutations, each of weight 1/3 of the area.
+const TRIANGLE_RULE: [[f64; 3]; 3] = [
+    [2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0],
+    [1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0],
+    [1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0],
+];
+
+/// `∫ N_i dA` over the part of the plane face `x` (3 or 4 corners) inside the
+/// box `[lo, hi]` along the axes `clip` ([`clip_to_box`]), and that part's
+/// area: the clipped polygon split into a fan of triangles from its first
+/// vertex, each integrated by [`TRIANGLE_RULE`] with the face's shape values
+/// at the rule's points ([`face_shape_at`]). Exact for a triangle (N linear)
+/// and a parallelogram (N quadratic in x); on any plane face `Σ_i ∫ N_i dA`
+/// is the clipped area and `Σ_i x_i ∫ N_i dA` its first moment exactly
+/// (the shape values sum to 1 and reproduce x). `None` for a degenerate face.
+pub fn clipped_shape_integrals(
+    x: &[[f64; 3]],
+    lo: [f64; 3],
+    hi: [f64; 3],
+    clip: [bool; 3],
+) -> Option<(Vec<f64>, f64)> {
+    let poly = clip_to_box(x, lo, hi, clip);
+    let mut w = vec![0.0; x.len()];
+    let mut area = 0.0;
+    for k in 1..poly.len().saturating_sub(1) {
+        let t = [poly[0], poly[k], poly[k + 1]];
+        let a = triangle_area(&t);
+        if a == 0.0 {
+            continue;
+        }
+        area += a;
+        for l in TRIANGLE_RULE {
+            let p: [f64; 3] = std::array::from_fn(|c| (0..3).map(|j| l[j] * t[j][c]).sum());
+            let n = face_shape_at(x, p)?;
+            for (wi, ni) in w.iter_mut().zip(n) {
+                *wi += ni * a / 3.0;
+            }
+        }
+    }
+    Some((w, area))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -178,6 +294,51 @@ mod tests {
 
     fn close(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
         (0..3).all(|c| (a[c] - b[c]).abs() <= tol)
+    }
+
+    /// A triangle (0,0)–(2,0)–(0,2) cut to the unit square: the clipped area
+    /// is 1 and `∫ N_i dA` over it is the closed form (N₀ = 1 − x/2 − y/2:
+    /// 1/2; N₁ = x/2, N₂ = y/2: 1/4 each), in any plane orientation of the
+    /// box's unused axis.
+    #[test]
+    fn a_clipped_triangle_integrates_its_shape_functions_exactly() {
+        let x = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]];
+        let (w, area) =
+            clipped_shape_integrals(&x, [0.0, 0.0, -1.0], [1.0, 1.0, 1.0], [true, true, false])
+                .unwrap();
+        assert!((area - 1.0).abs() < 1e-15, "{area}");
+        for (wi, want) in w.iter().zip([0.5, 0.25, 0.25]) {
+            assert!((wi - want).abs() < 1e-15, "{w:?}");
+        }
+    }
+
+    /// A parallelogram (0,0)–(2,0)–(3,2)–(1,2) cut at y = 1: the lower half,
+    /// area 2, where `∫ N_i dA = ½ (1 − η_i / 2)` (η = y − 1, ξ = x − 1 − y/2,
+    /// det J = 1): 3/4 at the corners of y = 0, 1/4 at those of y = 2; a
+    /// plane tilted about x gives the same on its own coordinates.
+    #[test]
+    fn a_clipped_parallelogram_integrates_its_shape_functions_exactly() {
+        let x = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [3.0, 2.0, 0.0], [1.0, 2.0, 0.0]];
+        let (w, area) =
+            clipped_shape_integrals(&x, [-9.0, -9.0, -9.0], [9.0, 1.0, 9.0], [true; 3]).unwrap();
+        assert!((area - 2.0).abs() < 1e-14, "{area}");
+        for (wi, want) in w.iter().zip([0.75, 0.75, 0.25, 0.25]) {
+            assert!((wi - want).abs() < 1e-14, "{w:?}");
+        }
+        // Tilted: z = y, so the cut at z = 1 keeps y ≤ 1 and dA = √2 dx dy.
+        let t = x.map(|p| [p[0], p[1], p[1]]);
+        let (w, area) =
+            clipped_shape_integrals(&t, [-9.0; 3], [9.0, 9.0, 1.0], [true; 3]).unwrap();
+        let r2 = 2f64.sqrt();
+        assert!((area - 2.0 * r2).abs() < 1e-14, "{area}");
+        for (wi, want) in w.iter().zip([0.75, 0.75, 0.25, 0.25]) {
+            assert!((wi - want * r2).abs() < 1e-14, "{w:?}");
+        }
+        // Outside the box: nothing.
+        let (w, area) =
+            clipped_shape_integrals(&x, [5.0; 3], [6.0; 3], [true; 3]).unwrap();
+        assert_eq!(area, 0.0);
+        assert!(w.iter().all(|&v| v == 0.0));
     }
 
     /// A traction on a tilted triangle sums to t A and its moment about the origin

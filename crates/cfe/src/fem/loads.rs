@@ -150,6 +150,69 @@ pub fn face_forces(
     (out, total)
 }
 
+/// The nodal forces of a load on the parts of faces inside a box (one entry
+/// per node touched), their resultant and the loaded area
+/// ([`clipped_face_forces`]).
+pub type ClippedForces = (Vec<(usize, [f64; 3])>, [f64; 3], f64);
+
+/// Consistent nodal forces of a uniform `load` over the parts of the boundary
+/// `faces` (plane faces) inside the box `[lo, hi]` along the axes `clip`,
+/// each face cut to the box and its shape functions integrated over the cut
+/// polygon ([`super::face3::clipped_shape_integrals`]): a traction gives
+/// `t ∫ N_i dA`, a pressure `−p n ∫ N_i dA` (n the face's outward unit
+/// normal). As [`face_forces`]: one entry per node touched, and the
+/// resultant; also the loaded area. `None` for a degenerate face (its
+/// index in `faces`).
+pub fn clipped_face_forces(
+    nodes: &[[f64; 3]],
+    faces: &[crate::mesh::BoundaryFace],
+    lo: [f64; 3],
+    hi: [f64; 3],
+    clip: [bool; 3],
+    load: FaceLoad,
+) -> std::result::Result<ClippedForces, usize> {
+    use super::face3;
+    let mut index = std::collections::HashMap::new();
+    let mut out: Vec<(usize, [f64; 3])> = Vec::new();
+    let mut area = 0.0;
+    for (i, face) in faces.iter().enumerate() {
+        let corners = face.nodes.as_slice();
+        let x: Vec<[f64; 3]> = corners.iter().map(|&k| nodes[k]).collect();
+        let (w, a) = face3::clipped_shape_integrals(&x, lo, hi, clip).ok_or(i)?;
+        if a == 0.0 {
+            continue;
+        }
+        area += a;
+        let per_area = match load {
+            FaceLoad::Traction(t) => t,
+            FaceLoad::Pressure(p) => {
+                let v = face.nodes.vector_area(nodes);
+                let l = v[0].hypot(v[1]).hypot(v[2]);
+                if l.is_nan() || l <= 0.0 {
+                    return Err(i);
+                }
+                v.map(|c| -p * c / l)
+            }
+        };
+        for (&n, wi) in corners.iter().zip(w) {
+            let k = *index.entry(n).or_insert_with(|| {
+                out.push((n, [0.0; 3]));
+                out.len() - 1
+            });
+            for (o, t) in out[k].1.iter_mut().zip(per_area) {
+                *o += t * wi;
+            }
+        }
+    }
+    let mut total = [0.0; 3];
+    for (_, f) in &out {
+        for (t, f) in total.iter_mut().zip(f) {
+            *t += f;
+        }
+    }
+    Ok((out, total, area))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

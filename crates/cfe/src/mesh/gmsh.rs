@@ -28,7 +28,7 @@
 
 mod solid;
 
-pub use solid::{GmshFile, GmshMesh3d, read_gmsh_3d};
+pub use solid::{GmshFile, GmshMesh3d, peek_dimension, read_gmsh_3d};
 
 use super::{BoundaryEdge, Mesh, Tiling, dist};
 use crate::error::{Error, Result};

@@ -265,6 +265,7 @@ impl<'a> Builder<'a> {
             lines,
             probes,
             history_plot,
+            picture: super::Picture::default(),
         })
     }
 
@@ -1015,6 +1016,12 @@ impl<'a> Builder<'a> {
     fn support(&self, spec: &SupportSpec<2>, parts: &[Part]) -> Result<Support> {
         let p = self.part_index(parts, &spec.part, "part")?;
         let part = &parts[p];
+        if spec.from.is_some() || spec.to.is_some() {
+            return Err(self.err(
+                &spec.part,
+                "a support's box (`from`/`to`) selects nodes of a solid model only; a plane model's support takes `boundary` or `at`",
+            ));
+        }
         let (name, nodes) = match (&spec.boundary, spec.at) {
             (Some(b), None) => {
                 self.boundary(part, b)?;

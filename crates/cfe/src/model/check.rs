@@ -60,6 +60,9 @@ pub struct Values<'a> {
     path: &'a Path,
     text: &'a str,
     root: Option<DeTable<'a>>,
+    /// A solid model's values: its messages name the stiffness scale E·h (h
+    /// the interface's face size) where a plane model's name E·t.
+    pub(super) solid: bool,
 }
 
 impl<'a> Values<'a> {
@@ -69,6 +72,7 @@ impl<'a> Values<'a> {
             path,
             text,
             root: DeTable::parse(text).ok().map(|t| t.into_inner()),
+            solid: false,
         }
     }
 
@@ -228,6 +232,12 @@ impl<'a> Values<'a> {
         Ok(())
     }
 
+    /// The name of the stiffness scale a penalty is measured against: E·t
+    /// in a plane model, E·h in a solid one.
+    fn scale(&self) -> &'static str {
+        if self.solid { "E·h" } else { "E·t" }
+    }
+
     /// An [`Error::PenaltyPrecision`] when the penalty `c` at `at` exceeds
     /// [`MAX_PENALTY_RATIO`] × `et` (the softer part's E·t, of part `part`).
     pub fn penalty(&self, at: &[Seg], c: f64, et: f64, part: &str) -> Result<()> {
@@ -235,13 +245,15 @@ impl<'a> Values<'a> {
         if ratio <= MAX_PENALTY_RATIO {
             return Ok(());
         }
+        let et_name = self.scale();
         Err(Error::PenaltyPrecision {
             path: self.path.to_path_buf(),
             line: self.line(at),
             key: self.key(at),
             ratio,
             message: format!(
-                "= {c:e} is {ratio:.1e} × E·t of part '{part}': the part's stiffness is below the round-off of the penalty (double precision keeps 16 digits), so the solve cannot see it; use a penalty of 1e3 to 1e8 × E·t, or leave `c_n`/`c_s` out for the default {:e} × E·t",
+                "= {c:e} is {ratio:.1e} × {et_name} of part '{part}'{}: the part's stiffness is below the round-off of the penalty (double precision keeps 16 digits), so the solve cannot see it; use a penalty of 1e3 to 1e8 × {et_name}, or leave `c_n`/`c_s` out for the default {:e} × {et_name}",
+                self.h_note(),
                 super::DEFAULT_PENALTY_FACTOR
             ),
         })
@@ -249,6 +261,16 @@ impl<'a> Values<'a> {
 }
 
 impl Values<'_> {
+    /// What h is, in a solid model's penalty messages (nothing in a plane
+    /// model's).
+    fn h_note(&self) -> &'static str {
+        if self.solid {
+            " (h the mean edge of the interface's faces on the node part)"
+        } else {
+            ""
+        }
+    }
+
     /// An [`Error::WeakPenalty`] when the penalty `c` at `at` is below
     /// [`MIN_PENALTY_RATIO`] × `et` (the softer part's E·t, of part `part`).
     pub fn weak_penalty(&self, at: &[Seg], c: f64, et: f64, part: &str) -> Result<()> {
@@ -256,13 +278,15 @@ impl Values<'_> {
         if ratio >= MIN_PENALTY_RATIO {
             return Ok(());
         }
+        let et_name = self.scale();
         Err(Error::WeakPenalty {
             path: self.path.to_path_buf(),
             line: self.line(at),
             key: self.key(at),
             ratio,
             message: format!(
-                "= {c:e} is far below E·t = {et:e} of part '{part}' ({ratio:.1e} × E·t, below {MIN_PENALTY_RATIO:e}): the penalty is the coupling's stiffness, so the interface would hold the faces {:.0e} times more loosely than the part itself deforms, and in round-off not at all (the factorization then reports a mechanism); use a penalty of 1e3 to 1e8 × E·t, or leave `c_n`/`c_s` out for the default {:e} × E·t",
+                "= {c:e} is far below {et_name} = {et:e} of part '{part}'{} ({ratio:.1e} × {et_name}, below {MIN_PENALTY_RATIO:e}): the penalty is the coupling's stiffness, so the interface would hold the faces {:.0e} times more loosely than the part itself deforms, and in round-off not at all (the factorization then reports a mechanism); use a penalty of 1e3 to 1e8 × {et_name}, or leave `c_n`/`c_s` out for the default {:e} × {et_name}",
+                self.h_note(),
                 1.0 / ratio,
                 super::DEFAULT_PENALTY_FACTOR
             ),
@@ -475,10 +499,18 @@ fn material(v: &Values, name: &str, m: &MaterialSpec, plane: PlaneKind) -> Resul
         ));
     }
     if matches!(plane, PlaneKind::Strain | PlaneKind::Axisymmetric) && 0.5 - m.nu < NU_MARGIN {
+        let (within, advice) = if v.solid {
+            ("in a solid", "")
+        } else {
+            (
+                "in plane strain (or axisymmetry)",
+                ", or plane = \"stress\" if the part is thin",
+            )
+        };
         return Err(v.invalid(
             &nu,
             format!(
-                "= {} is within {NU_MARGIN:e} of 0.5 in plane strain (or axisymmetry): the bulk modulus E/(2(1+ν)(1−2ν)) is {:.1e} × the shear modulus, so the stiffness (the D matrix) is too ill-conditioned for double precision (at one ulp from 0.5 it is singular and the factorization reports a mechanism); use ν ≤ 0.499 (near-incompressible displacement elements lock anyway), or plane = \"stress\" if the part is thin",
+                "= {} is within {NU_MARGIN:e} of 0.5 {within}: the bulk modulus E/(2(1+ν)(1−2ν)) is {:.1e} × the shear modulus, so the stiffness (the D matrix) is too ill-conditioned for double precision (at one ulp from 0.5 it is singular and the factorization reports a mechanism); use ν ≤ 0.499 (near-incompressible displacement elements lock anyway){advice}",
                 m.nu,
                 1.0 / (1.0 - 2.0 * m.nu)
             ),
@@ -611,7 +643,12 @@ fn interface(v: &Values, i: usize, s: &InterfaceSpec) -> Result<()> {
 /// `[[support]]`: a finite position and finite prescribed values.
 fn support<const N: usize>(v: &Values, i: usize, s: &SupportSpec<N>) -> Result<()> {
     let any = |x: f64| x.is_finite();
-    for (k, xs) in [("at", s.at), ("value", Some(s.value))] {
+    for (k, xs) in [
+        ("at", s.at),
+        ("from", s.from),
+        ("to", s.to),
+        ("value", Some(s.value)),
+    ] {
         if let Some(xs) = xs {
             let at = [K("support"), I(i), K(k)];
             v.check_pair(&at, xs, any, "")?;

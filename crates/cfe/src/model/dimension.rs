@@ -7,7 +7,7 @@
 
 use super::schema::line_of;
 use crate::error::{Error, Result};
-use crate::mesh::gmsh::GmshFile;
+use crate::mesh::gmsh::{GmshFile, peek_dimension};
 use crate::mesh::input_file::{self, MESH_FILE_CAP};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -110,14 +110,21 @@ pub fn of_text(text: &str, path: &Path) -> Result<ProblemDimension> {
 }
 
 /// The dimension of the Gmsh file at `path` (`None` when it cannot be read or
-/// parsed: the reader of the model reports why).
+/// parsed: the reader of the model reports why). An ASCII file's is peeked
+/// from its element types ([`peek_dimension`]: its nodes are not read, so
+/// the model's reader parses the file once); a binary file, or one the peek
+/// does not follow, is parsed.
 fn gmsh_dimension(path: &Path) -> Option<ProblemDimension> {
     let data = input_file::read(path, "Gmsh file", MESH_FILE_CAP, |e| Error::ReadInput {
         path: path.to_path_buf(),
         source: e,
     })
     .ok()?;
-    Some(match GmshFile::parse(&data, path).ok()?.dimension() {
+    let dimension = match peek_dimension(&data) {
+        Some(d) => d,
+        None => GmshFile::parse(&data, path).ok()?.dimension(),
+    };
+    Some(match dimension {
         3 => ProblemDimension::Solid,
         _ => ProblemDimension::Plane,
     })
@@ -135,8 +142,8 @@ fn item_name(t: &DeTable) -> Option<String> {
 /// that belong to the other dimension: in a solid model (`solid`) `plane`,
 /// `[[line]]`, a part's `thickness`, `rectangle` and `annulus`, a Gmsh part's
 /// `surfaces` (its physical volumes are `volumes`) and `coupling = "segment"`;
-/// in a plane model a part's `box`, a Gmsh part's `volumes` and a load's
-/// `traction`. Text that does not parse is left to the schema's reader.
+/// in a plane model a part's `box`, a Gmsh part's `volumes`, a load's
+/// `traction` and `[output] view` and `component`. Text that does not parse is left to the schema's reader.
 pub(super) fn refuse_other_keys(text: &str, path: &Path, solid: bool) -> Result<()> {
     let Ok(root) = DeTable::parse(text) else {
         return Ok(());
@@ -246,6 +253,17 @@ pub(super) fn refuse_other_keys(text: &str, path: &Path, solid: bool) -> Result<
                     v.span(),
                     "selects a solid part's physical volumes, and this model is plane: a plane part is made of physical surfaces, `surfaces = [..]`",
                 ));
+            }
+        }
+        if let Some(DeValue::Table(o)) = root.get("output").map(|o| o.get_ref()) {
+            for k in ["view", "component"] {
+                if let Some(v) = o.get(k) {
+                    return Err(refuse(
+                        format!("output.{k}"),
+                        v.span(),
+                        "sets what a solid model's deformed.png shows; a plane model's pictures are fixed (deformed.png coloured by von Mises in the x–y plane): remove it",
+                    ));
+                }
             }
         }
         for (key, t) in items("load") {

@@ -132,6 +132,92 @@ pub struct Model<D: MeshDim = D2> {
     /// `history.png`'s axes as two history columns (x, y) (`[output]
     /// history_plot`); `None`: the default (see README, Outputs).
     pub history_plot: Option<[String; 2]>,
+    /// What a solid model's `deformed.png` shows (`[output] view` and
+    /// `component`); the default (isometric, von Mises) in a plane model.
+    pub picture: Picture,
+}
+
+/// What a solid model's `deformed.png` shows: where from and coloured by what
+/// (`[output] view` and `component`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Picture {
+    /// The viewpoint.
+    pub view: ViewPoint,
+    /// The colouring.
+    pub field: PictureField,
+}
+
+/// Where `deformed.png` is seen from, z up (`[output] view`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ViewPoint {
+    /// `iso`: isometric, the eye along (1, −1, 1) (the default).
+    #[default]
+    Isometric,
+    /// From the positive (`true`) or negative side of axis 0 (x), 1 (y) or 2
+    /// (z), looking back along it: `x`, `-x`, `y`, `-y`, `z`, `-z`.
+    Axis(usize, bool),
+}
+
+/// The nodal value `deformed.png` is coloured by (`[output] component`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PictureField {
+    /// `von_mises`: the von Mises stress (the default).
+    #[default]
+    VonMises,
+    /// A stress component in Voigt order (xx, yy, zz, xy, yz, xz): `sxx`,
+    /// `syy`, `szz`, `sxy`, `syz`, `sxz`.
+    Stress(usize),
+    /// A displacement component 0 (x), 1 (y), 2 (z): `ux`, `uy`, `uz`.
+    Displacement(usize),
+    /// `u`: the displacement's magnitude.
+    DisplacementMagnitude,
+}
+
+impl ViewPoint {
+    /// The names `[output] view` takes, in order.
+    pub const NAMES: [&'static str; 7] = ["iso", "x", "-x", "y", "-y", "z", "-z"];
+
+    /// The viewpoint named `name` ([`ViewPoint::NAMES`]).
+    pub fn from_name(name: &str) -> Option<ViewPoint> {
+        Some(match name {
+            "iso" => ViewPoint::Isometric,
+            "x" => ViewPoint::Axis(0, true),
+            "-x" => ViewPoint::Axis(0, false),
+            "y" => ViewPoint::Axis(1, true),
+            "-y" => ViewPoint::Axis(1, false),
+            "z" => ViewPoint::Axis(2, true),
+            "-z" => ViewPoint::Axis(2, false),
+            _ => return None,
+        })
+    }
+}
+
+impl PictureField {
+    /// The names `[output] component` takes, in order.
+    pub const NAMES: [&'static str; 11] = [
+        "von_mises",
+        "sxx",
+        "syy",
+        "szz",
+        "sxy",
+        "syz",
+        "sxz",
+        "ux",
+        "uy",
+        "uz",
+        "u",
+    ];
+
+    /// The field named `name` ([`PictureField::NAMES`]).
+    pub fn from_name(name: &str) -> Option<PictureField> {
+        let k = Self::NAMES.iter().position(|n| *n == name)?;
+        Some(match k {
+            0 => PictureField::VonMises,
+            1..=6 => PictureField::Stress(k - 1),
+            7..=9 => PictureField::Displacement(k - 7),
+            _ => PictureField::DisplacementMagnitude,
+        })
+    }
 }
 
 /// Whether `path` names a CalculiX/Abaqus deck (extension `.inp`, any case).
@@ -198,6 +284,7 @@ impl<D: MeshDim> Model<D> {
             lines: Vec::new(),
             probes: Vec::new(),
             history_plot: None,
+            picture: Picture::default(),
         };
         model.check_names()?;
         Ok(model)
@@ -486,9 +573,10 @@ impl Model<D3> {
                 "a mesh is given for part '{name}', which the problem does not define"
             )));
         }
-        build::Builder::new(text, path, BTreeMap::new())
-            .with_solid_meshes(meshes)
-            .build_solid(file, refine)
+        let mut builder =
+            build::Builder::new(text, path, BTreeMap::new()).with_solid_meshes(meshes);
+        builder.values.solid = true;
+        builder.build_solid(file, refine)
     }
 
     /// Advice about the model that does not stop it from being solved: parts

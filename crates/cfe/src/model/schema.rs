@@ -80,6 +80,13 @@ pub(super) struct ProbeSpec<const N: usize> {
 pub(super) struct OutputSpec {
     /// `history.png`'s axes: two columns of `history.csv`.
     pub(super) history_plot: Option<PlotSpec>,
+    /// A solid model's `deformed.png` viewpoint: `iso` (the default), or
+    /// from an axis, `x`, `-x`, `y`, `-y`, `z`, `-z` ([`super::ViewPoint`]).
+    pub(super) view: Option<String>,
+    /// A solid model's `deformed.png` colouring: `von_mises` (the default), a
+    /// stress component `sxx` … `sxz`, or a displacement `ux`, `uy`, `uz`,
+    /// `u` ([`super::PictureField`]).
+    pub(super) component: Option<String>,
 }
 
 /// `history_plot = { x = "probe:tip.uy", y = "reaction:base.fy" }`.
@@ -356,6 +363,14 @@ pub(super) struct SupportSpec<const N: usize> {
     pub(super) boundary: Option<Spanned<String>>,
     #[serde(default, deserialize_with = "opt_array")]
     pub(super) at: Option<[f64; N]>,
+    /// A solid model's selection box (opposite corners `from`, `to`): the
+    /// nodes of `boundary` (of the part's whole boundary without one) inside
+    /// it.
+    #[serde(default, deserialize_with = "opt_array")]
+    pub(super) from: Option<[f64; N]>,
+    /// See `from`.
+    #[serde(default, deserialize_with = "opt_array")]
+    pub(super) to: Option<[f64; N]>,
     pub(super) fix: Vec<Component>,
     #[serde(default = "zeros", deserialize_with = "array")]
     pub(super) value: [f64; N],

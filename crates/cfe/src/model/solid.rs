@@ -1,16 +1,21 @@
 //! The builder of a solid model (`Model<D3>`): a problem file whose parts are
-//! `box`es or 3D Gmsh meshes, its supports fixing any of x, y, z, its loads
-//! (point forces, resultants, pressures and tractions on named surfaces, over
-//! the whole surface or the faces inside a box) and its probes. Interfaces,
+//! `box`es or 3D Gmsh meshes, its supports fixing any of x, y, z (on a named
+//! surface, at a node, or on the surface nodes inside a box; prescribed
+//! values), its loads (point forces, resultants, pressures and tractions on
+//! named surfaces, over the whole surface or its part inside a box, a face the
+//! box cuts clipped to it and integrated exactly), its probes (interpolated in
+//! their element) and the `[output]` choice of `deformed.png`'s view and
+//! colouring. Interfaces,
 //! steps, names and the `[output]` keys are resolved as in a plane model
 //! ([`super::build`]): the schema is the plane one with a third component.
 
 use super::build::{Builder, check_size_of, names, step_of, steps};
 use super::schema::{
-    BoxSpec, Component, GmshSpec, GroupSpec, LoadSpec, MaterialSpec, PartSpec, ProbeSpec,
-    ProblemFile, SupportSpec,
+    BoxSpec, Component, GmshSpec, GroupSpec, LoadSpec, MaterialSpec, OutputSpec, PartSpec,
+    ProbeSpec, ProblemFile, SupportSpec,
 };
-use super::{Load, Model, Part, Probe, Step, Support, check};
+use super::{Load, Model, Part, Picture, PictureField, Probe, Step, Support, ViewPoint, check};
+use crate::coupling::volume;
 use crate::dim::D3;
 use crate::domain::FaceLoad;
 use crate::error::{Error, Result};
@@ -101,6 +106,38 @@ fn inside(corners: &[[f64; 3]], lo: [f64; 3], hi: [f64; 3], tol: f64) -> Inside 
     }
 }
 
+/// The faces a surface load acts on: those wholly inside its box (or the
+/// whole surface without a box), and those its box cuts, each with the axes
+/// along which it is cut to the box `[lo, hi]` ([`clip_axes`]).
+struct Selection {
+    whole: Vec<BoundaryFace>,
+    cut: Vec<(BoundaryFace, [bool; 3])>,
+    lo: [f64; 3],
+    hi: [f64; 3],
+}
+
+/// The axes along which a face of corners `corners` that the box `[lo, hi]`
+/// cuts ([`Inside::Cut`]) is clipped to it: every axis but those the face is
+/// flat along (it lies in the box's extent there, to `tol`: clipping it
+/// would only move its corners by round-off). `None` when the box is flat
+/// along an axis the face is not: the box's plane meets the face along a
+/// line, which has no area to load.
+fn clip_axes(corners: &[[f64; 3]], lo: [f64; 3], hi: [f64; 3], tol: f64) -> Option<[bool; 3]> {
+    let mut clip = [true; 3];
+    for a in 0..3 {
+        let fmin = corners.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min);
+        let fmax = (corners.iter().map(|p| p[a])).fold(f64::NEG_INFINITY, f64::max);
+        let flat_face = fmax - fmin <= tol;
+        let flat_box = hi[a] - lo[a] <= tol;
+        if flat_face {
+            clip[a] = false;
+        } else if flat_box {
+            return None;
+        }
+    }
+    Some(clip)
+}
+
 impl Builder<'_> {
     /// The solid model of the parsed `file` at refinement `refine`: its values
     /// checked, its size checked against the machine's memory, then its parts
@@ -143,6 +180,7 @@ impl Builder<'_> {
         let loads = self.solid_loads(&load_specs, &parts, &steps)?;
         let steps = self.step_factors(&step_specs, steps, &loads, &supports)?;
         let probes = self.solid_probes(&probe_specs, &parts)?;
+        let picture = self.picture(&output)?;
         let history_plot = self.history_plot(output, &supports, &interfaces, &probes)?;
         Ok(Model {
             title: self.title(title),
@@ -161,7 +199,38 @@ impl Builder<'_> {
             lines: Vec::new(),
             probes,
             history_plot,
+            picture,
         })
+    }
+
+    /// `[output] view` and `component`: what `deformed.png` shows (the
+    /// default without them); an unknown name is an [`Error::Invalid`]
+    /// naming the key, its line and the names it takes.
+    fn picture(&self, output: &OutputSpec) -> Result<Picture> {
+        let mut picture = Picture::default();
+        if let Some(v) = &output.view {
+            picture.view = ViewPoint::from_name(v).ok_or_else(|| {
+                self.values.invalid(
+                    &[check::Seg::K("output"), check::Seg::K("view")],
+                    format!(
+                        "= \"{v}\" is no viewpoint of deformed.png (one of: {})",
+                        ViewPoint::NAMES.join(", ")
+                    ),
+                )
+            })?;
+        }
+        if let Some(c) = &output.component {
+            picture.field = PictureField::from_name(c).ok_or_else(|| {
+                self.values.invalid(
+                    &[check::Seg::K("output"), check::Seg::K("component")],
+                    format!(
+                        "= \"{c}\" is no field deformed.png can be coloured by (one of: {})",
+                        PictureField::NAMES.join(", ")
+                    ),
+                )
+            })?;
+        }
+        Ok(picture)
     }
 
     /// The boxes' node counts at refinement `refine` (checked arithmetic)
@@ -366,22 +435,31 @@ impl Builder<'_> {
     fn solid_support(&self, spec: &SupportSpec<3>, parts: &[Part<D3>]) -> Result<Support> {
         let p = self.part_index(parts, &spec.part, "part")?;
         let part = &parts[p];
-        let (name, nodes) = match (&spec.boundary, spec.at) {
-            (Some(b), None) => {
+        let (name, nodes) = match (&spec.boundary, spec.at, spec.from, spec.to) {
+            (Some(b), None, None, None) => {
                 self.boundary(part, b)?;
                 (
                     format!("{}/{}", part.name, b.get_ref()),
                     part.mesh.boundary_nodes(b.get_ref()).unwrap_or_default(),
                 )
             }
-            (None, Some(at)) => (
+            (None, Some(at), None, None) => (
                 format!("{}@{}", part.name, point3(at)),
                 vec![self.node_at3(part, at, &spec.part, "support")?],
             ),
+            (b, None, Some(from), Some(to)) => {
+                self.support_box(spec, part, b.as_ref(), from, to)?
+            }
+            (_, None, Some(_), None) | (_, None, None, Some(_)) => {
+                return Err(self.err(
+                    &spec.part,
+                    "a support box needs both `from` and `to` (opposite corners)",
+                ));
+            }
             _ => {
                 return Err(self.err(
                     &spec.part,
-                    "a [[support]] needs exactly one of `boundary` or `at`",
+                    "a [[support]] needs one of `boundary`, `at` or a box `from`/`to` (optionally with `boundary`)",
                 ));
             }
         };
@@ -407,6 +485,66 @@ impl Builder<'_> {
             value: spec.value,
             step: 0,
         })
+    }
+
+    /// The nodes of a support's box `from`–`to` (opposite corners, within
+    /// 1e-6 of the part's longest edge): those of boundary `b` (of the part's
+    /// whole boundary without one) inside it, in the boundary's order, and
+    /// the support's default name `part/boundary[(lo)-(hi)]`; a box holding
+    /// no such node is refused.
+    fn support_box(
+        &self,
+        spec: &SupportSpec<3>,
+        part: &Part<D3>,
+        b: Option<&Spanned<String>>,
+        from: [f64; 3],
+        to: [f64; 3],
+    ) -> Result<(String, Vec<usize>)> {
+        let (lo, hi) = (
+            [0, 1, 2].map(|c| from[c].min(to[c])),
+            [0, 1, 2].map(|c| from[c].max(to[c])),
+        );
+        let (candidates, mut name) = match b {
+            Some(b) => {
+                self.boundary(part, b)?;
+                (
+                    part.mesh.boundary_nodes(b.get_ref()).unwrap_or_default(),
+                    format!("{}/{}", part.name, b.get_ref()),
+                )
+            }
+            None => {
+                let mut seen = std::collections::HashSet::new();
+                let nodes = (part.mesh.boundary_faces().iter())
+                    .flat_map(|f| f.nodes.as_slice().to_vec())
+                    .filter(|n| seen.insert(*n))
+                    .collect();
+                (nodes, part.name.clone())
+            }
+        };
+        let tol = 1e-6 * part.mesh.max_edge_length();
+        let nodes: Vec<usize> = (candidates.into_iter())
+            .filter(|&n| {
+                let x = part.mesh.nodes[n];
+                (0..3).all(|c| x[c] >= lo[c] - tol && x[c] <= hi[c] + tol)
+            })
+            .collect();
+        if nodes.is_empty() {
+            return Err(self.err(
+                &spec.part,
+                format!(
+                    "the support box {}–{} holds no node of {}",
+                    point3(lo),
+                    point3(hi),
+                    b.map_or(format!("part '{}''s boundary", part.name), |b| format!(
+                        "boundary '{}' of part '{}'",
+                        b.get_ref(),
+                        part.name
+                    ))
+                ),
+            ));
+        }
+        name += &format!("[{}-{}]", point3(lo), point3(hi));
+        Ok((name, nodes))
     }
 
     /// The loads in file order, each in its step, named (see [`names`]).
@@ -436,8 +574,10 @@ impl Builder<'_> {
     /// A load on a solid part resolved to nodal forces: a `force` at a node
     /// (`at`) or as a resultant spread uniformly (a traction force / area) over
     /// a surface, a `pressure` or a `traction` on a surface; the surface is a
-    /// named `boundary`, or the faces of it (of the part's whole boundary
-    /// without one) inside the box `from`–`to`.
+    /// named `boundary`, or its part (of the part's whole boundary without
+    /// one) inside the box `from`–`to`: the faces inside it whole, those it
+    /// cuts over their polygons clipped to it ([`loads::clipped_face_forces`]:
+    /// the resultant and moment of a uniform load are exact).
     fn solid_load(&self, spec: &LoadSpec<3>, parts: &[Part<D3>]) -> Result<Load<D3>> {
         let p = self.part_index(parts, &spec.part, "part")?;
         let part = &parts[p];
@@ -477,9 +617,13 @@ impl Builder<'_> {
         let (faces, mut name) = self.load_faces(spec, part)?;
         let (load, what) = match (spec.force, spec.pressure, spec.traction) {
             (Some(force), _, _) => {
-                let area: f64 = (faces.iter())
+                let area: f64 = (faces.whole.iter())
                     .map(|f| norm(f.nodes.vector_area(&part.mesh.nodes)))
                     .sum();
+                let area = area
+                    + self
+                        .cut_forces(spec, part, &faces, FaceLoad::Pressure(0.0))?
+                        .2;
                 (FaceLoad::Traction(force.map(|c| c / area)), String::new())
             }
             (_, Some(pressure), _) => (
@@ -490,7 +634,29 @@ impl Builder<'_> {
             _ => unreachable!("one kind of load, checked above"),
         };
         name += &what;
-        let (nodal, sum) = loads::face_forces(&part.mesh.nodes, &faces, load);
+        let (mut nodal, mut sum) = loads::face_forces(&part.mesh.nodes, &faces.whole, load);
+        if !faces.cut.is_empty() {
+            // The cut faces' share, added to the whole faces' (a node of both
+            // keeps one entry).
+            let (cut, cut_sum, _) = self.cut_forces(spec, part, &faces, load)?;
+            let mut at: HashMap<usize, usize> = nodal
+                .iter()
+                .enumerate()
+                .map(|(k, (n, _))| (*n, k))
+                .collect();
+            for (n, f) in cut {
+                let k = *at.entry(n).or_insert_with(|| {
+                    nodal.push((n, [0.0; 3]));
+                    nodal.len() - 1
+                });
+                for (o, f) in nodal[k].1.iter_mut().zip(f) {
+                    *o += f;
+                }
+            }
+            for c in 0..3 {
+                sum[c] += cut_sum[c];
+            }
+        }
         Ok(Load {
             name,
             part: p,
@@ -502,16 +668,57 @@ impl Builder<'_> {
         })
     }
 
-    /// The faces a surface load acts on, and its default name: the named
-    /// `boundary` (the part's whole boundary without one), restricted to the
-    /// faces inside the box `from`–`to` when it is given. A face the box cuts
-    /// (partly in, partly out) is refused: the load would not be the one asked
-    /// for over the box.
-    fn load_faces(
+    /// The nodal forces, resultant and loaded area of `load` over the parts of
+    /// the cut faces of `faces` inside its box
+    /// ([`loads::clipped_face_forces`], each face cut along its axes).
+    fn cut_forces(
         &self,
         spec: &LoadSpec<3>,
         part: &Part<D3>,
-    ) -> Result<(Vec<BoundaryFace>, String)> {
+        faces: &Selection,
+        load: FaceLoad,
+    ) -> Result<loads::ClippedForces> {
+        let mut nodal: Vec<(usize, [f64; 3])> = Vec::new();
+        let mut at: HashMap<usize, usize> = HashMap::new();
+        let (mut sum, mut area) = ([0.0; 3], 0.0);
+        for (f, clip) in &faces.cut {
+            let one = std::slice::from_ref(f);
+            let (forces, s, a) =
+                loads::clipped_face_forces(&part.mesh.nodes, one, faces.lo, faces.hi, *clip, load)
+                    .map_err(|_| {
+                        self.err(
+                            &spec.part,
+                            format!(
+                                "the load box cuts a degenerate face of part '{}' (element {}, nodes {:?}): its part inside the box cannot be integrated",
+                                part.name,
+                                f.element,
+                                f.nodes.as_slice()
+                            ),
+                        )
+                    })?;
+            for (n, v) in forces {
+                let k = *at.entry(n).or_insert_with(|| {
+                    nodal.push((n, [0.0; 3]));
+                    nodal.len() - 1
+                });
+                for (o, v) in nodal[k].1.iter_mut().zip(v) {
+                    *o += v;
+                }
+            }
+            for c in 0..3 {
+                sum[c] += s[c];
+            }
+            area += a;
+        }
+        Ok((nodal, sum, area))
+    }
+
+    /// The faces a surface load acts on, and its default name: the named
+    /// `boundary` (the part's whole boundary without one), restricted to the
+    /// box `from`–`to` when it is given: the faces wholly inside it, and the
+    /// faces it cuts (partly in, partly out) with the axes they are cut along,
+    /// loaded over their part inside the box only ([`Selection`]).
+    fn load_faces(&self, spec: &LoadSpec<3>, part: &Part<D3>) -> Result<(Selection, String)> {
         let (faces, mut name) = match &spec.boundary {
             Some(b) => (
                 self.boundary(part, b)?.clone(),
@@ -520,7 +727,17 @@ impl Builder<'_> {
             None => (part.mesh.boundary_faces(), part.name.clone()),
         };
         let (lo, hi) = match (spec.from, spec.to) {
-            (None, None) if spec.boundary.is_some() => return Ok((faces, name)),
+            (None, None) if spec.boundary.is_some() => {
+                return Ok((
+                    Selection {
+                        whole: faces,
+                        cut: Vec::new(),
+                        lo: [0.0; 3],
+                        hi: [0.0; 3],
+                    },
+                    name,
+                ));
+            }
             (Some(a), Some(b)) => (
                 [0, 1, 2].map(|c| a[c].min(b[c])),
                 [0, 1, 2].map(|c| a[c].max(b[c])),
@@ -539,29 +756,23 @@ impl Builder<'_> {
             }
         };
         let tol = 1e-6 * part.mesh.max_edge_length();
-        let mut chosen = Vec::new();
-        for (i, f) in faces.iter().enumerate() {
+        let mut whole = Vec::new();
+        let mut cut = Vec::new();
+        for f in &faces {
             let corners: Vec<[f64; 3]> = (f.nodes.as_slice().iter())
                 .map(|&n| part.mesh.nodes[n])
                 .collect();
             match inside(&corners, lo, hi, tol) {
-                Inside::Whole => chosen.push(*f),
+                Inside::Whole => whole.push(*f),
                 Inside::Out => {}
                 Inside::Cut => {
-                    return Err(self.err(
-                        &spec.part,
-                        format!(
-                            "the load box {}–{} cuts face {i} of part '{}' (corners {}): a box must hold whole faces, so the load acts exactly where it says; move the box's sides onto element faces",
-                            point3(lo),
-                            point3(hi),
-                            part.name,
-                            corners.iter().map(|c| point3(*c)).collect::<Vec<_>>().join(", ")
-                        ),
-                    ));
+                    if let Some(clip) = clip_axes(&corners, lo, hi, tol) {
+                        cut.push((*f, clip));
+                    }
                 }
             }
         }
-        if chosen.is_empty() {
+        if whole.is_empty() && cut.is_empty() {
             return Err(self.err(
                 &spec.part,
                 format!(
@@ -576,12 +787,17 @@ impl Builder<'_> {
             ));
         }
         name += &format!("[{}-{}]", point3(lo), point3(hi));
-        Ok((chosen, name))
+        Ok((Selection { whole, cut, lo, hi }, name))
     }
 
-    /// The probes in file order, each at the node of its part nearest to its
-    /// point (the first of equally near ones).
+    /// The probes in file order, each interpolated in the element of its part
+    /// that contains its point (TET4: barycentric; HEX8: Newton's inverse
+    /// map; the host found through an R-tree of the elements' boxes, the
+    /// lowest element index of those containing it: [`volume::locate`]), or
+    /// at the node nearest to it (the first of equally near ones) when the
+    /// point is a node or lies in no element — as a plane model's.
     fn solid_probes(&self, specs: &[ProbeSpec<3>], parts: &[Part<D3>]) -> Result<Vec<Probe<D3>>> {
+        let mut trees = HashMap::new();
         specs
             .iter()
             .enumerate()
@@ -605,13 +821,32 @@ impl Builder<'_> {
                 let node = (mesh.nodes.iter().enumerate())
                     .min_by(|a, b| distance3(*a.1, spec.at).total_cmp(&distance3(*b.1, spec.at)))
                     .map_or(0, |(n, _)| n);
+                // At a node (to 1e-12 of the part's size) the node itself, so a
+                // probe put on a node records that node's displacement exactly.
+                let at_node = (mesh.nodes.get(node))
+                    .is_some_and(|x| distance3(*x, spec.at) <= 1e-12 * mesh.max_edge_length());
+                let located = if at_node {
+                    None
+                } else {
+                    let tree = trees
+                        .entry(part)
+                        .or_insert_with(|| volume::element_tree(mesh));
+                    volume::locate(mesh, tree, spec.at)
+                };
+                let weights = match &located {
+                    Some((e, shape)) => {
+                        let nodes = mesh.elements[*e].nodes();
+                        nodes.iter().zip(shape).map(|(&n, &w)| (n, w)).collect()
+                    }
+                    None => vec![(node, 1.0)],
+                };
                 Ok(Probe {
                     name: spec.name.get_ref().clone(),
                     part,
                     node,
                     at: spec.at,
-                    weights: vec![(node, 1.0)],
-                    element: None,
+                    weights,
+                    element: located.map(|(e, _)| e),
                 })
             })
             .collect()

@@ -231,6 +231,13 @@ impl Summary {
                         .map(|(c, r)| r.tangential_jump() / c.edge_length.max(f64::MIN_POSITIVE))
                         .fold(0.0, f64::max),
                     resultant: resultant(&mine),
+                    contact_area: (D::N == 3).then(|| {
+                        (iface.elements.iter())
+                            .zip(rows.iter().filter(|r| r.interface == iface.name))
+                            .filter(|(_, r)| r.state != PairState::Open)
+                            .map(|(c, _)| c.tributary)
+                            .sum()
+                    }),
                 }
             })
             .collect();
@@ -451,8 +458,10 @@ impl Summary {
             s.warnings.push(Warning {
                 increment: inc.index,
                 message: format!(
-                    "the out-of-balance force is {imbalance:.1e} of the balance scale {:.4e} (above {RESIDUAL_WARN:.0e}; the largest at a free DOF, or the reactions against the applied load; the scale is the largest of the load (or the support reactions), the pair forces and 1e-4 × the softest part's E·t × the largest displacement): the solution has lost accuracy; a penalty far above E·t (more than about 1e7 × E·t) is the usual cause",
-                    inc.balance_scale
+                    "the out-of-balance force is {imbalance:.1e} of the balance scale {:.4e} (above {RESIDUAL_WARN:.0e}; the largest at a free DOF, or the reactions against the applied load; the scale is the largest of the load (or the support reactions), the pair forces and 1e-4 × the softest part's {} × the largest displacement): the solution has lost accuracy; a penalty far above {et} (more than about 1e7 × {et}) is the usual cause",
+                    inc.balance_scale,
+                    if D::N == 3 { "E × 1 (unit length)" } else { "E·t" },
+                    et = if D::N == 3 { "E·h (h the face size)" } else { "E·t" },
                 ),
             });
         }

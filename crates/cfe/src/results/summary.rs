@@ -277,6 +277,11 @@ pub struct InterfaceSummary {
     /// and tangential sums, `total_force_n` and the history's `force_s`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resultant: Option<Vec<f64>>,
+    /// The contact area (a solid model only): the sum of the tributary areas
+    /// (∫ N_i dA over the node part's interface faces) of its closed (bonded
+    /// or slipping) pairs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_area: Option<f64>,
 }
 
 /// The maximum displacement magnitude and where it occurs.

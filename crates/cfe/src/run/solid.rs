@@ -8,8 +8,9 @@
 //!   the same whatever its tangents t₁, t₂), and `force` is the force on the
 //!   node part;
 //! - the pictures: `deformed.png`, the deformed parts seen from the isometric
-//!   view with z up ([`VIEW`]: the eye along (1, −1, 1)), coloured by the nodal
-//!   von Mises stress, hidden faces removed; `pressure_<k>.png`, the contact
+//!   view with z up ([`VIEW`]: the eye along (1, −1, 1)) or from the axis
+//!   `[output] view` names, coloured by the nodal von Mises stress or the
+//!   stress or displacement `[output] component` names, hidden faces removed; `pressure_<k>.png`, the contact
 //!   pressure over interface k (1-based, in the model's order) for each
 //!   interface with a contact law whose pairs span a plane; and `history.png`
 //!   as a plane run's.
@@ -25,6 +26,7 @@ use crate::domain::Part;
 use crate::error::Result;
 use crate::fem::material::von_mises_3d;
 use crate::mesh::SolidElement;
+use crate::model::{PictureField, ViewPoint};
 use crate::output::folder::{PICTURES, SOLID_PICTURES, pressure_map_file};
 use crate::output::png::Proceed;
 use crate::output::view3d::{self, Axis, Magnification, View};
@@ -52,6 +54,51 @@ pub const VIEW: View = View {
     elevation_deg: View::ISOMETRIC_ELEVATION_DEG,
     up: Axis::Z,
 };
+
+/// The view of `deformed.png` from `view`: [`VIEW`] (isometric), or from an
+/// axis, z up: from ±x or ±y at elevation 0 (azimuth 90° for +x, −90° for
+/// −x, 180° for +y, 0 for −y: the front view), from ±z at elevation ±90°.
+fn view_of(view: ViewPoint) -> View {
+    let (azimuth_deg, elevation_deg) = match view {
+        ViewPoint::Isometric => return VIEW,
+        ViewPoint::Axis(0, true) => (90.0, 0.0),
+        ViewPoint::Axis(0, false) => (-90.0, 0.0),
+        ViewPoint::Axis(1, true) => (180.0, 0.0),
+        ViewPoint::Axis(1, false) => (0.0, 0.0),
+        ViewPoint::Axis(_, true) => (0.0, 90.0),
+        ViewPoint::Axis(_, false) => (0.0, -90.0),
+    };
+    View {
+        azimuth_deg,
+        elevation_deg,
+        up: Axis::Z,
+    }
+}
+
+/// The title words of the field `deformed.png` is coloured by.
+fn field_title(field: PictureField) -> String {
+    let xyz = ["x", "y", "z"];
+    match field {
+        PictureField::VonMises => "von Mises stress".into(),
+        PictureField::Stress(k) => format!("stress σ_{}", STRESS_INDICES[k]),
+        PictureField::Displacement(c) => format!("displacement u_{}", xyz[c]),
+        PictureField::DisplacementMagnitude => "displacement magnitude |u|".into(),
+    }
+}
+
+/// The colour bar's label of the field `deformed.png` is coloured by.
+fn field_label(field: PictureField, units: &crate::model::Units) -> String {
+    let xyz = ["x", "y", "z"];
+    match field {
+        PictureField::VonMises => format!("σ_vM [{}]", units.stress),
+        PictureField::Stress(k) => format!("σ_{} [{}]", STRESS_INDICES[k], units.stress),
+        PictureField::Displacement(c) => format!("u_{} [{}]", xyz[c], units.length),
+        PictureField::DisplacementMagnitude => format!("|u| [{}]", units.length),
+    }
+}
+
+/// The indices of the six stress components in Voigt order.
+const STRESS_INDICES: [&str; 6] = ["xx", "yy", "zz", "xy", "yz", "xz"];
 
 /// The six stress components and von Mises of `stresses` at the points and in
 /// the cells, in the parts' order.
@@ -162,12 +209,23 @@ impl Analysis<D3> {
         let (connectivity, offsets, kinds) = self.global_cells();
         let faces = view3d::boundary_faces(&path, points.len(), &connectivity, &offsets, &kinds)?;
         drop((connectivity, offsets, kinds));
-        let von_mises: Vec<f64> = (stresses.base.iter())
-            .flat_map(|s| s.nodal.iter().map(|v| von_mises_3d(&stresses.value(*v))))
-            .collect();
         let u: Vec<[f64; 3]> = (0..points.len())
             .map(|g| std::array::from_fn(|c| inc.u[D3::dof(g, c)]))
             .collect();
+        let picture = self.model.picture;
+        let stress = |f: &dyn Fn(&[f64; 6]) -> f64| -> Vec<f64> {
+            (stresses.base.iter())
+                .flat_map(|s| s.nodal.iter().map(|v| f(&stresses.value(*v))))
+                .collect()
+        };
+        let values: Vec<f64> = match picture.field {
+            PictureField::VonMises => stress(&von_mises_3d),
+            PictureField::Stress(k) => stress(&|s| s[k]),
+            PictureField::Displacement(c) => u.iter().map(|v| v[c]).collect(),
+            PictureField::DisplacementMagnitude => {
+                u.iter().map(|v| v[0].hypot(v[1]).hypot(v[2])).collect()
+            }
+        };
         let rows = self.pair_rows(inc);
         let broken = rows.iter().filter(|r| r.breaks_law()).count();
         let note = if broken > 0 {
@@ -181,14 +239,14 @@ impl Analysis<D3> {
             &view3d::Surface {
                 points: &points,
                 faces: &faces,
-                values: &von_mises,
+                values: &values,
                 displacement: Some(&u),
             },
-            &VIEW,
+            &view_of(picture.view),
             Magnification::Auto,
             &view3d::ViewLabels {
-                title: &format!("{}: von Mises stress{note}", self.model.title),
-                colorbar: &format!("σ_vM [{}]", units.stress),
+                title: &format!("{}: {}{note}", self.model.title, field_title(picture.field)),
+                colorbar: &field_label(picture.field, units),
             },
             proceed,
         )?;

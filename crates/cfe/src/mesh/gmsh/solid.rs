@@ -85,6 +85,65 @@ impl GmshFile {
     }
 }
 
+/// The dimension (2 or 3) of an ASCII MSH 2.2 or 4.1 file's contents `data`
+/// from its `$Elements` section alone (a file is 3D when it holds a 4-node
+/// tetrahedron or an 8-node hexahedron, Gmsh types 4 and 5, as
+/// [`GmshFile::dimension`] says of the parsed file), without reading its
+/// nodes: the element lines are skipped by their count, only their types
+/// read. `None` for a binary file or anything this light reading does not
+/// follow (the file is then parsed: [`GmshFile::parse`]).
+pub fn peek_dimension(data: &[u8]) -> Option<usize> {
+    let text = std::str::from_utf8(data.get(..data.len().min(1 << 12))?).ok()?;
+    let mut lines = text.lines();
+    if lines.next()?.trim() != "$MeshFormat" {
+        return None;
+    }
+    let mut format = lines.next()?.split_whitespace();
+    let version = format.next()?;
+    if format.next()? != "0" {
+        return None; // binary
+    }
+    let start = find(data, b"\n$Elements")? + 10;
+    let body = std::str::from_utf8(&data[start..]).ok()?;
+    let mut lines = body.lines().map(str::trim).filter(|l| !l.is_empty());
+    let solid = |t: u32| t == 4 || t == 5;
+    let mut header = lines.next()?.split_whitespace();
+    match version {
+        "4.1" => {
+            let blocks: usize = header.next()?.parse().ok()?;
+            for _ in 0..blocks {
+                let mut block = lines.next()?.split_whitespace();
+                let (_dim, _tag) = (block.next()?, block.next()?);
+                let kind: u32 = block.next()?.parse().ok()?;
+                let count: usize = block.next()?.parse().ok()?;
+                if solid(kind) {
+                    return Some(3);
+                }
+                for _ in 0..count {
+                    lines.next()?;
+                }
+            }
+            (lines.next()? == "$EndElements").then_some(2)
+        }
+        "2.2" => {
+            let count: usize = header.next()?.parse().ok()?;
+            for _ in 0..count {
+                let kind: u32 = lines.next()?.split_whitespace().nth(1)?.parse().ok()?;
+                if solid(kind) {
+                    return Some(3);
+                }
+            }
+            (lines.next()? == "$EndElements").then_some(2)
+        }
+        _ => None,
+    }
+}
+
+/// The first position of `needle` in `haystack`.
+fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {
+    haystack.windows(needle.len()).position(|w| w == needle)
+}
+
 /// Reads the 3D Gmsh file at `path` into one solid part per physical volume
 /// (named by its physical name, or by its number when it has none), in the order
 /// of their tags: [`GmshMesh3d::read`] then [`GmshMesh3d::parts`].

@@ -187,10 +187,11 @@ impl<D: ElementFamily> Solver<'_, D> {
             increment: r.index,
             residual: worst,
             message: format!(
-                "increment {}: the out-of-balance force is {:.1e} of the balance scale {:.4e} (the largest at a free DOF, or the reactions against the applied load; the scale is the largest of the load (or the support reactions), the pair forces and 1e-4 × the softest part's E·t × the largest displacement; limit [analysis] max_residual = {:.0e}), so the solution cannot be trusted. {}",
+                "increment {}: the out-of-balance force is {:.1e} of the balance scale {:.4e} (the largest at a free DOF, or the reactions against the applied load; the scale is the largest of the load (or the support reactions), the pair forces and 1e-4 × the softest part's {} × the largest displacement; limit [analysis] max_residual = {:.0e}), so the solution cannot be trusted. {}",
                 r.index,
                 worst,
                 r.balance_scale,
+                if D::N == 3 { "E × 1 (unit length)" } else { "E·t" },
                 self.settings.max_residual,
                 penalty_advice(self.parts, self.interfaces)
             ),
@@ -274,23 +275,34 @@ impl<D: ElementFamily> Solver<'_, D> {
     }
 }
 
-/// What to say about the penalties when the solve lost accuracy.
+/// What to say about the penalties when the solve lost accuracy: the
+/// interface of the largest penalty against the stiffness scale of its softer
+/// part, E·t in a plane model, E·h in a solid one (h the mean size of its
+/// pairs' host faces).
 fn penalty_advice<D: ElementFamily>(parts: &[Part<D>], interfaces: &[Interface<D>]) -> String {
+    let solid = D::N == 3;
     let worst = interfaces
         .iter()
         .map(|i| {
-            let et = |p: usize| parts[p].material.young * parts[p].material.thickness;
+            let length = if solid && !i.elements.is_empty() {
+                i.elements.iter().map(|c| c.edge_length).sum::<f64>() / i.elements.len() as f64
+            } else {
+                1.0
+            };
+            let et = |p: usize| parts[p].material.young * parts[p].material.thickness * length;
             let softer = et(i.host).min(et(i.node_part));
             (i.c_n.max(i.c_s) / softer, i)
         })
         .max_by(|a, b| a.0.total_cmp(&b.0));
+    let et = if solid { "E·h" } else { "E·t" };
     match worst {
         Some((ratio, i)) if ratio > 1e7 => format!(
-            "Interface '{}' has a penalty {:.3e}, {:.1e} × E·t of its softer part: too large for double precision. Penalties between about 1e3 and 1e7 × E·t work (the default is 1e5 × E·t); lower c_n and c_s.",
+            "Interface '{}' has a penalty {:.3e}, {:.1e} × {et} of its softer part: too large for double precision. Penalties between about 1e3 and 1e7 × {et} work (the default is 1e5 × {et}); lower c_n and c_s.",
             i.name,
             i.c_n.max(i.c_s),
             ratio
         ),
+        _ if solid => "The model is ill-conditioned: check for very different stiffnesses (E) between parts, or elements of very different sizes.".into(),
         _ => "The model is ill-conditioned: check for very different stiffnesses (E, thickness) between parts, or elements of very different sizes.".into(),
     }
 }
