@@ -36,12 +36,12 @@ pub fn problem_dimension(path: &Path) -> Result<ProblemDimension> {
         return Ok(ProblemDimension::Plane);
     }
     let text = super::read_text(path, input_file::PROBLEM_FILE_CAP, "problem file")?;
-    of_text(&text, path)
+    problem_text_dimension(&text, path)
 }
 
 /// [`problem_dimension`] of problem text read from `path` (the folder of its
-/// Gmsh files, and messages).
-pub fn of_text(text: &str, path: &Path) -> Result<ProblemDimension> {
+/// Gmsh files, and messages): plane or solid from its parts, as a file's.
+pub fn problem_text_dimension(text: &str, path: &Path) -> Result<ProblemDimension> {
     let Ok(root) = DeTable::parse(text) else {
         return Ok(ProblemDimension::Plane);
     };
@@ -232,7 +232,10 @@ pub(super) fn refuse_other_keys(text: &str, path: &Path, solid: bool) -> Result<
             if let Some(v) = t.get("box") {
                 // A solid model read as a plane one: say how to read it (parts
                 // of both dimensions: this part is the stray one).
-                if matches!(of_text(text, path), Ok(ProblemDimension::Solid)) {
+                if matches!(
+                    problem_text_dimension(text, path),
+                    Ok(ProblemDimension::Solid)
+                ) {
                     return Err(refuse(
                         format!("{key}.box"),
                         v.span(),

@@ -29,13 +29,7 @@ mod inp;
 mod schema;
 mod solid;
 
-pub use dimension::{ProblemDimension, problem_dimension};
-
-/// [`problem_dimension`] of problem text read from `path` (the folder of its
-/// Gmsh files, and messages): plane or solid from its parts, as a file's.
-pub fn problem_text_dimension(text: &str, path: &Path) -> Result<ProblemDimension> {
-    dimension::of_text(text, path)
-}
+pub use dimension::{ProblemDimension, problem_dimension, problem_text_dimension};
 
 /// What reading a problem file needs of its dimension beyond the mesh: the
 /// stiffness scale of a part an interface's default penalty is a multiple of
