@@ -114,9 +114,11 @@ impl<D: ElementFamily> Solver<'_, D> {
     /// setting is off, an interface is augmented (its multipliers are
     /// iterated), no pair slips, the columns cannot be read from the cached
     /// condensed operator and more than [`MAX_NEWTON_SLIPPING`] pairs slip
-    /// (they would cost more solves than the fixed point's steps), the
-    /// small system is singular (no state of rest in the pattern), or its
-    /// directions do not settle.
+    /// (they would cost more solves than the fixed point's steps), or the
+    /// small system is singular (no state of rest in the pattern). With it,
+    /// whether the directions settled: where they did not, the terms are the
+    /// pattern's exact solution at the directions last solved for, and the
+    /// law check reports the pairs whose slip turns.
     pub(super) fn newton_slip_terms(
         &mut self,
         states: &[Vec<PairState>],
