@@ -79,14 +79,19 @@ pub const CG_TOLERANCE: f64 = 1e-10;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum FrictionSolve {
-    /// The Anderson-accelerated fixed point on the slip forces (default).
+    /// The Anderson-accelerated fixed point on the slip forces within each
+    /// pattern, with the search's rescues (friction first, the stick-point
+    /// move, the continuation in μ): the default.
     #[default]
     FixedPoint,
-    /// The pattern's slip forces solved in one shot (its Newton step: the
-    /// slipping pairs' Schur-complement columns and one small dense solve, the
-    /// slip directions updated within the pattern), the fixed point then
-    /// confirming them; where the small system is singular or its directions
-    /// do not settle, the fixed point alone, as by default.
+    /// The semi-smooth Newton (opt-in; not yet the default, docs/method.md
+    /// §2.1 says why): every pattern — each pair open,
+    /// sticking, or slipping along a direction — solved exactly (its slip
+    /// forces from the slipping pairs' Schur-complement columns and one small
+    /// dense solve), the next pattern the law's update of every pair at once
+    /// (a slip the solve reversed sticks, a pair in tension opens); where the
+    /// small system is singular, the fixed point; an increment it settles or
+    /// finds no state in is searched again with the fixed point.
     Newton,
 }
 

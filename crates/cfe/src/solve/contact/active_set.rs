@@ -12,6 +12,7 @@ use super::increment::{IncrementResult, Iteration, PairViolation, count_changes}
 use super::pairs::LawCheck;
 use super::solver::Solver;
 use crate::coupling::{PairState, PairStates, ViolationKind};
+use crate::domain::FrictionSolve;
 use crate::error::{Error, Result};
 use crate::fem::ElementFamily;
 use crate::solve::system::Method;
@@ -81,6 +82,52 @@ impl<D: ElementFamily> Solver<'_, D> {
     /// law (or, when the first search found nothing, if there is one). Otherwise
     /// the first search's answer or error stands.
     pub(super) fn active_set_or_continuation(
+        &mut self,
+        inc: usize,
+        lambda: f64,
+        start: &PairStates,
+    ) -> Result<IncrementResult<D>> {
+        let coulomb = !self.proportional && self.coulomb.contains(&true);
+        if !coulomb || self.friction_solve != FrictionSolve::Newton {
+            return self.search_or_continuation(inc, lambda, start);
+        }
+        // The semi-smooth Newton's answer; an increment it does not answer
+        // (it settles, or finds no state) is searched again with the fixed
+        // point on the slip forces and its rescues, whose answer is taken if
+        // it obeys the law.
+        let newton = self.search_or_continuation(inc, lambda, start);
+        let first = match newton {
+            Ok(r) if r.settled.is_empty() => return Ok(r),
+            Ok(r) => Ok((r, self.history.clone(), self.augmented_error)),
+            Err(e @ (Error::NoConvergence(_) | Error::Unsupported { .. })) => {
+                Err((e, std::mem::take(&mut self.failed_search)))
+            }
+            Err(e) => return Err(e),
+        };
+        self.friction_solve = FrictionSolve::FixedPoint;
+        let again = self.search_or_continuation(inc, lambda, start);
+        self.friction_solve = FrictionSolve::Newton;
+        let solves = match &first {
+            Ok((r, ..)) => r.history.clone(),
+            Err((_, solves)) => solves.clone(),
+        };
+        match (again, first) {
+            (Ok(mut r), _) if r.settled.is_empty() => {
+                r.history.splice(0..0, solves);
+                r.iterations = r.history.len();
+                Ok(r)
+            }
+            (Err(e @ Error::Interrupted { .. }), _) => Err(e),
+            (_, Ok((r, history, error))) => {
+                (self.history, self.augmented_error) = (history, error);
+                Ok(r)
+            }
+            (_, Err((e, _))) => Err(e),
+        }
+    }
+
+    /// [`Solver::active_set_or_continuation`] with the current friction solve.
+    fn search_or_continuation(
         &mut self,
         inc: usize,
         lambda: f64,

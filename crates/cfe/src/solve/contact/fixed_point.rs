@@ -234,11 +234,21 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
             u_rest,
             before: Vec::new(),
         };
-        if let Some(before) = newton {
-            terms.before = before;
-            terms.solve()?;
-        }
-        let converged = iterate(&mut terms, MAX_FIXED_POINT)?;
+        let converged = match newton {
+            Some((before, settled)) => {
+                terms.before = before;
+                terms.solve()?;
+                // The pattern solved exactly at the directions its pairs slip
+                // along: where those did not settle, the law check reports the
+                // pairs that turn (the search's next pattern), with nothing
+                // for the fixed point to iterate.
+                // Settled or not, the pattern is solved: nothing is left
+                // for the fixed point to iterate.
+                let _ = settled;
+                true
+            }
+            None => iterate(&mut terms, MAX_FIXED_POINT)?,
+        };
         let total = terms.total;
         self.fixed_point_converged = converged;
         Ok(total.map(|sum| self.on_free_equations(&sum)))

@@ -9,6 +9,7 @@ use super::solver::Solver;
 use crate::coupling::{
     self, CheckTolerance, LawParams, PairSet, PairState, PairStates, ViolationKind, history,
 };
+use crate::domain::FrictionSolve;
 use crate::fem::ElementFamily;
 
 /// The law checked on one solution: the state the law gives each pair next and
@@ -79,7 +80,29 @@ impl<D: ElementFamily> Solver<'_, D> {
             force: self.settings.force_tolerance * load_scale,
             gap: self.settings.gap_tolerance,
         };
-        let v = coupling::check_law(&self.pairs(), &laws, states, history, u, tol);
+        let mut v = coupling::check_law(&self.pairs(), &laws, states, history, u, tol);
+        if self.friction_solve == FrictionSolve::Newton {
+            // The semi-smooth Newton updates the normal and the tangential
+            // law together: every closed pair in tension opens (no friction
+            // first; each pattern is solved exactly, so a tension is the
+            // pattern's, not a slip force's lag).
+            // A slipping pair off the cone whose state the law keeps (its
+            // slip reversed by the exact solve: the trial force turned against
+            // the slip force beyond the cone) sticks next: the reversal passes
+            // through the cone, and a pair that truly slides the other way
+            // leaves it again along its new trial force. Two opposite slips,
+            // each reversing the other, are the stick between them.
+            for &(i, k, ref lv) in &v.violations {
+                if lv.kind == ViolationKind::Tension && states[i][k].is_closed() {
+                    v.next[i][k] = PairState::Open;
+                } else if lv.kind == ViolationKind::Slip
+                    && states[i][k] == PairState::Slip
+                    && v.next[i][k] == PairState::Slip
+                {
+                    v.next[i][k] = PairState::Bonded;
+                }
+            }
+        }
         LawCheck {
             next: v.next,
             violations: v

@@ -114,20 +114,22 @@ impl<D: ElementFamily> Solver<'_, D> {
     /// setting is off, an interface is augmented (its multipliers are
     /// iterated), no pair slips, the columns cannot be read from the cached
     /// condensed operator and more than [`MAX_NEWTON_SLIPPING`] pairs slip
-    /// (they would cost more solves than the fixed point's steps), the
-    /// small system is singular (no state of rest in the pattern), or its
-    /// directions do not settle.
+    /// (they would cost more solves than the fixed point's steps), or the
+    /// small system is singular (no state of rest in the pattern). With it,
+    /// whether the directions settled: where they did not, the terms are the
+    /// pattern's exact solution at the directions last solved for, and the
+    /// law check reports the pairs whose slip turns.
     pub(super) fn newton_slip_terms(
         &mut self,
         states: &[Vec<PairState>],
         inc: usize,
         u: &[f64],
-    ) -> Result<Option<PairHistories<D>>> {
+    ) -> Result<Option<(PairHistories<D>, bool)>> {
         let augmented = self
             .interfaces
             .iter()
             .any(|i| i.enforcement == Enforcement::Augmented);
-        if self.settings.friction_solve != FrictionSolve::Newton || augmented {
+        if self.friction_solve != FrictionSolve::Newton || augmented {
             return Ok(None);
         }
         let mut slips = self.slipping(states, u);
@@ -137,14 +139,14 @@ impl<D: ElementFamily> Solver<'_, D> {
         let Some(cols) = self.slip_columns(states, inc, &slips, MAX_NEWTON_SLIPPING)? else {
             return Ok(None);
         };
-        let Some((dz, true)) = solve_slip_terms(&mut slips, &cols) else {
+        let Some((dz, settled)) = solve_slip_terms(&mut slips, &cols) else {
             self.newton.fallbacks += 1;
             return Ok(None);
         };
         self.newton.solved += 1;
         let before = self.history.clone();
         self.set_slip_terms(&slips, &cols, &dz);
-        Ok(Some(before))
+        Ok(Some((before, settled)))
     }
 
     /// The slipping Coulomb pairs of `states` at the solution `u` (valid at the
@@ -392,11 +394,14 @@ fn solve_slip_terms<T: Tangent>(slips: &mut [Slipping<T>], cols: &Columns) -> Op
             .collect();
         // The semi-smooth step's directions: the trial force's beyond the cone.
         if step > 0 {
+            // The directions `dz` was solved for, should the turn not settle.
+            let solved: Vec<T> = slips.iter().map(|s| s.xi).collect();
             let mut turned = false;
             for (s, &(f_n, _, trial)) in slips.iter_mut().zip(&at) {
                 if trial.norm() > s.mu * (-f_n).max(0.0) {
                     let xi = trial.direction();
-                    turned |= xi != s.xi;
+                    // A turn beyond round-off (a 3D direction converges).
+                    turned |= xi.sub(s.xi).norm() > 1e-13;
                     s.xi = xi;
                 }
             }
@@ -409,6 +414,11 @@ fn solve_slip_terms<T: Tangent>(slips: &mut [Slipping<T>], cols: &Columns) -> Op
                 return Some((dz, true));
             }
             if step > MAX_DIRECTION_UPDATES || (turned && seen.contains(&key(slips))) {
+                // The exact solution of the pattern at the directions last
+                // solved for: the law check sees the pairs that turn.
+                for (s, xi) in slips.iter_mut().zip(solved) {
+                    s.xi = xi;
+                }
                 return Some((dz, false));
             }
         }

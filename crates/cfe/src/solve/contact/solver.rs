@@ -128,6 +128,10 @@ pub struct Solver<'a, D: ElementFamily = D2> {
     /// What the Newton steps of the patterns' slip forces did
     /// (`friction_solve = "newton"`).
     pub(super) newton: super::increment::NewtonCounts,
+    /// The friction solve the search uses now: the settings', but the fixed
+    /// point while an increment the Newton search did not answer is searched
+    /// again with it.
+    pub(super) friction_solve: crate::domain::FrictionSolve,
     /// Per interface, whether it follows the Coulomb law.
     pub(super) coulomb: Vec<bool>,
     /// The factor on every interface's friction coefficient: 1 but while a
@@ -266,6 +270,7 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
             augmented_error: 0.0,
             fixed_point_converged: true,
             newton: Default::default(),
+            friction_solve: settings.friction_solve,
             coulomb: (0..pairs.interface_count())
                 .map(|i| pairs.law(i).law == Law::Coulomb)
                 .collect(),
