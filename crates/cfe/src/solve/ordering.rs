@@ -1,7 +1,8 @@
 //! Fill-reducing ordering of the equations by geometric nested dissection.
 //!
 //! The nodes are split recursively by the median of their coordinate along the
-//! longer side of their bounding box; the nodes of the lower half that touch the
+//! longer side of their bounding box (in 3D along the axis whose median split has
+//! the fewest separator nodes); the nodes of the lower half that touch the
 //! upper half (in the node graph) form the separator. Each half is ordered first,
 //! the separator last, so eliminating a half never fills in the other. On 2D meshes
 //! this gives factors with O(n log n) nonzeros and O(n^1.5) work, and it beats
@@ -122,7 +123,24 @@ impl<D: ElementFamily> Split<'_, D> {
                 return;
             }
         }
-        let axis = longest_axis::<D>(coords, nodes);
+        let mut axis = longest_axis::<D>(coords, nodes);
+        if D::N == 3 {
+            // In 3D the nodes' density varies between parts (a fine thin
+            // plate on a coarse block): the median along the longest side
+            // can fall inside the dense part and cut it along its large face.
+            // Take the axis whose median split has the fewest separator
+            // nodes (the longest one on a tie): on the 3D plate on a base
+            // this halves the factor at 188k unknowns (445 M → 198 M
+            // nonzeros). Plane meshes keep the longest side.
+            let mut best = self.separator_size(nodes, axis);
+            for c in 0..D::N {
+                let size = self.separator_size(nodes, c);
+                if size < best {
+                    best = size;
+                    axis = c;
+                }
+            }
+        }
         let at = |a: usize| coords[a].as_ref()[axis];
         // Split at the median coordinate, keeping nodes with equal coordinates
         // together (a straight separator on structured meshes).
@@ -178,6 +196,35 @@ impl<D: ElementFamily> Split<'_, D> {
             self.dissect(inner, out_inner);
             self.dissect(upper, out_upper);
         }
+    }
+}
+
+impl<D: ElementFamily> Split<'_, D> {
+    /// The number of separator nodes of the median split of `nodes` along
+    /// `axis` (as [`Split::dissect`] makes it; `usize::MAX` for a degenerate
+    /// split). Reorders `nodes`.
+    fn separator_size(&self, nodes: &mut [usize], axis: usize) -> usize {
+        use std::sync::atomic::Ordering::Relaxed;
+        let coords = self.coords;
+        let at = |a: usize| coords[a].as_ref()[axis];
+        let half = nodes.len() / 2;
+        nodes.select_nth_unstable_by(half, |&a, &b| at(a).total_cmp(&at(b)));
+        let m = at(nodes[half]);
+        let mut mid = partition(nodes, |a| at(a) < m);
+        if mid == 0 {
+            mid = partition(nodes, |a| at(a) <= m);
+        }
+        if mid == 0 || mid == nodes.len() {
+            return usize::MAX;
+        }
+        let mark = self.counter.fetch_add(1, Relaxed) + 1;
+        for &a in &nodes[mid..] {
+            self.stamp[a].store(mark, Relaxed);
+        }
+        nodes[..mid]
+            .iter()
+            .filter(|&&a| self.graph.neighbours(a).iter().any(|&b| self.stamp[b].load(Relaxed) == mark))
+            .count()
     }
 }
 
