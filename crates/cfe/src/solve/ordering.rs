@@ -141,37 +141,17 @@ impl<D: ElementFamily> Split<'_, D> {
                 }
             }
         }
-        let at = |a: usize| coords[a].as_ref()[axis];
-        // Split at the median coordinate, keeping nodes with equal coordinates
-        // together (a straight separator on structured meshes).
-        let half = nodes.len() / 2;
-        nodes.select_nth_unstable_by(half, |&a, &b| at(a).total_cmp(&at(b)));
-        let m = at(nodes[half]);
-        let mut mid = partition(nodes, |a| at(a) < m);
-        if mid == 0 {
-            mid = partition(nodes, |a| at(a) <= m);
-        }
-        if mid == 0 || mid == nodes.len() {
+        let Some(mid) = median_split::<D>(coords, nodes, axis) else {
             out.copy_from_slice(nodes);
             return;
-        }
-        // A mark no other step uses (the others mark disjoint nodes).
-        let mark = self.counter.fetch_add(1, Relaxed) + 1;
-        for &a in &nodes[mid..] {
-            self.stamp[a].store(mark, Relaxed);
-        }
+        };
+        let mark = self.mark(&nodes[mid..]);
         // Separator: lower-half nodes with a neighbour in the upper half; move
         // them to the end of the lower half.
         let (lower, upper) = nodes.split_at_mut(mid);
         let mut keep = 0;
         for i in 0..lower.len() {
-            let a = lower[i];
-            let touches = self
-                .graph
-                .neighbours(a)
-                .iter()
-                .any(|&b| self.stamp[b].load(Relaxed) == mark);
-            if !touches {
+            if !self.touches(lower[i], mark) {
                 lower.swap(keep, i);
                 keep += 1;
             }
@@ -197,35 +177,57 @@ impl<D: ElementFamily> Split<'_, D> {
             self.dissect(upper, out_upper);
         }
     }
-}
 
-impl<D: ElementFamily> Split<'_, D> {
     /// The number of separator nodes of the median split of `nodes` along
     /// `axis` (as [`Split::dissect`] makes it; `usize::MAX` for a degenerate
     /// split). Reorders `nodes`.
     fn separator_size(&self, nodes: &mut [usize], axis: usize) -> usize {
-        use std::sync::atomic::Ordering::Relaxed;
-        let coords = self.coords;
-        let at = |a: usize| coords[a].as_ref()[axis];
-        let half = nodes.len() / 2;
-        nodes.select_nth_unstable_by(half, |&a, &b| at(a).total_cmp(&at(b)));
-        let m = at(nodes[half]);
-        let mut mid = partition(nodes, |a| at(a) < m);
-        if mid == 0 {
-            mid = partition(nodes, |a| at(a) <= m);
-        }
-        if mid == 0 || mid == nodes.len() {
+        let Some(mid) = median_split::<D>(self.coords, nodes, axis) else {
             return usize::MAX;
-        }
+        };
+        let mark = self.mark(&nodes[mid..]);
+        nodes[..mid].iter().filter(|&&a| self.touches(a, mark)).count()
+    }
+
+    /// Marks `upper` with a mark no other step uses (the others mark disjoint
+    /// nodes) and returns it.
+    fn mark(&self, upper: &[usize]) -> u32 {
+        use std::sync::atomic::Ordering::Relaxed;
         let mark = self.counter.fetch_add(1, Relaxed) + 1;
-        for &a in &nodes[mid..] {
+        for &a in upper {
             self.stamp[a].store(mark, Relaxed);
         }
-        nodes[..mid]
-            .iter()
-            .filter(|&&a| self.graph.neighbours(a).iter().any(|&b| self.stamp[b].load(Relaxed) == mark))
-            .count()
+        mark
     }
+
+    /// Whether node `a` has a neighbour carrying `mark` (in the upper half).
+    fn touches(&self, a: usize, mark: u32) -> bool {
+        use std::sync::atomic::Ordering::Relaxed;
+        self.graph
+            .neighbours(a)
+            .iter()
+            .any(|&b| self.stamp[b].load(Relaxed) == mark)
+    }
+}
+
+/// Splits `nodes` at the median of their coordinate along `axis`, keeping
+/// nodes with equal coordinates together (a straight separator on structured
+/// meshes): the lower half first; returns its length, or `None` when one half
+/// would be empty.
+fn median_split<D: ElementFamily>(
+    coords: &[D::Vector],
+    nodes: &mut [usize],
+    axis: usize,
+) -> Option<usize> {
+    let at = |a: usize| coords[a].as_ref()[axis];
+    let half = nodes.len() / 2;
+    nodes.select_nth_unstable_by(half, |&a, &b| at(a).total_cmp(&at(b)));
+    let m = at(nodes[half]);
+    let mut mid = partition(nodes, |a| at(a) < m);
+    if mid == 0 {
+        mid = partition(nodes, |a| at(a) <= m);
+    }
+    (mid != 0 && mid != nodes.len()).then_some(mid)
 }
 
 /// The axis along which the points `coords[a]` of `nodes` extend farthest (the
