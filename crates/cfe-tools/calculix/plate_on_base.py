@@ -38,14 +38,12 @@ fits.rs); the test suite does not need CalculiX.
 """
 
 import argparse
-import csv
-import math
 import os
-import re
-import struct
 import subprocess
 import sys
-import xml.etree.ElementTree as ET
+
+from ccx_deck import (contact_lines, element_lines, material_lines, node_lines, parse_dat,
+                      run_ccx as run_ccx_deck, run_cfe as run_cfe_problem)
 
 E, NU, T = 210000.0, 0.31, 1.0
 LOAD = 1500.0
@@ -109,52 +107,8 @@ increments = 10
 """
 
 
-def read_vtu(path):
-    """Points, cells (node lists), per-cell part ids and point displacements of a
-    VTU written by cfe (raw appended data, UInt64 headers)."""
-    raw = open(path, "rb").read()
-    start = raw.index(b"<AppendedData")
-    data = raw[raw.index(b"_", start) + 1:]
-    root = ET.fromstring(raw[:start].decode() + "</VTKFile>")
-    fmt = {"Float64": "d", "Int64": "q", "Int32": "i", "UInt8": "B"}
-
-    def array(elem):
-        off = int(elem.get("offset"))
-        (n,) = struct.unpack_from("<Q", data, off)
-        code = fmt[elem.get("type")]
-        count = n // struct.calcsize(code)
-        return list(struct.unpack_from(f"<{count}{code}", data, off + 8))
-
-    piece = root.find(".//Piece")
-    pts = array(piece.find("Points/DataArray"))
-    points = [(pts[3 * i], pts[3 * i + 1]) for i in range(len(pts) // 3)]
-    cells_el = {d.get("Name"): d for d in piece.find("Cells")}
-    conn, offs = array(cells_el["connectivity"]), array(cells_el["offsets"])
-    cells, prev = [], 0
-    for o in offs:
-        cells.append(conn[prev:o])
-        prev = o
-    cd = {d.get("Name"): d for d in piece.find("CellData")}
-    pd = {d.get("Name"): d for d in piece.find("PointData")}
-    part = array(cd["part_id"])
-    disp = array(pd["displacement"])
-    u = [(disp[3 * i], disp[3 * i + 1]) for i in range(len(points))]
-    return points, cells, part, u
-
-
 def run_cfe(cfe, work, name, lines):
-    folder = os.path.join(work, f"cfe_{name}")
-    os.makedirs(folder, exist_ok=True)
-    toml = os.path.join(folder, "problem.toml")
-    with open(toml, "w") as f:
-        f.write(problem(lines))
-    out = os.path.join(folder, "out")
-    subprocess.run([cfe, "run", toml, "--out", out], check=True,
-                   stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    vtus = sorted(f for f in os.listdir(os.path.join(out, "vtu")) if f.startswith("parts_"))
-    mesh = read_vtu(os.path.join(out, "vtu", vtus[-1]))
-    with open(os.path.join(out, "pairs.csv")) as f:
-        pairs = list(csv.DictReader(f))
+    mesh, pairs, _ = run_cfe_problem(cfe, os.path.join(work, f"cfe_{name}"), problem(lines), 2)
     return mesh, pairs
 
 
@@ -185,14 +139,10 @@ def write_inp(path, mesh, friction):
     base_nodes = sorted({n for c in base for n in cells[c]})
     L = []
     L.append("*HEADING\nPlate on a base, cfe mesh (written by plate_on_base.py)")
-    L.append("*NODE, NSET=NALL")
-    L += [f"{i + 1}, {x:.12g}, {y:.12g}, 0" for i, (x, y) in enumerate(points)]
+    L += node_lines(points)
     for name, ids in (("EBASE", base), ("EPLATE", plate)):
-        L.append(f"*ELEMENT, TYPE=CPS3, ELSET={name}")
-        L += [f"{c + 1}, " + ", ".join(str(n + 1) for n in cells[c]) for c in ids]
-    L.append("*MATERIAL, NAME=STEEL\n*ELASTIC\n" + f"{E}, {NU}")
-    L.append("*SOLID SECTION, ELSET=EBASE, MATERIAL=STEEL\n" + f"{T}")
-    L.append("*SOLID SECTION, ELSET=EPLATE, MATERIAL=STEEL\n" + f"{T}")
+        L += element_lines("CPS3", name, ids, lambda c: cells[c])
+    L += material_lines(E, NU, ["EBASE", "EPLATE"], T)
     slaves = [n for n in plate_nodes if abs(points[n][1] - PLATE_Y0) < 1e-9]
     L.append("*NSET, NSET=SLAVE\n" + ",\n".join(str(n + 1) for n in slaves))
     # Master faces: base triangle edges on y = PLATE_Y0 (CPS3 face k joins nodes k, k+1).
@@ -205,13 +155,13 @@ def write_inp(path, mesh, friction):
                 faces.append(f"{c + 1}, S{k + 1}")
     L.append("*SURFACE, NAME=MASTER, TYPE=ELEMENT\n" + "\n".join(faces))
     L.append("*SURFACE, NAME=SLAVES, TYPE=NODE\nSLAVE")
-    L.append("*CONTACT PAIR, INTERACTION=SI1, TYPE=NODE TO SURFACE\nSLAVES, MASTER")
-    L.append("*SURFACE INTERACTION, NAME=SI1")
-    L.append("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n" + f"{K_LINE:.6g}")
-    if friction == "stick":
-        L.append("*FRICTION\n" + f"1e3, {K_LINE:.6g}")
-    elif friction is not None:
-        L.append("*FRICTION\n" + f"{friction}, {K_LINE:.6g}")
+    # The tension at large clearance stays CalculiX's default (3 MPa): with
+    # 1e-4 MPa, as the 3D comparison needs, the stick and frictionless rows of
+    # the table are the same to every printed digit (contact pressures within
+    # 6e-5 MPa, u_y within 3e-8 mm, measured 2026-11-28), and CalculiX's
+    # Coulomb run no longer converges (too many cutbacks in the first
+    # increment).
+    L += contact_lines("SLAVES", "MASTER", K_LINE, friction)
     fixed = [n for n in base_nodes if abs(points[n][1]) < 1e-9]
     centre = [n for n in plate_nodes if abs(points[n][0] - 100.0) < 1e-9 and abs(points[n][1] - LOAD_Y) < 1e-9]
     L.append("*BOUNDARY")
@@ -232,26 +182,8 @@ def run_ccx(ccx, work, name, mesh, friction):
     folder = os.path.join(work, f"ccx_{name}")
     os.makedirs(folder, exist_ok=True)
     slaves = write_inp(os.path.join(folder, "plate.inp"), mesh, friction)
-    subprocess.run([ccx, "-i", "plate"], cwd=folder, check=True,
-                   stdout=open(os.path.join(folder, "ccx.log"), "w"), stderr=subprocess.STDOUT)
+    run_ccx_deck(ccx, folder)
     return slaves, parse_dat(os.path.join(folder, "plate.dat"))
-
-
-def parse_dat(path):
-    """The last time's blocks of the .dat: {'U': {node: values}, 'CSTR': {...}, 'CDIS': {...}}."""
-    blocks, current = {}, None
-    for line in open(path):
-        m = re.match(r"\s*(displacements|contact stress|relative contact displacement)", line)
-        if m:
-            key = {"displacements": "U", "contact stress": "CSTR",
-                   "relative contact displacement": "CDIS"}[m.group(1)]
-            current = {}
-            blocks[key] = current
-            continue
-        parts = line.split()
-        if current is not None and parts and re.match(r"^\d+$", parts[0]):
-            current[int(parts[0]) - 1] = [float(v) for v in parts[1:]]
-    return blocks
 
 
 def tributary(xs):

@@ -46,7 +46,19 @@ With --model bench --refine 4 both codes solve the benchmark's 3D model
 (examples/plate_on_base_3d_bench.toml's mesh, about 59k unknowns) and each run is
 repeated N times (--repeat N), the fastest kept (wall clock of the whole process:
 `cfe run` with all its outputs, ccx with its .dat/.frd, one thread:
-OMP_NUM_THREADS=1).
+OMP_NUM_THREADS=1). The timing at K = 4:
+    python3 crates/cfe-tools/calculix/plate_on_base_3d.py --model bench --refine 4 \
+        --laws frictionless --contact surface --c-pair 3.28125e7 --repeat 3
+CalculiX's node-to-surface contact does not converge on the bench model at
+K = 2, 3 or 4 (its residual stalls and it cuts the increment below 1e-4 of the
+load, whatever the slope, 8e7 or 1.05e7 MPa/mm, with or without SMALL
+SLIDING): --contact surface gives it face-to-face contact (SURFACE TO SURFACE,
+the slave surface the plate's bottom faces), which converges in 10 increments
+of 0.1 with the default controls when the slope is about 50 E (CalculiX's
+manual: 5 to 50 times E): --c-pair 3.28125e7 per pair is 1.05e7 MPa/mm at K = 4
+(the interior pair's area 1.25 × 2.5 mm²), and cfe gets the same stiffness per
+pair. Its nodal contact pressures are read from the .frd (*CONTACT FILE, CSTR:
+extrapolated from the integration points to the slave nodes).
 Its table at K = 1 is pasted, as a static table clearly labelled as produced by
 this script, into the verification report (`CALCULIX_3D` in
 crates/cfe-tools/src/verification/solid_peer.rs); the test suite does not need
@@ -54,14 +66,13 @@ CalculiX.
 """
 
 import argparse
-import csv
 import os
-import re
-import struct
 import subprocess
 import sys
-import time
-import xml.etree.ElementTree as ET
+
+from ccx_deck import (contact_lines, element_lines, material_lines, node_lines, parse_dat,
+                      parse_frd_contact,
+                      run_ccx as run_ccx_deck, run_cfe as run_cfe_problem)
 
 E, NU = 210000.0, 0.31
 LOAD = 60000.0
@@ -139,56 +150,11 @@ scheme = "active-set"
 """
 
 
-def read_vtu(path):
-    """Points, cells (node lists), per-cell part ids and point displacements of a
-    VTU written by cfe (raw appended data, UInt64 headers)."""
-    raw = open(path, "rb").read()
-    start = raw.index(b"<AppendedData")
-    data = raw[raw.index(b"_", start) + 1:]
-    root = ET.fromstring(raw[:start].decode() + "</VTKFile>")
-    fmt = {"Float64": "d", "Int64": "q", "Int32": "i", "UInt8": "B"}
-
-    def array(elem):
-        off = int(elem.get("offset"))
-        (n,) = struct.unpack_from("<Q", data, off)
-        code = fmt[elem.get("type")]
-        count = n // struct.calcsize(code)
-        return list(struct.unpack_from(f"<{count}{code}", data, off + 8))
-
-    piece = root.find(".//Piece")
-    pts = array(piece.find("Points/DataArray"))
-    points = [tuple(pts[3 * i:3 * i + 3]) for i in range(len(pts) // 3)]
-    cells_el = {d.get("Name"): d for d in piece.find("Cells")}
-    conn, offs = array(cells_el["connectivity"]), array(cells_el["offsets"])
-    cells, prev = [], 0
-    for o in offs:
-        cells.append(conn[prev:o])
-        prev = o
-    cd = {d.get("Name"): d for d in piece.find("CellData")}
-    pd = {d.get("Name"): d for d in piece.find("PointData")}
-    part = array(cd["part_id"])
-    disp = array(pd["displacement"])
-    u = [tuple(disp[3 * i:3 * i + 3]) for i in range(len(points))]
-    return points, cells, part, u
-
-
 def run_cfe(cfe, work, name, lines, refine, model):
     """Runs cfe on the problem with `lines`; returns its mesh, pairs and seconds."""
     folder = os.path.join(work, f"cfe_{name}_{model}_k{refine}")
-    os.makedirs(folder, exist_ok=True)
-    toml = os.path.join(folder, "problem.toml")
-    with open(toml, "w") as f:
-        f.write(problem(lines, model))
-    out = os.path.join(folder, "out")
-    t0 = time.perf_counter()
-    subprocess.run([cfe, "run", toml, "--out", out, "--refine", str(refine), "--force"],
-                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    seconds = time.perf_counter() - t0
-    vtus = sorted(f for f in os.listdir(os.path.join(out, "vtu")) if f.startswith("parts_"))
-    mesh = read_vtu(os.path.join(out, "vtu", vtus[-1]))
-    with open(os.path.join(out, "pairs.csv")) as f:
-        pairs = list(csv.DictReader(f))
-    return mesh, pairs, seconds
+    return run_cfe_problem(cfe, folder, problem(lines, model), 3,
+                           ["--refine", str(refine), "--force"])
 
 
 def volume(p, n):
@@ -234,15 +200,18 @@ TET_FACES = [(0, 1, 2), (0, 3, 1), (1, 3, 2), (2, 3, 0)]
 HEX_FACES = [(0, 1, 2, 3), (4, 7, 6, 5), (0, 4, 5, 1), (1, 5, 6, 2), (2, 6, 7, 3), (3, 7, 4, 0)]
 
 
-def write_inp(path, mesh, friction, k_area, step_inc):
+def write_inp(path, mesh, friction, k_area, step_inc, contact="node"):
+    """The CalculiX deck on the cfe mesh `mesh`; `contact` "node": node-to-surface
+    contact (the tension SIGMA_INF at large clearance), "surface": face-to-face
+    (CalculiX's SURFACE TO SURFACE, the contact stresses written to the .frd at
+    the slave nodes). Returns the slave nodes and the nearest-plate-node finder."""
     points, cells, part, _ = mesh
     base = [i for i, p in enumerate(part) if p == 0]
     plate = [i for i, p in enumerate(part) if p == 1]
     plate_nodes = sorted({n for c in plate for n in cells[c]})
     base_nodes = sorted({n for c in base for n in cells[c]})
     L = ["*HEADING\nPlate on a base 3D, cfe mesh (written by plate_on_base_3d.py)"]
-    L.append("*NODE, NSET=NALL")
-    L += [f"{i + 1}, {x:.12g}, {y:.12g}, {z:.12g}" for i, (x, y, z) in enumerate(points)]
+    L += node_lines(points)
 
     def tet(c):
         n = list(cells[c])
@@ -250,13 +219,9 @@ def write_inp(path, mesh, friction, k_area, step_inc):
             n[1], n[2] = n[2], n[1]
         return n
 
-    L.append("*ELEMENT, TYPE=C3D8, ELSET=EBASE")
-    L += [f"{c + 1}, " + ", ".join(str(n + 1) for n in cells[c]) for c in base]
-    L.append("*ELEMENT, TYPE=C3D4, ELSET=EPLATE")
-    L += [f"{c + 1}, " + ", ".join(str(n + 1) for n in tet(c)) for c in plate]
-    L.append("*MATERIAL, NAME=STEEL\n*ELASTIC\n" + f"{E}, {NU}")
-    L.append("*SOLID SECTION, ELSET=EBASE, MATERIAL=STEEL")
-    L.append("*SOLID SECTION, ELSET=EPLATE, MATERIAL=STEEL")
+    L += element_lines("C3D8", "EBASE", base, lambda c: cells[c])
+    L += element_lines("C3D4", "EPLATE", plate, tet)
+    L += material_lines(E, NU, ["EBASE", "EPLATE"])
     slaves = [n for n in plate_nodes if abs(points[n][2] - BOTTOM) < 1e-9]
     L.append("*NSET, NSET=SLAVE\n" + ",\n".join(str(n + 1) for n in slaves))
     faces = []
@@ -274,16 +239,13 @@ def write_inp(path, mesh, friction, k_area, step_inc):
             if all(abs(points[n[i]][2] - BOTTOM) < 1e-9 for i in f):
                 sfaces.append(f"{c + 1}, S{k + 1}")
     L.append("*SURFACE, NAME=SLAVES, TYPE=ELEMENT\n" + "\n".join(sfaces))
-    L.append("*CONTACT PAIR, INTERACTION=SI1, TYPE=NODE TO SURFACE\nSLAVES, MASTER")
-    L.append("*SURFACE INTERACTION, NAME=SI1")
     # K, and the tension σ∞ at large clearances (node-to-surface only; CalculiX's
     # default, 3 MPa, pulls the open slave nodes down: 1e-4 MPa × 25 mm² is 4e-8
     # of the load per pair).
-    L.append("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n" + f"{k_area:.6g}, {SIGMA_INF:g}")
-    if friction == "stick":
-        L.append("*FRICTION\n" + f"1e3, {k_area:.6g}")
-    elif friction is not None:
-        L.append("*FRICTION\n" + f"{friction}, {k_area:.6g}")
+    if contact == "node":
+        L += contact_lines("SLAVES", "MASTER", k_area, friction, SIGMA_INF)
+    else:
+        L += contact_lines("SLAVES", "MASTER", k_area, friction, None, "SURFACE TO SURFACE")
     fixed = [n for n in base_nodes if abs(points[n][2]) < 1e-9]
 
     def at(x, y, z):
@@ -302,43 +264,31 @@ def write_inp(path, mesh, friction, k_area, step_inc):
                      at(170.0, 20.0, BOTTOM)})
     L.append("*NSET, NSET=PROBES\n" + ", ".join(str(n + 1) for n in probes))
     L.append("*NODE PRINT, NSET=PROBES\nU")
-    L.append("*CONTACT PRINT\nCSTR")
+    if contact == "node":
+        L.append("*CONTACT PRINT\nCSTR")
+    else:
+        # Face-to-face contact prints its stresses per integration point: the
+        # nodal ones (extrapolated to the slave nodes) go to the .frd.
+        L.append("*CONTACT FILE\nCSTR")
     L.append("*END STEP")
     with open(path, "w") as f:
         f.write("\n".join(L) + "\n")
     return slaves, at
 
 
-def run_ccx(ccx, work, name, mesh, friction, k_area, step_inc, refine, model):
-    folder = os.path.join(work, f"ccx_{name}_{model}_k{refine}")
+def run_ccx(ccx, work, name, mesh, friction, k_area, step_inc, refine, model, contact="node"):
+    suffix = "" if contact == "node" else "_s2s"
+    folder = os.path.join(work, f"ccx_{name}_{model}_k{refine}{suffix}")
     os.makedirs(folder, exist_ok=True)
-    slaves, at = write_inp(os.path.join(folder, "plate.inp"), mesh, friction, k_area, step_inc)
-    t0 = time.perf_counter()
-    with open(os.path.join(folder, "ccx.log"), "w") as log:
-        subprocess.run([ccx, "-i", "plate"], cwd=folder, check=True, stdout=log,
-                       stderr=subprocess.STDOUT, env=dict(os.environ, OMP_NUM_THREADS="1"))
-    seconds = time.perf_counter() - t0
-    return slaves, at, parse_dat(os.path.join(folder, "plate.dat")), seconds
-
-
-def parse_dat(path):
-    """The last time's blocks of the .dat: {'U': {node: values}, 'CSTR': {...}}
-    (the displacement blocks of one time merged)."""
-    blocks, current, time_of = {}, None, {}
-    for line in open(path):
-        m = re.match(r"\s*(displacements|contact stress)\b.*time\s+([0-9.Ee+-]+)", line)
-        if m:
-            key = {"displacements": "U", "contact stress": "CSTR"}[m.group(1)]
-            t = float(m.group(2))
-            if time_of.get(key) != t:
-                blocks[key] = {}
-                time_of[key] = t
-            current = blocks[key]
-            continue
-        parts = line.split()
-        if current is not None and parts and re.match(r"^\d+$", parts[0]):
-            current[int(parts[0]) - 1] = [float(v) for v in parts[1:]]
-    return blocks
+    slaves, at = write_inp(os.path.join(folder, "plate.inp"), mesh, friction, k_area, step_inc,
+                           contact)
+    seconds = run_ccx_deck(ccx, folder, dict(os.environ, OMP_NUM_THREADS="1"))
+    dat = parse_dat(os.path.join(folder, "plate.dat"))
+    if contact != "node":
+        # CPRESS (the fourth value) as the first, as the .dat's CSTR has it.
+        dat["CSTR"] = {n: v[3:] for n, v in
+                       parse_frd_contact(os.path.join(folder, "plate.frd")).items()}
+    return slaves, at, dat, seconds
 
 
 def summarise(label, pts, force, probes):
@@ -367,6 +317,10 @@ def main():
                     help="example: examples/plate_on_base_3d.toml's mesh (the verification "
                     "table); bench: the benchmark's 3D model (the timing at K = 4)")
     ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--contact", default="node", choices=["node", "surface"],
+                    help="CalculiX's contact: node-to-surface (the verification table) or "
+                    "face-to-face (SURFACE TO SURFACE: what converges on the bench model at "
+                    "K = 2 to 4, with a slope of about 50 E)")
     ap.add_argument("--inc", type=float, default=0.1,
                     help="CalculiX's (fixed) increment, a fraction of the load")
     args = ap.parse_args()
@@ -389,7 +343,7 @@ def main():
         points, u = mesh[0], mesh[3]
         for _ in range(args.repeat):
             slaves, at, dat, s = run_ccx(args.ccx, args.work, name, mesh, friction, k_area,
-                                         args.inc, k, args.model)
+                                         args.inc, k, args.model, args.contact)
             t_ccx.append(s)
         times.append((name, len(points) * 3, min(t_cfe), t_cfe, min(t_ccx), t_ccx))
         by_node = {}
