@@ -41,17 +41,40 @@ pub fn nested_dissection<D: ElementFamily>(
     dofs: &DofMap<D>,
     stop: Option<&AtomicUsize>,
 ) -> Result<Vec<usize>, Stopped> {
-    dissection_with(coords, graph, dofs, PARALLEL, stop)
+    dissection_with(coords, graph, dofs, PARALLEL, stop, AxisRule::of::<D>())
+}
+
+/// How a subset's splitting axis is chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum AxisRule {
+    /// The longest side of the subset's bounding box (plane meshes).
+    Longest,
+    /// The axis whose median split has the fewest separator nodes, the
+    /// longest on a tie (solid meshes).
+    FewestSeparator,
+}
+
+impl AxisRule {
+    /// The rule of the dimension: the fewest separator nodes in 3D, the
+    /// longest side in 2D.
+    fn of<D: ElementFamily>() -> AxisRule {
+        if D::N == 3 {
+            AxisRule::FewestSeparator
+        } else {
+            AxisRule::Longest
+        }
+    }
 }
 
 /// [`nested_dissection`], the halves of subsets of at least `parallel` nodes
-/// ordered on two threads.
+/// ordered on two threads, each split's axis chosen by `rule`.
 fn dissection_with<D: ElementFamily>(
     coords: &[D::Vector],
     graph: &NodeGraph,
     dofs: &DofMap<D>,
     parallel: usize,
     stop: Option<&AtomicUsize>,
+    rule: AxisRule,
 ) -> Result<Vec<usize>, Stopped> {
     use std::sync::atomic::AtomicU32;
     let n = coords.len();
@@ -68,6 +91,7 @@ fn dissection_with<D: ElementFamily>(
         parallel,
         stop,
         halted: &halted,
+        rule,
     };
     split.dissect(&mut nodes, &mut node_order);
     match halted.into_inner() {
@@ -101,6 +125,8 @@ struct Split<'a, D: ElementFamily> {
     /// The stop flag's value when a step read it nonzero (0: none did): the
     /// steps after it return at once, their part of the order left unfilled.
     halted: &'a AtomicUsize,
+    /// How each split's axis is chosen.
+    rule: AxisRule,
 }
 
 impl<D: ElementFamily> Split<'_, D> {
@@ -124,7 +150,7 @@ impl<D: ElementFamily> Split<'_, D> {
             }
         }
         let mut axis = longest_axis::<D>(coords, nodes);
-        if D::N == 3 {
+        if self.rule == AxisRule::FewestSeparator {
             // In 3D the nodes' density varies between parts (a fine thin
             // plate on a coarse block): the median along the longest side
             // can fall inside the dense part and cut it along its large face.
@@ -314,7 +340,7 @@ mod tests {
         };
         // The same order whatever the threads: halves ordered side by side down
         // to the smallest subsets.
-        assert_eq!(dissection_with(&parts[0].mesh.nodes, &graph, &dofs, 2, None).unwrap(), order);
+        assert_eq!(dissection_with(&parts[0].mesh.nodes, &graph, &dofs, 2, None, AxisRule::Longest).unwrap(), order);
         let natural: Vec<usize> = (0..dofs.n_eq).collect();
         let (nd, amd, nat) = (nnz(Some(&order)), nnz(None), nnz(Some(&natural)));
         assert!(nd < nat / 2, "nd {nd}, natural {nat}");
@@ -339,12 +365,12 @@ mod tests {
         let plain = nested_dissection(coords, &graph, &dofs, None).unwrap();
         let stop = AtomicUsize::new(0);
         for parallel in [2, PARALLEL] {
-            let flagged = dissection_with(coords, &graph, &dofs, parallel, Some(&stop));
+            let flagged = dissection_with(coords, &graph, &dofs, parallel, Some(&stop), AxisRule::Longest);
             assert_eq!(flagged.as_ref(), Ok(&plain));
         }
         stop.store(15, std::sync::atomic::Ordering::Relaxed);
         for parallel in [2, PARALLEL] {
-            let flagged = dissection_with(coords, &graph, &dofs, parallel, Some(&stop));
+            let flagged = dissection_with(coords, &graph, &dofs, parallel, Some(&stop), AxisRule::Longest);
             assert_eq!(flagged, Err(Stopped(15)));
         }
     }
@@ -406,4 +432,219 @@ mod tests {
         assert!(last.iter().all(|&a| coords[a][2] == z), "{last:?}");
         assert!(z > 0.0 && z < (nz - 1) as f64);
     }
+
+    /// A node graph of `cells` (each a node list: every two nodes of a cell
+    /// are neighbours, and every node its own) on `n` nodes.
+    fn graph_of_cells(n: usize, cells: &[Vec<usize>]) -> NodeGraph {
+        let mut sets = vec![Vec::new(); n];
+        for cell in cells {
+            for &a in cell {
+                sets[a].extend_from_slice(cell);
+            }
+        }
+        let (mut ptr, mut adj) = (vec![0], Vec::new());
+        for mut s in sets {
+            s.sort_unstable();
+            s.dedup();
+            adj.extend(s);
+            ptr.push(adj.len());
+        }
+        NodeGraph { ptr, adj }
+    }
+
+    /// The nodes and hexahedral cells (8 node lists) of a structured grid of
+    /// `cells` on the box `lo`..`hi`, numbered from `first`.
+    fn hex_grid(lo: [f64; 3], hi: [f64; 3], cells: [usize; 3], first: usize) -> (Vec<[f64; 3]>, Vec<Vec<usize>>) {
+        let [nx, ny, nz] = cells.map(|c| c + 1);
+        let id = |i: usize, j: usize, k: usize| first + i + nx * (j + ny * k);
+        let mut coords = Vec::with_capacity(nx * ny * nz);
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let t = [i, j, k];
+                    coords.push(std::array::from_fn(|c| {
+                        lo[c] + (hi[c] - lo[c]) * t[c] as f64 / cells[c] as f64
+                    }));
+                }
+            }
+        }
+        let mut hexes = Vec::new();
+        for k in 0..cells[2] {
+            for j in 0..cells[1] {
+                for i in 0..cells[0] {
+                    hexes.push(vec![
+                        id(i, j, k),
+                        id(i + 1, j, k),
+                        id(i + 1, j + 1, k),
+                        id(i, j + 1, k),
+                        id(i, j, k + 1),
+                        id(i + 1, j, k + 1),
+                        id(i + 1, j + 1, k + 1),
+                        id(i, j + 1, k + 1),
+                    ]);
+                }
+            }
+        }
+        (coords, hexes)
+    }
+
+    /// The equations' symmetric pattern: each free equation's neighbours
+    /// (the free equations of its node's graph neighbours, itself excluded).
+    fn equation_pattern<D: ElementFamily>(graph: &NodeGraph, dofs: &DofMap<D>, nodes: usize) -> Vec<Vec<usize>> {
+        let free = |a: usize| (0..D::N).map(move |c| dofs.eq[D::dof(a, c)]).filter(|&e| e != FIXED);
+        let mut pattern = vec![Vec::new(); dofs.n_eq];
+        for a in 0..nodes {
+            for e in free(a) {
+                for &b in graph.neighbours(a) {
+                    pattern[e].extend(free(b).filter(|&f| f != e));
+                }
+            }
+        }
+        pattern
+    }
+
+    /// The fill of a Cholesky factor: its nonzeros (diagonal included) and
+    /// its factorization's multiply-adds (Σ over the columns of the square of
+    /// their subdiagonal count).
+    #[derive(Debug, Clone, Copy)]
+    struct Fill {
+        nonzeros: usize,
+        work: f64,
+    }
+
+    /// The [`Fill`] of the Cholesky factor L of the symmetric `pattern`
+    /// eliminated in `order` (`order[k]` the k-th), by symbolic elimination:
+    /// the structure of column k is its pattern below k joined with the
+    /// structures of its children in the elimination tree (the columns whose
+    /// first subdiagonal entry is k). Independent of the ordering code and of
+    /// the solver's symbolic analysis.
+    fn factor_fill(pattern: &[Vec<usize>], order: &[usize]) -> Fill {
+        let n = order.len();
+        let mut position = vec![0; n];
+        for (k, &e) in order.iter().enumerate() {
+            position[e] = k;
+        }
+        // What the children of each column pass up to it.
+        let mut passed: Vec<Vec<usize>> = vec![Vec::new(); n];
+        let (mut nonzeros, mut work) = (0, 0.0);
+        for k in 0..n {
+            let mut column = std::mem::take(&mut passed[k]);
+            column.extend(pattern[order[k]].iter().map(|&e| position[e]).filter(|&i| i > k));
+            column.sort_unstable();
+            column.dedup();
+            nonzeros += column.len() + 1;
+            work += (column.len() as f64).powi(2);
+            if let Some((&parent, rest)) = column.split_first() {
+                passed[parent].extend_from_slice(rest);
+            }
+        }
+        Fill { nonzeros, work }
+    }
+
+    /// The factor fill of a 3D model (nodes `coords`, node graph `graph`,
+    /// equations `dofs`) under the nested-dissection ordering with each axis
+    /// rule and under AMD (faer's), all counted by [`factor_fill`]:
+    /// (fewest separator nodes, longest side, AMD).
+    fn fills_3d(coords: &[[f64; 3]], graph: &NodeGraph, dofs: &DofMap<crate::dim::D3>) -> (Fill, Fill, Fill) {
+        use faer::sparse::SymbolicSparseColMatRef;
+        use faer::sparse::linalg::amd;
+        let pattern = equation_pattern(graph, dofs, coords.len());
+        let nd = |rule| dissection_with(coords, graph, dofs, PARALLEL, None, rule).unwrap();
+        let fewest = nd(AxisRule::FewestSeparator);
+        assert_eq!(fewest, nested_dissection(coords, graph, dofs, None).unwrap());
+        let longest = nd(AxisRule::Longest);
+        // AMD's order of the same pattern (each column sorted).
+        let n = dofs.n_eq;
+        let (mut col_ptr, mut row_idx) = (vec![0usize], Vec::new());
+        for column in &pattern {
+            let mut rows = column.clone();
+            rows.sort_unstable();
+            rows.dedup();
+            row_idx.extend(rows);
+            col_ptr.push(row_idx.len());
+        }
+        let a = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+        let (mut perm, mut perm_inv) = (vec![0usize; n], vec![0usize; n]);
+        let mut mem = faer::dyn_stack::MemBuffer::new(amd::order_scratch::<usize>(n, row_idx.len()));
+        amd::order(&mut perm, &mut perm_inv, a, amd::Control::default(), faer::dyn_stack::MemStack::new(&mut mem)).unwrap();
+        (
+            factor_fill(&pattern, &fewest),
+            factor_fill(&pattern, &longest),
+            factor_fill(&pattern, &perm),
+        )
+    }
+
+    /// On a structured 3D hexahedral grid (14 × 10 × 8 cells, the bottom
+    /// clamped) the nested-dissection factor has fewer nonzeros and less work
+    /// than AMD's, and no more nonzeros than with the longest-side rule (on a
+    /// uniform grid the two rules pick the same axes), the fill counted by
+    /// symbolic elimination.
+    #[test]
+    fn solid_grid_fill_is_below_amd() {
+        use crate::dim::D3;
+        let (coords, hexes) = hex_grid([0.0; 3], [14.0, 10.0, 8.0], [14, 10, 8], 0);
+        let graph = graph_of_cells(coords.len(), &hexes);
+        let bottom = crate::domain::Support {
+            name: "bottom".into(),
+            part: 0,
+            nodes: (0..15 * 11).collect(),
+            fix: [true; 3],
+            value: [0.0; 3],
+            step: 0,
+        };
+        let dofs = DofMap::<D3>::numbered(&[coords.len()], &[bottom]);
+        let (fewest, longest, amd) = fills_3d(&coords, &graph, &dofs);
+        assert!(fewest.nonzeros < amd.nonzeros, "nested dissection {fewest:?}, AMD {amd:?}");
+        assert!(fewest.work < amd.work, "nested dissection {fewest:?}, AMD {amd:?}");
+        assert!(fewest.nonzeros <= longest.nonzeros, "fewest separator {fewest:?}, longest side {longest:?}");
+    }
+
+    /// On a plate-on-base-like model — a fine thin plate (84 × 12 × 6 cells,
+    /// 140 × 40 × 15) on a coarse block (15 × 3 × 9 cells, 200 × 40 × 120),
+    /// each plate bottom node coupled to the four nodes of the block's top
+    /// face under it, the block's bottom clamped: the benchmark's 3D model at
+    /// K = 3 with hexahedra in the plate — choosing the axis with the fewest
+    /// separator nodes gives a factor with fewer nonzeros and less work than
+    /// the longest-side rule (whose median falls inside the dense plate and
+    /// cuts it along its large face), the fill counted by symbolic
+    /// elimination. (AMD is not asserted against here: on this model, 23k
+    /// equations, its factor is smaller, 7.8 M nonzeros and 3.7e9
+    /// multiply-adds against nested dissection's 10.1 M and 6.8e9.)
+    #[test]
+    fn thin_plate_on_a_coarse_block_fill_is_below_the_longest_side_rule() {
+        use crate::dim::D3;
+        let block_cells = [15, 3, 9];
+        let (mut coords, mut cells) = hex_grid([0.0; 3], [200.0, 40.0, 120.0], block_cells, 0);
+        let block_nodes = coords.len();
+        let (plate, plate_cells) = hex_grid([30.0, 0.0, 120.0], [170.0, 40.0, 135.0], [84, 12, 6], block_nodes);
+        // Coupling elements: a plate bottom node and its host face's four nodes.
+        let top = block_cells[2];
+        let block_id = |i: usize, j: usize| i + (block_cells[0] + 1) * (j + (block_cells[1] + 1) * top);
+        for (a, p) in plate.iter().enumerate().filter(|(_, p)| p[2] == 120.0) {
+            let i = ((p[0] * 15.0 / 200.0) as usize).min(block_cells[0] - 1);
+            let j = ((p[1] * 3.0 / 40.0) as usize).min(block_cells[1] - 1);
+            cells.push(vec![
+                block_nodes + a,
+                block_id(i, j),
+                block_id(i + 1, j),
+                block_id(i + 1, j + 1),
+                block_id(i, j + 1),
+            ]);
+        }
+        coords.extend(plate);
+        cells.extend(plate_cells);
+        let graph = graph_of_cells(coords.len(), &cells);
+        let bottom = crate::domain::Support {
+            name: "bottom".into(),
+            part: 0,
+            nodes: (0..(block_cells[0] + 1) * (block_cells[1] + 1)).collect(),
+            fix: [true; 3],
+            value: [0.0; 3],
+            step: 0,
+        };
+        let dofs = DofMap::<D3>::numbered(&[coords.len()], &[bottom]);
+        let (fewest, longest, _amd) = fills_3d(&coords, &graph, &dofs);
+        assert!(fewest.nonzeros < longest.nonzeros, "fewest separator {fewest:?}, longest side {longest:?}");
+        assert!(fewest.work < longest.work, "fewest separator {fewest:?}, longest side {longest:?}");
+            }
 }
