@@ -153,6 +153,18 @@ enum Command {
         /// the 3D targets alone.
         #[arg(long, value_name = "ROWS", value_parser = ["3d"])]
         only: Option<String>,
+        /// Keep the rows already in OUT/benchmarks.json: replace only the row
+        /// groups this run measures (e.g. with --only 3d, the 3D rows), keep
+        /// the others, and state in the report each group's own commit, day
+        /// and machine speed.
+        #[arg(long, conflicts_with_all = ["report_only", "speed", "coupling_cost"])]
+        merge: bool,
+        /// Run nothing: merge the rows of FILE (a benchmarks.json measured
+        /// elsewhere) into OUT/benchmarks.json, replacing the row groups FILE
+        /// has, and write the report again. A FILE that does not record its day
+        /// is dated by its modification time.
+        #[arg(long, value_name = "FILE", conflicts_with_all = ["merge", "speed", "coupling_cost"])]
+        merge_from: Option<PathBuf>,
     },
     /// Verification: run the cases against closed-form and conforming references and
     /// write verification.md with its pictures.
@@ -260,7 +272,33 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             speed,
             coupling_cost,
             only,
+            merge,
+            merge_from,
         } => {
+            if let Some(file) = merge_from {
+                let target = out.join("benchmarks.json");
+                let earlier = cfe_tools::bench::read_benchmarks(&target)?;
+                let mut new = cfe_tools::bench::read_benchmarks(&file)?;
+                if new.date.is_none() {
+                    let modified = std::fs::metadata(&file)
+                        .and_then(|m| m.modified())
+                        .with_context(|| format!("cannot read the date of {}", file.display()))?;
+                    new.date = Some(format!(
+                        "{} (the modification day of its benchmarks.json)",
+                        cfe_tools::bench::utc_date(modified)
+                    ));
+                }
+                let merged = earlier.merge(&new);
+                merged.write(&target)?;
+                cfe_tools::bench::write_report(&out, &merged)?;
+                println!(
+                    "merged {} into {}; wrote {}",
+                    file.display(),
+                    target.display(),
+                    out.join("benchmarks.md").display()
+                );
+                return Ok(());
+            }
             if speed {
                 let speed = cfe_tools::speed::MachineSpeed::measure();
                 println!("machine speed: {}", speed.describe());
@@ -294,6 +332,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 repeat as usize,
                 &out,
                 only.is_some(),
+                merge,
                 &mut |line| println!("{line}"),
             )?;
             println!("wrote {}", out.join("benchmarks.md").display());

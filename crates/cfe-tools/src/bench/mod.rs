@@ -23,7 +23,7 @@ pub use plan::{
     FRICTION, SOLID_SIZES, refinements, solid_refinements, solid_unknowns_model, unknowns_model,
 };
 pub use report::write_report;
-pub use run::run;
+pub use run::{read_benchmarks, run};
 
 use crate::speed::MachineSpeed;
 use cfe::error::{Error, Result};
@@ -177,8 +177,52 @@ pub struct Benchmarks {
     pub repeat: usize,
     /// The commit the binary was built from (`git rev-parse --short HEAD`).
     pub commit: String,
+    /// The day the runs were made (UTC, `YYYY-MM-DD`; absent from a file
+    /// written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub date: Option<String>,
     /// Every case, in the plan's order.
     pub cases: Vec<Case>,
+    /// The row groups measured apart and merged in (`cfe bench --merge`),
+    /// each with where it was measured; the fields above describe the other
+    /// groups' runs.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub merged: Vec<Origin>,
+}
+
+/// Where a set of row groups was measured: the fields of [`Benchmarks`] that
+/// describe a run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Origin {
+    /// The row groups measured in that run.
+    pub groups: Vec<Group>,
+    /// The problem file refined.
+    pub problem: PathBuf,
+    /// Processor, cores and memory.
+    pub machine: String,
+    /// The machine's speed before and after the runs.
+    #[serde(default)]
+    pub speed: Option<Speeds>,
+    /// Passes over the cases.
+    pub repeat: usize,
+    /// The commit the binary was built from.
+    pub commit: String,
+    /// The day the runs were made.
+    #[serde(default)]
+    pub date: Option<String>,
+}
+
+impl Group {
+    /// The group's name in `benchmarks.json` and the report.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Group::Plate => "plate",
+            Group::Gmsh => "gmsh",
+            Group::Friction => "friction",
+            Group::Laws => "laws",
+            Group::Solid => "solid",
+        }
+    }
 }
 
 fn one() -> usize {
@@ -192,6 +236,117 @@ impl Benchmarks {
         let value = serde_json::to_value(self).map_err(|e| Error::output(path, e))?;
         cfe::output::report::write_json(path, &value)
     }
+
+    /// The row groups of its cases, in order of first appearance.
+    pub fn groups(&self) -> Vec<Group> {
+        let mut groups = Vec::new();
+        for case in &self.cases {
+            if !groups.contains(&case.problem) {
+                groups.push(case.problem);
+            }
+        }
+        groups
+    }
+
+    /// Where the rows of `group` were measured: the merged run that holds
+    /// it, else this file's own run.
+    pub fn origin(&self, group: Group) -> Origin {
+        match self.merged.iter().find(|o| o.groups.contains(&group)) {
+            Some(o) => Origin {
+                groups: vec![group],
+                ..o.clone()
+            },
+            None => Origin {
+                groups: vec![group],
+                problem: self.problem.clone(),
+                machine: self.machine.clone(),
+                speed: self.speed,
+                repeat: self.repeat,
+                commit: self.commit.clone(),
+                date: self.date.clone(),
+            },
+        }
+    }
+
+    /// These results with the rows of every group that `new` has replaced by
+    /// `new`'s and the other groups' rows kept, each group keeping where it
+    /// was measured: this file's own fields still describe its groups that
+    /// `new` does not replace, and each replaced group's run (from `new`) is
+    /// listed in [`Benchmarks::merged`]. When `new` replaces every group, the
+    /// result is `new`.
+    pub fn merge(&self, new: &Benchmarks) -> Benchmarks {
+        let replaced = new.groups();
+        let own_kept = self.cases.iter().any(|c| {
+            !replaced.contains(&c.problem)
+                && !self.merged.iter().any(|o| o.groups.contains(&c.problem))
+        });
+        let kept_merged = self
+            .merged
+            .iter()
+            .any(|o| o.groups.iter().any(|g| !replaced.contains(g)));
+        if !own_kept && !kept_merged {
+            return new.clone();
+        }
+        let mut merged: Vec<Origin> = self
+            .merged
+            .iter()
+            .filter_map(|o| {
+                let groups: Vec<Group> = o
+                    .groups
+                    .iter()
+                    .copied()
+                    .filter(|g| !replaced.contains(g))
+                    .collect();
+                (!groups.is_empty()).then(|| Origin {
+                    groups,
+                    ..o.clone()
+                })
+            })
+            .collect();
+        for group in replaced {
+            let origin = new.origin(group);
+            match merged.iter_mut().find(|o| {
+                Origin {
+                    groups: vec![group],
+                    ..(*o).clone()
+                } == origin
+            }) {
+                Some(o) => o.groups.push(group),
+                None => merged.push(origin),
+            }
+        }
+        let mut cases: Vec<Case> = self
+            .cases
+            .iter()
+            .filter(|c| !new.cases.iter().any(|n| n.problem == c.problem))
+            .cloned()
+            .collect();
+        cases.extend(new.cases.iter().cloned());
+        Benchmarks {
+            cases,
+            merged,
+            ..self.clone()
+        }
+    }
+}
+
+/// The UTC day of `time` as `YYYY-MM-DD` (the proleptic Gregorian calendar;
+/// a time before 1970 gives 1970-01-01).
+pub fn utc_date(time: std::time::SystemTime) -> String {
+    let seconds = time
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    // Days since 1970-01-01 to a civil date (H. Hinnant's algorithm).
+    let z = (seconds / 86_400) as i64 + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02}")
 }
 
 /// Every iteration record of the run summarized in `s` after its first, in
@@ -293,7 +448,9 @@ mod tests {
             speed: None,
             repeat: 3,
             commit: "abc".into(),
+            date: None,
             cases,
+            merged: vec![],
         };
         let value = serde_json::to_value(&b).unwrap();
         assert_eq!(
@@ -319,5 +476,126 @@ mod tests {
         let e = serde_json::from_value::<Outcome>(serde_json::json!({"status": "completed"}))
             .unwrap_err();
         assert!(e.to_string().contains("missing field"), "{e}");
+    }
+
+    /// A case of `group` at refinement `refine` whose run took `total` seconds.
+    fn case(group: Group, refine: usize, total: f64) -> Case {
+        let summary = fixture::summary(serde_json::json!({"timings": {"total": total}}));
+        Case {
+            problem: group,
+            law: Law::Frictionless,
+            refine,
+            summary: Outcome::Ran(Box::new(summary)),
+        }
+    }
+
+    /// Results of one run at `commit` on `day` with `cases`.
+    fn results(commit: &str, day: &str, cases: Vec<Case>) -> Benchmarks {
+        Benchmarks {
+            problem: format!("{commit}.toml").into(),
+            machine: format!("machine of {commit}"),
+            speed: None,
+            repeat: 1,
+            commit: commit.into(),
+            date: Some(day.into()),
+            cases,
+            merged: vec![],
+        }
+    }
+
+    /// Merging a run of the 3D rows into results of 2D and 3D rows replaces
+    /// exactly the 3D rows, keeps the 2D ones with their own commit and day,
+    /// records where the 3D rows were measured (and only once when merged
+    /// again), survives the JSON round trip, is stated in the report group
+    /// by group, and gives the new run itself when it replaces every group.
+    #[test]
+    fn merging_replaces_only_the_measured_groups() {
+        let old = results(
+            "aaa",
+            "2026-11-01",
+            vec![
+                case(Group::Plate, 1, 1.0),
+                case(Group::Plate, 2, 2.0),
+                case(Group::Solid, 1, 9.0),
+            ],
+        );
+        let new = results(
+            "bbb",
+            "2026-11-28",
+            vec![case(Group::Solid, 1, 3.0), case(Group::Solid, 2, 4.0)],
+        );
+        let merged = old.merge(&new);
+        let rows: Vec<(Group, usize, f64)> = merged
+            .cases
+            .iter()
+            .map(|c| (c.problem, c.refine, c.summary.total_seconds()))
+            .collect();
+        assert_eq!(
+            rows,
+            [
+                (Group::Plate, 1, 1.0),
+                (Group::Plate, 2, 2.0),
+                (Group::Solid, 1, 3.0),
+                (Group::Solid, 2, 4.0)
+            ]
+        );
+        assert_eq!(
+            (merged.commit.as_str(), merged.date.as_deref()),
+            ("aaa", Some("2026-11-01"))
+        );
+        assert_eq!(merged.origin(Group::Plate).commit, "aaa");
+        let solid = merged.origin(Group::Solid);
+        assert_eq!(
+            (solid.commit.as_str(), solid.date.as_deref()),
+            ("bbb", Some("2026-11-28"))
+        );
+        assert_eq!(solid.machine, "machine of bbb");
+        // Merged again with a later 3D run: one record of where the 3D rows are from.
+        let later = results("ccc", "2026-11-29", vec![case(Group::Solid, 1, 2.5)]);
+        let again = merged.merge(&later);
+        assert_eq!(again.merged.len(), 1);
+        assert_eq!(again.origin(Group::Solid).commit, "ccc");
+        assert_eq!(again.cases.len(), 3);
+        // The JSON keeps where each group is from.
+        let read: Benchmarks =
+            serde_json::from_value(serde_json::to_value(&again).unwrap()).unwrap();
+        assert_eq!(read.merged, again.merged);
+        assert_eq!(read.origin(Group::Plate).commit, "aaa");
+        // The report says it group by group.
+        let text = report::report(&merged);
+        assert!(
+            text.contains(
+                "The rows of `plate` are from the run described above (commit `aaa`, 2026-11-01)"
+            ) && text.contains("The rows of `solid`: commit `bbb`, 2026-11-28, machine of bbb"),
+            "{text}"
+        );
+        assert!(!report::report(&old).contains("merges runs made apart"));
+        // A run of every group replaces the whole file.
+        let all = results(
+            "ddd",
+            "2026-12-01",
+            vec![case(Group::Plate, 1, 0.5), case(Group::Solid, 1, 0.7)],
+        );
+        let replaced = merged.merge(&all);
+        assert_eq!(
+            (
+                replaced.commit.as_str(),
+                replaced.merged.len(),
+                replaced.cases.len()
+            ),
+            ("ddd", 0, 2)
+        );
+    }
+
+    /// The UTC day of a time, against dates whose Unix times are known
+    /// (a leap day, the turn of a century, the epoch).
+    #[test]
+    fn utc_dates() {
+        let at = |s: u64| utc_date(std::time::UNIX_EPOCH + std::time::Duration::from_secs(s));
+        assert_eq!(at(0), "1970-01-01");
+        assert_eq!(at(951_782_400), "2000-02-29");
+        assert_eq!(at(951_782_400 - 1), "2000-02-28");
+        assert_eq!(at(946_598_400 + 86_399), "1999-12-31");
+        assert_eq!(at(1_795_824_000 + 45_000), "2026-11-28");
     }
 }

@@ -103,10 +103,73 @@ fn header(raw: &Benchmarks) -> String {
     if let Some(speed) = &raw.speed {
         let _ = writeln!(s, "{}", speed_line(speed));
     }
+    if !raw.merged.is_empty() {
+        let _ = writeln!(s, "{}", merged_lines(raw));
+    }
     let _ = writeln!(
         s,
         "*status* is the run's (`completed`: the law holds on every pair and the loads balance; otherwise how many pairs the last increment left off the law, settled to end a cycle, and the largest violation as a fraction of the load scale). Phases: *mesh* meshing, *pairs* pair search and DOF numbering, *coarse* solving the 4× coarser model for the active-set's starting pattern, *symbolic* node graph + nested-dissection ordering + sparsity pattern + symbolic factorization, *asm* assembly of values and right-hand sides, *# fact* and *# upd* the numbers of numeric factorizations and of low-rank updates, *fact* the seconds in numeric factorizations, *1st fact* the first of them, *solve* triangular solves including low-rank update columns, *later it.* the slowest active-set iteration after the first (and its ratio to the first factorization), *update* state updates, support checks and internal forces, *stress* stress recovery, *output* VTU/CSV/JSON of all increments, *png* the two pictures, *Gflop* the solver's work counted from the factor's supernodes (factorizations, solves, update columns; the same on every machine), *total / fact* end-to-end time over the time in numeric factorizations, *peak / factor* peak resident memory over the factor's values (8 bytes per nonzero).\n"
     );
+    s
+}
+
+/// Where each row group of a merged report (`cfe bench --merge`) was
+/// measured: the groups of the file's own run, then each merged run's groups
+/// with its commit, day, machine, passes and speed.
+fn merged_lines(raw: &Benchmarks) -> String {
+    let names = |groups: &[Group]| {
+        groups
+            .iter()
+            .map(|g| format!("`{}`", g.as_str()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let own: Vec<Group> = raw
+        .groups()
+        .into_iter()
+        .filter(|g| !raw.merged.iter().any(|o| o.groups.contains(g)))
+        .collect();
+    let day = |d: &Option<String>| d.clone().unwrap_or_else(|| "day not recorded".into());
+    let mut s = format!(
+        "This report merges runs made apart (`cfe bench --merge`), each row group with its own commit, day and machine speed. The rows of {} are from the run described above (commit `{}`, {}).",
+        if own.is_empty() {
+            "no group".into()
+        } else {
+            names(&own)
+        },
+        raw.commit,
+        day(&raw.date)
+    );
+    for o in &raw.merged {
+        let _ = write!(
+            s,
+            " The rows of {}: commit `{}`, {}, {}, problem {}, {}.",
+            names(&o.groups),
+            o.commit,
+            day(&o.date),
+            o.machine,
+            o.problem.display(),
+            if o.repeat > 1 {
+                format!("the fastest of {} runs", o.repeat)
+            } else {
+                "one run each".into()
+            }
+        );
+        if let Some(speed) = &o.speed {
+            let (b, a) = (speed.before, speed.after);
+            let _ = write!(
+                s,
+                " Its machine speed before / after: dense product {} / {} Gflop/s, memory copy {} / {} GB/s, fresh memory {} / {} GB/s.",
+                figure(b.dense_gflops),
+                figure(a.dense_gflops),
+                figure(b.copy_gb_per_s),
+                figure(a.copy_gb_per_s),
+                figure(b.fresh_gb_per_s),
+                figure(a.fresh_gb_per_s)
+            );
+        }
+    }
+    s.push('\n');
     s
 }
 
@@ -263,7 +326,7 @@ fn solid_section(s: &mut String, solid: &[Run]) {
     );
     let _ = writeln!(
         s,
-        "Fill and work of the 3D factor (the same geometric nested-dissection ordering as in 2D, `crates/cfe/src/solve/ordering.rs`, splitting the nodes by the median along the longest side of their box, x, y or z):\n"
+        "Fill and work of the 3D factor (the same geometric nested-dissection ordering as in 2D, `crates/cfe/src/solve/ordering.rs`, splitting the nodes at the median along the axis, x, y or z, whose split leaves the fewest separator nodes, the longest side of their box on a tie):\n"
     );
     let _ = writeln!(
         s,
@@ -569,6 +632,7 @@ mod tests {
             speed: None,
             repeat: 1,
             commit: "abc1234".into(),
+            date: None,
             cases: vec![
                 ran(Group::Plate, Law::Rigid, 35, 1.0),
                 ran(Group::Plate, Law::Contact, 35, 3.0),
@@ -582,6 +646,7 @@ mod tests {
                     summary: Outcome::Failed("no convergence".into()),
                 },
             ],
+            merged: vec![],
         };
         let text = super::report(&raw);
         let section: Vec<&str> = text
@@ -647,7 +712,9 @@ mod tests {
             speed: Some(speed),
             repeat: 3,
             commit: "abc1234".into(),
+            date: None,
             cases: vec![],
+            merged: vec![],
         };
         let with = super::report(&raw);
         assert!(
@@ -709,7 +776,9 @@ mod tests {
             speed: None,
             repeat: 1,
             commit: "abc1234".into(),
+            date: None,
             cases,
+            merged: vec![],
         };
         let text = super::report(&raw);
         assert!(!text.contains("`rigid` law"), "{text}");

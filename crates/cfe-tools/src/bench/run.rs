@@ -17,6 +17,10 @@ use std::process::Command;
 /// run end to end is kept, all its phases from that run. `progress` receives one
 /// line per run. `only_3d` runs the 3D rows alone: of `problem` when it is a
 /// solid model, else of the 3D problem beside it (`plate_on_base_3d_bench.toml`).
+/// `merge`: the results already in `out/benchmarks.json` (read before anything
+/// runs) keep their other row groups, the groups this run measures replaced
+/// ([`Benchmarks::merge`]), and the report is written from the merged file.
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     exe: &Path,
     problem: &Path,
@@ -24,9 +28,15 @@ pub fn run(
     repeat: usize,
     out: &Path,
     only_3d: bool,
+    merge: bool,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Vec<Case>> {
     let repeat = repeat.max(1);
+    let earlier = if merge {
+        Some(read_benchmarks(&out.join("benchmarks.json"))?)
+    } else {
+        None
+    };
     std::fs::create_dir_all(out).map_err(|e| Error::output(out, e))?;
     let runner = Runner {
         exe,
@@ -79,11 +89,31 @@ pub fn run(
         speed: Some(Speeds { before, after }),
         repeat,
         commit: commit(),
+        date: Some(super::utc_date(std::time::SystemTime::now())),
         cases,
+        merged: Vec::new(),
+    };
+    let raw = match earlier {
+        Some(earlier) => earlier.merge(&raw),
+        None => raw,
     };
     raw.write(&out.join("benchmarks.json"))?;
     report::write_report(out, &raw)?;
     Ok(raw.cases)
+}
+
+/// Reads the results of a benchmark (`benchmarks.json`).
+pub fn read_benchmarks(path: &Path) -> Result<Benchmarks> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::Parse {
+        line: None,
+        message: format!("cannot read the benchmark's results to merge into: {e}"),
+        path: path.to_path_buf(),
+    })?;
+    serde_json::from_str(&text).map_err(|e| Error::Parse {
+        line: Some(e.line()),
+        message: format!("not a benchmark's results (benchmarks.json): {e}"),
+        path: path.to_path_buf(),
+    })
 }
 
 /// Runs `cfe run` as a child process, each run in its own folder under `scratch`.

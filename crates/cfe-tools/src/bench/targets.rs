@@ -354,9 +354,9 @@ fn cpu_floor(m: &Summary) -> String {
 
 /// CalculiX 2.20 (`ccx`, one thread) against `cfe run` on one 3D model, both
 /// run by `python3 crates/cfe-tools/calculix/plate_on_base_3d.py` (the same
-/// nodes, elements, loads and supports, node-to-surface penalty contact of the
-/// same stiffness), each the fastest of its runs, wall clock of the whole
-/// process. Static numbers: `cfe bench` does not run CalculiX.
+/// nodes, elements, loads and supports, penalty contact of the same
+/// stiffness), the seconds of each whole process as `how` says (wall clock or
+/// processor time). Static numbers: `cfe bench` does not run CalculiX.
 pub(super) struct CalculixTiming {
     /// The model and its refinement.
     pub model: &'static str,
@@ -374,12 +374,12 @@ pub(super) struct CalculixTiming {
 
 /// See [`CalculixTiming`].
 pub(super) const CALCULIX_3D: CalculixTiming = CalculixTiming {
-    model: "examples/plate_on_base_3d.toml at K = 1 with c_n = 1e9 per pair, frictionless (the verification case's model; 3 723 unknowns)",
-    components: 3825,
-    seconds: 10.26,
-    cfe_seconds: 0.90,
-    how: "measured 2026-11-28 on the 2-core machine shared with other jobs (load average about 10), `plate_on_base_3d.py --laws frictionless` run several times: CalculiX 10.26, 20.08, 21.17, 25.16 s, `cfe run` (all outputs: a VTU per increment, CSV, JSON, two PNGs) 0.90, 1.38, 1.44, 1.58, 1.72, 2.22 s; the fastest of each kept",
-    note: "CalculiX did NOT converge on the 3D plate on a base at any larger size tried with the same deck (fixed increment 0.1 of the load, linear pressure-overclosure, 1e9 or 1.25e8 per pair): examples/plate_on_base_3d.toml at K = 2 (about 24k unknowns) and examples/plate_on_base_3d_bench.toml at K = 2, 3 and 4 (8.8k, 27k, 59k): its Newton residual stalls (about 3 N against an average force of 0.4 N at K = 4) and it cuts the increment below its minimum. So the ratio at about 50k unknowns the target names is not measured; at 59k `cfe run` completes in the row above",
+    model: "examples/plate_on_base_3d_bench.toml at K = 4 (59 244 unknowns), frictionless, the same pair stiffness in both codes (c_n = 3.28e7 N/mm per pair in cfe, a pressure-overclosure slope of 1.05e7 MPa/mm = 50 E in CalculiX), CalculiX with face-to-face contact (`plate_on_base_3d.py --model bench --refine 4 --laws frictionless --contact surface --c-pair 3.28125e7`)",
+    components: 59862,
+    seconds: 255.6,
+    cfe_seconds: 6.64,
+    how: "processor seconds (user + system) of each whole process, measured 2026-11-28 once each (no time to repeat) on the 2-core machine shared with other jobs (load average 15 to 18 throughout), where both got a fraction of a core: the wall clocks were 2417.6 s (CalculiX 2.20, one thread, SPOOLES: this ccx build links neither PARDISO nor PaStiX) and 46.5 s (`cfe run`, two threads, all outputs), 52× — processor time is the fairer figure on a shared machine, and an idle machine's wall-clock ratio is not measured. The two agree: contact zone x 75-126.25 mm (cfe) and 73.75-126.25 (CalculiX), y 0-40 in both, 698 and 701 closed pairs, u_z within 0.05 % at the plate's bottom centre and ends and its top centre; CalculiX's nodal pressures (extrapolated from its integration points) sum to 60 472 N against the 60 000 N load. At K = 1 of examples/plate_on_base_3d.toml (3 723 unknowns, node-to-surface contact, the verification case) CalculiX took 10.26 s and `cfe run` 0.90 s (load about 10)",
+    note: "What CalculiX needed: its node-to-surface contact does NOT converge on this model at K = 2, 3 or 4 (8.8k to 59k unknowns; nor on examples/plate_on_base_3d.toml at K = 2): its residual stalls and it cuts the first increment to 1e-4 of the load (where one increment takes 11 iterations) whatever was tried: slope 8e7 or 1.05e7 MPa/mm, with or without SMALL SLIDING, tension 1e-4 MPa at large clearance. Face-to-face contact (`*CONTACT PAIR, TYPE=SURFACE TO SURFACE`, the plate's bottom faces as slave surface) with a slope of about 50 E (CalculiX's manual recommends 5 to 50 E) converges with the default controls, increments (0.1 of the load) and solver: at K = 4 its first increment takes 25 iterations (its contact elements settling from 25 088 to 8 965), the other nine 2 or 3",
 };
 
 /// The 3D targets, from the 3D rows `solid`: 200k unknowns with contact in
