@@ -18,11 +18,21 @@
 //! set of pair states copies it (`MatCopy`) and adds the coupling elements.
 //!
 //! **The solution on every rank.** Every rank runs the same contact scheme on
-//! the whole model (replicated), so each needs the whole solution: the
-//! right-hand side's owned entries are set from the caller's (replicated)
-//! vector, and after the solve the distributed solution is gathered on every
-//! rank (`VecScatterCreateToAll`: the whole vector, 8 bytes per DOF, to every
-//! rank, once per solve).
+//! the whole model (replicated): the right-hand side's owned entries are set
+//! from the caller's (replicated) vector, and after a complete solve the
+//! distributed solution is gathered on every rank (`VecScatterCreateToAll`:
+//! the whole vector, 8 bytes per DOF, to every rank), as the scheme then reads
+//! all of it (internal forces, equilibrium). After a restricted solve
+//! ([`RestrictedSolve`]: an active-set trial, a correction of the pairs'
+//! forces) only the coupling equations' entries are gathered on every rank (a
+//! `VecScatter` of those rows), the scheme reading nothing else of it.
+//! [`exchanged`] counts the gathers and what they brought this rank.
+//!
+//! **Failures** are agreed on by the ranks, or end them all
+//! ([`ranks`](crate::ranks)): this rank's local work (its elements into the
+//! matrix) before the collective calls that follow it, each operation's start
+//! (stop flags, another rank's failure); an error of a collective PETSc call
+//! on several ranks calls `MPI_Abort`.
 //!
 //! **CG + GAMG** (`petsc`). Conjugate gradients on the unpreconditioned
 //! residual (so the tolerance is `‖b − K x‖ ≤ rtol ‖b‖`, checked again on the
@@ -176,6 +186,7 @@ static RECEIVED: std::sync::Mutex<Received> = std::sync::Mutex::new(Received {
     all: 0,
     coupling: 0,
     doubles: 0,
+    coupling_doubles: 0,
     seconds: 0.0,
 });
 
@@ -188,6 +199,8 @@ pub struct Received {
     pub coupling: usize,
     /// Doubles received from other ranks (8 bytes each).
     pub doubles: usize,
+    /// Of which in the gathers of the coupling equations' entries.
+    pub coupling_doubles: usize,
     /// Seconds in the gathers (scatter and copy).
     pub seconds: f64,
 }
@@ -200,6 +213,9 @@ impl Received {
         }
         self.doubles += doubles;
         self.seconds += seconds;
+        if exchange == Exchange::Coupling {
+            self.coupling_doubles += doubles;
+        }
         let mut total = RECEIVED.lock().unwrap_or_else(|e| e.into_inner());
         match exchange {
             Exchange::All => total.all += 1,
@@ -207,6 +223,9 @@ impl Received {
         }
         total.doubles += doubles;
         total.seconds += seconds;
+        if exchange == Exchange::Coupling {
+            total.coupling_doubles += doubles;
+        }
     }
 }
 

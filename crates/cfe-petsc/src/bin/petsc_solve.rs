@@ -78,11 +78,12 @@ where
     let results = results?;
     let r = cfe_petsc::backend::exchanged();
     eprintln!(
-        "exchange rank {rank}: unknowns {} gathers whole {} coupling {} received {} bytes in {:.3} s; solve {:.3} s",
+        "exchange rank {rank}: unknowns {} gathers whole {} coupling {} received {} bytes ({} in the coupling gathers) in {:.3} s; solve {:.3} s",
         a.dofs.n_eq,
         r.all,
         r.coupling,
         8 * r.doubles,
+        8 * r.coupling_doubles,
         r.seconds,
         results.summary.timings.solve.solve
     );
