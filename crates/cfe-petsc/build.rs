@@ -77,7 +77,11 @@ fn main() {
     let libs = pkg_config(&["--libs", name]).unwrap_or_else(|| {
         panic!("cfe-petsc: pkg-config gives no libraries for {name}: {INSTALL}")
     });
-    for flag in libs.split_whitespace() {
+    // Open MPI itself, for the ranks' agreement on a failure (src/ranks.rs
+    // calls MPI_Allreduce, MPI_Bcast and MPI_Abort): `ompi.pc` of
+    // libopenmpi-dev, else the `mpi` library PETSc was linked with.
+    let mpi = pkg_config(&["--libs", "ompi"]).unwrap_or_else(|| "-lmpi".into());
+    for flag in libs.split_whitespace().chain(mpi.split_whitespace()) {
         if let Some(dir) = flag.strip_prefix("-L") {
             println!("cargo:rustc-link-search=native={dir}");
         } else if let Some(lib) = flag.strip_prefix("-l") {

@@ -189,25 +189,33 @@ enum Command {
 
 fn main() {
     let result = run(Cli::parse());
-    // PETSc (and MPI) end once, after every solver is dropped.
+    // PETSc (and MPI) end once, after every solver is dropped; under MPI also
+    // after a failure, which every rank has agreed on (`settle_ranks`).
     #[cfg(feature = "petsc")]
-    let result = result.and_then(|()| Ok(cfe_petsc::finalize()?));
+    let result = {
+        let finalized = cfe_petsc::finalize();
+        result.and_then(|()| Ok(finalized?))
+    };
     if let Err(e) = result {
-        // The chain of causes, each once: a library error's message already
-        // holds its I/O cause.
-        let mut message = String::new();
-        for cause in e.chain() {
-            let text = cause.to_string();
-            if !message.contains(&text) {
-                if !message.is_empty() {
-                    message.push_str(": ");
-                }
-                message.push_str(&text);
-            }
-        }
-        eprintln!("error: {message}");
+        eprintln!("error: {}", chain_message(&e));
         std::process::exit(exit_code(&e));
     }
+}
+
+/// The chain of causes of `e`, each once: a library error's message already
+/// holds its I/O cause.
+fn chain_message(e: &anyhow::Error) -> String {
+    let mut message = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if !message.contains(&text) {
+            if !message.is_empty() {
+                message.push_str(": ");
+            }
+            message.push_str(&text);
+        }
+    }
+    message
 }
 
 /// The exit status of a command that failed with `e`: a run stopped by a signal
@@ -487,26 +495,46 @@ fn run_analysis<D: cfe::RunDim>(
     }
     use_petsc(&mut a, petsc_options_file);
     let rank = mpi_rank(&a)?;
-    if rank > 0 {
+    // SIGINT and SIGTERM ask the run to stop after the increment being solved,
+    // leaving a consistent output folder whose summary says `interrupted`.
+    let stop = Arc::new(AtomicUsize::new(0));
+    for signal in [SIGINT, SIGTERM] {
+        signal_hook::flag::register_usize(signal, Arc::clone(&stop), signal as usize)?;
+    }
+    let result = if rank > 0 {
         // A rank after the first of `mpirun -n N cfe run … --solver petsc`:
         // it takes part in every distributed solve (the same contact scheme
         // on the replicated model) and writes nothing; rank 0 writes the
         // output folder and the console.
-        let stop = Arc::new(AtomicUsize::new(0));
-        for signal in [SIGINT, SIGTERM] {
-            signal_hook::flag::register_usize(signal, Arc::clone(&stop), signal as usize)?;
-        }
-        let solved = a.solve_observed_until(|_| Ok(()), &stop);
-        if solved.is_err() {
-            // A failure of the run is every rank's (the scheme is
-            // replicated): wait in MPI's finalization for rank 0, which
-            // records it in the folder, rather than exit first and have
-            // `mpirun` end rank 0 before it has.
-            finalize_mpi();
-        }
-        solved.with_context(|| format!("MPI rank {rank}"))?;
-        return Ok(());
+        a.solve_observed_until(|_| Ok(()), &stop)
+            .map(|_| ())
+            .map_err(anyhow::Error::new)
+    } else {
+        write_run(&mut a, description, &stop, out, force)
+    };
+    let result = settle_ranks(&a, rank, &stop, result);
+    if let Err(e) = &result
+        && let Some(cfe::Error::Interrupted { .. }) = e.downcast_ref::<cfe::Error>()
+    {
+        // The folder is complete (summary, results.pvd, lock released) and
+        // the process ends at once (`main`): the model is left to the
+        // system rather than freed piece by piece, which took seconds at
+        // millions of unknowns on a loaded machine.
+        std::mem::forget(a);
     }
+    result
+}
+
+/// Rank 0's part of [`run_analysis`] (the whole run without MPI): the output
+/// folder opened, the run solved and written with its progress bar, the
+/// summary printed.
+fn write_run<D: cfe::RunDim>(
+    a: &mut Analysis<D>,
+    description: &str,
+    stop: &Arc<AtomicUsize>,
+    out: PathBuf,
+    force: bool,
+) -> anyhow::Result<()> {
     let folder = cfe::output::folder::OutputFolder::open(&out, force)?;
     eprint!("{description}");
     let bar = ProgressBar::new(a.model.settings.increments as u64);
@@ -516,12 +544,6 @@ fn run_analysis<D: cfe::RunDim>(
             .expect("valid template")
             .progress_chars("=> "),
     );
-    // SIGINT and SIGTERM ask the run to stop after the increment being solved,
-    // leaving a consistent output folder whose summary says `interrupted`.
-    let stop = Arc::new(AtomicUsize::new(0));
-    for signal in [SIGINT, SIGTERM] {
-        signal_hook::flag::register_usize(signal, Arc::clone(&stop), signal as usize)?;
-    }
     let summary = a.run_in(
         folder,
         &mut |inc| {
@@ -538,19 +560,12 @@ fn run_analysis<D: cfe::RunDim>(
             ));
             bar.inc(1);
         },
-        &stop,
+        stop,
     );
     bar.finish_and_clear();
     let summary = match summary {
         Ok(s) => s,
-        Err(e @ cfe::Error::Interrupted { .. }) => {
-            // The folder is complete (summary, results.pvd, lock released) and
-            // the process ends at once (`main`): the model is left to the
-            // system rather than freed piece by piece, which took seconds at
-            // millions of unknowns on a loaded machine.
-            std::mem::forget(a);
-            return Err(e.into());
-        }
+        Err(e @ cfe::Error::Interrupted { .. }) => return Err(e.into()),
         Err(e) => {
             // The summary on disk records the failure unless even it could not be
             // written (then the library removed a stale one).
@@ -597,16 +612,42 @@ fn mpi_rank<D: cfe::RunDim>(a: &Analysis<D>) -> anyhow::Result<usize> {
     }
 }
 
-/// Finalizes PETSc and MPI (best effort: the run's error is what gets
-/// reported).
+/// Under MPI (a run on a PETSc back end), every rank's outcome of the run
+/// made one: the ranks agree (`cfe_petsc::ranks::agree`, collective) on the
+/// first failure of any rank and on a stop signal, so that every rank ends
+/// (and can finalize MPI) rather than wait for one that has left. Rank 0
+/// keeps its own error (its summary records it); the other ranks report the
+/// first failing rank's message. Any other run's outcome is `result`.
 #[cfg(feature = "petsc")]
-fn finalize_mpi() {
-    let _ = cfe_petsc::finalize();
+fn settle_ranks<D: cfe::RunDim>(
+    a: &Analysis<D>,
+    rank: usize,
+    stop: &AtomicUsize,
+    result: anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    if !a.model.settings.solver.is_external() {
+        return result;
+    }
+    let local = result.as_ref().err().map(chain_message);
+    let signal = stop.load(std::sync::atomic::Ordering::Relaxed);
+    let agreed = cfe_petsc::ranks::agree(signal, local.as_deref())?;
+    match (result, agreed.failure) {
+        (Err(e), _) if rank == 0 => Err(e),
+        (_, Some(failure)) => Err(anyhow::Error::new(failure)),
+        (result, None) => result,
+    }
 }
 
-/// Without the `petsc` feature there is no MPI to finalize.
+/// Without the `petsc` feature every run is one process: its outcome as it is.
 #[cfg(not(feature = "petsc"))]
-fn finalize_mpi() {}
+fn settle_ranks<D: cfe::RunDim>(
+    _: &Analysis<D>,
+    _: usize,
+    _: &AtomicUsize,
+    result: anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    result
+}
 
 /// Without the `petsc` feature every run is one process: rank 0.
 #[cfg(not(feature = "petsc"))]

@@ -18,11 +18,21 @@
 //! set of pair states copies it (`MatCopy`) and adds the coupling elements.
 //!
 //! **The solution on every rank.** Every rank runs the same contact scheme on
-//! the whole model (replicated), so each needs the whole solution: the
-//! right-hand side's owned entries are set from the caller's (replicated)
-//! vector, and after the solve the distributed solution is gathered on every
-//! rank (`VecScatterCreateToAll`: the whole vector, 8 bytes per DOF, to every
-//! rank, once per solve).
+//! the whole model (replicated): the right-hand side's owned entries are set
+//! from the caller's (replicated) vector, and after a complete solve the
+//! distributed solution is gathered on every rank (`VecScatterCreateToAll`:
+//! the whole vector, 8 bytes per DOF, to every rank), as the scheme then reads
+//! all of it (internal forces, equilibrium). After a restricted solve
+//! ([`RestrictedSolve`]: an active-set trial, a correction of the pairs'
+//! forces) only the coupling equations' entries are gathered on every rank (a
+//! `VecScatter` of those rows), the scheme reading nothing else of it.
+//! [`exchanged`] counts the gathers and what they brought this rank.
+//!
+//! **Failures** are agreed on by the ranks, or end them all
+//! ([`ranks`](crate::ranks)): this rank's local work (its elements into the
+//! matrix) before the collective calls that follow it, each operation's start
+//! (stop flags, another rank's failure); an error of a collective PETSc call
+//! on several ranks calls `MPI_Abort`.
 //!
 //! **CG + GAMG** (`petsc`). Conjugate gradients on the unpreconditioned
 //! residual (so the tolerance is `‖b − K x‖ ≤ rtol ‖b‖`, checked again on the
@@ -55,7 +65,7 @@ use cfe::dim::D2;
 use cfe::dofs::DofMap;
 use cfe::fem::ElementFamily;
 use cfe::solve::backend::{
-    Analyse, Iterations, LinearFailure, LinearSolver, Outcome, Problem, Statistics,
+    Analyse, Iterations, LinearFailure, LinearSolver, Outcome, Problem, RestrictedSolve, Statistics,
 };
 use cfe::solve::system::Method;
 use std::ffi::{CStr, CString, c_char};
@@ -96,6 +106,10 @@ struct Objects {
     /// The whole solution on this rank (sequential) and the scatter filling it.
     all: ffi::Vec,
     to_all: ffi::VecScatter,
+    /// The solution at the coupling equations on this rank (sequential) and
+    /// the scatter filling it (a restricted solve's exchange).
+    coupling: ffi::Vec,
+    to_coupling: ffi::VecScatter,
     near_null: ffi::MatNullSpace,
     options: ffi::PetscOptions,
 }
@@ -112,6 +126,8 @@ impl Objects {
             work: null,
             all: null,
             to_all: null,
+            coupling: null,
+            to_coupling: null,
             near_null: null,
             options: null,
         }
@@ -129,6 +145,8 @@ impl Drop for Objects {
             ffi::MatDestroy(&mut self.mat);
             ffi::MatDestroy(&mut self.parts);
             ffi::VecScatterDestroy(&mut self.to_all);
+            ffi::VecScatterDestroy(&mut self.to_coupling);
+            ffi::VecDestroy(&mut self.coupling);
             ffi::VecDestroy(&mut self.all);
             ffi::VecDestroy(&mut self.b);
             ffi::VecDestroy(&mut self.x);
@@ -138,6 +156,83 @@ impl Drop for Objects {
             }
         }
     }
+}
+
+/// Where a KSP solve starts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Start<'g> {
+    /// From zero.
+    Zero,
+    /// From the caller's guess (free equations).
+    Guess(&'g [f64]),
+    /// From the solution PETSc's vector holds (the last solve's, or the
+    /// iterate of a restart).
+    Kept,
+}
+
+/// Which entries of a solution every rank receives after a solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Exchange {
+    /// All of them (the library asked for a complete solve).
+    All,
+    /// The coupling equations' alone (a restricted solve: an active-set trial,
+    /// a correction of the pairs' forces read at the pairs).
+    Coupling,
+}
+
+/// Counts of the gathers after solves, this process's (every solver's):
+/// [`exchanged`].
+static RECEIVED: std::sync::Mutex<Received> = std::sync::Mutex::new(Received {
+    all: 0,
+    coupling: 0,
+    doubles: 0,
+    coupling_doubles: 0,
+    seconds: 0.0,
+});
+
+/// Gathers after solves and what they brought a rank.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Received {
+    /// Gathers of the whole solution.
+    pub all: usize,
+    /// Gathers of the coupling equations' entries alone.
+    pub coupling: usize,
+    /// Doubles received from other ranks (8 bytes each).
+    pub doubles: usize,
+    /// Of which in the gathers of the coupling equations' entries.
+    pub coupling_doubles: usize,
+    /// Seconds in the gathers (scatter and copy).
+    pub seconds: f64,
+}
+
+impl Received {
+    fn add(&mut self, exchange: Exchange, doubles: usize, seconds: f64) {
+        match exchange {
+            Exchange::All => self.all += 1,
+            Exchange::Coupling => self.coupling += 1,
+        }
+        self.doubles += doubles;
+        self.seconds += seconds;
+        if exchange == Exchange::Coupling {
+            self.coupling_doubles += doubles;
+        }
+        let mut total = RECEIVED.lock().unwrap_or_else(|e| e.into_inner());
+        match exchange {
+            Exchange::All => total.all += 1,
+            Exchange::Coupling => total.coupling += 1,
+        }
+        total.doubles += doubles;
+        total.seconds += seconds;
+        if exchange == Exchange::Coupling {
+            total.coupling_doubles += doubles;
+        }
+    }
+}
+
+/// The gathers after solves of every PETSc solver of this process (this
+/// rank) so far: how many of each kind and the doubles they received.
+pub fn exchanged() -> Received {
+    *RECEIVED.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 /// A PETSc solver of `K(states)` for one problem's pattern, on every rank of
@@ -157,6 +252,13 @@ pub struct PetscSolver<'a, D: ElementFamily = D2> {
     local_eq: Vec<usize>,
     /// The coupling elements this rank assembles.
     my_couplings: Vec<usize>,
+    /// The free equations of the coupling elements' DOFs (what a restricted
+    /// solve gives every rank).
+    coupling_eqs: Vec<usize>,
+    /// Doubles this rank received in the gathers after solves.
+    received: Received,
+    /// The PETSc rows this rank owns (`first..end`).
+    owned_rows: (PetscInt, PetscInt),
     objects: Objects,
     /// The states the matrix holds.
     prepared: Option<PairStates>,
@@ -193,6 +295,10 @@ fn failure(e: &Error) -> LinearFailure {
         Error::Call { function, code, .. } => LinearFailure::BackEnd {
             function,
             code: *code,
+        },
+        Error::Rank(f) => LinearFailure::BackEnd {
+            function: f.as_static(),
+            code: -1,
         },
         _ => LinearFailure::BackEnd {
             function: "cfe-petsc",
@@ -281,6 +387,33 @@ fn lower_entries<D: ElementFamily>(graph: &NodeGraph, dofs: &DofMap<D>) -> usize
     count
 }
 
+/// This rank's number of rows (`D::N` per node of `my_nodes`) and, per row,
+/// its entries in the columns of this rank's nodes and of the others' (the
+/// preallocation of MPIAIJ), from the node graph.
+#[allow(clippy::type_complexity)]
+fn row_counts<D: ElementFamily>(
+    graph: &NodeGraph,
+    partition: &Partition,
+    my_nodes: &[usize],
+    rank: usize,
+) -> Result<(PetscInt, Vec<PetscInt>, Vec<PetscInt>)> {
+    let n_local = petsc_int(my_nodes.len() * D::N, "DOFs of a rank")?;
+    let (first, end) = (partition.node_start[rank], partition.node_start[rank + 1]);
+    let (mut d_nnz, mut o_nnz) = (Vec::new(), Vec::new());
+    for &g in my_nodes {
+        let nb = graph.neighbours(g);
+        let inside = nb
+            .iter()
+            .filter(|&&h| (first..end).contains(&partition.node_index[h]))
+            .count();
+        for _ in 0..D::N {
+            d_nnz.push(petsc_int(D::N * inside, "entries in a row")?);
+            o_nnz.push(petsc_int(D::N * (nb.len() - inside), "entries in a row")?);
+        }
+    }
+    Ok((n_local, d_nnz, o_nnz))
+}
+
 impl<'a, D: ElementFamily> PetscSolver<'a, D> {
     /// The solver `kind` for `problem`'s pattern with `config`'s options, on
     /// every rank: the partition, the matrix preallocated exactly with the
@@ -294,6 +427,11 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
             dofs,
         } = problem;
         let (rank, ranks) = crate::world()?;
+        // Every rank starts here together, unless one has failed before (rank
+        // 0's output folder refused): then every rank ends here.
+        if let Some(failure) = crate::ranks::agree(0, None)?.failure {
+            return Err(failure.into());
+        }
         let n_dofs = dofs.eq.len();
         petsc_int(n_dofs, "DOFs")?;
         let partition = Partition::new(parts, interfaces, dofs, ranks);
@@ -313,6 +451,11 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
             .map(|d| dofs.eq[d])
             .collect();
         let my_couplings = Partition::elements_of(&partition.coupling_owner, rank);
+        let coupling_eqs: Vec<usize> = cfe::coupling::coupling_dofs(interfaces, dofs)
+            .into_iter()
+            .map(|d| dofs.eq[d])
+            .filter(|&e| e != FIXED)
+            .collect();
         let mut solver = PetscSolver {
             problem,
             kind,
@@ -322,6 +465,12 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
             eq_row,
             local_eq,
             my_couplings,
+            coupling_eqs,
+            received: Received::default(),
+            owned_rows: (
+                (D::N * partition.node_start[rank]) as PetscInt,
+                (D::N * partition.node_start[rank + 1]) as PetscInt,
+            ),
             objects: Objects::null(),
             prepared: None,
             built: false,
@@ -341,37 +490,68 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
     }
 
     /// The PETSc objects: the matrices (pattern, then the parts' stiffness),
-    /// vectors, near-null space, KSP.
+    /// vectors, near-null space, KSP. This rank's local work (the row counts,
+    /// its rows' pattern and elements into PETSc's matrix) is agreed on before
+    /// the collective calls that follow it; a collective call's error ends
+    /// every rank ([`ranks`](crate::ranks)).
     fn create(&mut self, partition: &Partition, my_nodes: &[usize], config: &Petsc) -> Result<()> {
         let Problem {
             parts,
             interfaces,
             dofs,
         } = self.problem;
-        let n = petsc_int(dofs.eq.len(), "DOFs")?;
-        let n_local = petsc_int(my_nodes.len() * D::N, "DOFs of a rank")?;
-        let (first, end) = (
-            partition.node_start[self.rank],
-            partition.node_start[self.rank + 1],
-        );
         // The pattern: each owned node's row block against its neighbours'.
         let graph = NodeGraph::new(parts, interfaces, dofs);
         self.stats.matrix_nnz = lower_entries(&graph, dofs);
-        let (mut d_nnz, mut o_nnz) = (Vec::new(), Vec::new());
-        for &g in my_nodes {
-            let nb = graph.neighbours(g);
-            let inside = nb
-                .iter()
-                .filter(|&&h| (first..end).contains(&partition.node_index[h]))
-                .count();
-            for _ in 0..D::N {
-                d_nnz.push(petsc_int(D::N * inside, "entries in a row")?);
-                o_nnz.push(petsc_int(D::N * (nb.len() - inside), "entries in a row")?);
-            }
-        }
+        let counts = row_counts::<D>(&graph, partition, my_nodes, self.rank);
         let mut s = session()?;
+        let (n_local, d_nnz, o_nnz) = self.settle(counts)?;
+        let made = self.create_matrix(&mut s, n_local, &d_nnz, &o_nnz, config);
+        self.collective(made)?;
+        drop((d_nnz, o_nnz));
+        let filled = self.insert_pattern_and_parts(&graph, partition, my_nodes);
+        drop(graph);
+        self.settle(filled)?;
+        let rest = self.create_rest(my_nodes, n_local);
+        self.collective(rest)
+    }
+
+    /// Agrees with the other ranks on `local`, this rank's outcome: its value
+    /// when no rank failed, else every rank's error is the first failure
+    /// ([`Error::Rank`]). Collective; the caller holds the session's lock.
+    fn settle<T>(&self, local: Result<T>) -> Result<T> {
+        let message = local.as_ref().err().map(Error::to_string);
+        match crate::ranks::agree_in_session(0, message.as_deref()).failure {
+            Some(failure) => Err(failure.into()),
+            None => local,
+        }
+    }
+
+    /// The result of a collective PETSc call: an error ends every rank when
+    /// there are several ([`ranks`](crate::ranks)); on one rank it is returned.
+    fn collective<T>(&self, result: Result<T>) -> Result<T> {
+        if let Err(e) = &result
+            && self.ranks > 1
+        {
+            crate::ranks::abort(self.rank, &e.to_string());
+        }
+        result
+    }
+
+    /// The parts' matrix made and preallocated (`d_nnz`, `o_nnz`: the row
+    /// counts of this rank's `n_local` rows), with the back end's options
+    /// database. Collective.
+    fn create_matrix(
+        &mut self,
+        s: &mut crate::Session,
+        n_local: PetscInt,
+        d_nnz: &[PetscInt],
+        o_nnz: &[PetscInt],
+        config: &Petsc,
+    ) -> Result<()> {
+        let n = petsc_int(self.dof_row.len(), "DOFs")?;
         let o = &mut self.objects;
-        o.options = crate::options_database(&s, &config.options, config.options_file.as_ref())?;
+        o.options = crate::options_database(s, &config.options, config.options_file.as_ref())?;
         s.push(o.options)?;
         let bs = D::N as PetscInt;
         call!(MatCreate(comm(), &mut o.parts))?;
@@ -385,8 +565,21 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
             d_nnz.as_ptr(),
             0,
             o_nnz.as_ptr()
-        ))?;
-        drop((d_nnz, o_nnz));
+        ))
+    }
+
+    /// This rank's rows of the pattern (zeros) and its part elements' stiffness
+    /// into the parts' matrix (local: entries of other ranks' rows wait in
+    /// PETSc's stash for the assembly).
+    fn insert_pattern_and_parts(
+        &mut self,
+        graph: &NodeGraph,
+        partition: &Partition,
+        my_nodes: &[usize],
+    ) -> Result<()> {
+        let Problem { parts, dofs, .. } = self.problem;
+        let o = &mut self.objects;
+        let bs = D::N as PetscInt;
         let (mut cols, mut zeros) = (Vec::new(), Vec::new());
         for &g in my_nodes {
             cols.clear();
@@ -406,7 +599,6 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
                 ffi::ADD_VALUES
             ))?;
         }
-        drop(graph);
         let mine = Partition::elements_of(&partition.part_owner, self.rank);
         let elements = PartElements::new(parts, dofs);
         add_elements(
@@ -414,8 +606,17 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
             &SomeElements::new(&elements, &mine),
             dofs,
             &self.dof_row,
-        )?;
-        drop(mine);
+        )
+    }
+
+    /// The rest, collective: the parts' matrix assembled and copied into
+    /// `K(states)`'s, the vectors and scatters, the near-null space, the KSP
+    /// with the defaults and then the options.
+    fn create_rest(&mut self, my_nodes: &[usize], n_local: PetscInt) -> Result<()> {
+        let Problem { parts, dofs, .. } = self.problem;
+        let n = petsc_int(self.dof_row.len(), "DOFs")?;
+        let bs = D::N as PetscInt;
+        let o = &mut self.objects;
         call!(MatAssemblyBegin(o.parts, ffi::MAT_FINAL_ASSEMBLY))?;
         call!(MatAssemblyEnd(o.parts, ffi::MAT_FINAL_ASSEMBLY))?;
         call!(MatSetOption(
@@ -434,6 +635,33 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
             call!(VecSetBlockSize(*v, bs))?;
         }
         call!(VecScatterCreateToAll(o.x, &mut o.to_all, &mut o.all))?;
+        // The coupling equations' rows, to every rank.
+        {
+            let rows: Vec<PetscInt> = self.coupling_eqs.iter().map(|&e| self.eq_row[e]).collect();
+            let m = petsc_int(rows.len(), "coupling equations")?;
+            // SAFETY: Open MPI's MPI_COMM_SELF, by address (PETSC_COMM_SELF).
+            let this = (&raw const ffi::ompi_mpi_comm_self).cast_mut().cast();
+            let mut is = std::ptr::null_mut();
+            call!(ISCreateGeneral(
+                this,
+                m,
+                rows.as_ptr(),
+                ffi::PETSC_COPY_VALUES,
+                &mut is
+            ))?;
+            let made = call!(VecCreateSeq(this, m, &mut o.coupling)).and_then(|()| {
+                call!(VecScatterCreate(
+                    o.x,
+                    is,
+                    o.coupling,
+                    std::ptr::null_mut(),
+                    &mut o.to_coupling
+                ))
+            });
+            // SAFETY: the index set made above, destroyed once.
+            unsafe { ffi::ISDestroy(&mut is) };
+            made?;
+        }
         // The rigid-body modes of the node coordinates (in `work`, then zeroed
         // by its next use).
         {
@@ -516,22 +744,48 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
         }
     }
 
-    /// `Err(Stopped)` once the stop flag is nonzero.
-    fn check_stop(&self) -> std::result::Result<(), LinearFailure> {
-        match self.stop.map_or(0, |s| s.load(Ordering::Relaxed)) {
-            0 => Ok(()),
-            signal => Err(LinearFailure::Stopped(signal)),
+    /// The start of a back-end operation, on every rank together: the ranks
+    /// agree on their stop flags and on a failure one of them met since
+    /// ([`ranks`](crate::ranks)): `Err(Stopped)` once a flag is nonzero on
+    /// any rank, a failure of another rank as [`LinearFailure::BackEnd`]
+    /// naming it and its message.
+    fn entry(&self) -> std::result::Result<(), LinearFailure> {
+        let stop = self.stop.map_or(0, |s| s.load(Ordering::Relaxed));
+        let agreed = {
+            let _s = session().map_err(|e| failure(&e))?;
+            crate::ranks::agree_in_session(stop, None)
+        };
+        if agreed.stop != 0 {
+            return Err(LinearFailure::Stopped(agreed.stop));
+        }
+        match agreed.failure {
+            Some(f) => Err(LinearFailure::BackEnd {
+                function: f.as_static(),
+                code: -1,
+            }),
+            None => Ok(()),
         }
     }
 
     /// Assembles `K(states)` into PETSc's matrix: the parts' stiffness copied,
-    /// this rank's coupling elements in their states added, then the
-    /// prescribed DOFs' diagonal set to the mean of the free one (collective).
+    /// this rank's coupling elements in their states added (local, agreed on),
+    /// then, collective, the assembly and the prescribed DOFs' diagonal set to
+    /// the mean of the free one.
     fn assemble(&mut self, states: &[Vec<PairState>]) -> Result<()> {
+        let _s = session()?;
+        let local = self.add_couplings(states);
+        self.settle(local)?;
+        let rest = self.finish_assembly();
+        self.collective(rest)
+    }
+
+    /// The parts' stiffness copied into `K(states)`'s matrix (the same
+    /// pattern: no communication) and this rank's coupling elements in
+    /// `states` added (entries of other ranks' rows wait in PETSc's stash).
+    fn add_couplings(&self, states: &[Vec<PairState>]) -> Result<()> {
         let Problem {
             interfaces, dofs, ..
         } = self.problem;
-        let _s = session()?;
         let o = &self.objects;
         call!(MatCopy(o.parts, o.mat, ffi::SAME_NONZERO_PATTERN))?;
         let couplings = CouplingElements::new(interfaces, Some(states), dofs);
@@ -540,7 +794,13 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
             &SomeElements::new(&couplings, &self.my_couplings),
             dofs,
             &self.dof_row,
-        )?;
+        )
+    }
+
+    /// `K(states)`'s assembly (collective) and the prescribed rows' diagonal.
+    fn finish_assembly(&self) -> Result<()> {
+        let dofs = self.problem.dofs;
+        let o = &self.objects;
         call!(MatAssemblyBegin(o.mat, ffi::MAT_FINAL_ASSEMBLY))?;
         call!(MatAssemblyEnd(o.mat, ffi::MAT_FINAL_ASSEMBLY))?;
         // The prescribed rows' diagonal (zero until now): the mean of the free.
@@ -594,15 +854,19 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
         call!(VecRestoreArray(v, &mut a))
     }
 
-    /// One KSP solve of `rhs` (free equations) from `guess`: the iterations,
+    /// One KSP solve of `rhs` (free equations) from `start`: the iterations,
     /// PETSc's converged reason and the true relative residual (collective).
-    fn ksp_solve(&mut self, rhs: &[f64], guess: Option<&[f64]>) -> Result<(usize, i32, f64)> {
+    fn ksp_solve(&mut self, rhs: &[f64], start: Start<'_>) -> Result<(usize, i32, f64)> {
         let mut s = session()?;
         s.push(self.objects.options)?;
         let o = &self.objects;
         self.set_local(o.b, Some(rhs))?;
-        let mut warm = guess.is_some() && self.kind == Kind::CgGamg;
-        self.set_local(o.x, guess.filter(|_| warm))?;
+        let mut warm = start != Start::Zero && self.kind == Kind::CgGamg;
+        match start {
+            Start::Guess(guess) if warm => self.set_local(o.x, Some(guess))?,
+            Start::Kept if warm => {}
+            _ => self.set_local(o.x, None)?,
+        }
         if warm {
             // A guess farther from the solution than zero (a pair closed
             // across a gap: the penalty times the gap) starts from zero
@@ -638,33 +902,149 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
         Ok((its.max(0) as usize, reason, relative))
     }
 
-    /// The solution in `x` at the free equations, into `out`, on every rank
-    /// (collective: the whole vector gathered on each).
-    fn gather(&self, out: &mut [f64]) -> Result<()> {
+    /// The solution in `x` at the free equations `exchange` names, into `out`,
+    /// on every rank (collective): the whole vector gathered on each, or only
+    /// its coupling equations' entries.
+    fn gather(&mut self, out: &mut [f64], exchange: Exchange) -> Result<()> {
+        let t = Instant::now();
         let _s = session()?;
         let o = &self.objects;
+        let (to, into, eqs) = match exchange {
+            Exchange::All => (o.to_all, o.all, None),
+            Exchange::Coupling => (o.to_coupling, o.coupling, Some(&self.coupling_eqs)),
+        };
         call!(VecScatterBegin(
-            o.to_all,
+            to,
             o.x,
-            o.all,
+            into,
             ffi::INSERT_VALUES,
             ffi::SCATTER_FORWARD
         ))?;
         call!(VecScatterEnd(
-            o.to_all,
+            to,
             o.x,
-            o.all,
+            into,
             ffi::INSERT_VALUES,
             ffi::SCATTER_FORWARD
         ))?;
         let mut a: *const f64 = std::ptr::null();
-        call!(VecGetArrayRead(o.all, &mut a))?;
-        // SAFETY: PETSc's array of the sequential vector's n entries, read only.
-        let all = unsafe { std::slice::from_raw_parts(a, self.dof_row.len()) };
-        for (e, &r) in self.eq_row.iter().enumerate() {
-            out[e] = all[r as usize];
+        call!(VecGetArrayRead(into, &mut a))?;
+        let n = eqs.map_or(self.dof_row.len(), Vec::len);
+        let got = if n == 0 || a.is_null() {
+            &[][..]
+        } else {
+            // SAFETY: PETSc's array of the sequential vector's n entries, read only.
+            unsafe { std::slice::from_raw_parts(a, n) }
+        };
+        match eqs {
+            None => {
+                for (e, &r) in self.eq_row.iter().enumerate() {
+                    out[e] = got[r as usize];
+                }
+            }
+            Some(eqs) => {
+                for (&e, &v) in eqs.iter().zip(got) {
+                    out[e] = v;
+                }
+            }
         }
-        call!(VecRestoreArrayRead(o.all, &mut a))
+        call!(VecRestoreArrayRead(into, &mut a))?;
+        // What came from other ranks: the entries of rows this rank does not own.
+        let own = self.local_eq.len();
+        let (first, end) = self.owned_rows;
+        let received = match exchange {
+            Exchange::All => self.dof_row.len() - own,
+            Exchange::Coupling => self
+                .coupling_eqs
+                .iter()
+                .filter(|&&e| !(first..end).contains(&self.eq_row[e]))
+                .count(),
+        };
+        self.received
+            .add(exchange, received, t.elapsed().as_secs_f64());
+        Ok(())
+    }
+
+    /// Solves `K(states) x = rhs` from `start`, distributed, and writes into
+    /// `rhs` on every rank the entries `exchange` says (collective): the
+    /// seam's complete and restricted solves.
+    fn solve_exchanging(
+        &mut self,
+        states: &[Vec<PairState>],
+        rhs: &mut [f64],
+        mut start: Start<'_>,
+        exchange: Exchange,
+    ) -> std::result::Result<Outcome, LinearFailure> {
+        assert_eq!(
+            rhs.len(),
+            self.eq_row.len(),
+            "right-hand side of another size"
+        );
+        let mut method = self.prepare(states)?;
+        self.entry()?;
+        let t = Instant::now();
+        let b = rhs.to_vec();
+        let (mut total, mut restarts, mut retried) = (0usize, 0usize, false);
+        let result = loop {
+            let fresh = self.fresh_iterations.is_none();
+            let solved = self.ksp_solve(&b, start);
+            let (its, reason, relative) = self.collective(solved).map_err(|e| failure(&e))?;
+            total += its;
+            if fresh {
+                self.fresh_iterations = Some(its);
+            }
+            if self.kind == Kind::Mumps {
+                break if reason < 0 {
+                    Err(self.diverged(reason, total, relative))
+                } else {
+                    Ok(None)
+                };
+            }
+            if reason < 0 {
+                if reason == ffi::KSP_DIVERGED_ITS && !fresh && !retried {
+                    // A kept preconditioner that no longer serves: build it
+                    // for these states and solve again from the guess.
+                    retried = true;
+                    self.rebuild = true;
+                    self.prepared = None;
+                    method = self.prepare(states)?;
+                    continue;
+                }
+                break Err(self.diverged(reason, total, relative));
+            }
+            if relative <= self.tolerance {
+                break Ok(Some(relative));
+            }
+            if restarts == MAX_RESTARTS {
+                break Err(LinearFailure::NotConverged {
+                    iterations: total,
+                    relative_residual: relative,
+                    tolerance: self.tolerance,
+                });
+            }
+            // The recursive residual met the tolerance, the true one did not:
+            // go on from the iterate (kept in PETSc's vector).
+            restarts += 1;
+            start = Start::Kept;
+        };
+        if let Some(fresh) = self.fresh_iterations
+            && total > (2 * fresh).max(10)
+        {
+            self.rebuild = true;
+        }
+        self.stats.iterations += total;
+        self.stats.solve_seconds += t.elapsed().as_secs_f64();
+        let relative = result?;
+        let gathered = self.gather(rhs, exchange);
+        self.collective(gathered).map_err(|e| failure(&e))?;
+        Ok(Outcome {
+            method,
+            iterations: relative.map(|relative_residual| Iterations {
+                count: total,
+                relative_residual,
+            }),
+            complete: exchange == Exchange::All,
+        })
     }
 
     /// For each vector of the near-null space GAMG is given (the rigid-body
@@ -728,12 +1108,13 @@ impl<'a, D: ElementFamily> LinearSolver<'a> for PetscSolver<'a, D> {
         if self.prepared.as_deref() == Some(states) {
             return Ok(Method::Reuse);
         }
-        self.check_stop()?;
+        self.entry()?;
         let t = Instant::now();
         self.prepared = None;
         self.assemble(states).map_err(|e| failure(&e))?;
         let rebuild = self.kind == Kind::Mumps || !self.built || self.rebuild;
-        self.set_up(rebuild).map_err(|e| failure(&e))?;
+        let set_up = self.set_up(rebuild);
+        self.collective(set_up).map_err(|e| failure(&e))?;
         self.prepared = Some(states.to_vec());
         let dt = t.elapsed().as_secs_f64();
         self.stats.prepare_seconds += dt;
@@ -755,79 +1136,8 @@ impl<'a, D: ElementFamily> LinearSolver<'a> for PetscSolver<'a, D> {
         rhs: &mut [f64],
         guess: Option<&[f64]>,
     ) -> std::result::Result<Outcome, LinearFailure> {
-        assert_eq!(
-            rhs.len(),
-            self.eq_row.len(),
-            "right-hand side of another size"
-        );
-        let mut method = self.prepare(states)?;
-        self.check_stop()?;
-        let t = Instant::now();
-        let b = rhs.to_vec();
-        let mut start: Option<Vec<f64>> = guess.map(<[f64]>::to_vec);
-        let (mut total, mut restarts, mut retried) = (0usize, 0usize, false);
-        let result = loop {
-            let fresh = self.fresh_iterations.is_none();
-            let (its, reason, relative) = self
-                .ksp_solve(&b, start.as_deref())
-                .map_err(|e| failure(&e))?;
-            total += its;
-            if fresh {
-                self.fresh_iterations = Some(its);
-            }
-            if self.kind == Kind::Mumps {
-                break if reason < 0 {
-                    Err(self.diverged(reason, total, relative))
-                } else {
-                    Ok(None)
-                };
-            }
-            if reason < 0 {
-                if reason == ffi::KSP_DIVERGED_ITS && !fresh && !retried {
-                    // A kept preconditioner that no longer serves: build it
-                    // for these states and solve again from the guess.
-                    retried = true;
-                    self.rebuild = true;
-                    self.prepared = None;
-                    method = self.prepare(states)?;
-                    continue;
-                }
-                break Err(self.diverged(reason, total, relative));
-            }
-            if relative <= self.tolerance {
-                break Ok(Some(relative));
-            }
-            if restarts == MAX_RESTARTS {
-                break Err(LinearFailure::NotConverged {
-                    iterations: total,
-                    relative_residual: relative,
-                    tolerance: self.tolerance,
-                });
-            }
-            // The recursive residual met the tolerance, the true one did not:
-            // go on from the iterate.
-            restarts += 1;
-            let mut x = vec![0.0; b.len()];
-            self.gather(&mut x).map_err(|e| failure(&e))?;
-            start = Some(x);
-        };
-        if let Some(fresh) = self.fresh_iterations
-            && total > (2 * fresh).max(10)
-        {
-            self.rebuild = true;
-        }
-        self.stats.iterations += total;
-        self.stats.solve_seconds += t.elapsed().as_secs_f64();
-        let relative = result?;
-        self.gather(rhs).map_err(|e| failure(&e))?;
-        Ok(Outcome {
-            method,
-            iterations: relative.map(|relative_residual| Iterations {
-                count: total,
-                relative_residual,
-            }),
-            complete: true,
-        })
+        let start = guess.map_or(Start::Zero, Start::Guess);
+        self.solve_exchanging(states, rhs, start, Exchange::All)
     }
 
     fn set_stop(&mut self, stop: &'a AtomicUsize) {
@@ -852,5 +1162,35 @@ impl<'a, D: ElementFamily> LinearSolver<'a> for PetscSolver<'a, D> {
 
     fn statistics(&self) -> Statistics {
         self.stats
+    }
+
+    fn restricted(&mut self) -> Option<&mut dyn RestrictedSolve> {
+        Some(self)
+    }
+}
+
+/// The restricted solves: distributed as a complete one, but only the
+/// coupling equations' entries are gathered on every rank (what the contact
+/// scheme reads of an active-set trial or of a correction of the pairs'
+/// forces), not the whole solution.
+impl<'a, D: ElementFamily> RestrictedSolve for PetscSolver<'a, D> {
+    /// Starts CG from the solution PETSc holds (the last solve's: the
+    /// restricted solve is given no guess).
+    fn solve_interface(
+        &mut self,
+        states: &[Vec<PairState>],
+        rhs: &mut [f64],
+        _rhs_on_interface: bool,
+    ) -> std::result::Result<Outcome, LinearFailure> {
+        self.solve_exchanging(states, rhs, Start::Kept, Exchange::Coupling)
+    }
+
+    /// A complete solve from zero (a change of the pairs' forces: no guess).
+    fn solve_pair_forces(
+        &mut self,
+        states: &[Vec<PairState>],
+        rhs: &mut [f64],
+    ) -> std::result::Result<Outcome, LinearFailure> {
+        self.solve_exchanging(states, rhs, Start::Zero, Exchange::All)
     }
 }

@@ -34,6 +34,9 @@ pub type PC = *mut c_void;
 pub type MatNullSpace = *mut c_void;
 pub type PetscOptions = *mut c_void;
 pub type VecScatter = *mut c_void;
+pub type IS = *mut c_void;
+/// `PETSC_COPY_VALUES` (`PetscCopyMode`).
+pub const PETSC_COPY_VALUES: c_int = 0;
 /// `PetscMPIInt`.
 pub type PetscMPIInt = c_int;
 
@@ -72,6 +75,43 @@ pub type PetscErrorHandler = unsafe extern "C" fn(
     *const c_char,
     *mut c_void,
 ) -> PetscErrorCode;
+
+/// An Open MPI predefined object (`MPI_INT`, `MPI_MAX`, ...): only its
+/// address is used, as `mpi.h`'s macros take it.
+#[repr(C)]
+pub struct OmpiPredefined {
+    _opaque: [u8; 0],
+}
+
+/// Open MPI's `MPI_Datatype` and `MPI_Op` (pointers).
+pub type MPI_Datatype = *const OmpiPredefined;
+pub type MPI_Op = *const OmpiPredefined;
+
+unsafe extern "C" {
+    /// Open MPI's `MPI_INT`, `MPI_CHAR` and `MPI_MAX` (their addresses).
+    pub static ompi_mpi_int: OmpiPredefined;
+    pub static ompi_mpi_char: OmpiPredefined;
+    pub static ompi_mpi_op_max: OmpiPredefined;
+    /// Open MPI's `MPI_COMM_SELF` (`PETSC_COMM_SELF`), by its address.
+    pub static ompi_mpi_comm_self: OmpiPredefined;
+
+    pub fn MPI_Allreduce(
+        sendbuf: *const c_void,
+        recvbuf: *mut c_void,
+        count: c_int,
+        datatype: MPI_Datatype,
+        op: MPI_Op,
+        comm: MPI_Comm,
+    ) -> c_int;
+    pub fn MPI_Bcast(
+        buffer: *mut c_void,
+        count: c_int,
+        datatype: MPI_Datatype,
+        root: c_int,
+        comm: MPI_Comm,
+    ) -> c_int;
+    pub fn MPI_Abort(comm: MPI_Comm, errorcode: c_int) -> c_int;
+}
 
 unsafe extern "C" {
     /// The communicator of all ranks PETSc runs on (one in a serial run).
@@ -195,6 +235,16 @@ unsafe extern "C" {
         mode: c_int,
     ) -> PetscErrorCode;
     pub fn VecScatterDestroy(ctx: *mut VecScatter) -> PetscErrorCode;
+    pub fn VecScatterCreate(x: Vec, ix: IS, y: Vec, iy: IS, ctx: *mut VecScatter)
+    -> PetscErrorCode;
+    pub fn ISCreateGeneral(
+        comm: MPI_Comm,
+        n: PetscInt,
+        idx: *const PetscInt,
+        mode: c_int,
+        is: *mut IS,
+    ) -> PetscErrorCode;
+    pub fn ISDestroy(is: *mut IS) -> PetscErrorCode;
     pub fn VecSetBlockSize(v: Vec, bs: PetscInt) -> PetscErrorCode;
     pub fn VecGetArray(v: Vec, a: *mut *mut PetscScalar) -> PetscErrorCode;
     pub fn VecRestoreArray(v: Vec, a: *mut *mut PetscScalar) -> PetscErrorCode;

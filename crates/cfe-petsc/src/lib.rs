@@ -45,6 +45,7 @@ macro_rules! call {
 pub mod backend;
 pub mod ffi;
 pub mod partition;
+pub mod ranks;
 
 pub use backend::{DEFAULT_TOLERANCE, Kind, PetscSolver};
 
@@ -78,6 +79,10 @@ pub enum Error {
     /// not valid UTF-8.
     #[error("{0}")]
     Options(String),
+    /// Another MPI rank failed (or this one, on its local work), as the ranks
+    /// agreed ([`ranks::agree`]).
+    #[error(transparent)]
+    Rank(#[from] ranks::RankFailure),
 }
 
 impl From<Error> for cfe::Error {

@@ -208,3 +208,94 @@ fn partition_gives_each_element_and_node_one_rank() {
         }
     }
 }
+
+/// `petsc_solve` on `problem` with `solver` under `mpirun -n 2`, rank `rank`
+/// made to fail alone once increment `increment` has converged
+/// (`PETSC_SOLVE_FAIL`): its exit status and what the ranks printed on
+/// stderr, or `None` when the ranks were still running after `limit`.
+fn run_failing(
+    problem: &Path,
+    solver: &str,
+    rank: usize,
+    increment: usize,
+    limit: std::time::Duration,
+) -> Option<(std::process::ExitStatus, String)> {
+    let mut child = Command::new("mpirun")
+        .args([
+            "-n",
+            "2",
+            "--oversubscribe",
+            "--mca",
+            "mpi_yield_when_idle",
+            "1",
+        ])
+        .arg(env!("CARGO_BIN_EXE_petsc_solve"))
+        .arg(problem)
+        .arg(solver)
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("RAYON_NUM_THREADS", "1")
+        .env("PETSC_SOLVE_FAIL", format!("{rank}:{increment}"))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("mpirun (Open MPI's openmpi-bin) runs");
+    // stderr is read on a thread, so a full pipe cannot stall the ranks.
+    let mut pipe = child.stderr.take().expect("piped");
+    let reader = std::thread::spawn(move || {
+        let mut text = String::new();
+        std::io::Read::read_to_string(&mut pipe, &mut text).map(|_| text)
+    });
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("mpirun waits") {
+            break Some(status);
+        }
+        if start.elapsed() > limit {
+            // A hang: end mpirun (which ends its ranks) and report it.
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    };
+    let text = reader.join().expect("reader").unwrap_or_default();
+    status.map(|s| (s, text))
+}
+
+/// A failure on one rank alone — rank 1 (which writes nothing) in the middle
+/// of the run, rank 0 (which writes) at the first and at the last increment,
+/// where the other rank has no further solve to meet it in — ends both ranks
+/// promptly with a nonzero exit, each printing the failing rank's message;
+/// never a hang (the ranks' agreement, `cfe_petsc::ranks`). Both back ends.
+#[test]
+fn a_failure_on_one_rank_ends_every_rank() {
+    let path = example("plate_on_base.toml");
+    // The whole run takes a few seconds; a hang would run until killed.
+    let limit = std::time::Duration::from_secs(180);
+    for (solver, rank, increment) in [
+        ("petsc-mumps", 1, 3),
+        ("petsc-mumps", 0, 1),
+        ("petsc-mumps", 0, 10),
+        ("petsc", 1, 5),
+    ] {
+        let what = format!("{solver}, rank {rank} failing at increment {increment}");
+        let Some((status, stderr)) = run_failing(&path, solver, rank, increment, limit) else {
+            panic!("{what}: the ranks hung (still running after {limit:?})");
+        };
+        assert!(!status.success(), "{what}: exit status {status}: {stderr}");
+        // The ranks' lines may interleave on the shared stderr: counted as
+        // occurrences.
+        let injected = format!("failure injected on rank {rank} at increment {increment}");
+        let count = stderr.matches(&injected).count();
+        assert_eq!(count, 2, "{what}: every rank prints the failure: {stderr}");
+        if rank > 0 {
+            let named = format!("MPI rank {rank}: ");
+            assert_eq!(
+                stderr.matches(&named).count(),
+                2,
+                "{what}: the failing rank named: {stderr}"
+            );
+        }
+    }
+}
