@@ -150,7 +150,6 @@ impl<'a> Builder<'a> {
         name: &Spanned<String>,
     ) -> Result<Vec<usize>> {
         Ok(match self.boundary_or_set(part, name)? {
-            Named::Boundary(faces) if faces.is_empty() => Vec::new(),
             Named::Boundary(_) => (part.mesh.boundary_nodes(name.get_ref())).unwrap_or_default(),
             Named::NodeSet(set) => set.nodes.clone(),
         })
@@ -1447,8 +1446,8 @@ pub(super) fn check_size_of(nodes: u64, per_node: u64, refine: usize) -> Result<
 
 /// What a `boundary` key names on a part ([`Builder::boundary_or_set`]).
 pub(super) enum Named<'m, F> {
-    /// A named boundary: its facets.
-    Boundary(&'m [F]),
+    /// A named boundary (its facets: [`Mesh::boundary_nodes`] gives its nodes).
+    Boundary(#[allow(dead_code)] &'m [F]),
     /// A named node set.
     NodeSet(&'m NodeSet),
 }

@@ -308,6 +308,9 @@ struct FaceUse {
     face: BoundaryFace,
 }
 
+/// A node set in the making: its nodes and its edges.
+type NodesAndEdges = (Vec<usize>, Vec<[usize; 2]>);
+
 /// A solid part's selection: physical volumes of tetrahedra and hexahedra.
 const VOLUMES: Selection = Selection {
     dim: 3,
@@ -469,7 +472,7 @@ impl GmshMesh3d {
     /// `--refine` adds nodes). A group without a node in the part is left out;
     /// a point and a curve group of the same name make one set.
     fn named_node_sets(&self, local: &[usize]) -> BTreeMap<String, NodeSet> {
-        let mut by_group: BTreeMap<(u8, i32), (Vec<usize>, Vec<[usize; 2]>)> = BTreeMap::new();
+        let mut by_group: BTreeMap<(u8, i32), NodesAndEdges> = BTreeMap::new();
         for e in &self.points {
             let n = local[e.nodes[0]];
             if n != UNUSED {
@@ -488,7 +491,7 @@ impl GmshMesh3d {
                 }
             }
         }
-        let mut sets: BTreeMap<String, (Vec<usize>, Vec<[usize; 2]>)> = BTreeMap::new();
+        let mut sets: BTreeMap<String, NodesAndEdges> = BTreeMap::new();
         for ((dim, p), (nodes, edges)) in by_group {
             if nodes.is_empty() {
                 continue;
