@@ -55,6 +55,7 @@ pub fn from_arrays(
         nodes,
         elements,
         boundaries: BTreeMap::new(),
+        node_sets: Default::default(),
     };
     // Mirrored as the Gmsh reader mirrors an element of negative volume; an
     // element inverted at some corners only stays so and `validate` names it.

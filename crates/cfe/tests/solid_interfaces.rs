@@ -52,6 +52,7 @@ fn block(x: [f64; 2], y: [f64; 2], z: [f64; 2], cells: [usize; 3], kind: Kind) -
                 nodes: hex.nodes,
                 elements,
                 boundaries: BTreeMap::new(),
+                node_sets: Default::default(),
             };
             let sides = [
                 ("left", 0, x[0]),

@@ -105,6 +105,7 @@ pub fn mixed_block(x: [f64; 2], y: [f64; 2], z: [f64; 2], cells: [usize; 3]) -> 
         nodes: hex.nodes,
         elements,
         boundaries: BTreeMap::new(),
+        node_sets: Default::default(),
     };
     let sides: [(&str, usize, f64); 6] = [
         ("left", 0, x[0]),
@@ -294,6 +295,7 @@ pub fn extrude(
         nodes,
         elements,
         boundaries: BTreeMap::new(),
+        node_sets: Default::default(),
     };
     let tol = 1e-9
         * q.points

@@ -306,6 +306,7 @@ mod tests {
             nodes: x.to_vec(),
             elements: vec![SolidElement::Hex8(std::array::from_fn(|k| k))],
             boundaries: Default::default(),
+            node_sets: Default::default(),
         };
         host.validate("distorted").unwrap();
         let mut seed = 3u64;

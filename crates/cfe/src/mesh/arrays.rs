@@ -57,6 +57,7 @@ impl Mesh {
             nodes,
             elements: oriented,
             boundaries: BTreeMap::new(),
+            node_sets: BTreeMap::new(),
         };
         mesh.validate(part)?;
         let free: HashMap<(usize, usize), BoundaryEdge> = mesh

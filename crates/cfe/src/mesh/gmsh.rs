@@ -30,7 +30,7 @@ mod solid;
 
 pub use solid::{GmshFile, GmshMesh3d, peek_dimension, read_gmsh_3d};
 
-use super::{BoundaryEdge, Mesh, Tiling, dist};
+use super::{BoundaryEdge, Mesh, NodeSet, Tiling, dist};
 use crate::error::{Error, Result};
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::fmt::Display;
@@ -98,6 +98,8 @@ pub struct GmshMesh {
     pub node_tags: Vec<u64>,
     /// Node coordinates (x, y), in the order of `$Nodes`.
     pub nodes: Vec<[f64; 2]>,
+    /// Points (Gmsh type 15): node sets, through their physical points.
+    pub points: Vec<Element<1>>,
     /// 2-node lines (Gmsh type 1): boundaries, through their physical curves.
     pub lines: Vec<Element<2>>,
     /// 3-node triangles (Gmsh type 2).
@@ -272,6 +274,7 @@ impl GmshMesh {
     /// has a name or is used by an element, with its name if it has one, ascending.
     pub fn physical_groups(&self, dim: u8) -> Vec<(i32, Option<&str>)> {
         let used: Vec<&[i32]> = match dim {
+            0 => self.points.iter().map(|e| &e.physical[..]).collect(),
             1 => self.lines.iter().map(|e| &e.physical[..]).collect(),
             2 => (self.triangles.iter().map(|e| &e.physical[..]))
                 .chain(self.quads.iter().map(|e| &e.physical[..]))
@@ -320,6 +323,7 @@ impl GmshMesh {
             nodes,
             elements,
             boundaries: BTreeMap::new(),
+            node_sets: BTreeMap::new(),
         };
         // The elements must tile the part: overlapping or folded elements would
         // pass every per-element check and give a wrong answer.
@@ -327,6 +331,7 @@ impl GmshMesh {
             .map_err(|t| err(self.tiling_message(t, &chosen, &file_of)))?;
 
         self.name_boundaries(&mut mesh, &local).map_err(err)?;
+        mesh.node_sets = self.named_node_sets(&local);
         Ok(mesh)
     }
 
@@ -447,6 +452,30 @@ impl GmshMesh {
                     .join(", ")
             ),
         }
+    }
+
+    /// The named node sets of a plane part (`local`: the file's nodes in the
+    /// part's numbering, or `UNUSED`): each physical point group's points that
+    /// are nodes of the part (a group with none is left out; the physical
+    /// curves are boundaries).
+    fn named_node_sets(&self, local: &[usize]) -> BTreeMap<String, NodeSet> {
+        let mut by_tag: BTreeMap<i32, Vec<usize>> = BTreeMap::new();
+        for e in &self.points {
+            let n = local[e.nodes[0]];
+            if n != UNUSED {
+                for &p in &e.physical {
+                    by_tag.entry(p).or_default().push(n);
+                }
+            }
+        }
+        let mut sets: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+        for (p, nodes) in by_tag {
+            let name = (self.name(0, p).map(str::to_string)).unwrap_or_else(|| p.to_string());
+            sets.entry(name).or_default().extend(nodes);
+        }
+        (sets.into_iter())
+            .map(|(name, nodes)| (name, NodeSet::new(nodes, Vec::new())))
+            .collect()
     }
 
     /// Names the boundaries of a part's `mesh` after the physical curves whose lines
@@ -817,6 +846,9 @@ struct Parser<'a> {
     node_tags: Vec<u64>,
     /// (x, y, z) per node.
     coords: Vec<[f64; 3]>,
+    /// Points (Gmsh type 15), for the physical points (node sets); not merged
+    /// or checked as the other kinds are (a point is its node).
+    points: Vec<Element<1>>,
     lines: Vec<Element<2>>,
     triangles: Vec<Element<3>>,
     quads: Vec<Element<4>>,
@@ -858,6 +890,7 @@ impl<'a> Parser<'a> {
             node_index: HashMap::new(),
             node_tags: Vec::new(),
             coords: Vec::new(),
+            points: Vec::new(),
             lines: Vec::new(),
             triangles: Vec::new(),
             quads: Vec::new(),
@@ -1338,6 +1371,7 @@ impl<'a> Parser<'a> {
             binary: self.binary,
             node_tags: std::mem::take(&mut self.node_tags),
             nodes: self.coords.iter().map(|c| [c[0], c[1]]).collect(),
+            points: std::mem::take(&mut self.points),
             lines: std::mem::take(&mut self.lines),
             triangles: std::mem::take(&mut self.triangles),
             quads: std::mem::take(&mut self.quads),
@@ -1983,7 +2017,12 @@ impl<'a> Parser<'a> {
             })?;
         }
         match kind {
-            Kind::Point => {}
+            Kind::Point => self.points.push(Element {
+                tag,
+                nodes: [nodes[0]],
+                physical,
+                entity,
+            }),
             Kind::Line => {
                 self.lines.push(Element {
                     tag,

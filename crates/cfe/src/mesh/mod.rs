@@ -238,6 +238,30 @@ pub struct Mesh<D: MeshDim = D2> {
     pub elements: Vec<D::Cell>,
     /// Named boundaries (e.g. `left`, `right`, `bottom`, `top`).
     pub boundaries: BTreeMap<String, Vec<D::Face>>,
+    /// Named node sets (e.g. a Gmsh file's physical points and, in 3D, its
+    /// physical curves): nodes a support or a point force may name where a
+    /// boundary is named. Empty for the built-in meshers.
+    pub node_sets: BTreeMap<String, NodeSet>,
+}
+
+/// A named set of nodes of a part: its nodes and the mesh edges (segments of a
+/// Gmsh curve) along which refinement adds the new nodes to the set.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct NodeSet {
+    /// The nodes, ascending, each once.
+    pub nodes: Vec<usize>,
+    /// Element edges between nodes of the set (each a node pair); `--refine`
+    /// puts the nodes it makes on them into the set.
+    pub edges: Vec<[usize; 2]>,
+}
+
+impl NodeSet {
+    /// The set of `nodes` (sorted, each once) with `edges`.
+    pub fn new(mut nodes: Vec<usize>, edges: Vec<[usize; 2]>) -> NodeSet {
+        nodes.sort_unstable();
+        nodes.dedup();
+        NodeSet { nodes, edges }
+    }
 }
 
 /// The empty mesh: no node, no element, no boundary.
@@ -247,6 +271,7 @@ impl<D: MeshDim> Default for Mesh<D> {
             nodes: Vec::new(),
             elements: Vec::new(),
             boundaries: BTreeMap::new(),
+            node_sets: BTreeMap::new(),
         }
     }
 }
@@ -430,6 +455,7 @@ impl Mesh {
             nodes,
             elements,
             boundaries,
+            node_sets: BTreeMap::new(),
         }
     }
 

@@ -3,7 +3,7 @@
 //! what `--refine K` does to parts that are not meshed by a built-in mesher (Gmsh
 //! parts), and it gives the same meshes as the built-in meshers with K× the cells.
 
-use super::{BoundaryEdge, Element, Mesh};
+use super::{BoundaryEdge, Element, Mesh, NodeSet};
 use std::collections::{BTreeMap, HashMap};
 
 /// The subdivision of one reference element at factor k: the lattice points of its
@@ -201,11 +201,40 @@ impl Mesh {
         }
 
         let boundaries = self.refined_boundaries(k, &edges, &template);
+        let node_sets = self.refined_node_sets(&edges);
         Mesh {
             nodes,
             elements,
             boundaries,
+            node_sets,
         }
+    }
+
+    /// The named node sets of the mesh refined with `edges`: each keeps its nodes
+    /// (their indices are kept) and gains the new nodes on its element edges,
+    /// each edge becoming its k sub-edges.
+    fn refined_node_sets(&self, edges: &EdgeNodes) -> BTreeMap<String, NodeSet> {
+        let k = edges.k;
+        (self.node_sets.iter())
+            .map(|(name, set)| {
+                let mut nodes = set.nodes.clone();
+                let mut sub = Vec::with_capacity(set.edges.len() * k);
+                for &[a, b] in &set.edges {
+                    if k > 1 && !edges.first.contains_key(&(a.min(b), a.max(b))) {
+                        sub.push([a, b]);
+                        continue;
+                    }
+                    for s in 0..k {
+                        let n = edges.node(a, b, s + 1);
+                        if s + 1 < k {
+                            nodes.push(n);
+                        }
+                        sub.push([edges.node(a, b, s), n]);
+                    }
+                }
+                (name.clone(), NodeSet::new(nodes, sub))
+            })
+            .collect()
     }
 
     /// The named boundaries of the mesh refined `k` times: each boundary edge

@@ -15,8 +15,8 @@
 //! (the lines parallel to its sides), so the octahedra's diagonals, which are
 //! interior, never disagree across a face.
 
-use super::Mesh;
 use super::solid::{BoundaryFace, HEX8_CORNERS, SolidElement, SolidKind};
+use super::{Mesh, NodeSet};
 use crate::dim::{D3, Dim};
 use std::collections::{BTreeMap, HashMap};
 
@@ -339,11 +339,51 @@ impl Mesh<D3> {
                 (name.clone(), sub)
             })
             .collect();
+        let node_sets = self.refined_node_sets(&shared);
         Mesh {
             nodes,
             elements,
             boundaries,
+            node_sets,
         }
+    }
+
+    /// The named node sets of the refined mesh whose points on shared edges and
+    /// faces are `shared` (corner weights → node): each keeps its nodes (their
+    /// indices are kept) and gains the new nodes on its element edges, in order
+    /// along each edge, each edge becoming its sub-edges.
+    fn refined_node_sets(
+        &self,
+        shared: &HashMap<Vec<(usize, u64)>, usize>,
+    ) -> BTreeMap<String, NodeSet> {
+        // The new nodes of each element edge (lower node, higher node), each
+        // with its weight at the higher node (its distance from the lower one).
+        let mut on_edge: HashMap<(usize, usize), Vec<(u64, usize)>> = HashMap::new();
+        if self.node_sets.values().any(|s| !s.edges.is_empty()) {
+            for (key, &n) in shared {
+                if let [(a, _), (b, wb)] = key[..] {
+                    on_edge.entry((a, b)).or_default().push((wb, n));
+                }
+            }
+            for list in on_edge.values_mut() {
+                list.sort_unstable();
+            }
+        }
+        (self.node_sets.iter())
+            .map(|(name, set)| {
+                let mut nodes = set.nodes.clone();
+                let mut sub = Vec::new();
+                for &[a, b] in &set.edges {
+                    let inner = on_edge.get(&(a.min(b), a.max(b)));
+                    let mut chain = vec![a.min(b)];
+                    chain.extend(inner.into_iter().flatten().map(|&(_, n)| n));
+                    chain.push(a.max(b));
+                    nodes.extend(&chain[1..chain.len() - 1]);
+                    sub.extend(chain.windows(2).map(|w| [w[0], w[1]]));
+                }
+                (name.clone(), NodeSet::new(nodes, sub))
+            })
+            .collect()
     }
 }
 
@@ -494,6 +534,7 @@ mod tests {
                 nodes: x.to_vec(),
                 elements: vec![SolidElement::Tet4([0, 1, 2, 3])],
                 boundaries: BTreeMap::new(),
+                node_sets: BTreeMap::new(),
             };
             let v = tetrahedron_volume(x[0], x[1], x[2], x[3]);
             assert!(v > 0.0);

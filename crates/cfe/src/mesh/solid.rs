@@ -427,6 +427,7 @@ impl Mesh<D3> {
             nodes,
             elements,
             boundaries: BTreeMap::new(),
+            node_sets: BTreeMap::new(),
         };
         // Each boundary face lies on one side: the one all its nodes are on.
         let index = |n: usize| {

@@ -19,7 +19,7 @@ use crate::error::{Error, Result};
 use crate::fem::{Material, PlaneKind, axisymmetric, loads};
 use crate::mesh::gmsh::{GmshMesh, Group};
 use crate::mesh::input_file::{self, MESH_FILE_CAP};
-use crate::mesh::{Mesh, MeshDim, bounding_diagonal};
+use crate::mesh::{Mesh, MeshDim, NodeSet, bounding_diagonal};
 use crate::results::lines::{LineProbe, locate, locate_point};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -89,16 +89,69 @@ impl<'a> Builder<'a> {
         name: &Spanned<String>,
     ) -> Result<&'m Vec<D::Face>> {
         part.mesh.boundaries.get(name.get_ref()).ok_or_else(|| {
-            let known: Vec<&str> = part.mesh.boundaries.keys().map(|s| s.as_str()).collect();
+            if part.mesh.node_sets.contains_key(name.get_ref()) {
+                return self.err(
+                    name,
+                    format!(
+                        "'{}' is a node set of part '{}', not a boundary: only a [[support]] or a `force` [[load]] (spread equally over its nodes) takes a node set; this key needs a boundary (it has: {})",
+                        name.get_ref(),
+                        part.name,
+                        keys(part.mesh.boundaries.keys())
+                    ),
+                );
+            }
             self.err(
                 name,
                 format!(
                     "part '{}' has no boundary named '{}' (it has: {})",
                     part.name,
                     name.get_ref(),
-                    known.join(", ")
+                    keys(part.mesh.boundaries.keys())
                 ),
             )
+        })
+    }
+
+    /// What a support's or a `force` load's `boundary` names on `part`: its
+    /// boundary of that name, or else its node set of that name (a Gmsh
+    /// physical point, or in 3D curve). Neither is an error naming the part,
+    /// the name, the line and what the part has.
+    pub(super) fn boundary_or_set<'m, D: MeshDim>(
+        &self,
+        part: &'m Part<D>,
+        name: &Spanned<String>,
+    ) -> Result<Named<'m, D::Face>> {
+        if let Some(faces) = part.mesh.boundaries.get(name.get_ref()) {
+            return Ok(Named::Boundary(faces));
+        }
+        if let Some(set) = part.mesh.node_sets.get(name.get_ref()) {
+            return Ok(Named::NodeSet(set));
+        }
+        if part.mesh.node_sets.is_empty() {
+            return self.boundary(part, name).map(|f| Named::Boundary(f));
+        }
+        Err(self.err(
+            name,
+            format!(
+                "part '{}' has no boundary or node set named '{}' (boundaries: {}; node sets: {})",
+                part.name,
+                name.get_ref(),
+                keys(part.mesh.boundaries.keys()),
+                keys(part.mesh.node_sets.keys())
+            ),
+        ))
+    }
+
+    /// The nodes a support's `boundary` names (a boundary's, each once in its
+    /// order, or a node set's, ascending).
+    pub(super) fn support_nodes<D: MeshDim>(
+        &self,
+        part: &Part<D>,
+        name: &Spanned<String>,
+    ) -> Result<Vec<usize>> {
+        Ok(match self.boundary_or_set(part, name)? {
+            Named::Boundary(_) => (part.mesh.boundary_nodes(name.get_ref())).unwrap_or_default(),
+            Named::NodeSet(set) => set.nodes.clone(),
         })
     }
 
@@ -1023,13 +1076,10 @@ impl<'a> Builder<'a> {
             ));
         }
         let (name, nodes) = match (&spec.boundary, spec.at) {
-            (Some(b), None) => {
-                self.boundary(part, b)?;
-                (
-                    format!("{}/{}", part.name, b.get_ref()),
-                    part.mesh.boundary_nodes(b.get_ref()).unwrap_or_default(),
-                )
-            }
+            (Some(b), None) => (
+                format!("{}/{}", part.name, b.get_ref()),
+                self.support_nodes(part, b)?,
+            ),
             (None, Some(at)) => (
                 format!("{}@{}", part.name, crate::results::fmt::point(at)),
                 vec![self.node_at(part, at, &spec.part, "support")?],
@@ -1120,6 +1170,19 @@ impl<'a> Builder<'a> {
                     name: format!("{}@{}", part.name, crate::results::fmt::point(at)),
                     part: p,
                     nodal: vec![(n, force)],
+                    resultant: force,
+                    step: 0,
+                }
+            }
+            (Some(b), None, None, None)
+                if !part.mesh.boundaries.contains_key(b.get_ref())
+                    && part.mesh.node_sets.contains_key(b.get_ref()) =>
+            {
+                let set = &part.mesh.node_sets[b.get_ref()];
+                Load {
+                    name: format!("{}/{}", part.name, b.get_ref()),
+                    part: p,
+                    nodal: spread_equally(&set.nodes, force),
                     resultant: force,
                     step: 0,
                 }
@@ -1379,6 +1442,29 @@ pub(super) fn check_size_of(nodes: u64, per_node: u64, refine: usize) -> Result<
             available as f64 / (1u64 << 30) as f64
         ),
     })
+}
+
+/// What a `boundary` key names on a part ([`Builder::boundary_or_set`]).
+pub(super) enum Named<'m, F> {
+    /// A named boundary (its facets: [`Mesh::boundary_nodes`] gives its nodes).
+    Boundary(#[allow(dead_code)] &'m [F]),
+    /// A named node set.
+    NodeSet(&'m NodeSet),
+}
+
+/// A resultant `force` spread equally over `nodes` (each node `force / n`):
+/// a `force` [[load]] on a node set.
+pub(super) fn spread_equally<const N: usize>(
+    nodes: &[usize],
+    force: [f64; N],
+) -> Vec<(usize, [f64; N])> {
+    let n = nodes.len() as f64;
+    nodes.iter().map(|&a| (a, force.map(|c| c / n))).collect()
+}
+
+/// The names of `names`, comma separated.
+fn keys<'a>(names: impl Iterator<Item = &'a String>) -> String {
+    names.map(String::as_str).collect::<Vec<_>>().join(", ")
 }
 
 #[cfg(test)]

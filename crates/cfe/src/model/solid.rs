@@ -9,7 +9,7 @@
 //! steps, names and the `[output]` keys are resolved as in a plane model
 //! ([`super::build`]): the schema is the plane one with a third component.
 
-use super::build::{Builder, check_size_of, names, step_of, steps};
+use super::build::{Builder, check_size_of, names, spread_equally, step_of, steps};
 use super::schema::{
     BoxSpec, Component, GmshSpec, GroupSpec, LoadSpec, MaterialSpec, OutputSpec, PartSpec,
     ProbeSpec, ProblemFile, SupportSpec,
@@ -436,13 +436,10 @@ impl Builder<'_> {
         let p = self.part_index(parts, &spec.part, "part")?;
         let part = &parts[p];
         let (name, nodes) = match (&spec.boundary, spec.at, spec.from, spec.to) {
-            (Some(b), None, None, None) => {
-                self.boundary(part, b)?;
-                (
-                    format!("{}/{}", part.name, b.get_ref()),
-                    part.mesh.boundary_nodes(b.get_ref()).unwrap_or_default(),
-                )
-            }
+            (Some(b), None, None, None) => (
+                format!("{}/{}", part.name, b.get_ref()),
+                self.support_nodes(part, b)?,
+            ),
             (None, Some(at), None, None) => (
                 format!("{}@{}", part.name, point3(at)),
                 vec![self.node_at3(part, at, &spec.part, "support")?],
@@ -505,13 +502,10 @@ impl Builder<'_> {
             [0, 1, 2].map(|c| from[c].max(to[c])),
         );
         let (candidates, mut name) = match b {
-            Some(b) => {
-                self.boundary(part, b)?;
-                (
-                    part.mesh.boundary_nodes(b.get_ref()).unwrap_or_default(),
-                    format!("{}/{}", part.name, b.get_ref()),
-                )
-            }
+            Some(b) => (
+                self.support_nodes(part, b)?,
+                format!("{}/{}", part.name, b.get_ref()),
+            ),
             None => {
                 let mut seen = std::collections::HashSet::new();
                 let nodes = (part.mesh.boundary_faces().iter())
@@ -613,6 +607,18 @@ impl Builder<'_> {
                 &spec.part,
                 "`at` places a point force: it takes `force`, not `pressure` or `traction`",
             ));
+        }
+        if let (Some(force), Some(b), None, None) = (spec.force, &spec.boundary, spec.from, spec.to)
+            && !part.mesh.boundaries.contains_key(b.get_ref())
+            && let Some(set) = part.mesh.node_sets.get(b.get_ref())
+        {
+            return Ok(Load {
+                name: format!("{}/{}", part.name, b.get_ref()),
+                part: p,
+                nodal: spread_equally(&set.nodes, force),
+                resultant: force,
+                step: 0,
+            });
         }
         let (faces, mut name) = self.load_faces(spec, part)?;
         let (load, what) = match (spec.force, spec.pressure, spec.traction) {

@@ -15,7 +15,7 @@ use super::{
 };
 use crate::dim::D3;
 use crate::error::{Error, Result};
-use crate::mesh::{BoundaryFace, FaceNodes, Mesh, SolidElement};
+use crate::mesh::{BoundaryFace, FaceNodes, Mesh, NodeSet, SolidElement};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 
@@ -33,6 +33,10 @@ pub struct GmshMesh3d {
     pub node_tags: Vec<u64>,
     /// Node coordinates (x, y, z), in the order of `$Nodes`.
     pub nodes: Vec<[f64; 3]>,
+    /// Points (Gmsh type 15): node sets, through their physical points.
+    pub points: Vec<Element<1>>,
+    /// 2-node lines (Gmsh type 1): node sets, through their physical curves.
+    pub lines: Vec<Element<2>>,
     /// 3-node triangles (Gmsh type 2): boundary faces, through their physical
     /// surfaces.
     pub triangles: Vec<Element<3>>,
@@ -304,6 +308,9 @@ struct FaceUse {
     face: BoundaryFace,
 }
 
+/// A node set in the making: its nodes and its edges.
+type NodesAndEdges = (Vec<usize>, Vec<[usize; 2]>);
+
 /// A solid part's selection: physical volumes of tetrahedra and hexahedra.
 const VOLUMES: Selection = Selection {
     dim: 3,
@@ -332,11 +339,13 @@ impl GmshMesh3d {
         Parser::read(data, path)?.solid()
     }
 
-    /// The physical groups of dimension `dim` (2 surfaces, 3 volumes): every tag
-    /// that has a name or is used by an element, with its name if it has one,
-    /// ascending.
+    /// The physical groups of dimension `dim` (0 points, 1 curves, 2 surfaces,
+    /// 3 volumes): every tag that has a name or is used by an element, with its
+    /// name if it has one, ascending.
     pub fn physical_groups(&self, dim: u8) -> Vec<(i32, Option<&str>)> {
         let used: Vec<&[i32]> = match dim {
+            0 => self.points.iter().map(|e| &e.physical[..]).collect(),
+            1 => self.lines.iter().map(|e| &e.physical[..]).collect(),
             2 => (self.triangles.iter().map(|e| &e.physical[..]))
                 .chain(self.quads.iter().map(|e| &e.physical[..]))
                 .collect(),
@@ -447,11 +456,54 @@ impl GmshMesh3d {
         let elements = self.oriented_elements(&chosen, &local).map_err(err)?;
         let faces = self.face_uses(&elements, &chosen, &file_of).map_err(err)?;
         let boundaries = self.named_boundaries(&faces, &local).map_err(err)?;
+        let node_sets = self.named_node_sets(&local);
         Ok(Mesh {
             nodes,
             elements,
             boundaries,
+            node_sets,
         })
+    }
+
+    /// The named node sets of a part (`local`: the file's nodes in the part's
+    /// numbering, or [`UNUSED`]) from the physical points and curves: each
+    /// group's points and line ends that are nodes of the part, its lines
+    /// with both ends in the part kept as the set's edges (along which
+    /// `--refine` adds nodes). A group without a node in the part is left out;
+    /// a point and a curve group of the same name make one set.
+    fn named_node_sets(&self, local: &[usize]) -> BTreeMap<String, NodeSet> {
+        let mut by_group: BTreeMap<(u8, i32), NodesAndEdges> = BTreeMap::new();
+        for e in &self.points {
+            let n = local[e.nodes[0]];
+            if n != UNUSED {
+                for &p in &e.physical {
+                    by_group.entry((0, p)).or_default().0.push(n);
+                }
+            }
+        }
+        for e in &self.lines {
+            let [a, b] = e.nodes.map(|n| local[n]);
+            for &p in &e.physical {
+                let (nodes, edges) = by_group.entry((1, p)).or_default();
+                nodes.extend([a, b].into_iter().filter(|&n| n != UNUSED));
+                if a != UNUSED && b != UNUSED {
+                    edges.push([a, b]);
+                }
+            }
+        }
+        let mut sets: BTreeMap<String, NodesAndEdges> = BTreeMap::new();
+        for ((dim, p), (nodes, edges)) in by_group {
+            if nodes.is_empty() {
+                continue;
+            }
+            let name = (self.name(dim, p).map(str::to_string)).unwrap_or_else(|| p.to_string());
+            let set = sets.entry(name).or_default();
+            set.0.extend(nodes);
+            set.1.extend(edges);
+        }
+        (sets.into_iter())
+            .map(|(name, (nodes, edges))| (name, NodeSet::new(nodes, edges)))
+            .collect()
     }
 
     /// The elements of the physical volumes `volumes` (all when `None`) as (tag,
@@ -702,6 +754,8 @@ impl Parser<'_> {
             binary: self.binary,
             node_tags: std::mem::take(&mut self.node_tags),
             nodes: std::mem::take(&mut self.coords),
+            points: std::mem::take(&mut self.points),
+            lines: std::mem::take(&mut self.lines),
             triangles: std::mem::take(&mut self.triangles),
             quads: std::mem::take(&mut self.quads),
             tetrahedra: std::mem::take(&mut self.tetrahedra),
