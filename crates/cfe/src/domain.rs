@@ -73,32 +73,46 @@ impl LinearBackend {
 /// back end must reach; a solve that does not ends the run with an error.
 pub const CG_TOLERANCE: f64 = 1e-10;
 
-/// How a pattern's slip forces of slipping Coulomb pairs are solved
-/// (`[analysis] friction_solve`; docs/method.md §2.1, "A Newton solve of
-/// Coulomb friction").
+/// How a pattern's slip forces of slipping Coulomb pairs are solved and the
+/// patterns searched (`[analysis] friction_solve`; docs/method.md §2.1, "The
+/// search as the semi-smooth Newton").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum FrictionSolve {
+    /// The default: [`FrictionSolve::Newton`] in a plane model,
+    /// [`FrictionSolve::FixedPoint`] in a solid one (the 3D direction loop of
+    /// the Newton step is not yet fast enough to be the default there).
+    #[default]
+    Auto,
     /// The Anderson-accelerated fixed point on the slip forces within each
     /// pattern, with the search's rescues (friction first, the stick-point
-    /// move, the continuation in μ): the default.
-    #[default]
+    /// move, the continuation in μ).
     FixedPoint,
-    /// The semi-smooth Newton (opt-in; not yet the default, docs/method.md
-    /// §2.1 says why): every pattern — each pair open,
+    /// The semi-smooth Newton: every pattern — each pair open,
     /// sticking, or slipping along a direction — solved exactly (its slip
     /// forces from the slipping pairs' Schur-complement columns and one small
     /// dense solve), the next pattern the law's update of every pair at once
     /// (a slip the solve reversed sticks, a pair in tension opens); where the
-    /// small system is singular, the fixed point; an increment it settles or
+    /// small system is singular or its solution drifts (no state of rest in
+    /// the pattern), the pattern is not accepted; an increment it settles or
     /// finds no state in is searched again with the fixed point.
     Newton,
 }
 
 impl FrictionSolve {
     /// Whether this is the default (then summary.json does not name it).
-    pub fn is_fixed_point(&self) -> bool {
-        *self == FrictionSolve::FixedPoint
+    pub fn is_default(&self) -> bool {
+        *self == FrictionSolve::Auto
+    }
+
+    /// The solve a model of `solid` (3D) parts uses: [`FrictionSolve::Auto`]
+    /// resolved, the others as they are.
+    pub fn resolved(self, solid: bool) -> FrictionSolve {
+        match self {
+            FrictionSolve::Auto if solid => FrictionSolve::FixedPoint,
+            FrictionSolve::Auto => FrictionSolve::Newton,
+            other => other,
+        }
     }
 }
 
@@ -164,7 +178,7 @@ pub struct Settings {
     pub petsc_options: Option<String>,
     /// How the slip forces of a pattern's slipping Coulomb pairs are solved:
     /// `fixed-point` (default) or `newton`.
-    #[serde(skip_serializing_if = "FrictionSolve::is_fixed_point")]
+    #[serde(skip_serializing_if = "FrictionSolve::is_default")]
     pub friction_solve: FrictionSolve,
 }
 
@@ -233,7 +247,7 @@ impl Default for Settings {
             output_every: 1,
             solver: LinearBackend::Direct,
             petsc_options: None,
-            friction_solve: FrictionSolve::FixedPoint,
+            friction_solve: FrictionSolve::Auto,
         }
     }
 }

@@ -236,3 +236,139 @@ fn the_newton_solve_of_the_slip_forces_gives_the_fixed_points_answer() {
         }
     }
 }
+
+/// Coulomb's law on every pair of `res`'s last increment, read from its
+/// `pairs.csv` rows alone (not from the solver's check): stick pairs pressed
+/// and inside the cone, slipping pairs pressed and on it,
+/// open pairs force-free and not penetrating, no pair flagged, to
+/// 1e-7 of the largest pair force; and the loads balanced by the reactions to
+/// 1e-8 of the load. Returns the numbers of stick and slip pairs.
+fn assert_law_from_rows(
+    a: &Analysis,
+    res: &cfe::analysis::Results,
+    mu: f64,
+    what: &str,
+) -> (usize, usize) {
+    assert_eq!(
+        res.summary.status,
+        cfe::analysis::RunStatus::Completed,
+        "{what}: {:?}",
+        res.summary.warnings
+    );
+    let rows = a.pair_rows(&res.last);
+    let fmax = rows
+        .iter()
+        .fold(0.0f64, |m, r| m.max(r.force_n.abs()).max(r.force_s.abs()));
+    assert!(fmax > 0.0, "{what}: the parts press");
+    let tol = 1e-7 * fmax;
+    let gmax = rows.iter().fold(0.0f64, |m, r| m.max(r.gap.abs()));
+    let (mut stick, mut slip) = (0, 0);
+    for r in &rows {
+        let at = format!(
+            "{what}: {} node {} at ({}, {})",
+            r.interface, r.node, r.x, r.y
+        );
+        assert!(r.violation.is_empty(), "{at}: flagged {:?}", r.violation);
+        match r.state {
+            PairState::Open => {
+                assert!(
+                    r.force_n == 0.0 && r.force_s == 0.0,
+                    "{at}: open carries force"
+                );
+                assert!(r.gap >= -1e-9 * gmax, "{at}: open penetrates {}", r.gap);
+            }
+            PairState::Bonded => {
+                stick += 1;
+                assert!(r.force_n >= -tol, "{at}: pulls {}", r.force_n);
+                assert!(
+                    r.force_s.abs() <= mu * r.force_n + tol,
+                    "{at}: |f_s| {} > μ f_n {}",
+                    r.force_s,
+                    mu * r.force_n
+                );
+            }
+            PairState::Slip => {
+                slip += 1;
+                assert!(r.force_n >= -tol, "{at}: pulls {}", r.force_n);
+                assert!(
+                    (r.force_s.abs() - mu * r.force_n).abs() <= tol,
+                    "{at}: |f_s| {} ≠ μ f_n {}",
+                    r.force_s,
+                    mu * r.force_n
+                );
+            }
+        }
+    }
+    let load = res
+        .summary
+        .applied
+        .iter()
+        .map(|f| f.abs())
+        .fold(0.0, f64::max);
+    let fx: f64 = res.summary.reactions.iter().map(|r| r.fx).sum();
+    let fy: f64 = res.summary.reactions.iter().map(|r| r.fy).sum();
+    assert!(
+        (fx + res.summary.applied[0]).abs() <= 1e-8 * load,
+        "{what}: Σ reaction x {fx}, load {:?}",
+        res.summary.applied
+    );
+    assert!(
+        (fy + res.summary.applied[1]).abs() <= 1e-8 * load,
+        "{what}: Σ reaction y {fy}, load {:?}",
+        res.summary.applied
+    );
+    (stick, slip)
+}
+
+/// The semi-smooth Newton search is the default Coulomb solve of a plane
+/// model: the seed's
+/// plate held along its base by friction alone (examples/plate_on_base.toml,
+/// Coulomb at μ = 0.05, 0.2, 0.5, 1), the roller in its cradle
+/// (examples/roller_in_cradle, μ = 0.3) and Cattaneo–Mindlin
+/// (examples/hertz/cattaneo.toml: pressed, then sheared at 0.5 μP) complete
+/// with the settings left at their defaults, Coulomb's law on every pair read
+/// from the pairs' rows (stick and slip zones both present) and the loads
+/// balanced. A block pushed beyond friction with nothing else to hold it
+/// still ends with the typed error naming it.
+#[test]
+fn the_default_newton_search_completes_on_the_law_and_refuses_no_state_of_rest() {
+    assert_eq!(cfe::Settings::default().friction_solve, FrictionSolve::Auto);
+    assert_eq!(FrictionSolve::Auto.resolved(false), FrictionSolve::Newton);
+    for mu in [0.05, 0.2, 0.5, 1.0] {
+        let a = common::analysis(
+            &plate_coulomb().replace("friction = 0.2", &format!("friction = {mu}")),
+        );
+        let res = a.solve().expect("the plate rests on its base");
+        let (stick, slip) = assert_law_from_rows(&a, &res, mu, &format!("plate, μ = {mu}"));
+        assert!(
+            stick > 0 && slip > 0,
+            "plate, μ = {mu}: {stick} stick, {slip} slip"
+        );
+    }
+    let mut roller = Analysis::from_file(
+        &common::example_path("roller_in_cradle/roller_in_cradle.toml"),
+        1,
+    )
+    .unwrap();
+    roller.override_friction(0.3).unwrap();
+    let res = roller.solve().expect("the roller rests in its cradle");
+    assert_law_from_rows(&roller, &res, 0.3, "roller");
+    let cattaneo = Analysis::from_file(&common::example_path("hertz/cattaneo.toml"), 1).unwrap();
+    let res = cattaneo.solve().expect("the cylinder is held at 0.5 μP");
+    let (stick, slip) = assert_law_from_rows(&cattaneo, &res, 0.3, "cattaneo");
+    assert!(
+        stick > 0 && slip > 0,
+        "cattaneo: {stick} stick, {slip} slip (a stick zone inside slip zones)"
+    );
+    // Q = 0.45 P against μ P = 0.3 P, nothing else holding the block.
+    let beyond = Problem::block_on_base()
+        .law("coulomb")
+        .friction(0.3)
+        .raw("[[load]]\npart = \"block\"\nboundary = \"top\"\nforce = [0.45, -1.0]\n[analysis]\nincrements = 2")
+        .text();
+    match common::analysis(&beyond).solve() {
+        Err(cfe::Error::Unsupported { parts, .. }) => assert_eq!(parts, ["block"]),
+        Err(e) => panic!("beyond friction: unexpected error {e}"),
+        Ok(r) => panic!("beyond friction: {:?}", r.summary.status),
+    }
+}

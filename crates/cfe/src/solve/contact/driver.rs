@@ -122,7 +122,8 @@ impl<D: ElementFamily> Solver<'_, D> {
     ) -> Result<IncrementResult<D>> {
         let t = Instant::now();
         let (u, f_int, method) = self.solve_states(lambda, states, inc)?;
-        if !self.proportional && !self.fixed_point_converged {
+        let consistent = self.fixed_point_converged && self.slip_directions_settled;
+        if !self.proportional && !consistent {
             // No consistent slip forces in the carried states: the
             // solution is the last fixed-point step's, possibly drifted
             // far (see the active set's rule), and no answer.

@@ -234,23 +234,27 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
             u_rest,
             before: Vec::new(),
         };
-        let converged = match newton {
+        let (converged, settled) = match newton {
             Some((before, settled)) => {
                 terms.before = before;
                 terms.solve()?;
                 // The pattern solved exactly at the directions its pairs slip
                 // along: where those did not settle, the law check reports the
                 // pairs that turn (the search's next pattern), with nothing
-                // for the fixed point to iterate.
-                // Settled or not, the pattern is solved: nothing is left
-                // for the fixed point to iterate.
-                let _ = settled;
-                true
+                // for the fixed point to iterate. A solution that moved a
+                // coupling node further than a state of rest can is the
+                // numerically singular system's (a part held along its faces
+                // by slipping pairs alone under a load along them): no state
+                // of rest in the pattern, as the fixed point's drift says.
+                let moved = terms.moved()?;
+                let drifted = terms.drifted(moved);
+                (!drifted, settled)
             }
-            None => iterate(&mut terms, MAX_FIXED_POINT)?,
+            None => (iterate(&mut terms, MAX_FIXED_POINT)?, true),
         };
         let total = terms.total;
         self.fixed_point_converged = converged;
+        self.slip_directions_settled = settled;
         Ok(total.map(|sum| self.on_free_equations(&sum)))
     }
 

@@ -19,7 +19,7 @@
 //! tangent, the radial return and its consistent tangent
 //! `μ (−f_n)/|trial| (I − ξ⊗ξ)`, [`return_map_derivative`]) uses it unchanged.
 //!
-//! In a run, `[analysis] friction_solve = "newton"` (off by default) starts
+//! In a run, `[analysis] friction_solve = "newton"` (the default in plane models) starts
 //! every pattern's fixed point on the slip forces with their Newton step
 //! (`Solver::newton_slip_terms`, in `slip_newton`), its columns read from the interface's
 //! condensed operator the low-rank machinery caches

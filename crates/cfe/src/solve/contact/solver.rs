@@ -125,6 +125,12 @@ pub struct Solver<'a, D: ElementFamily = D2> {
     pub(super) augmented_error: f64,
     /// Whether the last pattern's fixed point converged.
     pub(super) fixed_point_converged: bool,
+    /// Whether the last pattern's slip directions settled: false when its
+    /// Newton step left pairs whose slip reverses (the pattern's exact
+    /// solution at the directions last solved for; the active-set search
+    /// reads the reversals from the law check, the implex scheme, which
+    /// corrects nothing, has no consistent slip forces in its states).
+    pub(super) slip_directions_settled: bool,
     /// What the Newton steps of the patterns' slip forces did
     /// (`friction_solve = "newton"`).
     pub(super) newton: super::increment::NewtonCounts,
@@ -269,8 +275,11 @@ impl<'a, D: ElementFamily> Solver<'a, D> {
             path: LoadPath::default(),
             augmented_error: 0.0,
             fixed_point_converged: true,
+            slip_directions_settled: true,
             newton: Default::default(),
-            friction_solve: settings.friction_solve,
+            friction_solve: settings
+                .friction_solve
+                .resolved(<D::Tangent as crate::dim::Tangent>::COMPONENTS > 1),
             coulomb: (0..pairs.interface_count())
                 .map(|i| pairs.law(i).law == Law::Coulomb)
                 .collect(),
