@@ -398,7 +398,14 @@ fn solve_slip_terms<T: Tangent>(slips: &mut [Slipping<T>], cols: &Columns) -> Op
             let solved: Vec<T> = slips.iter().map(|s| s.xi).collect();
             let mut turned = false;
             for (s, &(f_n, _, trial)) in slips.iter_mut().zip(&at) {
-                if trial.norm() > s.mu * (-f_n).max(0.0) {
+                // In 3D a pair whose trial force reversed (turned by more than
+                // 90° from the direction solved for) keeps that direction: the
+                // reversal passes through the cone, so the pair sticks next
+                // (the law check's semi-smooth step); turning it round would
+                // send its neighbours' directions off too, and the turn of
+                // the others would not settle.
+                let reversed = T::COMPONENTS > 1 && trial.dot(s.xi) < 0.0;
+                if trial.norm() > s.mu * (-f_n).max(0.0) && !reversed {
                     let xi = trial.direction();
                     // A turn beyond round-off (a 3D direction converges).
                     turned |= xi.sub(s.xi).norm() > 1e-13;
@@ -426,7 +433,9 @@ fn solve_slip_terms<T: Tangent>(slips: &mut [Slipping<T>], cols: &Columns) -> Op
         // The Newton system J δ = −R.
         let mut jac = Mat::<f64>::zeros(n, n);
         for (p, (s, &(f_n, _, trial))) in slips.iter().zip(&at).enumerate() {
-            let beyond = trial.norm() > s.mu * (-f_n).max(0.0);
+            // A reversed 3D pair slides along its fixed direction (above).
+            let reversed = T::COMPONENTS > 1 && trial.dot(s.xi) < 0.0;
+            let beyond = trial.norm() > s.mu * (-f_n).max(0.0) && !reversed;
             for a in 0..n {
                 let d_fn = s.c_n * cols.pn[p * n + a];
                 let mut d_us = T::default();
