@@ -46,7 +46,7 @@ pub mod backend;
 pub mod ffi;
 pub mod partition;
 
-pub use backend::{DEFAULT_TOLERANCE, Kind, PetscSolver};
+pub use backend::{DEFAULT_GAMG_OPTIONS, DEFAULT_TOLERANCE, Kind, PetscSolver, default_options};
 
 use cfe::dim::{D2, D3};
 use cfe::domain::LinearBackend;
