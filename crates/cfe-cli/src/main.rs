@@ -123,9 +123,11 @@ enum Command {
         /// found from the current folder or from the cfe executable's location).
         #[arg(long)]
         problem: Option<PathBuf>,
-        /// Refine until about this many unknowns.
-        #[arg(long, default_value_t = 8_100_000)]
-        max_unknowns: usize,
+        /// Refine until about this many unknowns (default 8 100 000; with
+        /// `--only petsc` 1 000 000, and a PETSc row at this size when beyond
+        /// a million, e.g. the largest model the memory holds).
+        #[arg(long)]
+        max_unknowns: Option<usize>,
         /// Where to write the report (regenerate the committed one with `--out docs`).
         #[arg(long, default_value = "results/bench")]
         out: PathBuf,
@@ -150,8 +152,12 @@ enum Command {
         /// Run only these rows: `3d`, the 3D plate on a base at about 50k, 100k,
         /// 200k and 400k unknowns (examples/plate_on_base_3d_bench.toml, or the
         /// solid problem given with --problem); the report has those rows and
-        /// the 3D targets alone.
-        #[arg(long, value_name = "ROWS", value_parser = ["3d"])]
+        /// the 3D targets alone. `petsc` (a cfe built with `--features
+        /// petsc`): those rows, then the same problem on `--solver petsc` at
+        /// about 50k, 100k, 200k, 400k, 700k and 1M unknowns (up to
+        /// --max-unknowns) on 1 and 2 MPI ranks (`mpirun -n 2`), and the
+        /// report's PETSc section.
+        #[arg(long, value_name = "ROWS", value_parser = ["3d", "petsc"])]
         only: Option<String>,
         /// Keep the rows already in OUT/benchmarks.json: replace only the row
         /// groups this run measures (e.g. with --only 3d, the 3D rows), keep
@@ -333,13 +339,27 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 print!("{}", cfe_tools::bench::coupling_cost_table(&rows));
                 return Ok(());
             }
+            let only = match only.as_deref() {
+                None => None,
+                Some("petsc") => Some(cfe_tools::bench::Only::Petsc),
+                Some(_) => Some(cfe_tools::bench::Only::Solid),
+            };
+            if only == Some(cfe_tools::bench::Only::Petsc) && !cfg!(feature = "petsc") {
+                anyhow::bail!(
+                    "`cfe bench --only petsc` runs `cfe run --solver petsc`, and this cfe was built without PETSc: build it with `cargo build --release -p cfe-cli --features petsc` (PETSc and Open MPI installed: see the README's \"PETSc back end\") and run that target/release/cfe"
+                );
+            }
+            let max_unknowns = max_unknowns.unwrap_or(match only {
+                Some(cfe_tools::bench::Only::Petsc) => 1_000_000,
+                _ => 8_100_000,
+            });
             cfe_tools::bench::run(
                 &exe,
                 &problem,
                 max_unknowns,
                 repeat as usize,
                 &out,
-                only.is_some(),
+                only,
                 merge,
                 &mut |line| println!("{line}"),
             )?;

@@ -13,6 +13,7 @@
 //! [`Benchmarks`].
 
 mod coupling_cost;
+mod petsc;
 mod plan;
 mod report;
 mod run;
@@ -20,7 +21,8 @@ mod targets;
 
 pub use coupling_cost::{CouplingCost, coupling_cost, coupling_cost_table};
 pub use plan::{
-    FRICTION, SOLID_SIZES, refinements, solid_refinements, solid_unknowns_model, unknowns_model,
+    FRICTION, PETSC_RANKS, PETSC_SIZES, SOLID_SIZES, refinements, sizes_within, solid_refinements,
+    solid_unknowns_model, unknowns_model,
 };
 pub use report::write_report;
 pub use run::{read_benchmarks, run};
@@ -47,6 +49,21 @@ pub enum Group {
     /// The 3D plate on a base (`plate_on_base_3d_bench.toml`) refined to about
     /// 50k, 100k, 200k and 400k unknowns.
     Solid,
+    /// The same 3D problem on `--solver petsc` (CG + GAMG), on 1 and 2 MPI
+    /// ranks (`cfe bench --only petsc`).
+    Petsc,
+}
+
+/// Rows `cfe bench --only` runs alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Only {
+    /// `3d`: the 3D plate on a base on the direct solver ([`Group::Solid`]).
+    Solid,
+    /// `petsc`: those rows, then the same problem on `--solver petsc` from
+    /// 50k to a million unknowns (and `--max-unknowns` when beyond), on 1 and
+    /// 2 MPI ranks ([`Group::Petsc`]); needs a `cfe` built with the `petsc`
+    /// feature.
+    Petsc,
 }
 
 /// One benchmark run (a record of `benchmarks.json`): its row group, law,
@@ -59,6 +76,9 @@ pub struct Case {
     pub law: Law,
     /// Refinement factor.
     pub refine: usize,
+    /// The MPI ranks of a run on `--solver petsc` (absent: the direct solver).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ranks: Option<usize>,
     /// The run's summary, or why it gave none.
     pub summary: Outcome,
 }
@@ -433,12 +453,14 @@ mod tests {
                 problem: Group::Plate,
                 law: Law::Contact,
                 refine: 1,
+                ranks: None,
                 summary: Outcome::Ran(Box::new(ran)),
             },
             Case {
                 problem: Group::Friction,
                 law: Law::Coulomb,
                 refine: 2,
+                ranks: Some(2),
                 summary: Outcome::Failed("no convergence".into()),
             },
         ];

@@ -2,7 +2,9 @@
 //! `contact` law at refinements doubling up to the largest size, the
 //! `frictionless` and `coulomb` laws at its headline sizes, and beside them a
 //! Gmsh problem and a frictional run at about a quarter of that size; and the
-//! 3D plate on a base at about 50k, 100k, 200k and 400k unknowns.
+//! 3D plate on a base at about 50k, 100k, 200k and 400k unknowns; and (`--only
+//! petsc`) the same 3D problem on the PETSc back end from 50k to a million
+//! unknowns, on 1 and 2 MPI ranks.
 
 use super::Group;
 use cfe::Law;
@@ -137,8 +139,61 @@ pub(super) fn solid_plan(problem: &Path, n: [usize; 3]) -> Vec<Planned> {
             group: Group::Solid,
             law: Law::Frictionless,
             refine,
+            ranks: None,
         })
         .collect()
+}
+
+/// The PETSc rows' sizes (unknowns of the 3D problem): the direct rows'
+/// ([`SOLID_SIZES`], for the crossover) and on to a million.
+pub const PETSC_SIZES: [f64; 6] = [5e4, 1e5, 2e5, 4e5, 7e5, 1e6];
+
+/// The MPI ranks each PETSc row runs on (`mpirun -n 2` for 2).
+pub const PETSC_RANKS: [usize; 2] = [1, 2];
+
+/// The sizes of `sizes` within `max_unknowns`, or `max_unknowns` alone when
+/// it is below them all (a small check of the rows); with `beyond`, also
+/// `max_unknowns` itself when it is beyond the last of them (a larger row
+/// asked for: the largest model the memory holds).
+pub fn sizes_within(sizes: &[f64], max_unknowns: usize, beyond: bool) -> Vec<f64> {
+    let max = max_unknowns as f64;
+    let mut within: Vec<f64> = sizes.iter().copied().filter(|&s| s <= max).collect();
+    match within.last() {
+        None => within.push(max),
+        Some(&last) if beyond && max > last => within.push(max),
+        Some(_) => {}
+    }
+    within
+}
+
+/// `cfe bench --only petsc`: the 3D problem (a solid model) with the
+/// `frictionless` law, first on the direct solver at the refinements of
+/// [`SOLID_SIZES`] (for the crossover), then on `--solver petsc` (CG + GAMG)
+/// at those of [`PETSC_SIZES`], each on every rank count of [`PETSC_RANKS`];
+/// the sizes within `max_unknowns` ([`sizes_within`]: a PETSc row beyond a
+/// million when `max_unknowns` is, no direct row beyond 400k), from the unknowns
+/// `n` at K = 1, 2 and 3.
+pub(super) fn petsc_plan(problem: &Path, n: [usize; 3], max_unknowns: usize) -> Vec<Planned> {
+    let model = solid_unknowns_model(n);
+    let row = |group, refine, ranks| Planned {
+        path: problem.to_path_buf(),
+        group,
+        law: Law::Frictionless,
+        refine,
+        ranks,
+    };
+    let direct = solid_refinements(&model, &sizes_within(&SOLID_SIZES, max_unknowns, false));
+    let petsc = solid_refinements(&model, &sizes_within(&PETSC_SIZES, max_unknowns, true));
+    let mut cases: Vec<Planned> = direct
+        .into_iter()
+        .map(|k| row(Group::Solid, k, None))
+        .collect();
+    for k in petsc {
+        for ranks in PETSC_RANKS {
+            cases.push(row(Group::Petsc, k, Some(ranks)));
+        }
+    }
+    cases
 }
 
 /// A case the benchmark runs: the problem file, its row group and law, and the
@@ -153,6 +208,8 @@ pub(super) struct Planned {
     pub law: Law,
     /// Refinement factor (`--refine`).
     pub refine: usize,
+    /// The MPI ranks of a run on `--solver petsc` (`None`: the direct solver).
+    pub ranks: Option<usize>,
 }
 
 /// The sizes a plan is made from, each measured by one run.
@@ -194,6 +251,7 @@ pub(super) fn plan(problem: &Path, max_unknowns: usize, probe: &Probe) -> Vec<Pl
         group,
         law,
         refine,
+        ranks: None,
     };
     let mut cases: Vec<Planned> = [Law::Rigid, Law::Contact]
         .into_iter()
@@ -395,5 +453,68 @@ mod tests {
             solid_refinements(|k| 1e5 * k as f64, &[1e5, 1.2e5, 4e5]),
             vec![1, 4]
         );
+    }
+
+    /// `--only petsc`: the direct 3D rows (K = 4, 5, 6, 8), then the PETSc
+    /// rows at the refinements nearest 50k … 1M unknowns, each on 1 then 2
+    /// ranks; a `--max-unknowns` beyond a million adds a PETSc row there (not
+    /// a direct one), and a small one (a check) runs one size of each.
+    #[test]
+    fn the_petsc_rows_run_on_one_and_two_ranks_up_to_a_million() {
+        let exact = |k: usize| {
+            let nodes =
+                (28 * k + 1) * (4 * k + 1) * (2 * k + 1) + (10 * k + 1) * (k + 1) * (3 * k + 1);
+            3 * nodes - 3 * (10 * k + 1) * (k + 1) - 3
+        };
+        let n = [exact(1), exact(2), exact(3)];
+        let rows = |max| {
+            petsc_plan(Path::new("p3d.toml"), n, max)
+                .iter()
+                .map(|c| (c.group, c.refine, c.ranks))
+                .collect::<Vec<_>>()
+        };
+        let mut want = vec![
+            (Group::Solid, 4, None),
+            (Group::Solid, 5, None),
+            (Group::Solid, 6, None),
+            (Group::Solid, 8, None),
+        ];
+        // 2e5 → K = 6 (188k), 4e5 → 8 (431k), 7e5 → 9 or 10, 1e6 → 11.
+        let ks: Vec<usize> = solid_refinements(solid_unknowns_model(n), &PETSC_SIZES);
+        assert_eq!(&ks[..4], [4, 5, 6, 8]);
+        assert!(
+            ks.windows(2).all(|w| w[0] < w[1]) && ks.len() == 6,
+            "{ks:?}"
+        );
+        let last = ks[5];
+        assert!(
+            (exact(last) as f64 / 1e6 - 1.0).abs() < 0.15,
+            "{last}: {}",
+            exact(last)
+        );
+        for &k in &ks {
+            want.extend([(Group::Petsc, k, Some(1)), (Group::Petsc, k, Some(2))]);
+        }
+        assert_eq!(rows(1_000_000), want);
+        // Beyond a million: one more PETSc size, no more direct ones.
+        let beyond = rows(4_000_000);
+        assert_eq!(beyond.len(), want.len() + 2);
+        assert_eq!(beyond[..want.len()], want[..]);
+        let k4m = beyond[want.len()].1;
+        let n4m = exact(k4m) as f64;
+        assert!(n4m > 3.5e6 && n4m < 4.5e6, "{n4m}");
+        assert_eq!(beyond[want.len() + 1], (Group::Petsc, k4m, Some(2)));
+        // A small check: K = 2 (8 826 unknowns) alone, direct and PETSc.
+        assert_eq!(
+            rows(10_000),
+            [
+                (Group::Solid, 2, None),
+                (Group::Petsc, 2, Some(1)),
+                (Group::Petsc, 2, Some(2))
+            ]
+        );
+        assert_eq!(sizes_within(&[1.0, 2.0], 3, false), [1.0, 2.0]);
+        assert_eq!(sizes_within(&[1.0, 2.0], 3, true), [1.0, 2.0, 3.0]);
+        assert_eq!(sizes_within(&[5.0], 3, false), [3.0]);
     }
 }

@@ -21,6 +21,7 @@ pub fn write_report(out: &Path, raw: &Benchmarks) -> Result<()> {
         .collect();
     // A report of the 3D rows alone (`--only 3d`) plots those.
     let plotted: Vec<Run> = if plate.is_empty() {
+        // The direct rows only: the PETSc rows are of the same law.
         runs(&raw.cases)
             .filter(|r| r.case.problem == Group::Solid)
             .collect()
@@ -41,9 +42,18 @@ pub(super) fn report(raw: &Benchmarks) -> String {
     let solid: Vec<Run> = runs(&raw.cases)
         .filter(|r| r.case.problem == Group::Solid)
         .collect();
-    if plate.is_empty() && !solid.is_empty() {
-        // `cfe bench --only 3d`: the 3D rows and their targets alone.
-        solid_section(&mut s, &solid);
+    let petsc: Vec<Run> = runs(&raw.cases)
+        .filter(|r| r.case.problem == Group::Petsc)
+        .collect();
+    if plate.is_empty() && !(solid.is_empty() && petsc.is_empty()) {
+        // `cfe bench --only 3d` (or `--only petsc`): the 3D rows and their
+        // targets alone (and the PETSc rows).
+        if !solid.is_empty() {
+            solid_section(&mut s, &solid);
+        }
+        if !petsc.is_empty() {
+            super::petsc::petsc_section(&mut s, &solid, &petsc);
+        }
         let _ = writeln!(s, "\n![time and memory against unknowns](benchmarks.png)\n");
         return s;
     }
@@ -70,6 +80,9 @@ pub(super) fn report(raw: &Benchmarks) -> String {
     targets::targets(&mut s, &plate);
     if !solid.is_empty() {
         solid_section(&mut s, &solid);
+    }
+    if !petsc.is_empty() {
+        super::petsc::petsc_section(&mut s, &solid, &petsc);
     }
     convergence_table(&mut s, &plate);
     let _ = writeln!(s, "\n![time and memory against unknowns](benchmarks.png)\n");
@@ -621,6 +634,7 @@ mod tests {
             problem: group,
             law,
             refine,
+            ranks: None,
             summary: Outcome::Ran(Box::new(summary(json!({
                 "unknowns": 1000 * refine,
                 "timings": {"total": total},
@@ -643,6 +657,7 @@ mod tests {
                     problem: Group::Laws,
                     law: Law::Coulomb,
                     refine: 70,
+                    ranks: None,
                     summary: Outcome::Failed("no convergence".into()),
                 },
             ],
@@ -767,6 +782,7 @@ mod tests {
                 problem: Group::Solid,
                 law: Law::Frictionless,
                 refine: i + 1,
+                ranks: None,
                 summary: Outcome::Ran(Box::new(m.clone())),
             })
             .collect();

@@ -3,8 +3,10 @@
 //! kept, the machine's speed measured before and after; the results go to
 //! `benchmarks.json` and the report.
 
-use super::plan::{FRICTION, Planned, Probe, gmsh_problem, plan, solid_plan, solid_problem};
-use super::{Benchmarks, Case, Group, Outcome, Speeds, report};
+use super::plan::{
+    FRICTION, Planned, Probe, gmsh_problem, petsc_plan, plan, solid_plan, solid_problem,
+};
+use super::{Benchmarks, Case, Group, Only, Outcome, Speeds, report};
 use crate::speed::MachineSpeed;
 use cfe::error::{Error, Result};
 use cfe::{Law, Summary};
@@ -15,8 +17,11 @@ use std::process::Command;
 /// `out` (`benchmarks.json`, `benchmarks.md`, `benchmarks.png`). Every case is run
 /// in each of `repeat` passes (at least one) over all the cases and its fastest
 /// run end to end is kept, all its phases from that run. `progress` receives one
-/// line per run. `only_3d` runs the 3D rows alone: of `problem` when it is a
-/// solid model, else of the 3D problem beside it (`plate_on_base_3d_bench.toml`).
+/// line per run. `only` runs some rows alone ([`Only`]), of `problem` when it
+/// is a solid model, else of the 3D problem beside it
+/// (`plate_on_base_3d_bench.toml`); [`Only::Petsc`] needs `exe` built with
+/// the `petsc` feature and, for its 2-rank rows, Open MPI's `mpirun` on the
+/// `PATH` (the caller checks the first).
 /// `merge`: the results already in `out/benchmarks.json` (read before anything
 /// runs) keep their other row groups, the groups this run measures replaced
 /// ([`Benchmarks::merge`]), and the report is written from the merged file.
@@ -27,7 +32,7 @@ pub fn run(
     max_unknowns: usize,
     repeat: usize,
     out: &Path,
-    only_3d: bool,
+    only: Option<Only>,
     merge: bool,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Vec<Case>> {
@@ -42,7 +47,7 @@ pub fn run(
         exe,
         scratch: std::env::temp_dir().join(format!("cfe-bench-{}", std::process::id())),
     };
-    let (problem, planned) = if only_3d {
+    let (problem, planned) = if let Some(only) = only {
         let solid = match cfe::model::problem_dimension(problem)? {
             cfe::model::ProblemDimension::Solid => problem.to_path_buf(),
             _ => solid_problem(problem).ok_or_else(|| {
@@ -53,7 +58,11 @@ pub fn run(
             })?,
         };
         let n = runner.solid_sizes(&solid)?;
-        (solid.clone(), solid_plan(&solid, n))
+        let planned = match only {
+            Only::Solid => solid_plan(&solid, n),
+            Only::Petsc => petsc_plan(&solid, n, max_unknowns),
+        };
+        (solid.clone(), planned)
     } else {
         (
             problem.to_path_buf(),
@@ -78,6 +87,7 @@ pub fn run(
             problem: case.group,
             law: case.law,
             refine: case.refine,
+            ranks: case.ranks,
             summary,
         })
         .collect();
@@ -127,7 +137,7 @@ impl Runner<'_> {
     /// problem (when there) at K = 1, one `contact` run each, and the 3D
     /// problem (when there) as [`Runner::solid_sizes`].
     fn probe(&self, problem: &Path) -> Result<Probe> {
-        let unknowns = |path: &Path, k| Ok(self.summary(path, Law::Contact, k)?.unknowns);
+        let unknowns = |path: &Path, k| Ok(self.summary(path, Law::Contact, k, None)?.unknowns);
         let (n1, n2) = (unknowns(problem, 1)?, unknowns(problem, 2)?);
         let gmsh = match gmsh_problem(problem) {
             Some(roller) => Some((roller.clone(), unknowns(&roller, 1)?)),
@@ -150,31 +160,49 @@ impl Runner<'_> {
     fn solid_sizes(&self, solid: &Path) -> Result<[usize; 3]> {
         let mut n = [0; 3];
         for (k, v) in n.iter_mut().enumerate() {
-            *v = self.summary(solid, Law::Frictionless, k + 1)?.unknowns;
+            *v = self
+                .summary(solid, Law::Frictionless, k + 1, None)?
+                .unknowns;
         }
         Ok(n)
     }
 
-    /// Runs `problem` with `law` refined `refine` times and reads its summary.
-    fn summary(&self, problem: &Path, law: Law, refine: usize) -> Result<Summary> {
-        let dir = self.scratch.join(format!("{}-{refine}", law.as_str()));
-        let child = Command::new(self.exe)
-            .arg("run")
-            .arg(problem)
-            .args(run_args(law, refine))
-            .arg("--out")
-            .arg(&dir)
+    /// Runs `problem` with `law` refined `refine` times (on `--solver petsc`
+    /// on `ranks` MPI ranks when given) and reads its summary (rank 0's).
+    fn summary(
+        &self,
+        problem: &Path,
+        law: Law,
+        refine: usize,
+        ranks: Option<usize>,
+    ) -> Result<Summary> {
+        let dir = self
+            .scratch
+            .join(format!("{}-{refine}-{}", law.as_str(), ranks.unwrap_or(0)));
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let mut command = run_command(self.exe, problem, (law, refine, ranks), &dir, cores);
+        let child = command
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::piped())
             .output()
-            .map_err(|e| Error::output(self.exe, format!("cannot start the benchmark run: {e}")))?;
+            .map_err(|e| {
+                let what = match ranks {
+                    Some(r) if r > 1 => "mpirun (Open MPI's openmpi-bin, on the PATH)",
+                    _ => "the benchmark run",
+                };
+                Error::output(self.exe, format!("cannot start {what}: {e}"))
+            })?;
         if !child.status.success() {
             let _ = std::fs::remove_dir_all(&dir);
             return Err(Error::Subprocess {
                 command: format!(
-                    "cfe run {} {}",
-                    problem.display(),
-                    run_args(law, refine).join(" ")
+                    "{} {}",
+                    command.get_program().to_string_lossy(),
+                    command
+                        .get_args()
+                        .map(|a| a.to_string_lossy())
+                        .collect::<Vec<_>>()
+                        .join(" ")
                 ),
                 status: child.status.code(),
                 stderr: error_lines(&String::from_utf8_lossy(&child.stderr)),
@@ -207,13 +235,14 @@ impl Runner<'_> {
         } else {
             String::new()
         };
-        match self.summary(&case.path, case.law, k) {
+        match self.summary(&case.path, case.law, k, case.ranks) {
             Ok(s) => {
                 // The Gmsh problem is named by its row group, the others by law.
-                let name = match case.group {
-                    Group::Gmsh => "gmsh",
-                    Group::Solid => "3d",
-                    _ => case.law.as_str(),
+                let name = match (case.group, case.ranks) {
+                    (Group::Gmsh, _) => "gmsh".to_string(),
+                    (Group::Solid, _) => "3d".to_string(),
+                    (Group::Petsc, Some(r)) => format!("petsc×{r}"),
+                    _ => case.law.as_str().to_string(),
                 };
                 progress(&format!(
                     "{name:>7} K = {k:>3}: {:>9} unknowns, {:>8.2} s, {:>7.0} MiB{of}",
@@ -235,6 +264,41 @@ impl Runner<'_> {
             Err(e) => Err(e),
         }
     }
+}
+
+/// The command of one run: `exe run PROBLEM` with [`run_args`] and `--out
+/// dir`; on `--solver petsc` when `ranks` is given, and for more than one
+/// rank under `mpirun -n RANKS` with each rank `cores / RANKS` threads
+/// (`RAYON_NUM_THREADS`, at least 1, exported to the ranks with `-x`: every
+/// rank the same, as the replicated contact scheme needs). One rank runs
+/// without `mpirun`, with the default threads (all cores).
+fn run_command(
+    exe: &Path,
+    problem: &Path,
+    (law, refine, ranks): (Law, usize, Option<usize>),
+    dir: &Path,
+    cores: usize,
+) -> Command {
+    let mut command = match ranks {
+        Some(r) if r > 1 => {
+            let mut c = Command::new("mpirun");
+            c.env("RAYON_NUM_THREADS", (cores / r).max(1).to_string())
+                .args(["-n", &r.to_string(), "-x", "RAYON_NUM_THREADS"])
+                .arg(exe);
+            c
+        }
+        _ => Command::new(exe),
+    };
+    command
+        .arg("run")
+        .arg(problem)
+        .args(run_args(law, refine))
+        .arg("--out")
+        .arg(dir);
+    if ranks.is_some() {
+        command.args(["--solver", "petsc"]);
+    }
+    command
 }
 
 /// The arguments of `cfe run` after the problem: refinement, law and (Coulomb)
@@ -364,6 +428,50 @@ mod tests {
             "warning: slow\nerror: no pairs found"
         );
         assert_eq!(super::error_lines("killed\n"), "killed");
+    }
+
+    /// A direct row is `cfe run` alone; a PETSc row on one rank adds `--solver
+    /// petsc`; on two ranks it runs under `mpirun -n 2`, each rank with half
+    /// the cores' threads exported to it (one on one core, never zero).
+    #[test]
+    fn a_petsc_row_runs_on_petsc_under_mpirun() {
+        use cfe::Law;
+        use std::ffi::OsStr;
+        use std::path::Path;
+        let line = |c: &std::process::Command| {
+            std::iter::once(c.get_program())
+                .chain(c.get_args())
+                .map(|a| a.to_string_lossy().into_owned())
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        let threads = |c: &std::process::Command| {
+            c.get_envs()
+                .find(|(k, _)| *k == OsStr::new("RAYON_NUM_THREADS"))
+                .and_then(|(_, v)| v.map(|v| v.to_string_lossy().into_owned()))
+        };
+        let (exe, p, dir) = (Path::new("/b/cfe"), Path::new("p.toml"), Path::new("o"));
+        let direct = super::run_command(exe, p, (Law::Frictionless, 4, None), dir, 2);
+        assert_eq!(
+            line(&direct),
+            "/b/cfe run p.toml --refine 4 --law frictionless --out o"
+        );
+        let one = super::run_command(exe, p, (Law::Frictionless, 4, Some(1)), dir, 2);
+        assert_eq!(
+            line(&one),
+            "/b/cfe run p.toml --refine 4 --law frictionless --out o --solver petsc"
+        );
+        assert_eq!(threads(&one), None);
+        let two = super::run_command(exe, p, (Law::Frictionless, 4, Some(2)), dir, 2);
+        assert_eq!(
+            line(&two),
+            "mpirun -n 2 -x RAYON_NUM_THREADS /b/cfe run p.toml --refine 4 --law frictionless --out o --solver petsc"
+        );
+        assert_eq!(threads(&two).as_deref(), Some("1"));
+        let alone = super::run_command(exe, p, (Law::Frictionless, 4, Some(2)), dir, 1);
+        assert_eq!(threads(&alone).as_deref(), Some("1"));
+        let wide = super::run_command(exe, p, (Law::Frictionless, 4, Some(2)), dir, 8);
+        assert_eq!(threads(&wide).as_deref(), Some("4"));
     }
 
     /// The frictional run gets the benchmark's friction coefficient; the others

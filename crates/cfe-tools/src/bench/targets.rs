@@ -491,6 +491,7 @@ mod tests {
             problem: Group::Plate,
             law,
             refine,
+            ranks: None,
             summary: Outcome::Ran(Box::new(m)),
         }
     }
