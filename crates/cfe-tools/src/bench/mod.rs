@@ -241,6 +241,7 @@ impl Group {
             Group::Friction => "friction",
             Group::Laws => "laws",
             Group::Solid => "solid",
+            Group::Petsc => "petsc",
         }
     }
 }
@@ -507,6 +508,7 @@ mod tests {
             problem: group,
             law: Law::Frictionless,
             refine,
+            ranks: None,
             summary: Outcome::Ran(Box::new(summary)),
         }
     }

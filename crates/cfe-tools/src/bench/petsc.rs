@@ -122,7 +122,7 @@ pub(super) enum Crossover {
 /// p₁`, `D = 2 (p₁ − p₂)`; `None` when they do not fit that (`p₂ ≥ p₁` or `p₂
 /// ≤ p₁ / 2`).
 pub(super) fn memory_split(p1: f64, p2: f64) -> Option<(f64, f64)> {
-    (p2 < p1 && 2.0 * p2 > p1).then(|| (2.0 * p2 - p1, 2.0 * (p1 - p2)))
+    (p2 < p1 && 2.0 * p2 > p1).then_some((2.0 * p2 - p1, 2.0 * (p1 - p2)))
 }
 
 /// The unknowns at which a peak memory growing as from `(n_a, m_a)` to `(n_b,
