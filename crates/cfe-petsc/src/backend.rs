@@ -50,11 +50,14 @@
 //! **MUMPS** (`petsc-mumps`). KSPPREONLY + PCCHOLESKY with MUMPS: a numeric
 //! factorization for each new set of states.
 //!
-//! CG + GAMG's options database starts with [`DEFAULT_GAMG_OPTIONS`] (more
-//! smoothing on GAMG's levels: about 40 % fewer CG iterations, measured). User options
-//! (`-ksp_*`, `-pc_*`, `-mg_*`, `-mat_mumps_*`, an options file) are inserted
-//! after them and read by `KSPSetFromOptions` after the defaults set in code,
-//! from the back end's own database, so they override both.
+//! CG + GAMG keeps PETSc's own GAMG settings: more smoothing on GAMG's levels
+//! (`-mg_levels_ksp_max_it 4`, a wider Chebyshev band) takes about 40 % fewer
+//! CG iterations on one rank (README), but on two ranks it left the 3D plate
+//! on a base's true residual 0.2 % above the tolerance its recursive residual
+//! met, so it is a user's option, not the default. User options (`-ksp_*`,
+//! `-pc_*`, `-mg_*`, `-mat_mumps_*`, an options file) are read by
+//! `KSPSetFromOptions` after the defaults set in code, from the back end's own
+//! database, so they override them.
 
 use crate::ffi::{self, PetscInt};
 use crate::partition::{Partition, node_coordinates};
@@ -81,30 +84,6 @@ use std::time::Instant;
 /// `cg` back end's) is below the true residual the penalty lets CG reach
 /// (1.0e-10 to 2.5e-10 once refined), so those runs fail.
 pub const DEFAULT_TOLERANCE: f64 = 1e-8;
-
-/// The PETSc options cfe gives CG + GAMG before the user's (which, read
-/// later, override them): four Chebyshev–Jacobi smoothing steps on each level
-/// of GAMG's V-cycle instead of PETSc's two, over a wider part of the
-/// spectrum (from 0.05 of the largest eigenvalue estimate instead of 0.1).
-/// Measured on one rank (README, "PETSc back end"): about 40 % fewer CG
-/// iterations per solve on the seed example refined 4 times (357 → 210) and
-/// on the 3D plate on a base (274 → 167 at 1 500 unknowns), the same pair
-/// states and about the same CPU time in all (each iteration smooths twice as
-/// much): 40 % fewer of CG's global reductions, which bound it across many
-/// ranks. A graph threshold (`-pc_gamg_threshold 0.02`) lowers the 2D
-/// iterations more (96) but makes the 3D iterations far costlier (coarse
-/// grids that barely shrink); SOR smoothing fails on the 2D stick law.
-pub const DEFAULT_GAMG_OPTIONS: &str =
-    "-mg_levels_ksp_max_it 4 -mg_levels_ksp_chebyshev_esteig 0,0.05,0,1.1";
-
-/// The options of `kind` cfe sets before the user's: [`DEFAULT_GAMG_OPTIONS`]
-/// for CG + GAMG, none for MUMPS.
-pub fn default_options(kind: Kind) -> &'static str {
-    match kind {
-        Kind::CgGamg => DEFAULT_GAMG_OPTIONS,
-        Kind::Mumps => "",
-    }
-}
 
 /// Restarts from the iterate allowed when the true residual is above the
 /// tolerance the recursively updated one met.
@@ -577,8 +556,7 @@ impl<'a, D: ElementFamily> PetscSolver<'a, D> {
     ) -> Result<()> {
         let n = petsc_int(self.dof_row.len(), "DOFs")?;
         let o = &mut self.objects;
-        let options = format!("{} {}", default_options(self.kind), config.options);
-        o.options = crate::options_database(s, &options, config.options_file.as_ref())?;
+        o.options = crate::options_database(s, &config.options, config.options_file.as_ref())?;
         s.push(o.options)?;
         let bs = D::N as PetscInt;
         call!(MatCreate(comm(), &mut o.parts))?;

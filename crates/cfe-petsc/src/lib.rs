@@ -47,7 +47,7 @@ pub mod ffi;
 pub mod partition;
 pub mod ranks;
 
-pub use backend::{DEFAULT_GAMG_OPTIONS, DEFAULT_TOLERANCE, Kind, PetscSolver, default_options};
+pub use backend::{DEFAULT_TOLERANCE, Kind, PetscSolver};
 
 use cfe::dim::{D2, D3};
 use cfe::domain::LinearBackend;

@@ -282,19 +282,13 @@ fn rigid_body_modes_are_in_the_null_space() {
     assert!(solid.iter().all(|&r| r < 1e-12), "{solid:?}");
 }
 
-/// CG + GAMG's default options (four smoothing steps a level over a wider
-/// band) are in force and the user's override them: with PETSc's own
-/// (`-mg_levels_ksp_max_it 2 -mg_levels_ksp_chebyshev_esteig 0,0.1,0,1.1`) the
-/// seed example takes more CG iterations in
-/// all than with the defaults, both runs on the direct solver's pair states
-/// within 1e-6; MUMPS gets no GAMG default.
+/// A user's GAMG options reach the solver: four Chebyshev smoothing steps a
+/// level over a wider band (`-mg_levels_ksp_max_it 4
+/// -mg_levels_ksp_chebyshev_esteig 0,0.05,0,1.1`) take fewer CG iterations in
+/// all on the seed example than PETSc's own settings, both runs on the direct
+/// solver's pair states within 1e-6.
 #[test]
-fn the_default_gamg_options_apply_and_give_way_to_the_users() {
-    assert_eq!(
-        cfe_petsc::default_options(Kind::CgGamg),
-        "-mg_levels_ksp_max_it 4 -mg_levels_ksp_chebyshev_esteig 0,0.05,0,1.1"
-    );
-    assert_eq!(cfe_petsc::default_options(Kind::Mumps), "");
+fn more_smoothing_from_the_users_options_takes_fewer_cg_iterations() {
     let direct = plate(1).solve().unwrap();
     let total = |options: &str| {
         let r = solve_with(plate(1), LinearBackend::Petsc, Petsc::new(options, None)).unwrap();
@@ -302,9 +296,9 @@ fn the_default_gamg_options_apply_and_give_way_to_the_users() {
         let record = r.summary.linear_solver.unwrap();
         record.iterations.iter().sum::<usize>()
     };
-    let (default, petsc_own) = (
+    let (smoothed, petsc_own) = (
+        total("-mg_levels_ksp_max_it 4 -mg_levels_ksp_chebyshev_esteig 0,0.05,0,1.1"),
         total(""),
-        total("-mg_levels_ksp_max_it 2 -mg_levels_ksp_chebyshev_esteig 0,0.1,0,1.1"),
     );
-    assert!(default < petsc_own, "{default} against {petsc_own}");
+    assert!(smoothed < petsc_own, "{smoothed} against {petsc_own}");
 }
