@@ -347,7 +347,7 @@ fn cluster(s: &mut String, one: &[(usize, Row)], two: &[(usize, Row)]) {
     );
     let _ = writeln!(
         s,
-        "- **The gather.** After each solve the whole solution goes to every rank (the replicated contact scheme reads it): 8n = {:.1} MB to each rank, {} times in this run — on N ranks N × 8n bytes per solve in all, growing with N where the halo shrinks.",
+        "- **The gather.** After a complete solve (an increment's accepted pattern) the whole solution goes to every rank (the replicated scheme computes internal forces, reactions and stresses from it): 8n = {:.1} MB to each rank; the trial solves of the contact iterations send only the coupling equations' entries. So at most 8n per solve, {} solves in this run — on N ranks up to N × 8n bytes per solve in all, growing with N where the halo shrinks.",
         8.0 * n / 1e6,
         a.solves
     );
